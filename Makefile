@@ -1,0 +1,56 @@
+# Every target bootstraps the virtual environment on a fresh machine (python3 -m venv + pip install -e .[test]).
+# Icarus Verilog comes from Debian (apt-get install iverilog); .ci/run installs it before `make test`.
+
+PYTHON ?= python3
+VENV   := .venv
+PY     := $(VENV)/bin/python
+STAMP  := $(VENV)/.installed
+JOBS   ?= 2
+
+.PHONY: all help venv test test-slow demo verilog waves bench resources clean distclean
+
+all: help
+
+help:
+	@echo "make demo       run the main job on the bundled stereo pair -> build/demo/ (PNG frames, VCD, GTKWave save file)"
+	@echo "make test       run the default test suite (Amaranth simulator + cocotb on Verilator and Icarus)"
+	@echo "make test-slow  run the slow, full-resolution tests"
+	@echo "make verilog    write the board build (Verilog, UCF, ISE scripts) to build/genesys/"
+	@echo "make waves      write the display-path VCD + GTKWave save file and print how to open them"
+	@echo "make bench      run the benchmarks in bench/ and print their figures"
+	@echo "make resources  Yosys synth_xilinx resource estimate of the top level"
+
+$(STAMP): pyproject.toml
+	test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet -e '.[test]'
+	touch $(STAMP)
+
+venv: $(STAMP)
+
+test: $(STAMP)
+	$(PY) -m pytest -n $(JOBS) -q
+
+test-slow: $(STAMP)
+	$(PY) -m pytest -q -m slow
+
+demo: $(STAMP)
+	$(PY) -m stereodepth demo
+
+verilog: $(STAMP)
+	$(PY) -m stereodepth verilog
+
+waves: $(STAMP)
+	$(PY) -m stereodepth waves
+
+bench: $(STAMP)
+	$(PY) -m bench
+
+resources: $(STAMP)
+	$(PY) -m stereodepth resources
+
+clean:
+	rm -rf build .pytest_cache .hypothesis
+
+distclean: clean
+	rm -rf $(VENV) *.egg-info

