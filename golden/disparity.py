@@ -1,0 +1,93 @@
+"""Golden model of the disparity map generator and the display compositor, written from ../shared/spec.md.
+
+* :func:`difference_levels`: for every right-image pixel (x, y) of the buffer, ``|L(x + d, y + r) - R(x, y)|``
+  quantised to ``level`` = number of thresholds ``t`` with ``|L - R| >= t``; where ``x + d >= width`` or
+  ``y + r >= height`` there is no left pixel: ``no_data`` is True and ``level`` is 0 (no wrapping).
+* :func:`composite_frame`: the displayed active area: the left and right images (grey replicated to 8 bits
+  by :func:`hdl.params.gray_to_rgb24`), the disparity map (``level_grey[level]`` on all channels, or
+  ``NO_DATA_RGB``), ``BACKGROUND_RGB`` elsewhere, placed by :class:`hdl.params.DisplayLayout` with every buffer
+  pixel repeated ``scale`` x ``scale`` times.
+
+Only constants and the layout definition come from ``hdl.params`` (the spec's single source of truth); nothing
+here is derived from the RTL.
+"""
+
+import numpy as np
+
+from hdl.params import (BACKGROUND_RGB, CEA_1080P60, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, NO_DATA_RGB, SENSOR,
+                        DisplayLayout, gray_to_rgb24)
+
+__all__ = ["difference_levels", "composite_frame", "rgb24_to_bytes"]
+
+
+def _check_images(left, right, geometry=None):
+    left = np.asarray(left)
+    right = np.asarray(right)
+    if left.ndim != 2 or left.shape != right.shape:
+        raise ValueError(f"left {left.shape} and right {right.shape} must be two grey images of the same size")
+    if not (np.issubdtype(left.dtype, np.integer) and np.issubdtype(right.dtype, np.integer)):
+        raise ValueError("grey images must hold integers")
+    if geometry is not None:
+        if left.shape != (geometry.buf_height, geometry.buf_width):
+            raise ValueError(f"images are {left.shape[1]}x{left.shape[0]}, the buffers "
+                             f"{geometry.buf_width}x{geometry.buf_height}")
+        top = 2 ** geometry.gray_bits
+        if left.min(initial=0) < 0 or right.min(initial=0) < 0 or max(left.max(initial=0),
+                                                                       right.max(initial=0)) >= top:
+            raise ValueError(f"grey values must be in 0..{top - 1}")
+    return left.astype(np.int32), right.astype(np.int32)
+
+
+def _check_shift(name, value):
+    if int(value) != value or value < 0:
+        raise ValueError(f"{name} must be a non-negative integer, not {value!r}")
+    return int(value)
+
+
+def difference_levels(left, right, disparity, rectification, thresholds=DIFF_THRESHOLDS):
+    """``(levels uint8, no_data bool)``, both shaped like the images (buffer resolution)."""
+    left, right = _check_images(left, right)
+    d = _check_shift("disparity", disparity)
+    r = _check_shift("rectification", rectification)
+    h, w = right.shape
+    no_data = np.ones((h, w), dtype=bool)
+    shifted = np.zeros((h, w), dtype=np.int32)
+    if d < w and r < h:
+        # Left pixel (x + d, y + r) for the right pixel (x, y) with x < w - d, y < h - r.
+        shifted[:h - r, :w - d] = left[r:, d:]
+        no_data[:h - r, :w - d] = False
+    diff = np.abs(shifted - right)
+    table = np.asarray(list(thresholds), dtype=np.int32)
+    levels = (diff[..., None] >= table).sum(axis=-1)
+    levels[no_data] = 0
+    return levels.astype(np.uint8), no_data
+
+
+def rgb24_to_bytes(rgb):
+    """(..., ) int array of 0xRRGGBB -> (..., 3) uint8."""
+    rgb = np.asarray(rgb, dtype=np.int64)
+    return np.stack([(rgb >> 16) & 0xFF, (rgb >> 8) & 0xFF, rgb & 0xFF], axis=-1).astype(np.uint8)
+
+
+def composite_frame(left, right, disparity, rectification, timing=CEA_1080P60, geometry=SENSOR, layout=None,
+                    thresholds=DIFF_THRESHOLDS, level_grey=DIFF_LEVEL_GREY):
+    """The displayed frame, uint8 (v_active, h_active, 3), for the two grey buffers and the switch settings."""
+    left, right = _check_images(left, right, geometry)
+    if layout is None:
+        layout = DisplayLayout.centred(timing, geometry)
+    if len(level_grey) != len(thresholds) + 1:
+        raise ValueError(f"level_grey needs {len(thresholds) + 1} entries, got {len(level_grey)}")
+    frame = np.empty((timing.v_active, timing.h_active), dtype=np.int64)
+    frame[:] = BACKGROUND_RGB
+    levels, no_data = difference_levels(left, right, disparity, rectification, thresholds)
+    grey_rgb = np.array([(v << 16) | (v << 8) | v for v in level_grey], dtype=np.int64)
+    pictures = {
+        "left": gray_to_rgb24(left, geometry.gray_bits),
+        "right": gray_to_rgb24(right, geometry.gray_bits),
+        "disparity": np.where(no_data, NO_DATA_RGB, grey_rgb[levels]),
+    }
+    for region in layout.regions:
+        picture = pictures[region.source]
+        s = region.scale
+        frame[region.y0:region.y1, region.x0:region.x1] = np.repeat(np.repeat(picture, s, axis=0), s, axis=1)
+    return rgb24_to_bytes(frame)

@@ -1,0 +1,157 @@
+"""Disparity subtractor: |left(x + disparity, y + rectification) - right(x, y)|, quantised (thesis 4.3, fig. 4.7).
+
+For each input pixel (buffer coordinates ``x``, ``y`` of the right image) the block reads the right buffer at
+``A = y * buf_width + x`` and the left buffer at the shifted position ``(x + disparity, y + rectification)``,
+takes the absolute difference of the two grey values and quantises it through a threshold table:
+``level`` = the number of thresholds ``t`` with ``|L - R| >= t`` (default ``hdl.params.DIFF_THRESHOLDS``,
+2/4/8/16 -> levels 0..4; the order of the table does not matter, a repeated threshold makes a level
+unreachable).
+
+No data, never wrapping: where ``x + disparity >= buf_width`` or ``y + rectification >= buf_height`` the
+shifted pixel is outside the left image. The thesis's address arithmetic (figure 4.7) would wrap into the next
+row or past the end of the buffer there; this block instead raises ``no_data`` (``level`` is then 0) and drives
+``left_addr`` to 0, so the left port is never given an address outside the image.
+
+No multiplier per pixel: the caller supplies the right pixel's address ``addr`` (= ``y * buf_width + x``) from
+a running counter along with ``x`` and ``y``; the left address is ``addr + offset`` with the per-frame constant
+``offset = rectification * buf_width + disparity``, computed in two registered steps from the (quasi-static)
+``disparity`` and ``rectification`` inputs.
+
+Clock domain: ``sync`` (single domain; the parent places it in ``pix``).
+
+Pipeline and latency (one pixel per clock, any pattern of ``valid``):
+
+=======  ================================================================================================
+clock    what happens
+=======  ================================================================================================
+n        inputs ``valid``, ``x``, ``y``, ``addr``
+n + 1    ``left_addr``, ``right_addr`` registered (to the frame buffers' read ports)
+n + 2    ``left_data``, ``right_data`` expected here (the frame buffers' one-clock read latency)
+n + 3    the read data registered (BRAM output register, nothing else on that path)
+n + 4    ``level``, ``no_data``, ``out_valid`` registered: **latency 4 clocks** from the inputs
+=======  ================================================================================================
+
+``disparity`` and ``rectification`` must be stable for :data:`SETTLE_CLOCKS` clocks before the first input pixel
+that uses them (the compositor guarantees this: the switch registers change only at ``frame_start``, at least a
+line before the first disparity pixel).
+"""
+
+from amaranth import Module, Mux, Signal
+from amaranth.lib import wiring
+from amaranth.lib.wiring import In, Out
+
+from .params import DIFF_THRESHOLDS, SENSOR
+from .switches import SWITCH_VALUE_BITS
+
+__all__ = ["DisparitySubtractor", "check_thresholds", "LATENCY", "ADDR_LATENCY", "SETTLE_CLOCKS"]
+
+#: Clocks from the inputs to ``level``/``no_data``/``out_valid``.
+LATENCY = 4
+#: Clocks from the inputs to ``left_addr``/``right_addr``; read data is expected one clock after those.
+ADDR_LATENCY = 1
+#: Clocks ``disparity``/``rectification`` must be stable before an input pixel that uses them.
+SETTLE_CLOCKS = 2
+
+
+def check_thresholds(thresholds, gray_bits):
+    """The threshold table as a tuple of ints; ``ValueError`` unless every entry is in 0 .. 2**gray_bits
+    (a threshold of 2**gray_bits is never reached by a difference of gray_bits-bit values)."""
+    try:
+        table = tuple(int(t) for t in thresholds)
+    except (TypeError, ValueError):
+        raise ValueError(f"threshold table must be a sequence of integers, not {thresholds!r}") from None
+    if any(t != t_in for t, t_in in zip(table, thresholds)):
+        raise ValueError(f"threshold table must hold integers, not {thresholds!r}")
+    limit = 2 ** gray_bits
+    if not table or any(t < 0 or t > limit for t in table):
+        raise ValueError(f"threshold table {table!r} must be non-empty with entries in 0..{limit}")
+    return table
+
+
+class DisparitySubtractor(wiring.Component):
+    """Quantised ``|L(x + disparity, y + rectification) - R(x, y)|`` with no-data marking; latency 4 clocks.
+
+    Ports: ``valid``, ``x``, ``y``, ``addr`` (= y * buf_width + x), ``disparity``, ``rectification`` in;
+    ``left_addr``/``right_addr`` out and ``left_data``/``right_data`` in (frame-buffer read ports);
+    ``level``, ``no_data``, ``out_valid`` out. See the module docstring.
+    """
+
+    def __init__(self, geometry=SENSOR, thresholds=DIFF_THRESHOLDS):
+        self.geometry = geometry
+        self.thresholds = check_thresholds(thresholds, geometry.gray_bits)
+        g = geometry
+        super().__init__({
+            "valid": In(1),
+            "x": In(range(g.buf_width)),
+            "y": In(range(g.buf_height)),
+            "addr": In(g.addr_bits),
+            "disparity": In(SWITCH_VALUE_BITS),
+            "rectification": In(SWITCH_VALUE_BITS),
+            "left_addr": Out(g.addr_bits),
+            "right_addr": Out(g.addr_bits),
+            "left_data": In(g.gray_bits),
+            "right_data": In(g.gray_bits),
+            "level": Out(range(len(self.thresholds) + 1)),
+            "no_data": Out(1),
+            "out_valid": Out(1),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        g = self.geometry
+        w, h = g.buf_width, g.buf_height
+
+        # Per-frame constants (quasi-static inputs), two registered steps: SETTLE_CLOCKS = 2.
+        row_offset = Signal(g.addr_bits)            # rectification * buf_width (mod 2**addr_bits)
+        disparity_q = Signal(SWITCH_VALUE_BITS)
+        offset = Signal(g.addr_bits)                # rectification * buf_width + disparity (mod 2**addr_bits)
+        # x + disparity >= w  <=>  x >= x_limit, with x_limit = max(w - disparity, 0); the same for y.
+        x_limit = Signal(range(w + 1))
+        y_limit = Signal(range(h + 1))
+        m.d.sync += [
+            row_offset.eq(self.rectification * w),
+            disparity_q.eq(self.disparity),
+            offset.eq(row_offset + disparity_q),
+            x_limit.eq(Mux(self.disparity >= w, 0, w - self.disparity)),
+            y_limit.eq(Mux(self.rectification >= h, 0, h - self.rectification)),
+        ]
+
+        # Clock n -> n + 1: addresses and the no-data flag.
+        no_data_1 = Signal()
+        valid_1 = Signal()
+        outside = (self.x >= x_limit) | (self.y >= y_limit)
+        m.d.sync += [
+            valid_1.eq(self.valid),
+            no_data_1.eq(outside),
+            self.right_addr.eq(self.addr),
+            self.left_addr.eq(Mux(outside, 0, self.addr + offset)),
+        ]
+
+        # Clock n + 1 -> n + 2: the frame buffers read; only the flags travel along.
+        no_data_2 = Signal()
+        valid_2 = Signal()
+        m.d.sync += [no_data_2.eq(no_data_1), valid_2.eq(valid_1)]
+
+        # Clock n + 2 -> n + 3: register the BRAM outputs.
+        left_q = Signal(g.gray_bits)
+        right_q = Signal(g.gray_bits)
+        no_data_3 = Signal()
+        valid_3 = Signal()
+        m.d.sync += [
+            left_q.eq(self.left_data),
+            right_q.eq(self.right_data),
+            no_data_3.eq(no_data_2),
+            valid_3.eq(valid_2),
+        ]
+
+        # Clock n + 3 -> n + 4: absolute difference (thesis: subtract the smaller from the larger) and the
+        # threshold table as a bank of constant comparators whose true outputs are counted.
+        diff = Signal(g.gray_bits)
+        m.d.comb += diff.eq(Mux(left_q >= right_q, left_q - right_q, right_q - left_q))
+        count = sum((diff >= t) for t in self.thresholds)
+        m.d.sync += [
+            self.level.eq(Mux(no_data_3, 0, count)),
+            self.no_data.eq(no_data_3),
+            self.out_valid.eq(valid_3),
+        ]
+        return m

@@ -1,0 +1,76 @@
+"""Slide-switch controls of the disparity map generator (thesis 4.3, figures 4.5 and 4.6).
+
+The eight slide switches SW7..SW0 set two 7-bit registers: with SW7 = 1 the value on SW6..SW0 is the
+**disparity** (horizontal shift of the left image), with SW7 = 0 it is the **rectification** (vertical shift).
+Each register keeps its value while the other one is selected, so the user sets one, flips SW7 and sets the
+other. Both start at 0 after reset (the thesis's figure 4.13).
+
+Clock domain: ``domain`` (default ``sync``; the top level passes ``domain="pix"`` or uses ``DomainRenamer``).
+``sw`` is asynchronous (mechanical switches): every bit goes through an :class:`amaranth.lib.cdc.FFSynchronizer`
+of ``stages`` flip-flops before any logic looks at it.
+
+No tearing: the synchronised value is first copied into a *pending* register (the one selected by SW7); the
+outputs ``disparity`` and ``rectification`` load the pending registers only on the clock edge that ends the
+``frame_start`` cycle, so the datapath sees one value for the whole frame.
+
+Latency: call edge 0 the first clock edge after the switches change. Edge 0 samples them into the first
+synchroniser stage (metastability may resolve to the old value and delay everything below by one edge); the
+pending register holds the new value after edge ``stages``; the outputs load it on the first edge at or after
+edge ``stages + 1`` that ends a ``frame_start`` cycle. They then hold it from raster position (1, 0) of that
+frame until position (0, 0) of the next one inclusive. A user moving a switch during a frame therefore sees the
+change from the next frame on, never within a frame (a change in the last ``stages + 1`` clocks before
+``frame_start`` waits one more frame).
+
+No debouncing: a bouncing switch or bits changing at slightly different times can leave a transient value in
+the pending register; only the value present at the frame_start edge is shown, and the settled value
+overwrites any transient ``stages + 1`` clocks later, so at worst one frame shows an intermediate value.
+"""
+
+from amaranth import Module, Signal
+from amaranth.lib import wiring
+from amaranth.lib.cdc import FFSynchronizer
+from amaranth.lib.wiring import In, Out
+
+__all__ = ["SWITCH_VALUE_BITS", "SwitchControl"]
+
+#: Width of the disparity and rectification registers: the value switches SW6..SW0.
+SWITCH_VALUE_BITS = 7
+
+
+class SwitchControl(wiring.Component):
+    """``sw[8]`` (asynchronous) -> ``disparity[7]`` (SW7 = 1) and ``rectification[7]`` (SW7 = 0), updated only
+    when ``frame_start`` is high. See the module docstring for the latency."""
+
+    def __init__(self, *, domain="sync", stages=2):
+        if stages < 2:
+            raise ValueError(f"a synchroniser needs at least 2 stages, not {stages}")
+        self.domain = domain
+        self.stages = stages
+        super().__init__({
+            "sw": In(SWITCH_VALUE_BITS + 1),
+            "frame_start": In(1),
+            "disparity": Out(SWITCH_VALUE_BITS),
+            "rectification": Out(SWITCH_VALUE_BITS),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        sw_sync = Signal.like(self.sw, name="sw_sync")
+        m.submodules.sw_synchroniser = FFSynchronizer(self.sw, sw_sync, o_domain=self.domain,
+                                                      stages=self.stages)
+        select_disparity = sw_sync[SWITCH_VALUE_BITS]
+        value = sw_sync[:SWITCH_VALUE_BITS]
+
+        disparity_pending = Signal(SWITCH_VALUE_BITS)
+        rectification_pending = Signal(SWITCH_VALUE_BITS)
+        with m.If(select_disparity):
+            m.d[self.domain] += disparity_pending.eq(value)
+        with m.Else():
+            m.d[self.domain] += rectification_pending.eq(value)
+
+        with m.If(self.frame_start):
+            m.d[self.domain] += [
+                self.disparity.eq(disparity_pending),
+                self.rectification.eq(rectification_pending),
+            ]
+        return m
