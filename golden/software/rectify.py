@@ -16,8 +16,12 @@ must move up by that many rows.
 
 "Zero" is exact by default (``tolerance=0``): corner positions are integers, every slope is a ratio of
 integers, and IEEE division is correctly rounded, so two slopes compare equal exactly when the two ratios are
-equal. A positive ``tolerance`` accepts near-zeros ("or the minimum values"); ``min_support`` asks for that
-many zeros in the row instead of one.
+equal. A positive ``tolerance`` accepts near-zeros ("or the minimum values").
+
+A single zero is weak evidence: segments between integer points often share a simple slope by chance (4/1 =
+56/14), and in tests/test_software_rectify.py about one random false pair in five finds such a partner. A true
+pair has a zero with every other true pair at the same depth. So a pair needs ``min_support`` = 3 zeros in its
+row by default (``min_support=1`` is the thesis's literal "a zero in the row"); docs/software.md.
 
 Read literally, the thesis says the minimum in row i, column j "matches feature i of the first image with
 feature j of the second" and averages y2_j - y1_i. With two matched lists in the same order this is biased by
@@ -39,7 +43,7 @@ __all__ = ["SLOPE_TOLERANCE", "MIN_SUPPORT", "slope_matrix", "tangent_difference
            "vertical_shift", "literal_shift", "shift_rows"]
 
 SLOPE_TOLERANCE = 0.0     # an entry of T at most this counts as a zero (exact slope equality by default)
-MIN_SUPPORT = 1           # zeros a row of T needs to confirm its pair
+MIN_SUPPORT = 3           # zeros a row of T needs to confirm its pair (1 = the thesis read literally)
 
 
 def slope_matrix(points):
