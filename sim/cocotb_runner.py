@@ -118,7 +118,7 @@ def run_cocotb(design, *, name, test_module, simulator, params=None, waves=None,
     env.update(extra_env or {})
     results = runner.test(
         test_module=test_module, hdl_toplevel=name, hdl_toplevel_lang="verilog", build_dir=build_dir,
-        test_dir=test_dir, extra_env=env, waves=waves, testcase=testcase, results_xml="results.xml",
+        test_dir=test_dir, extra_env=env, waves=waves, testcase=testcase, results_xml=str(test_dir / "results.xml"),
         timescale=TIMESCALE if simulator == "icarus" else None,
         log_file=test_dir / "sim.log",
     )
