@@ -168,6 +168,12 @@ def run(args):
         raise UserError(f"--window {window} is larger than the {w}x{h} image")
     shift = None if args.shift is None else _int(args.shift, "--shift", -(h - 1), h - 1)
 
+    out = Path(args.out)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise UserError(f"cannot write to {out}: {exc.strerror or exc}") from None
+
     import numpy as np
 
     from golden.software.pipeline import depth_pipeline
@@ -177,9 +183,7 @@ def run(args):
                                 shift=shift, max_vertical_shift=max_vshift)
     except ValueError as exc:
         raise UserError(f"{exc} (give the shift with --shift)") from None
-    out = Path(args.out)
     try:
-        out.mkdir(parents=True, exist_ok=True)
         np.save(out / "disparity.npy", result.disparity)
         text = _shift_text(result)
         (out / "vertical_shift.txt").write_text(text + "\n")
