@@ -64,7 +64,8 @@ def _length(text, option, unit, scale):
 
 
 def read_image(path):
-    """An image file as an (H, W, 3) uint8 array; UserError if missing or unreadable."""
+    """An image file as an (H, W, 3) uint8 array (16-bit grey scaled to 8 bits); UserError if missing or
+    unreadable."""
     import numpy as np
     from PIL import Image, UnidentifiedImageError
 
@@ -73,6 +74,9 @@ def read_image(path):
         raise UserError(f"no such image file: {path}")
     try:
         with Image.open(path) as img:
+            if img.mode.startswith("I;16") or img.mode == "I":
+                grey = np.clip(np.rint(np.asarray(img, dtype=np.float64) * (255 / 65535)), 0, 255)
+                return np.repeat(grey.astype(np.uint8)[..., None], 3, axis=2)
             return np.asarray(img.convert("RGB"), dtype=np.uint8)
     except (OSError, ValueError, UnidentifiedImageError, Image.DecompressionBombError) as exc:
         raise UserError(f"cannot read image {path}: {str(exc).splitlines()[0] if str(exc) else type(exc).__name__}") \

@@ -90,3 +90,13 @@ def test_unwritable_output_directory_is_a_one_line_error(pair, tmp_path):
     blocker.write_text("x")
     run = depth(d / "left.png", d / "right.png", "--max-disparity", 24, "--window", 9, "--out", blocker / "sub")
     assert run.returncode == 2 and len(run.stderr.splitlines()) == 1 and "cannot write to" in run.stderr
+
+
+def test_16_bit_grey_images_are_scaled_to_8_bits(pair, tmp_path):
+    from stereodepth.cmd_depth import read_image
+
+    _, left, _ = pair
+    Image.fromarray(left.astype(np.uint16) * 257).save(tmp_path / "left16.png")    # 8-bit v -> 16-bit 257 v
+    with Image.open(tmp_path / "left16.png") as img:
+        assert img.mode.startswith("I")
+    assert np.array_equal(read_image(tmp_path / "left16.png"), np.stack([left] * 3, axis=-1))
