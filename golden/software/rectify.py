@@ -19,7 +19,7 @@ integers, and IEEE division is correctly rounded, so two slopes compare equal ex
 equal. A positive ``tolerance`` accepts near-zeros ("or the minimum values").
 
 A single zero is weak evidence: segments between integer points often share a simple slope by chance (4/1 =
-56/14), and in tests/test_software_rectify.py about one random false pair in five finds such a partner. A true
+56/14), and in tests/test_software_rectify.py 17 of 150 random false pairs find such a partner. A true
 pair has a zero with every other true pair at the same depth. So a pair needs ``min_support`` = 3 zeros in its
 row by default (``min_support=1`` is the thesis's literal "a zero in the row"); docs/software.md.
 
