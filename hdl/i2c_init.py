@@ -1,0 +1,254 @@
+"""InitSequencer: plays an I2C initialisation table from a ROM through an :class:`I2CMaster`.
+
+One sequencer per bus: each VmodCAM camera has its own bus (both MT9D112 answer at the same address) and the
+CH7301C has the Genesys's. The table (``hdl/init_tables.py``) is packed into an ``amaranth.lib.memory.Memory``
+ROM, one word per entry. Out of reset the sequencer runs the table once:
+
+* ``Write``: ``S addr+W reg.. data.. P`` (most significant byte first).
+* ``Wait``: counts the given time.
+* ``Poll``: ``S addr+W reg.. Sr addr+R data.. P`` until ``data & mask == value``; ``attempts`` reads at most,
+  ``interval_us`` apart. A one-attempt poll is an ID check.
+
+Faults: a NACK (address or data byte) or a lost arbitration ends the transaction with a STOP; the sequencer
+waits ``retry_delay_us`` and repeats the whole transaction, at most ``retries`` more times, then stops with
+``error``. A bus stuck low (the master's timeout) stops at once. A poll that never matches stops with
+``error``. After an error the sequencer leaves the bus idle for good: it never goes on to the next entry and
+never raises ``done`` (only a reset restarts it).
+
+Outputs (all ``sync``, registered): ``busy`` until the table ends or fails; ``done`` (sticky) once every
+entry has completed; ``error`` (sticky) with ``error_code`` (:class:`ErrorCode`) and ``entry`` = index of the
+failing entry (while running: the current entry; after ``done``: the table length). ``done`` and ``error``
+are never high together.
+
+Clock domain: ``sync`` (``clk_hz``, 100 MHz on the board). Latency: the bus time of the table plus its waits;
+about 0.46 ms per MT9D112 write and 0.30 ms per CH7301C write at 100 kHz.
+"""
+
+from amaranth import Module, Signal, unsigned
+from amaranth.lib import data, enum, wiring
+from amaranth.lib.memory import Memory
+from amaranth.lib.wiring import In, Out
+
+from .i2c_master import Cmd, I2CMaster
+from .init_tables import InitTable, Poll, Wait, Write
+from .params import CLOCKS
+
+__all__ = ["ErrorCode", "InitSequencer"]
+
+
+class ErrorCode(enum.Enum, shape=3):
+    NONE = 0
+    NACK_ADDR = 1     # the device address was not acknowledged (after all retries)
+    NACK_DATA = 2     # a register-address or data byte was not acknowledged (after all retries)
+    STUCK = 3         # SCL or SDA held low longer than the timeout (bus clear failed)
+    POLL = 4          # a polled register never read the expected value (includes ID checks)
+    ARB = 5           # SDA low while the master released it (arbitration lost / bus error), after retries
+
+
+_OP_WRITE, _OP_WAIT, _OP_POLL = 0, 1, 2
+
+
+def _us_to_cycles(us, clk_hz):
+    return -(-us * clk_hz // 1_000_000)
+
+
+class InitSequencer(wiring.Component):
+    def __init__(self, table, *, clk_hz=CLOCKS.SYS_HZ, bus_hz=CLOCKS.I2C_HZ, retries=3,
+                 retry_delay_us=1000, timeout_us=25_000):
+        if not isinstance(table, InitTable):
+            raise TypeError("table must be an hdl.init_tables.InitTable")
+        if retries < 0:
+            raise ValueError("retries must be >= 0")
+        self.table = table
+        self.clk_hz = clk_hz
+        self.bus_hz = bus_hz
+        self.retries = retries
+        self.retry_delay = max(1, _us_to_cycles(retry_delay_us, clk_hz))
+        self.master = I2CMaster(clk_hz=clk_hz, bus_hz=bus_hz, timeout_us=timeout_us)
+        super().__init__({
+            "busy": Out(1),
+            "done": Out(1),
+            "error": Out(1),
+            "error_code": Out(ErrorCode),
+            "entry": Out(range(len(table) + 1)),
+            "scl_o": Out(1),
+            "scl_oe": Out(1),
+            "scl_i": In(1, init=1),
+            "sda_o": Out(1),
+            "sda_oe": Out(1),
+            "sda_i": In(1, init=1),
+        })
+
+    def _rom(self):
+        dev = self.table.device
+        rb, db = 8 * dev.reg_bytes, 8 * dev.data_bytes
+        words = []
+        for e in self.table.entries:
+            if isinstance(e, Write):
+                words.append(dict(op=_OP_WRITE, reg=e.reg, value=e.value, mask=0, count=0, attempts=0))
+            elif isinstance(e, Wait):
+                words.append(dict(op=_OP_WAIT, reg=0, value=0, mask=0,
+                                  count=_us_to_cycles(e.us, self.clk_hz), attempts=0))
+            else:
+                words.append(dict(op=_OP_POLL, reg=e.reg, value=e.value & ((1 << db) - 1),
+                                  mask=e.mask & ((1 << db) - 1),
+                                  count=_us_to_cycles(e.interval_us, self.clk_hz), attempts=e.attempts))
+        max_count = max([w["count"] for w in words] + [self.retry_delay, 1])
+        max_attempts = max([w["attempts"] for w in words] + [1])
+        layout = data.StructLayout({
+            "op": 2, "reg": rb, "value": db, "mask": db,
+            "count": unsigned(max_count.bit_length()), "attempts": range(max_attempts + 1),
+        })
+        return layout, words, max_count, max_attempts
+
+    def elaborate(self, platform):
+        m = Module()
+        dev = self.table.device
+        n = len(self.table)
+        m.submodules.master = master = self.master
+        m.d.comb += [
+            self.scl_o.eq(master.scl_o), self.scl_oe.eq(master.scl_oe), master.scl_i.eq(self.scl_i),
+            self.sda_o.eq(master.sda_o), self.sda_oe.eq(master.sda_oe), master.sda_i.eq(self.sda_i),
+        ]
+
+        layout, words, max_count, max_attempts = self._rom()
+        m.submodules.rom = rom = Memory(shape=layout, depth=n, init=words)
+        rd = rom.read_port(domain="comb")
+        pc = Signal(range(n + 1))
+        m.d.comb += [rd.addr.eq(pc), self.entry.eq(pc)]
+        e = rd.data
+
+        # Step programs: what the master does in each step of a write / a poll read.
+        addr_w = dev.address << 1
+        addr_r = addr_w | 1
+        reg_bytes = [e.reg[8 * i:8 * i + 8] for i in reversed(range(dev.reg_bytes))]      # MSB first
+        val_bytes = [e.value[8 * i:8 * i + 8] for i in reversed(range(dev.data_bytes))]
+        # (cmd, wdata, rd_ack, address step?)
+        write_steps = ([(Cmd.START, 0, 0, False), (Cmd.WRITE, addr_w, 0, True)]
+                       + [(Cmd.WRITE, b, 0, False) for b in reg_bytes]
+                       + [(Cmd.WRITE, b, 0, False) for b in val_bytes]
+                       + [(Cmd.STOP, 0, 0, False)])
+        read_steps = ([(Cmd.START, 0, 0, False), (Cmd.WRITE, addr_w, 0, True)]
+                      + [(Cmd.WRITE, b, 0, False) for b in reg_bytes]
+                      + [(Cmd.START, 0, 0, False), (Cmd.WRITE, addr_r, 0, True)]
+                      + [(Cmd.READ, 0, int(i < dev.data_bytes - 1), False) for i in range(dev.data_bytes)]
+                      + [(Cmd.STOP, 0, 0, False)])
+        step = Signal(range(max(len(write_steps), len(read_steps))))
+        last_step = Signal()
+        is_addr = Signal()
+        is_write = Signal()
+        for steps, op in ((write_steps, _OP_WRITE), (read_steps, _OP_POLL)):
+            with m.If(e.op == op):
+                with m.Switch(step):
+                    for i, (cmd, wdata, rd_ack, addr_step) in enumerate(steps):
+                        with m.Case(i):
+                            m.d.comb += [
+                                master.cmd.eq(cmd), master.wdata.eq(wdata), master.rd_ack.eq(rd_ack),
+                                is_addr.eq(addr_step), is_write.eq(cmd == Cmd.WRITE),
+                                last_step.eq(i == len(steps) - 1),
+                            ]
+
+        timer = Signal(range(max_count + 2))
+        attempt = Signal(range(self.retries + 1))
+        polls = Signal(range(max_attempts + 1))
+        rx = Signal(8 * dev.data_bytes)
+        fail_code = Signal(ErrorCode)
+
+        def finish_entry():
+            m.d.sync += [pc.eq(pc + 1), polls.eq(0), attempt.eq(0)]
+            m.next = "FETCH"
+
+        def retry_or_fail():
+            with m.If(attempt < self.retries):
+                m.d.sync += [attempt.eq(attempt + 1), timer.eq(0)]
+                m.next = "RETRY_WAIT"
+            with m.Else():
+                m.next = "ERROR"
+
+        m.d.comb += self.busy.eq(~self.done & ~self.error)
+
+        with m.FSM():
+            with m.State("FETCH"):
+                m.d.sync += [step.eq(0), rx.eq(0), timer.eq(0)]
+                with m.If(pc == n):
+                    m.next = "DONE"
+                with m.Elif(e.op == _OP_WAIT):
+                    m.next = "WAIT"
+                with m.Else():
+                    m.next = "ISSUE"
+
+            with m.State("WAIT"):
+                m.d.sync += timer.eq(timer + 1)
+                with m.If(timer + 1 >= e.count):
+                    finish_entry()
+
+            with m.State("ISSUE"):
+                m.d.comb += master.cmd_valid.eq(1)
+                with m.If(master.ready):
+                    m.next = "BUSY"
+
+            with m.State("BUSY"):
+                with m.If(master.done):
+                    with m.If(master.timed_out):
+                        m.d.sync += fail_code.eq(ErrorCode.STUCK)
+                        m.next = "ERROR"
+                    with m.Elif(master.arb_lost):
+                        m.d.sync += fail_code.eq(ErrorCode.ARB)
+                        retry_or_fail()
+                    with m.Elif(is_write & master.nack):
+                        with m.If(is_addr):
+                            m.d.sync += fail_code.eq(ErrorCode.NACK_ADDR)
+                        with m.Else():
+                            m.d.sync += fail_code.eq(ErrorCode.NACK_DATA)
+                        m.next = "ABORT"
+                    with m.Elif(last_step):
+                        m.next = "COMPLETE"
+                    with m.Else():
+                        with m.If(master.cmd == Cmd.READ):
+                            m.d.sync += rx.eq((rx << 8) | master.rdata)
+                        m.d.sync += step.eq(step + 1)
+                        m.next = "ISSUE"
+
+            with m.State("ABORT"):                         # STOP after a NACK, then retry or give up
+                m.d.comb += [master.cmd.eq(Cmd.STOP), master.cmd_valid.eq(1)]
+                with m.If(master.ready):
+                    m.next = "ABORT_WAIT"
+            with m.State("ABORT_WAIT"):
+                with m.If(master.done):
+                    with m.If(master.timed_out):
+                        m.d.sync += fail_code.eq(ErrorCode.STUCK)
+                        m.next = "ERROR"
+                    with m.Else():
+                        retry_or_fail()
+
+            with m.State("RETRY_WAIT"):
+                m.d.sync += timer.eq(timer + 1)
+                with m.If(timer + 1 >= self.retry_delay):
+                    m.d.sync += [step.eq(0), rx.eq(0), timer.eq(0)]
+                    m.next = "ISSUE"
+
+            with m.State("COMPLETE"):
+                with m.If(e.op == _OP_WRITE):
+                    finish_entry()
+                with m.Elif((rx & e.mask) == e.value):
+                    finish_entry()
+                with m.Elif(polls + 1 >= e.attempts):
+                    m.d.sync += fail_code.eq(ErrorCode.POLL)
+                    m.next = "ERROR"
+                with m.Else():
+                    m.d.sync += [polls.eq(polls + 1), attempt.eq(0), timer.eq(0)]
+                    m.next = "POLL_WAIT"
+
+            with m.State("POLL_WAIT"):
+                m.d.sync += timer.eq(timer + 1)
+                with m.If(timer + 1 >= e.count):
+                    m.d.sync += [step.eq(0), rx.eq(0), timer.eq(0)]
+                    m.next = "ISSUE"
+
+            with m.State("DONE"):
+                m.d.sync += self.done.eq(1)
+
+            with m.State("ERROR"):
+                m.d.sync += [self.error.eq(1), self.error_code.eq(fail_code)]
+
+        return m

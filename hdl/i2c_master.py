@@ -1,0 +1,340 @@
+"""I2C master: byte-level START / WRITE / READ / STOP commands on open-drain SCL and SDA.
+
+Pins: ``scl_o``/``scl_oe``/``scl_i`` and ``sda_o``/``sda_oe``/``sda_i``. ``*_o`` is always 0 and ``*_oe`` = 1 pulls
+the line low (open drain); the board top level connects them to an ``amaranth.lib.io`` buffer with a pull-up.
+``scl_i``/``sda_i`` are asynchronous and pass through a 2-flop synchroniser (``amaranth.lib.cdc``).
+
+Clock domain: ``sync`` (100 MHz on the board, ``clk_hz``). Bus rate ``bus_hz`` (100 kHz default); every bus
+interval is derived from ``clk_hz`` and the I2C specification's minimum for that speed class (NXP UM10204
+Rev. 7, table 10: standard mode <= 100 kHz, fast mode <= 400 kHz, fast-mode plus <= 1 MHz), see
+:class:`I2CTiming`. At 100 MHz / 100 kHz: SCL low 5.00 us, high >= 5.00 us, SDA changes 1.25 us after SCL
+falls, START/STOP setup and hold >= 5.00 us, bus free >= 5.00 us.
+
+Command interface: when ``ready`` is high, ``cmd_valid`` with ``cmd`` (and ``wdata`` for WRITE, ``rd_ack`` for
+READ: 1 = acknowledge the byte, 0 = NACK the last byte) starts a command. When it ends, ``done`` pulses for
+one cycle; ``nack`` (WRITE: the target did not acknowledge), ``rdata`` (READ), ``arb_lost`` and
+``timed_out`` describe the result and stay valid until the next command.
+
+* START: from an idle bus, waits until SCL and SDA have been high for the bus-free time, then SDA falls while
+  SCL is high. While a transfer is open (``bus_active``) it makes a repeated START.
+* WRITE / READ: 8 data bits MSB first plus the acknowledge bit. SCL is held low between commands.
+* STOP: SDA rises while SCL is high; ``bus_active`` falls.
+
+Clock stretching: after releasing SCL the master waits for SCL to read high and counts the high time from
+there. Stuck bus: if SCL stays low (or the bus is not free before a START) for ``timeout_us`` the command ends
+with ``timed_out`` and both lines released. If SDA alone is held low before a START, the master first tries
+the UM10204 bus clear (up to nine SCL pulses, then a STOP). Arbitration / bus error: if SDA reads low while
+the master releases it for a 1 data bit, the repeated-START setup or the STOP, the command ends with
+``arb_lost`` and both lines released.
+
+Latency: a command takes its bus time (9 bit times for a byte) plus 2-3 cycles of input synchronisation per
+SCL rising edge; ``ready`` returns the cycle after ``done``.
+"""
+
+from dataclasses import dataclass
+
+from amaranth import Module, Signal
+from amaranth.lib import enum, wiring
+from amaranth.lib.cdc import FFSynchronizer
+from amaranth.lib.wiring import In, Out
+
+from .params import CLOCKS
+
+__all__ = ["Cmd", "I2C_SPEC_NS", "I2CTiming", "I2CMaster"]
+
+
+class Cmd(enum.Enum, shape=2):
+    START = 0
+    WRITE = 1
+    READ = 2
+    STOP = 3
+
+
+#: Minimum bus intervals in ns per speed class (NXP UM10204 Rev. 7, 2021, table 10); ``t_vd_dat`` is the
+#: maximum data-valid time (SCL low to SDA valid), the bound on the master's SDA change after SCL falls.
+I2C_SPEC_NS = {
+    100_000: dict(t_low=4700, t_high=4000, t_su_sta=4700, t_hd_sta=4000, t_su_dat=250, t_vd_dat=3450,
+                  t_su_sto=4000, t_buf=4700),
+    400_000: dict(t_low=1300, t_high=600, t_su_sta=600, t_hd_sta=600, t_su_dat=100, t_vd_dat=900,
+                  t_su_sto=600, t_buf=1300),
+    1_000_000: dict(t_low=500, t_high=260, t_su_sta=260, t_hd_sta=260, t_su_dat=50, t_vd_dat=450,
+                    t_su_sto=260, t_buf=500),
+}
+
+
+def _cycles(ns, clk_hz):
+    return -(-ns * clk_hz // 1_000_000_000)   # ceil
+
+
+@dataclass(frozen=True)
+class I2CTiming:
+    """Bus intervals in ``sync`` cycles for ``clk_hz`` and ``bus_hz``: the larger of half the bit period and
+    the specification's minimum, rounded up. Raises ``ValueError`` when the clock is too slow to meet them."""
+    clk_hz: int
+    bus_hz: int
+
+    def __post_init__(self):
+        if self.bus_hz <= 0 or self.clk_hz <= 0:
+            raise ValueError("clock and bus rates must be positive")
+        classes = [hz for hz in sorted(I2C_SPEC_NS) if self.bus_hz <= hz]
+        if not classes:
+            raise ValueError(f"bus rate {self.bus_hz} Hz is above fast-mode plus (1 MHz)")
+        spec = I2C_SPEC_NS[classes[0]]
+        c = lambda ns: _cycles(ns, self.clk_hz)   # noqa: E731
+        period = -(-self.clk_hz // self.bus_hz)
+        low = max(c(spec["t_low"]), -(-period // 2))
+        high = max(c(spec["t_high"]), period - low)
+        hold = max(1, c(300), low // 4)
+        values = dict(
+            speed_class=classes[0], low=low, high=high, hold=hold,
+            su_sta=max(c(spec["t_su_sta"]), high), hd_sta=max(c(spec["t_hd_sta"]), high),
+            su_sto=max(c(spec["t_su_sto"]), high), buf=max(c(spec["t_buf"]), low),
+            su_dat=max(1, c(spec["t_su_dat"])),
+        )
+        for k, v in values.items():
+            object.__setattr__(self, k, v)
+        if hold >= c(spec["t_vd_dat"]) or low - hold < self.su_dat:
+            raise ValueError(f"a {self.clk_hz} Hz clock is too slow for I2C at {self.bus_hz} Hz "
+                             "(cannot place SDA changes within the SCL low time)")
+
+    def ns(self, cycles):
+        return cycles * 1e9 / self.clk_hz
+
+
+class I2CMaster(wiring.Component):
+    def __init__(self, *, clk_hz=CLOCKS.SYS_HZ, bus_hz=CLOCKS.I2C_HZ, timeout_us=25_000):
+        self.timing = I2CTiming(clk_hz, bus_hz)
+        self.timeout = max(1, -(-timeout_us * clk_hz // 1_000_000))
+        if self.timeout <= self.timing.buf + 4:
+            raise ValueError("timeout_us must be longer than the bus-free time")
+        super().__init__({
+            "cmd": In(Cmd),
+            "cmd_valid": In(1),
+            "wdata": In(8),
+            "rd_ack": In(1),
+            "ready": Out(1),
+            "done": Out(1),
+            "nack": Out(1),
+            "rdata": Out(8),
+            "arb_lost": Out(1),
+            "timed_out": Out(1),
+            "bus_active": Out(1),
+            "scl_o": Out(1),
+            "scl_oe": Out(1),
+            "scl_i": In(1, init=1),
+            "sda_o": Out(1),
+            "sda_oe": Out(1),
+            "sda_i": In(1, init=1),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        t = self.timing
+
+        scl = Signal(init=1)
+        sda = Signal(init=1)
+        m.submodules.scl_sync = FFSynchronizer(self.scl_i, scl, init=1)
+        m.submodules.sda_sync = FFSynchronizer(self.sda_i, sda, init=1)
+
+        scl_low = Signal()
+        sda_low = Signal()
+        m.d.comb += [
+            self.scl_o.eq(0), self.sda_o.eq(0),
+            self.scl_oe.eq(scl_low), self.sda_oe.eq(sda_low),
+        ]
+
+        longest = max(t.low, t.high, t.hold, t.su_sta, t.hd_sta, t.su_sto, t.buf)
+        timer = Signal(range(longest + 2))
+        low_cnt = Signal(range(t.low + 1))           # cycles since the master pulled SCL low (saturating)
+        with m.If(~scl_low):
+            m.d.sync += low_cnt.eq(0)
+        with m.Elif(low_cnt < t.low):
+            m.d.sync += low_cnt.eq(low_cnt + 1)
+        wait = Signal(range(self.timeout + 2))       # stuck-bus timeout counter
+        shift = Signal(8)
+        bit = Signal(range(9))
+        reading = Signal()
+        ack_level = Signal()                         # READ: 1 = pull SDA low in the acknowledge slot
+        pulses = Signal(range(10))                   # bus-clear pulses
+        clearing = Signal()                          # STOP sequence belongs to a bus clear
+        cleared = Signal()                           # bus clear already tried for this START
+
+        res_nack = Signal()
+        res_arb = Signal()
+        res_timeout = Signal()
+        m.d.comb += [
+            self.nack.eq(res_nack), self.arb_lost.eq(res_arb), self.timed_out.eq(res_timeout),
+            self.rdata.eq(shift),
+        ]
+
+        def fail(kind):
+            m.d.sync += [scl_low.eq(0), sda_low.eq(0), self.bus_active.eq(0), kind.eq(1)]
+            m.next = "DONE"
+
+        with m.FSM():
+            with m.State("IDLE"):
+                m.d.comb += self.ready.eq(1)
+                with m.If(self.cmd_valid):
+                    m.d.sync += [res_nack.eq(0), res_arb.eq(0), res_timeout.eq(0), timer.eq(0), wait.eq(0)]
+                    with m.Switch(self.cmd):
+                        with m.Case(Cmd.START):
+                            m.d.sync += cleared.eq(0)
+                            with m.If(self.bus_active):
+                                m.next = "RS_HOLD"
+                            with m.Else():
+                                m.next = "WAIT_IDLE"
+                        with m.Case(Cmd.WRITE):
+                            m.d.sync += [shift.eq(self.wdata), reading.eq(0), bit.eq(0)]
+                            m.next = "BIT_HOLD"
+                        with m.Case(Cmd.READ):
+                            m.d.sync += [reading.eq(1), ack_level.eq(self.rd_ack), bit.eq(0)]
+                            m.next = "BIT_HOLD"
+                        with m.Case(Cmd.STOP):
+                            m.d.sync += clearing.eq(0)
+                            with m.If(self.bus_active):
+                                m.next = "STOP_HOLD"
+                            with m.Else():
+                                m.next = "DONE"
+
+            # --- START from an idle bus -----------------------------------------------------------------
+            with m.State("WAIT_IDLE"):
+                m.d.sync += wait.eq(wait + 1)
+                with m.If(scl & sda):
+                    m.d.sync += timer.eq(timer + 1)
+                    with m.If(timer >= t.buf - 1):
+                        m.d.sync += [sda_low.eq(1), timer.eq(0)]
+                        m.next = "START_HD"
+                with m.Else():
+                    m.d.sync += timer.eq(0)
+                with m.If(wait >= self.timeout):
+                    with m.If(scl & ~sda & ~cleared):
+                        m.d.sync += [cleared.eq(1), pulses.eq(0), timer.eq(0), scl_low.eq(1)]
+                        m.next = "CLR_LOW"
+                    with m.Else():
+                        fail(res_timeout)
+
+            with m.State("START_HD"):                         # SDA low, SCL high: hold the START
+                m.d.sync += timer.eq(timer + 1)
+                with m.If(timer >= t.hd_sta - 1):
+                    m.d.sync += [scl_low.eq(1), self.bus_active.eq(1)]
+                    m.next = "DONE"
+
+            # --- repeated START (SCL is low when we get here) ----------------------------------------------
+            with m.State("RS_HOLD"):
+                with m.If(low_cnt >= t.hold - 1):
+                    m.d.sync += [sda_low.eq(0), timer.eq(0)]
+                    m.next = "RS_SETUP"
+            with m.State("RS_SETUP"):
+                m.d.sync += timer.eq(timer + 1)
+                with m.If((low_cnt >= t.low - 1) & (timer >= t.su_dat - 1)):
+                    m.d.sync += [scl_low.eq(0), timer.eq(0), wait.eq(0)]
+                    m.next = "RS_WAIT_HIGH"
+            with m.State("RS_WAIT_HIGH"):
+                m.d.sync += wait.eq(wait + 1)
+                with m.If(scl):
+                    m.next = "RS_SU"
+                with m.Elif(wait >= self.timeout):
+                    fail(res_timeout)
+            with m.State("RS_SU"):
+                m.d.sync += timer.eq(timer + 1)
+                with m.If(timer >= t.su_sta - 1):
+                    with m.If(~sda | ~scl):
+                        fail(res_arb)
+                    with m.Else():
+                        m.d.sync += [sda_low.eq(1), timer.eq(0)]
+                        m.next = "START_HD"
+
+            # --- one bit: SDA changes `hold` after SCL fell, SCL released at `low`, sampled at end of high --
+            with m.State("BIT_HOLD"):
+                with m.If(low_cnt >= t.hold - 1):
+                    with m.If(bit == 8):
+                        m.d.sync += sda_low.eq(reading & ack_level)
+                    with m.Else():
+                        m.d.sync += sda_low.eq(~reading & ~shift[7])
+                    m.d.sync += timer.eq(0)
+                    m.next = "BIT_SETUP"
+            with m.State("BIT_SETUP"):
+                m.d.sync += timer.eq(timer + 1)
+                with m.If((low_cnt >= t.low - 1) & (timer >= t.su_dat - 1)):
+                    m.d.sync += [scl_low.eq(0), timer.eq(0), wait.eq(0)]
+                    m.next = "BIT_WAIT_HIGH"
+            with m.State("BIT_WAIT_HIGH"):
+                m.d.sync += wait.eq(wait + 1)
+                with m.If(scl):
+                    m.next = "BIT_HIGH"
+                with m.Elif(wait >= self.timeout):
+                    fail(res_timeout)
+            with m.State("BIT_HIGH"):
+                m.d.sync += timer.eq(timer + 1)
+                with m.If(timer >= t.high - 1):
+                    m.d.sync += timer.eq(0)
+                    with m.If(bit == 8):
+                        m.d.sync += [res_nack.eq(~reading & sda), scl_low.eq(1)]
+                        m.next = "DONE"
+                    with m.Elif(~reading & ~sda_low & ~sda):
+                        fail(res_arb)                           # we sent a 1 but SDA is low
+                    with m.Else():
+                        m.d.sync += [shift.eq((shift << 1) | (reading & sda)), bit.eq(bit + 1), scl_low.eq(1)]
+                        m.next = "BIT_HOLD"
+
+            # --- STOP (SCL is low when we get here) --------------------------------------------------------
+            with m.State("STOP_HOLD"):
+                with m.If(low_cnt >= t.hold - 1):
+                    m.d.sync += [sda_low.eq(1), timer.eq(0)]
+                    m.next = "STOP_SETUP"
+            with m.State("STOP_SETUP"):
+                m.d.sync += timer.eq(timer + 1)
+                with m.If((low_cnt >= t.low - 1) & (timer >= t.su_dat - 1)):
+                    m.d.sync += [scl_low.eq(0), timer.eq(0), wait.eq(0)]
+                    m.next = "STOP_WAIT_HIGH"
+            with m.State("STOP_WAIT_HIGH"):
+                m.d.sync += wait.eq(wait + 1)
+                with m.If(scl):
+                    m.next = "STOP_SU"
+                with m.Elif(wait >= self.timeout):
+                    fail(res_timeout)
+            with m.State("STOP_SU"):
+                m.d.sync += timer.eq(timer + 1)
+                with m.If(timer >= t.su_sto - 1):
+                    m.d.sync += [sda_low.eq(0), timer.eq(0)]
+                    m.next = "STOP_CHECK"
+            with m.State("STOP_CHECK"):                       # let the release pass the synchroniser
+                m.d.sync += timer.eq(timer + 1)
+                with m.If(timer >= 3):
+                    with m.If(~sda):
+                        fail(res_arb)
+                    with m.Elif(clearing):
+                        m.d.sync += [self.bus_active.eq(0), clearing.eq(0), timer.eq(0), wait.eq(0)]
+                        m.next = "WAIT_IDLE"
+                    with m.Else():
+                        m.d.sync += self.bus_active.eq(0)
+                        m.next = "DONE"
+
+            # --- bus clear (UM10204 3.1.16): SCL pulses until the target releases SDA ----------------------
+            with m.State("CLR_LOW"):
+                with m.If(low_cnt >= t.low - 1):
+                    m.d.sync += [scl_low.eq(0), timer.eq(0), wait.eq(0)]
+                    m.next = "CLR_WAIT_HIGH"
+            with m.State("CLR_WAIT_HIGH"):
+                m.d.sync += wait.eq(wait + 1)
+                with m.If(scl):
+                    m.next = "CLR_HIGH"
+                with m.Elif(wait >= self.timeout):
+                    fail(res_timeout)
+            with m.State("CLR_HIGH"):
+                m.d.sync += timer.eq(timer + 1)
+                with m.If(timer >= t.high - 1):
+                    m.d.sync += [timer.eq(0), scl_low.eq(1), pulses.eq(pulses + 1)]
+                    with m.If(sda):
+                        m.d.sync += [clearing.eq(1), self.bus_active.eq(1)]
+                        m.next = "STOP_HOLD"
+                    with m.Elif(pulses >= 8):
+                        fail(res_timeout)
+                    with m.Else():
+                        m.next = "CLR_LOW"
+
+            with m.State("DONE"):
+                m.d.comb += self.done.eq(1)
+                m.next = "IDLE"
+
+        return m

@@ -1,0 +1,756 @@
+"""Open-drain I2C bus models: register-file targets for the MT9D112 and the CH7301C, a bus monitor that checks
+the UM10204 timing, and the wiring that puts them next to the RTL in the Amaranth simulator and in cocotb.
+
+Pure-Python cores (no simulator imports at module level):
+
+* :class:`I2CTarget`: the bit-level target state machine. ``update(scl, sda, now)`` is called with the
+  resolved bus levels whenever they may have changed (and when :meth:`I2CTarget.deadline` passes); the target
+  then reports what it pulls low in ``scl_low`` / ``sda_low``. Fault injection: NACK its address, NACK a byte
+  of a write, stretch SCL after every acknowledged byte, hold SDA or SCL low (for ever, or SDA for a number of
+  SCL pulses, like a target stuck in the middle of a read).
+* :class:`RegisterTarget`: register address + data framing on top; records every completed write and read.
+* :class:`MT9D112Model`, :class:`CH7301CModel`: the two parts at their real addresses, with the behaviour the
+  init tables rely on (chip IDs, MCU variables through 0x338C/0x3390, the sequencer command that reads back 0
+  when done, PLL lock time, boot time after reset). ``MT9D112Model.sensor_config()`` gives the
+  :class:`sim.sensor_config.SensorConfig` the sensor model obeys; ``CH7301CModel.dvi_config()`` the decoded
+  DVI settings.
+* :class:`I2CBusMonitor`: decodes START/STOP/bytes/ACKs from the two lines and measures every interval of
+  UM10204 table 10 (its own copy of the standard's numbers, independent of the RTL's).
+
+Simulator glue:
+
+* :class:`I2CBench`: an Amaranth component that wires one or more DUTs with open-drain pins to wired-AND buses
+  (``<bus>_scl``/``<bus>_sda``) with extra pull-downs for Python models (``<bus>_ext_*_low``) and release-high
+  outputs for a cocotbext-i2c device (``<bus>_peer_*_o``), plus a cycle counter as time base.
+* :func:`amaranth_target_process` / :func:`start_cocotb_targets`: run a list of targets on a bus of an
+  :class:`I2CBench` in the Amaranth simulator / in cocotb.
+
+Model assumptions where no public datasheet text was available are listed in docs/i2c.md.
+"""
+
+from dataclasses import dataclass
+
+from sim.sensor_config import SensorConfig
+
+__all__ = [
+    "I2CTarget", "RegisterTarget", "MT9D112Model", "CH7301CModel", "DviConfig",
+    "I2CBusMonitor", "STANDARD_MODE_LIMITS_US", "I2CBench",
+    "amaranth_target_process", "start_cocotb_targets", "start_cocotb_monitor",
+]
+
+
+# --------------------------------------------------------------------------------------------------------
+# Bit-level target
+# --------------------------------------------------------------------------------------------------------
+
+class I2CTarget:
+    """A 7-bit-address I2C target on an open-drain bus (pure Python, event driven).
+
+    Fault options: ``nack_address`` (NACK its own address), ``nack_write_byte`` (index of the byte after the
+    address byte to NACK in write transactions; with ``nack_write_reg`` only in writes to that register),
+    ``nack_times`` (how often those NACK faults fire; None = always), ``stretch_s`` (hold SCL low that long
+    after each acknowledged byte), ``hold_sda_low`` / ``hold_scl_low`` (pull the line low for ever),
+    ``hold_sda_pulses`` (pull SDA low until that many SCL falling edges have passed).
+    """
+
+    def __init__(self, address, *, name="target", nack_address=False, nack_write_byte=None,
+                 nack_write_reg=None, nack_times=None, stretch_s=0.0, hold_sda_low=False,
+                 hold_scl_low=False, hold_sda_pulses=0):
+        self.address = address
+        self.name = name
+        self.nack_address = nack_address
+        self.nack_write_byte = nack_write_byte
+        self.nack_write_reg = nack_write_reg
+        self.nack_times = nack_times
+        self.stretch_s = stretch_s
+        self.hold_sda_low = hold_sda_low
+        self.hold_scl_low = hold_scl_low
+        self.hold_sda_pulses = hold_sda_pulses
+        self.nacks_given = 0
+        self.stretches = 0
+        self._scl = self._sda = True
+        self._state = "idle"
+        self._bits = 0
+        self._byte = 0
+        self._ack = False                # what we drive in the acknowledge slot
+        self._rw = 0
+        self._tx = 0                     # byte being sent (reads)
+        self._drive_sda_low = False
+        self._stretch_until = None
+        self._falls = 0
+        self.now = 0.0
+
+    # ---- outputs ---------------------------------------------------------------------------------------
+    @property
+    def sda_low(self):
+        return self.hold_sda_low or self._falls < self.hold_sda_pulses or self._drive_sda_low
+
+    @property
+    def scl_low(self):
+        return self.hold_scl_low or self._stretch_until is not None
+
+    def deadline(self):
+        """Absolute time (s) at which :meth:`update` must be called again, or None."""
+        return self._stretch_until
+
+    # ---- hooks for subclasses ----------------------------------------------------------------------------
+    def ready(self):
+        """False while the device cannot answer (it then NACKs its address)."""
+        return True
+
+    def on_start(self):
+        pass
+
+    def on_write(self, index, byte):
+        """A byte of a write transaction (index 0 = first byte after the address). Return True to ACK."""
+        return True
+
+    def on_read(self, index):
+        return 0xFF
+
+    def on_stop(self):
+        pass
+
+    # ---- fault helpers -------------------------------------------------------------------------------------
+    def _fault_fires(self):
+        if self.nack_times is None or self.nacks_given < self.nack_times:
+            self.nacks_given += 1
+            return True
+        return False
+
+    def nack_this_write_byte(self, index, reg):
+        if self.nack_write_byte is None or index != self.nack_write_byte:
+            return False
+        if self.nack_write_reg is not None and reg != self.nack_write_reg:
+            return False
+        return self._fault_fires()
+
+    # ---- the state machine ---------------------------------------------------------------------------------
+    def update(self, scl, sda, now):
+        scl, sda = bool(scl), bool(sda)
+        self.now = now
+        if self._stretch_until is not None and now >= self._stretch_until - 1e-12:
+            self._stretch_until = None
+        prev_scl, prev_sda = self._scl, self._sda
+        self._scl, self._sda = scl, sda
+        if scl and prev_scl and sda != prev_sda:
+            if not sda:
+                self._start()
+            else:
+                self._stop()
+            return
+        if scl and not prev_scl:
+            self._rise(sda)
+        elif prev_scl and not scl:
+            self._falls += 1
+            self._fall()
+
+    def _start(self):
+        if self._state not in ("idle", "ignore"):
+            self.on_stop_partial()
+        self._state = "addr"
+        self._bits = 0
+        self._byte = 0
+        self._drive_sda_low = False
+        self._index = 0
+        self.on_start()
+
+    def on_stop_partial(self):
+        """A repeated START ended the previous part of a transaction (register pointer stays)."""
+
+    def _stop(self):
+        active = self._state != "idle"
+        self._state = "idle"
+        self._drive_sda_low = False
+        if active:
+            self.on_stop()
+
+    def _rise(self, sda):
+        st = self._state
+        if st in ("addr", "write"):
+            self._byte = ((self._byte << 1) | sda) & 0xFF
+            self._bits += 1
+        elif st == "read":
+            self._bits += 1
+        elif st == "read_ack":
+            self._master_acked = not sda
+
+    def _fall(self):
+        st = self._state
+        if st == "addr" and self._bits == 8:
+            self._rw = self._byte & 1
+            ok = (self._byte >> 1) == self.address and self.ready()
+            if ok and self.nack_address and self._fault_fires():
+                ok = False
+            if ok:
+                self._drive_sda_low = True
+                self._state = "addr_ack"
+            else:
+                self._state = "ignore"
+        elif st == "addr_ack":
+            self._drive_sda_low = False
+            self._stretch()
+            if self._rw:
+                self._begin_read_byte()
+            else:
+                self._state, self._bits, self._byte = "write", 0, 0
+        elif st == "write" and self._bits == 8:
+            ack = self.on_write(self._index, self._byte)
+            self._index += 1
+            if ack:
+                self._drive_sda_low = True
+                self._state = "write_ack"
+            else:
+                self._state = "ignore"
+        elif st == "write_ack":
+            self._drive_sda_low = False
+            self._stretch()
+            self._state, self._bits, self._byte = "write", 0, 0
+        elif st == "read":
+            if self._bits < 8:
+                self._drive_sda_low = not (self._tx >> (7 - self._bits)) & 1
+            else:
+                self._drive_sda_low = False
+                self._state = "read_ack"
+        elif st == "read_ack":
+            if self._master_acked:
+                self._begin_read_byte()
+            else:
+                self._state = "ignore"
+
+    def _begin_read_byte(self):
+        self._tx = self.on_read(self._index) & 0xFF
+        self._index += 1
+        self._bits = 0
+        self._state = "read"
+        self._drive_sda_low = not (self._tx >> 7) & 1
+
+    def _stretch(self):
+        if self.stretch_s > 0:
+            self._stretch_until = self.now + self.stretch_s
+            self.stretches += 1
+
+
+class RegisterTarget(I2CTarget):
+    """Register-address + data framing: a write transaction is ``reg`` (``reg_bytes``, MSB first) followed by
+    ``data_bytes``-wide values (auto-increment by ``data_bytes`` per further value); a read transaction reads
+    from the register pointer left by the last write phase. ``writes`` / ``reads`` record every completed
+    ``(register, value)`` in order (a value whose bytes were not all acknowledged is not written)."""
+
+    def __init__(self, address, *, reg_bytes, data_bytes, **faults):
+        super().__init__(address, **faults)
+        self.reg_bytes = reg_bytes
+        self.data_bytes = data_bytes
+        self.writes = []
+        self.reads = []
+        self.transactions = 0
+        self._ptr = 0
+        self._acc = []
+
+    def on_start(self):
+        self._acc = []
+        self._read_acc = []
+
+    def on_write(self, index, byte):
+        if index < self.reg_bytes:
+            reg = None
+        else:
+            reg = self._ptr
+        if self.nack_this_write_byte(index, reg):
+            return False
+        self._acc.append(byte)
+        if index == self.reg_bytes - 1:
+            self._ptr = int.from_bytes(bytes(self._acc[:self.reg_bytes]), "big")
+        elif index >= self.reg_bytes and (index - self.reg_bytes) % self.data_bytes == self.data_bytes - 1:
+            value = int.from_bytes(bytes(self._acc[-self.data_bytes:]), "big")
+            self.writes.append((self._ptr, value))
+            self.write_register(self._ptr, value)
+            self._ptr += self.data_bytes
+        return True
+
+    def on_read(self, index):
+        k = len(self._read_acc) % self.data_bytes
+        if k == 0:
+            self._read_word = self.read_register(self._ptr) & ((1 << (8 * self.data_bytes)) - 1)
+        byte = (self._read_word >> (8 * (self.data_bytes - 1 - k))) & 0xFF
+        self._read_acc.append(byte)
+        if k == self.data_bytes - 1:
+            self.reads.append((self._ptr, self._read_word))
+            self._ptr += self.data_bytes
+        return byte
+
+    def on_stop(self):
+        self.transactions += 1
+
+    def write_register(self, reg, value):
+        raise NotImplementedError
+
+    def read_register(self, reg):
+        raise NotImplementedError
+
+
+# --------------------------------------------------------------------------------------------------------
+# MT9D112
+# --------------------------------------------------------------------------------------------------------
+
+class MT9D112Model(RegisterTarget):
+    """The MT9D112's I2C register file (16-bit registers, 16-bit data) at 7-bit address 0x3C.
+
+    Behaviour modelled: chip version 0x3000 = 0x1580 (read only); MCU variables through 0x338C (address: bit 15
+    8-bit access, bits 12:8 driver, 7:0 offset) and 0x3390 (data); the sequencer command variable (driver 1,
+    offset 3) reads back the command for ``cmd_busy_reads`` reads, then 0, and only then does the command take
+    effect (2 = capture: context B; 1 = preview: context A; 5/6 = refresh) -- and only while the MCU is out of
+    reset (0x3386 bit 0 clear). Context settings (output size, output format) are latched when a command
+    completes. PLL: 0x341C dividers, 0x341E bit 1 power-down, bit 0 bypass; turning the bypass off less than
+    ``pll_lock_s`` after powering the PLL is logged in :meth:`problems`. The device NACKs its address for
+    ``boot_s`` after the start of the simulation (reset released at t = 0).
+    """
+
+    CHIP_VERSION = 0x1580
+
+    def __init__(self, address=0x3C, *, extclk_hz=24_000_000, boot_s=7000 / 24e6, pll_lock_s=1e-3,
+                 cmd_busy_reads=2, **faults):
+        super().__init__(address, reg_bytes=2, data_bytes=2, name="mt9d112", **faults)
+        self.extclk_hz = extclk_hz
+        self.boot_s = boot_s
+        self.pll_lock_s = pll_lock_s
+        self.cmd_busy_reads = cmd_busy_reads
+        self.regs = {0x3000: self.CHIP_VERSION, 0x3386: 0x0000, 0x341E: 0x8F0B, 0x341C: 0x0000,
+                     0x301A: 0x0000, 0x3202: 0x0000}
+        # Power-on variable values assumed by the model (context A preview SVGA, context B UXGA, YUV).
+        self.vars = {(7, 0x03): 800, (7, 0x05): 600, (7, 0x07): 1600, (7, 0x09): 1200,
+                     (7, 0x95): 0x0000, (7, 0x97): 0x0000, (1, 0x03): 0}
+        self.var_address = 0
+        self.context = "A"
+        self.latched = self._latch("A")
+        self._cmd_reads = 0
+        self._pll_up_at = None
+        self._problems = []
+        self.commands_done = []
+
+    # ---- bus side ----------------------------------------------------------------------------------------
+    def ready(self):
+        return self.now >= self.boot_s
+
+    def write_register(self, reg, value):
+        if reg == 0x3000:
+            return                                       # read-only
+        if reg == 0x338C:
+            self.var_address = value
+        elif reg == 0x3390:
+            self._write_var(value)
+        elif reg == 0x341E:
+            old = self.regs.get(0x341E, 0)
+            if (old & 0x2) and not (value & 0x2):
+                self._pll_up_at = self.now
+            if (old & 0x1) and not (value & 0x1):
+                if self._pll_up_at is None or value & 0x2:
+                    self._problems.append("PLL bypass turned off while the PLL is powered down")
+                elif self.now - self._pll_up_at < self.pll_lock_s:
+                    self._problems.append(
+                        f"PLL bypass turned off {1e6 * (self.now - self._pll_up_at):.0f} us after power-up "
+                        f"(lock time {1e6 * self.pll_lock_s:.0f} us)")
+        self.regs[reg] = value
+
+    def read_register(self, reg):
+        if reg == 0x3390:
+            return self._read_var()
+        return self.regs.get(reg, 0)
+
+    def _var_key(self):
+        a = self.var_address
+        return ((a >> 8) & 0x1F, a & 0xFF), bool(a & 0x8000)
+
+    def _write_var(self, value):
+        key, is8 = self._var_key()
+        value &= 0xFF if is8 else 0xFFFF
+        self.vars[key] = value
+        if key == (1, 0x03) and value:
+            self._cmd_reads = 0
+
+    def _read_var(self):
+        key, is8 = self._var_key()
+        value = self.vars.get(key, 0)
+        if key == (1, 0x03) and value:
+            if self.mcu_running:
+                self._cmd_reads += 1
+                if self._cmd_reads > self.cmd_busy_reads:
+                    self._execute(value)
+                    value = self.vars[key] = 0
+        return value & (0xFF if is8 else 0xFFFF)
+
+    @property
+    def mcu_running(self):
+        return not (self.regs.get(0x3386, 0) & 0x1)
+
+    def _execute(self, cmd):
+        if cmd == 1:
+            self.context = "A"
+        elif cmd == 2:
+            self.context = "B"
+        self.latched = self._latch(self.context)
+        self.commands_done.append(cmd)
+
+    def _latch(self, context):
+        w, h, f = ((7, 0x03), (7, 0x05), (7, 0x95)) if context == "A" else ((7, 0x07), (7, 0x09), (7, 0x97))
+        keys = dict(width=w, height=h, fmt=f, crop_x0=(7, 0x5F), crop_x1=(7, 0x61), crop_y0=(7, 0x63),
+                    crop_y1=(7, 0x65), col_start=(7, 0x31), col_end=(7, 0x35), row_start=(7, 0x2F),
+                    row_end=(7, 0x33))
+        return {k: self.vars.get(v) for k, v in keys.items()}
+
+    # ---- configuration seen by the sensor model ---------------------------------------------------------
+    @property
+    def streaming(self):
+        """Parallel output on: the bits both references set in 0x301A (0x00CC: stream, drive pins, parallel)."""
+        return (self.regs.get(0x301A, 0) & 0x00CC) == 0x00CC
+
+    @property
+    def pixel_clock_hz(self):
+        ctl = self.regs.get(0x341E, 0x8F0B)
+        if ctl & 0x1 or ctl & 0x2:
+            return self.extclk_hz
+        div = self.regs.get(0x341C, 0)
+        m, n = div & 0xFF, (div >> 8) & 0x3F
+        return self.extclk_hz * m / (n + 1) / 8
+
+    def sensor_config(self):
+        """The output configuration in force: ``rgb565`` only once RGB 5:6:5 is selected for the active
+        context, the context was entered by a completed sequencer command, and the parallel output streams."""
+        f = self.latched["fmt"] or 0
+        rgb = bool(f & 0x20) and ((f >> 6) & 0x3) == 0 and not (f & 0x0105)
+        return SensorConfig(width=self.latched["width"], height=self.latched["height"],
+                            rgb565=rgb and self.streaming and bool(self.commands_done),
+                            r_byte_first=not (f & 0x2))
+
+    def problems(self):
+        """Inconsistencies found in what was written (empty list = none)."""
+        out = list(self._problems)
+        lat = self.latched
+        if self.context == "B" and None not in lat.values():
+            if lat["crop_x1"] - lat["crop_x0"] < lat["width"] or lat["crop_y1"] - lat["crop_y0"] < lat["height"]:
+                out.append("output size larger than the crop window (the resizer only scales down)")
+            if (lat["col_end"] - lat["col_start"] + 1 < lat["crop_x1"]
+                    or lat["row_end"] - lat["row_start"] + 1 < lat["crop_y1"]):
+                out.append("crop window larger than the sensor window")
+        return out
+
+
+# --------------------------------------------------------------------------------------------------------
+# CH7301C
+# --------------------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class DviConfig:
+    dvi_on: bool            # PM 0x49: DVIP and DVIL set, FPD clear
+    idf: int                # input data format (0 = 12-bit multiplexed RGB 8:8:8 on both clock edges)
+    hsync_positive: bool    # IDF bit 3 (HSP)
+    vsync_positive: bool    # IDF bit 4 (VSP)
+    pll_range: str          # "high" (> 65 MHz), "low" (<= 65 MHz) or "unset"
+
+
+class CH7301CModel(RegisterTarget):
+    """The CH7301C's register file (8-bit registers) at 7-bit address 0x76 (AS strap; 0x75 is the other
+    choice). Read-only version ID 0x4A = 0x95 and device ID 0x4B = 0x17; power management 0x49 starts in full
+    power-down (0x01, model assumption)."""
+
+    def __init__(self, address=0x76, **faults):
+        super().__init__(address, reg_bytes=1, data_bytes=1, name="ch7301c", **faults)
+        self.regs = {0x49: 0x01, 0x4A: 0x95, 0x4B: 0x17}
+
+    def write_register(self, reg, value):
+        if reg not in (0x4A, 0x4B):
+            self.regs[reg & 0xFF] = value
+
+    def read_register(self, reg):
+        return self.regs.get(reg & 0xFF, 0)
+
+    def dvi_config(self):
+        pm, idf = self.regs.get(0x49, 0x01), self.regs.get(0x1F, 0)
+        pll = (self.regs.get(0x33), self.regs.get(0x34), self.regs.get(0x36))
+        rng = {(0x06, 0x26, 0xA0): "high", (0x08, 0x16, 0x60): "low"}.get(pll, "unset")
+        return DviConfig(dvi_on=(pm & 0xC1) == 0xC0, idf=idf & 0x7, hsync_positive=bool(idf & 0x08),
+                         vsync_positive=bool(idf & 0x10), pll_range=rng)
+
+
+# --------------------------------------------------------------------------------------------------------
+# Bus monitor
+# --------------------------------------------------------------------------------------------------------
+
+#: NXP UM10204 Rev. 7 (2021), table 10, standard mode, in microseconds: minimum unless noted.
+STANDARD_MODE_LIMITS_US = {
+    "tHD;STA": 4.0, "tLOW": 4.7, "tHIGH": 4.0, "tSU;STA": 4.7, "tHD;DAT": 0.0,
+    "tSU;DAT": 0.25, "tSU;STO": 4.0, "tBUF": 4.7, "tSCL": 10.0,      # tSCL = 1 / fSCL(max 100 kHz)
+}
+#: Maximum SDA change time after SCL falls (data valid time tVD;DAT), standard mode.
+STANDARD_MODE_TVD_DAT_MAX_US = 3.45
+
+
+class I2CBusMonitor:
+    """Watches the two resolved lines. ``observe(t_s, scl, sda)`` on every change. Keeps the smallest and largest
+    value of each UM10204 interval (``minimum``/``maximum``, seconds), the largest SDA hold (``max_hold``),
+    decoded ``transactions`` (lists of ``(byte, acked)`` with ``"Sr"`` markers), ``last_edge``, ``edges``,
+    ``scl_rises`` and protocol errors. The lines are assumed high (idle) before the first call."""
+
+    def __init__(self):
+        self.minimum = {}
+        self.maximum = {}
+        self.count = {}
+        self.scl_rises = 0
+        self.max_hold = 0.0
+        self.transactions = []
+        self.protocol_errors = []
+        self.last_edge = None
+        self.edges = 0
+        self._scl = self._sda = True
+        self._t_scl_rise = self._t_scl_fall = self._t_start = self._t_stop = None
+        self._t_sda_low_change = None
+        self._prev_rise = None
+        self._in_transfer = False
+        self._bits = []
+        self._pending_bit = None
+        self._cur = None
+
+    def _note(self, name, value):
+        self.count[name] = self.count.get(name, 0) + 1
+        if name not in self.minimum or value < self.minimum[name]:
+            self.minimum[name] = value
+        if name not in self.maximum or value > self.maximum[name]:
+            self.maximum[name] = value
+
+    def observe(self, t, scl, sda):
+        scl, sda = bool(scl), bool(sda)
+        if scl == self._scl and sda == self._sda:
+            return
+        self.edges += 1
+        self.last_edge = t
+        if scl != self._scl and sda != self._sda:
+            self.protocol_errors.append((t, "SCL and SDA changed at the same instant"))
+        if sda != self._sda:
+            if self._scl and scl:                          # SDA changes while SCL high: START or STOP
+                self._pending_bit = None
+                if not sda:
+                    if self._in_transfer:
+                        if self._t_scl_rise is not None:
+                            self._note("tSU;STA", t - self._t_scl_rise)
+                        if self._bits:
+                            self.protocol_errors.append((t, "repeated START inside a byte"))
+                        self._cur.append("Sr")
+                    else:
+                        if self._t_stop is not None:
+                            self._note("tBUF", t - self._t_stop)
+                        self._cur = []
+                        self.transactions.append(self._cur)
+                    self._in_transfer = True
+                    self._t_start = t
+                    self._bits = []
+                else:
+                    if self._t_scl_rise is not None:
+                        self._note("tSU;STO", t - self._t_scl_rise)
+                    if self._bits:
+                        self.protocol_errors.append((t, "STOP inside a byte"))
+                    self._in_transfer = False
+                    self._t_stop = t
+                    self._bits = []
+            elif not self._scl:                            # data change while SCL low
+                if self._t_scl_fall is not None:
+                    hold = t - self._t_scl_fall
+                    self._note("tHD;DAT", hold)
+                    self.max_hold = max(self.max_hold, hold)
+                self._t_sda_low_change = t
+            self._sda = sda
+        if scl != self._scl:
+            if scl:
+                self.scl_rises += 1
+                if self._t_scl_fall is not None:
+                    self._note("tLOW", t - self._t_scl_fall)
+                if self._t_sda_low_change is not None:
+                    self._note("tSU;DAT", t - self._t_sda_low_change)
+                    self._t_sda_low_change = None
+                if self._prev_rise is not None and self._in_transfer:
+                    self._note("tSCL", t - self._prev_rise)
+                self._prev_rise = t
+                self._t_scl_rise = t
+                self._pending_bit = sda if self._in_transfer else None
+            else:
+                if self._pending_bit is not None and self._in_transfer:
+                    self._bits.append(self._pending_bit)
+                    if len(self._bits) == 9:
+                        byte = int("".join("1" if b else "0" for b in self._bits[:8]), 2)
+                        self._cur.append((byte, not self._bits[8]))
+                        self._bits = []
+                self._pending_bit = None
+                if self._t_scl_rise is not None:
+                    self._note("tHIGH", t - self._t_scl_rise)
+                if self._t_start is not None and self._in_transfer:
+                    self._note("tHD;STA", t - self._t_start)
+                    self._t_start = None
+                self._t_scl_fall = t
+                self._t_sda_low_change = None
+            self._scl = scl
+
+    def violations(self, limits_us=None, tvd_max_us=STANDARD_MODE_TVD_DAT_MAX_US, require_all=True):
+        """``[(name, measured_us, limit_us)]`` for every interval below its minimum (and tHD;DAT above the
+        data-valid maximum); empty when the bus met the standard-mode timing. With ``require_all`` intervals
+        never observed are reported as missing (measured None) so a test cannot pass vacuously."""
+        limits = STANDARD_MODE_LIMITS_US if limits_us is None else limits_us
+        out = []
+        for name, lim in limits.items():
+            if name not in self.minimum:
+                if require_all:
+                    out.append((name, None, lim))
+            elif self.minimum[name] * 1e6 < lim - 1e-9:
+                out.append((name, self.minimum[name] * 1e6, lim))
+        if self.max_hold * 1e6 > tvd_max_us + 1e-9:
+            out.append(("tVD;DAT(max)", self.max_hold * 1e6, tvd_max_us))
+        return out
+
+
+# --------------------------------------------------------------------------------------------------------
+# Amaranth bench: wired-AND buses around DUTs with open-drain pins
+# --------------------------------------------------------------------------------------------------------
+
+_STATUS = ("busy", "done", "error", "error_code", "entry")
+
+
+def I2CBench(duts, *, counter_bits=40):
+    """An Amaranth ``wiring.Component`` wiring each DUT of ``duts`` (``{bus name: component}``, each with
+    ``scl_o/scl_oe/scl_i/sda_o/sda_oe/sda_i``) to its own open-drain bus. Ports per bus ``b``: ``b_scl``,
+    ``b_sda`` (the bus), ``b_ext_scl_low``/``b_ext_sda_low`` (model pull-downs), ``b_peer_scl_o``/
+    ``b_peer_sda_o`` (a cocotbext-i2c device: 1 = release), ``b_drive_high`` (sticky: the DUT drove a line
+    high, which an open-drain output must never do) and the DUT's status outputs when it has them. ``cycles``
+    counts ``sync`` clocks (time base for the Python models)."""
+    from amaranth import Module, Signal
+    from amaranth.lib import wiring
+    from amaranth.lib.wiring import In, Out
+
+    class _Bench(wiring.Component):
+        def __init__(self):
+            sig = {"cycles": Out(counter_bits)}
+            for b, dut in duts.items():
+                sig.update({
+                    f"{b}_scl": Out(1), f"{b}_sda": Out(1),
+                    f"{b}_ext_scl_low": In(1), f"{b}_ext_sda_low": In(1),
+                    f"{b}_peer_scl_o": In(1, init=1), f"{b}_peer_sda_o": In(1, init=1),
+                    f"{b}_drive_high": Out(1),
+                })
+                for s in _STATUS:
+                    if hasattr(dut, s):
+                        sig[f"{b}_{s}"] = Out(dut.signature.members[s].shape)
+            super().__init__(sig)
+
+        def elaborate(self, platform):
+            m = Module()
+            m.d.sync += self.cycles.eq(self.cycles + 1)
+            for b, dut in duts.items():
+                m.submodules[b] = dut
+                p = lambda n: getattr(self, f"{b}_{n}")   # noqa: E731
+                scl = ~(dut.scl_oe & ~dut.scl_o) & ~p("ext_scl_low") & p("peer_scl_o")
+                sda = ~(dut.sda_oe & ~dut.sda_o) & ~p("ext_sda_low") & p("peer_sda_o")
+                m.d.comb += [p("scl").eq(scl), p("sda").eq(sda), dut.scl_i.eq(scl), dut.sda_i.eq(sda)]
+                with m.If((dut.scl_oe & dut.scl_o) | (dut.sda_oe & dut.sda_o)):
+                    m.d.sync += p("drive_high").eq(1)
+                for s in _STATUS:
+                    if hasattr(dut, s):
+                        m.d.comb += p(s).eq(getattr(dut, s))
+            return m
+
+    return _Bench()
+
+
+def _pulls(targets):
+    return any(t.scl_low for t in targets), any(t.sda_low for t in targets)
+
+
+def amaranth_target_process(bench, bus, targets, clk_hz, monitor=None):
+    """An ``add_process`` coroutine that runs ``targets`` on bus ``bus`` of ``bench`` in the Amaranth
+    simulator (and feeds ``monitor``); time = ``bench.cycles / clk_hz``."""
+    scl_sig, sda_sig = getattr(bench, f"{bus}_scl"), getattr(bench, f"{bus}_sda")
+    ext_scl, ext_sda = getattr(bench, f"{bus}_ext_scl_low"), getattr(bench, f"{bus}_ext_sda_low")
+
+    async def process(ctx):
+        state = (None, None)
+        scl, sda, cycles = 1, 1, 0
+        while True:
+            now = cycles / clk_hz
+            if monitor is not None:
+                monitor.observe(now, scl, sda)
+            for t in targets:
+                t.update(scl, sda, now)
+            pulls = _pulls(targets)
+            if pulls != state:
+                ctx.set(ext_scl, pulls[0])
+                ctx.set(ext_sda, pulls[1])
+                state = pulls
+            deadlines = [d for d in (t.deadline() for t in targets) if d is not None]
+            trig = ctx.changed(scl_sig, sda_sig)
+            if deadlines:
+                trig = trig.delay(max(min(deadlines) - now, 0) + 0.5 / clk_hz)
+                scl, sda, _, cycles = await trig.sample(bench.cycles)
+            else:
+                scl, sda, cycles = await trig.sample(bench.cycles)
+
+    return process
+
+
+def _levels(scl_sig, sda_sig):
+    try:
+        return int(scl_sig.value), int(sda_sig.value)
+    except ValueError:
+        return None
+
+
+def start_cocotb_targets(dut, bus, targets, monitor=None):
+    """Start a cocotb task that runs ``targets`` on bus ``bus`` of an exported :class:`I2CBench` (``dut`` is
+    the cocotb top-level handle); time from the simulator. Returns the task."""
+    import cocotb
+    from cocotb.simtime import get_sim_time
+    from cocotb.triggers import First, Timer
+
+    scl_sig, sda_sig = getattr(dut, f"{bus}_scl"), getattr(dut, f"{bus}_sda")
+    ext_scl, ext_sda = getattr(dut, f"{bus}_ext_scl_low"), getattr(dut, f"{bus}_ext_sda_low")
+    ext_scl.value = 0
+    ext_sda.value = 0
+
+    async def run():
+        state = (False, False)
+        while True:
+            now = get_sim_time("ns") * 1e-9
+            levels = _levels(scl_sig, sda_sig)
+            if levels is None:                        # before reset: X/Z, nothing to react to
+                await First(scl_sig.value_change, sda_sig.value_change)
+                continue
+            scl, sda = levels
+            if monitor is not None:
+                monitor.observe(now, scl, sda)
+            for t in targets:
+                t.update(scl, sda, now)
+            pulls = _pulls(targets)
+            if pulls != state:
+                ext_scl.value = int(pulls[0])
+                ext_sda.value = int(pulls[1])
+                state = pulls
+            deadlines = [d for d in (t.deadline() for t in targets) if d is not None]
+            triggers = [scl_sig.value_change, sda_sig.value_change]
+            if deadlines:
+                triggers.append(Timer(max(1, round((min(deadlines) - now) * 1e9)), unit="ns"))
+            await First(*triggers)
+
+    return cocotb.start_soon(run())
+
+
+def start_cocotb_monitor(dut, bus, monitor):
+    """Start a cocotb task feeding ``monitor`` with every change of bus ``bus`` (sim time)."""
+    import cocotb
+    from cocotb.simtime import get_sim_time
+    from cocotb.triggers import First
+
+    scl_sig, sda_sig = getattr(dut, f"{bus}_scl"), getattr(dut, f"{bus}_sda")
+
+    async def run():
+        while True:
+            await First(scl_sig.value_change, sda_sig.value_change)
+            levels = _levels(scl_sig, sda_sig)
+            if levels is not None:
+                monitor.observe(get_sim_time("ns") * 1e-9, *levels)
+
+    return cocotb.start_soon(run())
