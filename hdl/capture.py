@@ -1,0 +1,128 @@
+"""CameraCapture: one camera's capture path, from the sensor pins to the frame-buffer write port (thesis 4.2).
+
+Pipeline (all in one clock domain, the camera's PCLK)::
+
+    data/lv/fv pins -> input registers -> frame tracker (FV edges, row counter)
+                    -> RGB565Assembler (byte pairs, column) -> Grey -> Downscaler -> w_addr/w_data/w_en
+
+Counting rules (spec "Camera driver"; docs/capture.md): a frame starts at a FV rising edge and ends when FV
+falls; inside it, column = byte count / 2 within LV, row = count of LV falling edges. Outside a frame
+everything is ignored (LV without FV), and after reset the block waits for a FV rising edge (a frame already
+in progress at reset is ignored). Pixel (column, row) is written, when both are multiples of ``scale`` and
+fall inside the configured size, at ``A = (row/scale) * buf_width + column/scale``. Counters saturate, so a
+long line, extra lines or a stream without LV gaps can never wrap onto a valid address: no write ever lands
+outside the buffer or outside the pixel the counting rules give it. A malformed frame only affects itself:
+every FV rising edge restarts the counters.
+
+Ports: ``data[8]``, ``lv``, ``fv`` (sensor pins, sampled on the rising PCLK edge); the frame-buffer write
+port ``w_addr``, ``w_data``, ``w_en``; status: ``frame_start`` (one-cycle strobe, a frame begins),
+``frame_done`` (one-cycle strobe, FV fell on a frame that had started) with ``frame_ok`` (that frame had
+exactly ``height`` lines of exactly ``2 * width`` bytes), ``frame_count`` (frames completed, wrapping),
+``in_frame``.
+
+Clock domain: ``sync`` (the parent uses ``DomainRenamer`` to place it in ``cam_a`` / ``cam_b``).
+Latency: ``w_en`` is high in the 3rd clock cycle after the rising edge that sampled a kept pixel's second
+byte (input register, assembler, downscaler register); the memory commits it on the rising edge that ends
+that cycle. ``frame_start``/``frame_done`` come 1 cycle after the edge that sampled the FV change.
+A stream should therefore give at least 3 PCLK edges after a frame's last byte before PCLK stops (the
+MT9D112's blanking does).
+"""
+
+from amaranth import Module, Signal
+from amaranth.lib import wiring
+from amaranth.lib.wiring import In, Out
+
+from .downscaler import Downscaler
+from .grey import Grey
+from .params import SENSOR
+from .rgb565_assembler import RGB565Assembler
+
+__all__ = ["CameraCapture"]
+
+
+class CameraCapture(wiring.Component):
+    def __init__(self, geometry=SENSOR, r_byte_first=True):
+        if geometry.gray_bits != 5:
+            raise ValueError("the spec's grey conversion gives 5 bits; geometry.gray_bits must be 5")
+        self.geometry = geometry
+        self.r_byte_first = r_byte_first
+        super().__init__({
+            "data": In(8),
+            "lv": In(1),
+            "fv": In(1),
+            "w_addr": Out(geometry.addr_bits),
+            "w_data": Out(geometry.gray_bits),
+            "w_en": Out(1),
+            "frame_start": Out(1),
+            "frame_done": Out(1),
+            "frame_ok": Out(1),
+            "frame_count": Out(16),
+            "in_frame": Out(1),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        g = self.geometry
+        m.submodules.assembler = assembler = RGB565Assembler(g.width, r_byte_first=self.r_byte_first)
+        m.submodules.grey = grey = Grey()
+        m.submodules.downscaler = downscaler = Downscaler(
+            g, column_bits=len(assembler.column), row_bits=g.height.bit_length())
+
+        # Input registers (IOB flip-flops on the board). FV's registers start high so that a frame in
+        # progress when reset ends does not look like a FV rising edge.
+        data_r = Signal(8)
+        lv_r = Signal()
+        fv_r = Signal(init=1)
+        fv_prev = Signal(init=1)
+        m.d.sync += [data_r.eq(self.data), lv_r.eq(self.lv), fv_r.eq(self.fv), fv_prev.eq(fv_r)]
+
+        # Frame tracker.
+        in_frame = Signal()
+        fv_rise = fv_r & ~fv_prev
+        frame_active = Signal()
+        m.d.comb += frame_active.eq(fv_r & (in_frame | fv_rise))
+        m.d.sync += in_frame.eq(frame_active)
+        frame_end = in_frame & ~fv_r
+
+        row = Signal(range(g.height + 1))      # LV falling edges in this frame, saturating at height
+        bad = Signal()                          # a line of this frame had the wrong length, or too many lines
+        m.d.comb += [
+            assembler.data.eq(data_r),
+            assembler.lv.eq(lv_r & frame_active),
+        ]
+        line_end = assembler.line_end
+        line_bad = line_end & (~assembler.line_ok | (row == g.height))
+
+        with m.If(fv_rise):
+            m.d.sync += [row.eq(0), bad.eq(0)]
+        with m.Elif(line_end):
+            with m.If(row != g.height):
+                m.d.sync += row.eq(row + 1)
+            with m.If(line_bad):
+                m.d.sync += bad.eq(1)
+
+        rows_done = Signal(range(g.height + 2))
+        m.d.comb += rows_done.eq(row + line_end)
+        m.d.sync += [
+            self.frame_start.eq(fv_rise),
+            self.frame_done.eq(frame_end),
+            self.in_frame.eq(frame_active),
+        ]
+        with m.If(frame_end):
+            m.d.sync += [
+                self.frame_ok.eq(~bad & ~line_bad & (rows_done == g.height)),
+                self.frame_count.eq(self.frame_count + 1),
+            ]
+
+        # Pixel path.
+        m.d.comb += [
+            grey.pixel.eq(assembler.pixel),
+            downscaler.valid.eq(assembler.valid),
+            downscaler.grey.eq(grey.grey),
+            downscaler.column.eq(assembler.column),
+            downscaler.row.eq(row),
+            self.w_addr.eq(downscaler.w_addr),
+            self.w_data.eq(downscaler.w_data),
+            self.w_en.eq(downscaler.w_en),
+        ]
+        return m

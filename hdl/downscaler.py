@@ -1,0 +1,64 @@
+"""1/``scale``^2 downscaler with the frame-buffer address (thesis figure 4.4 and equation 4.1).
+
+Keeps the pixel at (``scale*i``, ``scale*j``) of every ``scale`` x ``scale`` block and turns its sensor
+position into the frame-buffer address ``A = y * buf_width + x`` with ``x = column / scale``,
+``y = row / scale``. A pixel is written only when its column and row are multiples of ``scale`` and
+``x < buf_width`` and ``y < buf_height``: anything past the configured size is discarded, never wrapped,
+so ``w_addr`` is always below ``buf_depth`` whenever ``w_en`` is high.
+
+Inputs: ``valid``, ``grey`` (the pixel's grey value), ``column`` and ``row`` (its sensor position).
+Outputs: the frame-buffer write port ``w_addr``, ``w_data``, ``w_en``.
+
+``scale`` must be a power of two (the default 4 is), so the block needs no divider. ``y * buf_width`` is a
+constant multiplication.
+
+Clock domain: one (``sync``; placed in a camera's PCLK domain by the parent). Latency: one clock (the write
+port is registered).
+"""
+
+from amaranth import Module, unsigned
+from amaranth.lib import wiring
+from amaranth.lib.wiring import In, Out
+
+from .params import SENSOR
+
+__all__ = ["Downscaler"]
+
+
+class Downscaler(wiring.Component):
+    def __init__(self, geometry=SENSOR, *, column_bits=None, row_bits=None):
+        scale = geometry.scale
+        if scale < 1 or scale & (scale - 1):
+            raise ValueError(f"scale must be a power of two, got {scale}")
+        if geometry.buf_width < 1 or geometry.buf_height < 1:
+            raise ValueError(f"sensor {geometry.width}x{geometry.height} is smaller than one {scale}x{scale} "
+                             f"block")
+        self.geometry = geometry
+        column_bits = column_bits or geometry.width.bit_length()
+        row_bits = row_bits or geometry.height.bit_length()
+        super().__init__({
+            "valid": In(1),
+            "grey": In(geometry.gray_bits),
+            "column": In(unsigned(column_bits)),
+            "row": In(unsigned(row_bits)),
+            "w_addr": Out(geometry.addr_bits),
+            "w_data": Out(geometry.gray_bits),
+            "w_en": Out(1),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        g = self.geometry
+        shift = g.scale.bit_length() - 1
+        x = self.column >> shift
+        y = self.row >> shift
+        aligned = (self.column[:shift] == 0) & (self.row[:shift] == 0) if shift else 1
+        keep = self.valid & aligned & (x < g.buf_width) & (y < g.buf_height)
+
+        m.d.sync += self.w_en.eq(keep)
+        with m.If(keep):
+            m.d.sync += [
+                self.w_addr.eq(y * g.buf_width + x),
+                self.w_data.eq(self.grey),
+            ]
+        return m
