@@ -182,7 +182,7 @@ def run(args):
     # Summary.
     say("")
     bound = [p for p in table if not p.within_bound]
-    print(f"stereodepth testbed: {len(table)} distances; found within [floor, ceil] of the expected disparity: "
+    print(f"stereodepth testbed: {len(table)} distance(s); found within [floor, ceil] of the expected disparity: "
           f"{len(table) - len(bound)}/{len(table)}" + ("" if not misaligned else " (misaligned rig)"))
     for fit in fits:
         extra = ", ".join(f"{k}={v:.4g}" for k, v in fit.params.items())

@@ -146,7 +146,8 @@ def test_fits_of_the_observed_column():
     dist = tb.fit_observed("offset+distance")
     # Straight-line fit of observed against D, independently: slope = focal scale, intercept = -offset.
     slope, intercept = np.polyfit(d, obs, 1)
-    assert focal.params["focal_scale"] == pytest.approx(slope) and focal.params["offset_px"] == pytest.approx(-intercept)
+    assert focal.params["focal_scale"] == pytest.approx(slope)
+    assert focal.params["offset_px"] == pytest.approx(-intercept)
     assert offset.params["offset_px"] == pytest.approx(np.mean(d - obs))
     assert np.allclose(dist.predicted, d * z / (z - dist.params["distance_offset_m"]) - dist.params["offset_px"])
     # A constant offset alone cannot explain the near field; one more parameter brings every distance
