@@ -38,9 +38,12 @@ n + 5    disparity level / no-data and the image grey registered
 n + 6    ``video`` registered: the colour chosen by region
 =======  ================================================================================================
 
-Switch timing: ``disparity``/``rectification`` are sampled only for pixels in the disparity region, which
-starts at least one line below the top of the frame (checked), so with :class:`hdl.switches.SwitchControl`
-updating them at ``frame_start`` every disparity pixel of a frame uses the values loaded at that frame's start.
+Switch timing: ``disparity``/``rectification`` are used only for pixels in the disparity region. They change
+on the clock edge ending the ``frame_start`` clock (raster position 0, with :class:`hdl.switches.SwitchControl`)
+and the subtractor needs them settled ``SETTLE_CLOCKS`` (2) clocks before it samples a pixel, one clock after the
+raster gives it; the constructor checks that the region starts at least 2 pixels into the raster (the default
+layouts start tens of lines down). So every disparity pixel of a frame uses the values loaded at that frame's
+start.
 """
 
 from amaranth import Cat, Const, Module, Mux, Signal
@@ -62,7 +65,8 @@ SOURCES = ("left", "right", "disparity")
 
 def check_layout(layout, timing, geometry):
     """``ValueError`` unless ``layout`` has one region per source, each a whole buffer at a positive integer
-    scale inside the active area, the regions do not overlap and the disparity map does not touch line 0."""
+    scale inside the active area, the regions do not overlap and the disparity map starts at least
+    ``SETTLE_CLOCKS`` pixels into the raster (so it never sees the switch registers change)."""
     regions = {}
     for r in layout.regions:
         if r.source not in SOURCES or r.source in regions:
@@ -85,8 +89,12 @@ def check_layout(layout, timing, geometry):
         for b in rs[i + 1:]:
             if a.x0 < b.x1 and b.x0 < a.x1 and a.y0 < b.y1 and b.y0 < a.y1:
                 raise ValueError(f"regions {a.source} and {b.source} overlap")
-    if regions["disparity"].y0 < 1:
-        raise ValueError("the disparity region must start below line 0 (the switch registers change there)")
+    # The switch registers change on the edge ending frame_start's clock (raster position 0); the subtractor
+    # samples raster position p one clock later and needs them SETTLE_CLOCKS clocks before that.
+    first = regions["disparity"].y0 * timing.h_total + regions["disparity"].x0
+    if first < SETTLE_CLOCKS:
+        raise ValueError(f"the disparity region must start at least {SETTLE_CLOCKS} pixels after the raster "
+                         "origin, where the switch registers change")
     return regions
 
 

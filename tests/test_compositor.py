@@ -17,12 +17,14 @@ from amaranth import Module
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
+from golden.capture import capture_frame
 from golden.disparity import composite_frame
 from golden.stereo_pair import load_default_pair
 from hdl.compositor import LATENCY, Compositor
+from hdl.export import export_verilog
 from hdl.frame_buffer import FrameBuffer
 from hdl.params import (BACKGROUND_RGB, CEA_1080P60, CLOCKS, NO_DATA_RGB, SENSOR, SMALL_SENSOR, SMALL_TIMING,
-                        DisplayLayout, Region)
+                        DisplayLayout, Region, VideoTiming)
 from hdl.switches import SWITCH_VALUE_BITS, SwitchControl
 from hdl.video_bus import TimingSignature, VideoSignature
 from sim.amaranth_sim import simulate
@@ -50,17 +52,10 @@ SMALL_SCHEDULE = [
 
 
 def grey_buffers(geometry):
-    """The bundled pair as the camera path stores it (spec "Camera driver"): RGB565-truncate each pixel, grey5 =
-    (R5 + (G6 >> 1) + B5) // 3, keep pixel (scale*i, scale*j). Written here for the tests until
-    golden.capture.capture_frame is available; it is the spec's rule, not the RTL's."""
+    """The bundled pair as the camera path stores it: golden.capture.capture_frame (the spec's RGB565
+    truncation, pixel (scale*i, scale*j), grey5 = (R5 + (G6 >> 1) + B5) // 3)."""
     left, right = load_default_pair(geometry.width, geometry.height)
-
-    def grey(rgb):
-        rgb = rgb[::geometry.scale, ::geometry.scale].astype(np.int32)
-        r5, g6, b5 = rgb[..., 0] >> 3, rgb[..., 1] >> 2, rgb[..., 2] >> 3
-        return ((r5 + (g6 >> 1) + b5) // 3).astype(np.uint8)
-
-    return grey(left), grey(right)
+    return capture_frame(left, geometry), capture_frame(right, geometry)
 
 
 class DisplayHarness(wiring.Component):
@@ -68,9 +63,10 @@ class DisplayHarness(wiring.Component):
     the buffers' write ports are brought out (``load_*``) so a cocotb bench can fill them, or ``init_*`` preloads
     them. ``disparity``/``rectification`` expose the switch registers."""
 
-    def __init__(self, timing, geometry, *, init_left=(), init_right=()):
+    def __init__(self, timing, geometry, *, layout=None, init_left=(), init_right=()):
         self.video_timing = timing
         self.geometry = geometry
+        self.layout = layout
         self._init = (list(init_left), list(init_right))
         super().__init__({
             "timing": In(TimingSignature),
@@ -88,7 +84,7 @@ class DisplayHarness(wiring.Component):
         m = Module()
         g = self.geometry
         m.submodules.switches = switches = SwitchControl()
-        m.submodules.compositor = comp = Compositor(self.video_timing, g)
+        m.submodules.compositor = comp = Compositor(self.video_timing, g, self.layout)
         m.submodules.left_buffer = left = FrameBuffer(g, init=self._init[0])
         m.submodules.right_buffer = right = FrameBuffer(g, init=self._init[1])
         wiring.connect(m, wiring.flipped(self.timing), comp.timing)
@@ -108,8 +104,8 @@ class DisplayHarness(wiring.Component):
         return m
 
 
-def expected_frames(left, right, settings, timing, geometry):
-    return np.stack([composite_frame(left, right, d, r, timing, geometry) for d, r in settings])
+def expected_frames(left, right, settings, timing, geometry, layout=None):
+    return np.stack([composite_frame(left, right, d, r, timing, geometry, layout) for d, r in settings])
 
 
 # --- the golden compositor on its own ----------------------------------------------------------------------
@@ -144,13 +140,17 @@ def test_compositor_argument_checks():
     small = DisplayLayout.centred(SMALL_TIMING, SMALL_SENSOR)
     left, right, disp = small.regions
     overlapping = DisplayLayout((left, dataclasses.replace(right, x0=left.x0 + 1), disp))
-    at_top = DisplayLayout((left, right, dataclasses.replace(disp, y0=0)))
+    at_origin = DisplayLayout((dataclasses.replace(left, x0=40, y0=0), dataclasses.replace(right, x0=40, y0=20),
+                               dataclasses.replace(disp, x0=1, y0=0)))   # 1 pixel in: switches not settled
     outside = DisplayLayout((left, right, dataclasses.replace(disp, x0=60)))
     missing = DisplayLayout((left, right))
     wrong_size = DisplayLayout((left, right, Region("disparity", 0, 20, 2, 8, 6)))
-    for layout in (overlapping, at_top, outside, missing, wrong_size):
+    for layout in (overlapping, at_origin, outside, missing, wrong_size):
         with pytest.raises(ValueError):
             Compositor(SMALL_TIMING, SMALL_SENSOR, layout)
+    two_in = DisplayLayout((at_origin.regions[0], at_origin.regions[1],
+                            dataclasses.replace(disp, x0=2, y0=0)))
+    Compositor(SMALL_TIMING, SMALL_SENSOR, two_in).elaborate(None)     # 2 pixels in is enough
     with pytest.raises(ValueError):
         Compositor(SMALL_TIMING, SMALL_SENSOR, thresholds=(2, 4), level_grey=(0, 255))
     gc.collect()   # half-built components warn "never used" when collected: inside this test's filter
@@ -158,9 +158,10 @@ def test_compositor_argument_checks():
 
 # --- the RTL against the golden model ----------------------------------------------------------------------
 
-def run_amaranth(timing, geometry, schedule, n_frames):
+def run_amaranth(timing, geometry, schedule, n_frames, layout=None):
     left, right = grey_buffers(geometry)
-    dut = DisplayHarness(timing, geometry, init_left=left.ravel().tolist(), init_right=right.ravel().tolist())
+    dut = DisplayHarness(timing, geometry, layout=layout, init_left=left.ravel().tolist(),
+                         init_right=right.ravel().tolist())
     raster = reference_raster(timing)
     events, settings = switch_events(schedule, timing)
     cpf = timing.clocks_per_frame
@@ -194,11 +195,26 @@ def run_amaranth(timing, geometry, schedule, n_frames):
 
     simulate(dut, clocks={"sync": CLOCKS.PIXEL_HZ}, testbenches=[bench])
     assert registers == settings[:n_frames]
-    check_stream(timing, LATENCY, n_frames, out, expected_frames(left, right, settings[:n_frames], timing, geometry))
+    check_stream(timing, LATENCY, n_frames, out,
+                 expected_frames(left, right, settings[:n_frames], timing, geometry, layout))
 
 
 def test_display_path_amaranth():
     run_amaranth(SMALL_TIMING, SMALL_SENSOR, SMALL_SCHEDULE, len(SMALL_SCHEDULE) + 1)
+
+
+def test_display_path_other_layout_amaranth():
+    """Scales 1, 2 and 3; the disparity map starting 2 pixels into the raster (the earliest the constructor
+    allows: the switch registers settle just in time, SETTLE_CLOCKS); the right image touching the active area's
+    right edge; negative sync polarities."""
+    timing = VideoTiming(h_active=100, h_front=3, h_sync=4, h_back=5, v_active=60, v_front=1, v_sync=2,
+                         v_back=2, hsync_positive=False, vsync_positive=False)
+    w, h = SMALL_SENSOR.buf_width, SMALL_SENSOR.buf_height
+    layout = DisplayLayout((Region("disparity", 2, 0, 3, w, h), Region("left", 52, 0, 1, w, h),
+                            Region("right", 100 - 2 * w, 24, 2, w, h)))
+    schedule = [dict(line=30, column=60, disparity=3, rectification=2),
+                dict(line=10, column=20, disparity=1, rectification=0)]
+    run_amaranth(timing, SMALL_SENSOR, schedule, 3, layout)
 
 
 def run_cocotb_display(timing, geometry, schedule, simulator, tmp_path):
@@ -207,7 +223,8 @@ def run_cocotb_display(timing, geometry, schedule, simulator, tmp_path):
     data = tmp_path / "display.npz"
     np.savez(data, left=left, right=right,
              expected=expected_frames(left, right, settings, timing, geometry))
-    run_cocotb(DisplayHarness(timing, geometry), name="display_harness", test_module="cocotb_compositor",
+    verilog = export_verilog(DisplayHarness(timing, geometry), "display_harness")   # compact buffer init
+    run_cocotb(verilog, name="display_harness", test_module="cocotb_compositor",
                simulator=simulator, build_args=VERILATOR_ARGS if simulator == "verilator" else (),
                params=dict(timing=dataclasses.asdict(timing), latency=LATENCY, data=str(data),
                            schedule=schedule, clock_ps=CLOCK_PS))

@@ -167,3 +167,39 @@ def test_bad_thresholds():
         with pytest.raises(ValueError):
             DisparitySubtractor(thresholds=bad)
     gc.collect()    # the half-built components warn "never used" when collected: inside this test's filter
+
+
+# --- the pictures (golden frames of the bundled pair) ----------------------------------------------------
+
+def test_disparity_pictures(tmp_path):
+    """The matched frame really is the motorcycle's disparity (within 1.5 px of Middlebury's ground truth) and
+    the motorcycle fades there: many more of its pixels are black than at the wrong disparity. Each PNG is
+    exactly the golden frame for the settings in its name."""
+    import re
+
+    from PIL import Image
+
+    from golden.capture import capture_frame
+    from golden.disparity import composite_frame
+    from golden.stereo_pair import load_default_pair
+    from hdl.params import SENSOR
+    from sim.disparity_pictures import crop_offset, find_settings, write_pictures
+
+    assert crop_offset() == 37                       # golden/data/README.md: columns 37..703
+    paths = write_pictures(tmp_path)
+    assert [p.name.split("_")[2] for p in paths] == ["matched", "wrong"]
+    left_rgb, right_rgb = load_default_pair(SENSOR.width, SENSOR.height)
+    left, right = capture_frame(left_rgb, SENSOR), capture_frame(right_rgb, SENSOR)
+    s = find_settings(left, right)
+    assert abs(s.disparity - s.ground_truth_median) <= 1.5
+    assert s.rectification == 0
+    assert abs(s.wrong_disparity - s.disparity) >= 10
+    assert s.black_right > s.black_wrong + 0.25
+    for path in paths:
+        d, r = map(int, re.search(r"_d(\d+)_r(\d+)\.png$", path.name).groups())
+        with Image.open(path) as img:
+            assert "Golden model frame" in img.text["Description"]
+            frame = np.asarray(img.convert("RGB"))
+        assert np.array_equal(frame, composite_frame(left, right, d, r))
+    assert {(int(m[0]), int(m[1])) for m in (re.search(r"_d(\d+)_r(\d+)", p.name).groups() for p in paths)} == \
+        {(s.disparity, s.rectification), (s.wrong_disparity, s.rectification)}
