@@ -24,6 +24,13 @@ COMMANDS = {
 }
 
 
+class _OneLineParser(argparse.ArgumentParser):
+    """argparse, but a usage error is one line on stderr (``--help`` still prints the full usage)."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message} (see --help)\n")
+
+
 def _load(name):
     module_name, _ = COMMANDS[name]
     return importlib.import_module(f"{__package__}.{module_name}")
@@ -58,7 +65,7 @@ def main(argv=None):
             print(f"stereodepth: error: command {name!r} is not built yet", file=sys.stderr)
             return 2
         raise
-    sub_parser = argparse.ArgumentParser(prog=f"stereodepth {name}", description=COMMANDS[name][1])
+    sub_parser = _OneLineParser(prog=f"stereodepth {name}", description=COMMANDS[name][1])
     module.add_arguments(sub_parser)
     args = sub_parser.parse_args(argv[1:])
     try:
