@@ -1,0 +1,63 @@
+"""The display path on its own: SyncGenerator -> PatternGenerator -> CH7301COutput (CH7301C pins out)."""
+
+from amaranth.hdl import Module
+from amaranth.lib import wiring
+from amaranth.lib.wiring import Out
+
+from .ch7301c_output import CH7301COutput
+from .params import CEA_1080P60
+from .pattern_gen import PatternGenerator
+from .sync_gen import SyncGenerator
+
+__all__ = ["DisplayPath", "DISPLAY_PATH_LATENCY"]
+
+#: Clocks from a raster position on the sync generator to that pixel on the pins (pattern 1 + output 1).
+DISPLAY_PATH_LATENCY = 2
+
+
+class DisplayPath(wiring.Component):
+    """Test pattern on the CH7301C bus: the design the display demo, tests and bench use.
+
+    ``SyncGenerator(timing)`` -> ``PatternGenerator(timing)`` -> ``CH7301COutput(timing, ddr=ddr)``.
+    Ports are the CH7301C pins: ``data[12]``, ``hsync``, ``vsync``, ``de``, ``xclk_p``, ``xclk_n`` (see
+    :class:`hdl.ch7301c_output.CH7301COutput` for the dual-edge format), plus ``frame_start``, the sync
+    generator's strobe, for test benches and triggers.
+
+    Clock domain: ``sync`` (the pixel clock; a board top level renames it to ``pix``).
+    Latency: :data:`DISPLAY_PATH_LATENCY` = 2 clocks from raster position to pins (``frame_start`` is not
+    delayed: it is high two clocks before pixel (0, 0) reaches the pins). From reset, the pins carry
+    2 blank clocks, then the first pixel of frame 0. ``start`` is the sync generator's raster position after
+    reset (simulation windows; see :class:`hdl.sync_gen.SyncGenerator`).
+    """
+
+    def __init__(self, timing=CEA_1080P60, *, ddr="behavioural", start=(0, 0)):
+        self.mode = timing
+        self.ddr = ddr
+        self.start = start
+        super().__init__({
+            "data": Out(12),
+            "hsync": Out(1),
+            "vsync": Out(1),
+            "de": Out(1),
+            "xclk_p": Out(1),
+            "xclk_n": Out(1),
+            "frame_start": Out(1),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        m.submodules.sync_gen = sync_gen = SyncGenerator(self.mode, start=self.start)
+        m.submodules.pattern = pattern = PatternGenerator(self.mode)
+        m.submodules.output = output = CH7301COutput(self.mode, ddr=self.ddr)
+        wiring.connect(m, sync_gen, pattern.timing)
+        wiring.connect(m, pattern.video, output.video)
+        m.d.comb += [
+            self.data.eq(output.data),
+            self.hsync.eq(output.hsync),
+            self.vsync.eq(output.vsync),
+            self.de.eq(output.de),
+            self.xclk_p.eq(output.xclk_p),
+            self.xclk_n.eq(output.xclk_n),
+            self.frame_start.eq(sync_gen.frame_start),
+        ]
+        return m
