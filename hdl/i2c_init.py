@@ -159,6 +159,9 @@ class InitSequencer(wiring.Component):
             m.next = "FETCH"
 
         def retry_or_fail():
+            if self.retries == 0:
+                m.next = "ERROR"
+                return
             with m.If(attempt < self.retries):
                 m.d.sync += [attempt.eq(attempt + 1), timer.eq(0)]
                 m.next = "RETRY_WAIT"

@@ -17,7 +17,9 @@ one cycle; ``nack`` (WRITE: the target did not acknowledge), ``rdata`` (READ), `
 
 * START: from an idle bus, waits until SCL and SDA have been high for the bus-free time, then SDA falls while
   SCL is high. While a transfer is open (``bus_active``) it makes a repeated START.
-* WRITE / READ: 8 data bits MSB first plus the acknowledge bit. SCL is held low between commands.
+* WRITE / READ: 8 data bits MSB first plus the acknowledge bit. SCL is held low between commands; SDA
+  changes ``hold`` cycles after SCL fell (or at once if the next command came later than that) and SCL is
+  released when it has been low for the full low time and SDA has been stable for tSU;DAT.
 * STOP: SDA rises while SCL is high; ``bus_active`` falls.
 
 Clock stretching: after releasing SCL the master waits for SCL to read high and counts the high time from
@@ -33,7 +35,7 @@ SCL rising edge; ``ready`` returns the cycle after ``done``.
 
 from dataclasses import dataclass
 
-from amaranth import Module, Signal
+from amaranth import C, Module, Signal
 from amaranth.lib import enum, wiring
 from amaranth.lib.cdc import FFSynchronizer
 from amaranth.lib.wiring import In, Out
@@ -167,6 +169,10 @@ class I2CMaster(wiring.Component):
             self.rdata.eq(shift),
         ]
 
+        def reached(counter, n):
+            """True in the n-th cycle of a count from 0 (no constant comparison when n <= 1)."""
+            return counter >= n - 1 if n > 1 else C(1, 1)
+
         def fail(kind):
             m.d.sync += [scl_low.eq(0), sda_low.eq(0), self.bus_active.eq(0), kind.eq(1)]
             m.next = "DONE"
@@ -201,7 +207,7 @@ class I2CMaster(wiring.Component):
                 m.d.sync += wait.eq(wait + 1)
                 with m.If(scl & sda):
                     m.d.sync += timer.eq(timer + 1)
-                    with m.If(timer >= t.buf - 1):
+                    with m.If(reached(timer, t.buf)):
                         m.d.sync += [sda_low.eq(1), timer.eq(0)]
                         m.next = "START_HD"
                 with m.Else():
@@ -215,18 +221,18 @@ class I2CMaster(wiring.Component):
 
             with m.State("START_HD"):                         # SDA low, SCL high: hold the START
                 m.d.sync += timer.eq(timer + 1)
-                with m.If(timer >= t.hd_sta - 1):
+                with m.If(reached(timer, t.hd_sta)):
                     m.d.sync += [scl_low.eq(1), self.bus_active.eq(1)]
                     m.next = "DONE"
 
             # --- repeated START (SCL is low when we get here) ----------------------------------------------
             with m.State("RS_HOLD"):
-                with m.If(low_cnt >= t.hold - 1):
+                with m.If(reached(low_cnt, t.hold)):
                     m.d.sync += [sda_low.eq(0), timer.eq(0)]
                     m.next = "RS_SETUP"
             with m.State("RS_SETUP"):
                 m.d.sync += timer.eq(timer + 1)
-                with m.If((low_cnt >= t.low - 1) & (timer >= t.su_dat - 1)):
+                with m.If((reached(low_cnt, t.low)) & (reached(timer, t.su_dat))):
                     m.d.sync += [scl_low.eq(0), timer.eq(0), wait.eq(0)]
                     m.next = "RS_WAIT_HIGH"
             with m.State("RS_WAIT_HIGH"):
@@ -237,7 +243,7 @@ class I2CMaster(wiring.Component):
                     fail(res_timeout)
             with m.State("RS_SU"):
                 m.d.sync += timer.eq(timer + 1)
-                with m.If(timer >= t.su_sta - 1):
+                with m.If(reached(timer, t.su_sta)):
                     with m.If(~sda | ~scl):
                         fail(res_arb)
                     with m.Else():
@@ -246,7 +252,7 @@ class I2CMaster(wiring.Component):
 
             # --- one bit: SDA changes `hold` after SCL fell, SCL released at `low`, sampled at end of high --
             with m.State("BIT_HOLD"):
-                with m.If(low_cnt >= t.hold - 1):
+                with m.If(reached(low_cnt, t.hold)):
                     with m.If(bit == 8):
                         m.d.sync += sda_low.eq(reading & ack_level)
                     with m.Else():
@@ -255,7 +261,7 @@ class I2CMaster(wiring.Component):
                     m.next = "BIT_SETUP"
             with m.State("BIT_SETUP"):
                 m.d.sync += timer.eq(timer + 1)
-                with m.If((low_cnt >= t.low - 1) & (timer >= t.su_dat - 1)):
+                with m.If((reached(low_cnt, t.low)) & (reached(timer, t.su_dat))):
                     m.d.sync += [scl_low.eq(0), timer.eq(0), wait.eq(0)]
                     m.next = "BIT_WAIT_HIGH"
             with m.State("BIT_WAIT_HIGH"):
@@ -266,7 +272,7 @@ class I2CMaster(wiring.Component):
                     fail(res_timeout)
             with m.State("BIT_HIGH"):
                 m.d.sync += timer.eq(timer + 1)
-                with m.If(timer >= t.high - 1):
+                with m.If(reached(timer, t.high)):
                     m.d.sync += timer.eq(0)
                     with m.If(bit == 8):
                         m.d.sync += [res_nack.eq(~reading & sda), scl_low.eq(1)]
@@ -279,12 +285,12 @@ class I2CMaster(wiring.Component):
 
             # --- STOP (SCL is low when we get here) --------------------------------------------------------
             with m.State("STOP_HOLD"):
-                with m.If(low_cnt >= t.hold - 1):
+                with m.If(reached(low_cnt, t.hold)):
                     m.d.sync += [sda_low.eq(1), timer.eq(0)]
                     m.next = "STOP_SETUP"
             with m.State("STOP_SETUP"):
                 m.d.sync += timer.eq(timer + 1)
-                with m.If((low_cnt >= t.low - 1) & (timer >= t.su_dat - 1)):
+                with m.If((reached(low_cnt, t.low)) & (reached(timer, t.su_dat))):
                     m.d.sync += [scl_low.eq(0), timer.eq(0), wait.eq(0)]
                     m.next = "STOP_WAIT_HIGH"
             with m.State("STOP_WAIT_HIGH"):
@@ -295,7 +301,7 @@ class I2CMaster(wiring.Component):
                     fail(res_timeout)
             with m.State("STOP_SU"):
                 m.d.sync += timer.eq(timer + 1)
-                with m.If(timer >= t.su_sto - 1):
+                with m.If(reached(timer, t.su_sto)):
                     m.d.sync += [sda_low.eq(0), timer.eq(0)]
                     m.next = "STOP_CHECK"
             with m.State("STOP_CHECK"):                       # let the release pass the synchroniser
@@ -312,7 +318,7 @@ class I2CMaster(wiring.Component):
 
             # --- bus clear (UM10204 3.1.16): SCL pulses until the target releases SDA ----------------------
             with m.State("CLR_LOW"):
-                with m.If(low_cnt >= t.low - 1):
+                with m.If(reached(low_cnt, t.low)):
                     m.d.sync += [scl_low.eq(0), timer.eq(0), wait.eq(0)]
                     m.next = "CLR_WAIT_HIGH"
             with m.State("CLR_WAIT_HIGH"):
@@ -323,7 +329,7 @@ class I2CMaster(wiring.Component):
                     fail(res_timeout)
             with m.State("CLR_HIGH"):
                 m.d.sync += timer.eq(timer + 1)
-                with m.If(timer >= t.high - 1):
+                with m.If(reached(timer, t.high)):
                     m.d.sync += [timer.eq(0), scl_low.eq(1), pulses.eq(pulses + 1)]
                     with m.If(sda):
                         m.d.sync += [clearing.eq(1), self.bus_active.eq(1)]

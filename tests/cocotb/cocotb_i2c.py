@@ -1,5 +1,5 @@
 """cocotb tests of the I2C init sequencers (Verilator and Icarus), one design: an ``I2CBench`` with the MT9D112
-sequencer on bus ``cam`` and the CH7301C sequencer on bus ``dvi``, at the board's 100 MHz / 100 kHz.
+sequencer on bus ``cam`` and the CH7301C sequencer on bus ``dvi``, bus at 100 kHz, sync clock ``clk_hz``.
 
 * ``test_third_party_decode``: a cocotbext-i2c device on each bus (bit/byte/START/STOP/ACK decoding and address
   matching by the third-party library) records the bus; the decoded writes must equal the golden list, the
@@ -7,10 +7,12 @@ sequencer on bus ``cam`` and the CH7301C sequencer on bus ``dvi``, at the board'
   standard-mode interval met.
 * ``test_faults_nack``: the project's models with faults: the MT9D112 NACKs the data of one register for ever
   (error NACK_DATA at that entry, nothing written after it); the CH7301C bus has no device (NACK_ADDR).
-* ``test_stretch_and_stuck``: the MT9D112 model stretches SCL after every byte (table completes, writes equal
-  the golden list); the CH7301C bus has SDA held low (STUCK, no write).
+* ``test_stretch_and_stuck``: the CH7301C model stretches SCL after every byte (table completes, writes equal
+  the golden list, stretched low times on the bus); the MT9D112 bus has SDA held low (STUCK after the
+  timeout and the nine-pulse bus clear, no write).
 
-Parameters (``sim.cocotb_runner.test_params()``): ``timeout_us`` and ``retries`` of the design, for the checks.
+Parameters (``sim.cocotb_runner.test_params()``): ``clk_hz`` (the clock the design was built for) and its
+``timeout_us`` and ``retries``, for the checks.
 """
 
 import cocotb
@@ -21,12 +23,13 @@ from cocotbext.i2c import I2cDevice
 
 from golden.i2c_writes import expected_prefix, expected_writes
 from hdl.i2c_init import ErrorCode
-from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE, Write
+from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE, Wait, Write
 from sim.cocotb_runner import test_params
 from sim.i2c_devices import (CH7301CModel, I2CBusMonitor, MT9D112Model, start_cocotb_monitor,
                              start_cocotb_targets)
 
 PARAMS = test_params()
+CLK_PERIOD_NS = 1e9 / PARAMS.get("clk_hz", 100_000_000)
 TABLES = {"cam": MT9D112_TABLE, "dvi": CH7301C_TABLE}
 
 
@@ -111,10 +114,10 @@ async def reset(dut):
 
 async def run_until_settled(dut, limit_ms):
     """Wait until every bus reports done or error; fail the test if it takes longer than ``limit_ms``. Checks on
-    every 10 us step that done and error are never both high and that done, once seen, never falls."""
+    every 20 us step that done and error are never both high and that done, once seen, never falls."""
     seen_done = {}
-    for _ in range(int(limit_ms * 100)):
-        await Timer(10, unit="us")
+    for _ in range(int(limit_ms * 50)):
+        await Timer(20, unit="us")
         settled = True
         for bus in TABLES:
             done, err = int(getattr(dut, f"{bus}_done").value), int(getattr(dut, f"{bus}_error").value)
@@ -140,16 +143,17 @@ def entry_index(table, reg):
 
 @cocotb.test()
 async def test_third_party_decode(dut):
-    Clock(dut.clk, 10, unit="ns").start()
+    Clock(dut.clk, CLK_PERIOD_NS, unit="ns").start()
     devices = {"cam": RecordingDevice(dut, "cam", MT9D112_TABLE.device, cam_responder),
                "dvi": RecordingDevice(dut, "dvi", CH7301C_TABLE.device, dvi_responder)}
     monitors = {bus: I2CBusMonitor() for bus in TABLES}
     for bus, mon in monitors.items():
         start_cocotb_monitor(dut, bus, mon)
-    await reset(dut)
-    await run_until_settled(dut, limit_ms=60)
+    t0 = await reset(dut)
+    done_at = await run_until_settled(dut, limit_ms=60)
 
     for bus, table in TABLES.items():
+        dut._log.info("%s: init done %.2f ms after reset", bus, 1e3 * (done_at[bus] - t0))
         assert status(dut, bus) == (1, 0, ErrorCode.NONE, len(table)), f"{bus}: {status(dut, bus)}"
         writes, reads, bad = devices[bus].decoded()
         assert not bad, f"{bus}: transactions that are neither a write nor a register read: {bad[:3]}"
@@ -170,7 +174,7 @@ async def test_third_party_decode(dut):
 
 @cocotb.test()
 async def test_faults_nack(dut):
-    Clock(dut.clk, 10, unit="ns").start()
+    Clock(dut.clk, CLK_PERIOD_NS, unit="ns").start()
     reg = 0x3214                                                  # slew-rate register: the 3rd write
     cam = MT9D112Model(nack_write_byte=2, nack_write_reg=reg)    # NACK its first data byte, for ever
     cam_mon, dvi_mon = I2CBusMonitor(), I2CBusMonitor()
@@ -197,23 +201,26 @@ async def test_faults_nack(dut):
 
 @cocotb.test()
 async def test_stretch_and_stuck(dut):
-    Clock(dut.clk, 10, unit="ns").start()
-    cam = MT9D112Model(stretch_s=20e-6)
-    dvi = CH7301CModel(hold_sda_low=True)
+    Clock(dut.clk, CLK_PERIOD_NS, unit="ns").start()
+    cam = MT9D112Model(hold_sda_low=True)
+    dvi = CH7301CModel(stretch_s=20e-6)
     cam_mon, dvi_mon = I2CBusMonitor(), I2CBusMonitor()
     start_cocotb_targets(dut, "cam", [cam], cam_mon)
     start_cocotb_targets(dut, "dvi", [dvi], dvi_mon)
     t0 = await reset(dut)
-    done_at = await run_until_settled(dut, limit_ms=60)
+    done_at = await run_until_settled(dut, limit_ms=20)
 
-    assert status(dut, "cam") == (1, 0, ErrorCode.NONE, len(MT9D112_TABLE))
-    assert [("mt9d112", r, v) for r, v in cam.writes] == expected_writes(MT9D112_TABLE)
-    assert cam.stretches > 0
-    assert not cam_mon.violations(), cam_mon.violations()
-    assert cam_mon.maximum["tLOW"] >= 20e-6, "the stretch did not show on the bus"
-    assert "dvi" not in done_at
-    assert status(dut, "dvi") == (0, 1, ErrorCode.STUCK, 0)
-    assert dvi.writes == [] and dvi.transactions == 0
+    assert status(dut, "dvi") == (1, 0, ErrorCode.NONE, len(CH7301C_TABLE))
+    assert [("ch7301c", r, v) for r, v in dvi.writes] == expected_writes(CH7301C_TABLE)
+    assert dvi.stretches > 10
+    assert not dvi_mon.violations(), dvi_mon.violations()
+    assert dvi_mon.maximum["tLOW"] >= 20e-6 - 1e-9, "the stretch did not show on the bus"
+
+    assert "cam" not in done_at
+    first_access = next(i for i, e in enumerate(MT9D112_TABLE.entries) if not isinstance(e, Wait))
+    assert status(dut, "cam") == (0, 1, ErrorCode.STUCK, first_access)
+    assert cam.writes == [] and cam.transactions == 0
     # SDA low for ever: the master waited its timeout, tried the nine-pulse bus clear, then gave up
-    assert dvi_mon.scl_rises <= 9
-    assert dvi_mon.last_edge - t0 < PARAMS["timeout_us"] * 1e-6 + 1e-3
+    assert cam_mon.scl_rises == 9
+    waited = (sum(e.us for e in MT9D112_TABLE.entries[:first_access]) + PARAMS["timeout_us"]) * 1e-6
+    assert waited < cam_mon.last_edge - t0 < waited + 0.5e-3
