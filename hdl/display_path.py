@@ -34,6 +34,10 @@ class DisplayPath(wiring.Component):
         self.mode = timing
         self.ddr = ddr
         self.start = start
+        #: the three blocks, built here so test benches and wave dumps can reach their signals
+        self.sync_gen = SyncGenerator(timing, start=start)
+        self.pattern = PatternGenerator(timing)
+        self.output = CH7301COutput(timing, ddr=ddr)
         super().__init__({
             "data": Out(12),
             "hsync": Out(1),
@@ -46,9 +50,9 @@ class DisplayPath(wiring.Component):
 
     def elaborate(self, platform):
         m = Module()
-        m.submodules.sync_gen = sync_gen = SyncGenerator(self.mode, start=self.start)
-        m.submodules.pattern = pattern = PatternGenerator(self.mode)
-        m.submodules.output = output = CH7301COutput(self.mode, ddr=self.ddr)
+        m.submodules.sync_gen = sync_gen = self.sync_gen
+        m.submodules.pattern = pattern = self.pattern
+        m.submodules.output = output = self.output
         wiring.connect(m, sync_gen, pattern.timing)
         wiring.connect(m, pattern.video, output.video)
         m.d.comb += [

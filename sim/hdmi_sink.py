@@ -339,13 +339,14 @@ class HdmiSink:
 
 # -- Amaranth simulator driver ------------------------------------------------------------------------------
 
-def amaranth_sink_testbench(sink, pins, clocks=None):
+def amaranth_sink_testbench(sink, pins, clocks=None, progress=None, progress_every=10_000):
     """An Amaranth async testbench feeding ``sink`` from the CH7301C pins.
 
     ``pins`` is any object with ``data``, ``hsync``, ``vsync``, ``de``, ``xclk_p`` signals (e.g. a
     :class:`hdl.display_path.DisplayPath`). The bench waits for each rising edge of ``xclk_p``, reads the syncs,
     de and the rising-edge word once the design has settled, then waits for the falling edge and reads the
     falling-edge word. It samples ``clocks`` pixel clocks (``None``: forever; then bound the simulation).
+    ``progress(clocks_done)`` is called every ``progress_every`` clocks if given.
     """
     async def testbench(ctx):
         # A testbench resumes after the design has settled, so ctx.get sees the values that follow the edge
@@ -359,6 +360,8 @@ def amaranth_sink_testbench(sink, pins, clocks=None):
             await falling
             sample(hs, vs, de, first, get(pins.data))
             n += 1
+            if progress is not None and n % progress_every == 0:
+                progress(n)
     return testbench
 
 
@@ -477,10 +480,11 @@ def run_display_cocotb(design, timing, *, simulator, name="display_path", sink_c
         params["expect_values"] = expect_values
     if expect_edges:
         params["expect_edges"] = expect_edges
+    # absolute: the simulator runs in its own test directory
     if out_dir is not None:
-        params["out_dir"] = str(out_dir)
+        params["out_dir"] = str(Path(out_dir).resolve())
     if progress_file is not None:
-        params["progress_file"] = str(progress_file)
+        params["progress_file"] = str(Path(progress_file).resolve())
     return run_cocotb(design, name=name, test_module="cocotb_display", simulator=simulator, params=params,
                       build_args=VERILATOR_BUILD_ARGS if simulator == "verilator" else (), waves=waves,
                       testcase=testcase)

@@ -1,0 +1,32 @@
+"""``stereodepth waves``: a VCD window of the display path and a GTKWave save file that opens it.
+
+Simulated in Amaranth's simulator; see :func:`stereodepth.cmd_display.write_display_waves` for the window.
+"""
+
+from pathlib import Path
+
+from . import cmd_display
+
+HELP = "write a VCD and a GTKWave save file of the display path"
+
+
+def add_arguments(parser):
+    parser.add_argument("--mode", choices=("1080p", "small"), default="1080p",
+                        help="video mode: 1080p (CEA-861 1920x1080p60, default) or small (80x48 test mode)")
+    parser.add_argument("--out", type=Path, default=cmd_display.DEFAULT_OUT,
+                        help="output directory (default build/demo)")
+    parser.add_argument("--lines", type=int, default=None, metavar="N",
+                        help="lines in the window, which starts at the last active line (default: up to two "
+                             "lines after the vsync pulse)")
+
+
+def run(args):
+    timing = cmd_display._modes()[args.mode]
+    out = cmd_display.prepare_out_dir(args.out)
+    lines = cmd_display.check_wave_lines(args.lines, timing)
+    start, clocks = cmd_display.wave_window(timing, lines)
+    print(f"display path, {timing.h_active}x{timing.v_active}: {clocks:,} pixel clocks from line {start[1]} "
+          f"in Amaranth's simulator ...")
+    files = cmd_display.write_display_waves(timing, out / "display.vcd", lines=lines)
+    cmd_display.print_outputs(files)
+    return 0
