@@ -13,7 +13,7 @@ import sys
 
 import numpy as np
 import pytest
-from amaranth import Module
+from amaranth import Cat, Module
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
@@ -61,7 +61,9 @@ def grey_buffers(geometry):
 class DisplayHarness(wiring.Component):
     """Test harness, not part of the design: SwitchControl -> Compositor <- two FrameBuffers, all in ``sync``;
     the buffers' write ports are brought out (``load_*``) so a cocotb bench can fill them, or ``init_*`` preloads
-    them. ``disparity``/``rectification`` expose the switch registers."""
+    them. ``disparity``/``rectification`` expose the switch registers; ``video_word`` is the video output packed
+    as Cat(vsync, hsync, de, rgb) so a cocotb bench reads one signal per clock (it checks it against the
+    ``video`` ports themselves at intervals)."""
 
     def __init__(self, timing, geometry, *, layout=None, init_left=(), init_right=()):
         self.video_timing = timing
@@ -76,6 +78,7 @@ class DisplayHarness(wiring.Component):
             "load_right": In(geometry.gray_bits),
             "load_en": In(1),
             "video": Out(VideoSignature),
+            "video_word": Out(27),
             "disparity": Out(SWITCH_VALUE_BITS),
             "rectification": Out(SWITCH_VALUE_BITS),
         })
@@ -94,6 +97,7 @@ class DisplayHarness(wiring.Component):
             switches.frame_start.eq(self.timing.frame_start),
             comp.disparity.eq(switches.disparity),
             comp.rectification.eq(switches.rectification),
+            self.video_word.eq(Cat(comp.video.vsync, comp.video.hsync, comp.video.de, comp.video.rgb)),
             self.disparity.eq(switches.disparity),
             self.rectification.eq(switches.rectification),
             left.r_addr.eq(comp.left_addr), comp.left_data.eq(left.r_data),

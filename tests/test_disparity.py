@@ -128,11 +128,12 @@ def raster(w, h):
 
 
 def test_real_pair_raster_default_thresholds():
-    """A 16 x 12 crop of the bundled pair's luminance, raster order at one pixel per clock, thesis settings."""
+    """The bundled pair captured at 16 x 12, raster order at one pixel per clock, several settings."""
+    from golden.capture import capture_frame
     from golden.stereo_pair import load_default_pair
-    left_rgb, right_rgb = load_default_pair(64, 48)
-    to5 = lambda rgb: (rgb[::4, ::4].astype(int).sum(axis=2) // 3) >> 3      # any 5-bit grey will do here
-    left, right = to5(left_rgb), to5(right_rgb)
+    from hdl.params import SMALL_SENSOR
+    left_rgb, right_rgb = load_default_pair(SMALL_SENSOR.width, SMALL_SENSOR.height)
+    left, right = capture_frame(left_rgb, SMALL_SENSOR), capture_frame(right_rgb, SMALL_SENSOR)
     for disparity, rectification in [(0, 0), (3, 1), (15, 11), (16, 0), (0, 12), (22, 3), (127, 127)]:
         check_against_golden(left, right, disparity, rectification, DIFF_THRESHOLDS, raster(16, 12))
 

@@ -141,18 +141,18 @@ if cocotb is not None:
         total = n_frames * cpf + latency
         handles = [getattr(dut, f"timing__{n}") for n in ("x", "y", "de", "hsync", "vsync", "frame_start")]
         columns = [raster[n].tolist() for n in ("x", "y", "de", "hsync", "vsync", "frame_start")]
-        rgb_h, de_h, hs_h, vs_h = dut.video__rgb, dut.video__de, dut.video__hsync, dut.video__vsync
+        word_h = dut.video_word       # Cat(vsync, hsync, de, rgb): one read per clock
+        port_h = (dut.video__rgb, dut.video__de, dut.video__hsync, dut.video__vsync)
         sw_h = dut.sw
-        out = {k: np.zeros(total, dtype=np.int64) for k in ("rgb", "de", "hsync", "vsync")}
-        out_rgb, out_de, out_hs, out_vs = out["rgb"], out["de"], out["hsync"], out["vsync"]
+        words = np.zeros(total, dtype=np.int64)
         previous = [None] * 6
         for c in range(total):
             await FallingEdge(clk)
             # Outputs during clock c (the registers after the rising edge that began it).
-            out_rgb[c] = int(rgb_h.value)
-            out_de[c] = int(de_h.value)
-            out_hs[c] = int(hs_h.value)
-            out_vs[c] = int(vs_h.value)
+            w = words[c] = int(word_h.value)
+            if c % 997 == 0:          # the packed word is the video ports themselves
+                ports = [int(h.value) for h in port_h]
+                assert ports == [w >> 3, (w >> 2) & 1, (w >> 1) & 1, w & 1], f"video_word at clock {c}"
             # Inputs for clock c (sampled by the rising edge that ends it); the raster repeats every frame.
             i = c % cpf
             for j in range(6):
@@ -162,4 +162,5 @@ if cocotb is not None:
                     previous[j] = v
             if c in events:
                 sw_h.value = events[c]
+        out = {"rgb": words >> 3, "de": (words >> 2) & 1, "hsync": (words >> 1) & 1, "vsync": words & 1}
         check_stream(timing, latency, n_frames, out, expected)
