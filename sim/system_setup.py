@@ -1,0 +1,134 @@
+"""One place that says how a whole-system simulation is set up: sizes, time scale, clocks, models, golden frame.
+
+:class:`SystemSetup` is shared by the Amaranth-simulator runner (``sim/system_amaranth.py``), the cocotb test
+module (``tests/cocotb/cocotb_system.py``), the tests, the bench and the command line, so every route
+simulates the same configuration and compares against the same golden frame.
+
+Two presets:
+
+* :meth:`SystemSetup.small`: ``SMALL_SENSOR`` (64 x 48 -> 16 x 12 buffers) on ``SMALL_TIMING`` (80 x 48 active),
+  the MT9D112 table with the small output size, only its essential entries and its waits scaled by 1/50
+  (``sim/system_tables.py``), a 1 MHz I2C bus (Fast-mode Plus rate, the fastest the I2C master accepts; a simulation
+  speed-up: the register-file models do not depend on the bus rate; the 100 kHz bus is exercised by the I2C
+  block's own tests and by the full preset). For the default test run.
+* :meth:`SystemSetup.full`: the board's sizes (1600 x 1200 -> 400 x 300, 1080p60), the board's MT9D112 table
+  unchanged and the 100 kHz bus. For the slow test, the bench and the demo.
+
+The sensors' PCLK is 80 MHz: what the MT9D112 table programs (24 MHz x 80 / 3 / 8; Digilent's CamCtl
+"1600x1200 @ 80 MHz pixel clock"). Camera A is the left image, camera B the right image.
+
+Simulation shortcuts, stated:
+
+* a sensor model starts toggling PCLK only once its I2C register file says it is configured for RGB565 and
+  streaming (the real sensor's PCLK runs from MCLK earlier, but the capture ignores everything before the first
+  FV rising edge, so the frames are the same; this saves simulating idle PCLK while the I2C init runs);
+* with ``pix_after_init`` (the small preset) the pixel clock starts only once all three I2C buses report their
+  init done, like a pixel PLL that locks late; the display domain is held in reset until then, and the
+  switches are set after it starts. The display of those first milliseconds would only show the still-empty
+  buffers, and the display domain is where the simulators spend most of their time. The full preset runs the
+  pixel clock from time 0.
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from golden.capture import capture_frame
+from golden.disparity import composite_frame
+from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE
+from hdl.params import (CEA_1080P60, CLOCKS, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, SENSOR, SMALL_SENSOR, SMALL_TIMING,
+                        DisplayLayout)
+from sim.system_tables import model_timing, mt9d112_table
+
+__all__ = ["SystemSetup", "CAM_PCLK_HZ"]
+
+#: The sensors' PCLK with the MT9D112 table's PLL settings.
+CAM_PCLK_HZ = 80_000_000
+
+
+@dataclass(frozen=True)
+class SystemSetup:
+    geometry: object = SENSOR
+    timing: object = CEA_1080P60
+    layout: object = None
+    thresholds: tuple = DIFF_THRESHOLDS
+    level_grey: tuple = DIFF_LEVEL_GREY
+    disparity: int = 0
+    rectification: int = 0
+    time_scale: float = 1.0            # applied to the MT9D112 table's waits and the model's boot/PLL times
+    quick_table: bool = False          # only the MT9D112 table's essential entries (sim/system_tables.py)
+    i2c_hz: int = CLOCKS.I2C_HZ
+    i2c_retry_delay_us: int = 1000
+    sys_hz: int = CLOCKS.SYS_HZ
+    pclk_hz: int = CAM_PCLK_HZ
+    cam_phase_s: dict = field(default_factory=lambda: {"a": 0.0, "b": 3.1e-9})   # the cameras are not in phase
+    lock_cycles: int = 16
+    pix_after_init: bool = False       # start the pixel clock only once the I2C init is done (see below)
+    sensor_timing: object = None       # sim.mt9d112.SensorTiming; None: SENSOR_TIMING / SMALL_SENSOR_TIMING
+
+    @classmethod
+    def small(cls, **kw):
+        from sim.mt9d112 import SMALL_SENSOR_TIMING
+        kw.setdefault("sensor_timing", SMALL_SENSOR_TIMING)
+        kw.setdefault("pix_after_init", True)
+        return cls(geometry=SMALL_SENSOR, timing=SMALL_TIMING, time_scale=0.02, quick_table=True,
+                   i2c_hz=1_000_000, i2c_retry_delay_us=20, **kw)
+
+    @classmethod
+    def full(cls, **kw):
+        from sim.mt9d112 import SENSOR_TIMING
+        kw.setdefault("sensor_timing", SENSOR_TIMING)
+        return cls(**kw)
+
+    def __post_init__(self):
+        for name, value in (("disparity", self.disparity), ("rectification", self.rectification)):
+            if not 0 <= value <= 127:
+                raise ValueError(f"{name} must be 0..127 (seven switches), got {value}")
+
+    @property
+    def display_layout(self):
+        return self.layout or DisplayLayout.centred(self.timing, self.geometry)
+
+    @property
+    def cam_table(self):
+        if self.geometry == SENSOR and self.time_scale == 1.0 and not self.quick_table:
+            return MT9D112_TABLE
+        return mt9d112_table(self.geometry, time_scale=self.time_scale, quick=self.quick_table)
+
+    def system_kwargs(self):
+        """Keyword arguments for ``hdl.system.StereoDepthSystem`` / ``SimSystem`` / ``SystemBench``."""
+        return dict(geometry=self.geometry, timing=self.timing, layout=self.display_layout,
+                    thresholds=self.thresholds, level_grey=self.level_grey, cam_table=self.cam_table,
+                    dvi_table=CH7301C_TABLE, clk_hz=self.sys_hz, i2c_hz=self.i2c_hz,
+                    i2c_retry_delay_us=self.i2c_retry_delay_us, lock_cycles=self.lock_cycles)
+
+    def i2c_models(self):
+        """Fresh register-file models: ``{bus: [target, ...]}`` for the buses ``cam_a``, ``cam_b``, ``dvi``."""
+        from sim.i2c_devices import CH7301CModel, MT9D112Model
+        timing = model_timing(self.time_scale)
+        return {"cam_a": [MT9D112Model(**timing)], "cam_b": [MT9D112Model(**timing)], "dvi": [CH7301CModel()]}
+
+    def sensor(self, model, seed):
+        """The video model of one camera, configured through its I2C register-file ``model``."""
+        from sim.mt9d112 import SENSOR_TIMING, MT9D112
+        return MT9D112(model, timing=self.sensor_timing or SENSOR_TIMING, pclk_hz=self.pclk_hz, seed=seed)
+
+    def switch_words(self):
+        """The SW7..SW0 values to set in turn: disparity (SW7 = 1), then rectification (SW7 = 0)."""
+        return [0x80 | self.disparity, self.rectification]
+
+    def fit(self, image):
+        """An RGB image fitted to the sensor (what the sensor model will output)."""
+        from golden.stereo_pair import fit_to_sensor
+        image = np.asarray(image, dtype=np.uint8)
+        if image.shape[:2] != (self.geometry.height, self.geometry.width):
+            image = fit_to_sensor(image, self.geometry.width, self.geometry.height)
+        return image
+
+    def golden_frame(self, left, right):
+        """The golden model's displayed frame for the pair (images at any size: fitted to the sensor first)."""
+        g = self.geometry
+        lb = capture_frame(self.fit(left), g)
+        rb = capture_frame(self.fit(right), g)
+        return composite_frame(lb, rb, self.disparity, self.rectification, self.timing, g, self.display_layout,
+                               self.thresholds, self.level_grey)

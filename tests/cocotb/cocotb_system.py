@@ -1,0 +1,180 @@
+"""cocotb end-to-end test of the whole system (sim.system_bench.SystemBench exported to Verilog), on Verilator
+and Icarus: stereo pair in, HDMI frame out, compared with the golden model.
+
+Driven from pytest through ``sim.cocotb_runner.run_cocotb`` (tests/test_system.py) and used by the bench and
+the ``run``/``demo`` commands (``sim/system_cocotb.py`` builds the parameters). Parameters
+(``sim.cocotb_runner.test_params()``):
+
+* ``setup``: the :class:`sim.system_setup.SystemSetup` as ``{"preset": "small"|"full", **overrides}``;
+* ``left``, ``right``: image files (any size: fitted to the sensor as the sensor model does);
+* ``out_dir``: where ``frame.npy``, ``golden.npy`` and ``result.json`` go;
+* ``progress_file``: optional, ``"<done> <total>"`` for a progress bar in the parent process.
+
+Same scenario as the Amaranth-simulator route (``sim/system_amaranth.py``), pixel clock from time 0 or from the
+end of the I2C init as the setup says (``pix_after_init``): reset button, clock lock, I2C init of the three buses by the
+RTL against the register-file models (``sim.i2c_devices``), the switches, both sensor models streaming once
+configured, and one display frame sampled by the HDMI sink model from a frame start after both cameras have
+completed a frame. Clocks: ``clk`` 100 MHz, ``pix_clk`` 6736 ps (148.456 MHz: the nearest period to 148.5 MHz
+that is a multiple of 4 ps, which the sink's quarter-period sampling needs), ``cam_<c>_clk`` from the sensor
+models (80 MHz, 12.5 ns, camera B 3.1 ns later).
+"""
+
+import json
+import time
+from pathlib import Path
+
+import cocotb
+import numpy as np
+from cocotb.clock import Clock
+from cocotb.triggers import RisingEdge, Timer
+from cocotb.utils import get_sim_time
+
+from golden.stereo_pair import load_pair
+from sim.cocotb_runner import test_params
+from sim.hdmi_sink import CocotbSink, HdmiSink
+from sim.i2c_devices import I2CBusMonitor, start_cocotb_targets
+from sim.mt9d112 import drive_cocotb
+from sim.system_cocotb import setup_from_spec
+from hdl.system import CAMERAS, DISPLAY_LATENCY, I2C_BUSES
+
+PARAMS = test_params()
+PIX_PERIOD_PS = 6736
+SYS_PERIOD_PS = 10_000
+
+
+def _progress(path, done, total):
+    if path:
+        tmp = f"{path}.tmp"
+        with open(tmp, "w") as f:
+            f.write(f"{done} {total}\n")
+        Path(tmp).replace(path)
+
+
+async def _wait(cond, what, timeout_s, step_ns=1000):
+    start = get_sim_time("ns")
+    while not cond():
+        if (get_sim_time("ns") - start) * 1e-9 > timeout_s:
+            raise AssertionError(f"{what} did not happen within {timeout_s * 1e3:.3f} ms of simulated time")
+        await Timer(step_ns, unit="ns")
+
+
+@cocotb.test()
+async def end_to_end(dut):
+    setup = setup_from_spec(PARAMS["setup"])
+    out_dir = Path(PARAMS["out_dir"])
+    out_dir.mkdir(parents=True, exist_ok=True)
+    progress_file = PARAMS.get("progress_file")
+    g = setup.geometry
+    left, right = load_pair(PARAMS["left"], PARAMS["right"], g.width, g.height)
+    images = {"a": left, "b": right}
+    wall0 = time.perf_counter()
+
+    # Stimulus state before time advances.
+    dut.button.value = 1
+    dut.sw.value = 0
+    for c in CAMERAS:
+        for pin in ("data", "lv", "fv"):
+            getattr(dut, f"cam_{c}_{pin}").value = 0
+    Clock(dut.clk, SYS_PERIOD_PS, unit="ps").start()
+    dut.pix_clk.value = 0
+    pix_clock = Clock(dut.pix_clk, PIX_PERIOD_PS, unit="ps")
+    if not setup.pix_after_init:
+        pix_clock.start()
+
+    models = setup.i2c_models()
+    monitors = {bus: I2CBusMonitor() for bus in I2C_BUSES}
+    for bus in I2C_BUSES:
+        start_cocotb_targets(dut, bus, models[bus], monitors[bus])
+
+    samples = {}
+
+    async def camera(c, seed):
+        model = models[f"cam_{c}"][0]
+        sensor = setup.sensor(model, seed=seed)
+        while not model.sensor_config().rgb565:
+            await Timer(1000, unit="ns")
+        samples[c] = await drive_cocotb(
+            sensor.frames([images[c]] * 1_000_000, tail=False, max_idle=10),
+            clk=getattr(dut, f"cam_{c}_clk"), data=getattr(dut, f"cam_{c}_data"),
+            lv=getattr(dut, f"cam_{c}_lv"), fv=getattr(dut, f"cam_{c}_fv"),
+            pclk_hz=setup.pclk_hz, start_delay=setup.cam_phase_s.get(c, 0.0))
+
+    for seed, c in enumerate(CAMERAS):
+        cocotb.start_soon(camera(c, seed))
+
+    status = {}
+    await Timer(50, unit="ns")
+    dut.button.value = 0
+    await _wait(lambda: int(dut.locked.value) == 1, "clock lock", 1e-3, step_ns=20)
+
+    async def set_switches():
+        await Timer(200, unit="ns")                 # pix out of reset: 2 synchroniser stages
+        for word in setup.switch_words():
+            dut.sw.value = word
+            await Timer(30 * PIX_PERIOD_PS, unit="ps")
+    if not setup.pix_after_init:
+        await set_switches()
+    _progress(progress_file, 0, 3)
+
+    from sim.system_amaranth import _deadline_s
+    deadline = _deadline_s(setup)
+
+    def init_finished():
+        return all(int(getattr(dut, f"{b}_init_done").value) or int(getattr(dut, f"{b}_init_error").value)
+                   for b in I2C_BUSES)
+    await _wait(init_finished, "I2C initialisation", deadline, step_ns=2000)
+    for b in I2C_BUSES:
+        status[f"{b}_init_done"] = bool(int(getattr(dut, f"{b}_init_done").value))
+        status[f"{b}_init_error"] = bool(int(getattr(dut, f"{b}_init_error").value))
+    status["t_init_s"] = get_sim_time("ns") * 1e-9
+    _progress(progress_file, 1, 3)
+    assert all(status[f"{b}_init_done"] for b in I2C_BUSES), f"I2C initialisation failed: {status}"
+    if setup.pix_after_init:
+        pix_clock.start(start_high=False)
+        await set_switches()
+
+    counts0 = {c: int(getattr(dut, f"cam_{c}_frame_count").value) for c in CAMERAS}
+    await _wait(lambda: all(int(getattr(dut, f"cam_{c}_frame_count").value) != counts0[c] for c in CAMERAS),
+                "a complete frame from both cameras", deadline)
+    for c in CAMERAS:
+        status[f"cam_{c}_frame_ok"] = bool(int(getattr(dut, f"cam_{c}_frame_ok").value))
+    status["t_captured_s"] = get_sim_time("ns") * 1e-9
+    _progress(progress_file, 2, 3)
+
+    await RisingEdge(dut.frame_start)
+    # Start sampling outside an hsync pulse (the pins lag the raster by DISPLAY_LATENCY clocks, which can put
+    # them inside the previous line's pulse): the sink must see whole pulses.
+    h_idle = 0 if setup.timing.hsync_positive else 1
+    while int(dut.hsync.value) != h_idle:
+        await RisingEdge(dut.pix_clk)
+    status["disparity"] = int(dut.disparity.value)
+    status["rectification"] = int(dut.rectification.value)
+    sink = HdmiSink(setup.timing)
+    clocks = setup.timing.clocks_per_frame + DISPLAY_LATENCY + 2
+    await CocotbSink(dut, sink, period_ps=PIX_PERIOD_PS, progress_file=None).run(clocks)
+    status["leds"] = int(dut.leds.value)
+    status["drive_high"] = {b: bool(int(getattr(dut, f"{b}_drive_high").value)) for b in I2C_BUSES}
+    status["t_end_s"] = get_sim_time("ns") * 1e-9
+    status["wall_s"] = time.perf_counter() - wall0
+    _progress(progress_file, 3, 3)
+
+    golden = setup.golden_frame(left, right)
+    frame = sink.frames[0] if sink.frames else None
+    np.save(out_dir / "golden.npy", golden)
+    if frame is not None:
+        np.save(out_dir / "frame.npy", frame)
+    status["violations"] = [str(v) for v in sink.violations]
+    status["mt9d112_problems"] = {b: models[b][0].problems() for b in ("cam_a", "cam_b")}
+    status["sensor_config"] = {b: repr(models[b][0].sensor_config()) for b in ("cam_a", "cam_b")}
+    dvi = models["dvi"][0].dvi_config()
+    status["dvi_config"] = dvi.__dict__ if hasattr(dvi, "__dict__") else repr(dvi)
+    # Protocol errors after time 0 (at time 0 the monitor sees the lines resolve from their pre-evaluation value).
+    status["i2c_protocol_errors"] = {b: [str(e) for e in monitors[b].protocol_errors if e[0] > 0]
+                                     for b in I2C_BUSES}
+    status["i2c_transactions"] = {b: len(monitors[b].transactions) for b in I2C_BUSES}
+    status["mismatched_pixels"] = None if frame is None else int(np.any(frame != golden, axis=-1).sum())
+    (out_dir / "result.json").write_text(json.dumps(status, indent=1, default=str))
+
+    assert frame is not None, "the sink rebuilt no frame"
+    assert not sink.violations, f"HDMI timing violations: {status['violations'][:5]}"
+    assert status["mismatched_pixels"] == 0, f"{status['mismatched_pixels']} pixels differ from the golden frame"

@@ -1,0 +1,119 @@
+"""The whole system end to end: stereo pair -> two MT9D112 models (configured over I2C by the RTL) -> capture ->
+frame buffers -> compositor -> CH7301C pins -> HDMI sink model, compared bit for bit with the golden model's
+frame (golden.disparity.composite_frame of golden.capture.capture_frame of each image).
+
+Default run: the small preset (64 x 48 sensor, 80 x 48 display; sim/system_setup.py) on Amaranth's simulator and
+through cocotb on Verilator and Icarus. Slow: the full 1600 x 1200 -> 1080p run (tests marked ``slow``).
+"""
+
+import numpy as np
+import pytest
+
+from golden.stereo_pair import load_default_pair
+from hdl.init_tables import MT9D112_TABLE, Poll, Wait, Write
+from hdl.params import NO_DATA_RGB, SMALL_SENSOR
+from sim.system_tables import QUICK_VARIABLES, SIZE_VARIABLES, mt9d112_table
+from sim.system_setup import SystemSetup
+
+DISPARITY, RECTIFICATION = 2, 1     # small buffers are 16 x 12: a shift of 2 leaves a no-data band
+
+
+def _var_writes(table):
+    """``{(driver, offset): value}`` written through 0x338C/0x3390, in order."""
+    out, var = {}, None
+    for e in table.entries:
+        if isinstance(e, Write) and e.reg == 0x338C:
+            var = ((e.value >> 8) & 0x1F, e.value & 0xFF)
+        elif isinstance(e, Write) and e.reg == 0x3390:
+            out[var] = e.value
+    return out
+
+
+def test_derived_tables_keep_the_board_table_but_size_and_time():
+    full = _var_writes(MT9D112_TABLE)
+    for quick in (False, True):
+        t = mt9d112_table(SMALL_SENSOR, time_scale=0.5, quick=quick)
+        vals = _var_writes(t)
+        for var, field in SIZE_VARIABLES.items():
+            assert vals[var] == getattr(SMALL_SENSOR, field)
+        for var, value in vals.items():
+            if var not in SIZE_VARIABLES:
+                assert value == full[var]                  # every other variable as on the board
+        assert set(vals) == (QUICK_VARIABLES if quick else set(full))
+        # Entries are the board table's, in the same order (a subsequence), waits halved.
+        base = list(MT9D112_TABLE.entries)
+        i = 0
+        for e in t.entries:
+            while not (type(base[i]) is type(e) and getattr(base[i], "reg", None) == getattr(e, "reg", None)):
+                i += 1
+            if isinstance(e, Wait):
+                assert e.us == max(1, round(base[i].us * 0.5))
+            if isinstance(e, Poll):
+                assert e.interval_us == (max(1, round(base[i].interval_us * 0.5)) if base[i].interval_us else 0)
+            i += 1
+    assert len(mt9d112_table(SMALL_SENSOR, quick=False)) == len(MT9D112_TABLE)
+
+
+def _check_golden_is_interesting(golden, setup):
+    """The comparison would be weak if the golden frame were flat: require several disparity levels and the
+    no-data colour in the disparity region."""
+    r = setup.display_layout.region("disparity")
+    region = golden[r.y0:r.y1, r.x0:r.x1].reshape(-1, 3)
+    colours = {tuple(c) for c in region}
+    no_data = ((NO_DATA_RGB >> 16) & 0xFF, (NO_DATA_RGB >> 8) & 0xFF, NO_DATA_RGB & 0xFF)
+    assert no_data in colours and len(colours) >= 4
+
+
+def _check_status(status):
+    for bus in ("cam_a", "cam_b", "dvi"):
+        assert status[f"{bus}_init_done"] and not status[f"{bus}_init_error"], status
+        assert not status["drive_high"][bus]
+    assert status["cam_a_frame_ok"] and status["cam_b_frame_ok"]
+    assert (status["disparity"], status["rectification"]) == (DISPARITY, RECTIFICATION)
+    assert status["leds"] & 0b111111 == 0b010101          # init done on all three buses, no error
+
+
+def test_end_to_end_amaranth():
+    from sim.system_amaranth import run_amaranth
+    setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION)
+    left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
+    result = run_amaranth(left, right, setup)
+    _check_status(result.status)
+    _check_golden_is_interesting(result.golden, setup)
+    assert not result.sink.violations, result.sink.violations[:5]
+    assert result.frame is not None
+    assert result.mismatched_pixels == 0
+    np.testing.assert_array_equal(result.frame, result.golden)
+    for bus in ("cam_a", "cam_b"):
+        model = result.models[bus][0]
+        cfg = model.sensor_config()
+        assert (cfg.width, cfg.height, cfg.rgb565) == (setup.geometry.width, setup.geometry.height, True)
+        assert model.problems() == []
+    dvi = result.models["dvi"][0].dvi_config()
+    assert dvi.dvi_on and dvi.idf == 0 and dvi.hsync_positive and dvi.vsync_positive and dvi.pll_range == "high"
+    for bus, monitor in result.monitors.items():
+        assert not monitor.protocol_errors, (bus, monitor.protocol_errors[:3])
+        assert monitor.transactions
+
+
+def test_end_to_end_cocotb(simulator, tmp_path):
+    from sim.system_cocotb import run_cocotb_system
+    spec = {"preset": "small", "disparity": DISPARITY, "rectification": RECTIFICATION}
+    result = run_cocotb_system(spec, simulator, out_dir=tmp_path)
+    status = result.status
+    _check_status(status)
+    _check_golden_is_interesting(result.golden, SystemSetup.small(disparity=DISPARITY,
+                                                                  rectification=RECTIFICATION))
+    assert status["violations"] == []
+    assert result.mismatched_pixels == 0
+    np.testing.assert_array_equal(result.frame, result.golden)
+    assert all(not errs for errs in status["i2c_protocol_errors"].values())
+    assert status["dvi_config"]["dvi_on"] and status["dvi_config"]["idf"] == 0
+    assert all(not p for p in status["mt9d112_problems"].values())
+
+
+def test_setup_rejects_out_of_range_switch_values():
+    with pytest.raises(ValueError, match="disparity"):
+        SystemSetup.small(disparity=128)
+    with pytest.raises(ValueError, match="rectification"):
+        SystemSetup.small(rectification=-1)
