@@ -380,8 +380,9 @@ class CocotbSink:
     on any pin stops the run with :class:`SinkError`.
 
     Values are read as binary strings straight from the simulator handle (``handle._handle``: cocotb's GPI
-    object; the public ``handle.value`` builds a ``LogicArray`` per read and is about 8x slower). On Verilator
-    this runs at roughly 40-50k pixel clocks per second on a loaded 2-core machine.
+    object; the public ``handle.value`` builds a ``LogicArray`` per read, about 3 us, which made the whole loop
+    about 3x slower). Measured on Verilator: 45-50k pixel clocks per second on a lightly loaded 2-core
+    machine, 17-19k with the machine's load average at 5-7.
 
     ``progress_file``: if given, ``"<done> <total>"`` is written there every ``progress_every`` clocks (a
     parent process shows it as a progress bar).
