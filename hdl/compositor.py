@@ -274,7 +274,7 @@ class Compositor(wiring.Component):
             grey_5.eq(Mux(show_left_4, left_q_4, right_q_4)),
             show_image_5.eq(show_left_4 | show_right_4),
         ]
-        assert 1 + SUBTRACTOR_LATENCY == 5
+        assert SUBTRACTOR_LATENCY == 4, "the stage numbering above assumes the subtractor's 4-clock latency"
 
         # --- clock n + 5 -> n + 6: the colour ---------------------------------------------------------------
         grey8 = self._replicate_to_8_bits(grey_5)
