@@ -116,20 +116,25 @@ def run_cocotb(design, *, name, test_module, simulator, params=None, waves=None,
     test_dir.mkdir(parents=True, exist_ok=True)
     env = {PARAMS_ENV: json.dumps(params or {}), "COCOTB_RANDOM_SEED": os.environ.get("COCOTB_RANDOM_SEED", "1")}
     env.update(extra_env or {})
-    results = runner.test(
-        test_module=test_module, hdl_toplevel=name, hdl_toplevel_lang="verilog", build_dir=build_dir,
-        test_dir=test_dir, extra_env=env, waves=waves, testcase=testcase, results_xml=str(test_dir / "results.xml"),
-        timescale=TIMESCALE if simulator == "icarus" else None,
-        log_file=test_dir / "sim.log",
-    )
-    _check_results(Path(results), test_dir / "sim.log")
+    results_xml = test_dir / "results.xml"
+    try:
+        runner.test(
+            test_module=test_module, hdl_toplevel=name, hdl_toplevel_lang="verilog", build_dir=build_dir,
+            test_dir=test_dir, extra_env=env, waves=waves, testcase=testcase, results_xml=str(results_xml),
+            timescale=TIMESCALE if simulator == "icarus" else None,
+            log_file=test_dir / "sim.log",
+        )
+    except SystemExit as exc:   # under pytest, cocotb_tools exits on failure: turn it into a readable failure
+        _check_results(results_xml, test_dir / "sim.log")
+        raise AssertionError(f"simulator exited with {exc.code}; see {test_dir / 'sim.log'}") from None
+    _check_results(results_xml, test_dir / "sim.log")
     return test_dir
 
 
 def _build(runner, simulator, verilog_text, name, source, extra_sources, build_args, build_dir, waves):
     source.write_text(verilog_text)
     kwargs = dict(
-        verilog_sources=[source, *map(Path, extra_sources)], hdl_toplevel=name, build_dir=build_dir,
+        sources=[source, *map(Path, extra_sources)], hdl_toplevel=name, build_dir=build_dir,
         always=True, waves=waves, build_args=list(build_args), log_file=build_dir / "build.log",
     )
     if simulator == "icarus":
