@@ -2,7 +2,7 @@
 
 One sequencer per bus: each VmodCAM camera has its own bus (both MT9D112 answer at the same address) and the
 CH7301C has the Genesys's. The table (``hdl/init_tables.py``) is packed into an ``amaranth.lib.memory.Memory``
-ROM, one word per entry. Out of reset the sequencer runs the table once:
+ROM (synchronous read), one word per entry. Out of reset the sequencer runs the table once:
 
 * ``Write``: ``S addr+W reg.. data.. P`` (most significant byte first).
 * ``Wait``: counts the given time.
@@ -113,7 +113,7 @@ class InitSequencer(wiring.Component):
 
         layout, words, max_count, max_attempts = self._rom()
         m.submodules.rom = rom = Memory(shape=layout, depth=n, init=words)
-        rd = rom.read_port(domain="comb")
+        rd = rom.read_port(domain="sync")            # synchronous ROM: the word of `pc` one cycle later
         pc = Signal(range(n + 1))
         m.d.comb += [rd.addr.eq(pc), self.entry.eq(pc)]
         e = rd.data
@@ -137,17 +137,6 @@ class InitSequencer(wiring.Component):
         last_step = Signal()
         is_addr = Signal()
         is_write = Signal()
-        for steps, op in ((write_steps, _OP_WRITE), (read_steps, _OP_POLL)):
-            with m.If(e.op == op):
-                with m.Switch(step):
-                    for i, (cmd, wdata, rd_ack, addr_step) in enumerate(steps):
-                        with m.Case(i):
-                            m.d.comb += [
-                                master.cmd.eq(cmd), master.wdata.eq(wdata), master.rd_ack.eq(rd_ack),
-                                is_addr.eq(addr_step), is_write.eq(cmd == Cmd.WRITE),
-                                last_step.eq(i == len(steps) - 1),
-                            ]
-
         timer = Signal(range(max_count + 2))
         attempt = Signal(range(self.retries + 1))
         polls = Signal(range(max_attempts + 1))
@@ -156,7 +145,7 @@ class InitSequencer(wiring.Component):
 
         def finish_entry():
             m.d.sync += [pc.eq(pc + 1), polls.eq(0), attempt.eq(0)]
-            m.next = "FETCH"
+            m.next = "LOAD"
 
         def retry_or_fail():
             if self.retries == 0:
@@ -170,7 +159,10 @@ class InitSequencer(wiring.Component):
 
         m.d.comb += self.busy.eq(~self.done & ~self.error)
 
-        with m.FSM():
+        with m.FSM() as fsm:
+            with m.State("LOAD"):                          # the ROM reads the word of the new pc
+                m.next = "FETCH"
+
             with m.State("FETCH"):
                 m.d.sync += [step.eq(0), rx.eq(0), timer.eq(0)]
                 with m.If(pc == n):
@@ -186,7 +178,6 @@ class InitSequencer(wiring.Component):
                     finish_entry()
 
             with m.State("ISSUE"):
-                m.d.comb += master.cmd_valid.eq(1)
                 with m.If(master.ready):
                     m.next = "BUSY"
 
@@ -213,7 +204,6 @@ class InitSequencer(wiring.Component):
                         m.next = "ISSUE"
 
             with m.State("ABORT"):                         # STOP after a NACK, then retry or give up
-                m.d.comb += [master.cmd.eq(Cmd.STOP), master.cmd_valid.eq(1)]
                 with m.If(master.ready):
                     m.next = "ABORT_WAIT"
             with m.State("ABORT_WAIT"):
@@ -254,4 +244,21 @@ class InitSequencer(wiring.Component):
             with m.State("ERROR"):
                 m.d.sync += [self.error.eq(1), self.error_code.eq(fail_code)]
 
+        # What the master does in each step. Kept out of the FSM and gated by the FSM state so that the exported
+        # Verilog re-evaluates it when the state changes (Icarus -g2012 does not run `always @*` at time 0).
+        aborting = fsm.ongoing("ABORT")
+        m.d.comb += master.cmd_valid.eq(fsm.ongoing("ISSUE") | aborting)
+        with m.If(aborting):
+            m.d.comb += master.cmd.eq(Cmd.STOP)
+        with m.Elif(~fsm.ongoing("LOAD")):
+            for steps, op in ((write_steps, _OP_WRITE), (read_steps, _OP_POLL)):
+                with m.If(e.op == op):
+                    with m.Switch(step):
+                        for i, (cmd, wdata, rd_ack, addr_step) in enumerate(steps):
+                            with m.Case(i):
+                                m.d.comb += [
+                                    master.cmd.eq(cmd), master.wdata.eq(wdata), master.rd_ack.eq(rd_ack),
+                                    is_addr.eq(addr_step), is_write.eq(cmd == Cmd.WRITE),
+                                    last_step.eq(i == len(steps) - 1),
+                                ]
         return m

@@ -177,9 +177,8 @@ class I2CMaster(wiring.Component):
             m.d.sync += [scl_low.eq(0), sda_low.eq(0), self.bus_active.eq(0), kind.eq(1)]
             m.next = "DONE"
 
-        with m.FSM():
+        with m.FSM() as fsm:
             with m.State("IDLE"):
-                m.d.comb += self.ready.eq(1)
                 with m.If(self.cmd_valid):
                     m.d.sync += [res_nack.eq(0), res_arb.eq(0), res_timeout.eq(0), timer.eq(0), wait.eq(0)]
                     with m.Switch(self.cmd):
@@ -340,7 +339,9 @@ class I2CMaster(wiring.Component):
                         m.next = "CLR_LOW"
 
             with m.State("DONE"):
-                m.d.comb += self.done.eq(1)
                 m.next = "IDLE"
 
+        # Outside the FSM so they are plain continuous assignments in the exported Verilog (an `always @*`
+        # block is not run at time 0 by Icarus in its -g2012 mode until one of its inputs changes).
+        m.d.comb += [self.ready.eq(fsm.ongoing("IDLE")), self.done.eq(fsm.ongoing("DONE"))]
         return m

@@ -84,6 +84,7 @@ def test_mt9d112_table_configures_1600x1200_rgb565():
     assert cam.pixel_clock_hz == 80e6 and cam.streaming and cam.commands_done == [2]
     polls = [t for t in r.monitor.transactions if "Sr" in t]
     assert len(polls) == len(cam.reads)                      # every register read uses a repeated START
+    assert len(r.monitor.transactions) == len(cam.writes) + len(cam.reads)   # no retry in a clean run
     assert r.monitor.violations() == [] and r.monitor.protocol_errors == []
 
 
@@ -94,6 +95,7 @@ def test_ch7301c_table_configures_dvi_for_1080p():
     assert named("ch7301c", dvi.writes) == expected_writes(CH7301C_TABLE)
     assert dvi.reads == [(0x4A, 0x95), (0x4B, 0x17)]
     assert dvi.dvi_config() == expected_dvi_config()
+    assert len(r.monitor.transactions) == len(dvi.writes) + len(dvi.reads)
     assert r.monitor.violations() == []
 
 

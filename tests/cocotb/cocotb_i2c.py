@@ -158,13 +158,15 @@ async def test_third_party_decode(dut):
         writes, reads, bad = devices[bus].decoded()
         assert not bad, f"{bus}: transactions that are neither a write nor a register read: {bad[:3]}"
         assert writes == expected_writes(table), f"{bus}: decoded writes differ from the golden list"
+        assert len(monitors[bus].transactions) == len(writes) + len(reads), f"{bus}: retries in a clean run"
         dut._log.info("%s: %d writes decoded by cocotbext-i2c equal the golden list", bus, len(writes))
         assert int(getattr(dut, f"{bus}_drive_high").value) == 0, f"{bus}: a line was driven high"
         viol = monitors[bus].violations()
         assert not viol, f"{bus}: UM10204 standard-mode violations: {viol}"
         assert not monitors[bus].protocol_errors, monitors[bus].protocol_errors[:3]
-        dut._log.info("%s minimum intervals (us): %s", bus,
-                      {k: round(v * 1e6, 2) for k, v in monitors[bus].minimum.items()})
+        dut._log.info("%s minimum intervals (us): %s; largest SDA change after SCL fell %.2f us", bus,
+                      {k: round(v * 1e6, 2) for k, v in monitors[bus].minimum.items()},
+                      monitors[bus].max_hold * 1e6)
 
     _, cam_reads, _ = devices["cam"].decoded()
     assert [r[1] for r in cam_reads] == [0x3000, 0x3390, 0x3390]     # ID check; poll busy once, then done
