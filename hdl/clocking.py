@@ -170,15 +170,30 @@ class GenesysClocking(Elaboratable):
         self.domain_names = ("sync", "pix", "pix90", "mclk", *self.cam_domains)
         #: The clock domains this block drives; the parent adds them: ``m.domains += clocking.domains``.
         self.domains = [ClockDomain(name) for name in self.domain_names]
+        #: The global clock nets (BUFG outputs), one per domain.
+        self.clock_signals = {name: Signal(name=f"{name}_bufg") for name in self.domain_names}
+
+    def clock_nets(self):
+        """``(signal, frequency_hz, family)`` per global clock net, for timing constraints: nets of the same
+        family are related (``pix`` and ``pix90`` come from one PLL), different families are asynchronous."""
+        from .genesys import CAM_PCLK_MAX_HZ
+        p = self.plan
+        out = [(self.clock_signals["sync"], float(p.osc_hz), "osc"),
+               (self.clock_signals["pix"], float(p.pix_hz), "pix"),
+               (self.clock_signals["pix90"], float(p.pix_hz), "pix"),
+               (self.clock_signals["mclk"], float(p.mclk_hz), "mclk")]
+        out += [(self.clock_signals[name], float(CAM_PCLK_MAX_HZ), name) for name in self.cam_domains]
+        return out
 
     def elaborate(self, platform):
         m = Module()
         p = self.plan
+        g = self.clock_signals
 
         def bufg(name, i, o):
             m.submodules[name] = Instance("BUFG", i_I=i, o_O=o)
 
-        osc = Signal()
+        osc = g["sync"]
         bufg("bufg_sync", self.clk100, osc)
         m.d.comb += ClockSignal("sync").eq(osc)
 
@@ -195,7 +210,7 @@ class GenesysClocking(Elaboratable):
             i_RST=self.button, i_REL=Const(0, 1),
             i_DCLK=Const(0, 1), i_DEN=Const(0, 1), i_DWE=Const(0, 1), i_DADDR=Const(0, 5), i_DI=Const(0, 16),
         )
-        mclk = Signal()
+        mclk = g["mclk"]
         bufg("bufg_mclk", cam_out, mclk)
         m.d.comb += ClockSignal("mclk").eq(mclk)
 
@@ -225,13 +240,13 @@ class GenesysClocking(Elaboratable):
             i_RST=self.button | ~dcm_locked, i_REL=Const(0, 1),
             i_DCLK=Const(0, 1), i_DEN=Const(0, 1), i_DWE=Const(0, 1), i_DADDR=Const(0, 5), i_DI=Const(0, 16),
         )
-        pix, pix90 = Signal(), Signal()
+        pix, pix90 = g["pix"], g["pix90"]
         bufg("bufg_pix", pix_out, pix)
         bufg("bufg_pix90", pix90_out, pix90)
         m.d.comb += [ClockSignal("pix").eq(pix), ClockSignal("pix90").eq(pix90)]
 
         for name in self.cam_domains:
-            clk = Signal(name=f"{name}_clk_g")
+            clk = g[name]
             bufg(f"bufg_{name}", self.cam_pclk[name], clk)
             m.d.comb += ClockSignal(name).eq(clk)
 

@@ -20,8 +20,15 @@ simulation; exported Verilog of :class:`SimSystem` names the clocks ``clk``, ``p
 ``pix``    148.5 MHz: sync generator, switches, compositor, frame-buffer read ports, CH7301C output, LED 6
 ``cam_a``  camera A's PCLK: its capture and frame-buffer write port, LED 7
 ``cam_b``  camera B's PCLK: its capture and frame-buffer write port
-``pix90``  board only (``ddr="virtex5"``): the 90-degree pixel clock of the CH7301C's XCLK ODDR
 =========  ================================================================================================
+
+CH7301C output stage: with ``ddr="behavioural"`` (simulation, Verilog export) the system ends in
+:class:`~hdl.ch7301c_output.CH7301COutput`'s behavioural dual-edge model and has the CH7301C pins as ports. With
+``ddr=None`` (the board) it stops at the compositor's video stream (``video_rgb``, ``video_de``, ``video_hsync``,
+``video_vsync``, ``pix``) and :class:`hdl.top.GenesysTop` builds the pins from Virtex-5 ODDRs (through
+``amaranth.lib.io.DDRBuffer``), including the XCLK pair as two single-ended ODDR outputs in the 90-degree
+``pix90`` domain: the Genesys's XCLK pins are LVCMOS33 (docs/board.md), so the OBUFDS of
+``CH7301COutput(ddr="virtex5")`` cannot drive them.
 
 Status LEDs (``leds``): 0 camera A bus init done, 1 camera A bus error, 2 camera B bus init done, 3 camera B
 bus error, 4 CH7301C init done, 5 CH7301C error, 6 display heartbeat (toggles every ``2**heartbeat_log2``
@@ -79,13 +86,16 @@ class StereoDepthSystem(wiring.Component):
     Parameters: ``geometry`` (sensor and buffers), ``timing`` (video mode), ``layout`` (screen layout, default
     centred), ``thresholds``/``level_grey`` (disparity display), ``cam_table``/``dvi_table`` (I2C init tables),
     ``clk_hz``/``i2c_hz`` (``sync`` clock and I2C bus rates), ``i2c_retry_delay_us``, ``r_byte_first`` (byte
-    order the capture expects), ``ddr`` (``"behavioural"`` for simulation and Verilog export, ``"virtex5"`` for
-    the board's ODDRs), ``heartbeat_log2``/``cam_heartbeat_log2`` (LED blink rates).
+    order the capture expects), ``ddr`` (``"behavioural"``: the CH7301C pins from the behavioural dual-edge
+    model, for simulation and Verilog export; ``None``: the video stream only, for the board top level),
+    ``heartbeat_log2``/``cam_heartbeat_log2`` (LED blink rates).
 
     Ports: camera pins ``cam_<c>_data[8]``, ``cam_<c>_lv``, ``cam_<c>_fv`` (``cam_<c>`` domain); open-drain
     I2C pins ``<bus>_scl_o/oe/i``, ``<bus>_sda_o/oe/i`` and ``<bus>_init_done/error`` for ``cam_a``, ``cam_b``,
     ``dvi`` (``sync``); ``sw[8]`` (asynchronous); ``leds[8]``; ``cam_rst_n``, ``cam_pwdn``, ``cam_vdden``,
-    ``dvi_reset_n``; CH7301C pins ``data[12]``, ``hsync``, ``vsync``, ``de``, ``xclk_p``, ``xclk_n``; and for
+    ``dvi_reset_n``; CH7301C pins ``data[12]``, ``hsync``, ``vsync``, ``de``, ``xclk_p``, ``xclk_n`` (with
+    ``ddr="behavioural"``); the video stream ``video_rgb[24]``, ``video_de``, ``video_hsync``, ``video_vsync``
+    (``pix``, what the output stage takes); and for
     test benches ``frame_start`` (``pix``, the sync generator's strobe, :data:`DISPLAY_LATENCY` clocks before
     pixel (0, 0) reaches the pins), ``disparity``/``rectification`` (``pix``, the switch registers) and per
     camera ``cam_<c>_frame_done``, ``cam_<c>_frame_ok``, ``cam_<c>_frame_count`` (``cam_<c>``).
@@ -109,13 +119,18 @@ class StereoDepthSystem(wiring.Component):
         self.ddr = ddr
         self.heartbeat_log2 = heartbeat_log2
         self.cam_heartbeat_log2 = cam_heartbeat_log2
+        if ddr not in ("behavioural", None):
+            raise ValueError(f"ddr must be 'behavioural' or None (board: pins built by hdl.top), not {ddr!r}")
         members = {
             "sw": In(8),
             "leds": Out(8),
             "cam_rst_n": Out(1), "cam_pwdn": Out(1), "cam_vdden": Out(1), "dvi_reset_n": Out(1),
-            "data": Out(12), "hsync": Out(1), "vsync": Out(1), "de": Out(1), "xclk_p": Out(1), "xclk_n": Out(1),
+            "video_rgb": Out(24), "video_de": Out(1), "video_hsync": Out(1), "video_vsync": Out(1),
             "frame_start": Out(1), "disparity": Out(7), "rectification": Out(7),
         }
+        if ddr is not None:
+            members.update({"data": Out(12), "hsync": Out(1), "vsync": Out(1), "de": Out(1),
+                            "xclk_p": Out(1), "xclk_n": Out(1)})
         for c in CAMERAS:
             members.update({
                 f"cam_{c}_data": In(8), f"cam_{c}_lv": In(1), f"cam_{c}_fv": In(1),
@@ -126,7 +141,7 @@ class StereoDepthSystem(wiring.Component):
         # Build the blocks now so that bad parameters fail at construction, not at elaboration.
         self._capture = CapturePath(geometry, cameras=CAMERAS, r_byte_first=r_byte_first, read_domain="pix")
         self._compositor = Compositor(timing, geometry, layout, thresholds=thresholds, level_grey=level_grey)
-        self._output = CH7301COutput(timing, ddr=ddr, **({"xclk_domain": "pix90"} if ddr == "virtex5" else {}))
+        self._output = CH7301COutput(timing, ddr=ddr) if ddr is not None else None
         self._sequencers = {
             bus: InitSequencer(table, clk_hz=clk_hz, bus_hz=i2c_hz, retry_delay_us=i2c_retry_delay_us)
             for bus, table in (("cam_a", cam_table), ("cam_b", cam_table), ("dvi", dvi_table))
@@ -174,9 +189,18 @@ class StereoDepthSystem(wiring.Component):
         m.submodules.sync_gen = sync_gen = pix(SyncGenerator(self.video_timing))
         m.submodules.switches = switches = SwitchControl(domain="pix")
         m.submodules.compositor = comp = pix(self._compositor)
-        m.submodules.output = out = pix(self._output)
         wiring.connect(m, sync_gen, comp.timing)
-        wiring.connect(m, comp.video, out.video)
+        m.d.comb += [
+            self.video_rgb.eq(comp.video.rgb), self.video_de.eq(comp.video.de),
+            self.video_hsync.eq(comp.video.hsync), self.video_vsync.eq(comp.video.vsync),
+        ]
+        if self._output is not None:
+            m.submodules.output = out = pix(self._output)
+            wiring.connect(m, comp.video, out.video)
+            m.d.comb += [
+                self.data.eq(out.data), self.hsync.eq(out.hsync), self.vsync.eq(out.vsync), self.de.eq(out.de),
+                self.xclk_p.eq(out.xclk_p), self.xclk_n.eq(out.xclk_n),
+            ]
         m.d.comb += [
             switches.sw.eq(self.sw),
             switches.frame_start.eq(sync_gen.frame_start),
@@ -186,8 +210,6 @@ class StereoDepthSystem(wiring.Component):
             comp.left_data.eq(cap.port("a", "r_data")),
             cap.port("b", "r_addr").eq(comp.right_addr),      # camera B = right
             comp.right_data.eq(cap.port("b", "r_data")),
-            self.data.eq(out.data), self.hsync.eq(out.hsync), self.vsync.eq(out.vsync), self.de.eq(out.de),
-            self.xclk_p.eq(out.xclk_p), self.xclk_n.eq(out.xclk_n),
             self.frame_start.eq(sync_gen.frame_start),
             self.disparity.eq(switches.disparity),
             self.rectification.eq(switches.rectification),

