@@ -30,7 +30,7 @@ from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
 from .i2c_master import Cmd, I2CMaster
-from .init_tables import InitTable, Poll, Wait, Write
+from .init_tables import InitTable, Wait, Write
 from .params import CLOCKS
 
 __all__ = ["ErrorCode", "InitSequencer"]

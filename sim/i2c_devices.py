@@ -619,7 +619,7 @@ def I2CBench(duts, *, counter_bits=40):
     ``b_peer_sda_o`` (a cocotbext-i2c device: 1 = release), ``b_drive_high`` (sticky: the DUT drove a line
     high, which an open-drain output must never do) and the DUT's status outputs when it has them. ``cycles``
     counts ``sync`` clocks (time base for the Python models)."""
-    from amaranth import Module, Signal
+    from amaranth import Module
     from amaranth.lib import wiring
     from amaranth.lib.wiring import In, Out
 
