@@ -55,7 +55,8 @@ from sim.sensor_config import SensorConfig
 
 __all__ = ["SensorTiming", "SENSOR_TIMING", "SMALL_SENSOR_TIMING", "Faults", "SensorStream", "MT9D112",
            "drive_amaranth", "drive_cocotb", "image_to_bytes", "fault_cases", "CaptureRecord", "run_capture_amaranth",
-           "run_capture_cocotb"]
+           "run_capture_cocotb", "PLAYBACK_VERILOG", "write_playback_file", "playback_design",
+           "run_playback_cocotb"]
 
 
 @dataclass(frozen=True)
@@ -593,6 +594,13 @@ async def run_capture_cocotb(dut, geometry, streams, *, pclk_hz=CLOCKS.CAM_MCLK_
                 rec.frames.append(bool(ok.value))
         return on_sample
 
+    for c in cameras_read:
+        for pin in ("data", "lv", "fv"):       # cameras without a stream stay idle, not undriven
+            getattr(dut, f"cam_{c}_{pin}").value = 0
+        if hasattr(dut, f"cam_{c}_playback"):  # a playback_design: the pins, not the playback models, drive
+            getattr(dut, f"cam_{c}_playback").value = 0
+            getattr(dut, f"cam_{c}_start").value = 0
+
     async def camera(c):
         records[c].samples = await drive_cocotb(
             streams[c], clk=getattr(dut, f"cam_{c}_clk"), data=getattr(dut, f"cam_{c}_data"),
@@ -620,3 +628,165 @@ async def run_capture_cocotb(dut, geometry, streams, *, pclk_hz=CLOCKS.CAM_MCLK_
             buffers[c] = np.array(values, dtype=np.uint8).reshape(geometry.buf_height, geometry.buf_width)
         pix_clock.stop()
     return records, buffers
+
+
+# --- HDL playback (cocotb on Verilator / Icarus: no Python per PCLK cycle) -------------------------------------
+
+#: A Verilog simulation model that replays a SensorStream from a $readmemh file, one sample per PCLK period,
+#: changing its outputs on the falling edge like the sensor. It waits (FV, LV, D low) until ``start`` is seen
+#: high at a falling edge, then plays every sample once, then holds FV, LV and D low and raises ``done``.
+#: Pauses are not replayed (use the Python drivers for those). Simulation only: not for synthesis.
+PLAYBACK_VERILOG = """
+module mt9d112_playback #(parameter DEPTH = 1, parameter FILE = "") (
+  input clk, input start,
+  output reg [7:0] data, output reg lv, output reg fv, output reg done
+);
+  reg [9:0] rom [0:DEPTH-1];
+  reg [31:0] addr;
+  reg playing;
+  initial begin
+    $readmemh(FILE, rom);
+    addr = 0; playing = 0; done = 0; data = 0; lv = 0; fv = 0;
+  end
+  always @(negedge clk) begin
+    if (playing || (start && !done)) begin
+      {fv, lv, data} <= rom[addr];
+      playing <= (addr != DEPTH - 1);
+      done <= (addr == DEPTH - 1);
+      addr <= addr + 1;
+    end else begin
+      {fv, lv, data} <= 10'd0;
+    end
+  end
+endmodule
+"""
+
+
+def write_playback_file(stream, directory=None):
+    """Write ``stream`` (pauses ignored) as a $readmemh file named by its content hash; returns
+    ``(path, depth)``. ``directory`` defaults to build/cocotb/playback under the project root."""
+    import hashlib
+
+    words = (stream.data.astype(np.uint16) | (stream.lv.astype(np.uint16) << 8)
+             | (stream.fv.astype(np.uint16) << 9))
+    directory = Path(directory) if directory else Path(__file__).resolve().parents[1] / "build" / "cocotb" / "playback"
+    directory.mkdir(parents=True, exist_ok=True)
+    digest = hashlib.sha256(words.tobytes()).hexdigest()[:16]
+    path = directory / f"stream-{digest}.hex"
+    if not path.exists():
+        tmp = path.with_suffix(f".tmp{id(words)}")
+        tmp.write_text("\n".join(map("{:03x}".format, words.tolist())) + "\n")
+        tmp.replace(path)
+    return path, len(words)
+
+
+def playback_design(geometry, streams, *, name="capture_path", r_byte_first=True):
+    """Verilog text of a :class:`hdl.capture_path.CapturePath` whose cameras can be fed either by the
+    Python drivers through the top-level pins or by ``mt9d112_playback`` instances replaying ``streams``
+    (``{camera: SensorStream}``), for cocotb on Verilator or Icarus. One design (one build) serves both.
+
+    Top-level ports: every port of the CapturePath (``cam_<c>_data``, ``..._w_addr``, status, read port...)
+    plus, per camera ``c``: ``cam_<c>_playback`` (1: the playback model drives the capture's pins, 0: the
+    top-level pins do), ``cam_<c>_start`` (begin playback), ``cam_<c>_done``. Clocks and resets as
+    CapturePath (``cam_<c>_clk``, ``cam_<c>_rst``, ``pix_clk``, ...). The frame-buffer memories get the
+    compact initialisation of hdl.export.
+    """
+    from amaranth import ClockSignal, Instance, Module, Mux, Signal
+    from amaranth.lib import wiring
+    from amaranth.lib.wiring import In, Out
+
+    from hdl.capture_path import CapturePath
+    from hdl.export import export_verilog
+
+    cameras = tuple(streams)
+    files = {c: write_playback_file(s) for c, s in streams.items()}
+
+    class CapturePlayback(wiring.Component):
+        def __init__(self):
+            self.path = CapturePath(geometry, cameras=cameras, r_byte_first=r_byte_first)
+            members = dict(self.path.signature.members.items())
+            for c in cameras:
+                members.update({f"cam_{c}_playback": In(1), f"cam_{c}_start": In(1), f"cam_{c}_done": Out(1)})
+            super().__init__(members)
+
+        def elaborate(self, platform):
+            m = Module()
+            m.submodules.path = path = self.path
+            for name, member in path.signature.members.items():
+                if member.flow == In and not name.endswith(("_data", "_lv", "_fv")):
+                    m.d.comb += getattr(path, name).eq(getattr(self, name))
+                elif member.flow == Out:
+                    m.d.comb += getattr(self, name).eq(getattr(path, name))
+            for c in cameras:
+                hex_path, depth = files[c]
+                data, lv, fv = Signal(8), Signal(), Signal()
+                m.submodules[f"sensor_{c}"] = Instance(
+                    "mt9d112_playback", p_DEPTH=depth, p_FILE=str(hex_path),
+                    i_clk=ClockSignal(f"cam_{c}"), i_start=getattr(self, f"cam_{c}_start"),
+                    o_data=data, o_lv=lv, o_fv=fv, o_done=getattr(self, f"cam_{c}_done"))
+                sel = getattr(self, f"cam_{c}_playback")
+                for pin, model in (("data", data), ("lv", lv), ("fv", fv)):
+                    m.d.comb += path.port(c, pin).eq(Mux(sel, model, getattr(self, f"cam_{c}_{pin}")))
+            return m
+
+    return export_verilog(CapturePlayback(), name) + PLAYBACK_VERILOG
+
+
+async def run_playback_cocotb(dut, geometry, cameras, *, pclk_hz=CLOCKS.CAM_MCLK_HZ, start_delay=0.0,
+                              pix_hz=CLOCKS.PIXEL_HZ, poll=10e-6):
+    """Run a :func:`playback_design`: start each camera's PCLK (GPI clock, phase ``start_delay``), hold its
+    reset for 4 cycles, start playback, wait (polling every ``poll`` seconds of simulated time) until every
+    camera is done, then read the buffers back through pix. Returns ``(status, buffers)``: per camera
+    ``{"frame_count", "frame_ok"}`` and the uint8 buffers."""
+    from cocotb.clock import Clock
+    from cocotb.triggers import FallingEdge, Timer
+
+    pclk = _per_camera(pclk_hz, cameras, CLOCKS.CAM_MCLK_HZ)
+    delay = _per_camera(start_delay, cameras, 0.0)
+    dut.pix_rst.value = 0
+    dut.pix_clk.value = 0
+    clocks = {}
+    for c in cameras:
+        getattr(dut, f"cam_{c}_rst").value = 1
+        getattr(dut, f"cam_{c}_start").value = 0
+        getattr(dut, f"cam_{c}_playback").value = 1
+        getattr(dut, f"cam_{c}_clk").value = 0
+    elapsed = 0.0
+    for c in sorted(cameras, key=lambda c: delay[c]):
+        if delay[c] > elapsed:
+            await Timer(round((delay[c] - elapsed) * 1e12), unit="ps")
+            elapsed = delay[c]
+        clocks[c] = Clock(getattr(dut, f"cam_{c}_clk"), 2 * round(0.5e12 / pclk[c]), unit="ps", impl="gpi")
+        clocks[c].start(start_high=False)
+    for c in cameras:
+        falling = FallingEdge(getattr(dut, f"cam_{c}_clk"))
+        for _ in range(4):
+            await falling
+        getattr(dut, f"cam_{c}_rst").value = 0
+        getattr(dut, f"cam_{c}_start").value = 1
+    while not all(int(getattr(dut, f"cam_{c}_done").value) for c in cameras):
+        await Timer(round(poll * 1e12), unit="ps")
+    for c in cameras:                               # let the capture pipelines drain
+        falling = FallingEdge(getattr(dut, f"cam_{c}_clk"))
+        for _ in range(8):
+            await falling
+    status = {c: {"frame_count": int(getattr(dut, f"cam_{c}_frame_count").value),
+                  "frame_ok": bool(getattr(dut, f"cam_{c}_frame_ok").value)} for c in cameras}
+    for clock in clocks.values():
+        clock.stop()
+    pix_clock = Clock(dut.pix_clk, 2 * round(0.5e12 / pix_hz), unit="ps", impl="gpi")
+    pix_clock.start(start_high=False)
+    falling = FallingEdge(dut.pix_clk)
+    buffers = {}
+    for c in cameras:
+        r_addr, r_data = getattr(dut, f"cam_{c}_r_addr"), getattr(dut, f"cam_{c}_r_data")
+        values = []
+        for addr in range(geometry.buf_depth + 1):
+            await falling
+            if addr:
+                values.append(int(r_data.value))
+            if addr < geometry.buf_depth:
+                r_addr.value = addr
+        buffers[c] = np.array(values, dtype=np.uint8).reshape(geometry.buf_height, geometry.buf_width)
+    pix_clock.stop()
+    return status, buffers

@@ -18,7 +18,7 @@ from hdl.frame_buffer import FrameBuffer
 from hdl.params import SENSOR, SMALL_SENSOR, SensorGeometry
 from sim.cocotb_runner import export_verilog as amaranth_verilog
 from sim.cocotb_runner import run_cocotb
-from sim.mt9d112 import MT9D112, SENSOR_TIMING, SMALL_SENSOR_TIMING, run_capture_amaranth
+from sim.mt9d112 import MT9D112, SENSOR_TIMING, SMALL_SENSOR_TIMING, playback_design, run_capture_amaranth
 from sim.sensor_config import SensorConfig
 
 PCLK = {"a": 24e6, "b": 23.7e6}
@@ -63,13 +63,23 @@ def test_golden_capture_is_not_trivial():
     assert len(np.unique(a)) > 10 and (a != b).mean() > 0.3
 
 
+def pair_design(geometry, timing):
+    """The cocotb design: the two-camera CapturePath (compact export) with playback models loaded with the
+    pair streams of tests/cocotb/cocotb_capture.py (same images, timing and seeds)."""
+    left, right = load_default_pair(geometry.width, geometry.height)
+    config = SensorConfig(width=geometry.width, height=geometry.height)
+    streams = {"a": MT9D112(config, timing=timing, seed=1).stream([left]),
+               "b": MT9D112(config, timing=timing, seed=2).stream([right])}
+    return playback_design(geometry, streams)
+
+
 def test_capture_cocotb(simulator):
-    """cocotb on the exported two-camera design (compact memory init): zeros after power-up, the
-    concurrent stereo pair, and every bad-stream case (see tests/cocotb/cocotb_capture.py)."""
+    """cocotb on the exported two-camera design: zeros after power-up, the concurrent stereo pair from the
+    Python drivers and from the Verilog playback models, and every bad-stream case
+    (tests/cocotb/cocotb_capture.py)."""
     g = SMALL_SENSOR
-    run_cocotb(export_verilog(CapturePath(g), "capture_path"), name="capture_path",
-               test_module="cocotb_capture", simulator=simulator, build_args=build_args(simulator),
-               params={"width": g.width, "height": g.height})
+    run_cocotb(pair_design(g, SMALL_SENSOR_TIMING), name="capture_path", test_module="cocotb_capture",
+               simulator=simulator, build_args=build_args(simulator), params={"width": g.width, "height": g.height})
 
 
 # --- hdl/export.py -----------------------------------------------------------------------------------------
@@ -116,13 +126,11 @@ def test_export_full_size_buffer_is_compact():
 @pytest.mark.slow
 def test_full_resolution_capture_cocotb(simulator):
     """1600 x 1200 RGB565 frames of the pair, both cameras at once, captured bit-exactly (about 4.2 M PCLK
-    cycles per camera)."""
-    run_cocotb(export_verilog(CapturePath(SENSOR), "capture_path"), name="capture_path",
-               test_module="cocotb_capture", simulator=simulator, build_args=build_args(simulator),
-               params={"width": SENSOR.width, "height": SENSOR.height, "full": True})
+    cycles per camera), from the Python drivers (every write checked) and from the playback models.
+    Amaranth's simulator would need about half an hour for this; bench/bench_capture.py runs it on the
+    full-size design for part of the frame (or all of it with --amaranth-full)."""
+    run_cocotb(pair_design(SENSOR, SENSOR_TIMING), name="capture_path", test_module="cocotb_capture",
+               simulator=simulator, build_args=build_args(simulator),
+               testcase="test_stereo_pair_concurrent,test_playback_pair",
+               params={"width": SENSOR.width, "height": SENSOR.height, "timing": "sensor"})
 
-
-@pytest.mark.slow
-def test_full_resolution_capture_amaranth():
-    """The same in Amaranth's simulator (pure Python: the slowest of the three, see bench/bench_capture.py)."""
-    capture_pair_amaranth(SENSOR, SENSOR_TIMING)

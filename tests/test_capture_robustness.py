@@ -59,6 +59,18 @@ def test_bad_frame_then_good_frame(case):
     assert [f.ok for f in gold.frames] == expected.get(case, [False, True])
 
 
+def test_counters_never_wrap():
+    """A line and a frame far longer than the counters' natural range (several times 2^bits): the column
+    and row counters saturate, so nothing past the configured size wraps back onto the buffer."""
+    first, second = load_default_pair(TINY.width, TINY.height)
+    long_line = 4 * (1 << TINY.width.bit_length()) * 2          # bytes: 4x the column counter's range
+    extra = 3 * (1 << TINY.height.bit_length())                 # lines: 3x the row counter's range
+    faults = Faults(line_bytes={0: long_line, 4: long_line + 1}, extra_lines=extra)
+    stream = MT9D112(CONFIG, timing=TINY_TIMING, seed=9).stream([first, second], faults=[faults, None])
+    gold = run_and_check(stream, final_image=second)
+    assert [f.ok for f in gold.frames] == [False, True]
+
+
 def test_partial_frame_leaves_old_pixels():
     """FV dropped mid-frame: the rows received are the new frame's, the rest still hold the previous
     frame's (docs/capture.md "Partial frames")."""
