@@ -20,6 +20,7 @@ import fcntl
 import hashlib
 import json
 import os
+import re
 import shutil
 import sys
 import xml.etree.ElementTree as ET
@@ -33,6 +34,9 @@ BUILD_ROOT = REPO_ROOT / "build" / "cocotb"
 SIMULATORS = ("verilator", "icarus")
 TIMESCALE = ("1ns", "1ps")
 PARAMS_ENV = "STEREO_TEST_PARAMS"
+#: Verilator lint warnings that Amaranth's Verilog always raises (comparisons of wide signals with narrow
+#: constants, `!` on a vector); they are not design errors, and Verilator makes warnings fatal by default.
+VERILATOR_LINT_OFF = ("-Wno-WIDTHEXPAND", "-Wno-WIDTHTRUNC")
 
 
 def _verilator_root():
@@ -74,6 +78,23 @@ def export_verilog(design, name, ports=None):
     return verilog.convert(design, name=name, ports=ports, emit_src=False)
 
 
+_YOSYS_INIT_TRIGGER = re.compile(r"^(\s*)reg (\\\$auto\$verilog_backend\.cc:\d+:dump_module\$\d+ ) = 0;$", re.M)
+
+
+def icarus_time_zero_fix(verilog_text):
+    """Make Icarus evaluate Yosys's ``always @*`` blocks at time 0.
+
+    Yosys's Verilog backend makes every combinational ``always @*`` block read a dummy register declared
+    ``reg \\$auto$verilog_backend... = 0;``, counting on that initialisation to wake the blocks at time 0. Icarus
+    in SystemVerilog mode (``-g2012``, which cocotb uses) applies declaration initialisers without an event, so
+    such blocks keep X outputs until an input changes, which can hide start-up bugs or invent them. Toggling
+    the dummy register once at ``#0`` (after every ``always`` block is waiting) restores the intended
+    evaluation. The register is read nowhere else, so the design's behaviour is otherwise unchanged.
+    """
+    return _YOSYS_INIT_TRIGGER.sub(lambda m: f"{m[1]}reg {m[2]} = 0;\n{m[1]}initial #0 {m[2]} = 1'h1;",
+                                   verilog_text)
+
+
 def run_cocotb(design, *, name, test_module, simulator, params=None, waves=None, testcase=None,
                ports=None, extra_sources=(), build_args=(), extra_env=None):
     """Build ``design`` (an Amaranth elaboratable, or Verilog text) and run ``test_module`` on it.
@@ -88,6 +109,10 @@ def run_cocotb(design, *, name, test_module, simulator, params=None, waves=None,
     if waves is None:
         waves = os.environ.get("STEREO_WAVES", "") not in ("", "0")
     verilog_text = design if isinstance(design, str) else export_verilog(design, name, ports)
+    if simulator == "icarus":
+        verilog_text = icarus_time_zero_fix(verilog_text)
+    else:
+        build_args = (*VERILATOR_LINT_OFF, *(a for a in build_args if a not in VERILATOR_LINT_OFF))
 
     key = hashlib.sha256()
     for part in (verilog_text, simulator, str(bool(waves)), repr(tuple(build_args))):

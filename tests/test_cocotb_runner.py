@@ -10,15 +10,30 @@ from sim.cocotb_runner import run_cocotb
 
 class Counter(wiring.Component):
     count: Out(8)
+    at_zero: Out(1)   # combinational (an ``always @*`` block in the Verilog): count == 0
 
     def elaborate(self, platform):
         m = Module()
         m.d.sync += self.count.eq(self.count + 1)
+        with m.If(self.count == 0):
+            m.d.comb += self.at_zero.eq(1)
         return m
 
 
 def test_passing_cocotb_test_passes():
     run_cocotb(Counter(), name="runner_selftest", test_module="cocotb_runner_selftest", simulator="icarus")
+
+
+def test_passing_cocotb_test_passes_on_verilator():
+    run_cocotb(Counter(), name="runner_selftest", test_module="cocotb_runner_selftest", simulator="verilator")
+
+
+def test_icarus_fix_is_needed():
+    """Without the time-zero fix, Icarus leaves the ``always @*`` output X: the check above can fail."""
+    from sim.cocotb_runner import export_verilog, icarus_time_zero_fix
+    verilog_text = export_verilog(Counter(), "runner_selftest")
+    assert icarus_time_zero_fix(verilog_text) != verilog_text
+    assert "initial #0" in icarus_time_zero_fix(verilog_text)
 
 
 def test_failing_cocotb_test_fails():

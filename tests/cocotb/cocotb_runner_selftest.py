@@ -8,6 +8,16 @@ from sim.cocotb_runner import test_params
 
 
 @cocotb.test()
+async def combinational_outputs_defined_at_time_zero(dut):
+    """Before any clock edge, an output computed in an ``always @*`` block already has its value (Icarus needs
+    sim.cocotb_runner.icarus_time_zero_fix for this)."""
+    from cocotb.triggers import Timer
+    await Timer(1, unit="ns")
+    assert dut.at_zero.value.is_resolvable, f"at_zero is {dut.at_zero.value} at time 0"
+    assert int(dut.at_zero.value) == 1
+
+
+@cocotb.test()
 async def counter_counts(dut):
     expect_off_by = test_params().get("expect_off_by", 0)
     cocotb.start_soon(Clock(dut.clk, 10, unit="ns").start())
