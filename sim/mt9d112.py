@@ -42,6 +42,13 @@ Both take an iterable of chunks, which may be a generator (:meth:`MT9D112.frames
 when the previous one has been sent, so a configuration written over I2C during the simulation takes effect
 at the next frame boundary. Both can call ``on_sample`` once per PCLK period, just before the rising edge
 (all registered outputs of the design are stable then): the tests use it to record the write port.
+
+* HDL playback, for speed on Verilator/Icarus: :data:`PLAYBACK_VERILOG` (a simulation-only Verilog model)
+  replays a precomputed stream from a ``$readmemh`` file with no Python per PCLK cycle;
+  :func:`playback_design` exports a ``CapturePath`` with such models beside its pins and
+  :func:`run_playback_cocotb` runs it. The stream is fixed before the simulation starts (the model's
+  configuration is read when it is built); the ``cam_<c>_start`` input lets a test hold the sensor silent
+  until, e.g., the I2C model reports it configured. Pauses are not replayed.
 """
 
 from dataclasses import dataclass, field
@@ -386,7 +393,8 @@ async def drive_cocotb(chunks, *, clk, data, lv, fv, pclk_hz, start_delay=0.0, o
     right after it is put there (mid-period: the design's registered outputs are stable and are what that
     rising edge commits). A pause stops the clock while it is low. The period is rounded to an even number
     of picoseconds. With ``reset`` (the domain's reset pin) the reset is held for ``reset_cycles`` PCLK
-    periods first, the pins already showing the first sample. The clock is stopped (low) after the last sample's rising edge.
+    periods first, the pins already showing the first sample. The clock is stopped (low) after the last
+    sample's rising edge.
     Returns the number of samples sent.
     """
     from cocotb.clock import Clock
