@@ -562,7 +562,10 @@ def run_capture_amaranth(path, streams, *, pclk_hz=CLOCKS.CAM_MCLK_HZ, start_del
         sim.run()
     else:
         Path(vcd).parent.mkdir(parents=True, exist_ok=True)
-        with sim.write_vcd(str(vcd), str(Path(vcd).with_suffix(".gtkw"))):
+        traces = {f"camera_{c}": [harness.cam[c].clk] + [path.port(c, n) for n in (
+            "fv", "lv", "data", "in_frame", "w_en", "w_addr", "w_data", "frame_done", "frame_ok", "frame_count")]
+            for c in cameras}
+        with sim.write_vcd(str(vcd), str(Path(vcd).with_suffix(".gtkw")), traces=traces):
             sim.run()
     return records, buffers
 

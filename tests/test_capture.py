@@ -23,12 +23,6 @@ from sim.sensor_config import SensorConfig
 
 PCLK = {"a": 24e6, "b": 23.7e6}
 START = {"a": 0.0, "b": 13.7e-9}
-# Verilator's lint treats the width mismatches in Yosys's Verilog for Amaranth operators as errors.
-VERILATOR_ARGS = ("-Wno-WIDTHEXPAND", "-Wno-WIDTHTRUNC")
-
-
-def build_args(simulator):
-    return VERILATOR_ARGS if simulator == "verilator" else ()
 
 
 def assert_matches_golden(geometry, stream, record, buffer, image):
@@ -79,7 +73,7 @@ def test_capture_cocotb(simulator):
     (tests/cocotb/cocotb_capture.py)."""
     g = SMALL_SENSOR
     run_cocotb(pair_design(g, SMALL_SENSOR_TIMING), name="capture_path", test_module="cocotb_capture",
-               simulator=simulator, build_args=build_args(simulator), params={"width": g.width, "height": g.height})
+               simulator=simulator, params={"width": g.width, "height": g.height})
 
 
 # --- hdl/export.py -----------------------------------------------------------------------------------------
@@ -130,7 +124,7 @@ def test_full_resolution_capture_cocotb(simulator):
     Amaranth's simulator would need about half an hour for this; bench/bench_capture.py runs it on the
     full-size design for part of the frame (or all of it with --amaranth-full)."""
     run_cocotb(pair_design(SENSOR, SENSOR_TIMING), name="capture_path", test_module="cocotb_capture",
-               simulator=simulator, build_args=build_args(simulator),
+               simulator=simulator,
                testcase="test_stereo_pair_concurrent,test_playback_pair",
                params={"width": SENSOR.width, "height": SENSOR.height, "timing": "sensor"})
 
