@@ -83,7 +83,7 @@ def run_cocotb_system(spec, simulator, *, left=None, right=None, out_dir, progre
     params = {"setup": dict(spec), "left": str(left.resolve()), "right": str(right.resolve()),
               "out_dir": str(out_dir.resolve()), "sensor": sensor, "sink": sink, "check_replay": check_replay}
     if progress_file:
-        params["progress_file"] = str(progress_file)
+        params["progress_file"] = str(Path(progress_file).resolve())
     extra = ()
     fast = fast or sensor == "replay" or sink != "python"
     if fast:

@@ -1,27 +1,112 @@
-"""``stereodepth demo`` / ``make demo``: for now, the display path (the whole system replaces it later).
+"""``stereodepth demo`` / ``make demo``: the main job -- the whole simulated system on the bundled stereo pair.
 
-Writes ``build/demo/hdmi_frame.png`` (frame 0 of the simulated display path, rebuilt by the HDMI sink from
-the CH7301C dual-edge bus on Verilator), ``build/demo/display.vcd`` and ``build/demo/display.gtkw``.
-The frame-writing pieces live in :mod:`stereodepth.cmd_display` so the whole-system demo can reuse them.
+1. The switch settings: the disparity at which the bundled pair's motorcycle matches (and fades to black) and the
+   rectification, found from the pair (``sim.disparity_pictures.find_settings``, Middlebury ground truth beside).
+2. The whole system end to end at the board's size -- 1600 x 1200 sensors, 400 x 300 frame buffers, one
+   1920 x 1080 frame -- on Verilator (``stereodepth run`` does the same with your own pair): both MT9D112 models
+   configured over I2C by the RTL, both cameras captured, the frame composited and driven onto the CH7301C
+   pins, rebuilt by the HDMI sink model and compared bit for bit with the golden model.
+   -> ``hdmi_frame.png`` (the frame from the simulated pins), ``golden_frame.png``, ``result.json``.
+3. Waveforms of the whole system at the small test size in Amaranth's simulator (I2C init, capture, one display
+   frame) -> ``system.vcd`` and ``system.gtkw`` (GTKWave save file with the buses, cameras, switches, video
+   stream and CH7301C pins grouped), and that run's frame as ``hdmi_frame_small.png``.
+4. The golden pictures of the disparity display at the matching and at a wrong disparity
+   (``sim.disparity_pictures.write_pictures``).
+
+Wall time on this 2-core machine: about 5 to 6 minutes for step 2 (plus about a minute the first time, to build
+the simulator), about a minute for step 3. ``--small`` runs step 2 at the small size too (about a minute in all).
 """
 
+import sys
+import time
 from pathlib import Path
 
-from . import cmd_display
-
-HELP = "run the simulated system -> build/demo/ (today: the display path's test pattern)"
+HELP = "run the whole simulated system on the bundled stereo pair -> build/demo/"
 
 
 def add_arguments(parser):
-    parser.add_argument("--simulator", choices=cmd_display.SIMULATORS, default="verilator",
-                        help="verilator (default; about a minute for the 1080p frame), icarus or amaranth "
-                             "(both much slower at 1080p)")
-    parser.add_argument("--out", type=Path, default=cmd_display.DEFAULT_OUT,
-                        help="output directory (default build/demo)")
+    parser.add_argument("--simulator", choices=("verilator", "icarus"), default="verilator",
+                        help="simulator of the end-to-end run: verilator (default) or icarus (much slower at full "
+                             "size)")
+    parser.add_argument("--small", action="store_true",
+                        help="run the end-to-end step at the small test size (64x48 sensors, 80x48 display)")
+    parser.add_argument("--out", type=Path, default=Path("build/demo"), help="output directory (build/demo)")
+    parser.add_argument("--no-waves", action="store_true", help="skip the VCD / GTKWave step")
+
+
+def find_demo_settings():
+    """``(Settings, left RGB, right RGB)`` for the bundled pair at the board's size."""
+    from golden.capture import capture_frame
+    from golden.stereo_pair import load_default_pair
+    from hdl.params import SENSOR
+    from sim.disparity_pictures import find_settings
+    left, right = load_default_pair(SENSOR.width, SENSOR.height)
+    s = find_settings(capture_frame(left, SENSOR), capture_frame(right, SENSOR), SENSOR)
+    return s, left, right
+
+
+def small_disparity(disparity, setup_small):
+    """The board's disparity scaled to the small buffers (same fraction of the image width, at least 1)."""
+    from hdl.params import SENSOR
+    return max(1, round(disparity * setup_small.geometry.buf_width / SENSOR.buf_width))
 
 
 def run(args):
-    args.mode = "1080p"
-    args.no_waves = False
-    args.wave_lines = None
-    return cmd_display.run(args)
+    from . import cmd_run
+    from sim.system_cocotb import DEFAULT_PAIR
+    from sim.system_setup import SystemSetup
+
+    out = cmd_run.prepare_out(args.out)
+    t0 = time.perf_counter()
+    print("finding the motorcycle's disparity in the bundled pair ...", flush=True)
+    settings, _, _ = find_demo_settings()
+    d, r = settings.disparity, settings.rectification
+    print(f"  disparity {d}, rectification {r} (mean |L-R| minimum over the motorcycle; Middlebury ground truth "
+          f"median {settings.ground_truth_median:.1f} buffer pixels); a wrong one: {settings.wrong_disparity}")
+
+    small = SystemSetup.small()
+    ds = small_disparity(d, small)
+    setup = cmd_run.make_setup(args.small, ds if args.small else d, r if not args.small else 0)
+    g, t = setup.geometry, setup.timing
+    print(f"whole system on {args.simulator}: {g.width}x{g.height} sensors -> {g.buf_width}x{g.buf_height} "
+          f"buffers -> {t.h_active}x{t.v_active} display", flush=True)
+    files = {}
+    try:
+        frame, golden, status = cmd_run.run_cocotb_route(DEFAULT_PAIR[0], DEFAULT_PAIR[1], setup, args.simulator,
+                                                         out / f".{args.simulator}")
+    except cmd_run.SimulationFailed as exc:
+        print(f"stereodepth demo: simulation failed: {exc}", file=sys.stderr)
+        return 1
+    wall = time.perf_counter() - t0
+    files.update(cmd_run.write_outputs(out, frame, golden, status, {"simulator": args.simulator}))
+    ok, lines = cmd_run.summarise(setup, args.simulator, frame, golden, status, status.get("wall_s", wall))
+    print("\n".join(lines), flush=True)
+
+    if not args.no_waves:
+        print("waveforms: the whole system at the small size in Amaranth's simulator ...", flush=True)
+        from golden.stereo_pair import load_default_pair
+        left_s, right_s = load_default_pair(small.geometry.width, small.geometry.height)
+        wave_setup = SystemSetup.small(disparity=ds, rectification=0)
+        try:
+            frame_s, golden_s, status_s = cmd_run.run_amaranth_route(left_s, right_s, wave_setup, out, vcd=True)
+        except cmd_run.SimulationFailed as exc:
+            print(f"stereodepth demo: waveform run failed: {exc}", file=sys.stderr)
+            return 1
+        from sim.hdmi_sink import write_png
+        if frame_s is not None:
+            files["small-size HDMI frame (the waveform run)"] = write_png(frame_s, out / "hdmi_frame_small.png")
+        small_ok = frame_s is not None and status_s.get("mismatched_pixels") == 0
+        print(f"  small-size frame {'equals' if small_ok else 'DIFFERS from'} the golden frame "
+              f"({status_s.get('wall_s', 0):.0f} s)")
+        ok = ok and small_ok
+        files["VCD (whole system, small size)"] = out / "system.vcd"
+        files[f"GTKWave save file: gtkwave {out / 'system.gtkw'}"] = out / "system.gtkw"
+
+    from sim.disparity_pictures import write_pictures
+    for path in write_pictures(out):
+        files[f"golden disparity display picture ({'matched' if 'matched' in path.name else 'wrong'} disparity)"] \
+            = path
+    print(f"total {time.perf_counter() - t0:.0f} s")
+    cmd_run.print_files(files)
+    print("OK" if ok else "FAILED")
+    return 0 if ok else 1

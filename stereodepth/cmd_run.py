@@ -80,19 +80,19 @@ def prepare_out(path):
 
 
 class _Progress:
-    """A tqdm bar over the three stages (I2C init, camera capture, display frame), fed from a thread."""
+    """A tqdm bar of the run's progress (in thousandths of the estimated simulated time) with the current stage
+    (I2C init, capture, display) as its description."""
 
-    STAGES = ("I2C init", "capture", "display", "done")
-
-    def __init__(self, simulator, enabled=True):
+    def __init__(self, desc, enabled=True):
         from tqdm import tqdm
-        self.bar = tqdm(total=3, desc=f"{simulator}: starting", unit="stage", disable=not enabled,
-                        bar_format="{desc}: {n_fmt}/{total_fmt} stages [{elapsed}]")
+        self.bar = tqdm(total=1000, desc=desc, disable=not enabled,
+                        bar_format="{desc:<28} {percentage:3.0f}%|{bar}| [{elapsed}]")
 
-    def stage(self, index):
-        index = max(0, min(3, index))
-        self.bar.set_description(self.STAGES[index])
-        self.bar.update(index - self.bar.n)
+    def update(self, done, stage=None):
+        if stage:
+            self.bar.set_description(stage)
+        done = max(self.bar.n, min(1000, done))
+        self.bar.update(done - self.bar.n)
 
     def close(self):
         self.bar.close()
@@ -123,16 +123,15 @@ def run_cocotb_route(left_path, right_path, setup, simulator, work, *, progress=
             outcome["failure"] = f"{type(exc).__name__}: {exc}"
 
     bar = _Progress(f"{simulator}: build (first run only)", progress)
-    bar.bar.set_description(f"{simulator}: build (first run only)")
     thread = threading.Thread(target=target, daemon=True)
     thread.start()
     while thread.is_alive():
         thread.join(0.5)
         try:
-            bar.stage(int(progress_file.read_text().split()[0]))
-        except (OSError, ValueError, IndexError):
+            parts = progress_file.read_text().split()
+            bar.update(int(parts[0]) * 1000 // int(parts[1]), f"{simulator}: {parts[2] if len(parts) > 2 else ''}")
+        except (OSError, ValueError, IndexError, ZeroDivisionError):
             pass
-    bar.stage(3)
     bar.close()
     import numpy as np
     result_file = work / "result.json"
@@ -153,12 +152,13 @@ class SimulationFailed(RuntimeError):
 def run_amaranth_route(left, right, setup, out, *, vcd=False, progress=True):
     from sim.system_amaranth import SystemTimeout, run_amaranth
     bar = _Progress("amaranth", progress)
-    stages = {"i2c": 0, "capture": 1, "display": 2, "done": 3}
+    stages = {"i2c": 0, "capture": 500, "display": 800, "done": 1000}
     kwargs = {}
     if vcd:
         kwargs = dict(vcd=out / "system.vcd", gtkw=out / "system.gtkw", traces=waves_traces)
     try:
-        result = run_amaranth(left, right, setup, progress=lambda stage, f: bar.stage(stages.get(stage, 0)),
+        result = run_amaranth(left, right, setup, progress=lambda stage, f: bar.update(stages.get(stage, 0),
+                                                                                        f"amaranth: {stage}"),
                               **kwargs)
     except SystemTimeout as exc:
         raise SimulationFailed(str(exc)) from None

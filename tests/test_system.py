@@ -96,8 +96,11 @@ def test_end_to_end_amaranth():
         assert monitor.transactions
 
 
-def test_end_to_end_cocotb(simulator, tmp_path):
+def test_end_to_end_cocotb_python_models(tmp_path):
+    """cocotb with the Python models driven per clock (sensor pins per PCLK, the HDMI sink per pixel clock) on
+    Icarus; Verilator runs the same scenario through the fast route below (one Verilator build for both)."""
     from sim.system_cocotb import run_cocotb_system
+    simulator = "icarus"
     spec = {"preset": "small", "disparity": DISPARITY, "rectification": RECTIFICATION}
     result = run_cocotb_system(spec, simulator, out_dir=tmp_path)
     status = result.status
@@ -116,15 +119,16 @@ def test_end_to_end_cocotb_pixel_clock_from_time_zero(tmp_path):
     """The real start-up order once: the pixel clock (and the display) runs from time 0, during the I2C init."""
     from sim.system_cocotb import run_cocotb_system
     spec = {"preset": "small", "disparity": DISPARITY, "rectification": RECTIFICATION, "pix_after_init": False}
-    result = run_cocotb_system(spec, "verilator", out_dir=tmp_path)
+    result = run_cocotb_system(spec, "icarus", out_dir=tmp_path)
     _check_status(result.status)
     assert result.status["violations"] == [] and result.mismatched_pixels == 0
 
 
 def test_fast_route_is_equivalent(simulator, tmp_path):
-    """The fast route's Verilog helpers against the Python models, in one run of the small preset: the replayed
-    camera pins equal the sensor model's stream sample for sample, and the bus recorder's per-clock samples
-    equal the Python sink's (both sample the same pins); the frame equals the golden one."""
+    """The end-to-end run through the fast route (sim/system_fast.py), checked against the Python models in the
+    same run: the replayed camera pins equal the sensor model's stream sample for sample, and the bus recorder's
+    per-clock samples equal those of the Python sink (``CocotbSink``) sampling the same pins; the frame rebuilt
+    from them equals the golden frame bit for bit."""
     from sim.system_cocotb import run_cocotb_system
     spec = {"preset": "small", "disparity": DISPARITY, "rectification": RECTIFICATION}
     result = run_cocotb_system(spec, simulator, out_dir=tmp_path, sensor="replay", sink="both", check_replay=5000)

@@ -50,12 +50,38 @@ PIX_PERIOD_PS = 6736
 SYS_PERIOD_PS = 10_000
 
 
-def _progress(path, done, total):
+def _progress(path, done, total, stage=""):
     if path:
         tmp = f"{path}.tmp"
         with open(tmp, "w") as f:
-            f.write(f"{done} {total}\n")
+            f.write(f"{done} {total} {stage}\n")
         Path(tmp).replace(path)
+
+
+def expected_sim_time_s(setup):
+    """A rough estimate of the run's simulated time (for the progress bar only): the I2C init (table waits and
+    bus time), one sensor frame period, one and a half display frames."""
+    from hdl.init_tables import Poll, Wait
+    table = setup.cam_table
+    init = sum(e.us for e in table.entries if isinstance(e, Wait)) * 1e-6
+    init += sum(e.interval_us for e in table.entries if isinstance(e, Poll)) * 3e-6
+    init += len(table.entries) * 50 / setup.i2c_hz
+    g, t = setup.geometry, setup.timing
+    sensor = (g.height + 10) * (2 * g.width + 256) / setup.pclk_hz
+    return init + sensor + 1.5 * t.clocks_per_frame / t.pixel_hz
+
+
+class _StageProgress:
+    """Writes ``"<done> 1000 <stage>"`` to the progress file as simulated time passes (every 50 us of it)."""
+
+    def __init__(self, path, total_s):
+        self.path, self.total_s, self.stage, self.running = path, total_s, "I2C-init", bool(path)
+
+    async def run(self):
+        while self.running:
+            await Timer(50, unit="us")
+            done = min(999, int(1000 * get_sim_time("ns") * 1e-9 / self.total_s))
+            _progress(self.path, done, 1000, self.stage)
 
 
 async def _wait(cond, what, timeout_s, step_ns=1000):
@@ -184,6 +210,8 @@ async def end_to_end(dut):
         cocotb.start_soon(camera(c, seed))
 
     status = {"sensor": sensor_mode, "sink": sink_mode}
+    progress = _StageProgress(progress_file, expected_sim_time_s(setup))
+    cocotb.start_soon(progress.run())
     await Timer(50, unit="ns")
     dut.button.value = 0
     await _wait(lambda: int(dut.locked.value) == 1, "clock lock", 1e-3, step_ns=20)
@@ -195,7 +223,6 @@ async def end_to_end(dut):
             await Timer(30 * PIX_PERIOD_PS, unit="ps")
     if not setup.pix_after_init:
         await set_switches()
-    _progress(progress_file, 0, 3)
 
     from sim.system_amaranth import _deadline_s
     deadline = _deadline_s(setup)
@@ -209,7 +236,7 @@ async def end_to_end(dut):
         status[f"{b}_init_error"] = bool(int(getattr(dut, f"{b}_init_error").value))
     status["t_init_s"] = get_sim_time("ns") * 1e-9
     phase_wall["init"] = time.perf_counter() - wall0
-    _progress(progress_file, 1, 3)
+    progress.stage = "capture"
     assert all(status[f"{b}_init_done"] for b in I2C_BUSES), f"I2C initialisation failed: {status}"
     if setup.pix_after_init:
         await start_pix()
@@ -222,7 +249,7 @@ async def end_to_end(dut):
         status[f"cam_{c}_frame_ok"] = bool(int(getattr(dut, f"cam_{c}_frame_ok").value))
     status["t_captured_s"] = get_sim_time("ns") * 1e-9
     phase_wall["capture"] = time.perf_counter() - wall0
-    _progress(progress_file, 2, 3)
+    progress.stage = "display"
 
     if fast and sink_mode in ("recorder", "both"):
         dut.rec_clk_en.value = 1                    # the recorder's clock, from the next pixel clock on
@@ -272,7 +299,8 @@ async def end_to_end(dut):
     phase_wall["display"] = status["wall_s"]
     status["phase_wall_s"] = phase_wall
     status["replay_checks"] = replay_checks
-    _progress(progress_file, 3, 3)
+    progress.running = False
+    _progress(progress_file, 1000, 1000, "done")
 
     golden = setup.golden_frame(left, right)
     frame = sink.frames[0] if sink.frames else None
@@ -299,3 +327,41 @@ async def end_to_end(dut):
         assert not status["recorder_violations"]
     for c, check in replay_checks.items():
         assert check["mismatches"] == 0, f"camera {c}: replayed pins differ from the model's stream"
+
+
+@cocotb.test()
+async def rate_probe(dut):
+    """For the bench: run every clock of the fast bench (cameras replaying a stream of pseudo-random bytes,
+    I2C idle) for ``probe_us`` of simulated time and write the wall time to ``out_dir/probe.json``."""
+    if not hasattr(dut, "use_replay"):
+        raise AssertionError("the rate probe needs sim.system_fast.FastSystemBench")
+    setup = setup_from_spec(PARAMS["setup"])
+    probe_us = float(PARAMS.get("probe_us", 100))
+    out_dir = Path(PARAMS["out_dir"])
+    out_dir.mkdir(parents=True, exist_ok=True)
+    n = 100_000
+    rng = np.random.default_rng(0)
+    words = rng.integers(0, 1024, n)
+    for c in CAMERAS:
+        Path(os.getcwd(), f"cam_{c}.hex").write_text("\n".join(f"{w:03x}" for w in words) + "\n")
+        getattr(dut, f"cam_{c}_length").value = n
+        getattr(dut, f"cam_{c}_load").value = 1
+    dut.use_replay.value = 1
+    dut.rec_enable.value = 0
+    dut.rec_clk_en.value = 0
+    dut.button.value = 0
+    dut.sw.value = 0
+    await Timer(1, unit="ns")
+    for c in CAMERAS:
+        getattr(dut, f"cam_{c}_load").value = 0
+        getattr(dut, f"cam_{c}_run").value = 1
+    dut.sync_en.value = 1
+    dut.pix_en.value = 1
+    dut.cam_a_en.value = 1
+    dut.cam_b_en.value = 1
+    await Timer(10, unit="us")                      # out of reset
+    wall = time.perf_counter()
+    await Timer(round(probe_us * 1000), unit="ns")
+    wall = time.perf_counter() - wall
+    (out_dir / "probe.json").write_text(json.dumps({"probe_us": probe_us, "wall_s": wall,
+                                                    "pixel_hz": setup.timing.pixel_hz}))
