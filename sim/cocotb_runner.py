@@ -18,6 +18,7 @@ test directory; :func:`run_cocotb` returns the path of that directory.
 
 import fcntl
 import hashlib
+import itertools
 import json
 import os
 import re
@@ -95,6 +96,9 @@ def icarus_time_zero_fix(verilog_text):
                                    verilog_text)
 
 
+_RUN_COUNTER = itertools.count()
+
+
 def run_cocotb(design, *, name, test_module, simulator, params=None, waves=None, testcase=None,
                ports=None, extra_sources=(), build_args=(), extra_env=None):
     """Build ``design`` (an Amaranth elaboratable, or Verilog text) and run ``test_module`` on it.
@@ -137,7 +141,8 @@ def run_cocotb(design, *, name, test_module, simulator, params=None, waves=None,
         sys.path.insert(0, str(REPO_ROOT))
 
     run_tag = hashlib.sha256(json.dumps(params or {}, sort_keys=True).encode()).hexdigest()[:8]
-    test_dir = build_dir / f"run-{test_module}-{testcase or 'all'}-{run_tag}"
+    # one directory per run: parallel pytest workers (or a bench beside the tests) never share results.xml
+    test_dir = build_dir / f"run-{test_module}-{testcase or 'all'}-{run_tag}-{os.getpid()}-{next(_RUN_COUNTER)}"
     test_dir.mkdir(parents=True, exist_ok=True)
     env = {PARAMS_ENV: json.dumps(params or {}), "COCOTB_RANDOM_SEED": os.environ.get("COCOTB_RANDOM_SEED", "1")}
     env.update(extra_env or {})
