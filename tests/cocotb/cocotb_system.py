@@ -329,7 +329,7 @@ async def end_to_end(dut):
         assert check["mismatches"] == 0, f"camera {c}: replayed pins differ from the model's stream"
 
 
-@cocotb.test()
+@cocotb.test(skip="probe_us" not in PARAMS)   # only the bench (bench/bench_system.py) asks for the probe
 async def rate_probe(dut):
     """For the bench: run every clock of the fast bench (cameras replaying a stream of pseudo-random bytes,
     I2C idle) for ``probe_us`` of simulated time and write the wall time to ``out_dir/probe.json``."""
