@@ -54,8 +54,10 @@ class GenesysTop(wiring.Component):
 
     def __init__(self, geometry=SENSOR, timing=CEA_1080P60, *, plan=PLAN, **system_kwargs):
         if not (timing.hsync_positive and timing.vsync_positive):
+            self._MustUse__silence = True
             raise ValueError("the board output stage assumes positive sync polarities (CEA-861 1080p60)")
         if system_kwargs.pop("ddr", None) is not None:
+            self._MustUse__silence = True
             raise ValueError("GenesysTop builds the CH7301C pins itself (ddr must be None)")
         self.system = StereoDepthSystem(geometry, timing, ddr=None, **system_kwargs)
         self.clocking = GenesysClocking(plan, cam_domains=tuple(f"cam_{c}" for c in CAMERAS))

@@ -178,9 +178,6 @@ def test_top_rejects_what_the_board_cannot_do():
         GenesysTop(timing=replace(CEA_1080P60, hsync_positive=False))
     with pytest.raises(ValueError, match="ddr"):
         GenesysTop(ddr="behavioural")
-    with pytest.raises(TypeError, match="GenesysPlatform"):
-        from amaranth.hdl import Fragment
-        Fragment.get(GenesysTop(), None)
 
 
 class _KnownDesign:
