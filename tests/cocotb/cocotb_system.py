@@ -185,6 +185,7 @@ async def end_to_end(dut):
         load.value = 1
         await Timer(1, unit="ns")
         load.value = 0
+        (Path(os.getcwd()) / f"cam_{c}.hex").unlink(missing_ok=True)    # loaded into the ROM (tens of MB)
         if phase:
             await Timer(round(phase * 1e12), unit="ps")
         clk = getattr(dut, f"cam_{c}_clk")
@@ -282,6 +283,7 @@ async def end_to_end(dut):
         await Timer(1, unit="ns")
         from sim.system_fast import read_recording, replay_recording
         records = read_recording(Path(os.getcwd()) / "bus.txt")
+        (Path(os.getcwd()) / "bus.txt").unlink()                        # read (tens of MB at 1080p)
         rec_sink = HdmiSink(setup.timing)
         replay_recording(records, rec_sink)
         status["recorded_clocks"] = len(records)
