@@ -20,7 +20,7 @@ from .errors import UserError
 
 HELP = "simulate the display path alone (test pattern -> CH7301C bus -> PNG)"
 SIMULATORS = ("verilator", "icarus", "amaranth")
-DEFAULT_OUT = Path("build/demo")
+DEFAULT_OUT = Path("build/display")   # not build/demo: the whole-system demo writes its own hdmi_frame.png there
 
 
 def _modes():
@@ -34,7 +34,7 @@ def add_arguments(parser):
                              "amaranth (both far slower at 1080p; fine with --mode small)")
     parser.add_argument("--mode", choices=("1080p", "small"), default="1080p",
                         help="video mode: 1080p (CEA-861 1920x1080p60, default) or small (80x48 test mode)")
-    parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help="output directory (default build/demo)")
+    parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help="output directory (default build/display)")
     parser.add_argument("--no-waves", action="store_true", help="do not write the VCD and GTKWave files")
     parser.add_argument("--wave-lines", type=int, default=None, metavar="N",
                         help="lines in the VCD window, which starts at the last active line (default: up to "

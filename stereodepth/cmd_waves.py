@@ -14,7 +14,7 @@ def add_arguments(parser):
     parser.add_argument("--mode", choices=("1080p", "small"), default="1080p",
                         help="video mode: 1080p (CEA-861 1920x1080p60, default) or small (80x48 test mode)")
     parser.add_argument("--out", type=Path, default=cmd_display.DEFAULT_OUT,
-                        help="output directory (default build/demo)")
+                        help="output directory (default build/display)")
     parser.add_argument("--lines", type=int, default=None, metavar="N",
                         help="lines in the window, which starts at the last active line (default: up to two "
                              "lines after the vsync pulse)")
