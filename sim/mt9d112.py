@@ -622,23 +622,32 @@ async def run_capture_cocotb(dut, geometry, streams, *, pclk_hz=CLOCKS.CAM_MCLK_
     for task in tasks:
         await task
 
-    buffers = {}
-    if read:
-        pix_clock = Clock(dut.pix_clk, 2 * round(0.5e12 / pix_hz), unit="ps", impl="gpi")
-        pix_clock.start(start_high=False)
-        falling = FallingEdge(dut.pix_clk)
-        for c in cameras_read:
-            r_addr, r_data = getattr(dut, f"cam_{c}_r_addr"), getattr(dut, f"cam_{c}_r_data")
-            values = []
-            for addr in range(geometry.buf_depth + 1):
-                await falling
-                if addr:
-                    values.append(int(r_data.value))
-                if addr < geometry.buf_depth:
-                    r_addr.value = addr
-            buffers[c] = np.array(values, dtype=np.uint8).reshape(geometry.buf_height, geometry.buf_width)
-        pix_clock.stop()
+    buffers = await read_buffers_cocotb(dut, cameras_read, geometry, pix_hz) if read else {}
     return records, buffers
+
+
+async def read_buffers_cocotb(dut, cameras, geometry, pix_hz):
+    """Read every camera's frame buffer back through its ``pix`` read port (``cam_<c>_r_addr`` ->
+    ``cam_<c>_r_data``, one clock of latency), with the pixel clock running only for the read-back.
+    Returns ``{camera: uint8 (buf_height, buf_width)}``."""
+    from cocotb.clock import Clock
+    from cocotb.triggers import FallingEdge
+    pix_clock = Clock(dut.pix_clk, 2 * round(0.5e12 / pix_hz), unit="ps", impl="gpi")
+    pix_clock.start(start_high=False)
+    falling = FallingEdge(dut.pix_clk)
+    buffers = {}
+    for c in cameras:
+        r_addr, r_data = getattr(dut, f"cam_{c}_r_addr"), getattr(dut, f"cam_{c}_r_data")
+        values = []
+        for addr in range(geometry.buf_depth + 1):
+            await falling
+            if addr:
+                values.append(int(r_data.value))
+            if addr < geometry.buf_depth:
+                r_addr.value = addr
+        buffers[c] = np.array(values, dtype=np.uint8).reshape(geometry.buf_height, geometry.buf_width)
+    pix_clock.stop()
+    return buffers
 
 
 # --- HDL playback (cocotb on Verilator / Icarus: no Python per PCLK cycle) -------------------------------------
@@ -785,19 +794,4 @@ async def run_playback_cocotb(dut, geometry, cameras, *, pclk_hz=CLOCKS.CAM_MCLK
                   "frame_ok": bool(getattr(dut, f"cam_{c}_frame_ok").value)} for c in cameras}
     for clock in clocks.values():
         clock.stop()
-    pix_clock = Clock(dut.pix_clk, 2 * round(0.5e12 / pix_hz), unit="ps", impl="gpi")
-    pix_clock.start(start_high=False)
-    falling = FallingEdge(dut.pix_clk)
-    buffers = {}
-    for c in cameras:
-        r_addr, r_data = getattr(dut, f"cam_{c}_r_addr"), getattr(dut, f"cam_{c}_r_data")
-        values = []
-        for addr in range(geometry.buf_depth + 1):
-            await falling
-            if addr:
-                values.append(int(r_data.value))
-            if addr < geometry.buf_depth:
-                r_addr.value = addr
-        buffers[c] = np.array(values, dtype=np.uint8).reshape(geometry.buf_height, geometry.buf_width)
-    pix_clock.stop()
-    return status, buffers
+    return status, await read_buffers_cocotb(dut, cameras, geometry, pix_hz)
