@@ -53,7 +53,8 @@ def _probe_rate_cocotb(simulator, tmp):
     run_cocotb(_export(design, "system_fast"), name="system_fast", test_module="cocotb_system",
                simulator=simulator, testcase="rate_probe", build_args=build_args(simulator, True),
                extra_sources=(write_sources(REPO_ROOT / "build" / "cocotb"),),
-               params={"setup": spec, "out_dir": str(out), "probe_us": PROBE_US[simulator]})
+               params={"setup": spec, "out_dir": str(out), "probe_us": PROBE_US[simulator]},
+               verilator_fast=True)
     total = time.perf_counter() - wall
     probe = json.loads((out / "probe.json").read_text())
     return probe["probe_us"] * 1e-6, probe["wall_s"], total - probe["wall_s"]

@@ -96,7 +96,8 @@ def run_cocotb_system(spec, simulator, *, left=None, right=None, out_dir, progre
         name = "system_bench"
     verilog = _export(design, name)
     test_dir = run_cocotb(verilog, name=name, test_module="cocotb_system", simulator=simulator, params=params,
-                          waves=waves, build_args=build_args(simulator, fast), extra_sources=extra)
+                          waves=waves, build_args=build_args(simulator, fast), extra_sources=extra,
+                          verilator_fast=fast)
     status = json.loads((out_dir / "result.json").read_text())
     frame = np.load(out_dir / "frame.npy") if (out_dir / "frame.npy").exists() else None
     return CocotbSystemResult(frame=frame, golden=np.load(out_dir / "golden.npy"), status=status,

@@ -29,6 +29,8 @@ them from the ports (Python drivers on the generated PCLK), 1 from the replay mo
 
 from pathlib import Path
 
+import numpy as np
+
 from amaranth import Cat, Instance, Module, Mux, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
@@ -137,30 +139,41 @@ def write_sources(directory):
     return path
 
 
+#: ``$readmemh`` line of every 10-bit word: three hex digits and a newline.
+_HEX_LINES = np.array([f"{w:03x}\n".encode() for w in range(1024)], dtype="S4")
+
+
 def stream_to_hex(stream, path):
     """Write a :class:`sim.mt9d112.SensorStream` as ``$readmemh`` lines of ``{fv, lv, d}`` (10 bits)."""
-    import numpy as np
     if stream.pauses:
         raise ValueError("the replay module has no PCLK pauses: replay streams without pauses only")
     words = (stream.fv.astype(np.uint32) << 9) | (stream.lv.astype(np.uint32) << 8) | stream.data
-    lines = np.char.mod("%03x", words)
-    Path(path).write_text("\n".join(lines.tolist()) + "\n")
+    Path(path).write_bytes(_HEX_LINES[words].tobytes())
     return len(words)
 
 
+#: The recorder's line, ``$fwrite("%h %h %h %h\\n")`` of 5, 2, 12 and 12 bits: fixed width, 13 bytes.
+_LINE = np.frombuffer(b"hh h hhh hhh\n", dtype=np.uint8)
+_HEX = np.full(256, -1, dtype=np.int16)
+_HEX[np.frombuffer(b"0123456789abcdef", dtype=np.uint8)] = np.arange(16)
+
+
 def read_recording(path):
-    """The recorder's file as a list of ``(high_bits, low_bits, first, second)`` ints per pixel clock."""
-    out = []
-    with open(path) as f:
-        for line in f:
-            parts = line.split()
-            if len(parts) != 4:
-                continue
-            try:
-                out.append(tuple(int(p, 16) for p in parts))
-            except ValueError:
-                raise ValueError(f"X/Z on the recorded pins: {line.strip()!r}") from None
-    return out
+    """The recorder's file as a list of ``[high_bits, low_bits, first, second]`` ints per pixel clock. Raises
+    ``ValueError`` naming the first line with X/Z (or anything but hex digits) on the recorded pins."""
+    raw = np.fromfile(path, dtype=np.uint8)
+    if raw.size % _LINE.size:
+        raise ValueError(f"{path}: {raw.size} bytes, not whole {_LINE.size}-byte recorder lines")
+    lines = raw.reshape(-1, _LINE.size)
+    digit = _LINE == ord("h")
+    values = _HEX[lines[:, digit]]
+    bad = np.flatnonzero((values < 0).any(axis=1) | (lines[:, ~digit] != _LINE[~digit]).any(axis=1))
+    if bad.size:
+        text = bytes(lines[bad[0]]).decode(errors="replace").strip()
+        raise ValueError(f"X/Z on the recorded pins (line {bad[0] + 1}): {text!r}")
+    weights = np.array([16, 1, 1, 256, 16, 1, 256, 16, 1], dtype=np.int64)
+    fields = np.add.reduceat(values * weights, [0, 2, 3, 6], axis=1)
+    return fields.tolist()
 
 
 def replay_recording(records, sink):

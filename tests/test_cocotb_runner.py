@@ -28,6 +28,32 @@ def test_passing_cocotb_test_passes_on_verilator():
     run_cocotb(Counter(), name="runner_selftest", test_module="cocotb_runner_selftest", simulator="verilator")
 
 
+class Wrapper(wiring.Component):
+    """A :class:`Counter` one level down (instance ``inner``): for the VPI-scope tests."""
+    count: Out(8)
+    at_zero: Out(1)
+
+    def elaborate(self, platform):
+        m = Module()
+        m.submodules.inner = inner = Counter()
+        m.d.comb += [self.count.eq(inner.count), self.at_zero.eq(inner.at_zero)]
+        return m
+
+
+@pytest.mark.parametrize("fast", [False, True], ids=["default", "verilator_fast"])
+def test_verilator_fast_hides_only_the_hierarchy(fast):
+    """``verilator_fast`` builds still pass the port-level tests, and the inner instance is hidden from VPI
+    only in them (so the option is in effect, and the default build keeps the whole hierarchy)."""
+    run_cocotb(Wrapper(), name="runner_selftest_wrapped", test_module="cocotb_runner_selftest",
+               simulator="verilator", verilator_fast=fast, params={"expect_inner_visible": not fast})
+
+
+def test_verilator_fast_failure_is_reported():
+    with pytest.raises(AssertionError, match="cocotb tests failed"):
+        run_cocotb(Wrapper(), name="runner_selftest_wrapped", test_module="cocotb_runner_selftest",
+                   simulator="verilator", verilator_fast=True, params={"expect_inner_visible": True})
+
+
 def test_icarus_fix_is_needed():
     """Without the time-zero fix, Icarus leaves the ``always @*`` output X: the check above can fail."""
     from sim.cocotb_runner import export_verilog, icarus_time_zero_fix

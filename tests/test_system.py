@@ -141,20 +141,43 @@ def test_fast_route_is_equivalent(simulator, tmp_path):
     assert result.mismatched_pixels == 0
 
 
-@pytest.mark.slow
-def test_end_to_end_full_size_verilator(tmp_path):
-    """1600 x 1200 sensors -> 400 x 300 buffers -> one 1080p frame, bit for bit (the fast route, Verilator)."""
-    from sim.system_cocotb import run_cocotb_system
-    spec = {"preset": "full", "disparity": 10, "rectification": 1}
-    result = run_cocotb_system(spec, "verilator", out_dir=tmp_path, sensor="replay", sink="recorder")
-    status = result.status
+FULL_SPEC = {"preset": "full", "disparity": 10, "rectification": 1}
+
+
+def _check_full_size_status(status):
     for bus in ("cam_a", "cam_b", "dvi"):
         assert status[f"{bus}_init_done"] and not status[f"{bus}_init_error"]
     assert status["cam_a_frame_ok"] and status["cam_b_frame_ok"]
     assert (status["disparity"], status["rectification"]) == (10, 1)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("simulator", ["verilator", "icarus"])
+def test_end_to_end_full_size_cocotb(simulator, tmp_path):
+    """1600 x 1200 sensors -> 400 x 300 buffers -> one 1080p frame, bit for bit (the fast route). Verilator
+    about 1.5 min, Icarus about 20 min."""
+    from sim.system_cocotb import run_cocotb_system
+    result = run_cocotb_system(FULL_SPEC, simulator, out_dir=tmp_path, sensor="replay", sink="recorder")
+    status = result.status
+    _check_full_size_status(status)
     assert status["violations"] == [] and result.mismatched_pixels == 0
     assert status["recorded_clocks"] == 2200 * 1125 + 9
     assert status["i2c_transactions"]["cam_a"] >= 40        # the board's whole MT9D112 table
+
+
+@pytest.mark.slow
+def test_end_to_end_full_size_amaranth():
+    """The same full-size run in Amaranth's simulator, with the Python sensor models and HDMI sink driven per
+    clock: several hours (bench/bench_system.py estimates it)."""
+    from sim.system_amaranth import run_amaranth
+    from sim.system_cocotb import setup_from_spec
+    setup = setup_from_spec(FULL_SPEC)
+    left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
+    result = run_amaranth(left, right, setup)
+    _check_full_size_status(result.status)
+    assert not result.sink.violations, result.sink.violations[:5]
+    assert result.frame is not None and result.frame.shape == (1080, 1920, 3)
+    np.testing.assert_array_equal(result.frame, result.golden)
 
 
 def test_run_command_rejects_bad_input(tmp_path, capsys):

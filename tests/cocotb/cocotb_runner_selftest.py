@@ -31,3 +31,18 @@ async def counter_counts(dut):
         await RisingEdge(dut.clk)
         await ReadOnly()
         assert int(dut.count.value) == (start + n + expect_off_by) % 256, "counter value"
+
+
+@cocotb.test(skip="expect_inner_visible" not in test_params())
+async def hierarchy_visibility(dut):
+    """The design's inner instance is reachable through VPI exactly when the test expects it (it is not, by
+    design, in a ``verilator_fast`` build), while the top-level ports always are."""
+    from cocotb.triggers import Timer
+    await Timer(1, unit="ns")
+    int(dut.count.value)
+    try:
+        int(dut.inner.count.value)
+        visible = True
+    except AttributeError:
+        visible = False
+    assert visible == test_params()["expect_inner_visible"], f"inner instance visible: {visible}"
