@@ -1,19 +1,25 @@
 """One full-resolution end-to-end frame of the whole system -- both cameras' 1600 x 1200 frames in, one 1080p
 frame out -- on each simulator, in one run: wall time and clock cycles per second.
 
-* Verilator: the complete end-to-end run of the slow test (``tests/test_system.py``), through the fast route
-  (``sim/system_fast.py``: clocks, sensor replay and pin recording inside the simulator): the I2C init with the
-  board's whole MT9D112 table at 100 kHz, one full sensor frame per camera, one 1080p display frame, compared bit
-  for bit with the golden frame. Build time (first run only) is reported apart.
-* Icarus and Amaranth's simulator: a whole end-to-end run would take hours, so each runs the same full-size
-  design with every clock going for a slice of simulated time; the rate is measured there and the wall time of
-  the whole run is **extrapolated** from the Verilator run's simulated time (stated as such).
+A whole run is the slow tests' run (``tests/test_system.py``): the I2C init with the board's whole MT9D112 table
+at 100 kHz, one full sensor frame per camera, one 1080p display frame, the rebuilt frame compared bit for bit
+with the golden frame.
+
+* Verilator and Icarus: the whole run through the fast route (``sim/system_fast.py``: clocks, sensor replay and
+  pin recording inside the simulator; Verilator with ``verilator_fast``). Build time (first run only) is
+  reported apart. Icarus takes about 20 minutes; ``--quick`` replaces its whole run by a probe.
+* Amaranth's simulator: the whole run (sensor models and HDMI sink driven from Python per clock) takes hours, so
+  by default the same full-size design runs with every clock going for a slice of simulated time and the wall
+  time of the whole run is **extrapolated** from that rate and the Verilator run's simulated time (stated as
+  such); ``--amaranth-whole`` measures the whole run instead.
 
 "Cycles" counts the rising edges of every clock domain of the design (sync 100 MHz, pix 148.5 MHz, two 80 MHz
 PCLKs) in the simulated time. Wall times are on this shared 2-core machine (usually loaded): pessimistic.
 """
 
+import argparse
 import json
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -27,18 +33,36 @@ def _cycles(t_end, t_pix_start, t_cam_start):
             "cam_a": max(0.0, t_end - t_cam_start) * PCLK_HZ, "cam_b": max(0.0, t_end - t_cam_start) * PCLK_HZ}
 
 
-def bench_verilator(tmp):
+def bench_cocotb(simulator, tmp):
+    """The whole run on ``simulator`` through the fast route (see the module docstring)."""
     from sim.system_cocotb import run_cocotb_system
     spec = {"preset": "full", "disparity": 10, "rectification": 1}
     wall = time.perf_counter()
-    result = run_cocotb_system(spec, "verilator", out_dir=Path(tmp) / "verilator", sensor="replay",
-                               sink="recorder")
+    result = run_cocotb_system(spec, simulator, out_dir=Path(tmp) / simulator, sensor="replay", sink="recorder")
     total = time.perf_counter() - wall
     s = result.status
-    cycles = _cycles(s["t_end_s"], s["t_init_s"], s["t_init_s"])
     return {"ok": result.mismatched_pixels == 0 and not s["violations"], "sim_s": s["t_end_s"],
-            "run_wall_s": s["wall_s"], "build_and_export_s": total - s["wall_s"], "cycles": cycles,
-            "phases": s["phase_wall_s"]}
+            "run_wall_s": s["wall_s"], "build_and_export_s": total - s["wall_s"],
+            "cycles": _cycles(s["t_end_s"], s["t_init_s"], s["t_init_s"]), "phases": s["phase_wall_s"]}
+
+
+def bench_amaranth_whole():
+    """The whole run in Amaranth's simulator (``sim.system_amaranth.run_amaranth``)."""
+    from golden.stereo_pair import load_default_pair
+    from sim.system_amaranth import run_amaranth
+    from sim.system_cocotb import setup_from_spec
+    setup = setup_from_spec({"preset": "full", "disparity": 10, "rectification": 1})
+    left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
+    marks = {}
+    start = time.perf_counter()
+    result = run_amaranth(left, right, setup,
+                          progress=lambda stage, fraction: marks.setdefault(stage, time.perf_counter() - start))
+    f = result.figures
+    t_end = result.status["t_end_s"]
+    return {"ok": result.mismatched_pixels == 0 and not result.sink.violations, "sim_s": t_end,
+            "run_wall_s": f["wall_s"], "cycles": _cycles(t_end, f["t_init_s"], f["t_init_s"]),
+            "phases": {"init": marks.get("capture", 0.0), "capture": marks.get("display", 0.0),
+                       "display": f["wall_s"]}}
 
 
 def _probe_rate_cocotb(simulator, tmp):
@@ -76,32 +100,63 @@ def _probe_rate_amaranth():
     return PROBE_US["amaranth"] * 1e-6, time.perf_counter() - wall
 
 
-def main():
-    rows = []
+def _row(name, how, run):
+    total = sum(run["cycles"].values())
+    return (name, how, run["run_wall_s"], total / run["run_wall_s"], run["cycles"]["pix"] / run["run_wall_s"])
+
+
+def _print_whole(name, run):
+    p = run["phases"]
+    build = f"; export + build {run['build_and_export_s']:.0f} s" if "build_and_export_s" in run else ""
+    print(f"{name}: frame {'equals' if run['ok'] else 'DIFFERS from'} the golden frame; simulated "
+          f"{run['sim_s'] * 1e3:.1f} ms; run {run['run_wall_s']:.0f} s (I2C init done at {p['init']:.0f} s, "
+          f"frames captured at {p['capture']:.0f} s, display frame rebuilt at {p['display']:.0f} s){build}",
+          flush=True)
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(prog="python -m bench.bench_system", description=__doc__.split("\n\n")[0],
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--quick", action="store_true",
+                        help="Icarus: extrapolate from a short probe instead of measuring the whole run "
+                             "(which takes about 20 minutes)")
+    parser.add_argument("--amaranth-whole", action="store_true",
+                        help="Amaranth: measure the whole run (hours) instead of extrapolating from a probe")
+    args = parser.parse_args([] if argv is None else argv)
+    rows, failed = [], []
     with tempfile.TemporaryDirectory(prefix="bench_system_") as tmp:
-        v = bench_verilator(tmp)
+        v = bench_cocotb("verilator", tmp)
+        _print_whole("verilator", v)
+        rows.append(_row("verilator", "measured (whole run)", v))
+        failed += [] if v["ok"] else ["verilator"]
         sim_s = v["sim_s"]
         total_cycles = sum(v["cycles"].values())
-        rows.append(("verilator", "measured (whole run)", v["run_wall_s"], total_cycles / v["run_wall_s"],
-                     v["cycles"]["pix"] / v["run_wall_s"]))
-        print(f"verilator: frame {'equals' if v['ok'] else 'DIFFERS from'} the golden frame; simulated "
-              f"{sim_s * 1e3:.1f} ms; run {v['run_wall_s']:.0f} s (phases: I2C init to "
-              f"{v['phases']['init']:.0f} s, capture to {v['phases']['capture']:.0f} s, display to "
-              f"{v['phases']['display']:.0f} s); export + build {v['build_and_export_s']:.0f} s", flush=True)
         per_s = total_cycles / sim_s            # design clock cycles per simulated second (for the probes)
         pix_share = v["cycles"]["pix"] / total_cycles
-        for simulator in ("icarus",):
-            probe_s, wall, build = _probe_rate_cocotb(simulator, tmp)
+
+        def extrapolated(name, probe_s, wall):
             rate = probe_s * per_s / wall        # probes run every clock: cycles in the slice / wall
-            rows.append((simulator, f"extrapolated from {probe_s * 1e6:.0f} us", total_cycles / rate, rate,
-                         rate * pix_share))
-            print(f"{simulator}: {probe_s * 1e6:.0f} us of full-size simulation in {wall:.1f} s (+ {build:.0f} s "
+            return (name, f"extrapolated from {probe_s * 1e6:.0f} us", total_cycles / rate, rate, rate * pix_share)
+
+        if args.quick:
+            probe_s, wall, build = _probe_rate_cocotb("icarus", tmp)
+            rows.append(extrapolated("icarus", probe_s, wall))
+            print(f"icarus: {probe_s * 1e6:.0f} us of full-size simulation in {wall:.1f} s (+ {build:.0f} s "
                   f"export/build)", flush=True)
-        probe_s, wall = _probe_rate_amaranth()
-        rate = probe_s * per_s / wall
-        rows.append(("amaranth", f"extrapolated from {probe_s * 1e6:.0f} us", total_cycles / rate, rate,
-                     rate * pix_share))
-        print(f"amaranth: {probe_s * 1e6:.0f} us of full-size simulation in {wall:.1f} s", flush=True)
+        else:
+            i = bench_cocotb("icarus", tmp)
+            _print_whole("icarus", i)
+            rows.append(_row("icarus", "measured (whole run)", i))
+            failed += [] if i["ok"] else ["icarus"]
+        if args.amaranth_whole:
+            a = bench_amaranth_whole()
+            _print_whole("amaranth", a)
+            rows.append(_row("amaranth", "measured (whole run)", a))
+            failed += [] if a["ok"] else ["amaranth"]
+        else:
+            probe_s, wall = _probe_rate_amaranth()
+            rows.append(extrapolated("amaranth", probe_s, wall))
+            print(f"amaranth: {probe_s * 1e6:.0f} us of full-size simulation in {wall:.1f} s", flush=True)
     print()
     print(f"one full-resolution end-to-end frame ({sim_s * 1e3:.1f} ms simulated, {total_cycles / 1e6:.1f} M clock "
           f"cycles over all domains, {v['cycles']['pix'] / 1e6:.2f} M pixel clocks):")
@@ -111,7 +166,9 @@ def main():
         print(f"{name:10} {how:28} {shown:>12} {rate:>12,.0f} {pix:>13,.0f}")
     print("target: under 2 minutes on Verilator -- "
           + ("met" if rows[0][2] < 120 else f"NOT met ({rows[0][2]:.0f} s on this machine)"))
+    if failed:
+        raise AssertionError(f"the rebuilt frame differs from the golden frame on: {', '.join(failed)}")
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

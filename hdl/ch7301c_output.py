@@ -7,7 +7,25 @@ from amaranth.lib.wiring import In, Out
 from .params import CEA_1080P60
 from .video_bus import VideoSignature
 
-__all__ = ["CH7301COutput", "split_rgb", "join_halves", "DDR_MODES"]
+__all__ = ["CH7301COutput", "CH7301C_PINS", "ch7301c_pin_members", "forward_ch7301c_pins", "split_rgb",
+           "join_halves", "DDR_MODES"]
+
+
+#: CH7301C pin name -> width.
+CH7301C_PINS = {"data": 12, "hsync": 1, "vsync": 1, "de": 1, "xclk_p": 1, "xclk_n": 1}
+
+
+def ch7301c_pin_members():
+    """The CH7301C pins a component drives, as signature members: the 12-bit dual-edge ``data`` bus, ``hsync``,
+    ``vsync``, ``de`` and the differential ``xclk_p``/``xclk_n``. Every component that carries the pins out
+    (this block, the display path, the system) declares them from here."""
+    return {name: Out(width) for name, width in CH7301C_PINS.items()}
+
+
+def forward_ch7301c_pins(m, outer, inner):
+    """Drive ``outer``'s CH7301C pins from ``inner``'s (combinational)."""
+    m.d.comb += [getattr(outer, name).eq(getattr(inner, name)) for name in CH7301C_PINS]
+
 
 #: ``"behavioural"``: simulation / Verilog-export model; ``"virtex5"``: Virtex-5 ODDR + OBUFDS primitives.
 DDR_MODES = ("behavioural", "virtex5")
@@ -80,15 +98,7 @@ class CH7301COutput(wiring.Component):
         self.mode = timing
         self.ddr = ddr
         self.xclk_domain = xclk_domain or "sync"
-        super().__init__({
-            "video": In(VideoSignature),
-            "data": Out(12),
-            "hsync": Out(1),
-            "vsync": Out(1),
-            "de": Out(1),
-            "xclk_p": Out(1),
-            "xclk_n": Out(1),
-        })
+        super().__init__({"video": In(VideoSignature), **ch7301c_pin_members()})
 
     def elaborate(self, platform):
         m = Module()

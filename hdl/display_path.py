@@ -4,7 +4,7 @@ from amaranth.hdl import Module
 from amaranth.lib import wiring
 from amaranth.lib.wiring import Out
 
-from .ch7301c_output import CH7301COutput
+from .ch7301c_output import CH7301COutput, ch7301c_pin_members, forward_ch7301c_pins
 from .params import CEA_1080P60
 from .pattern_gen import PatternGenerator
 from .sync_gen import SyncGenerator
@@ -38,15 +38,7 @@ class DisplayPath(wiring.Component):
         self.sync_gen = SyncGenerator(timing, start=start)
         self.pattern = PatternGenerator(timing)
         self.output = CH7301COutput(timing, ddr=ddr)
-        super().__init__({
-            "data": Out(12),
-            "hsync": Out(1),
-            "vsync": Out(1),
-            "de": Out(1),
-            "xclk_p": Out(1),
-            "xclk_n": Out(1),
-            "frame_start": Out(1),
-        })
+        super().__init__({**ch7301c_pin_members(), "frame_start": Out(1)})
 
     def elaborate(self, platform):
         m = Module()
@@ -55,13 +47,6 @@ class DisplayPath(wiring.Component):
         m.submodules.output = output = self.output
         wiring.connect(m, sync_gen, pattern.timing)
         wiring.connect(m, pattern.video, output.video)
-        m.d.comb += [
-            self.data.eq(output.data),
-            self.hsync.eq(output.hsync),
-            self.vsync.eq(output.vsync),
-            self.de.eq(output.de),
-            self.xclk_p.eq(output.xclk_p),
-            self.xclk_n.eq(output.xclk_n),
-            self.frame_start.eq(sync_gen.frame_start),
-        ]
+        forward_ch7301c_pins(m, self, output)
+        m.d.comb += self.frame_start.eq(sync_gen.frame_start)
         return m

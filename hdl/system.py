@@ -51,7 +51,7 @@ from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
 from .capture_path import CapturePath
-from .ch7301c_output import CH7301COutput
+from .ch7301c_output import CH7301COutput, ch7301c_pin_members, forward_ch7301c_pins
 from .compositor import LATENCY as COMPOSITOR_LATENCY, Compositor
 from .i2c_init import InitSequencer
 from .init_tables import CH7301C_TABLE, MT9D112_TABLE
@@ -129,8 +129,7 @@ class StereoDepthSystem(wiring.Component):
             "frame_start": Out(1), "disparity": Out(7), "rectification": Out(7),
         }
         if ddr is not None:
-            members.update({"data": Out(12), "hsync": Out(1), "vsync": Out(1), "de": Out(1),
-                            "xclk_p": Out(1), "xclk_n": Out(1)})
+            members.update(ch7301c_pin_members())
         for c in CAMERAS:
             members.update({
                 f"cam_{c}_data": In(8), f"cam_{c}_lv": In(1), f"cam_{c}_fv": In(1),
@@ -197,10 +196,7 @@ class StereoDepthSystem(wiring.Component):
         if self._output is not None:
             m.submodules.output = out = pix(self._output)
             wiring.connect(m, comp.video, out.video)
-            m.d.comb += [
-                self.data.eq(out.data), self.hsync.eq(out.hsync), self.vsync.eq(out.vsync), self.de.eq(out.de),
-                self.xclk_p.eq(out.xclk_p), self.xclk_n.eq(out.xclk_n),
-            ]
+            forward_ch7301c_pins(m, self, out)
         m.d.comb += [
             switches.sw.eq(self.sw),
             switches.frame_start.eq(sync_gen.frame_start),

@@ -184,6 +184,7 @@ def run_amaranth(left, right, setup, *, vcd=None, gtkw=None, traces=(), progress
         await amaranth_sink_testbench(sink, bench, clocks)(ctx)
         status["leds"] = get(bench.leds)
         status["drive_high"] = {b: bool(get(getattr(bench, f"{b}_drive_high"))) for b in I2C_BUSES}
+        status["t_end_s"] = get(bench.cycles) / setup.sys_hz      # the sync clocks counted since time 0
         report("done", 1.0)
 
     sim.add_testbench(controller)
