@@ -91,9 +91,10 @@ class CH7301COutput(wiring.Component):
     """
 
     def __init__(self, timing=CEA_1080P60, *, ddr="behavioural", xclk_domain=None):
-        if ddr not in DDR_MODES:
-            raise ValueError(f"ddr must be one of {DDR_MODES}, not {ddr!r}")
-        if xclk_domain is not None and ddr != "virtex5":
+        if ddr not in DDR_MODES or (xclk_domain is not None and ddr != "virtex5"):
+            self._MustUse__silence = True       # rejected, so never elaborated: no "unused" warning
+            if ddr not in DDR_MODES:
+                raise ValueError(f"ddr must be one of {DDR_MODES}, not {ddr!r}")
             raise ValueError("xclk_domain only applies to ddr='virtex5'")
         self.mode = timing
         self.ddr = ddr
