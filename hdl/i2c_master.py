@@ -104,11 +104,20 @@ class I2CTiming:
 
 
 class I2CMaster(wiring.Component):
+    """Byte-level I2C master on open-drain pins; see the module docstring for the commands, the bus timing,
+    clock stretching, bus clear, time-outs and arbitration. Clock domain ``sync`` (``clk_hz``). Latency: a
+    command takes its bus time (for a byte, 9 SCL periods) plus the 2-flop input synchroniser; ``done`` pulses
+    in the cycle after the last bus interval ends."""
+
     def __init__(self, *, clk_hz=CLOCKS.SYS_HZ, bus_hz=CLOCKS.I2C_HZ, timeout_us=25_000):
-        self.timing = I2CTiming(clk_hz, bus_hz)
-        self.timeout = max(1, -(-timeout_us * clk_hz // 1_000_000))
-        if self.timeout <= self.timing.buf + 4:
-            raise ValueError("timeout_us must be longer than the bus-free time")
+        try:
+            self.timing = I2CTiming(clk_hz, bus_hz)
+            self.timeout = max(1, -(-timeout_us * clk_hz // 1_000_000))
+            if self.timeout <= self.timing.buf + 4:
+                raise ValueError("timeout_us must be longer than the bus-free time")
+        except ValueError:
+            self._MustUse__silence = True       # rejected, so never elaborated: no "unused" warning
+            raise
         super().__init__({
             "cmd": In(Cmd),
             "cmd_valid": In(1),
@@ -177,6 +186,22 @@ class I2CMaster(wiring.Component):
             m.d.sync += [scl_low.eq(0), sda_low.eq(0), self.bus_active.eq(0), kind.eq(1)]
             m.next = "DONE"
 
+        def release_scl(prefix, *, then):
+            """States ``<prefix>_SETUP`` (SCL low for ``low`` and SDA set up for ``su_dat``, then release SCL)
+            and ``<prefix>_WAIT_HIGH`` (wait for SCL to read high -- a target may stretch it -- then go to
+            ``then``; time out after ``timeout`` cycles): the same for a repeated START, a bit and a STOP."""
+            with m.State(f"{prefix}_SETUP"):
+                m.d.sync += timer.eq(timer + 1)
+                with m.If((reached(low_cnt, t.low)) & (reached(timer, t.su_dat))):
+                    m.d.sync += [scl_low.eq(0), timer.eq(0), wait.eq(0)]
+                    m.next = f"{prefix}_WAIT_HIGH"
+            with m.State(f"{prefix}_WAIT_HIGH"):
+                m.d.sync += wait.eq(wait + 1)
+                with m.If(scl):
+                    m.next = then
+                with m.Elif(wait >= self.timeout):
+                    fail(res_timeout)
+
         with m.FSM() as fsm:
             with m.State("IDLE"):
                 with m.If(self.cmd_valid):
@@ -229,17 +254,7 @@ class I2CMaster(wiring.Component):
                 with m.If(reached(low_cnt, t.hold)):
                     m.d.sync += [sda_low.eq(0), timer.eq(0)]
                     m.next = "RS_SETUP"
-            with m.State("RS_SETUP"):
-                m.d.sync += timer.eq(timer + 1)
-                with m.If((reached(low_cnt, t.low)) & (reached(timer, t.su_dat))):
-                    m.d.sync += [scl_low.eq(0), timer.eq(0), wait.eq(0)]
-                    m.next = "RS_WAIT_HIGH"
-            with m.State("RS_WAIT_HIGH"):
-                m.d.sync += wait.eq(wait + 1)
-                with m.If(scl):
-                    m.next = "RS_SU"
-                with m.Elif(wait >= self.timeout):
-                    fail(res_timeout)
+            release_scl("RS", then="RS_SU")
             with m.State("RS_SU"):
                 m.d.sync += timer.eq(timer + 1)
                 with m.If(reached(timer, t.su_sta)):
@@ -258,17 +273,7 @@ class I2CMaster(wiring.Component):
                         m.d.sync += sda_low.eq(~reading & ~shift[7])
                     m.d.sync += timer.eq(0)
                     m.next = "BIT_SETUP"
-            with m.State("BIT_SETUP"):
-                m.d.sync += timer.eq(timer + 1)
-                with m.If((reached(low_cnt, t.low)) & (reached(timer, t.su_dat))):
-                    m.d.sync += [scl_low.eq(0), timer.eq(0), wait.eq(0)]
-                    m.next = "BIT_WAIT_HIGH"
-            with m.State("BIT_WAIT_HIGH"):
-                m.d.sync += wait.eq(wait + 1)
-                with m.If(scl):
-                    m.next = "BIT_HIGH"
-                with m.Elif(wait >= self.timeout):
-                    fail(res_timeout)
+            release_scl("BIT", then="BIT_HIGH")
             with m.State("BIT_HIGH"):
                 m.d.sync += timer.eq(timer + 1)
                 with m.If(reached(timer, t.high)):
@@ -287,17 +292,7 @@ class I2CMaster(wiring.Component):
                 with m.If(reached(low_cnt, t.hold)):
                     m.d.sync += [sda_low.eq(1), timer.eq(0)]
                     m.next = "STOP_SETUP"
-            with m.State("STOP_SETUP"):
-                m.d.sync += timer.eq(timer + 1)
-                with m.If((reached(low_cnt, t.low)) & (reached(timer, t.su_dat))):
-                    m.d.sync += [scl_low.eq(0), timer.eq(0), wait.eq(0)]
-                    m.next = "STOP_WAIT_HIGH"
-            with m.State("STOP_WAIT_HIGH"):
-                m.d.sync += wait.eq(wait + 1)
-                with m.If(scl):
-                    m.next = "STOP_SU"
-                with m.Elif(wait >= self.timeout):
-                    fail(res_timeout)
+            release_scl("STOP", then="STOP_SU")
             with m.State("STOP_SU"):
                 m.d.sync += timer.eq(timer + 1)
                 with m.If(reached(timer, t.su_sto)):
