@@ -21,6 +21,8 @@ import sys
 import time
 from pathlib import Path
 
+from .errors import prepare_out_dir
+
 HELP = "run the whole simulated system on the bundled stereo pair -> build/demo/"
 
 
@@ -56,7 +58,7 @@ def run(args):
     from sim.system_cocotb import DEFAULT_PAIR
     from sim.system_setup import SystemSetup
 
-    out = cmd_run.prepare_out(args.out)
+    out = prepare_out_dir(args.out)
     t0 = time.perf_counter()
     print("finding the motorcycle's disparity in the bundled pair ...", flush=True)
     settings, _, _ = find_demo_settings()

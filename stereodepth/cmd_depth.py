@@ -13,7 +13,7 @@ Bad input (missing or unreadable file, different sizes, out-of-range values) is 
 import math
 from pathlib import Path
 
-from .errors import UserError
+from .errors import UserError, prepare_out_dir
 
 HELP = "software pipeline: disparity map, distance map and vertical shift of a pair"
 
@@ -172,11 +172,7 @@ def run(args):
         raise UserError(f"--window {window} is larger than the {w}x{h} image")
     shift = None if args.shift is None else _int(args.shift, "--shift", -(h - 1), h - 1)
 
-    out = Path(args.out)
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise UserError(f"cannot write to {out}: {exc.strerror or exc}") from None
+    out = prepare_out_dir(args.out)
 
     import numpy as np
 

@@ -16,7 +16,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from .errors import UserError
+from .errors import UserError, prepare_out_dir
 
 HELP = "simulate the display path alone (test pattern -> CH7301C bus -> PNG)"
 SIMULATORS = ("verilator", "icarus", "amaranth")
@@ -76,17 +76,6 @@ class Capture:
     report: str            # the sink's report plus the comparison with the expected frame
     clocks: int
     wall_s: float
-
-
-def prepare_out_dir(path):
-    path = Path(path)
-    try:
-        path.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise UserError(f"cannot create output directory {path}: {exc.strerror}") from None
-    if not path.is_dir():
-        raise UserError(f"output path {path} is not a directory")
-    return path
 
 
 def check_wave_lines(lines, timing):

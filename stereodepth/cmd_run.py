@@ -23,7 +23,7 @@ import threading
 import time
 from pathlib import Path
 
-from .errors import UserError
+from .errors import UserError, prepare_out_dir
 
 HELP = "run the simulated system end to end on your own stereo pair"
 SIMULATORS = ("verilator", "icarus", "amaranth")
@@ -68,15 +68,6 @@ def load_images(left, right, setup):
 def make_setup(small, disparity, rectification):
     from sim.system_setup import SystemSetup
     return (SystemSetup.small if small else SystemSetup.full)(disparity=disparity, rectification=rectification)
-
-
-def prepare_out(path):
-    path = Path(path)
-    try:
-        path.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise UserError(f"cannot create output directory {path}: {exc.strerror}") from None
-    return path
 
 
 class _Progress:
@@ -248,7 +239,7 @@ def run(args):
     if args.vcd and args.simulator != "amaranth":
         raise UserError("--vcd is written by the Amaranth route: use --simulator amaranth --small")
     left, right = load_images(args.left, args.right, setup)     # validates the pair before any simulation
-    out = prepare_out(args.out)
+    out = prepare_out_dir(args.out)
     wall = time.perf_counter()
     try:
         if args.simulator == "amaranth":

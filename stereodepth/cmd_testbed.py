@@ -18,11 +18,10 @@ Exit status: 0, or 1 when an RTL sample differs from the golden model; bad argum
 
 import csv
 import math
-from pathlib import Path
 
 import numpy as np
 
-from .errors import UserError
+from .errors import UserError, prepare_out_dir
 
 HELP = "reproduce the thesis's test bed (table 4.2, figure 4.35) in simulation"
 
@@ -116,11 +115,7 @@ def _rtl_samples(points, n):
 
 def run(args):
     distances, max_r = _check_args(args)
-    out = Path(args.out)
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise UserError(f"cannot create output directory {out}: {exc.strerror}") from None
+    out = prepare_out_dir(args.out)
 
     from golden import testbed as tb
     from sim.scene import StereoRig, object_footprint, make_object

@@ -6,6 +6,7 @@ Simulated in Amaranth's simulator; see :func:`stereodepth.cmd_display.write_disp
 from pathlib import Path
 
 from . import cmd_display
+from .errors import prepare_out_dir
 
 HELP = "write a VCD and a GTKWave save file of the display path"
 
@@ -22,7 +23,7 @@ def add_arguments(parser):
 
 def run(args):
     timing = cmd_display._modes()[args.mode]
-    out = cmd_display.prepare_out_dir(args.out)
+    out = prepare_out_dir(args.out)
     lines = cmd_display.check_wave_lines(args.lines, timing)
     start, clocks = cmd_display.wave_window(timing, lines)
     print(f"display path, {timing.h_active}x{timing.v_active}: {clocks:,} pixel clocks from line {start[1]} "

@@ -3,3 +3,17 @@
 
 class UserError(Exception):
     """Bad input from the user: a missing or unreadable file, mismatched images, an out-of-range value."""
+
+
+def prepare_out_dir(path):
+    """Create the output directory ``path`` (and its parents) and return it as a ``Path``; a path that cannot be
+    created, or is a file, is a :class:`UserError`."""
+    from pathlib import Path
+    path = Path(path)
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise UserError(f"cannot create output directory {path}: {exc.strerror or exc}") from None
+    if not path.is_dir():
+        raise UserError(f"output path {path} is not a directory")
+    return path
