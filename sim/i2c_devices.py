@@ -175,6 +175,15 @@ class I2CTarget:
         elif st == "read_ack":
             self._master_acked = not sda
 
+    def _acknowledge(self, ack, state):
+        """At the falling SCL edge before the acknowledge bit: ACK (pull SDA low, go to ``state``) or NACK
+        (leave SDA released and ignore the rest of the transfer)."""
+        if ack:
+            self._drive_sda_low = True
+            self._state = state
+        else:
+            self._state = "ignore"
+
     def _fall(self):
         st = self._state
         if st == "addr" and self._bits == 8:
@@ -182,11 +191,7 @@ class I2CTarget:
             ok = (self._byte >> 1) == self.address and self.ready()
             if ok and self.nack_address and self._fault_fires():
                 ok = False
-            if ok:
-                self._drive_sda_low = True
-                self._state = "addr_ack"
-            else:
-                self._state = "ignore"
+            self._acknowledge(ok, "addr_ack")
         elif st == "addr_ack":
             self._drive_sda_low = False
             self._stretch()
@@ -197,11 +202,7 @@ class I2CTarget:
         elif st == "write" and self._bits == 8:
             ack = self.on_write(self._index, self._byte)
             self._index += 1
-            if ack:
-                self._drive_sda_low = True
-                self._state = "write_ack"
-            else:
-                self._state = "ignore"
+            self._acknowledge(ack, "write_ack")
         elif st == "write_ack":
             self._drive_sda_low = False
             self._stretch()
