@@ -186,8 +186,10 @@ def _capture_cocotb(design, timing, simulator, clocks, work_dir, progress):
 
 
 def _bar(total, desc, enabled):
+    """A tqdm bar on stderr: redrawn several times a second on a terminal, every 30 s into a file or pipe."""
     from tqdm import tqdm
-    return tqdm(total=total, desc=desc, unit="clk", unit_scale=True, disable=not enabled, leave=True)
+    return tqdm(total=total, desc=desc, unit="clk", unit_scale=True, disable=not enabled, leave=True,
+                file=sys.stderr, mininterval=0.1 if sys.stderr.isatty() else 30)
 
 
 def _set(bar, n):

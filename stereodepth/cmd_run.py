@@ -72,11 +72,13 @@ def make_setup(small, disparity, rectification):
 
 class _Progress:
     """A tqdm bar of the run's progress (in thousandths of the estimated simulated time) with the current stage
-    (I2C init, capture, display) as its description."""
+    (I2C init, capture, display) as its description. Written to a terminal it redraws several times a second;
+    to a file or pipe (a CI log) only every 30 s and at stage changes."""
 
     def __init__(self, desc, enabled=True):
         from tqdm import tqdm
-        self.bar = tqdm(total=1000, desc=desc, disable=not enabled,
+        self.bar = tqdm(total=1000, desc=desc, disable=not enabled, file=sys.stderr,
+                        mininterval=0.1 if sys.stderr.isatty() else 30,
                         bar_format="{desc:<28} {percentage:3.0f}%|{bar}| [{elapsed}]")
 
     def update(self, done, stage=None):
