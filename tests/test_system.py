@@ -73,11 +73,20 @@ def _check_status(status):
     assert status["leds"] & 0b111111 == 0b010101          # init done on all three buses, no error
 
 
-def test_end_to_end_amaranth():
+def test_end_to_end_amaranth(tmp_path):
+    """The small system end to end in Amaranth's simulator, writing the demo's waveforms: the frame equals the
+    golden frame, and the GTKWave save file opens with every signal it lists (where GTKWave is installed)."""
+    from sim import gtkwave_check
     from sim.system_amaranth import run_amaranth
+    from stereodepth.cmd_run import waves_traces
     setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION)
     left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
-    result = run_amaranth(left, right, setup)
+    gtkw = tmp_path / "system.gtkw"
+    result = run_amaranth(left, right, setup, vcd=tmp_path / "system.vcd", gtkw=gtkw, traces=waves_traces)
+    if gtkwave_check.available():
+        want = gtkwave_check.listed(gtkw)
+        assert len(want) >= 30
+        assert gtkwave_check.displayed(gtkw)[0] == want
     _check_status(result.status)
     _check_golden_is_interesting(result.golden, setup)
     assert not result.sink.violations, result.sink.violations[:5]
