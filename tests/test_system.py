@@ -175,6 +175,7 @@ def test_end_to_end_full_size_cocotb(simulator, tmp_path):
 
 
 @pytest.mark.slow
+@pytest.mark.hours
 def test_end_to_end_full_size_amaranth():
     """The same full-size run in Amaranth's simulator, with the Python sensor models and HDMI sink driven per
     clock: several hours (bench/bench_system.py estimates it)."""
