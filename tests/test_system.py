@@ -178,7 +178,7 @@ def test_end_to_end_full_size_cocotb(simulator, tmp_path):
 @pytest.mark.hours
 def test_end_to_end_full_size_amaranth():
     """The same full-size run in Amaranth's simulator, with the Python sensor models and HDMI sink driven per
-    clock: several hours (bench/bench_system.py estimates it)."""
+    clock: about 3-3.5 hours on a 2-core machine (not yet run to the end)."""
     from sim.system_amaranth import run_amaranth
     from sim.system_cocotb import setup_from_spec
     setup = setup_from_spec(FULL_SPEC)
