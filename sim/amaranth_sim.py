@@ -8,6 +8,8 @@ A thin, shared wrapper so every test bench sets clocks and writes waves the same
 ``testbenches`` are ``async def bench(ctx)`` functions (``sim.add_testbench``); ``processes`` are
 ``sim.add_process`` functions (for models that must react within the same delta cycle). ``until`` (seconds)
 bounds the run for designs whose benches never return; otherwise the run ends when every testbench returns.
+``timeout_s`` (seconds of simulated time) is a watchdog for benches that should return: if they have not by
+then, the run fails with ``AssertionError(timeout_message)``.
 With ``vcd`` set, a GTKWave save file is written beside it (``.gtkw``) showing ``traces`` (a dict makes groups).
 """
 
@@ -18,7 +20,8 @@ from amaranth.sim import Simulator
 __all__ = ["simulate"]
 
 
-def simulate(dut, *, clocks, testbenches=(), processes=(), vcd=None, gtkw=None, traces=(), until=None):
+def simulate(dut, *, clocks, testbenches=(), processes=(), vcd=None, gtkw=None, traces=(), until=None,
+             timeout_s=None, timeout_message=None):
     sim = Simulator(dut)
     for domain, hz in clocks.items():
         sim.add_clock(1 / hz, domain=domain)
@@ -26,6 +29,12 @@ def simulate(dut, *, clocks, testbenches=(), processes=(), vcd=None, gtkw=None, 
         sim.add_testbench(bench)
     for process in processes:
         sim.add_process(process)
+    if timeout_s is not None:
+        async def watchdog(ctx):
+            await ctx.delay(timeout_s)
+            raise AssertionError(timeout_message or f"the test benches did not finish within {timeout_s} s "
+                                                    "of simulated time")
+        sim.add_testbench(watchdog, background=True)
 
     def run():
         if until is None:

@@ -10,12 +10,12 @@ retry/timeout values) runs on both simulators in the ``slow`` test.
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
-from amaranth.sim import Simulator
 
 from golden.i2c_writes import (expected_dvi_config, expected_prefix, expected_reads, expected_sensor_config,
                                expected_writes)
 from hdl.i2c_init import ErrorCode, InitSequencer
 from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE, InitTable, Poll, Wait, Write, CH7301C
+from sim.amaranth_sim import simulate
 from sim.cocotb_runner import run_cocotb
 from sim.i2c_devices import (CH7301CModel, I2CBench, I2CBusMonitor, MT9D112Model, amaranth_target_process)
 
@@ -36,9 +36,7 @@ def run_sequencer(table, targets, *, limit_s, quiet_s=0.002, clk=CLK, **kw):
     r = Run()
     r.monitor = I2CBusMonitor()
     r.retries = params["retries"]
-    sim = Simulator(bench)
-    sim.add_clock(1 / clk)
-    sim.add_process(amaranth_target_process(bench, "bus", targets, clk, r.monitor))
+    target = amaranth_target_process(bench, "bus", targets, clk, r.monitor)
 
     async def testbench(ctx):
         done = error = 0
@@ -53,13 +51,8 @@ def run_sequencer(table, targets, *, limit_s, quiet_s=0.002, clk=CLK, **kw):
         assert expired, "done/error changed after the sequencer had settled"
         assert ctx.get(bench.bus_drive_high) == 0, "a line was driven high"
 
-    async def watchdog(ctx):
-        await ctx.delay(limit_s)
-        raise AssertionError(f"the sequencer neither finished nor failed within {limit_s} s")
-
-    sim.add_testbench(testbench)
-    sim.add_testbench(watchdog, background=True)
-    sim.run()
+    simulate(bench, clocks={"sync": clk}, testbenches=[testbench], processes=[target], timeout_s=limit_s,
+             timeout_message=f"the sequencer neither finished nor failed within {limit_s} s")
     last = r.monitor.last_edge
     r.quiet_after = last is None or last <= r.t_settled
     return r

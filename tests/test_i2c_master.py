@@ -8,7 +8,7 @@ on Verilator and Icarus (tests/test_i2c_init.py) and by :class:`I2CTiming` below
 
 import pytest
 
-from amaranth.sim import Simulator
+from sim.amaranth_sim import simulate
 
 from hdl.i2c_master import Cmd, I2CMaster, I2CTiming
 from sim.i2c_devices import CH7301CModel, I2CBench, I2CBusMonitor, I2CTarget, MT9D112Model, \
@@ -30,9 +30,7 @@ def run_master(targets, script, *, clk=CLK, bus_hz=100_000, timeout_us=TIMEOUT_U
     master = I2CMaster(clk_hz=clk, bus_hz=bus_hz, timeout_us=timeout_us)
     bench = I2CBench({"bus": master})
     monitor = I2CBusMonitor()
-    sim = Simulator(bench)
-    sim.add_clock(1 / clk)
-    sim.add_process(amaranth_target_process(bench, "bus", targets, clk, monitor))
+    target = amaranth_target_process(bench, "bus", targets, clk, monitor)
 
     async def do(ctx, cmd, wdata=0, rd_ack=0):
         ctx.set(master.cmd, cmd)                              # offered before ready: accepted at once
@@ -53,13 +51,8 @@ def run_master(targets, script, *, clk=CLK, bus_hz=100_000, timeout_us=TIMEOUT_U
         assert ctx.get(bench.bus_drive_high) == 0, "the master drove a line high"
         finished.append(True)
 
-    async def watchdog(ctx):
-        await ctx.delay(limit_s)
-        raise AssertionError(f"the test script did not finish within {limit_s} s of simulated time")
-
-    sim.add_testbench(bench_tb)
-    sim.add_testbench(watchdog, background=True)
-    sim.run()
+    simulate(bench, clocks={"sync": clk}, testbenches=[bench_tb], processes=[target], timeout_s=limit_s,
+             timeout_message=f"the test script did not finish within {limit_s} s of simulated time")
     assert finished
     return monitor
 
