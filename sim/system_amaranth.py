@@ -65,18 +65,39 @@ def _deadline_s(setup):
     return 2 * (waits + polls + bus) + 4 * cam_frame + 4 * display_frame + 1e-3
 
 
-def run_amaranth(left, right, setup, *, vcd=None, gtkw=None, traces=(), progress=None, deadline_s=None):
+def run_amaranth(left, right, setup, *, sensors="python", vcd=None, gtkw=None, traces=(), progress=None,
+                 deadline_s=None):
     """Simulate the pair ``left``/``right`` (RGB arrays, any size) through the whole system; see the module
     docstring. ``progress(stage, fraction)`` is called as the run advances. Raises :class:`SystemTimeout`
     when a stage does not complete within ``deadline_s`` of simulated time (default: an estimate).
+
+    ``sensors``: ``"python"`` drives each camera's pins from the sensor model in a testbench, per PCLK;
+    ``"replay"`` uses :class:`sim.system_amaranth_fast.AmaranthFastBench` (the model's frame-period stream
+    replayed from a ROM, gated simulator clocks: the full-resolution route; the stream is made before the run for
+    ``golden.i2c_writes.expected_sensor_config`` and a :class:`SystemTimeout` is raised if the I2C init
+    configures a register-file model to anything else).
 
     ``setup.pix_after_init`` starts the pixel clock once the I2C init is done (see ``sim/system_setup.py``).
     With ``vcd``, a VCD of the whole run and a GTKWave save file (``gtkw``) showing ``traces`` (a dict of
     groups, or a function of the :class:`sim.system_bench.SystemBench` returning one) are written."""
     from amaranth.sim import Simulator
 
+    if sensors not in ("python", "replay"):
+        raise ValueError(f"sensors must be 'python' or 'replay', not {sensors!r}")
     left, right = setup.fit(left), setup.fit(right)
-    bench = SystemBench(**setup.system_kwargs())
+    images = {"a": left, "b": right}
+    replay = sensors == "replay"
+    if replay:
+        from golden.i2c_writes import expected_sensor_config
+        from sim.sensor_replay import stream_words
+        from sim.system_amaranth_fast import GATED_DOMAINS, AmaranthFastBench, enable_clock
+        expected_cfg = expected_sensor_config(setup.geometry)
+        words = {c: stream_words(setup.sensor(expected_cfg, seed=seed).frame(images[c]))
+                 for seed, c in enumerate(CAMERAS)}
+        top = AmaranthFastBench(replay_words=words, **setup.system_kwargs())
+        bench = top.bench
+    else:
+        top = bench = SystemBench(**setup.system_kwargs())
     models = setup.i2c_models()
     monitors = {bus: I2CBusMonitor() for bus in I2C_BUSES}
     sink = HdmiSink(setup.timing)
@@ -86,13 +107,22 @@ def run_amaranth(left, right, setup, *, vcd=None, gtkw=None, traces=(), progress
     report = progress or (lambda stage, fraction: None)
     t_wall = time.perf_counter()
 
-    sim = Simulator(bench)
+    sim = Simulator(top)
     sim.add_clock(1 / setup.sys_hz, domain="sync")
     pix_period = 1 / setup.timing.pixel_hz
     pix_from_start = not setup.pix_after_init
-    if pix_from_start:
+    if replay:
+        periods = {"pix": pix_period, **{f"cam_{c}": 1 / setup.pclk_hz for c in CAMERAS}}
+        for name in GATED_DOMAINS:
+            sim.add_clock(periods[name], domain=top.gated_clock(name))
+    elif pix_from_start:
         sim.add_clock(pix_period, domain="pix")
     pix_run = [pix_from_start]
+
+    async def start_pix(ctx):
+        if replay:
+            await enable_clock(ctx, top, "pix")
+        pix_run[0] = True
 
     async def pix_clock(ctx):
         clk = clk_domains["pix"].clk
@@ -104,15 +134,27 @@ def run_amaranth(left, right, setup, *, vcd=None, gtkw=None, traces=(), progress
             await ctx.delay(half)
             ctx.set(clk, 0)
             await ctx.delay(half)
-    if not pix_from_start:
+    if not pix_from_start and not replay:
         sim.add_testbench(pix_clock, background=True)
     for bus in I2C_BUSES:
         sim.add_process(amaranth_target_process(bench, bus, models[bus], setup.sys_hz, monitors[bus]))
 
-    images = {"a": left, "b": right}
     samples = {c: 0 for c in CAMERAS}
+    replay_started = {}
 
     for seed, c in enumerate(CAMERAS):
+        async def replay_camera(ctx, c=c):
+            model = models[f"cam_{c}"][0]
+            while not model.sensor_config().rgb565:
+                await ctx.delay(1e-6)
+            if model.sensor_config() != expected_cfg:
+                raise SystemTimeout(f"camera {c}: the I2C init configured {model.sensor_config()}; the replay ROM "
+                                    f"holds the sensor model's stream for {expected_cfg}")
+            await ctx.delay(setup.cam_phase_s.get(c, 0.0) or 0.0)
+            replay_started[c] = ctx.get(bench.cycles) / setup.sys_hz
+            ctx.set(getattr(top, f"cam_{c}_run"), 1)
+            await enable_clock(ctx, top, f"cam_{c}")
+
         async def camera(ctx, c=c, seed=seed):
             model = models[f"cam_{c}"][0]
             sensor = setup.sensor(model, seed=seed)
@@ -123,7 +165,7 @@ def run_amaranth(left, right, setup, *, vcd=None, gtkw=None, traces=(), progress
                 clk=clk_domains[f"cam_{c}"].clk, data=getattr(bench, f"cam_{c}_data"),
                 lv=getattr(bench, f"cam_{c}_lv"), fv=getattr(bench, f"cam_{c}_fv"),
                 pclk_hz=setup.pclk_hz, start_delay=setup.cam_phase_s.get(c, 0.0))
-        sim.add_testbench(camera, background=True)
+        sim.add_testbench(replay_camera if replay else camera, background=True)
 
     async def wait_for(ctx, what, cond, step=1e-6):
         while not cond():
@@ -153,7 +195,7 @@ def run_amaranth(left, right, setup, *, vcd=None, gtkw=None, traces=(), progress
         status["t_init_s"] = ctx_time[0]
         if not all(status[f"{b}_init_done"] for b in I2C_BUSES):
             return                                  # the caller reports which bus failed
-        pix_run[0] = True
+        await start_pix(ctx)
         # The switches: disparity (SW7 = 1) then rectification (SW7 = 0), each held for 30 pixel clocks (more
         # than the synchroniser and the pending register need); the next frame_start loads both.
         await wait_for(ctx, "pixel-domain reset release", lambda: not get(clk_domains["pix"].rst), step=20e-9)
@@ -185,6 +227,8 @@ def run_amaranth(left, right, setup, *, vcd=None, gtkw=None, traces=(), progress
         status["leds"] = get(bench.leds)
         status["drive_high"] = {b: bool(get(getattr(bench, f"{b}_drive_high"))) for b in I2C_BUSES}
         status["t_end_s"] = get(bench.cycles) / setup.sys_hz      # the sync clocks counted since time 0
+        for c in replay_started:                 # samples replayed: the PCLK periods since the replay started
+            samples[c] = round((status["t_end_s"] - replay_started[c]) * setup.pclk_hz)
         report("done", 1.0)
 
     sim.add_testbench(controller)

@@ -29,11 +29,13 @@ _BUS_PINS = ("scl_o", "scl_oe", "scl_i", "sda_o", "sda_oe", "sda_i")
 
 
 class SystemBench(wiring.Component):
-    """See the module docstring. ``cycle_bits`` is the width of the ``cycles`` counter; ``system_kwargs`` go to
-    :class:`hdl.system.SimSystem` (and from there to :class:`hdl.system.StereoDepthSystem`)."""
+    """See the module docstring. ``cycle_bits`` is the width of the ``cycles`` counter; with
+    ``define_domains=False`` the parent adds ``sim_system.clocking.domains`` (so its other children may use them);
+    ``system_kwargs`` go to :class:`hdl.system.SimSystem` (and from there to :class:`hdl.system.StereoDepthSystem`)."""
 
-    def __init__(self, *, cycle_bits=40, clock_ports=False, **system_kwargs):
+    def __init__(self, *, cycle_bits=40, clock_ports=False, define_domains=True, **system_kwargs):
         self.clock_ports = clock_ports
+        self.define_domains = define_domains
         self.sim_system = SimSystem(define_domains=False, **system_kwargs)
         self.system = self.sim_system.system
         members = {}
@@ -55,7 +57,8 @@ class SystemBench(wiring.Component):
 
     def elaborate(self, platform):
         m = Module()
-        m.domains += self.sim_system.clocking.domains
+        if self.define_domains:
+            m.domains += self.sim_system.clocking.domains
         if self.clock_ports:
             for cd in self.sim_system.clocking.domains:
                 m.d.comb += cd.clk.eq(getattr(self, "clk" if cd.name == "sync" else f"{cd.name}_clk"))

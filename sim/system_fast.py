@@ -145,9 +145,8 @@ _HEX_LINES = np.array([f"{w:03x}\n".encode() for w in range(1024)], dtype="S4")
 
 def stream_to_hex(stream, path):
     """Write a :class:`sim.mt9d112.SensorStream` as ``$readmemh`` lines of ``{fv, lv, d}`` (10 bits)."""
-    if stream.pauses:
-        raise ValueError("the replay module has no PCLK pauses: replay streams without pauses only")
-    words = (stream.fv.astype(np.uint32) << 9) | (stream.lv.astype(np.uint32) << 8) | stream.data
+    from sim.sensor_replay import pack_stream
+    words = pack_stream(stream)
     Path(path).write_bytes(_HEX_LINES[words].tobytes())
     return len(words)
 

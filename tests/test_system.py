@@ -105,6 +105,39 @@ def test_end_to_end_amaranth(tmp_path):
         assert monitor.transactions
 
 
+def test_end_to_end_amaranth_replayed_sensors():
+    """The full-size Amaranth route (sim/system_amaranth_fast.py: each camera's stream, made by the sensor model
+    before the run, replayed from a ROM; gated simulator clocks) on the small preset: the same frame as the golden
+    model, and every sample of the replayed frame period was sent."""
+    from sim.system_amaranth import run_amaranth
+    setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION)
+    left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
+    result = run_amaranth(left, right, setup, sensors="replay")
+    _check_status(result.status)
+    assert not result.sink.violations, result.sink.violations[:5]
+    assert result.mismatched_pixels == 0
+    np.testing.assert_array_equal(result.frame, result.golden)
+    frame_period = setup.sensor(result.models["cam_a"][0], seed=0).frame(left)
+    assert min(result.figures["cam_samples"].values()) > len(frame_period)
+
+
+def test_replayed_sensors_need_the_configuration_their_stream_was_made_for(monkeypatch):
+    """The replay ROM is made before the run for the spec's sensor configuration; if the RTL's I2C init leaves a
+    register-file model configured otherwise (here: the ROM made for G byte first), the run stops with an error
+    instead of replaying a stream the model would not send."""
+    import golden.i2c_writes
+    from sim.system_amaranth import SystemTimeout, run_amaranth
+    from sim.sensor_config import SensorConfig
+    setup = SystemSetup.small()
+    g = setup.geometry
+    monkeypatch.setattr(golden.i2c_writes, "expected_sensor_config",
+                        lambda geometry: SensorConfig(width=g.width, height=g.height, rgb565=True,
+                                                      r_byte_first=False))
+    left, right = load_default_pair(g.width, g.height)
+    with pytest.raises(SystemTimeout, match="camera a: the I2C init configured .*r_byte_first=True"):
+        run_amaranth(left, right, setup, sensors="replay")
+
+
 def test_end_to_end_cocotb_python_models(tmp_path):
     """cocotb with the Python models driven per clock (sensor pins per PCLK, the HDMI sink per pixel clock) on
     Icarus; Verilator runs the same scenario through the fast route below (one Verilator build for both)."""
