@@ -9,7 +9,9 @@ camera's PCLK from its sensor model):
 3. the RTL's three init sequencers configure the two MT9D112 register-file models and the CH7301C model over
    their I2C buses (``sim.i2c_devices``, time from the ``cycles`` counter);
 4. each sensor model (``sim.mt9d112``) starts streaming its image once its register file says RGB565 and
-   streaming (see ``sim/system_setup.py`` for this shortcut), repeating the same image every frame;
+   streaming (see ``sim/system_setup.py`` for this shortcut), repeating the same image every frame: driven from
+   a testbench per PCLK (``sensors="python"``), or its frame-period stream replayed from a ROM in the simulated
+   design (``sensors="replay"``, :mod:`sim.system_amaranth_fast`: the full-resolution route);
 5. once both captures have completed a frame with ``frame_ok``, the HDMI sink model (``sim.hdmi_sink``) samples
    the CH7301C pins from the next display frame start for one whole frame and rebuilds it.
 
@@ -84,6 +86,7 @@ def run_amaranth(left, right, setup, *, sensors="python", vcd=None, gtkw=None, t
 
     if sensors not in ("python", "replay"):
         raise ValueError(f"sensors must be 'python' or 'replay', not {sensors!r}")
+    t_setup = time.perf_counter()
     left, right = setup.fit(left), setup.fit(right)
     images = {"a": left, "b": right}
     replay = sensors == "replay"
@@ -105,9 +108,8 @@ def run_amaranth(left, right, setup, *, sensors="python", vcd=None, gtkw=None, t
     deadline = deadline_s if deadline_s is not None else _deadline_s(setup)
     status = {}
     report = progress or (lambda stage, fraction: None)
+    sim = Simulator(top)                        # elaborates the design (and builds the replay ROMs)
     t_wall = time.perf_counter()
-
-    sim = Simulator(top)
     sim.add_clock(1 / setup.sys_hz, domain="sync")
     pix_period = 1 / setup.timing.pixel_hz
     pix_from_start = not setup.pix_after_init
@@ -246,7 +248,8 @@ def run_amaranth(left, right, setup, *, sensors="python", vcd=None, gtkw=None, t
     frame = sink.frames[0] if sink.frames else None
     sim_time = sink_time = None
     figures = {
-        "wall_s": wall,
+        "wall_s": wall,                          # the simulation
+        "setup_s": t_wall - t_setup,             # fitting the images, streams, elaboration
         "cam_samples": dict(samples),
         "display_clocks_sampled": sink.clock if hasattr(sink, "clock") else None,
         "t_init_s": status.get("t_init_s"),

@@ -8,13 +8,14 @@ frame, which is compared bit for bit with the golden model's frame.
 
 Writes to ``--out`` (default build/run/): ``hdmi_frame.png`` (the frame rebuilt from the simulated pins),
 ``golden_frame.png``, ``difference.png`` (only if they differ), ``result.json`` (I2C outcome, timing checks,
-figures). ``--vcd`` (Amaranth simulator only) also writes ``system.vcd`` + ``system.gtkw``.
+figures). ``--vcd`` (Amaranth simulator, ``--small`` only) also writes ``system.vcd`` + ``system.gtkw``.
 
 Sizes: the default is the board's (1600 x 1200 sensors, 400 x 300 buffers, 1080p60 display); ``--small`` runs
 the small test configuration (64 x 48 sensors, 80 x 48 display; sim/system_setup.py). Simulators: ``verilator``
 (default) and ``icarus`` run through cocotb with the sensors replayed and the pins recorded inside the simulator
-(sim/system_fast.py); ``amaranth`` runs Amaranth's own simulator and needs ``--small`` (a full-size frame would
-take hours there).
+(sim/system_fast.py); ``amaranth`` runs Amaranth's own simulator: at full size through its fast route (the
+sensor streams replayed from ROMs in the simulated design, sim/system_amaranth_fast.py; about 1.5 hours on a
+2-core machine), with ``--small`` with the sensor models driven from Python per PCLK.
 """
 
 import json
@@ -37,7 +38,8 @@ def add_arguments(parser):
     parser.add_argument("--rectification", default="0", metavar="R",
                         help="rectification switch value 0..127 (SW7 = 0, SW6..SW0 = R); default 0")
     parser.add_argument("--simulator", choices=SIMULATORS, default="verilator",
-                        help="verilator (default), icarus, or amaranth (needs --small)")
+                        help="verilator (default), icarus, or amaranth (full size: about 1.5 h; with --small: "
+                             "about a minute)")
     parser.add_argument("--out", type=Path, default=Path("build/run"), help="output directory (build/run)")
     parser.add_argument("--small", action="store_true",
                         help="small configuration: 64x48 sensors, 80x48 display (fast; for a quick look)")
@@ -142,7 +144,7 @@ class SimulationFailed(RuntimeError):
     """The simulation ended without a frame (build error, crash, I2C failure): the message says why."""
 
 
-def run_amaranth_route(left, right, setup, out, *, vcd=False, progress=True):
+def run_amaranth_route(left, right, setup, out, *, vcd=False, progress=True, sensors="python"):
     from sim.system_amaranth import SystemTimeout, run_amaranth
     bar = _Progress("amaranth", progress)
     stages = {"i2c": 0, "capture": 500, "display": 800, "done": 1000}
@@ -150,8 +152,8 @@ def run_amaranth_route(left, right, setup, out, *, vcd=False, progress=True):
     if vcd:
         kwargs = dict(vcd=out / "system.vcd", gtkw=out / "system.gtkw", traces=waves_traces)
     try:
-        result = run_amaranth(left, right, setup, progress=lambda stage, f: bar.update(stages.get(stage, 0),
-                                                                                        f"amaranth: {stage}"),
+        result = run_amaranth(left, right, setup, sensors=sensors,
+                              progress=lambda stage, f: bar.update(stages.get(stage, 0), f"amaranth: {stage}"),
                               **kwargs)
     except SystemTimeout as exc:
         raise SimulationFailed(str(exc)) from None
@@ -235,17 +237,15 @@ def run(args):
     disparity = switch_value("disparity", args.disparity)
     rectification = switch_value("rectification", args.rectification)
     setup = make_setup(args.small, disparity, rectification)
-    if args.simulator == "amaranth" and not args.small:
-        raise UserError("the Amaranth simulator needs --small for the whole system (a full-size frame would take "
-                        "hours); use --simulator verilator for the full size")
-    if args.vcd and args.simulator != "amaranth":
-        raise UserError("--vcd is written by the Amaranth route: use --simulator amaranth --small")
+    if args.vcd and (args.simulator != "amaranth" or not args.small):
+        raise UserError("--vcd is written by the Amaranth route at the small size: use --simulator amaranth --small")
     left, right = load_images(args.left, args.right, setup)     # validates the pair before any simulation
     out = prepare_out_dir(args.out)
     wall = time.perf_counter()
     try:
         if args.simulator == "amaranth":
-            frame, golden, status = run_amaranth_route(left, right, setup, out, vcd=args.vcd)
+            frame, golden, status = run_amaranth_route(left, right, setup, out, vcd=args.vcd,
+                                                       sensors="python" if args.small else "replay")
         else:
             frame, golden, status = run_cocotb_route(args.left, args.right, setup, args.simulator,
                                                      out / f".{args.simulator}")
