@@ -82,9 +82,11 @@ class _Progress:
         self.bar = tqdm(total=1000, desc=desc, disable=not enabled, file=sys.stderr,
                         mininterval=0.1 if sys.stderr.isatty() else 30,
                         bar_format="{desc:<28} {percentage:3.0f}%|{bar}| [{elapsed}]")
+        self.stage = None
 
     def update(self, done, stage=None):
-        if stage:
+        if stage and stage != self.stage:            # set_description redraws: only at a stage change
+            self.stage = stage
             self.bar.set_description(stage)
         done = max(self.bar.n, min(1000, done))
         self.bar.update(done - self.bar.n)
