@@ -14,7 +14,7 @@ Sizes: the default is the board's (1600 x 1200 sensors, 400 x 300 buffers, 1080p
 the small test configuration (64 x 48 sensors, 80 x 48 display; sim/system_setup.py). Simulators: ``verilator``
 (default) and ``icarus`` run through cocotb with the sensors replayed and the pins recorded inside the simulator
 (sim/system_fast.py); ``amaranth`` runs Amaranth's own simulator: at full size through its fast route (the
-sensor streams replayed from ROMs in the simulated design, sim/system_amaranth_fast.py; about 1.5 hours on a
+sensor streams replayed from ROMs in the simulated design, sim/system_amaranth_fast.py; about 1 h 50 min on a
 2-core machine), with ``--small`` with the sensor models driven from Python per PCLK.
 """
 
@@ -38,7 +38,7 @@ def add_arguments(parser):
     parser.add_argument("--rectification", default="0", metavar="R",
                         help="rectification switch value 0..127 (SW7 = 0, SW6..SW0 = R); default 0")
     parser.add_argument("--simulator", choices=SIMULATORS, default="verilator",
-                        help="verilator (default), icarus, or amaranth (full size: about 1.5 h; with --small: "
+                        help="verilator (default), icarus, or amaranth (full size: about 2 h; with --small: "
                              "about a minute)")
     parser.add_argument("--out", type=Path, default=Path("build/run"), help="output directory (build/run)")
     parser.add_argument("--small", action="store_true",

@@ -212,8 +212,9 @@ def test_end_to_end_full_size_cocotb(simulator, tmp_path):
 def test_end_to_end_full_size_amaranth():
     """The same full-size run in Amaranth's simulator, through its fast route (each camera's stream replayed from
     a ROM, gated clocks: sim/system_amaranth_fast.py; the HDMI sink still samples every pixel clock in Python):
-    about 1.5 hours on a 2-core machine. (With the sensor models driven per PCLK from Python it would take 3-3.5
-    hours; the small preset runs both routes.)"""
+    about 1 h 50 min on a 2-core machine (this call, run to the end on 2026-11-23: bit-exact, 6,424 s of
+    simulation). With the sensor models driven per PCLK from Python it would take 3-3.5 hours; the small preset
+    runs both routes."""
     from sim.system_amaranth import run_amaranth
     from sim.system_cocotb import setup_from_spec
     setup = setup_from_spec(FULL_SPEC)
