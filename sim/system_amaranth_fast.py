@@ -17,8 +17,8 @@ This bench does what the fast cocotb route (``sim/system_fast.py``) does for Ver
 ``sync`` is clocked by the simulator directly. Every port of :class:`SystemBench` is reached through this
 bench's ``bench`` attribute (the camera pins are driven here). Measured: a full-size end-to-end frame in
 6,424 s instead of 3-3.5 hours (see README.md, the full-size figures). Clock domains: ``sync``, ``pix``,
-``cam_a``, ``cam_b`` (those of the system) and the three free-running ones. Latency: the gates are combinational; the replay as
-:class:`SensorReplay` says.
+``cam_a``, ``cam_b`` (those of the system) and the three free-running ones. Latency: the gates are
+combinational; the replay as :class:`SensorReplay` says.
 """
 
 from amaranth import ClockDomain, ClockSignal, Module
