@@ -6,6 +6,7 @@ from amaranth.lib.wiring import In, Out
 
 from .params import CEA_1080P60
 from .video_bus import VideoSignature
+from .rejecting import rejecting
 
 __all__ = ["CH7301COutput", "CH7301C_PINS", "ch7301c_pin_members", "forward_ch7301c_pins", "split_rgb",
            "join_halves", "DDR_MODES"]
@@ -91,11 +92,11 @@ class CH7301COutput(wiring.Component):
     """
 
     def __init__(self, timing=CEA_1080P60, *, ddr="behavioural", xclk_domain=None):
-        if ddr not in DDR_MODES or (xclk_domain is not None and ddr != "virtex5"):
-            self._MustUse__silence = True       # rejected, so never elaborated: no "unused" warning
+        with rejecting(self):
             if ddr not in DDR_MODES:
                 raise ValueError(f"ddr must be one of {DDR_MODES}, not {ddr!r}")
-            raise ValueError("xclk_domain only applies to ddr='virtex5'")
+            if xclk_domain is not None and ddr != "virtex5":
+                raise ValueError("xclk_domain only applies to ddr='virtex5'")
         self.mode = timing
         self.ddr = ddr
         self.xclk_domain = xclk_domain or "sync"

@@ -45,6 +45,7 @@ from amaranth import ClockDomain, ClockSignal, Const, Elaboratable, Instance, Mo
 from amaranth.lib.cdc import ResetSynchronizer
 
 from .params import CEA_1080P60, CLOCKS
+from .rejecting import rejecting
 
 __all__ = ["ClockPlan", "PLAN", "GenesysClocking", "SimClocking", "add_reset_tree"]
 
@@ -267,9 +268,9 @@ class SimClocking(Elaboratable):
     """
 
     def __init__(self, *, cam_domains=("cam_a", "cam_b"), lock_cycles=16):
-        if lock_cycles < 1:
-            self._MustUse__silence = True
-            raise ValueError("lock_cycles must be at least 1")
+        with rejecting(self):
+            if lock_cycles < 1:
+                raise ValueError("lock_cycles must be at least 1")
         self.cam_domains = tuple(cam_domains)
         self.lock_cycles = lock_cycles
         self.button = Signal()

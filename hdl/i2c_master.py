@@ -41,6 +41,7 @@ from amaranth.lib.cdc import FFSynchronizer
 from amaranth.lib.wiring import In, Out
 
 from .params import CLOCKS
+from .rejecting import rejecting
 
 __all__ = ["Cmd", "I2C_SPEC_NS", "I2CTiming", "I2CMaster"]
 
@@ -110,14 +111,11 @@ class I2CMaster(wiring.Component):
     in the cycle after the last bus interval ends."""
 
     def __init__(self, *, clk_hz=CLOCKS.SYS_HZ, bus_hz=CLOCKS.I2C_HZ, timeout_us=25_000):
-        try:
+        with rejecting(self):
             self.timing = I2CTiming(clk_hz, bus_hz)
             self.timeout = max(1, -(-timeout_us * clk_hz // 1_000_000))
             if self.timeout <= self.timing.buf + 4:
                 raise ValueError("timeout_us must be longer than the bus-free time")
-        except ValueError:
-            self._MustUse__silence = True       # rejected, so never elaborated: no "unused" warning
-            raise
         super().__init__({
             "cmd": In(Cmd),
             "cmd_valid": In(1),

@@ -5,6 +5,7 @@ from amaranth.lib import wiring
 
 from .params import CEA_1080P60
 from .video_bus import TimingSignature, X_BITS, Y_BITS
+from .rejecting import rejecting
 
 __all__ = ["SyncGenerator", "check_timing"]
 
@@ -53,14 +54,11 @@ class SyncGenerator(wiring.Component):
     """
 
     def __init__(self, timing=CEA_1080P60, *, start=(0, 0)):
-        try:
+        with rejecting(self):
             check_timing(timing)
             x0, y0 = start
             if not (0 <= x0 < timing.h_total and 0 <= y0 < timing.v_total):
                 raise ValueError(f"start {start} is outside the {timing.h_total} x {timing.v_total} raster")
-        except ValueError:
-            self._MustUse__silence = True       # rejected, so never elaborated: no "unused" warning
-            raise
         self.timing = timing
         self.start = (x0, y0)
         super().__init__(TimingSignature)

@@ -43,6 +43,7 @@ from .ch7301c_output import split_rgb
 from .clocking import PLAN, GenesysClocking
 from .params import CEA_1080P60, SENSOR
 from .system import CAMERAS, StereoDepthSystem
+from .rejecting import rejecting
 
 __all__ = ["GenesysTop", "board_plan"]
 
@@ -53,12 +54,11 @@ class GenesysTop(wiring.Component):
     :class:`hdl.genesys.GenesysPlatform` (``platform.prepare(GenesysTop())``)."""
 
     def __init__(self, geometry=SENSOR, timing=CEA_1080P60, *, plan=PLAN, **system_kwargs):
-        if not (timing.hsync_positive and timing.vsync_positive):
-            self._MustUse__silence = True
-            raise ValueError("the board output stage assumes positive sync polarities (CEA-861 1080p60)")
-        if system_kwargs.pop("ddr", None) is not None:
-            self._MustUse__silence = True
-            raise ValueError("GenesysTop builds the CH7301C pins itself (ddr must be None)")
+        with rejecting(self):
+            if not (timing.hsync_positive and timing.vsync_positive):
+                raise ValueError("the board output stage assumes positive sync polarities (CEA-861 1080p60)")
+            if system_kwargs.pop("ddr", None) is not None:
+                raise ValueError("GenesysTop builds the CH7301C pins itself (ddr must be None)")
         self.system = StereoDepthSystem(geometry, timing, ddr=None, **system_kwargs)
         self.clocking = GenesysClocking(plan, cam_domains=tuple(f"cam_{c}" for c in CAMERAS))
         super().__init__({})

@@ -16,10 +16,12 @@ samples) takes Amaranth about half a minute.
 
 import numpy as np
 
-from amaranth import Cat, Module, Signal
+from amaranth import Cat, Module
 from amaranth.lib import wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
+
+from hdl.rejecting import rejecting
 
 __all__ = ["SensorReplay", "pack_stream", "stream_words"]
 
@@ -44,11 +46,11 @@ class SensorReplay(wiring.Component):
 
     def __init__(self, words, *, domain):
         words = list(words)
-        problem = ("the replay ROM needs at least one sample" if not words else
-                   "replay words are 10 bits: {fv, lv, d[7:0]}" if any(not 0 <= w < 1024 for w in words) else None)
-        if problem:
-            self._MustUse__silence = True            # rejected: no "created but never used" warning
-            raise ValueError(problem)
+        with rejecting(self):
+            if not words:
+                raise ValueError("the replay ROM needs at least one sample")
+            if any(not 0 <= w < 1024 for w in words):
+                raise ValueError("replay words are 10 bits: {fv, lv, d[7:0]}")
         self._words = words
         self._domain = domain
         super().__init__({"run": In(1), "data": Out(8), "lv": Out(1), "fv": Out(1),

@@ -10,7 +10,6 @@ retry/timeout values) runs on both simulators in the ``slow`` test.
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
-
 from golden.i2c_writes import (expected_dvi_config, expected_prefix, expected_reads, expected_sensor_config,
                                expected_writes)
 from hdl.i2c_init import ErrorCode, InitSequencer
