@@ -1,5 +1,6 @@
 # Every target bootstraps the virtual environment on a fresh machine (python3 -m venv + pip install -e .[test]).
-# Icarus Verilog comes from Debian (apt-get install iverilog); .ci/run installs it before `make test`.
+# `make test` also installs the Debian tools the tests need (Icarus Verilog; GTKWave + xvfb for the save-file
+# checks) through scripts/system-deps.sh, or stops before pytest with the command that would.
 
 PYTHON ?= python3
 VENV   := .venv
@@ -7,7 +8,7 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 JOBS   ?= 2
 
-.PHONY: all help venv test test-slow demo verilog waves bench resources clean distclean
+.PHONY: all help venv system-deps test test-slow demo verilog waves bench resources clean distclean
 
 all: help
 
@@ -28,10 +29,13 @@ $(STAMP): pyproject.toml
 
 venv: $(STAMP)
 
-test: $(STAMP)
+system-deps:
+	@scripts/system-deps.sh
+
+test: $(STAMP) system-deps
 	$(PY) -m pytest -n $(JOBS) -q
 
-test-slow: $(STAMP)
+test-slow: $(STAMP) system-deps
 	$(PY) -m pytest -q -n 2 -m "slow and not hours"
 
 demo: $(STAMP)
