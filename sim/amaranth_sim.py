@@ -10,7 +10,8 @@ A thin, shared wrapper so every test bench sets clocks and writes waves the same
 bounds the run for designs whose benches never return; otherwise the run ends when every testbench returns.
 ``timeout_s`` (seconds of simulated time) is a watchdog for benches that should return: if they have not by
 then, the run fails with ``AssertionError(timeout_message)``.
-With ``vcd`` set, a GTKWave save file is written beside it (``.gtkw``) showing ``traces`` (a dict makes groups).
+With ``vcd`` set, a GTKWave save file is written beside it (``.gtkw``) by :func:`sim.gtkw.recording` showing
+``traces`` (a :class:`sim.gtkw.Waves`, or a dict of groups).
 """
 
 from pathlib import Path
@@ -45,9 +46,9 @@ def simulate(dut, *, clocks, testbenches=(), processes=(), vcd=None, gtkw=None, 
     if vcd is None:
         run()
         return sim
+    from sim.gtkw import recording
     vcd = Path(vcd)
-    vcd.parent.mkdir(parents=True, exist_ok=True)
     gtkw = Path(gtkw) if gtkw is not None else vcd.with_suffix(".gtkw")
-    with sim.write_vcd(str(vcd), str(gtkw), traces=traces):
+    with recording(sim, vcd, gtkw, traces):
         run()
     return sim

@@ -561,11 +561,11 @@ def run_capture_amaranth(path, streams, *, pclk_hz=CLOCKS.CAM_MCLK_HZ, start_del
     if vcd is None:
         sim.run()
     else:
-        Path(vcd).parent.mkdir(parents=True, exist_ok=True)
+        from sim.gtkw import recording
         traces = {f"camera_{c}": [harness.cam[c].clk] + [path.port(c, n) for n in (
             "fv", "lv", "data", "in_frame", "w_en", "w_addr", "w_data", "frame_done", "frame_ok", "frame_count")]
             for c in cameras}
-        with sim.write_vcd(str(vcd), str(Path(vcd).with_suffix(".gtkw")), traces=traces):
+        with recording(sim, vcd, Path(vcd).with_suffix(".gtkw"), traces):
             sim.run()
     return records, buffers
 

@@ -80,8 +80,9 @@ def run_amaranth(left, right, setup, *, sensors="python", vcd=None, gtkw=None, t
     configures a register-file model to anything else).
 
     ``setup.pix_after_init`` starts the pixel clock once the I2C init is done (see ``sim/system_setup.py``).
-    With ``vcd``, a VCD of the whole run and a GTKWave save file (``gtkw``) showing ``traces`` (a dict of
-    groups, or a function of the :class:`sim.system_bench.SystemBench` returning one) are written."""
+    With ``vcd``, a VCD of the whole run and a GTKWave save file (``gtkw``) showing ``traces`` (a
+    :class:`sim.gtkw.Waves` or a dict of groups, or a function of the :class:`sim.system_bench.SystemBench`
+    returning one) are written."""
     from amaranth.sim import Simulator
 
     if sensors not in ("python", "replay"):
@@ -237,9 +238,8 @@ def run_amaranth(left, right, setup, *, sensors="python", vcd=None, gtkw=None, t
     if callable(traces):
         traces = traces(bench)
     if vcd is not None:
-        from pathlib import Path
-        Path(vcd).parent.mkdir(parents=True, exist_ok=True)
-        with sim.write_vcd(str(vcd), str(gtkw) if gtkw else None, traces=traces):
+        from sim.gtkw import recording
+        with recording(sim, vcd, gtkw, traces):
             sim.run()
     else:
         sim.run()

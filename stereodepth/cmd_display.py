@@ -206,7 +206,9 @@ def wave_window(timing, lines=None):
 
 def write_display_waves(timing, vcd_path, *, lines=None):
     """Simulate a short window of the display path in Amaranth's simulator and write a VCD and a GTKWave
-    save file (``.gtkw`` beside it) with the CH7301C pins, the sync generator and the pattern grouped.
+    save file (``.gtkw`` beside it, :mod:`sim.gtkw`) with the CH7301C pins, the sync generator and the pattern
+    grouped, opening on the whole window with named markers at the end of the last active line, the vsync
+    pulse (at the sync generator and on the pins).
 
     The window starts at the last active line (the sync generator's ``start`` option sets its raster position
     after reset, so the 1080p frame's vertical blanking is reached without simulating the 2.4 M clocks before
@@ -219,13 +221,18 @@ def write_display_waves(timing, vcd_path, *, lines=None):
     dut = DisplayPath(timing, start=start)
     vcd_path = Path(vcd_path).resolve()
     gtkw_path = vcd_path.with_suffix(".gtkw")
-    traces = {
+    from sim.gtkw import Event, Show, Waves
+    sync = dut.sync_gen
+    vsync_on = int(timing.vsync_positive)
+    traces = Waves(groups={
         "ch7301c_pins": [dut.xclk_p, dut.xclk_n, dut.data, dut.de, dut.hsync, dut.vsync],
-        "sync_generator": [dut.sync_gen.x, dut.sync_gen.y, dut.sync_gen.de, dut.sync_gen.hsync,
-                           dut.sync_gen.vsync, dut.sync_gen.frame_start],
+        "sync_generator": [Show(sync.x, fmt="dec"), Show(sync.y, fmt="dec"), sync.de, sync.hsync, sync.vsync,
+                           sync.frame_start],
         "pattern_generator": [dut.pattern.video.rgb, dut.pattern.video.de, dut.pattern.video.hsync,
                               dut.pattern.video.vsync],
-    }
+    }, events=[Event("last active line end", sync.de, value=0),
+               Event("vsync", sync.vsync, value=vsync_on), Event("vsync end", sync.vsync, 1 - vsync_on, after="vsync"),
+               Event("vsync on the pins", dut.vsync, value=vsync_on)])
 
     async def bench(ctx):
         await ctx.tick().repeat(clocks)

@@ -152,7 +152,8 @@ def run_amaranth_route(left, right, setup, out, *, vcd=False, progress=True, sen
     stages = {"i2c": 0, "capture": 500, "display": 800, "done": 1000}
     kwargs = {}
     if vcd:
-        kwargs = dict(vcd=out / "system.vcd", gtkw=out / "system.gtkw", traces=waves_traces)
+        from sim.system_waves import system_waves
+        kwargs = dict(vcd=out / "system.vcd", gtkw=out / "system.gtkw", traces=system_waves)
     try:
         result = run_amaranth(left, right, setup, sensors=sensors,
                               progress=lambda stage, f: bar.update(stages.get(stage, 0), f"amaranth: {stage}"),
@@ -167,25 +168,6 @@ def run_amaranth_route(left, right, setup, out, *, vcd=False, progress=True, sen
     status["mismatched_pixels"] = result.mismatched_pixels
     status["i2c_protocol_errors"] = {b: [str(e) for e in m.protocol_errors] for b, m in result.monitors.items()}
     return result.frame, result.golden, status
-
-
-def waves_traces(bench):
-    """GTKWave groups for a :class:`sim.system_bench.SystemBench` (the Amaranth route's VCD)."""
-    sys_ = bench.system
-    groups = {"reset_and_clocking": [bench.button, bench.locked]}
-    for b in ("cam_a", "cam_b", "dvi"):
-        groups[f"i2c_{b}"] = [getattr(bench, f"{b}_scl"), getattr(bench, f"{b}_sda"),
-                              getattr(bench, f"{b}_init_done"), getattr(bench, f"{b}_init_error")]
-    for c in ("a", "b"):
-        groups[f"camera_{c}"] = [getattr(bench, f"cam_{c}_fv"), getattr(bench, f"cam_{c}_lv"),
-                                 getattr(bench, f"cam_{c}_data"), getattr(bench, f"cam_{c}_frame_done"),
-                                 getattr(bench, f"cam_{c}_frame_ok"), getattr(bench, f"cam_{c}_frame_count")]
-    groups["switches"] = [bench.sw, bench.disparity, bench.rectification]
-    groups["video_stream"] = [sys_.video_rgb, sys_.video_de, sys_.video_hsync, sys_.video_vsync,
-                              bench.frame_start]
-    groups["ch7301c_pins"] = [bench.xclk_p, bench.xclk_n, bench.data, bench.de, bench.hsync, bench.vsync]
-    groups["leds"] = [bench.leds]
-    return groups
 
 
 def write_outputs(out, frame, golden, status, figures):

@@ -78,11 +78,11 @@ def test_end_to_end_amaranth(tmp_path):
     golden frame, and the GTKWave save file opens with every signal it lists (where GTKWave is installed)."""
     from sim import gtkwave_check
     from sim.system_amaranth import run_amaranth
-    from stereodepth.cmd_run import waves_traces
+    from sim.system_waves import system_waves
     setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION)
     left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
     gtkw = tmp_path / "system.gtkw"
-    result = run_amaranth(left, right, setup, vcd=tmp_path / "system.vcd", gtkw=gtkw, traces=waves_traces)
+    result = run_amaranth(left, right, setup, vcd=tmp_path / "system.vcd", gtkw=gtkw, traces=system_waves)
     if gtkwave_check.available():
         want = gtkwave_check.listed(gtkw)
         assert len(want) >= 30
