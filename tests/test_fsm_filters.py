@@ -1,0 +1,108 @@
+"""The GTKWave translate filters of the state machines (sim/fsm_filters.py) name every state the RTL can be in.
+
+Checked against two things the generator does not read: the state names written in the RTL's source (``m.State``
+arguments, read with ``ast``; the I2C master's ``release_scl(prefix, ...)`` helper makes ``<prefix>_SETUP`` and
+``<prefix>_WAIT_HIGH`` from f-strings, expanded here from its call sites) and the encoded values the exported
+Verilog tests ``fsm_state`` for, with the register's reset value naming the first state.
+"""
+
+import ast
+import re
+from pathlib import Path
+
+import pytest
+
+from hdl.i2c_init import ErrorCode, InitSequencer
+from hdl.i2c_master import Cmd, I2CMaster
+from hdl.init_tables import MT9D112_TABLE
+from sim.fsm_filters import enum_states, state_machines, write_filter
+
+HDL = Path(__file__).resolve().parent.parent / "hdl"
+
+
+def source_states(path):
+    """State names of the ``m.State(...)`` calls in a source file, in source order; f-string names made inside a
+    helper function are expanded with the constant first argument of each call of that helper."""
+    tree = ast.parse(Path(path).read_text())
+    names, templates = [], {}
+    for func in ast.walk(tree):
+        if not isinstance(func, ast.FunctionDef):
+            continue
+        for node in ast.walk(func):
+            if isinstance(node, ast.Call) and getattr(node.func, "attr", None) == "State" and node.args:
+                arg = node.args[0]
+                if isinstance(arg, ast.Constant):
+                    names.append(arg.value)
+                elif isinstance(arg, ast.JoinedStr) and func.args.args:
+                    templates.setdefault(func.name, []).append(arg)
+    for call in ast.walk(tree):
+        if isinstance(call, ast.Call) and getattr(call.func, "id", None) in templates:
+            prefix = call.args[0].value
+            for template in templates[call.func.id]:
+                names.append("".join(prefix if isinstance(v, ast.FormattedValue) else v.value
+                                     for v in template.values))
+    return names
+
+
+def verilog_encodings(design, name):
+    """``(values fsm_state is tested for, reset value)`` in the top module of the Verilog: the labels of the
+    ``case`` statements on it and its comparisons with constants (Yosys folds some states into defaults)."""
+    from amaranth.back import verilog
+    text = verilog.convert(design, name=name, emit_src=False)
+    top = text[text.index(f"module {name}("):]
+    top = top[:top.index("endmodule")]
+    reset = int(re.search(r"reg \[\d+:0\] fsm_state = \d+'h([0-9a-f]+);", top)[1], 16)
+    values = set()
+    for block in re.findall(r"casez \(fsm_state\)(.*?)endcase", top, re.S):
+        values |= {int(v, 16) for v in re.findall(r"^\s+\d+'h([0-9a-f]+):", block, re.M)}
+    values |= {int(v, 16) for v in re.findall(r"fsm_state == \d+'h([0-9a-f]+)", top)}
+    return values | {reset}, reset
+
+
+@pytest.mark.parametrize("block, source", [
+    (lambda: I2CMaster(clk_hz=1_000_000), "i2c_master.py"),
+    (lambda: InitSequencer(MT9D112_TABLE, clk_hz=1_000_000), "i2c_init.py"),
+])
+def test_every_state_is_named_as_in_the_rtl(block, source):
+    fsm = state_machines(block())[0]
+    assert fsm.path == ("top",)
+    expected = source_states(HDL / source)
+    assert sorted(fsm.states.values()) == sorted(expected) and len(set(expected)) == len(expected)
+    values, reset = verilog_encodings(block(), "dut")
+    assert set(fsm.states) == values            # every value the RTL's case statements test has a name
+    assert fsm.states[reset] == expected[0]     # the reset state is the first one the source defines
+    assert max(fsm.states) < 2 ** fsm.width
+
+
+def test_the_system_has_six_state_machines_with_filters(tmp_path):
+    from sim.system_setup import SystemSetup
+    from sim.system_bench import SystemBench
+    fsms = state_machines(SystemBench(**SystemSetup.small().system_kwargs()))
+    paths = sorted(".".join(f.path[-2:]) for f in fsms)
+    assert paths == sorted([f"system.init_{b}" for b in ("cam_a", "cam_b", "dvi")]
+                           + [f"init_{b}.master" for b in ("cam_a", "cam_b", "dvi")])
+    for f in fsms:
+        lines = write_filter(tmp_path / f"{'.'.join(f.path)}.txt", f.states).read_text().splitlines()
+        assert len(lines) == len(f.states)
+        assert all(line == f"{v} {f.states[v]}" for v, line in zip(sorted(f.states), lines))
+
+
+def test_enumerations():
+    assert enum_states(Cmd) == {0: "START", 1: "WRITE", 2: "READ", 3: "STOP"}
+    assert enum_states(ErrorCode)[ErrorCode.POLL.value] == "POLL"
+
+
+def test_a_signal_with_another_decoder_is_not_a_state_machine():
+    from amaranth import Module, Signal
+    from amaranth.lib import wiring
+    from amaranth.lib.wiring import Out
+
+    class Odd(wiring.Component):
+        out: Out(2)
+
+        def elaborate(self, platform):
+            m = Module()
+            odd = Signal(2, decoder=lambda v: f"v{v}")
+            m.d.sync += [odd.eq(odd + 1), self.out.eq(odd)]
+            return m
+    assert state_machines(Odd()) == []
