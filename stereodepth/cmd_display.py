@@ -231,7 +231,8 @@ def write_display_waves(timing, vcd_path, *, lines=None):
         "pattern_generator": [dut.pattern.video.rgb, dut.pattern.video.de, dut.pattern.video.hsync,
                               dut.pattern.video.vsync],
     }, events=[Event("last active line end", sync.de, value=0),
-               Event("vsync", sync.vsync, value=vsync_on), Event("vsync end", sync.vsync, 1 - vsync_on, after="vsync"),
+               Event("vsync", sync.vsync, value=vsync_on),
+               Event("vsync end", sync.vsync, 1 - vsync_on, after="vsync"),
                Event("vsync on the pins", dut.vsync, value=vsync_on)])
 
     async def bench(ctx):
