@@ -132,3 +132,10 @@ def _xwd_to_png(data, png_path):
     png_path.parent.mkdir(parents=True, exist_ok=True)
     Image.fromarray(np.ascontiguousarray(rgb)).save(png_path)
     return png_path
+
+
+if __name__ == "__main__":        # python -m sim.gtkwave_check SAVEFILE PNG: the picture in docs/img/waves.png
+    import sys
+    if len(sys.argv) != 3:
+        sys.exit("usage: python -m sim.gtkwave_check SAVEFILE.gtkw OUT.png")
+    print(screenshot(sys.argv[1], sys.argv[2]))
