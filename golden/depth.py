@@ -1,0 +1,142 @@
+"""Golden model of the automatic depth engine, written from docs/depth.md (never from the RTL).
+
+The right image is the reference; the match of right pixel (x, y) at disparity d is left pixel (x + d, y), as
+for the disparity subtractor (docs/disparity.md). For every right-image pixel the engine gives a disparity
+0..D-1 or the code D ("invalid"):
+
+1. :func:`census`: a signature of ``census_bits`` bits per pixel, bit k set iff window pixel k is darker than
+   the centre; window positions outside the image take the nearest image pixel (coordinates clamped).
+2. :func:`matching_cost`: C[d, y, x] = popcount(census_R(y, x) XOR census_L(y, x + d)); ``census_bits`` where
+   x + d leaves the image.
+3. :func:`path_cost`: semi-global aggregation along one path (left to right along a row, or top to bottom
+   along a column): L = C + min(L'[d], L'[d - 1] + P1, L'[d + 1] + P1, M' + P2) - M', where L' is the previous
+   pixel's vector on the path and M' its minimum; before the first pixel L' = 0, M' = 0 (so L = C there).
+   0 <= L <= census_bits + P2.
+4. :func:`winner`: S = L_horizontal + L_vertical; the smallest d with the smallest S; invalid (code D) when
+   that S is above ``max_cost`` or d = D - 1 (the match may lie beyond the search range).
+5. :func:`median3x3`: the 5th smallest of the 3 x 3 codes around each pixel, coordinates clamped; D sorts
+   above every disparity, so a pixel is invalid only where most of its neighbourhood is.
+
+:func:`depth_map` runs the whole chain. Only constants come from ``hdl.params``.
+"""
+
+import numpy as np
+
+from hdl.params import DEPTH
+
+__all__ = ["census", "matching_cost", "path_cost", "winner", "median3x3", "depth_map", "DepthResult"]
+
+
+def _check_pair(left, right, config):
+    left, right = np.asarray(left), np.asarray(right)
+    if left.ndim != 2 or left.shape != right.shape:
+        raise ValueError(f"left {left.shape} and right {right.shape} must be two grey images of the same size")
+    if not (np.issubdtype(left.dtype, np.integer) and np.issubdtype(right.dtype, np.integer)):
+        raise ValueError("grey images must hold integers")
+    if min(left.min(initial=0), right.min(initial=0)) < 0:
+        raise ValueError("grey values must not be negative")
+    if config.disparities > left.shape[1]:
+        raise ValueError(f"D = {config.disparities} is more than the image width {left.shape[1]}")
+    return left.astype(np.int32), right.astype(np.int32)
+
+
+def census(image, config=DEPTH):
+    """(H, W) uint64 signatures. Bit k (k = 0, 1, ...) is window position k in raster order (top row first,
+    left to right), the centre skipped: set iff that pixel < the centre pixel."""
+    image = np.asarray(image, dtype=np.int32)
+    h, w = image.shape
+    ry, rx = config.census_height // 2, config.census_width // 2
+    padded = np.pad(image, ((ry, ry), (rx, rx)), mode="edge")      # clamped coordinates
+    out = np.zeros((h, w), dtype=np.uint64)
+    bit = 0
+    for dy in range(-ry, ry + 1):
+        for dx in range(-rx, rx + 1):
+            if dy == 0 and dx == 0:
+                continue
+            neighbour = padded[ry + dy:ry + dy + h, rx + dx:rx + dx + w]
+            out |= (neighbour < image).astype(np.uint64) << np.uint64(bit)
+            bit += 1
+    return out
+
+
+def matching_cost(left, right, config=DEPTH):
+    """C[d, y, x] (uint8, D x H x W): Hamming distance of the census signatures of right(x, y) and left(x + d,
+    y); ``census_bits`` where x + d >= W."""
+    left, right = _check_pair(left, right, config)
+    cl, cr = census(left, config), census(right, config)
+    h, w = right.shape
+    cost = np.full((config.disparities, h, w), config.census_bits, dtype=np.uint8)
+    for d in range(config.disparities):
+        cost[d, :, :w - d] = np.bitwise_count(cr[:, :w - d] ^ cl[:, d:])
+    return cost
+
+
+def _step(cost, prev, p1, p2):
+    """One path step for a batch: ``cost`` and ``prev`` are (D, N); returns the new (D, N) path costs."""
+    m = prev.min(axis=0)
+    best = np.minimum(prev, m + p2)
+    best[1:] = np.minimum(best[1:], prev[:-1] + p1)
+    best[:-1] = np.minimum(best[:-1], prev[1:] + p1)
+    return cost + best - m
+
+
+def path_cost(cost, axis, config=DEPTH):
+    """Path costs (int32, D x H x W) along ``axis``: ``"horizontal"`` (left to right along each row) or
+    ``"vertical"`` (top to bottom along each column)."""
+    cost = np.asarray(cost, dtype=np.int32)
+    out = np.empty_like(cost)
+    if axis == "horizontal":
+        prev = np.zeros(cost[:, :, 0].shape, dtype=np.int32)
+        for x in range(cost.shape[2]):
+            prev = out[:, :, x] = _step(cost[:, :, x], prev, config.p1, config.p2)
+    elif axis == "vertical":
+        prev = np.zeros(cost[:, 0, :].shape, dtype=np.int32)
+        for y in range(cost.shape[1]):
+            prev = out[:, y, :] = _step(cost[:, y, :], prev, config.p1, config.p2)
+    else:
+        raise ValueError(f"axis must be 'horizontal' or 'vertical', not {axis!r}")
+    return out
+
+
+def winner(total, config=DEPTH):
+    """(codes, best cost) from the summed path costs (D x H x W): the smallest d with the smallest sum, or the
+    invalid code D where that sum is above ``max_cost`` or d = D - 1."""
+    total = np.asarray(total)
+    d = np.argmin(total, axis=0)                    # first minimum = smallest disparity on ties
+    best = np.take_along_axis(total, d[None], axis=0)[0]
+    invalid = (best > config.max_cost) | (d == config.disparities - 1)
+    return np.where(invalid, config.invalid, d).astype(np.uint8), best
+
+
+def median3x3(codes):
+    """The median of the 3 x 3 neighbourhood of every pixel, coordinates clamped at the image border."""
+    codes = np.asarray(codes)
+    h, w = codes.shape
+    padded = np.pad(codes, 1, mode="edge")
+    stack = np.stack([padded[dy:dy + h, dx:dx + w] for dy in range(3) for dx in range(3)])
+    return np.sort(stack, axis=0)[4].astype(codes.dtype)
+
+
+class DepthResult:
+    """Every intermediate of :func:`depth_map` (for tests and pictures)."""
+
+    def __init__(self, cost, horizontal, vertical, raw, best, codes, config):
+        self.cost, self.horizontal, self.vertical = cost, horizontal, vertical
+        self.raw, self.best, self.codes, self.config = raw, best, codes, config
+
+    @property
+    def valid(self):
+        return self.codes != self.config.invalid
+
+
+def depth_map(left, right, config=DEPTH, *, details=False):
+    """The engine's output for two grey buffers: (H, W) uint8 codes, 0..D-1 = disparity, D = invalid.
+    ``details=True`` returns a :class:`DepthResult` with the intermediates instead."""
+    cost = matching_cost(left, right, config)
+    horizontal = path_cost(cost, "horizontal", config)
+    vertical = path_cost(cost, "vertical", config)
+    raw, best = winner(horizontal + vertical, config)
+    codes = median3x3(raw)
+    if details:
+        return DepthResult(cost, horizontal, vertical, raw, best, codes, config)
+    return codes
