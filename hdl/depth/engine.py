@@ -1,0 +1,305 @@
+"""DepthEngine: a dense disparity map of the two frame buffers, a row at a time (docs/depth.md)."""
+
+from amaranth import C, Module, Mux, Signal, unsigned
+from amaranth.lib import data, wiring
+from amaranth.lib.memory import Memory
+from amaranth.lib.wiring import In, Out
+
+from ..params import DEPTH, SENSOR
+from .census import CensusWindow
+from .matching_cost import MatchingCost
+from .median import Median3x3
+from .ports import ResultReadSignature, SharedReadSignature, token_layout
+from .row_ring import RowRing
+from .sgm_path import SgmPath
+from .winner import Winner
+
+__all__ = ["DepthEngine"]
+
+RING_ROWS = 8           # input ring slots per image: the 7 census rows and the one being fetched
+CENSUS_SHIFT = 1        # clock of a step at which the ring column enters the census windows
+SHIFT_CLOCK = 3         # clock at which the left census shift register takes the new signature
+ISSUE_CLOCK = 4         # clock at which group 0 of the step's pixel enters the cost stage
+VREAD_CLOCK = 4         # clock at which the vertical path's line buffer is read for the step's pixel
+END_GAP = 2             # clocks between a row's last code and the median's end token
+
+
+class DepthEngine(wiring.Component):
+    """Census + semi-global matching on two paths + winner-take-all + 3 x 3 median (docs/depth.md), computed
+    row by row from the two frame buffers into a small ring of result rows.
+
+    Right image = reference: the code of right pixel (x, y) is its disparity d (match left(x + d, y)), or D
+    for invalid. ``golden.depth.depth_map`` is the same map.
+
+    Parameters
+    ----------
+    geometry : SensorGeometry
+        Buffer size and grey width (``SENSOR``: 400 x 300 x 5).
+    config : DepthConfig
+        D, census window, P1, P2, ``max_cost``, lanes (``DEPTH``).
+    out_rows : int
+        Rows in the result ring (4).
+
+    Ports
+    -----
+    start : In(1)
+        Start a map (one pulse per frame); a map in progress is abandoned.
+    left, right : Out(SharedReadSignature)
+        The frame buffers' read ports, each shared through request/grant (see ``SharedReadSignature``);
+        every pixel is read once per map, rows in order.
+    rows_ready : Out(range(height + 1))
+        Rows of this map complete in the result ring (0 after ``start``).
+    rows_released : In(range(height + 1))
+        Rows the reader no longer needs; row r is written only once ``rows_released > r - out_rows``.
+    result : In(ResultReadSignature)
+        The reader's port into the result ring: address (r mod out_rows) * width + x, data one clock later.
+    busy : Out(1)
+        A map is being computed.
+
+    Clock domain: ``sync`` (the parent renames it to ``pix``).
+
+    Latency and schedule: a pass per row, ``steps`` steps of ``step_clocks`` clocks plus ``drain_clocks``;
+    the pipeline of one pixel within its step (clock 0 = the step's start, g = group):
+
+    ========== ==============================================================
+    0          ring read of column clamp(s - 3)
+    1          column -> census windows
+    2          census signatures registered
+    3          left census shift register shifts
+    4          vertical line buffer read (pixel x)
+    4 + g      group g: the lanes' left signatures selected
+    5 + g      cost: XOR, count 6-bit chunks (3 clocks)
+    8 + g      paths: select L'; 9 + g: partial minimums; 10 + g: L
+    11 + g     line buffer write (vertical L), winner sum, path minimum trees
+    G + 13 + t code (t = minimum-tree clocks), then 2 clocks to the median's end token, 12 in the median
+    ========== ==============================================================
+
+    Raises
+    ------
+    ValueError
+        If ``lanes`` does not divide D, D is more than the width, or the census window is not odd.
+    """
+
+    def __init__(self, geometry=SENSOR, config=DEPTH, *, out_rows=4):
+        if config.disparities % config.lanes:
+            raise ValueError(f"lanes ({config.lanes}) must divide D ({config.disparities})")
+        if not 2 <= config.disparities <= geometry.buf_width:
+            raise ValueError(f"D = {config.disparities} must be 2..{geometry.buf_width} (the image width)")
+        if config.census_width % 2 == 0 or config.census_height % 2 == 0 or config.census_height > RING_ROWS - 1:
+            raise ValueError(f"the census window must be odd x odd and at most {RING_ROWS - 1} rows high")
+        if out_rows < 2:
+            raise ValueError(f"out_rows must be at least 2, not {out_rows}")
+        self.geometry = geometry
+        self.config = config
+        self.out_rows = out_rows
+        self.groups = config.disparities // config.lanes
+        w, h = geometry.buf_width, geometry.buf_height
+        self.step_clocks = max(SgmPath.loop_clocks(config), ISSUE_CLOCK + self.groups)
+        self.lead = 2 * (config.census_width // 2) + config.disparities - 1
+        self.steps = w + self.lead
+        self.code_clock = 11 + self.groups - 1 + Winner.latency(config)
+        self.drain_clocks = self.code_clock + END_GAP + Median3x3.LATENCY + 2 - self.step_clocks
+        super().__init__({
+            "start": In(1),
+            "left": Out(SharedReadSignature(geometry)),
+            "right": Out(SharedReadSignature(geometry)),
+            "rows_ready": Out(range(h + 1)),
+            "rows_released": In(range(h + 1)),
+            "result": In(ResultReadSignature((out_rows * w - 1).bit_length(), config.code_bits)),
+            "busy": Out(1),
+        })
+
+    def pass_clocks(self):
+        """Clocks of one pass once it starts (steps and drain; starting it takes 2 more)."""
+        return self.steps * self.step_clocks + self.drain_clocks
+
+    def elaborate(self, platform):
+        m = Module()
+        cfg, g = self.config, self.geometry
+        w, h = g.buf_width, g.buf_height
+        ry = cfg.census_height // 2
+
+        m.submodules.left_ring = left_ring = RowRing(g, RING_ROWS)
+        m.submodules.right_ring = right_ring = RowRing(g, RING_ROWS)
+        wiring.connect(m, wiring.flipped(self.left), left_ring.buffer)
+        wiring.connect(m, wiring.flipped(self.right), right_ring.buffer)
+
+        # --- Pass control ---------------------------------------------------------------------------
+        y = Signal(range(h + 1))                   # the pass running or waiting to run
+        step = Signal(range(self.steps))
+        clock = Signal(range(self.step_clocks))
+        drain = Signal(range(self.drain_clocks + 1))
+        in_run = Signal()
+        ring_row = [Signal(range(RING_ROWS), name=f"ring_row{j}") for j in range(cfg.census_height)]
+        out_base = Signal(range(self.out_rows * w))
+
+        need = Mux(y + ry + 1 < h, y + ry + 1, h)
+        room = (y == 0) | (y - 1 < self.rows_released + self.out_rows)
+        can_start = (left_ring.fetched >= need) & (right_ring.fetched >= need) & room
+        limit = Mux(y + RING_ROWS - ry < h, y + RING_ROWS - ry, h)
+        m.d.comb += [left_ring.limit.eq(limit), right_ring.limit.eq(limit),
+                     left_ring.start.eq(self.start), right_ring.start.eq(self.start)]
+
+        with m.FSM(name="engine"):
+            with m.State("IDLE"):
+                with m.If(self.start):
+                    m.next = "WAIT"
+            with m.State("WAIT"):
+                m.d.comb += self.busy.eq(1)
+                with m.If(can_start & ~self.start):
+                    for j in range(cfg.census_height):
+                        row = y + j - ry
+                        clamped = Mux(row < 0, 0, Mux(row > h - 1, h - 1, row))
+                        m.d.sync += ring_row[j].eq(clamped[:(RING_ROWS - 1).bit_length()])
+                    m.d.sync += [step.eq(0), clock.eq(0)]
+                    m.next = "RUN"
+            with m.State("RUN"):
+                m.d.comb += [self.busy.eq(1), in_run.eq(1)]
+                m.d.sync += clock.eq(Mux(clock == self.step_clocks - 1, 0, clock + 1))
+                with m.If(clock == self.step_clocks - 1):
+                    m.d.sync += step.eq(step + 1)
+                    with m.If(step == self.steps - 1):
+                        m.d.sync += drain.eq(0)
+                        m.next = "DRAIN"
+                with m.If(self.start):
+                    m.next = "WAIT"
+            with m.State("DRAIN"):
+                m.d.comb += self.busy.eq(1)
+                m.d.sync += drain.eq(drain + 1)
+                with m.If(drain == self.drain_clocks):
+                    m.d.sync += y.eq(y + 1)
+                    with m.If(y != 0):
+                        m.d.sync += [self.rows_ready.eq(y),
+                                     out_base.eq(Mux(out_base == (self.out_rows - 1) * w, 0, out_base + w))]
+                    with m.If(y == h):
+                        m.next = "IDLE"
+                    with m.Else():
+                        m.next = "WAIT"
+                with m.If(self.start):
+                    m.next = "WAIT"
+        with m.If(self.start):
+            m.d.sync += [y.eq(0), self.rows_ready.eq(0), out_base.eq(0)]
+
+        left_sig, right_sig = self._census(m, left_ring, right_ring, ring_row, step, clock, in_run)
+        token, right_cen, left_sel, inside = self._issue(m, left_sig, right_sig, step, clock, in_run)
+        horizontal, vertical = self._paths(m, token, right_cen, left_sel, inside, step, clock, in_run, y)
+        self._back_end(m, horizontal, vertical, y, out_base)
+        return m
+
+    def _census(self, m, left_ring, right_ring, ring_row, step, clock, in_run):
+        """Step clocks 0-3: ring reads, census windows, the left census shift register (newest first)."""
+        cfg, w = self.config, self.geometry.buf_width
+        rx = cfg.census_width // 2
+        signatures = []
+        for name, ring, lag in (("left", left_ring, 0), ("right", right_ring, cfg.disparities - 1)):
+            # The right window lags the left one by D - 1 columns: it reads its ring at its own column.
+            col = step - rx - lag
+            m.d.comb += ring.col.eq(Mux(col < 0, 0, Mux(col > w - 1, w - 1, col)))
+            census = CensusWindow(cfg, self.geometry.gray_bits)
+            m.submodules[f"{name}_census"] = census
+            for j in range(cfg.census_height):
+                m.d.comb += census.column[j].eq(ring.column[ring_row[j]])
+            m.d.comb += census.shift.eq(in_run & (clock == CENSUS_SHIFT))
+            signatures.append(census.census)
+        entry = data.StructLayout({"census": cfg.census_bits, "inside": 1})
+        shift_reg = [Signal(entry, name=f"left_census{j}") for j in range(cfg.disparities)]
+        with m.If(in_run & (clock == SHIFT_CLOCK)):
+            m.d.sync += [shift_reg[0].census.eq(signatures[0]), shift_reg[0].inside.eq(step < w + 2 * rx)]
+            for j in range(1, cfg.disparities):
+                m.d.sync += shift_reg[j].eq(shift_reg[j - 1])
+        return shift_reg, signatures[1]
+
+    def _issue(self, m, shift_reg, right_sig, step, clock, in_run):
+        """Step clocks 4 .. 4 + G - 1: group g's token and its lanes' left signatures, registered."""
+        cfg, w = self.config, self.geometry.buf_width
+        G, P, D = self.groups, cfg.lanes, cfg.disparities
+        x = step - self.lead
+        group = clock - ISSUE_CLOCK
+        token = Signal(token_layout(G, w))
+        right_cen = Signal(cfg.census_bits)
+        left_sel = Signal(data.ArrayLayout(cfg.census_bits, P))
+        inside = Signal(P)
+        issuing = in_run & (clock >= ISSUE_CLOCK) & (clock < ISSUE_CLOCK + G) & (step >= self.lead)
+        m.d.sync += [
+            token.go.eq(issuing),
+            token.group.eq(group),
+            token.last.eq(group == G - 1),
+            token.first.eq(x == 0),
+            token.x.eq(x),
+            right_cen.eq(right_sig),
+        ]
+        with m.Switch(group):
+            for gi in range(G):
+                with m.Case(gi):
+                    for k in range(P):
+                        e = shift_reg[D - 1 - (gi * P + k)]          # candidate d = gi * P + k
+                        m.d.sync += [left_sel[k].eq(e.census), inside[k].eq(e.inside)]
+        return token, right_cen, left_sel, inside
+
+    def _paths(self, m, token, right_cen, left_sel, inside, step, clock, in_run, y):
+        """Cost (3 clocks), then both paths; the vertical path's line buffer (read at clock 4)."""
+        cfg, w = self.config, self.geometry.buf_width
+        G, P, D = self.groups, cfg.lanes, cfg.disparities
+        m.submodules.cost = cost = MatchingCost(cfg)
+        m.d.comb += [cost.right.eq(right_cen), cost.left.eq(left_sel), cost.inside.eq(inside)]
+        tok = token
+        for s in range(MatchingCost.LATENCY):
+            delayed = Signal(token_layout(G, w), name=f"cost_token{s}")
+            m.d.sync += delayed.eq(tok)
+            tok = delayed
+        m.submodules.horizontal = horizontal = SgmPath(cfg, recurrent=True, width=w)
+        m.submodules.vertical = vertical = SgmPath(cfg, recurrent=False, width=w)
+        for path in (horizontal, vertical):
+            m.d.comb += [path.token.eq(tok), path.cost.eq(cost.cost)]
+
+        pbits = cfg.path_bits
+        m.submodules.vertical_rows = rows = Memory(shape=unsigned(pbits * D), depth=w, init=[])
+        m.submodules.vertical_minimums = minimums = Memory(shape=unsigned(pbits), depth=w, init=[])
+        rows_read, rows_write = rows.read_port(), rows.write_port(granularity=pbits * P)
+        min_read, min_write = minimums.read_port(), minimums.write_port()
+        x = step - self.lead
+        read_x = Mux((x >= 0) & (x < w), x, 0)
+        m.d.comb += [rows_read.addr.eq(read_x), min_read.addr.eq(read_x),
+                     rows_read.en.eq(clock == VREAD_CLOCK), min_read.en.eq(clock == VREAD_CLOCK)]
+        with m.If(clock == VREAD_CLOCK + 1):
+            m.d.sync += [vertical.prev.eq(Mux(y == 0, 0, rows_read.data)),
+                         vertical.prev_min.eq(Mux(y == 0, 0, min_read.data))]
+        lt = vertical.l_token
+        m.d.comb += [
+            rows_write.addr.eq(lt.x),
+            rows_write.data.eq(vertical.l.as_value().replicate(G)),
+            rows_write.en.eq(Mux(lt.go, C(1, G) << lt.group, 0)),
+        ]
+        min_x = Signal(range(w))
+        with m.If(lt.go & lt.last):
+            m.d.sync += min_x.eq(lt.x)
+        m.d.comb += [min_write.addr.eq(min_x), min_write.data.eq(vertical.m), min_write.en.eq(vertical.m_valid)]
+        return horizontal, vertical
+
+    def _back_end(self, m, horizontal, vertical, y, out_base):
+        """Winner, median, result ring."""
+        cfg, g = self.config, self.geometry
+        w = g.buf_width
+        m.submodules.winner = winner = Winner(cfg, w)
+        m.submodules.median = median = Median3x3(cfg, g)
+        m.d.comb += [winner.token.eq(horizontal.l_token), winner.horizontal.eq(horizontal.l),
+                     winner.vertical.eq(vertical.l)]
+        end = [Signal(name=f"row_end{i}") for i in range(END_GAP)]
+        m.d.sync += end[0].eq(winner.valid & (winner.x == w - 1))
+        for i in range(1, END_GAP):
+            m.d.sync += end[i].eq(end[i - 1])
+        m.d.comb += [
+            median.y.eq(y),
+            median.valid.eq(winner.valid | end[-1]),
+            median.x.eq(Mux(end[-1], w, winner.x)),
+            median.code.eq(winner.code),
+        ]
+        m.submodules.results = results = Memory(shape=unsigned(cfg.code_bits), depth=self.out_rows * w, init=[])
+        write, read = results.write_port(), results.read_port()
+        m.d.comb += [
+            write.addr.eq(out_base + median.out_x),
+            write.data.eq(median.out_code),
+            write.en.eq(median.out_valid),
+            read.addr.eq(self.result.addr),
+            self.result.data.eq(read.data),
+        ]

@@ -1,0 +1,56 @@
+"""The depth engine's interface signatures and its pipeline token.
+
+``FrameBufferReadSignature`` mirrors the frame buffer's read port (``hdl/frame_buffer.py``) as a reader sees it:
+``addr`` out, ``data`` in, one clock of read latency. ``SharedReadSignature`` adds the request/grant pair with
+which the engine shares that one port with another reader: the engine drives ``request`` and ``port.addr``;
+in a clock where ``grant`` is high the arbiter passes ``port.addr`` to the buffer, and ``port.data`` holds that
+word in the next clock. ``ResultReadSignature`` is the reader's view of the engine's output rows.
+"""
+
+from amaranth.lib import data, wiring
+from amaranth.lib.wiring import In, Out
+
+from ..params import SENSOR
+
+__all__ = ["FrameBufferReadSignature", "SharedReadSignature", "ResultReadSignature", "token_layout"]
+
+
+class FrameBufferReadSignature(wiring.Signature):
+    """A frame buffer's read port as its reader sees it: ``addr`` -> ``data`` one clock later."""
+
+    def __init__(self, geometry=SENSOR):
+        self.geometry = geometry
+        super().__init__({"addr": Out(geometry.addr_bits), "data": In(geometry.gray_bits)})
+
+
+class SharedReadSignature(wiring.Signature):
+    """A read port shared through an arbiter: ``port`` plus ``request`` (out) and ``grant`` (in)."""
+
+    def __init__(self, geometry=SENSOR):
+        self.geometry = geometry
+        super().__init__({
+            "port": Out(FrameBufferReadSignature(geometry)),
+            "request": Out(1),
+            "grant": In(1),
+        })
+
+
+class ResultReadSignature(wiring.Signature):
+    """The reader's side of the engine's output rows: ``addr`` = (row mod rows) * width + x, ``data`` (the
+    code) one clock later."""
+
+    def __init__(self, addr_bits, code_bits):
+        super().__init__({"addr": Out(addr_bits), "data": In(code_bits)})
+
+
+def token_layout(groups, width):
+    """The control token that travels with a group of disparities through the cost, path and winner stages:
+    ``go`` (a group is in this stage), ``group`` (0..groups-1), ``last`` (the pixel's last group), ``first``
+    (x = 0: the horizontal path starts), ``x`` (the right-image column, 0..width-1)."""
+    return data.StructLayout({
+        "go": 1,
+        "group": range(groups),
+        "last": 1,
+        "first": 1,
+        "x": range(width),
+    })

@@ -1,0 +1,110 @@
+"""RowRing: fetches a frame buffer's rows, in order, into a ring of line buffers (docs/depth.md, "Input rows")."""
+
+from amaranth import C, Cat, Module, Mux, Signal, unsigned
+from amaranth.lib import data, wiring
+from amaranth.lib.memory import Memory
+from amaranth.lib.wiring import In, Out
+
+from ..params import SENSOR
+from .ports import SharedReadSignature
+
+__all__ = ["RowRing"]
+
+
+class RowRing(wiring.Component):
+    """Row fetcher and ring of ``rows`` line buffers for one frame buffer.
+
+    Rows 0, 1, 2, ... are read through ``buffer`` (a shared read port: one read in each clock with
+    ``request`` and ``grant`` high, data one clock later), every pixel once, and row r is written into ring
+    slot ``r mod rows``. One block RAM word per column holds that column's pixel of every slot, in lanes of
+    8 bits (byte write enables), so one read gives a whole column of the ring.
+
+    Parameters
+    ----------
+    geometry : SensorGeometry
+        Buffer size and grey width.
+    rows : int
+        Ring slots, a power of two.
+
+    Ports
+    -----
+    start : In(1)
+        Restart at row 0 (a fetch in flight is dropped).
+    limit : In(range(height + 1))
+        Rows below ``limit`` may be fetched; the reader raises it as slots become free.
+    fetched : Out(range(height + 1))
+        Rows completely in the ring.
+    col : In(range(width))
+        Ring read address; ``column`` holds that column of every slot one clock later.
+
+    Clock domain: ``sync`` (the parent renames it to ``pix``).
+
+    Raises
+    ------
+    ValueError
+        If ``rows`` is not a power of two of at least 2.
+    """
+
+    def __init__(self, geometry=SENSOR, rows=8):
+        if rows < 2 or rows & (rows - 1):
+            raise ValueError(f"ring rows must be a power of two >= 2, not {rows}")
+        self.geometry = geometry
+        self.rows = rows
+        self.lane_bits = max(8, geometry.gray_bits)
+        super().__init__({
+            "buffer": Out(SharedReadSignature(geometry)),
+            "start": In(1),
+            "limit": In(range(geometry.buf_height + 1)),
+            "fetched": Out(range(geometry.buf_height + 1)),
+            "col": In(range(geometry.buf_width)),
+            "column": Out(data.ArrayLayout(geometry.gray_bits, rows)),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        g, rows, lane = self.geometry, self.rows, self.lane_bits
+        m.submodules.ring = ring = Memory(shape=unsigned(lane * rows), depth=g.buf_width, init=[])
+        write = ring.write_port(granularity=lane)
+        read = ring.read_port()
+        m.d.comb += read.addr.eq(self.col)
+        for k in range(rows):
+            m.d.comb += self.column[k].eq(read.data[k * lane:k * lane + g.gray_bits])
+
+        issued = Signal(range(g.buf_height + 1))      # row being requested
+        slot = Signal(range(rows))                   # issued mod rows
+        col = Signal(range(g.buf_width))
+        addr = Signal(g.addr_bits)                   # issued * width + col, counted
+        pending = Signal()                           # a granted read's data arrives this clock
+        pending_col = Signal.like(col)
+        pending_slot = Signal.like(slot)
+        pending_last = Signal()
+
+        m.d.comb += [
+            self.buffer.port.addr.eq(addr),
+            self.buffer.request.eq((issued < self.limit) & (issued < g.buf_height) & ~self.start),
+        ]
+        granted = self.buffer.request & self.buffer.grant
+        m.d.sync += pending.eq(granted)
+        with m.If(granted):
+            m.d.sync += [
+                pending_col.eq(col),
+                pending_slot.eq(slot),
+                pending_last.eq(col == g.buf_width - 1),
+                addr.eq(addr + 1),
+            ]
+            with m.If(col == g.buf_width - 1):
+                m.d.sync += [col.eq(0), issued.eq(issued + 1), slot.eq(slot + 1)]
+            with m.Else():
+                m.d.sync += col.eq(col + 1)
+
+        m.d.comb += [
+            write.addr.eq(pending_col),
+            write.data.eq(Cat(self.buffer.port.data, C(0, lane - g.gray_bits)).replicate(rows)),
+            write.en.eq(Mux(pending, C(1, rows) << pending_slot, 0)),
+        ]
+        with m.If(pending & pending_last):
+            m.d.sync += self.fetched.eq(self.fetched + 1)
+
+        with m.If(self.start):
+            m.d.sync += [issued.eq(0), slot.eq(0), col.eq(0), addr.eq(0), pending.eq(0), self.fetched.eq(0)]
+        return m
