@@ -6,7 +6,9 @@ written through ``load_*`` (one word of each per clock), ``start`` starts a map,
 * grants the engine's read requests in the clocks a pseudo-random pattern leaves free (``grant_mask``: grant
   when ``lfsr & grant_mask == 0``, independently per buffer; 0 grants every request); in the other clocks the
   buffers read another address (a stand-in for the compositor), so data the engine did not ask for is wrong;
-* copies every finished row from the engine's result ring into a full-size result memory, then releases it;
+* copies every finished row from the engine's result ring into a full-size result memory, then releases it
+  (not while ``hold`` is high: a reader that falls behind);
+* counts the granted reads of each buffer (``reads_left``, ``reads_right``);
 * raises ``done`` when all rows are copied and counts the clocks from ``start`` to ``done`` (``clocks``).
 
 ``read_addr`` / ``read_data`` read the result memory (y * width + x; data one clock later).
@@ -35,8 +37,12 @@ class DepthHarness(wiring.Component):
             "load_right": In(g.gray_bits),
             "grant_mask": In(8),
             "start": In(1),
+            "hold": In(1),
             "done": Out(1),
             "clocks": Out(32),
+            "rows_ready": Out(range(geometry.buf_height + 1)),
+            "reads_left": Out(32),
+            "reads_right": Out(32),
             "read_addr": In(g.addr_bits),
             "read_data": Out(config.code_bits),
         })
@@ -55,6 +61,11 @@ class DepthHarness(wiring.Component):
             buf = FrameBuffer(g)
             m.submodules[f"{name}_buffer"] = buf
             grant = (bits & self.grant_mask) == 0
+            reads = getattr(self, f"reads_{name}")
+            with m.If(self.start):
+                m.d.sync += reads.eq(0)
+            with m.Elif(port.request & grant):
+                m.d.sync += reads.eq(reads + 1)
             m.d.comb += [
                 buf.w_addr.eq(self.load_addr), buf.w_data.eq(getattr(self, f"load_{name}")),
                 buf.w_en.eq(self.load_en),
@@ -75,7 +86,8 @@ class DepthHarness(wiring.Component):
         m.d.sync += [copy_valid.eq(copying), copy_addr.eq(map_addr)]
         m.d.comb += [store.addr.eq(copy_addr), store.data.eq(engine.result.data), store.en.eq(copy_valid)]
         m.d.comb += [engine.rows_released.eq(row), engine.start.eq(self.start), self.done.eq(row == h)]
-        with m.If(~copying & (row < engine.rows_ready)):
+        m.d.comb += self.rows_ready.eq(engine.rows_ready)
+        with m.If(~copying & ~self.hold & (row < engine.rows_ready)):
             m.d.sync += [copying.eq(1), x.eq(0)]
         with m.If(copying):
             m.d.sync += [x.eq(x + 1), map_addr.eq(map_addr + 1)]

@@ -1,11 +1,14 @@
 """DepthEngine: a dense disparity map of the two frame buffers, a row at a time (docs/depth.md)."""
 
+from typing import NamedTuple
+
 from amaranth import C, Module, Mux, Signal, unsigned
 from amaranth.lib import data, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
 from ..params import DEPTH, SENSOR
+from ..rejecting import rejecting
 from .census import CensusWindow
 from .matching_cost import MatchingCost
 from .median import Median3x3
@@ -14,14 +17,36 @@ from .row_ring import RowRing
 from .sgm_path import SgmPath
 from .winner import Winner
 
-__all__ = ["DepthEngine"]
+__all__ = ["DepthEngine", "Schedule", "schedule"]
 
 RING_ROWS = 8           # input ring slots per image: the 7 census rows and the one being fetched
 CENSUS_SHIFT = 1        # clock of a step at which the ring column enters the census windows
 SHIFT_CLOCK = 3         # clock at which the left census shift register takes the new signature
 ISSUE_CLOCK = 4         # clock at which group 0 of the step's pixel enters the cost stage
 VREAD_CLOCK = 4         # clock at which the vertical path's line buffer is read for the step's pixel
+PATH_CLOCK = ISSUE_CLOCK + 1 + MatchingCost.LATENCY     # clock at which group 0 enters the paths
 END_GAP = 2             # clocks between a row's last code and the median's end token
+
+
+class Schedule(NamedTuple):
+    """The engine's timing (docs/depth.md): a pass is ``steps`` steps of ``step_clocks`` clocks, then
+    ``drain_clocks``; ``pass_clocks`` is their total (starting a pass takes 2 clocks more)."""
+    step_clocks: int
+    steps: int
+    drain_clocks: int
+
+    @property
+    def pass_clocks(self):
+        return self.steps * self.step_clocks + self.drain_clocks
+
+
+def schedule(geometry=SENSOR, config=DEPTH):
+    """The :class:`Schedule` of a :class:`DepthEngine` with these parameters (without building one)."""
+    groups = config.disparities // config.lanes
+    step_clocks = max(SgmPath.loop_clocks(config), ISSUE_CLOCK + groups)
+    steps = geometry.buf_width + 2 * (config.census_width // 2) + config.disparities - 1
+    code_clock = PATH_CLOCK + SgmPath.LATENCY + groups - 1 + Winner.latency(config)
+    return Schedule(step_clocks, steps, code_clock + END_GAP + Median3x3.LATENCY + 2 - step_clocks)
 
 
 class DepthEngine(wiring.Component):
@@ -81,24 +106,24 @@ class DepthEngine(wiring.Component):
     """
 
     def __init__(self, geometry=SENSOR, config=DEPTH, *, out_rows=4):
-        if config.disparities % config.lanes:
-            raise ValueError(f"lanes ({config.lanes}) must divide D ({config.disparities})")
-        if not 2 <= config.disparities <= geometry.buf_width:
-            raise ValueError(f"D = {config.disparities} must be 2..{geometry.buf_width} (the image width)")
-        if config.census_width % 2 == 0 or config.census_height % 2 == 0 or config.census_height > RING_ROWS - 1:
-            raise ValueError(f"the census window must be odd x odd and at most {RING_ROWS - 1} rows high")
-        if out_rows < 2:
-            raise ValueError(f"out_rows must be at least 2, not {out_rows}")
+        with rejecting(self):
+            if config.disparities % config.lanes:
+                raise ValueError(f"lanes ({config.lanes}) must divide D ({config.disparities})")
+            if not 2 <= config.disparities <= geometry.buf_width:
+                raise ValueError(f"D = {config.disparities} must be 2..{geometry.buf_width} (the image width)")
+            if (config.census_width % 2 == 0 or config.census_height % 2 == 0
+                    or config.census_height > RING_ROWS - 1):
+                raise ValueError(f"the census window must be odd x odd and at most {RING_ROWS - 1} rows high")
+            if out_rows < 2:
+                raise ValueError(f"out_rows must be at least 2, not {out_rows}")
         self.geometry = geometry
         self.config = config
         self.out_rows = out_rows
         self.groups = config.disparities // config.lanes
         w, h = geometry.buf_width, geometry.buf_height
-        self.step_clocks = max(SgmPath.loop_clocks(config), ISSUE_CLOCK + self.groups)
-        self.lead = 2 * (config.census_width // 2) + config.disparities - 1
-        self.steps = w + self.lead
-        self.code_clock = 11 + self.groups - 1 + Winner.latency(config)
-        self.drain_clocks = self.code_clock + END_GAP + Median3x3.LATENCY + 2 - self.step_clocks
+        plan = schedule(geometry, config)
+        self.step_clocks, self.steps, self.drain_clocks = plan.step_clocks, plan.steps, plan.drain_clocks
+        self.lead = plan.steps - w
         super().__init__({
             "start": In(1),
             "left": Out(SharedReadSignature(geometry)),
@@ -108,10 +133,6 @@ class DepthEngine(wiring.Component):
             "result": In(ResultReadSignature((out_rows * w - 1).bit_length(), config.code_bits)),
             "busy": Out(1),
         })
-
-    def pass_clocks(self):
-        """Clocks of one pass once it starts (steps and drain; starting it takes 2 more)."""
-        return self.steps * self.step_clocks + self.drain_clocks
 
     def elaborate(self, platform):
         m = Module()
@@ -133,9 +154,15 @@ class DepthEngine(wiring.Component):
         ring_row = [Signal(range(RING_ROWS), name=f"ring_row{j}") for j in range(cfg.census_height)]
         out_base = Signal(range(self.out_rows * w))
 
+        # Registered (rows only ever arrive and are only ever released): a pass waits one clock in SETTLE.
         need = Mux(y + ry + 1 < h, y + ry + 1, h)
         room = (y == 0) | (y - 1 < self.rows_released + self.out_rows)
-        can_start = (left_ring.fetched >= need) & (right_ring.fetched >= need) & room
+        can_start = Signal()
+        m.d.sync += can_start.eq((left_ring.fetched >= need) & (right_ring.fetched >= need) & room)
+        for j in range(cfg.census_height):
+            row = y + j - ry
+            clamped = Mux(row < 0, 0, Mux(row > h - 1, h - 1, row))
+            m.d.sync += ring_row[j].eq(clamped[:(RING_ROWS - 1).bit_length()])
         limit = Mux(y + RING_ROWS - ry < h, y + RING_ROWS - ry, h)
         m.d.comb += [left_ring.limit.eq(limit), right_ring.limit.eq(limit),
                      left_ring.start.eq(self.start), right_ring.start.eq(self.start)]
@@ -143,14 +170,13 @@ class DepthEngine(wiring.Component):
         with m.FSM(name="engine"):
             with m.State("IDLE"):
                 with m.If(self.start):
-                    m.next = "WAIT"
+                    m.next = "SETTLE"
+            with m.State("SETTLE"):                # one clock for can_start to see this pass
+                m.d.comb += self.busy.eq(1)
+                m.next = "WAIT"
             with m.State("WAIT"):
                 m.d.comb += self.busy.eq(1)
                 with m.If(can_start & ~self.start):
-                    for j in range(cfg.census_height):
-                        row = y + j - ry
-                        clamped = Mux(row < 0, 0, Mux(row > h - 1, h - 1, row))
-                        m.d.sync += ring_row[j].eq(clamped[:(RING_ROWS - 1).bit_length()])
                     m.d.sync += [step.eq(0), clock.eq(0)]
                     m.next = "RUN"
             with m.State("RUN"):
@@ -162,7 +188,7 @@ class DepthEngine(wiring.Component):
                         m.d.sync += drain.eq(0)
                         m.next = "DRAIN"
                 with m.If(self.start):
-                    m.next = "WAIT"
+                    m.next = "SETTLE"
             with m.State("DRAIN"):
                 m.d.comb += self.busy.eq(1)
                 m.d.sync += drain.eq(drain + 1)
@@ -174,9 +200,9 @@ class DepthEngine(wiring.Component):
                     with m.If(y == h):
                         m.next = "IDLE"
                     with m.Else():
-                        m.next = "WAIT"
+                        m.next = "SETTLE"
                 with m.If(self.start):
-                    m.next = "WAIT"
+                    m.next = "SETTLE"
         with m.If(self.start):
             m.d.sync += [y.eq(0), self.rows_ready.eq(0), out_base.eq(0)]
 

@@ -6,6 +6,7 @@ from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
 from ..params import SENSOR
+from ..rejecting import rejecting
 from .ports import SharedReadSignature
 
 __all__ = ["RowRing"]
@@ -46,8 +47,9 @@ class RowRing(wiring.Component):
     """
 
     def __init__(self, geometry=SENSOR, rows=8):
-        if rows < 2 or rows & (rows - 1):
-            raise ValueError(f"ring rows must be a power of two >= 2, not {rows}")
+        with rejecting(self):
+            if rows < 2 or rows & (rows - 1):
+                raise ValueError(f"ring rows must be a power of two >= 2, not {rows}")
         self.geometry = geometry
         self.rows = rows
         self.lane_bits = max(8, geometry.gray_bits)

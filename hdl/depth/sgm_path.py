@@ -5,6 +5,7 @@ from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
 from ..params import DEPTH, SENSOR
+from ..rejecting import rejecting
 from .ports import token_layout
 from .reduce import min_tree, tree_stages
 
@@ -55,9 +56,12 @@ class SgmPath(wiring.Component):
     pixel's first group.
     """
 
+    LATENCY = 3     # clocks from a group's input to its ``l``
+
     def __init__(self, config=DEPTH, *, recurrent, width=SENSOR.buf_width):
-        if config.disparities % config.lanes:
-            raise ValueError(f"lanes ({config.lanes}) must divide D ({config.disparities})")
+        with rejecting(self):
+            if config.disparities % config.lanes:
+                raise ValueError(f"lanes ({config.lanes}) must divide D ({config.disparities})")
         self.config = config
         self.recurrent = recurrent
         self.groups = config.disparities // config.lanes
