@@ -30,7 +30,7 @@ END_GAP = 2             # clocks between a row's last code and the median's end 
 
 class Schedule(NamedTuple):
     """The engine's timing (docs/depth.md): a pass is ``steps`` steps of ``step_clocks`` clocks, then
-    ``drain_clocks``; ``pass_clocks`` is their total (starting a pass takes 2 clocks more)."""
+    ``drain_clocks``; ``pass_clocks`` is their total (starting a pass takes 3 clocks more)."""
     step_clocks: int
     steps: int
     drain_clocks: int
@@ -154,16 +154,20 @@ class DepthEngine(wiring.Component):
         ring_row = [Signal(range(RING_ROWS), name=f"ring_row{j}") for j in range(cfg.census_height)]
         out_base = Signal(range(self.out_rows * w))
 
-        # Registered (rows only ever arrive and are only ever released): a pass waits one clock in SETTLE.
-        need = Mux(y + ry + 1 < h, y + ry + 1, h)
-        room = (y == 0) | (y - 1 < self.rows_released + self.out_rows)
+        # Registered in two stages (rows only ever arrive and are only ever released, so a late value is a
+        # safe one): a pass waits two clocks in SETTLE for them to see its y.
+        need, first, before = Signal.like(y), Signal(), Signal.like(y)
+        room_limit = Signal(range(h + self.out_rows + 1))
+        m.d.sync += [need.eq(Mux(y + ry + 1 < h, y + ry + 1, h)), first.eq(y == 0), before.eq(y - 1),
+                     room_limit.eq(self.rows_released + self.out_rows)]
         can_start = Signal()
-        m.d.sync += can_start.eq((left_ring.fetched >= need) & (right_ring.fetched >= need) & room)
+        m.d.sync += can_start.eq((left_ring.fetched >= need) & (right_ring.fetched >= need)
+                                 & (first | (before < room_limit)))
         for j in range(cfg.census_height):
             row = y + j - ry
             clamped = Mux(row < 0, 0, Mux(row > h - 1, h - 1, row))
             m.d.sync += ring_row[j].eq(clamped[:(RING_ROWS - 1).bit_length()])
-        limit = Mux(y + RING_ROWS - ry < h, y + RING_ROWS - ry, h)
+        limit = Mux(~self.busy, 0, Mux(y + RING_ROWS - ry < h, y + RING_ROWS - ry, h))     # none while idle
         m.d.comb += [left_ring.limit.eq(limit), right_ring.limit.eq(limit),
                      left_ring.start.eq(self.start), right_ring.start.eq(self.start)]
 
@@ -171,7 +175,10 @@ class DepthEngine(wiring.Component):
             with m.State("IDLE"):
                 with m.If(self.start):
                     m.next = "SETTLE"
-            with m.State("SETTLE"):                # one clock for can_start to see this pass
+            with m.State("SETTLE"):                # two clocks for can_start to see this pass
+                m.d.comb += self.busy.eq(1)
+                m.next = "SETTLE2"
+            with m.State("SETTLE2"):
                 m.d.comb += self.busy.eq(1)
                 m.next = "WAIT"
             with m.State("WAIT"):
@@ -218,9 +225,17 @@ class DepthEngine(wiring.Component):
         rx = cfg.census_width // 2
         signatures = []
         for name, ring, lag in (("left", left_ring, 0), ("right", right_ring, cfg.disparities - 1)):
-            # The right window lags the left one by D - 1 columns: it reads its ring at its own column.
-            col = step - rx - lag
-            m.d.comb += ring.col.eq(Mux(col < 0, 0, Mux(col > w - 1, w - 1, col)))
+            # Column clamp(step - rx - lag), counted: the right window lags the left one by D - 1 columns.
+            col = Signal(range(w), name=f"{name}_column")
+            moving = Signal(name=f"{name}_moving")
+            m.d.comb += ring.col.eq(col)
+            with m.If(~in_run):
+                m.d.sync += [col.eq(0), moving.eq(rx + lag == 0)]
+            with m.Elif(clock == self.step_clocks - 1):
+                with m.If(step == rx + lag - 1):
+                    m.d.sync += moving.eq(1)
+                with m.If(moving & (col != w - 1)):
+                    m.d.sync += col.eq(col + 1)
             census = CensusWindow(cfg, self.geometry.gray_bits)
             m.submodules[f"{name}_census"] = census
             for j in range(cfg.census_height):

@@ -81,12 +81,16 @@ class RowRing(wiring.Component):
         pending_slot = Signal.like(slot)
         pending_last = Signal()
 
+        # The request comes from registers: ``allowed`` lags ``issued`` by a clock, so the clock after a row's
+        # last column is granted never requests (the next row may not be allowed yet).
+        allowed, row_done = Signal(), Signal()
+        m.d.sync += allowed.eq((issued < self.limit) & (issued < g.buf_height))
         m.d.comb += [
             self.buffer.port.addr.eq(addr),
-            self.buffer.request.eq((issued < self.limit) & (issued < g.buf_height) & ~self.start),
+            self.buffer.request.eq(allowed & ~row_done & ~self.start),
         ]
         granted = self.buffer.request & self.buffer.grant
-        m.d.sync += pending.eq(granted)
+        m.d.sync += [pending.eq(granted), row_done.eq(granted & (col == g.buf_width - 1))]
         with m.If(granted):
             m.d.sync += [
                 pending_col.eq(col),
@@ -108,5 +112,6 @@ class RowRing(wiring.Component):
             m.d.sync += self.fetched.eq(self.fetched + 1)
 
         with m.If(self.start):
-            m.d.sync += [issued.eq(0), slot.eq(0), col.eq(0), addr.eq(0), pending.eq(0), self.fetched.eq(0)]
+            m.d.sync += [issued.eq(0), slot.eq(0), col.eq(0), addr.eq(0), pending.eq(0), self.fetched.eq(0),
+                         allowed.eq(0)]
         return m

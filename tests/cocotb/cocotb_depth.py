@@ -36,6 +36,7 @@ if cocotb is not None:
         dut.load_en.value = 0
         dut.start.value = 0
         dut.grant_mask.value = p["grant_mask"]
+        dut.hold.value = 0
         dut.read_addr.value = 0
         for _ in range(3):
             await FallingEdge(clk)
