@@ -24,7 +24,7 @@ import numpy as np
 
 from hdl.params import DEPTH
 
-__all__ = ["census", "matching_cost", "path_cost", "winner", "median3x3", "depth_map", "DepthResult"]
+__all__ = ["census", "matching_cost", "path_step", "path_cost", "winner", "median3x3", "depth_map", "DepthResult"]
 
 
 def _check_pair(left, right, config):
@@ -71,7 +71,7 @@ def matching_cost(left, right, config=DEPTH):
     return cost
 
 
-def _step(cost, prev, p1, p2):
+def path_step(cost, prev, p1, p2):
     """One path step for a batch: ``cost`` and ``prev`` are (D, N); returns the new (D, N) path costs."""
     m = prev.min(axis=0)
     best = np.minimum(prev, m + p2)
@@ -88,11 +88,11 @@ def path_cost(cost, axis, config=DEPTH):
     if axis == "horizontal":
         prev = np.zeros(cost[:, :, 0].shape, dtype=np.int32)
         for x in range(cost.shape[2]):
-            prev = out[:, :, x] = _step(cost[:, :, x], prev, config.p1, config.p2)
+            prev = out[:, :, x] = path_step(cost[:, :, x], prev, config.p1, config.p2)
     elif axis == "vertical":
         prev = np.zeros(cost[:, 0, :].shape, dtype=np.int32)
         for y in range(cost.shape[1]):
-            prev = out[:, y, :] = _step(cost[:, y, :], prev, config.p1, config.p2)
+            prev = out[:, y, :] = path_step(cost[:, y, :], prev, config.p1, config.p2)
     else:
         raise ValueError(f"axis must be 'horizontal' or 'vertical', not {axis!r}")
     return out

@@ -100,8 +100,8 @@ def test_edge_cases_bit_exact():
     rng = np.random.default_rng(7)
     flat = np.full(SHAPE, 11)
     texture = rng.integers(0, 32, (SHAPE[0], SHAPE[1] + CFG.disparities + 3))
-    beyond_left = texture[:, CFG.disparities + 3:]
-    beyond_right = texture[:, :SHAPE[1]]                  # right(x) = left(x + D + 3)
+    beyond_left = texture[:, :SHAPE[1]]
+    beyond_right = texture[:, CFG.disparities + 3:]       # right(x) = left(x + D + 3)
     border = np.zeros(SHAPE, dtype=np.int64)
     border[:, -CFG.disparities:] = rng.integers(0, 32, (SHAPE[0], CFG.disparities))
     for left, right in ((flat, flat), (beyond_left, beyond_right), (border, border[:, ::-1].copy())):

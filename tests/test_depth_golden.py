@@ -1,0 +1,124 @@
+"""The depth golden model (golden/depth.py) against hand-worked cases and independent formulations of
+docs/depth.md, and its arithmetic bounds (hypothesis)."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.ndimage import median_filter
+
+from golden.depth import census, depth_map, matching_cost, median3x3, path_cost, path_step, winner
+from hdl.params import DEPTH, DepthConfig
+
+SMALL = DepthConfig(disparities=4, census_width=3, census_height=3, lanes=2)
+
+
+def test_census_by_hand():
+    """3 x 3 census, bit k = window position k in raster order (centre skipped), 1 iff darker than the centre;
+    outside the image the nearest pixel (a corner sees itself three times: equal, so 0)."""
+    image = np.array([[5, 1, 9],
+                      [3, 4, 4],
+                      [8, 0, 2]])
+    c = census(image, SMALL)
+    # centre (1, 1) = 4: neighbours 5 1 9 / 3 _ 4 / 8 0 2 -> darker: 1 (bit 1), 3 (bit 3), 0 (bit 6), 2 (bit 7)
+    assert int(c[1, 1]) == 0b11001010
+    # corner (0, 0) = 5: window rows (0, 0, 1) cols (0, 0, 1): 5 5 1 / 5 _ 1 / 3 3 4 -> all but the 5s darker
+    assert int(c[0, 0]) == 0b11110100
+
+
+def test_cost_out_of_image_is_largest():
+    rng = np.random.default_rng(0)
+    left, right = rng.integers(0, 32, (5, 6)), rng.integers(0, 32, (5, 6))
+    cost = matching_cost(left, right, SMALL)
+    for d in range(SMALL.disparities):
+        assert (cost[d, :, 6 - d:] == SMALL.census_bits).all()
+    cl, cr = census(left, SMALL), census(right, SMALL)
+    assert cost[2, 3, 1] == bin(int(cr[3, 1]) ^ int(cl[3, 3])).count("1")
+
+
+def _path_loop(cost, p1, p2):
+    """The path recursion of docs/depth.md with Python loops over one line of pixels (cost: D x n)."""
+    d_count, n = cost.shape
+    out = np.zeros_like(cost)
+    prev = [0] * d_count
+    for x in range(n):
+        m = min(prev)
+        for d in range(d_count):
+            terms = [prev[d], m + p2]
+            if d >= 1:
+                terms.append(prev[d - 1] + p1)
+            if d + 1 < d_count:
+                terms.append(prev[d + 1] + p1)
+            out[d, x] = cost[d, x] + min(terms) - m
+        prev = list(out[:, x])
+    return out
+
+
+def test_paths_equal_a_loop_formulation():
+    cost = np.random.default_rng(3).integers(0, 49, (8, 5, 7))
+    cfg = DepthConfig(disparities=8, lanes=4)
+    horizontal, vertical = path_cost(cost, "horizontal", cfg), path_cost(cost, "vertical", cfg)
+    for y in range(5):
+        assert (horizontal[:, y, :] == _path_loop(cost[:, y, :], cfg.p1, cfg.p2)).all()
+    for x in range(7):
+        assert (vertical[:, :, x] == _path_loop(cost[:, :, x], cfg.p1, cfg.p2)).all()
+
+
+def test_winner_ties_and_validity():
+    cfg = DepthConfig(disparities=4, lanes=2, max_cost=10)
+    total = np.array([[[5, 5, 11, 3]], [[5, 4, 12, 3]], [[7, 4, 11, 3]], [[6, 9, 11, 2]]])   # D x 1 x 4
+    codes, best = winner(total, cfg)
+    assert codes.tolist() == [[0, 1, 4, 4]]            # tie -> smaller d; 11 > 10 invalid; d = D-1 invalid
+    assert best.tolist() == [[5, 4, 11, 2]]
+
+
+def test_median_equals_scipy_nearest():
+    codes = np.random.default_rng(4).integers(0, 65, (9, 11))
+    assert (median3x3(codes) == median_filter(codes, size=3, mode="nearest")).all()
+
+
+def test_shifted_texture_gives_the_shift():
+    """right(x) = left(x + 5) on a random texture: disparity 5 everywhere away from the borders."""
+    texture = np.random.default_rng(5).integers(0, 32, (40, 80))
+    left, right = texture[:, :75], texture[:, 5:]
+    codes = depth_map(left, right, DepthConfig(disparities=16, lanes=4))
+    assert (codes[3:-3, 3:60] == 5).mean() > 0.98
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.data())
+def test_path_values_never_leave_their_width(data):
+    """Any costs 0..N and any P1 <= P2: every path value lies in 0..N + P2 (the documented width, no
+    saturation), and every sum in 0..2 (N + P2)."""
+    p2 = data.draw(st.integers(0, 200))
+    cfg = DepthConfig(disparities=data.draw(st.sampled_from([2, 3, 8])), lanes=1, p1=data.draw(st.integers(0, p2)),
+                      p2=p2)
+    n = cfg.census_bits
+    shape = (cfg.disparities, data.draw(st.integers(1, 4)), data.draw(st.integers(1, 6)))
+    extreme = data.draw(st.sampled_from(["random", "zero", "max", "alternating"]))
+    rng = np.random.default_rng(data.draw(st.integers(0, 2**32 - 1)))
+    cost = {"random": rng.integers(0, n + 1, shape), "zero": np.zeros(shape, int),
+            "max": np.full(shape, n), "alternating": (np.indices(shape).sum(0) % 2) * n}[extreme]
+    for axis in ("horizontal", "vertical"):
+        values = path_cost(cost, axis, cfg)
+        assert values.min() >= 0 and values.max() <= cfg.path_max < 2 ** cfg.path_bits
+    total = path_cost(cost, "horizontal", cfg) + path_cost(cost, "vertical", cfg)
+    assert total.max() < 2 ** cfg.sum_bits
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.integers(0, DEPTH.path_max), min_size=DEPTH.disparities, max_size=DEPTH.disparities),
+       st.lists(st.integers(0, DEPTH.census_bits), min_size=DEPTH.disparities, max_size=DEPTH.disparities))
+def test_one_step_bound_for_any_previous_vector(prev, cost):
+    """The bound holds for any previous vector in range, not only reachable ones: 0 <= L <= N + P2."""
+    out = path_step(np.array(cost)[:, None], np.array(prev)[:, None], DEPTH.p1, DEPTH.p2)
+    assert out.min() >= 0 and out.max() <= DEPTH.path_max
+
+
+def test_bad_input_is_rejected():
+    with pytest.raises(ValueError, match="same size"):
+        depth_map(np.zeros((4, 5), int), np.zeros((4, 6), int), SMALL)
+    with pytest.raises(ValueError, match="width"):
+        depth_map(np.zeros((4, 3), int), np.zeros((4, 3), int), SMALL)
+    with pytest.raises(ValueError, match="axis"):
+        path_cost(np.zeros((2, 2, 2)), "diagonal", SMALL)

@@ -1,0 +1,164 @@
+"""The depth engine's arithmetic blocks against golden/depth.py, with hypothesis: cost (Hamming), the path
+recursion (any previous vector in range, and whole lines of the recurrent path), the winner with validity.
+Values at the ends of their ranges are drawn on purpose: nothing may wrap (docs/depth.md: no saturation is
+needed because every width holds its largest value)."""
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from golden.depth import path_cost, path_step, winner
+from hdl.depth.matching_cost import MatchingCost
+from hdl.depth.sgm_path import SgmPath
+from hdl.depth.winner import Winner
+from hdl.params import DEPTH, SMALL_DEPTH, DepthConfig
+from sim.amaranth_sim import simulate
+
+WIDTH = 16
+CONFIGS = [SMALL_DEPTH, DepthConfig(disparities=6, lanes=2, p1=7, p2=200)]
+
+
+def token(group, last, x=0, first=0, go=1):
+    return {"go": go, "group": group, "last": last, "first": first, "x": x}
+
+
+def edgy(top):
+    """Integers 0..top, often at the ends."""
+    return st.one_of(st.integers(0, top), st.sampled_from([0, 1, top - 1, top]))
+
+
+@settings(max_examples=10, deadline=None)
+@given(st.data())
+def test_matching_cost(data):
+    cfg = data.draw(st.sampled_from([SMALL_DEPTH, DEPTH]))
+    n = cfg.census_bits
+    words = st.one_of(st.integers(0, 2 ** n - 1), st.sampled_from([0, 2 ** n - 1]))
+    cases = data.draw(st.lists(st.tuples(words, st.lists(words, min_size=cfg.lanes, max_size=cfg.lanes),
+                                         st.integers(0, 2 ** cfg.lanes - 1)), min_size=1, max_size=6))
+    dut = MatchingCost(cfg)
+    got = []
+
+    async def bench(ctx):
+        for i in range(len(cases) + MatchingCost.LATENCY):
+            if i < len(cases):
+                right, left, inside = cases[i]
+                ctx.set(dut.right, right)
+                ctx.set(dut.inside, inside)
+                for k in range(cfg.lanes):
+                    ctx.set(dut.left[k], left[k])
+            await ctx.tick()
+            if i >= MatchingCost.LATENCY - 1 and len(got) < len(cases):
+                got.append([ctx.get(dut.cost[k]) for k in range(cfg.lanes)])
+
+    simulate(dut, clocks={"sync": 1e8}, testbenches=[bench])
+    for (right, left, inside), costs in zip(cases, got):
+        assert costs == [bin(right ^ left[k]).count("1") if inside >> k & 1 else n for k in range(cfg.lanes)]
+
+
+def run_vertical_pixel(cfg, prev, cost):
+    """One pixel through the vertical path (``prev`` from outside): its L vector and its M."""
+    dut = SgmPath(cfg, recurrent=False, width=WIDTH)
+    groups = cfg.disparities // cfg.lanes
+    out = {}
+
+    async def bench(ctx):
+        for d in range(cfg.disparities):
+            ctx.set(dut.prev[d], prev[d])
+        ctx.set(dut.prev_min, min(prev))
+        values = []
+        for i in range(groups + SgmPath.result_clocks(cfg) + 2):
+            if i < groups:
+                ctx.set(dut.token, token(i, i == groups - 1))
+                for k in range(cfg.lanes):
+                    ctx.set(dut.cost[k], cost[i * cfg.lanes + k])
+            else:
+                ctx.set(dut.token, token(0, 0, go=0))
+            await ctx.tick()
+            if ctx.get(dut.l_token.go):
+                values += [ctx.get(dut.l[k]) for k in range(cfg.lanes)]
+            if ctx.get(dut.m_valid):
+                out["m"] = ctx.get(dut.m)
+        out["l"] = values
+
+    simulate(dut, clocks={"sync": 1e8}, testbenches=[bench])
+    return out["l"], out["m"]
+
+
+@settings(max_examples=15, deadline=None)
+@given(st.data())
+def test_vertical_path_step(data):
+    """Any previous vector in 0..N + P2 and any costs 0..N: L equals the golden step, M its minimum."""
+    cfg = data.draw(st.sampled_from(CONFIGS))
+    prev = data.draw(st.lists(edgy(cfg.path_max), min_size=cfg.disparities, max_size=cfg.disparities))
+    cost = data.draw(st.lists(edgy(cfg.census_bits), min_size=cfg.disparities, max_size=cfg.disparities))
+    values, minimum = run_vertical_pixel(cfg, prev, cost)
+    expected = path_step(np.array(cost)[:, None], np.array(prev)[:, None], cfg.p1, cfg.p2)[:, 0]
+    assert values == expected.tolist()
+    assert minimum == expected.min()
+
+
+@settings(max_examples=10, deadline=None)
+@given(st.data())
+def test_horizontal_path_line(data):
+    """A line of pixels through the recurrent path at its closest spacing (``loop_clocks``): equal to the
+    golden horizontal path; ``first`` restarts it."""
+    cfg = data.draw(st.sampled_from(CONFIGS))
+    n = data.draw(st.integers(1, 6))
+    cost = np.array(data.draw(st.lists(st.lists(edgy(cfg.census_bits), min_size=n, max_size=n),
+                                       min_size=cfg.disparities, max_size=cfg.disparities)))
+    restart = data.draw(st.integers(0, n - 1))
+    dut = SgmPath(cfg, recurrent=True, width=WIDTH)
+    groups, spacing = cfg.disparities // cfg.lanes, SgmPath.loop_clocks(cfg)
+    got = np.zeros_like(cost)
+
+    async def bench(ctx):
+        for clock in range(n * spacing + SgmPath.result_clocks(cfg) + 2):
+            x, g = divmod(clock, spacing)
+            if x < n and g < groups:
+                ctx.set(dut.token, token(g, g == groups - 1, x=x, first=x in (0, restart)))
+                for k in range(cfg.lanes):
+                    ctx.set(dut.cost[k], int(cost[g * cfg.lanes + k, x]))
+            else:
+                ctx.set(dut.token, token(0, 0, go=0))
+            await ctx.tick()
+            t = ctx.get(dut.l_token)
+            if t.go:
+                for k in range(cfg.lanes):
+                    got[t.group * cfg.lanes + k, t.x] = ctx.get(dut.l[k])
+
+    simulate(dut, clocks={"sync": 1e8}, testbenches=[bench])
+    parts = [cost[:, None, :restart], cost[:, None, restart:]] if restart else [cost[:, None, :]]
+    expected = np.concatenate([path_cost(part, "horizontal", cfg)[:, 0] for part in parts], axis=1)
+    assert (got == expected).all()
+
+
+@settings(max_examples=15, deadline=None)
+@given(st.data())
+def test_winner(data):
+    """Smallest sum, smallest d on ties, invalid above max_cost or at D - 1; sums up to 2 (N + P2)."""
+    cfg = data.draw(st.sampled_from(CONFIGS + [DepthConfig(disparities=8, lanes=4, max_cost=0)]))
+    top = cfg.path_max
+    lh = data.draw(st.lists(st.sampled_from([0, 1, 2, top]) | st.integers(0, top), min_size=cfg.disparities,
+                            max_size=cfg.disparities))
+    lv = data.draw(st.lists(st.sampled_from([0, 1, top]) | st.integers(0, top), min_size=cfg.disparities,
+                            max_size=cfg.disparities))
+    dut = Winner(cfg, WIDTH)
+    groups = cfg.disparities // cfg.lanes
+    out = {}
+
+    async def bench(ctx):
+        for i in range(groups + Winner.latency(cfg) + 2):
+            if i < groups:
+                ctx.set(dut.token, token(i, i == groups - 1, x=7))
+                for k in range(cfg.lanes):
+                    ctx.set(dut.horizontal[k], lh[i * cfg.lanes + k])
+                    ctx.set(dut.vertical[k], lv[i * cfg.lanes + k])
+            else:
+                ctx.set(dut.token, token(0, 0, go=0))
+            await ctx.tick()
+            if ctx.get(dut.valid):
+                out["code"], out["x"] = ctx.get(dut.code), ctx.get(dut.x)
+
+    simulate(dut, clocks={"sync": 1e8}, testbenches=[bench])
+    codes, _ = winner((np.array(lh) + np.array(lv))[:, None, None], cfg)
+    assert (out["code"], out["x"]) == (int(codes[0, 0]), 7)
