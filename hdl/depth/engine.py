@@ -149,7 +149,6 @@ class DepthEngine(wiring.Component):
         y = Signal(range(h + 1))                   # the pass running or waiting to run
         step = Signal(range(self.steps))
         clock = Signal(range(self.step_clocks))
-        drain = Signal(range(self.drain_clocks + 1))
         in_run = Signal()
         ring_row = [Signal(range(RING_ROWS), name=f"ring_row{j}") for j in range(cfg.census_height)]
         out_base = Signal(range(self.out_rows * w))
@@ -171,6 +170,18 @@ class DepthEngine(wiring.Component):
         m.d.comb += [left_ring.limit.eq(limit), right_ring.limit.eq(limit),
                      left_ring.start.eq(self.start), right_ring.start.eq(self.start)]
 
+        self._passes(m, y, step, clock, can_start, in_run, out_base)
+
+        left_sig, right_sig = self._census(m, left_ring, right_ring, ring_row, step, clock, in_run)
+        token, right_cen, left_sel, inside = self._issue(m, left_sig, right_sig, step, clock, in_run)
+        horizontal, vertical = self._paths(m, token, right_cen, left_sel, inside, step, clock, in_run, y)
+        self._back_end(m, horizontal, vertical, y, out_base)
+        return m
+
+    def _passes(self, m, y, step, clock, can_start, in_run, out_base):
+        """The pass state machine: wait for rows and room, run the steps, drain, next pass."""
+        w, h = self.geometry.buf_width, self.geometry.buf_height
+        drain = Signal(range(self.drain_clocks + 1))
         with m.FSM(name="engine"):
             with m.State("IDLE"):
                 with m.If(self.start):
@@ -212,12 +223,6 @@ class DepthEngine(wiring.Component):
                     m.next = "SETTLE"
         with m.If(self.start):
             m.d.sync += [y.eq(0), self.rows_ready.eq(0), out_base.eq(0)]
-
-        left_sig, right_sig = self._census(m, left_ring, right_ring, ring_row, step, clock, in_run)
-        token, right_cen, left_sel, inside = self._issue(m, left_sig, right_sig, step, clock, in_run)
-        horizontal, vertical = self._paths(m, token, right_cen, left_sel, inside, step, clock, in_run, y)
-        self._back_end(m, horizontal, vertical, y, out_base)
-        return m
 
     def _census(self, m, left_ring, right_ring, ring_row, step, clock, in_run):
         """Step clocks 0-3: ring reads, census windows, the left census shift register (newest first)."""

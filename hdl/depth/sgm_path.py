@@ -154,6 +154,12 @@ class SgmPath(wiring.Component):
                         with m.Case(g):
                             m.d.sync += following[g * lanes + k].eq(value)
 
+        self._minimum(m, layout, following if self.recurrent else None, current if self.recurrent else None)
+        return m
+
+    def _minimum(self, m, layout, following, current):
+        """i + 3 on: the minimum over the lanes, then over the groups; the horizontal banks' copy."""
+        lanes, pbits = self.config.lanes, self.config.path_bits
         # i + 3 ...: minimum over the lanes, then over the groups.
         if self.recurrent:
             with m.If(self.l_token.go & self.l_token.last):
@@ -172,4 +178,3 @@ class SgmPath(wiring.Component):
             m.d.sync += running.eq(folded)
             with m.If(tok.last):
                 m.d.sync += self.m.eq(folded)
-        return m
