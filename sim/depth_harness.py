@@ -85,9 +85,9 @@ class DepthHarness(wiring.Component):
         m.d.comb += engine.result.addr.eq(ring_base + x)
         m.d.sync += [copy_valid.eq(copying), copy_addr.eq(map_addr)]
         m.d.comb += [store.addr.eq(copy_addr), store.data.eq(engine.result.data), store.en.eq(copy_valid)]
-        m.d.comb += [engine.rows_released.eq(row), engine.start.eq(self.start), self.done.eq(row == h)]
-        m.d.comb += self.rows_ready.eq(engine.rows_ready)
-        with m.If(~copying & ~self.hold & (row < engine.rows_ready)):
+        m.d.comb += [engine.result.rows_released.eq(row), engine.start.eq(self.start), self.done.eq(row == h)]
+        m.d.comb += self.rows_ready.eq(engine.result.rows_ready)
+        with m.If(~copying & ~self.hold & (row < engine.result.rows_ready)):
             m.d.sync += [copying.eq(1), x.eq(0)]
         with m.If(copying):
             m.d.sync += [x.eq(x + 1), map_addr.eq(map_addr + 1)]

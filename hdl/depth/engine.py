@@ -72,12 +72,10 @@ class DepthEngine(wiring.Component):
     left, right : Out(SharedReadSignature)
         The frame buffers' read ports, each shared through request/grant (see ``SharedReadSignature``);
         every pixel is read once per map, rows in order.
-    rows_ready : Out(range(height + 1))
-        Rows of this map complete in the result ring (0 after ``start``).
-    rows_released : In(range(height + 1))
-        Rows the reader no longer needs; row r is written only once ``rows_released > r - out_rows``.
     result : In(ResultReadSignature)
-        The reader's port into the result ring: address (r mod out_rows) * width + x, data one clock later.
+        The reader's port into the result ring: address (r mod out_rows) * width + x, data one clock later;
+        ``rows_ready`` = rows of this map complete (0 after ``start``); row r is written only once the
+        reader's ``rows_released`` > r - out_rows.
     busy : Out(1)
         A map is being computed.
 
@@ -128,9 +126,7 @@ class DepthEngine(wiring.Component):
             "start": In(1),
             "left": Out(SharedReadSignature(geometry)),
             "right": Out(SharedReadSignature(geometry)),
-            "rows_ready": Out(range(h + 1)),
-            "rows_released": In(range(h + 1)),
-            "result": In(ResultReadSignature((out_rows * w - 1).bit_length(), config.code_bits)),
+            "result": In(ResultReadSignature((out_rows * w - 1).bit_length(), config.code_bits, h)),
             "busy": Out(1),
         })
 
@@ -158,7 +154,7 @@ class DepthEngine(wiring.Component):
         need, first, before = Signal.like(y), Signal(), Signal.like(y)
         room_limit = Signal(range(h + self.out_rows + 1))
         m.d.sync += [need.eq(Mux(y + ry + 1 < h, y + ry + 1, h)), first.eq(y == 0), before.eq(y - 1),
-                     room_limit.eq(self.rows_released + self.out_rows)]
+                     room_limit.eq(self.result.rows_released + self.out_rows)]
         can_start = Signal()
         m.d.sync += can_start.eq((left_ring.fetched >= need) & (right_ring.fetched >= need)
                                  & (first | (before < room_limit)))
@@ -213,7 +209,7 @@ class DepthEngine(wiring.Component):
                 with m.If(drain == self.drain_clocks):
                     m.d.sync += y.eq(y + 1)
                     with m.If(y != 0):
-                        m.d.sync += [self.rows_ready.eq(y),
+                        m.d.sync += [self.result.rows_ready.eq(y),
                                      out_base.eq(Mux(out_base == (self.out_rows - 1) * w, 0, out_base + w))]
                     with m.If(y == h):
                         m.next = "IDLE"
@@ -222,7 +218,7 @@ class DepthEngine(wiring.Component):
                 with m.If(self.start):
                     m.next = "SETTLE"
         with m.If(self.start):
-            m.d.sync += [y.eq(0), self.rows_ready.eq(0), out_base.eq(0)]
+            m.d.sync += [y.eq(0), self.result.rows_ready.eq(0), out_base.eq(0)]
 
     def _census(self, m, left_ring, right_ring, ring_row, step, clock, in_run):
         """Step clocks 0-3: ring reads, census windows, the left census shift register (newest first)."""

@@ -24,6 +24,11 @@ class MatchingCost(wiring.Component):
     """C = popcount(right XOR left) for ``lanes`` candidates at once; ``census_bits`` where the candidate's
     left column is outside the image.
 
+    Parameters
+    ----------
+    config : DepthConfig
+        Census size and lanes.
+
     Ports
     -----
     right : In(census_bits)

@@ -26,6 +26,13 @@ class Median3x3(wiring.Component):
     brings no new row: it finishes row ``height - 1``. A line buffer keeps the two rows before. Clamping: the row
     above row 0 is row 0, the row below the last row is the last row, and the same for the columns.
 
+    Parameters
+    ----------
+    config : DepthConfig
+        Code width.
+    geometry : SensorGeometry
+        Image size.
+
     Ports
     -----
     y : In(range(height + 1))

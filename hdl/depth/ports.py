@@ -36,11 +36,17 @@ class SharedReadSignature(wiring.Signature):
 
 
 class ResultReadSignature(wiring.Signature):
-    """The reader's side of the engine's output rows: ``addr`` = (row mod rows) * width + x, ``data`` (the
-    code) one clock later."""
+    """The reader's side of the engine's ring of result rows: ``addr`` = (row mod rows) * width + x, ``data``
+    (the code) one clock later; ``rows_ready`` (in) counts the rows of the current map in the ring,
+    ``rows_released`` (out) the rows the reader no longer needs."""
 
-    def __init__(self, addr_bits, code_bits):
-        super().__init__({"addr": Out(addr_bits), "data": In(code_bits)})
+    def __init__(self, addr_bits, code_bits, height):
+        super().__init__({
+            "addr": Out(addr_bits),
+            "data": In(code_bits),
+            "rows_ready": In(range(height + 1)),
+            "rows_released": Out(range(height + 1)),
+        })
 
 
 def token_layout(groups, width):

@@ -15,6 +15,13 @@ class Winner(wiring.Component):
     """S(d) = L_h(d) + L_v(d) a group at a time; the smallest d with the smallest S; the code d, or D when that
     S is above ``max_cost`` or d = D - 1.
 
+    Parameters
+    ----------
+    config : DepthConfig
+        D, lanes, ``max_cost``.
+    width : int
+        Image width (the token's column range).
+
     Ports
     -----
     token, horizontal, vertical : In
