@@ -162,7 +162,8 @@ class DepthEngine(wiring.Component):
             row = y + j - ry
             clamped = Mux(row < 0, 0, Mux(row > h - 1, h - 1, row))
             m.d.sync += ring_row[j].eq(clamped[:(RING_ROWS - 1).bit_length()])
-        limit = Mux(~self.busy, 0, Mux(y + RING_ROWS - ry < h, y + RING_ROWS - ry, h))     # none while idle
+        limit = Signal(range(h + 1))            # rows that may be fetched: none while idle; late is safe
+        m.d.sync += limit.eq(Mux(~self.busy, 0, Mux(y + RING_ROWS - ry < h, y + RING_ROWS - ry, h)))
         m.d.comb += [left_ring.limit.eq(limit), right_ring.limit.eq(limit),
                      left_ring.start.eq(self.start), right_ring.start.eq(self.start)]
 
