@@ -30,9 +30,8 @@ from pathlib import Path
 from golden.capture import capture_frame, capture_stream
 from golden.stereo_pair import load_default_pair
 from hdl.capture_path import CapturePath
-from hdl.export import export_verilog
+from hdl.export import amaranth_verilog, export_verilog
 from hdl.params import SENSOR
-from sim.cocotb_runner import export_verilog as amaranth_verilog
 from sim.cocotb_runner import run_cocotb
 from sim.mt9d112 import MT9D112, SENSOR_TIMING, Faults, SensorTiming, playback_design, run_capture_amaranth
 from sim.sensor_config import SensorConfig

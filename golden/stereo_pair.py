@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 from PIL import Image
 
-__all__ = ["DATA_DIR", "load_default_pair", "load_pair", "fit_to_sensor"]
+__all__ = ["DATA_DIR", "load_default_pair", "load_pair", "read_image", "fit_to_sensor"]
 
 DATA_DIR = Path(__file__).resolve().parent / "data"
 
@@ -31,19 +31,23 @@ def fit_to_sensor(image, width, height):
     return np.asarray(img.convert("RGB"), dtype=np.uint8)
 
 
+def read_image(path):
+    """An image file as an (H, W, 3) uint8 RGB array. Raises ``OSError`` with a one-line message for a missing or
+    unreadable file."""
+    path = Path(path)
+    if not path.is_file():
+        raise OSError(f"no such image file: {path}")
+    try:
+        with Image.open(path) as img:
+            return np.asarray(img.convert("RGB"), dtype=np.uint8)
+    except (OSError, ValueError) as exc:
+        raise OSError(f"cannot read image {path}: {exc}") from None
+
+
 def load_pair(left_path, right_path, width, height):
     """Read a stereo pair from image files and fit both to the sensor size. Raises ``OSError`` or
     ``ValueError`` (with a one-line message) for a missing, unreadable or mismatched pair."""
-    images = []
-    for path in (left_path, right_path):
-        path = Path(path)
-        if not path.is_file():
-            raise OSError(f"no such image file: {path}")
-        try:
-            with Image.open(path) as img:
-                images.append(np.asarray(img.convert("RGB"), dtype=np.uint8))
-        except (OSError, ValueError) as exc:
-            raise OSError(f"cannot read image {path}: {exc}") from None
+    images = [read_image(left_path), read_image(right_path)]
     if images[0].shape != images[1].shape:
         raise ValueError(f"left image is {images[0].shape[1]}x{images[0].shape[0]} but right image is "
                          f"{images[1].shape[1]}x{images[1].shape[0]}: a stereo pair must be the same size")

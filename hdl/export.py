@@ -29,9 +29,9 @@ a capture, on the compact export.
 
 import re
 
-from sim.cocotb_runner import export_verilog as _amaranth_verilog
+from amaranth.back import verilog as _verilog
 
-__all__ = ["export_verilog", "compact_memory_init"]
+__all__ = ["amaranth_verilog", "export_verilog", "compact_memory_init"]
 
 # A Verilog identifier: simple, or escaped (backslash ... terminated by a space, which is part of it here).
 _NAME = r"(?P<name>\\\S+ |[A-Za-z_][A-Za-z0-9_$]*)"
@@ -96,8 +96,16 @@ def _loop_var(name, verilog):
     return var
 
 
+def amaranth_verilog(component, name, ports=None):
+    """Amaranth's own Verilog for ``component`` (top-level module ``name``; a ``wiring.Component`` needs no
+    ``ports``), without source locations."""
+    if ports is None:
+        return _verilog.convert(component, name=name, emit_src=False)
+    return _verilog.convert(component, name=name, ports=ports, emit_src=False)
+
+
 def export_verilog(component, name, ports=None):
-    """Amaranth's Verilog for ``component`` (top-level module ``name``) with compact memory initialisation.
-    Pass the text to ``sim.cocotb_runner.run_cocotb`` as its ``design``."""
-    text, _ = compact_memory_init(_amaranth_verilog(component, name, ports))
+    """:func:`amaranth_verilog` with compact memory initialisation. Pass the text to
+    ``sim.cocotb_runner.run_cocotb`` as its ``design``."""
+    text, _ = compact_memory_init(amaranth_verilog(component, name, ports))
     return text

@@ -33,7 +33,9 @@ import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-__all__ = ["SIMULATORS", "REPO_ROOT", "export_verilog", "run_cocotb", "test_params", "simulator_available"]
+from hdl.export import amaranth_verilog
+
+__all__ = ["SIMULATORS", "REPO_ROOT", "run_cocotb", "test_params", "simulator_available"]
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 COCOTB_TEST_DIR = REPO_ROOT / "tests" / "cocotb"
@@ -75,14 +77,6 @@ def simulator_available(simulator):
         except ImportError:
             return False
     return False
-
-
-def export_verilog(design, name, ports=None):
-    """Verilog text of an Amaranth design (a ``wiring.Component`` needs no ``ports``)."""
-    from amaranth.back import verilog
-    if ports is None:
-        return verilog.convert(design, name=name, emit_src=False)
-    return verilog.convert(design, name=name, ports=ports, emit_src=False)
 
 
 _YOSYS_INIT_TRIGGER = re.compile(r"^(\s*)reg (\\\$auto\$verilog_backend\.cc:\d+:dump_module\$\d+ ) = 0;$", re.M)
@@ -145,7 +139,7 @@ def run_cocotb(design, *, name, test_module, simulator, params=None, waves=None,
     _setup_simulator_env(simulator)
     if waves is None:
         waves = os.environ.get("STEREO_WAVES", "") not in ("", "0")
-    verilog_text = design if isinstance(design, str) else export_verilog(design, name, ports)
+    verilog_text = design if isinstance(design, str) else amaranth_verilog(design, name, ports)
     verilator_fast = bool(verilator_fast) and simulator == "verilator"
     if simulator == "icarus":
         verilog_text = icarus_time_zero_fix(verilog_text)

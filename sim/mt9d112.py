@@ -57,7 +57,9 @@ from pathlib import Path
 import numpy as np
 
 from golden.capture import rgb565_to_bytes, to_rgb565
+from golden.stereo_pair import fit_to_sensor, read_image
 from hdl.params import CLOCKS
+from sim.errors import UserError
 from sim.sensor_config import SensorConfig
 
 __all__ = ["SensorTiming", "SENSOR_TIMING", "SMALL_SENSOR_TIMING", "Faults", "SensorStream", "MT9D112",
@@ -203,20 +205,12 @@ class MT9D112:
         """``image`` (RGB uint8 array, RGB565 uint16 array or PNG path) as RGB565 words at the configured size."""
         cfg = cfg or self.config()
         if isinstance(image, (str, Path)):
-            path = Path(image)
-            if not path.is_file():
-                from stereodepth.errors import UserError
-                raise UserError(f"no such image file: {path}")
             try:
-                from PIL import Image
-                with Image.open(path) as img:
-                    image = np.asarray(img.convert("RGB"), dtype=np.uint8)
+                image = read_image(image)
             except OSError as exc:
-                from stereodepth.errors import UserError
-                raise UserError(f"cannot read image {path}: {exc}") from None
+                raise UserError(str(exc)) from None
         image = np.asarray(image)
         if image.ndim == 3 and image.shape[:2] != (cfg.height, cfg.width):
-            from golden.stereo_pair import fit_to_sensor
             image = fit_to_sensor(image, cfg.width, cfg.height)
         words = to_rgb565(image)
         if words.shape != (cfg.height, cfg.width):

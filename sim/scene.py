@@ -3,7 +3,7 @@
 The thesis put flat cardboard shapes (a 19 cm rectangle, a 15.5 cm circle, a triangle) in front of a white
 background at 0.25-3 m and looked for the disparity register value at which each shape "disappears" from
 the difference image. This module renders that scene for the two sensors, exactly and deterministically,
-so the experiment can be repeated in simulation (``golden/testbed.py``).
+so the experiment can be repeated in simulation (``sim/testbed.py``).
 
 World frame (metres): origin midway between the two optical centres, X to the right, Y down, Z forward
 (the viewing direction). Camera A (left) is at X = -baseline/2, camera B (right) at X = +baseline/2.

@@ -76,7 +76,7 @@ def run_amaranth(left, right, setup, *, sensors="python", vcd=None, gtkw=None, t
     ``sensors``: ``"python"`` drives each camera's pins from the sensor model in a testbench, per PCLK;
     ``"replay"`` uses :class:`sim.system_amaranth_fast.AmaranthFastBench` (the model's frame-period stream
     replayed from a ROM, gated simulator clocks: the full-resolution route; the stream is made before the run for
-    ``golden.i2c_writes.expected_sensor_config`` and a :class:`SystemTimeout` is raised if the I2C init
+    ``sim.i2c_expected.expected_sensor_config`` and a :class:`SystemTimeout` is raised if the I2C init
     configures a register-file model to anything else).
 
     ``setup.pix_after_init`` starts the pixel clock once the I2C init is done (see ``sim/system_setup.py``).
@@ -92,7 +92,7 @@ def run_amaranth(left, right, setup, *, sensors="python", vcd=None, gtkw=None, t
     images = {"a": left, "b": right}
     replay = sensors == "replay"
     if replay:
-        from golden.i2c_writes import expected_sensor_config
+        from sim.i2c_expected import expected_sensor_config
         from sim.sensor_replay import stream_words
         from sim.system_amaranth_fast import GATED_DOMAINS, AmaranthFastBench, enable_clock
         expected_cfg = expected_sensor_config(setup.geometry)

@@ -2,7 +2,7 @@
 
 For each distance: render the test object for both cameras (sim/scene.py), capture both through the golden
 model, sweep the disparity register 0..127 (and the rectification register), find where the object's residual
-in the difference image is smallest (golden/testbed.py); then the near-field case of thesis 4.6.6, fits that
+in the difference image is smallest (sim/testbed.py); then the near-field case of thesis 4.6.6, fits that
 explain the thesis's observed column (re-simulated with the fitted rig), and a sample of points run through
 the RTL DisparitySubtractor in Amaranth's simulator, compared bit for bit. Writes into ``--out``:
 
@@ -55,7 +55,7 @@ def add_arguments(parser):
 
 
 def _check_args(args):
-    from golden.testbed import MAX_DISPARITY, MAX_RECTIFICATION, THESIS_DISTANCES_M, exact_disparity
+    from sim.testbed import MAX_DISPARITY, MAX_RECTIFICATION, THESIS_DISTANCES_M, exact_disparity
 
     distances = list(THESIS_DISTANCES_M if args.distances is None else args.distances)
     min_z = exact_disparity(1.0) / MAX_DISPARITY
@@ -117,7 +117,7 @@ def run(args):
     distances, max_r = _check_args(args)
     out = prepare_out_dir(args.out)
 
-    from golden import testbed as tb
+    from sim import testbed as tb
     from sim.scene import StereoRig, object_footprint, make_object
 
     say = (lambda *a: None) if args.quiet else print
@@ -207,7 +207,7 @@ _POINT_HEADER = ["distance_m", "object", "calculated_exact_px", "expected_px", "
 
 
 def _write_outputs(out, table, near, fits, resim, rtl_rows, rig):
-    from golden import testbed as tb
+    from sim import testbed as tb
 
     thesis = dict(zip(tb.THESIS_DISTANCES_M, zip(tb.THESIS_CALCULATED_PX, tb.THESIS_OBSERVED_PX)))
     fit_by_z = {f.model: dict(zip(tb.THESIS_DISTANCES_M, f.predicted)) for f in fits}
@@ -265,7 +265,7 @@ def _figures(out, table, near, fits, resim, rig, kw):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from golden import testbed as tb
+    from sim import testbed as tb
     from golden.disparity import difference_levels
     from sim.scene import make_object
 

@@ -1,8 +1,9 @@
-"""The one exception type the command line turns into a one-line error (no traceback, non-zero exit)."""
+"""The one exception type the command line turns into a one-line error (no traceback, non-zero exit): defined in
+``sim/errors.py`` (library code raises it too) and re-exported here."""
 
+from sim.errors import UserError
 
-class UserError(Exception):
-    """Bad input from the user: a missing or unreadable file, mismatched images, an out-of-range value."""
+__all__ = ["UserError", "prepare_out_dir"]
 
 
 def prepare_out_dir(path):

@@ -13,10 +13,9 @@ import pytest
 from golden.capture import capture_frame, capture_stream
 from golden.stereo_pair import load_default_pair
 from hdl.capture_path import CapturePath
-from hdl.export import compact_memory_init, export_verilog
+from hdl.export import amaranth_verilog, compact_memory_init, export_verilog
 from hdl.frame_buffer import FrameBuffer
 from hdl.params import SENSOR, SMALL_SENSOR, SensorGeometry
-from sim.cocotb_runner import export_verilog as amaranth_verilog
 from sim.cocotb_runner import run_cocotb
 from sim.mt9d112 import MT9D112, SENSOR_TIMING, SMALL_SENSOR_TIMING, playback_design, run_capture_amaranth
 from sim.sensor_config import SensorConfig

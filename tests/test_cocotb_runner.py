@@ -56,7 +56,8 @@ def test_verilator_fast_failure_is_reported():
 
 def test_icarus_fix_is_needed():
     """Without the time-zero fix, Icarus leaves the ``always @*`` output X: the check above can fail."""
-    from sim.cocotb_runner import export_verilog, icarus_time_zero_fix
+    from hdl.export import amaranth_verilog as export_verilog
+    from sim.cocotb_runner import icarus_time_zero_fix
     verilog_text = export_verilog(Counter(), "runner_selftest")
     assert icarus_time_zero_fix(verilog_text) != verilog_text
     assert "initial #0" in icarus_time_zero_fix(verilog_text)

@@ -22,7 +22,7 @@ from hdl.display_path import DISPLAY_PATH_LATENCY, DisplayPath
 from hdl.params import CEA_1080P60, SMALL_TIMING
 from hdl.pattern_gen import PatternGenerator
 from sim.amaranth_sim import simulate
-from sim.cocotb_runner import export_verilog
+from hdl.export import amaranth_verilog as export_verilog
 from sim.hdmi_sink import HdmiSink, amaranth_sink_testbench, run_display_cocotb
 
 #: CEA-861 1920x1080p60 (VIC 16) intervals as the sink and the edge timer measure them, written out here

