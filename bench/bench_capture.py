@@ -33,7 +33,8 @@ from hdl.capture_path import CapturePath
 from hdl.export import amaranth_verilog, export_verilog
 from hdl.params import SENSOR
 from sim.cocotb_runner import run_cocotb
-from sim.mt9d112 import MT9D112, SENSOR_TIMING, Faults, SensorTiming, playback_design, run_capture_amaranth
+from sim.capture_bench import playback_design, run_capture_amaranth
+from sim.mt9d112 import MT9D112, SENSOR_TIMING, Faults, SensorTiming
 from sim.sensor_config import SensorConfig
 
 OUT_DIR = Path(__file__).resolve().parents[1] / "build" / "bench"

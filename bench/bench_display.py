@@ -38,7 +38,7 @@ def bench_amaranth(timing, free_clocks, sink_clocks):
     dut = DisplayPath(timing)
     sink = HdmiSink(timing)
     wall = time.perf_counter()
-    simulate(dut, clocks={"sync": timing.pixel_hz}, testbenches=[amaranth_sink_testbench(sink, dut, sink_clocks)])
+    simulate(dut, clocks={"sync": timing.pixel_hz}, testbenches=[amaranth_sink_testbench(sink, dut.ch7301c, sink_clocks)])
     sink_rate = sink_clocks / (time.perf_counter() - wall)
     sink.check()
     return free_rate, sink_rate
@@ -46,7 +46,7 @@ def bench_amaranth(timing, free_clocks, sink_clocks):
 
 def bench_cocotb(timing, simulator, free_clocks, sink_clocks):
     from hdl.display_path import DisplayPath
-    from sim.hdmi_sink import run_display_cocotb
+    from sim.display import run_display_cocotb
 
     with tempfile.TemporaryDirectory() as tmp:
         run_display_cocotb(DisplayPath(timing), timing, simulator=simulator, sink_clocks=sink_clocks, min_frames=0,

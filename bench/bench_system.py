@@ -5,42 +5,46 @@ A whole run is the slow tests' run (``tests/test_system.py``): the I2C init with
 at 100 kHz, one full sensor frame per camera, one 1080p display frame, the rebuilt frame compared bit for bit
 with the golden frame.
 
-* Verilator and Icarus: the whole run through the fast route (``sim/system_fast.py``: clocks, sensor replay and
-  pin recording inside the simulator; Verilator with ``verilator_fast``). Build time (first run only) is
-  reported apart. Icarus takes about 20 minutes; ``--quick`` replaces its whole run by a probe.
-* Amaranth's simulator: the whole run takes about 1 h 50 min even through its fast route (sensor streams replayed
-  from ROMs in the simulated design, gated clocks; the HDMI sink samples every pixel clock in Python), so by
-  default the same full-size design runs with every clock going for a slice of simulated time and the wall
-  time of the whole run is **extrapolated** from that rate and the Verilator run's simulated time (stated as
-  such). ``--amaranth-whole`` measures the whole run instead: 6,424 s measured on 2026-11-23 against 5,783 s
-  extrapolated (with the sensors driven from Python per PCLK a whole run was on course for 3-3.5 h).
+* Verilator and Icarus: the whole run along the in-simulator route (``sim/system/verilog_bench.py``: clocks,
+  sensor replay and pin recording inside the simulator; Verilator with ``verilator_fast``). Build time (first run
+  only) is reported apart. ``--quick`` replaces Icarus's whole run (the longest) by a probe.
+* Amaranth's simulator: a whole run takes hours even along its replay route (sensor streams replayed from ROMs in
+  the simulated design, gated clocks; the HDMI sink samples every pixel clock in Python), so by default the same
+  full-size design runs with every clock going for a slice of simulated time and the wall time of the whole run
+  is **extrapolated** from that rate and the Verilator run's simulated time (stated as such).
+  ``--amaranth-whole`` measures the whole run instead.
 
 "Cycles" counts the rising edges of every clock domain of the design (sync 100 MHz, pix 148.5 MHz, two 80 MHz
 PCLKs) in the simulated time. Wall times are on this shared 2-core machine (usually loaded): pessimistic.
 """
 
 import argparse
-import json
 import sys
 import tempfile
 import time
 from pathlib import Path
 
-SYS_HZ, PIX_HZ, PCLK_HZ = 100e6, 148.5e6, 80e6
 PROBE_US = {"icarus": 200, "amaranth": 4}
+SETUP_FIELDS = {"disparity": 10, "rectification": 1}
+
+
+def _setup():
+    from sim.system.setup import SystemSetup
+    return SystemSetup.full(**SETUP_FIELDS)
 
 
 def _cycles(t_end, t_pix_start, t_cam_start):
-    return {"sync": t_end * SYS_HZ, "pix": max(0.0, t_end - t_pix_start) * PIX_HZ,
-            "cam_a": max(0.0, t_end - t_cam_start) * PCLK_HZ, "cam_b": max(0.0, t_end - t_cam_start) * PCLK_HZ}
+    s = _setup()
+    return {"sync": t_end * s.sys_hz, "pix": max(0.0, t_end - t_pix_start) * s.timing.pixel_hz,
+            "cam_a": max(0.0, t_end - t_cam_start) * s.pclk_hz, "cam_b": max(0.0, t_end - t_cam_start) * s.pclk_hz}
 
 
 def bench_cocotb(simulator, tmp):
-    """The whole run on ``simulator`` through the fast route (see the module docstring)."""
-    from sim.system_cocotb import run_cocotb_system
-    spec = {"preset": "full", "disparity": 10, "rectification": 1}
+    """The whole run on ``simulator`` along the in-simulator route (see the module docstring)."""
+    from sim.system.cocotb_routes import InSimulator
+    from sim.system.run_cocotb import run_cocotb_system
     wall = time.perf_counter()
-    result = run_cocotb_system(spec, simulator, out_dir=Path(tmp) / simulator, sensor="replay", sink="recorder")
+    result = run_cocotb_system(_setup(), simulator, route=InSimulator(), out_dir=Path(tmp) / simulator)
     total = time.perf_counter() - wall
     s = result.status
     return {"ok": result.mismatched_pixels == 0 and not s["violations"], "sim_s": s["t_end_s"],
@@ -49,17 +53,16 @@ def bench_cocotb(simulator, tmp):
 
 
 def bench_amaranth_whole():
-    """The whole run in Amaranth's simulator (``sim.system_amaranth.run_amaranth``, its full-size route: sensor
-    streams replayed from ROMs in the simulated design, gated clocks; the sink samples every pixel clock in
+    """The whole run in Amaranth's simulator (``sim.system.run_amaranth.run_amaranth`` along its replay route:
+    sensor streams replayed from ROMs in the simulated design, gated clocks; the sink samples every pixel clock in
     Python). The phase marks count from the start of the simulation (after the ROMs are built)."""
     from golden.stereo_pair import load_default_pair
-    from sim.system_amaranth import run_amaranth
-    from sim.system_cocotb import setup_from_spec
-    setup = setup_from_spec({"preset": "full", "disparity": 10, "rectification": 1})
+    from sim.system.run_amaranth import ROUTES, run_amaranth
+    setup = _setup()
     left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
     marks = {}
     start = time.perf_counter()
-    result = run_amaranth(left, right, setup, sensors="replay",
+    result = run_amaranth(left, right, setup, route=ROUTES["replay"],
                           progress=lambda stage, fraction: marks.setdefault(stage, time.perf_counter() - start))
     f = result.figures
     t_end = result.status["t_end_s"]
@@ -71,35 +74,24 @@ def bench_amaranth_whole():
 
 
 def _probe_rate_cocotb(simulator, tmp):
-    from sim.cocotb_runner import REPO_ROOT, run_cocotb
-    from sim.system_cocotb import _export, build_args, frame_period_samples, setup_from_spec
-    from sim.system_fast import FastSystemBench, write_sources
-    spec = {"preset": "full"}
-    setup = setup_from_spec(spec)
-    design = FastSystemBench(replay_depth=frame_period_samples(setup), **setup.system_kwargs())
-    out = Path(tmp) / simulator
+    """Every clock of the in-simulator route's design running for a slice of simulated time (the scenario's
+    ``rate_probe``)."""
+    from sim.system.run_cocotb import run_rate_probe
     wall = time.perf_counter()
-    run_cocotb(_export(design, "system_fast"), name="system_fast", test_module="cocotb_system",
-               simulator=simulator, testcase="rate_probe", build_args=build_args(simulator, True),
-               extra_sources=(write_sources(REPO_ROOT / "build" / "cocotb"),),
-               params={"setup": spec, "out_dir": str(out), "probe_us": PROBE_US[simulator]},
-               verilator_fast=True)
+    probe = run_rate_probe(_setup(), simulator, PROBE_US[simulator], Path(tmp) / simulator)
     total = time.perf_counter() - wall
-    probe = json.loads((out / "probe.json").read_text())
     return probe["probe_us"] * 1e-6, probe["wall_s"], total - probe["wall_s"]
 
 
 def _probe_rate_amaranth():
     from amaranth.sim import Simulator
-    from sim.system_bench import SystemBench
-    from sim.system_cocotb import setup_from_spec
-    setup = setup_from_spec({"preset": "full"})
+    from sim.system.bench import SystemBench
+    setup = _setup()
     bench = SystemBench(**setup.system_kwargs())
     sim = Simulator(bench)
-    sim.add_clock(1 / SYS_HZ, domain="sync")
-    sim.add_clock(1 / PIX_HZ, domain="pix")
-    sim.add_clock(1 / PCLK_HZ, domain="cam_a")
-    sim.add_clock(1 / PCLK_HZ, domain="cam_b")
+    for domain, hz in (("sync", setup.sys_hz), ("pix", setup.timing.pixel_hz), ("cam_a", setup.pclk_hz),
+                       ("cam_b", setup.pclk_hz)):
+        sim.add_clock(1 / hz, domain=domain)
     wall = time.perf_counter()
     sim.run_until(PROBE_US["amaranth"] * 1e-6)
     return PROBE_US["amaranth"] * 1e-6, time.perf_counter() - wall

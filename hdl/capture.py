@@ -3,7 +3,7 @@
 Pipeline (all in one clock domain, the camera's PCLK)::
 
     data/lv/fv pins -> input registers -> frame tracker (FV edges, row counter)
-                    -> RGB565Assembler (byte pairs, column) -> Grey -> Downscaler -> w_addr/w_data/w_en
+                    -> RGB565Assembler (byte pairs, column) -> Grey -> Downscaler -> write
 
 Counting rules (spec "Camera driver"; docs/capture.md): a frame starts at a FV rising edge and ends when FV
 falls; inside it, column = byte count / 2 within LV, row = count of LV falling edges. Outside a frame
@@ -14,14 +14,14 @@ long line, extra lines or a stream without LV gaps can never wrap onto a valid a
 outside the buffer or outside the pixel the counting rules give it. A malformed frame only affects itself:
 every FV rising edge restarts the counters.
 
-Ports: ``data[8]``, ``lv``, ``fv`` (sensor pins, sampled on the rising PCLK edge); the frame-buffer write
-port ``w_addr``, ``w_data``, ``w_en``; status: ``frame_start`` (one-cycle strobe, a frame begins),
-``frame_done`` (one-cycle strobe, FV fell on a frame that had started) with ``frame_ok`` (that frame had
-exactly ``height`` lines of exactly ``2 * width`` bytes), ``frame_count`` (frames completed, wrapping),
+Ports: ``pins`` (:data:`CameraSignature`: ``data[8]``, ``lv``, ``fv``, sampled on the rising PCLK edge); the
+frame-buffer write port ``write``; ``status`` (:data:`CaptureStatusSignature`): ``frame_start`` (one-cycle strobe,
+a frame begins), ``frame_done`` (one-cycle strobe, FV fell on a frame that had started) with ``frame_ok`` (that
+frame had exactly ``height`` lines of exactly ``2 * width`` bytes), ``frame_count`` (frames completed, wrapping),
 ``in_frame``.
 
 Clock domain: ``sync`` (the parent uses ``DomainRenamer`` to place it in ``cam_a`` / ``cam_b``).
-Latency: ``w_en`` is high in the 3rd clock cycle after the rising edge that sampled a kept pixel's second
+Latency: ``write.en`` is high in the 3rd clock cycle after the rising edge that sampled a kept pixel's second
 byte (input register, assembler, downscaler register); the memory commits it on the rising edge that ends
 that cycle. ``frame_start``/``frame_done`` come 1 cycle after the edge that sampled the FV change.
 A stream should therefore give at least 3 PCLK edges after a frame's last byte before PCLK stops (the
@@ -33,11 +33,24 @@ from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
 from .downscaler import Downscaler
+from .forward import forward
+from .frame_buffer import FrameBufferWriteSignature
 from .grey import Grey
 from .params import SENSOR
 from .rgb565_assembler import RGB565Assembler
 
-__all__ = ["CameraCapture"]
+__all__ = ["CameraSignature", "CaptureStatusSignature", "CameraCapture"]
+
+#: A camera's parallel video bus as the sensor drives it (MT9D112 DOUT[7:0], LINE_VALID, FRAME_VALID). The pins
+#: change on PCLK's falling edge and are sampled on its rising edge: PCLK is the clock of the receiving domain
+#: (``cam_a``, ``cam_b``), not a member.
+CameraSignature = wiring.Signature({"data": Out(8), "lv": Out(1), "fv": Out(1)})
+
+#: What a capture reports, in its camera's domain: strobes at a frame's start and end, whether the frame that
+#: ended was whole, frames completed (wrapping), and whether a frame is in progress.
+CaptureStatusSignature = wiring.Signature({
+    "frame_start": Out(1), "frame_done": Out(1), "frame_ok": Out(1), "frame_count": Out(16), "in_frame": Out(1),
+})
 
 
 class CameraCapture(wiring.Component):
@@ -46,27 +59,23 @@ class CameraCapture(wiring.Component):
             raise ValueError("the spec's grey conversion gives 5 bits; geometry.gray_bits must be 5")
         self.geometry = geometry
         self.r_byte_first = r_byte_first
+        # The assembler's column counts 0 .. width (saturating at width).
+        self._downscaler = Downscaler(geometry, column_bits=geometry.width.bit_length(),
+                                      row_bits=geometry.height.bit_length())
+        self._assembler = RGB565Assembler(geometry.width, r_byte_first=r_byte_first)
         super().__init__({
-            "data": In(8),
-            "lv": In(1),
-            "fv": In(1),
-            "w_addr": Out(geometry.addr_bits),
-            "w_data": Out(geometry.gray_bits),
-            "w_en": Out(1),
-            "frame_start": Out(1),
-            "frame_done": Out(1),
-            "frame_ok": Out(1),
-            "frame_count": Out(16),
-            "in_frame": Out(1),
+            "pins": In(CameraSignature),
+            "write": Out(FrameBufferWriteSignature(geometry)),
+            "status": Out(CaptureStatusSignature),
         })
+        forward(self, "write", self._downscaler.write)
 
     def elaborate(self, platform):
         m = Module()
         g = self.geometry
-        m.submodules.assembler = assembler = RGB565Assembler(g.width, r_byte_first=self.r_byte_first)
+        m.submodules.assembler = assembler = self._assembler
         m.submodules.grey = grey = Grey()
-        m.submodules.downscaler = downscaler = Downscaler(
-            g, column_bits=len(assembler.column), row_bits=g.height.bit_length())
+        m.submodules.downscaler = downscaler = self._downscaler
 
         # Input registers (IOB flip-flops on the board). FV's registers start high so that a frame in
         # progress when reset ends does not look like a FV rising edge.
@@ -74,7 +83,8 @@ class CameraCapture(wiring.Component):
         lv_r = Signal()
         fv_r = Signal(init=1)
         fv_prev = Signal(init=1)
-        m.d.sync += [data_r.eq(self.data), lv_r.eq(self.lv), fv_r.eq(self.fv), fv_prev.eq(fv_r)]
+        pins = self.pins
+        m.d.sync += [data_r.eq(pins.data), lv_r.eq(pins.lv), fv_r.eq(pins.fv), fv_prev.eq(fv_r)]
 
         # Frame tracker.
         in_frame = Signal()
@@ -103,15 +113,16 @@ class CameraCapture(wiring.Component):
 
         rows_done = Signal(range(g.height + 2))
         m.d.comb += rows_done.eq(row + line_end)
+        status = self.status
         m.d.sync += [
-            self.frame_start.eq(fv_rise),
-            self.frame_done.eq(frame_end),
-            self.in_frame.eq(frame_active),
+            status.frame_start.eq(fv_rise),
+            status.frame_done.eq(frame_end),
+            status.in_frame.eq(frame_active),
         ]
         with m.If(frame_end):
             m.d.sync += [
-                self.frame_ok.eq(~bad & ~line_bad & (rows_done == g.height)),
-                self.frame_count.eq(self.frame_count + 1),
+                status.frame_ok.eq(~bad & ~line_bad & (rows_done == g.height)),
+                status.frame_count.eq(status.frame_count + 1),
             ]
 
         # Pixel path.
@@ -121,8 +132,5 @@ class CameraCapture(wiring.Component):
             downscaler.grey.eq(grey.grey),
             downscaler.column.eq(assembler.column),
             downscaler.row.eq(row),
-            self.w_addr.eq(downscaler.w_addr),
-            self.w_data.eq(downscaler.w_data),
-            self.w_en.eq(downscaler.w_en),
         ]
         return m

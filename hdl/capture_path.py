@@ -1,86 +1,95 @@
-"""CapturePath: one or two cameras' capture paths with their frame buffers (a test / integration wrapper).
+"""CapturePath: one or two cameras' capture paths with their frame buffers (the left half of thesis figure 4.1).
 
 For each camera ``c`` in ``cameras`` (default ``("a", "b")``): a :class:`~hdl.capture.CameraCapture` in the
 ``cam_<c>`` domain (the camera's PCLK) writing a :class:`~hdl.frame_buffer.FrameBuffer` whose read port is in
-``read_domain`` (``pix`` by default). This is the left half of thesis figure 4.1.
-
-Ports, per camera ``c``:
-
-* ``cam_<c>_data[8]``, ``cam_<c>_lv``, ``cam_<c>_fv``: the sensor pins (``cam_<c>`` domain);
-* ``cam_<c>_w_addr``, ``cam_<c>_w_data``, ``cam_<c>_w_en``: a copy of the frame-buffer write port, so a test
-  bench can check every write (``cam_<c>`` domain);
-* ``cam_<c>_frame_start``, ``cam_<c>_frame_done``, ``cam_<c>_frame_ok``, ``cam_<c>_frame_count``,
-  ``cam_<c>_in_frame``: the capture's status (``cam_<c>`` domain);
-* ``cam_<c>_r_addr`` -> ``cam_<c>_r_data``: the frame buffer's read port (``read_domain``, one clock of
-  latency).
-
-The clock domains are not created here: the parent (or, for a top-level export, Amaranth) provides
-``cam_<c>`` and ``pix``; exported Verilog names their clocks ``cam_a_clk``, ``pix_clk`` and so on.
-Latency: as :class:`~hdl.capture.CameraCapture` (write port) and :class:`~hdl.frame_buffer.FrameBuffer`
-(read port).
+``read_domain`` (``pix`` by default). :class:`~hdl.system.StereoDepthSystem` is built on it, and the capture tests
+and bench run it alone.
 """
 
 from amaranth import DomainRenamer, Module
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
-from .capture import CameraCapture
-from .frame_buffer import FrameBuffer
+from .capture import CameraCapture, CameraSignature, CaptureStatusSignature
+from .forward import forward
+from .frame_buffer import FrameBuffer, FrameBufferReadSignature, FrameBufferWriteSignature
 from .params import SENSOR
 
-__all__ = ["CapturePath"]
+__all__ = ["CapturePortSignature", "CapturePath"]
 
-_STATUS = ("frame_start", "frame_done", "frame_ok", "frame_count", "in_frame")
+
+class CapturePortSignature(wiring.Signature):
+    """Everything of one camera's capture path, as the path presents it: ``pins`` (``In(CameraSignature)``, the
+    sensor pins), ``write`` (``Out(FrameBufferWriteSignature)``, the write port the capture drives into its buffer,
+    for test benches to watch), ``status`` (``Out(CaptureStatusSignature)``), all in the camera's domain, and
+    ``read`` (``In(FrameBufferReadSignature)``, the buffer's read port, in the read domain)."""
+
+    def __init__(self, geometry):
+        self.geometry = geometry
+        super().__init__({
+            "pins": In(CameraSignature),
+            "write": Out(FrameBufferWriteSignature(geometry)),
+            "status": Out(CaptureStatusSignature),
+            "read": In(FrameBufferReadSignature(geometry)),
+        })
+
+    def __eq__(self, other):
+        return type(other) is type(self) and self.members == other.members
+
+    def __repr__(self):
+        return f"CapturePortSignature({self.geometry!r})"
 
 
 class CapturePath(wiring.Component):
-    def __init__(self, geometry=SENSOR, *, cameras=("a", "b"), r_byte_first=True, read_domain="pix",
-                 init=()):
+    """Capture + frame buffer per camera.
+
+    Parameters
+    ----------
+    geometry : :class:`hdl.params.SensorGeometry`
+    cameras : tuple of str
+        Camera names; camera ``c`` is captured in domain ``cam_<c>`` and has the member ``cam_<c>``.
+    r_byte_first : bool
+        Byte order the captures expect (:class:`~hdl.capture.CameraCapture`).
+    read_domain : str
+        Domain of the buffers' read ports.
+    init : sequence of int
+        Initial contents of every buffer.
+
+    Attributes
+    ----------
+    cam_<c> : ``Out(CapturePortSignature(geometry))``, one per camera
+        The capture's own ``pins``, ``write`` and ``status`` and the buffer's own ``read`` port (forwarded, not
+        copied: :func:`hdl.forward.forward`).
+
+    Clock domains: ``cam_<c>`` per camera and ``read_domain``, all defined by the parent (for a top-level export,
+    Amaranth makes their clocks the ports ``cam_a_clk``, ``pix_clk``, ...). Latency: as
+    :class:`~hdl.capture.CameraCapture` (write port) and :class:`~hdl.frame_buffer.FrameBuffer` (read port).
+    """
+
+    def __init__(self, geometry=SENSOR, *, cameras=("a", "b"), r_byte_first=True, read_domain="pix", init=()):
         if not cameras or len(set(cameras)) != len(cameras):
             raise ValueError(f"cameras must be distinct names, got {cameras!r}")
         self.geometry = geometry
         self.cameras = tuple(cameras)
-        self.r_byte_first = r_byte_first
         self.read_domain = read_domain
-        self._init = init
-        members = {}
+        self.captures = {c: CameraCapture(geometry, r_byte_first=r_byte_first) for c in self.cameras}
+        self.buffers = {c: FrameBuffer(geometry, write_domain=f"cam_{c}", read_domain=read_domain, init=init)
+                        for c in self.cameras}
+        super().__init__({f"cam_{c}": Out(CapturePortSignature(geometry)) for c in self.cameras})
         for c in self.cameras:
-            p = f"cam_{c}_"
-            members.update({
-                p + "data": In(8), p + "lv": In(1), p + "fv": In(1),
-                p + "w_addr": Out(geometry.addr_bits), p + "w_data": Out(geometry.gray_bits), p + "w_en": Out(1),
-                p + "frame_start": Out(1), p + "frame_done": Out(1), p + "frame_ok": Out(1),
-                p + "frame_count": Out(16), p + "in_frame": Out(1),
-                p + "r_addr": In(geometry.addr_bits), p + "r_data": Out(geometry.gray_bits),
-            })
-        super().__init__(members)
+            for name in ("pins", "write", "status"):
+                forward(self, (f"cam_{c}", name), getattr(self.captures[c], name))
+            forward(self, (f"cam_{c}", "read"), self.buffers[c].read)
 
-    def port(self, camera, name):
-        """The port ``cam_<camera>_<name>``."""
-        return getattr(self, f"cam_{camera}_{name}")
+    def port(self, camera):
+        """The member of camera ``camera``."""
+        return getattr(self, f"cam_{camera}")
 
     def elaborate(self, platform):
         m = Module()
         for c in self.cameras:
-            domain = f"cam_{c}"
-            capture = DomainRenamer(domain)(CameraCapture(self.geometry, r_byte_first=self.r_byte_first))
-            buffer = FrameBuffer(self.geometry, write_domain=domain, read_domain=self.read_domain,
-                                 init=self._init)
-            m.submodules[f"capture_{c}"] = capture
+            capture, buffer = self.captures[c], self.buffers[c]
+            m.submodules[f"capture_{c}"] = DomainRenamer(f"cam_{c}")(capture)
             m.submodules[f"buffer_{c}"] = buffer
-            m.d.comb += [
-                capture.data.eq(self.port(c, "data")),
-                capture.lv.eq(self.port(c, "lv")),
-                capture.fv.eq(self.port(c, "fv")),
-                buffer.w_addr.eq(capture.w_addr),
-                buffer.w_data.eq(capture.w_data),
-                buffer.w_en.eq(capture.w_en),
-                self.port(c, "w_addr").eq(capture.w_addr),
-                self.port(c, "w_data").eq(capture.w_data),
-                self.port(c, "w_en").eq(capture.w_en),
-                buffer.r_addr.eq(self.port(c, "r_addr")),
-                self.port(c, "r_data").eq(buffer.r_data),
-            ]
-            for name in _STATUS:
-                m.d.comb += self.port(c, name).eq(getattr(capture, name))
+            wiring.connect(m, capture.write, buffer.write)
         return m

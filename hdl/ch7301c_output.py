@@ -8,24 +8,14 @@ from .params import CEA_1080P60
 from .video_bus import VideoSignature
 from .rejecting import rejecting
 
-__all__ = ["CH7301COutput", "CH7301C_PINS", "ch7301c_pin_members", "forward_ch7301c_pins", "split_rgb",
-           "join_halves", "DDR_MODES"]
+__all__ = ["CH7301CSignature", "CH7301COutput", "split_rgb", "DDR_MODES"]
 
 
-#: CH7301C pin name -> width.
-CH7301C_PINS = {"data": 12, "hsync": 1, "vsync": 1, "de": 1, "xclk_p": 1, "xclk_n": 1}
-
-
-def ch7301c_pin_members():
-    """The CH7301C pins a component drives, as signature members: the 12-bit dual-edge ``data`` bus, ``hsync``,
-    ``vsync``, ``de`` and the differential ``xclk_p``/``xclk_n``. Every component that carries the pins out
-    (this block, the display path, the system) declares them from here."""
-    return {name: Out(width) for name, width in CH7301C_PINS.items()}
-
-
-def forward_ch7301c_pins(m, outer, inner):
-    """Drive ``outer``'s CH7301C pins from ``inner``'s (combinational)."""
-    m.d.comb += [getattr(outer, name).eq(getattr(inner, name)) for name in CH7301C_PINS]
+#: The CH7301C's input pins as the FPGA drives them: the 12-bit dual-edge ``data`` bus (D[11:0]), ``hsync``,
+#: ``vsync``, ``de`` and the clock pair ``xclk_p``/``xclk_n`` (XCLK, XCLK*).
+CH7301CSignature = wiring.Signature({
+    "data": Out(12), "hsync": Out(1), "vsync": Out(1), "de": Out(1), "xclk_p": Out(1), "xclk_n": Out(1),
+})
 
 
 #: ``"behavioural"``: simulation / Verilog-export model; ``"virtex5"``: Virtex-5 ODDR + OBUFDS primitives.
@@ -44,14 +34,6 @@ def split_rgb(rgb):
         return ((g & 0xF) << 8) | b, (r << 4) | (g >> 4)
     r, g, b = rgb[16:24], rgb[8:16], rgb[0:8]
     return Cat(b, g[0:4]), Cat(g[4:8], r)
-
-
-def join_halves(first, second):
-    """Inverse of :func:`split_rgb` for Python ints: the 24-bit RGB carried by the two 12-bit halves."""
-    r = second >> 4
-    g = ((second & 0xF) << 4) | (first >> 8)
-    b = first & 0xFF
-    return (r << 16) | (g << 8) | b
 
 
 class CH7301COutput(wiring.Component):
@@ -91,6 +73,9 @@ class CH7301COutput(wiring.Component):
     pixel with the syncs at their inactive level (``timing`` gives the polarities).
     """
 
+    video: In(VideoSignature)
+    pins: Out(CH7301CSignature)
+
     def __init__(self, timing=CEA_1080P60, *, ddr="behavioural", xclk_domain=None):
         with rejecting(self):
             if ddr not in DDR_MODES:
@@ -100,11 +85,12 @@ class CH7301COutput(wiring.Component):
         self.mode = timing
         self.ddr = ddr
         self.xclk_domain = xclk_domain or "sync"
-        super().__init__({"video": In(VideoSignature), **ch7301c_pin_members()})
+        super().__init__()
 
     def elaborate(self, platform):
         m = Module()
         t = self.mode
+        pins = self.pins
         first, second = split_rgb(self.video.rgb)
         de = self.video.de
         # Blank the data outside de (both words 0).
@@ -128,12 +114,12 @@ class CH7301COutput(wiring.Component):
             ]
             clk = ClockSignal("sync")
             m.d.comb += [
-                self.data.eq(Mux(clk, first_q, second_q)),
-                self.hsync.eq(hsync_q),
-                self.vsync.eq(vsync_q),
-                self.de.eq(de_q),
-                self.xclk_p.eq(clk),
-                self.xclk_n.eq(~clk),
+                pins.data.eq(Mux(clk, first_q, second_q)),
+                pins.hsync.eq(hsync_q),
+                pins.vsync.eq(vsync_q),
+                pins.de.eq(de_q),
+                pins.xclk_p.eq(clk),
+                pins.xclk_n.eq(~clk),
             ]
             return m
 
@@ -147,11 +133,11 @@ class CH7301COutput(wiring.Component):
             )
 
         for i in range(12):
-            oddr(f"oddr_d{i}", first_d[i], second_d[i], self.data[i])
-        oddr("oddr_hsync", self.video.hsync, self.video.hsync, self.hsync, init=h_idle)
-        oddr("oddr_vsync", self.video.vsync, self.video.vsync, self.vsync, init=v_idle)
-        oddr("oddr_de", de, de, self.de)
+            oddr(f"oddr_d{i}", first_d[i], second_d[i], pins.data[i])
+        oddr("oddr_hsync", self.video.hsync, self.video.hsync, pins.hsync, init=h_idle)
+        oddr("oddr_vsync", self.video.vsync, self.video.vsync, pins.vsync, init=v_idle)
+        oddr("oddr_de", de, de, pins.de)
         xclk = Signal()
         oddr("oddr_xclk", Const(1, 1), Const(0, 1), xclk, domain=self.xclk_domain)
-        m.submodules.obufds_xclk = Instance("OBUFDS", i_I=xclk, o_O=self.xclk_p, o_OB=self.xclk_n)
+        m.submodules.obufds_xclk = Instance("OBUFDS", i_I=xclk, o_O=pins.xclk_p, o_OB=pins.xclk_n)
         return m

@@ -41,8 +41,10 @@ them (a domain defined in a child and used by its siblings is deprecated in Amar
 from dataclasses import dataclass
 from fractions import Fraction
 
-from amaranth import ClockDomain, ClockSignal, Const, Elaboratable, Instance, Module, Signal
+from amaranth import ClockDomain, ClockSignal, Const, Instance, Module, Signal
+from amaranth.lib import wiring
 from amaranth.lib.cdc import ResetSynchronizer
+from amaranth.lib.wiring import In, Out
 
 from .params import CEA_1080P60, CLOCKS
 from .rejecting import rejecting
@@ -152,22 +154,44 @@ def add_reset_tree(m, domains, arst):
         m.submodules[f"rst_sync_{domain}"] = ResetSynchronizer(arst, domain=domain)
 
 
-class GenesysClocking(Elaboratable):
+class GenesysClocking(wiring.Component):
     """Board clocking: BUFGs, DCM_ADV ``dcm_pix``, PLL_ADVs ``pll_pix`` and ``pll_cam``, per-domain resets.
 
-    Inputs (set by the top level from its IO buffers): ``clk100`` (the oscillator pin's input buffer output),
-    ``button`` (reset button, active high), ``cam_pclk[name]`` for each camera domain. Output: ``locked``
-    (all DCM/PLLs locked, asynchronous). Drives the domains ``sync``, ``pix``, ``pix90``, ``mclk`` and the
-    camera domains (``self.domains``, which the parent adds to its module). Not simulatable (vendor primitives): :class:`SimClocking` is its simulation model.
+    Parameters
+    ----------
+    plan : :class:`ClockPlan`
+    cam_domains : tuple of str
+        The camera domains, each clocked by its camera's PCLK.
+
+    Attributes
+    ----------
+    clk100 : ``In(1)``
+        The oscillator pin's input buffer output.
+    button : ``In(1)``
+        The reset button, active high.
+    cam_pclk : ``In`` one bit per camera domain
+        Each camera's PCLK input buffer output.
+    locked : ``Out(1)``
+        All DCM/PLLs locked (asynchronous).
+    domains : list of ClockDomain
+        ``sync``, ``pix``, ``pix90``, ``mclk`` and the camera domains, which this block drives and the parent adds
+        to its module.
+
+    Not simulatable (vendor primitives): :class:`SimClocking` is its simulation model.
+
+    Raises
+    ------
+    ValueError
+        A plan outside the primitives' ranges (:meth:`ClockPlan.check`).
     """
 
     def __init__(self, plan=PLAN, *, cam_domains=("cam_a", "cam_b")):
         self.plan = plan.check()
         self.cam_domains = tuple(cam_domains)
-        self.clk100 = Signal()
-        self.button = Signal()
-        self.cam_pclk = {name: Signal(name=f"{name}_pclk") for name in self.cam_domains}
-        self.locked = Signal()
+        super().__init__({
+            "clk100": In(1), "button": In(1), "locked": Out(1),
+            "cam_pclk": In(wiring.Signature({name: Out(1) for name in self.cam_domains})),
+        })
         self.domain_names = ("sync", "pix", "pix90", "mclk", *self.cam_domains)
         #: The clock domains this block drives; the parent adds them: ``m.domains += clocking.domains``.
         self.domains = [ClockDomain(name) for name in self.domain_names]
@@ -248,7 +272,7 @@ class GenesysClocking(Elaboratable):
 
         for name in self.cam_domains:
             clk = g[name]
-            bufg(f"bufg_{name}", self.cam_pclk[name], clk)
+            bufg(f"bufg_{name}", getattr(self.cam_pclk, name), clk)
             m.d.comb += ClockSignal(name).eq(clk)
 
         m.d.comb += self.locked.eq(cam_locked & dcm_locked & pix_locked)
@@ -256,16 +280,40 @@ class GenesysClocking(Elaboratable):
         return m
 
 
-class SimClocking(Elaboratable):
+class SimClocking(wiring.Component):
     """Simulation model of :class:`GenesysClocking`: same domains (minus the output-only ``pix90``/``mclk``),
     same reset tree, clocks from the simulator.
 
     The test bench (or the cocotb driver of the exported Verilog: ports ``clk``, ``pix_clk``, ``<cam>_clk``) runs
-    each domain at its real frequency. ``button`` is the reset button (active high). ``locked`` rises after
-    ``lock_cycles`` ``sync`` clocks (a reset-less counter standing in for the DCM/PLL lock time; the board's is
-    about 100 us, the model's default is short so simulations do not idle) and falls again while ``button`` is
-    high, as a DCM/PLL held in reset does. Clock domain of the counter: ``sync`` (reset-less).
+    each domain at its real frequency.
+
+    Parameters
+    ----------
+    cam_domains : tuple of str
+    lock_cycles : int
+        ``sync`` clocks from the button's release to ``locked`` (a reset-less counter standing in for the DCM/PLL
+        lock time; the board's is about 100 us, the model's default is short so simulations do not idle).
+
+    Attributes
+    ----------
+    button : ``In(1)``
+        The reset button, active high.
+    locked : ``Out(1)``
+        Rises ``lock_cycles`` ``sync`` clocks after ``button`` falls and falls again while ``button`` is high, as a
+        DCM/PLL held in reset does.
+    domains : list of ClockDomain
+        ``sync``, ``pix`` and the camera domains: the parent adds them.
+
+    Clock domain of the counter: ``sync`` (reset-less).
+
+    Raises
+    ------
+    ValueError
+        ``lock_cycles`` below 1.
     """
+
+    button: In(1)
+    locked: Out(1)
 
     def __init__(self, *, cam_domains=("cam_a", "cam_b"), lock_cycles=16):
         with rejecting(self):
@@ -273,8 +321,7 @@ class SimClocking(Elaboratable):
                 raise ValueError("lock_cycles must be at least 1")
         self.cam_domains = tuple(cam_domains)
         self.lock_cycles = lock_cycles
-        self.button = Signal()
-        self.locked = Signal()
+        super().__init__()
         self.domain_names = ("sync", "pix", *self.cam_domains)
         #: The clock domains this block drives; the parent adds them: ``m.domains += clocking.domains``.
         self.domains = [ClockDomain(name) for name in self.domain_names]

@@ -1,10 +1,9 @@
 """Display compositor: the left image, the right image and the disparity map on one video frame (thesis 4.3-4.5).
 
-Inputs: the sync generator's raster (``timing``: :data:`hdl.video_bus.TimingSignature`), the ``disparity`` and
-``rectification`` registers (from :class:`hdl.switches.SwitchControl`) and one read port per frame buffer
-(``left_addr`` -> ``left_data``, ``right_addr`` -> ``right_data``, data one clock after the address, as
-:class:`hdl.frame_buffer.FrameBuffer` gives it). Output: a :data:`hdl.video_bus.VideoSignature` stream
-(``video``: ``rgb``, ``de``, ``hsync``, ``vsync``).
+Inputs: the sync generator's raster (``timing``: :data:`hdl.video_bus.TimingSignature`), the switch registers
+(``settings``: :data:`hdl.switches.SettingsSignature`) and one read port per frame buffer (``left``, ``right``:
+:class:`hdl.frame_buffer.FrameBufferReadSignature`, data one clock after the address). Output: a
+:data:`hdl.video_bus.VideoSignature` stream (``video``).
 
 Layout (``layout``, default :meth:`hdl.params.DisplayLayout.centred`): each region shows its buffer with every
 pixel repeated ``scale`` x ``scale`` times.
@@ -38,7 +37,7 @@ n + 5    disparity level / no-data and the image grey registered
 n + 6    ``video`` registered: the colour chosen by region
 =======  ================================================================================================
 
-Switch timing: ``disparity``/``rectification`` are used only for pixels in the disparity region. They change
+Switch timing: ``settings`` are used only for pixels in the disparity region. They change
 on the clock edge ending the ``frame_start`` clock (raster position 0, with :class:`hdl.switches.SwitchControl`)
 and the subtractor needs them settled ``SETTLE_CLOCKS`` (2) clocks before it samples a pixel, one clock after the
 raster gives it; the constructor checks that the region starts at least 2 pixels into the raster (the default
@@ -51,9 +50,11 @@ from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
 from .disparity import LATENCY as SUBTRACTOR_LATENCY, SETTLE_CLOCKS, DisparitySubtractor, check_thresholds
+from .forward import forward
+from .frame_buffer import FrameBufferReadSignature
 from .params import (BACKGROUND_RGB, CEA_1080P60, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, NO_DATA_RGB, SENSOR,
                      DisplayLayout)
-from .switches import SWITCH_VALUE_BITS
+from .switches import SettingsSignature
 from .video_bus import TimingSignature, VideoSignature
 
 __all__ = ["Compositor", "LATENCY", "check_layout"]
@@ -157,9 +158,32 @@ class _RegionScanner(wiring.Component):
 class Compositor(wiring.Component):
     """Lays the left image, the right image and the disparity map out on the video frame; latency 6 clocks.
 
-    Ports: ``timing`` (In TimingSignature), ``disparity``, ``rectification`` in; ``left_addr``/``left_data``,
-    ``right_addr``/``right_data`` (frame-buffer read ports); ``video`` (Out VideoSignature).
     See the module docstring for the layout, the pipeline and the switch timing.
+
+    Parameters
+    ----------
+    timing : :class:`hdl.params.VideoTiming`
+    geometry : :class:`hdl.params.SensorGeometry`
+    layout : :class:`hdl.params.DisplayLayout` or None
+        Default: :meth:`~hdl.params.DisplayLayout.centred`.
+    thresholds : sequence of int
+        The subtractor's threshold table.
+    level_grey : sequence of int
+        The 8-bit grey shown for each level (one more entry than ``thresholds``).
+
+    Attributes
+    ----------
+    timing : ``In(TimingSignature)``
+        The raster (the video mode is ``video_timing``).
+    settings : ``In(SettingsSignature)``
+    left, right : ``Out(FrameBufferReadSignature(geometry))``
+    video : ``Out(VideoSignature)``
+
+    Raises
+    ------
+    ValueError
+        A layout that does not fit, overlaps or starts too early (:func:`check_layout`), a bad threshold or grey
+        table, more than 8 bits of grey.
     """
 
     def __init__(self, timing=CEA_1080P60, geometry=SENSOR, layout=None, *, thresholds=DIFF_THRESHOLDS,
@@ -180,14 +204,13 @@ class Compositor(wiring.Component):
         g = geometry
         super().__init__({
             "timing": In(TimingSignature),
-            "disparity": In(SWITCH_VALUE_BITS),
-            "rectification": In(SWITCH_VALUE_BITS),
-            "left_addr": Out(g.addr_bits),
-            "left_data": In(g.gray_bits),
-            "right_addr": Out(g.addr_bits),
-            "right_data": In(g.gray_bits),
+            "settings": In(SettingsSignature),
+            "left": Out(FrameBufferReadSignature(g)),
+            "right": Out(FrameBufferReadSignature(g)),
             "video": Out(VideoSignature),
         })
+        self._subtractor = DisparitySubtractor(g, self.thresholds)
+        forward(self, "settings", self._subtractor.settings)     # the switch registers go to the subtractor only
 
     def elaborate(self, platform):
         m = Module()
@@ -229,14 +252,12 @@ class Compositor(wiring.Component):
                          sc.clear.eq(vblank_1)]
 
         # The disparity subtractor takes the disparity region's pixels (latency SUBTRACTOR_LATENCY = 4).
-        m.submodules.subtractor = sub = DisparitySubtractor(g, self.thresholds)
+        m.submodules.subtractor = sub = self._subtractor
         m.d.comb += [
             sub.valid.eq(inside["disparity"]),
             sub.x.eq(scanners["disparity"].xb),
             sub.y.eq(scanners["disparity"].yb),
             sub.addr.eq(scanners["disparity"].addr),
-            sub.disparity.eq(self.disparity),
-            sub.rectification.eq(self.rectification),
         ]
 
         # --- clock n + 2: read addresses; each port serves its image region or the subtractor ----------------
@@ -249,10 +270,10 @@ class Compositor(wiring.Component):
             right_img_addr_2.eq(scanners["right"].addr),
         ]
         m.d.comb += [
-            self.left_addr.eq(Mux(show_left_2, left_img_addr_2, sub.left_addr)),
-            self.right_addr.eq(Mux(show_right_2, right_img_addr_2, sub.right_addr)),
-            sub.left_data.eq(self.left_data),
-            sub.right_data.eq(self.right_data),
+            self.left.addr.eq(Mux(show_left_2, left_img_addr_2, sub.left.addr)),
+            self.right.addr.eq(Mux(show_right_2, right_img_addr_2, sub.right.addr)),
+            sub.left.data.eq(self.left.data),
+            sub.right.data.eq(self.right.data),
         ]
 
         # --- clock n + 3 -> n + 4: register the image read data -------------------------------------------
@@ -261,8 +282,8 @@ class Compositor(wiring.Component):
         left_q_4, right_q_4 = Signal(g.gray_bits), Signal(g.gray_bits)
         show_left_4, show_right_4 = Signal(), Signal()
         m.d.sync += [
-            left_q_4.eq(self.left_data),
-            right_q_4.eq(self.right_data),
+            left_q_4.eq(self.left.data),
+            right_q_4.eq(self.right.data),
             show_left_4.eq(show_left_3),
             show_right_4.eq(show_right_3),
         ]

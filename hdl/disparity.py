@@ -10,7 +10,7 @@ unreachable).
 No data, never wrapping: where ``x + disparity >= buf_width`` or ``y + rectification >= buf_height`` the
 shifted pixel is outside the left image. The thesis's address arithmetic (figure 4.7) would wrap into the next
 row or past the end of the buffer there; this block instead raises ``no_data`` (``level`` is then 0) and drives
-``left_addr`` to 0, so the left port is never given an address outside the image.
+``left.addr`` to 0, so the left port is never given an address outside the image.
 
 No multiplier per pixel: the caller supplies the right pixel's address ``addr`` (= ``y * buf_width + x``) from
 a running counter along with ``x`` and ``y``; the left address is ``addr + offset`` with the per-frame constant
@@ -25,31 +25,30 @@ Pipeline and latency (one pixel per clock, any pattern of ``valid``):
 clock    what happens
 =======  ================================================================================================
 n        inputs ``valid``, ``x``, ``y``, ``addr``
-n + 1    ``left_addr``, ``right_addr`` registered (to the frame buffers' read ports)
-n + 2    ``left_data``, ``right_data`` expected here (the frame buffers' one-clock read latency)
+n + 1    ``left.addr``, ``right.addr`` registered (to the frame buffers' read ports)
+n + 2    ``left.data``, ``right.data`` expected here (the frame buffers' one-clock read latency)
 n + 3    the read data registered (BRAM output register, nothing else on that path)
 n + 4    ``level``, ``no_data``, ``out_valid`` registered: **latency 4 clocks** from the inputs
 =======  ================================================================================================
 
-``disparity`` and ``rectification`` must be stable for :data:`SETTLE_CLOCKS` clocks before the first input pixel
-that uses them (the compositor guarantees this: the switch registers change only at ``frame_start``, at least a
-line before the first disparity pixel).
+``settings`` (``disparity``, ``rectification``) must be stable for :data:`SETTLE_CLOCKS` clocks before the first
+input pixel that uses them (the compositor guarantees this: the switch registers change only at ``frame_start``, at
+least a line before the first disparity pixel).
 """
 
 from amaranth import Module, Mux, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
+from .frame_buffer import FrameBufferReadSignature
 from .params import DIFF_THRESHOLDS, SENSOR
-from .switches import SWITCH_VALUE_BITS
+from .switches import SettingsSignature
 
-__all__ = ["DisparitySubtractor", "check_thresholds", "LATENCY", "ADDR_LATENCY", "SETTLE_CLOCKS"]
+__all__ = ["DisparitySubtractor", "check_thresholds", "LATENCY", "SETTLE_CLOCKS"]
 
 #: Clocks from the inputs to ``level``/``no_data``/``out_valid``.
 LATENCY = 4
-#: Clocks from the inputs to ``left_addr``/``right_addr``; read data is expected one clock after those.
-ADDR_LATENCY = 1
-#: Clocks ``disparity``/``rectification`` must be stable before an input pixel that uses them.
+#: Clocks ``settings`` must be stable before an input pixel that uses them.
 SETTLE_CLOCKS = 2
 
 
@@ -71,9 +70,26 @@ def check_thresholds(thresholds, gray_bits):
 class DisparitySubtractor(wiring.Component):
     """Quantised ``|L(x + disparity, y + rectification) - R(x, y)|`` with no-data marking; latency 4 clocks.
 
-    Ports: ``valid``, ``x``, ``y``, ``addr`` (= y * buf_width + x), ``disparity``, ``rectification`` in;
-    ``left_addr``/``right_addr`` out and ``left_data``/``right_data`` in (frame-buffer read ports);
-    ``level``, ``no_data``, ``out_valid`` out. See the module docstring.
+    Parameters
+    ----------
+    geometry : :class:`hdl.params.SensorGeometry`
+        Buffer size and grey depth.
+    thresholds : sequence of int
+        The threshold table (:func:`check_thresholds`).
+
+    Attributes
+    ----------
+    valid, x, y, addr : In
+        The right-image pixel (``addr = y * buf_width + x``).
+    settings : ``In(SettingsSignature)``
+    left, right : ``Out(FrameBufferReadSignature(geometry))``
+    level, no_data, out_valid : Out
+        The quantised difference of the pixel given :data:`LATENCY` clocks earlier.
+
+    Raises
+    ------
+    ValueError
+        A bad threshold table.
     """
 
     def __init__(self, geometry=SENSOR, thresholds=DIFF_THRESHOLDS):
@@ -85,12 +101,9 @@ class DisparitySubtractor(wiring.Component):
             "x": In(range(g.buf_width)),
             "y": In(range(g.buf_height)),
             "addr": In(g.addr_bits),
-            "disparity": In(SWITCH_VALUE_BITS),
-            "rectification": In(SWITCH_VALUE_BITS),
-            "left_addr": Out(g.addr_bits),
-            "right_addr": Out(g.addr_bits),
-            "left_data": In(g.gray_bits),
-            "right_data": In(g.gray_bits),
+            "settings": In(SettingsSignature),
+            "left": Out(FrameBufferReadSignature(g)),
+            "right": Out(FrameBufferReadSignature(g)),
             "level": Out(range(len(self.thresholds) + 1)),
             "no_data": Out(1),
             "out_valid": Out(1),
@@ -103,17 +116,17 @@ class DisparitySubtractor(wiring.Component):
 
         # Per-frame constants (quasi-static inputs), two registered steps: SETTLE_CLOCKS = 2.
         row_offset = Signal(g.addr_bits)            # rectification * buf_width (mod 2**addr_bits)
-        disparity_q = Signal(SWITCH_VALUE_BITS)
+        disparity_q = Signal(len(self.settings.disparity))
         offset = Signal(g.addr_bits)                # rectification * buf_width + disparity (mod 2**addr_bits)
         # x + disparity >= w  <=>  x >= x_limit, with x_limit = max(w - disparity, 0); the same for y.
         x_limit = Signal(range(w + 1))
         y_limit = Signal(range(h + 1))
         m.d.sync += [
-            row_offset.eq(self.rectification * w),
-            disparity_q.eq(self.disparity),
+            row_offset.eq(self.settings.rectification * w),
+            disparity_q.eq(self.settings.disparity),
             offset.eq(row_offset + disparity_q),
-            x_limit.eq(Mux(self.disparity >= w, 0, w - self.disparity)),
-            y_limit.eq(Mux(self.rectification >= h, 0, h - self.rectification)),
+            x_limit.eq(Mux(self.settings.disparity >= w, 0, w - self.settings.disparity)),
+            y_limit.eq(Mux(self.settings.rectification >= h, 0, h - self.settings.rectification)),
         ]
 
         # Clock n -> n + 1: addresses and the no-data flag.
@@ -123,8 +136,8 @@ class DisparitySubtractor(wiring.Component):
         m.d.sync += [
             valid_1.eq(self.valid),
             no_data_1.eq(outside),
-            self.right_addr.eq(self.addr),
-            self.left_addr.eq(Mux(outside, 0, self.addr + offset)),
+            self.right.addr.eq(self.addr),
+            self.left.addr.eq(Mux(outside, 0, self.addr + offset)),
         ]
 
         # Clock n + 1 -> n + 2: the frame buffers read; only the flags travel along.
@@ -138,8 +151,8 @@ class DisparitySubtractor(wiring.Component):
         no_data_3 = Signal()
         valid_3 = Signal()
         m.d.sync += [
-            left_q.eq(self.left_data),
-            right_q.eq(self.right_data),
+            left_q.eq(self.left.data),
+            right_q.eq(self.right.data),
             no_data_3.eq(no_data_2),
             valid_3.eq(valid_2),
         ]

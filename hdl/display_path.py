@@ -4,7 +4,8 @@ from amaranth.hdl import Module
 from amaranth.lib import wiring
 from amaranth.lib.wiring import Out
 
-from .ch7301c_output import CH7301COutput, ch7301c_pin_members, forward_ch7301c_pins
+from .ch7301c_output import CH7301COutput, CH7301CSignature
+from .forward import forward
 from .params import CEA_1080P60
 from .pattern_gen import PatternGenerator
 from .sync_gen import SyncGenerator
@@ -19,9 +20,23 @@ class DisplayPath(wiring.Component):
     """Test pattern on the CH7301C bus: the design the display demo, tests and bench use.
 
     ``SyncGenerator(timing)`` -> ``PatternGenerator(timing)`` -> ``CH7301COutput(timing, ddr=ddr)``.
-    Ports are the CH7301C pins: ``data[12]``, ``hsync``, ``vsync``, ``de``, ``xclk_p``, ``xclk_n`` (see
-    :class:`hdl.ch7301c_output.CH7301COutput` for the dual-edge format), plus ``frame_start``, the sync
-    generator's strobe, for test benches and triggers.
+
+    Parameters
+    ----------
+    timing : :class:`hdl.params.VideoTiming`
+    ddr : str
+        ``"behavioural"`` or ``"virtex5"`` (:class:`~hdl.ch7301c_output.CH7301COutput`).
+    start : (int, int)
+        The sync generator's raster position after reset.
+
+    Attributes
+    ----------
+    ch7301c : ``Out(CH7301CSignature)``
+        The output stage's pins (:class:`~hdl.ch7301c_output.CH7301COutput` gives the dual-edge format).
+    frame_start : ``Out(1)``
+        The sync generator's strobe, for test benches and triggers.
+    sync_gen, pattern, output
+        The three blocks, for test benches and wave dumps.
 
     Clock domain: ``sync`` (the pixel clock; a board top level renames it to ``pix``).
     Latency: :data:`DISPLAY_PATH_LATENCY` = 2 clocks from raster position to pins (``frame_start`` is not
@@ -30,15 +45,19 @@ class DisplayPath(wiring.Component):
     reset (simulation windows; see :class:`hdl.sync_gen.SyncGenerator`).
     """
 
+    ch7301c: Out(CH7301CSignature)
+    frame_start: Out(1)
+
     def __init__(self, timing=CEA_1080P60, *, ddr="behavioural", start=(0, 0)):
         self.mode = timing
         self.ddr = ddr
         self.start = start
-        #: the three blocks, built here so test benches and wave dumps can reach their signals
         self.sync_gen = SyncGenerator(timing, start=start)
         self.pattern = PatternGenerator(timing)
         self.output = CH7301COutput(timing, ddr=ddr)
-        super().__init__({**ch7301c_pin_members(), "frame_start": Out(1)})
+        super().__init__()
+        forward(self, "ch7301c", self.output.pins)
+        forward(self, "frame_start", self.sync_gen.frame_start)
 
     def elaborate(self, platform):
         m = Module()
@@ -47,6 +66,4 @@ class DisplayPath(wiring.Component):
         m.submodules.output = output = self.output
         wiring.connect(m, sync_gen, pattern.timing)
         wiring.connect(m, pattern.video, output.video)
-        forward_ch7301c_pins(m, self, output)
-        m.d.comb += self.frame_start.eq(sync_gen.frame_start)
         return m

@@ -4,10 +4,10 @@ Keeps the pixel at (``scale*i``, ``scale*j``) of every ``scale`` x ``scale`` blo
 position into the frame-buffer address ``A = y * buf_width + x`` with ``x = column / scale``,
 ``y = row / scale``. A pixel is written only when its column and row are multiples of ``scale`` and
 ``x < buf_width`` and ``y < buf_height``: anything past the configured size is discarded, never wrapped,
-so ``w_addr`` is always below ``buf_depth`` whenever ``w_en`` is high.
+so ``write.addr`` is always below ``buf_depth`` whenever ``write.en`` is high.
 
 Inputs: ``valid``, ``grey`` (the pixel's grey value), ``column`` and ``row`` (its sensor position).
-Outputs: the frame-buffer write port ``w_addr``, ``w_data``, ``w_en``.
+Output: the frame-buffer write port ``write``.
 
 ``scale`` must be a power of two (the default 4 is), so the block needs no divider. ``y * buf_width`` is a
 constant multiplication.
@@ -20,6 +20,7 @@ from amaranth import Module, unsigned
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
+from .frame_buffer import FrameBufferWriteSignature
 from .params import SENSOR
 
 __all__ = ["Downscaler"]
@@ -41,9 +42,7 @@ class Downscaler(wiring.Component):
             "grey": In(geometry.gray_bits),
             "column": In(unsigned(column_bits)),
             "row": In(unsigned(row_bits)),
-            "w_addr": Out(geometry.addr_bits),
-            "w_data": Out(geometry.gray_bits),
-            "w_en": Out(1),
+            "write": Out(FrameBufferWriteSignature(geometry)),
         })
 
     def elaborate(self, platform):
@@ -55,10 +54,10 @@ class Downscaler(wiring.Component):
         aligned = (self.column[:shift] == 0) & (self.row[:shift] == 0) if shift else 1
         keep = self.valid & aligned & (x < g.buf_width) & (y < g.buf_height)
 
-        m.d.sync += self.w_en.eq(keep)
+        m.d.sync += self.write.en.eq(keep)
         with m.If(keep):
             m.d.sync += [
-                self.w_addr.eq(y * g.buf_width + x),
-                self.w_data.eq(self.grey),
+                self.write.addr.eq(y * g.buf_width + x),
+                self.write.data.eq(self.grey),
             ]
         return m

@@ -1,4 +1,12 @@
-"""Verilog export with compact memory initialisation.
+"""Verilog export: flat port names and compact memory initialisation.
+
+Flat names. Interfaces are nested ``amaranth.lib.wiring`` signatures; flat names exist only where a tool needs them
+(the exported top's ports, which cocotb reaches by name, and the board's IO buffers). There is one rule, Amaranth's
+own for Verilog export: the member at path ``(a, b, c)`` is the port ``a__b__c`` (:func:`flat_name`;
+``StereoDepthSystem``'s ``cam_a.data`` is ``cam_a__data``, ``i2c.dvi.scl.oe`` is ``i2c__dvi__scl__oe``).
+:func:`flat_ports` lists a component's ports by that rule.
+
+Compact memory initialisation.
 
 Amaranth (through Yosys ``write_verilog``) writes one ``initial`` assignment per memory word::
 
@@ -31,7 +39,17 @@ import re
 
 from amaranth.back import verilog as _verilog
 
-__all__ = ["amaranth_verilog", "export_verilog", "compact_memory_init"]
+__all__ = ["flat_name", "flat_ports", "amaranth_verilog", "export_verilog", "compact_memory_init"]
+
+
+def flat_name(path):
+    """The flat name of the member at ``path`` (a tuple of names and indices): ``"__".join(path)``."""
+    return "__".join(str(part) for part in path)
+
+
+def flat_ports(component):
+    """``{flat name: signal}`` for every port of ``component``'s signature, as the exported top names them."""
+    return {flat_name(path): value for path, _, value in component.signature.flatten(component)}
 
 # A Verilog identifier: simple, or escaped (backslash ... terminated by a space, which is part of it here).
 _NAME = r"(?P<name>\\\S+ |[A-Za-z_][A-Za-z0-9_$]*)"

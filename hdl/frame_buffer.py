@@ -8,10 +8,10 @@ Clock domains: the write port is in ``write_domain`` (a camera's PCLK domain), t
 ``read_domain`` (the pixel clock). The two ports share no logic, so no synchroniser is needed; a read of a word
 being written in the same instant returns either value (as the BRAM does).
 
-Latency: read data appears on ``r_data`` one ``read_domain`` clock after ``r_addr`` (synchronous read,
-``r_en`` always on). A write is committed on the ``write_domain`` clock edge where ``w_en`` is high.
+Latency: read data appears on ``read.data`` one ``read_domain`` clock after ``read.addr`` (synchronous read,
+always enabled). A write is committed on the ``write_domain`` clock edge where ``write.en`` is high.
 
-Safety: a write whose ``w_addr`` is not below the depth is dropped, so no address from a malformed camera
+Safety: a write whose ``write.addr`` is not below the depth is dropped, so no address from a malformed camera
 stream can land outside the buffer, whatever the capture logic upstream does.
 """
 
@@ -22,22 +22,66 @@ from amaranth.lib.wiring import In, Out
 
 from .params import SENSOR
 
-__all__ = ["FrameBuffer"]
+__all__ = ["FrameBufferReadSignature", "FrameBufferWriteSignature", "FrameBuffer"]
+
+
+class FrameBufferReadSignature(wiring.Signature):
+    """A frame buffer's read port as the reader sees it: ``addr`` out (``geometry.addr_bits``), ``data`` in
+    (``geometry.gray_bits``), valid one read-domain clock after ``addr``. A reader has ``Out(sig)``, the
+    buffer ``In(sig)``. Two signatures are equal when their widths are."""
+
+    def __init__(self, geometry):
+        self.geometry = geometry
+        super().__init__({"addr": Out(geometry.addr_bits), "data": In(geometry.gray_bits)})
+
+    def __eq__(self, other):
+        return type(other) is type(self) and self.members == other.members
+
+    def __repr__(self):
+        return f"FrameBufferReadSignature({self.geometry!r})"
+
+
+class FrameBufferWriteSignature(wiring.Signature):
+    """A frame buffer's write port as the writer sees it: ``addr``, ``data`` and ``en`` out; the word is written
+    on the write-domain clock edge where ``en`` is high. A writer has ``Out(sig)``, the buffer ``In(sig)``."""
+
+    def __init__(self, geometry):
+        self.geometry = geometry
+        super().__init__({"addr": Out(geometry.addr_bits), "data": Out(geometry.gray_bits), "en": Out(1)})
+
+    def __eq__(self, other):
+        return type(other) is type(self) and self.members == other.members
+
+    def __repr__(self):
+        return f"FrameBufferWriteSignature({self.geometry!r})"
 
 
 class FrameBuffer(wiring.Component):
+    """See the module docstring.
+
+    Parameters
+    ----------
+    geometry : :class:`hdl.params.SensorGeometry`
+        ``buf_depth`` words of ``gray_bits`` bits.
+    write_domain, read_domain : str
+        Clock domains of the write and the read port.
+    init : sequence of int
+        Initial contents (the rest is 0).
+
+    Attributes
+    ----------
+    write : ``In(FrameBufferWriteSignature(geometry))``
+    read : ``In(FrameBufferReadSignature(geometry))``
+    """
+
     def __init__(self, geometry=SENSOR, *, write_domain="sync", read_domain="sync", init=()):
         self.geometry = geometry
         self.write_domain = write_domain
         self.read_domain = read_domain
         self._init = list(init)
-        addr_bits = geometry.addr_bits
         super().__init__({
-            "w_addr": In(addr_bits),
-            "w_data": In(geometry.gray_bits),
-            "w_en": In(1),
-            "r_addr": In(addr_bits),
-            "r_data": Out(geometry.gray_bits),
+            "write": In(FrameBufferWriteSignature(geometry)),
+            "read": In(FrameBufferReadSignature(geometry)),
         })
 
     def elaborate(self, platform):
@@ -48,10 +92,10 @@ class FrameBuffer(wiring.Component):
         write = memory.write_port(domain=self.write_domain)
         read = memory.read_port(domain=self.read_domain)
         m.d.comb += [
-            write.addr.eq(self.w_addr),
-            write.data.eq(self.w_data),
-            write.en.eq(self.w_en & (self.w_addr < depth)),
-            read.addr.eq(self.r_addr),
-            self.r_data.eq(read.data),
+            write.addr.eq(self.write.addr),
+            write.data.eq(self.write.data),
+            write.en.eq(self.write.en & (self.write.addr < depth)),
+            read.addr.eq(self.read.addr),
+            self.read.data.eq(read.data),
         ]
         return m

@@ -59,9 +59,8 @@ PIN_SOURCES = {
 #: The 100 MHz oscillator, used as the ``sync`` clock and the reference of the DCM/PLLs.
 OSC_HZ = CLOCKS.SYS_HZ
 
-#: PERIOD constraint put on each camera's PCLK input: 80 MHz, what the MT9D112 init table programs (24 MHz MCLK
-#: x 80 / 3 / 8; Digilent's CamCtl: "1600x1200 @ 80 MHz pixel clock", see hdl/init_tables.py).
-CAM_PCLK_MAX_HZ = 80_000_000
+#: PERIOD constraint put on each camera's PCLK input: what the MT9D112 init table programs.
+CAM_PCLK_MAX_HZ = CLOCKS.CAM_PCLK_HZ
 
 _CAM_SIGNALS = ("d", "pclk", "lv", "fv", "mclk", "scl", "sda", "rst_n", "pwdn")
 

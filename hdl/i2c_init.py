@@ -15,10 +15,11 @@ waits ``retry_delay_us`` and repeats the whole transaction, at most ``retries`` 
 ``error``. After an error the sequencer leaves the bus idle for good: it never goes on to the next entry and
 never raises ``done`` (only a reset restarts it).
 
-Outputs (all ``sync``, registered): ``busy`` until the table ends or fails; ``done`` (sticky) once every
-entry has completed; ``error`` (sticky) with ``error_code`` (:class:`ErrorCode`) and ``entry`` = index of the
-failing entry (while running: the current entry; after ``done``: the table length). ``done`` and ``error``
-are never high together.
+Outputs: ``i2c`` (:data:`hdl.i2c_master.I2CSignature`, the master's own pins) and ``status``
+(:class:`InitStatusSignature`, all ``sync``, registered): ``busy`` until the table ends or fails; ``done``
+(sticky) once every entry has completed; ``error`` (sticky) with ``error_code`` (:class:`ErrorCode`) and
+``entry`` = index of the failing entry (while running: the current entry; after ``done``: the table length).
+``done`` and ``error`` are never high together.
 
 Clock domain: ``sync`` (``clk_hz``, 100 MHz on the board). Latency: the bus time of the table plus its waits;
 about 0.46 ms per MT9D112 write and 0.30 ms per CH7301C write at 100 kHz.
@@ -29,11 +30,12 @@ from amaranth.lib import data, enum, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
-from .i2c_master import Cmd, I2CMaster
+from .forward import forward
+from .i2c_master import Cmd, I2CMaster, I2CSignature
 from .init_tables import InitTable, Wait, Write
 from .params import CLOCKS
 
-__all__ = ["ErrorCode", "InitSequencer"]
+__all__ = ["ErrorCode", "InitStatusSignature", "InitSequencer"]
 
 
 class ErrorCode(enum.Enum, shape=3):
@@ -43,6 +45,22 @@ class ErrorCode(enum.Enum, shape=3):
     STUCK = 3         # SCL or SDA held low longer than the timeout (bus clear failed)
     POLL = 4          # a polled register never read the expected value (includes ID checks)
     ARB = 5           # SDA low while the master released it (arbitration lost / bus error), after retries
+
+
+class InitStatusSignature(wiring.Signature):
+    """What an init sequencer reports for a table of ``entries`` entries: ``busy``, ``done``, ``error``,
+    ``error_code`` (:class:`ErrorCode`) and ``entry`` (0 .. ``entries``)."""
+
+    def __init__(self, entries):
+        self.entries = entries
+        super().__init__({"busy": Out(1), "done": Out(1), "error": Out(1), "error_code": Out(ErrorCode),
+                          "entry": Out(range(entries + 1))})
+
+    def __eq__(self, other):
+        return type(other) is type(self) and self.members == other.members
+
+    def __repr__(self):
+        return f"InitStatusSignature({self.entries})"
 
 
 _OP_WRITE, _OP_WAIT, _OP_POLL = 0, 1, 2
@@ -65,19 +83,8 @@ class InitSequencer(wiring.Component):
         self.retries = retries
         self.retry_delay = max(1, _us_to_cycles(retry_delay_us, clk_hz))
         self.master = I2CMaster(clk_hz=clk_hz, bus_hz=bus_hz, timeout_us=timeout_us)
-        super().__init__({
-            "busy": Out(1),
-            "done": Out(1),
-            "error": Out(1),
-            "error_code": Out(ErrorCode),
-            "entry": Out(range(len(table) + 1)),
-            "scl_o": Out(1),
-            "scl_oe": Out(1),
-            "scl_i": In(1, init=1),
-            "sda_o": Out(1),
-            "sda_oe": Out(1),
-            "sda_i": In(1, init=1),
-        })
+        super().__init__({"i2c": Out(I2CSignature), "status": Out(InitStatusSignature(len(table)))})
+        forward(self, "i2c", self.master.i2c)
 
     def _rom(self):
         dev = self.table.device
@@ -106,16 +113,13 @@ class InitSequencer(wiring.Component):
         dev = self.table.device
         n = len(self.table)
         m.submodules.master = master = self.master
-        m.d.comb += [
-            self.scl_o.eq(master.scl_o), self.scl_oe.eq(master.scl_oe), master.scl_i.eq(self.scl_i),
-            self.sda_o.eq(master.sda_o), self.sda_oe.eq(master.sda_oe), master.sda_i.eq(self.sda_i),
-        ]
+        status = self.status
 
         layout, words, max_count, max_attempts = self._rom()
         m.submodules.rom = rom = Memory(shape=layout, depth=n, init=words)
         rd = rom.read_port(domain="sync")            # synchronous ROM: the word of `pc` one cycle later
         pc = Signal(range(n + 1))
-        m.d.comb += [rd.addr.eq(pc), self.entry.eq(pc)]
+        m.d.comb += [rd.addr.eq(pc), status.entry.eq(pc)]
         e = rd.data
 
         # Step programs: what the master does in each step of a write / a poll read.
@@ -157,7 +161,7 @@ class InitSequencer(wiring.Component):
             with m.Else():
                 m.next = "ERROR"
 
-        m.d.comb += self.busy.eq(~self.done & ~self.error)
+        m.d.comb += status.busy.eq(~status.done & ~status.error)
 
         with m.FSM() as fsm:
             with m.State("LOAD"):                          # the ROM reads the word of the new pc
@@ -239,10 +243,10 @@ class InitSequencer(wiring.Component):
                     m.next = "ISSUE"
 
             with m.State("DONE"):
-                m.d.sync += self.done.eq(1)
+                m.d.sync += status.done.eq(1)
 
             with m.State("ERROR"):
-                m.d.sync += [self.error.eq(1), self.error_code.eq(fail_code)]
+                m.d.sync += [status.error.eq(1), status.error_code.eq(fail_code)]
 
         # What the master does in each step. Kept out of the FSM and gated by the FSM state so that the exported
         # Verilog re-evaluates it when the state changes (Icarus -g2012 does not run `always @*` at time 0).

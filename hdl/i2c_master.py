@@ -1,8 +1,8 @@
 """I2C master: byte-level START / WRITE / READ / STOP commands on open-drain SCL and SDA.
 
-Pins: ``scl_o``/``scl_oe``/``scl_i`` and ``sda_o``/``sda_oe``/``sda_i``. ``*_o`` is always 0 and ``*_oe`` = 1 pulls
-the line low (open drain); the board top level connects them to an ``amaranth.lib.io`` buffer with a pull-up.
-``scl_i``/``sda_i`` are asynchronous and pass through a 2-flop synchroniser (``amaranth.lib.cdc``).
+Pins: ``i2c`` (:data:`I2CSignature`), ``scl`` and ``sda`` each an open-drain pin (:data:`OpenDrainSignature`):
+``o`` is always 0 and ``oe`` = 1 pulls the line low; the board top level connects them to an ``amaranth.lib.io``
+buffer with a pull-up. ``i`` is asynchronous and passes through a 2-flop synchroniser (``amaranth.lib.cdc``).
 
 Clock domain: ``sync`` (100 MHz on the board, ``clk_hz``). Bus rate ``bus_hz`` (100 kHz default); every bus
 interval is derived from ``clk_hz`` and the I2C specification's minimum for that speed class (NXP UM10204
@@ -43,7 +43,15 @@ from amaranth.lib.wiring import In, Out
 from .params import CLOCKS
 from .rejecting import rejecting
 
-__all__ = ["Cmd", "I2C_SPEC_NS", "I2CTiming", "I2CMaster"]
+__all__ = ["OpenDrainSignature", "I2CSignature", "Cmd", "I2C_SPEC_NS", "I2CTiming", "I2CMaster"]
+
+#: One open-drain pin as its driver sees it: ``oe`` = 1 with ``o`` = 0 pulls the line low, ``oe`` = 0 releases it
+#: (a pull-up makes it high); ``i`` is the line's level, high when idle. A driver must never set ``oe`` with
+#: ``o`` = 1 (that would drive the line high against other devices).
+OpenDrainSignature = wiring.Signature({"o": Out(1), "oe": Out(1), "i": In(1, init=1)})
+
+#: An I2C bus as a master (or anything driving the bus) sees it: two open-drain pins.
+I2CSignature = wiring.Signature({"scl": Out(OpenDrainSignature), "sda": Out(OpenDrainSignature)})
 
 
 class Cmd(enum.Enum, shape=2):
@@ -110,31 +118,26 @@ class I2CMaster(wiring.Component):
     command takes its bus time (for a byte, 9 SCL periods) plus the 2-flop input synchroniser; ``done`` pulses
     in the cycle after the last bus interval ends."""
 
+    cmd: In(Cmd)
+    cmd_valid: In(1)
+    wdata: In(8)
+    rd_ack: In(1)
+    ready: Out(1)
+    done: Out(1)
+    nack: Out(1)
+    rdata: Out(8)
+    arb_lost: Out(1)
+    timed_out: Out(1)
+    bus_active: Out(1)
+    i2c: Out(I2CSignature)
+
     def __init__(self, *, clk_hz=CLOCKS.SYS_HZ, bus_hz=CLOCKS.I2C_HZ, timeout_us=25_000):
         with rejecting(self):
             self.timing = I2CTiming(clk_hz, bus_hz)
             self.timeout = max(1, -(-timeout_us * clk_hz // 1_000_000))
             if self.timeout <= self.timing.buf + 4:
                 raise ValueError("timeout_us must be longer than the bus-free time")
-        super().__init__({
-            "cmd": In(Cmd),
-            "cmd_valid": In(1),
-            "wdata": In(8),
-            "rd_ack": In(1),
-            "ready": Out(1),
-            "done": Out(1),
-            "nack": Out(1),
-            "rdata": Out(8),
-            "arb_lost": Out(1),
-            "timed_out": Out(1),
-            "bus_active": Out(1),
-            "scl_o": Out(1),
-            "scl_oe": Out(1),
-            "scl_i": In(1, init=1),
-            "sda_o": Out(1),
-            "sda_oe": Out(1),
-            "sda_i": In(1, init=1),
-        })
+        super().__init__()
 
     def elaborate(self, platform):
         m = Module()
@@ -142,14 +145,14 @@ class I2CMaster(wiring.Component):
 
         scl = Signal(init=1)
         sda = Signal(init=1)
-        m.submodules.scl_sync = FFSynchronizer(self.scl_i, scl, init=1)
-        m.submodules.sda_sync = FFSynchronizer(self.sda_i, sda, init=1)
+        m.submodules.scl_sync = FFSynchronizer(self.i2c.scl.i, scl, init=1)
+        m.submodules.sda_sync = FFSynchronizer(self.i2c.sda.i, sda, init=1)
 
         scl_low = Signal()
         sda_low = Signal()
         m.d.comb += [
-            self.scl_o.eq(0), self.sda_o.eq(0),
-            self.scl_oe.eq(scl_low), self.sda_oe.eq(sda_low),
+            self.i2c.scl.o.eq(0), self.i2c.sda.o.eq(0),
+            self.i2c.scl.oe.eq(scl_low), self.i2c.sda.oe.eq(sda_low),
         ]
 
         longest = max(t.low, t.high, t.hold, t.su_sta, t.hd_sta, t.su_sto, t.buf)

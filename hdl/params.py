@@ -21,7 +21,9 @@ __all__ = [
 class CLOCKS:
     """Clock frequencies in Hz. The thesis writes 148.25 MHz; CEA-861 1080p60 is 148.5 MHz (spec)."""
     SYS_HZ = 100_000_000        # Genesys oscillator, "sync" domain (I2C masters, switch synchronisers' source)
-    CAM_MCLK_HZ = 24_000_000    # MCLK to both MT9D112 sensors = 100 MHz / 25 * 6 (DCM_ADV CLKFX)
+    CAM_MCLK_HZ = 24_000_000    # MCLK to both MT9D112 sensors (PLL_ADV: 100 MHz x 6 / 25; hdl/clocking.py)
+    CAM_PCLK_HZ = 80_000_000    # each sensor's PCLK as the MT9D112 init table programs it (24 MHz x 80 / 3 / 8;
+                                # Digilent's CamCtl: "1600x1200 @ 80 MHz pixel clock"): the cam_a/cam_b domains
     PIXEL_HZ = 148_500_000      # "pix" domain: sync generator, frame-buffer read ports, disparity, compositor
     I2C_HZ = 100_000            # I2C standard mode
 

@@ -10,8 +10,8 @@ Clock domain: ``domain`` (default ``sync``; the top level passes ``domain="pix"`
 of ``stages`` flip-flops before any logic looks at it.
 
 No tearing: the synchronised value is first copied into a *pending* register (the one selected by SW7); the
-outputs ``disparity`` and ``rectification`` load the pending registers only on the clock edge that ends the
-``frame_start`` cycle, so the datapath sees one value for the whole frame.
+outputs ``settings.disparity`` and ``settings.rectification`` load the pending registers only on the clock edge
+that ends the ``frame_start`` cycle, so the datapath sees one value for the whole frame.
 
 Latency: call edge 0 the first clock edge after the switches change. Edge 0 samples them into the first
 synchroniser stage (metastability may resolve to the old value and delay everything below by one edge); the
@@ -31,27 +31,46 @@ from amaranth.lib import wiring
 from amaranth.lib.cdc import FFSynchronizer
 from amaranth.lib.wiring import In, Out
 
-__all__ = ["SWITCH_VALUE_BITS", "SwitchControl"]
+__all__ = ["SWITCH_VALUE_BITS", "SettingsSignature", "SwitchControl"]
 
 #: Width of the disparity and rectification registers: the value switches SW6..SW0.
 SWITCH_VALUE_BITS = 7
 
+#: The two registers the switches set, as their source drives them: ``disparity`` (horizontal shift of the left
+#: image) and ``rectification`` (vertical shift), each ``SWITCH_VALUE_BITS`` wide.
+SettingsSignature = wiring.Signature({
+    "disparity": Out(SWITCH_VALUE_BITS),
+    "rectification": Out(SWITCH_VALUE_BITS),
+})
+
 
 class SwitchControl(wiring.Component):
-    """``sw[8]`` (asynchronous) -> ``disparity[7]`` (SW7 = 1) and ``rectification[7]`` (SW7 = 0), updated only
-    when ``frame_start`` is high. See the module docstring for the latency."""
+    """``sw[8]`` (asynchronous) -> ``settings.disparity`` (SW7 = 1) and ``settings.rectification`` (SW7 = 0),
+    updated only when ``frame_start`` is high. See the module docstring for the latency.
+
+    Parameters
+    ----------
+    domain : str
+        Clock domain of everything after the synchroniser.
+    stages : int
+        Synchroniser flip-flops per switch (at least 2).
+
+    Raises
+    ------
+    ValueError
+        ``stages`` below 2.
+    """
+
+    sw: In(SWITCH_VALUE_BITS + 1)
+    frame_start: In(1)
+    settings: Out(SettingsSignature)
 
     def __init__(self, *, domain="sync", stages=2):
         if stages < 2:
             raise ValueError(f"a synchroniser needs at least 2 stages, not {stages}")
         self.domain = domain
         self.stages = stages
-        super().__init__({
-            "sw": In(SWITCH_VALUE_BITS + 1),
-            "frame_start": In(1),
-            "disparity": Out(SWITCH_VALUE_BITS),
-            "rectification": Out(SWITCH_VALUE_BITS),
-        })
+        super().__init__()
 
     def elaborate(self, platform):
         m = Module()
@@ -70,7 +89,7 @@ class SwitchControl(wiring.Component):
 
         with m.If(self.frame_start):
             m.d[self.domain] += [
-                self.disparity.eq(disparity_pending),
-                self.rectification.eq(rectification_pending),
+                self.settings.disparity.eq(disparity_pending),
+                self.settings.rectification.eq(rectification_pending),
             ]
         return m

@@ -29,8 +29,8 @@ rising edge and outputs D1 for the high phase and D2 for the low phase of the fo
 UG190, "ODDR"); the behavioural model registers both words on the rising edge and shows ``clk ? first : second``.
 
 Open drain: a line is driven low when the system's ``*_oe`` is set with ``*_o`` = 0 and released (high impedance,
-the board's pull-up makes it high) otherwise; the system never drives a line high (checked in simulation by
-:class:`sim.system_bench.SystemBench`).
+the board's pull-up makes it high) otherwise; the system never drives a line high (checked in simulation by the
+harness's bus resolver, ``sim/i2c_bus.py``).
 
 Clock domains: ``sync``, ``pix``, ``pix90``, ``mclk``, ``cam_a``, ``cam_b`` (all from :class:`GenesysClocking`).
 Latency: as :class:`~hdl.system.StereoDepthSystem`; the CH7301C pins follow the video stream by one ``pix`` clock.
@@ -41,9 +41,10 @@ from amaranth.lib import io, wiring
 
 from .ch7301c_output import split_rgb
 from .clocking import PLAN, GenesysClocking
+from .export import flat_name
 from .params import CEA_1080P60, SENSOR
-from .system import CAMERAS, StereoDepthSystem
 from .rejecting import rejecting
+from .system import CAMERAS, StereoDepthSystem
 
 __all__ = ["GenesysTop", "board_plan"]
 
@@ -67,70 +68,85 @@ class GenesysTop(wiring.Component):
         if platform is None:
             raise TypeError("GenesysTop is a board top level: elaborate it with hdl.genesys.GenesysPlatform")
         m = Module()
-        sys_ = self.system
-        clocking = self.clocking
-        m.domains += clocking.domains
-        m.submodules.clocking = clocking
-        m.submodules.system = sys_
-
-        # Clock and reset inputs.
-        m.submodules.clk_buf = clk_buf = io.Buffer("i", platform.request("clk100", dir="-"))
-        m.submodules.rst_buf = rst_buf = io.Buffer("i", platform.request("rst", dir="-"))
-        m.d.comb += [clocking.clk100.eq(clk_buf.i), clocking.button.eq(rst_buf.i)]
-
-        # Switches and LEDs.
-        m.submodules.sw_buf = sw_buf = io.Buffer("i", platform.request("switches", dir="-"))
-        m.submodules.led_buf = led_buf = io.Buffer("o", platform.request("leds", dir="-"))
-        m.d.comb += [sys_.sw.eq(sw_buf.i), led_buf.o.eq(sys_.leds)]
-
-        def open_drain(name, port, o, oe, i):
-            m.submodules[name] = b = io.Buffer("io", port)
-            m.d.comb += [b.o.eq(0), b.oe.eq(oe & ~o), i.eq(b.i)]
-
-        def output(name, port, value):
-            m.submodules[name] = b = io.Buffer("o", port)
-            m.d.comb += b.o.eq(value)
-
-        # Cameras (VmodCAM): resource 0 = camera A (left), 1 = camera B (right).
-        for number, c in enumerate(CAMERAS):
-            cam = platform.request("vmodcam", number, dir="-")
-            p = f"cam_{c}"
-            for pin in ("data", "lv", "fv"):
-                m.submodules[f"{p}_{pin}_buf"] = b = io.Buffer("i", getattr(cam, "d" if pin == "data" else pin))
-                m.d.comb += getattr(sys_, f"{p}_{pin}").eq(b.i)
-            m.submodules[f"{p}_pclk_buf"] = pclk = io.Buffer("i", cam.pclk)
-            m.d.comb += clocking.cam_pclk[p].eq(pclk.i)
-            m.submodules[f"{p}_mclk_oddr"] = mclk = io.DDRBuffer("o", cam.mclk, o_domain="mclk")
-            m.d.comb += [mclk.o[0].eq(1), mclk.o[1].eq(0)]
-            for line in ("scl", "sda"):
-                open_drain(f"{p}_{line}_buf", getattr(cam, line), getattr(sys_, f"{p}_{line}_o"),
-                           getattr(sys_, f"{p}_{line}_oe"), getattr(sys_, f"{p}_{line}_i"))
-            output(f"{p}_rst_buf", cam.rst_n, sys_.cam_rst_n)
-            output(f"{p}_pwdn_buf", cam.pwdn, sys_.cam_pwdn)
-        output("cam_vdden_buf", platform.request("vmodcam_vdden", dir="-"), sys_.cam_vdden)
-
-        # CH7301C: dual-edge data, IOB-registered syncs, XCLK pair from the 90-degree clock.
-        ch = platform.request("ch7301c", dir="-")
-        first, second = split_rgb(sys_.video_rgb)
-        m.submodules.dvi_d_oddr = d = io.DDRBuffer("o", ch.d, o_domain="pix")
-        m.d.comb += [d.o[0].eq(Mux(sys_.video_de, first, 0)), d.o[1].eq(Mux(sys_.video_de, second, 0))]
-        for name, value in (("h", sys_.video_hsync), ("v", sys_.video_vsync), ("de", sys_.video_de)):
-            m.submodules[f"dvi_{name}_ff"] = ff = io.FFBuffer("o", getattr(ch, name), o_domain="pix")
-            m.d.comb += ff.o.eq(value)
-        m.submodules.dvi_xclk_p_oddr = xp = io.DDRBuffer("o", ch.xclk_p, o_domain="pix90")
-        m.submodules.dvi_xclk_n_oddr = xn = io.DDRBuffer("o", ch.xclk_n, o_domain="pix90")
-        m.d.comb += [xp.o[0].eq(1), xp.o[1].eq(0), xn.o[0].eq(0), xn.o[1].eq(1)]
-        output("dvi_reset_buf", ch.reset_n, sys_.dvi_reset_n)
-        i2c = platform.request("ch7301c_i2c", dir="-")
-        open_drain("dvi_scl_buf", i2c.scl, sys_.dvi_scl_o, sys_.dvi_scl_oe, sys_.dvi_scl_i)
-        open_drain("dvi_sda_buf", i2c.sda, sys_.dvi_sda_o, sys_.dvi_sda_oe, sys_.dvi_sda_i)
-
+        m.domains += self.clocking.domains
+        m.submodules.clocking = clocking = self.clocking
+        m.submodules.system = sys_ = self.system
+        self._clock_inputs(m, platform)
+        self._panel(m, platform)
+        for number, c in enumerate(CAMERAS):          # resource 0 = camera A (left), 1 = camera B (right)
+            self._camera(m, platform, number, c)
+        self._output(m, ("control", "cam_vdden"), platform.request("vmodcam_vdden", dir="-"),
+                     self.system.control.cam_vdden)
+        self._ch7301c(m, platform)
         # Timing groups of the internal clocks (UCF PERIOD per BUFG output; hdl/genesys.py adds the TIGs
         # between unrelated groups).
         if hasattr(platform, "add_clock_group"):
             for signal, hz, family in clocking.clock_nets():
                 platform.add_clock_group(signal, hz, family)
         return m
+
+    @staticmethod
+    def _buffer(m, path, buffer):
+        """Add an IO buffer as a submodule named after the system member it serves (``hdl.export.flat_name``)."""
+        m.submodules[flat_name(path) + "_buf"] = buffer
+        return buffer
+
+    def _open_drain(self, m, path, port, pin):
+        """An open-drain pad for ``pin`` (an ``OpenDrainSignature`` interface): pulled low while ``oe`` is set
+        with ``o`` = 0, released otherwise."""
+        b = self._buffer(m, path, io.Buffer("io", port))
+        m.d.comb += [b.o.eq(0), b.oe.eq(pin.oe & ~pin.o), pin.i.eq(b.i)]
+
+    def _output(self, m, path, port, value):
+        b = self._buffer(m, path, io.Buffer("o", port))
+        m.d.comb += b.o.eq(value)
+
+    def _clock_inputs(self, m, platform):
+        clk = self._buffer(m, ("clk100",), io.Buffer("i", platform.request("clk100", dir="-")))
+        rst = self._buffer(m, ("rst",), io.Buffer("i", platform.request("rst", dir="-")))
+        m.d.comb += [self.clocking.clk100.eq(clk.i), self.clocking.button.eq(rst.i)]
+
+    def _panel(self, m, platform):
+        panel = self.system.panel
+        sw = self._buffer(m, ("panel", "sw"), io.Buffer("i", platform.request("switches", dir="-")))
+        m.d.comb += panel.sw.eq(sw.i)
+        self._output(m, ("panel", "leds"), platform.request("leds", dir="-"), panel.leds)
+
+    def _camera(self, m, platform, number, c):
+        """VmodCAM resource ``number`` onto camera ``c``'s pins, I2C bus, PCLK and MCLK."""
+        sys_, name = self.system, f"cam_{c}"
+        cam = platform.request("vmodcam", number, dir="-")
+        pins = getattr(sys_, name)
+        for pin, port in (("data", cam.d), ("lv", cam.lv), ("fv", cam.fv)):
+            b = self._buffer(m, (name, pin), io.Buffer("i", port))
+            m.d.comb += getattr(pins, pin).eq(b.i)
+        pclk = self._buffer(m, (name, "pclk"), io.Buffer("i", cam.pclk))
+        m.d.comb += getattr(self.clocking.cam_pclk, name).eq(pclk.i)
+        m.submodules[f"{name}_mclk_oddr"] = mclk = io.DDRBuffer("o", cam.mclk, o_domain="mclk")
+        m.d.comb += [mclk.o[0].eq(1), mclk.o[1].eq(0)]
+        bus = getattr(sys_.i2c, name)
+        self._open_drain(m, ("i2c", name, "scl"), cam.scl, bus.scl)
+        self._open_drain(m, ("i2c", name, "sda"), cam.sda, bus.sda)
+        self._output(m, (name, "rst_n"), cam.rst_n, sys_.control.cam_rst_n)
+        self._output(m, (name, "pwdn"), cam.pwdn, sys_.control.cam_pwdn)
+
+    def _ch7301c(self, m, platform):
+        """CH7301C: dual-edge data, IOB-registered syncs, XCLK pair from the 90-degree clock, its I2C bus."""
+        sys_, video = self.system, self.system.video
+        ch = platform.request("ch7301c", dir="-")
+        first, second = split_rgb(video.rgb)
+        m.submodules.dvi_d_oddr = d = io.DDRBuffer("o", ch.d, o_domain="pix")
+        m.d.comb += [d.o[0].eq(Mux(video.de, first, 0)), d.o[1].eq(Mux(video.de, second, 0))]
+        for name, value in (("h", video.hsync), ("v", video.vsync), ("de", video.de)):
+            m.submodules[f"dvi_{name}_ff"] = ff = io.FFBuffer("o", getattr(ch, name), o_domain="pix")
+            m.d.comb += ff.o.eq(value)
+        m.submodules.dvi_xclk_p_oddr = xp = io.DDRBuffer("o", ch.xclk_p, o_domain="pix90")
+        m.submodules.dvi_xclk_n_oddr = xn = io.DDRBuffer("o", ch.xclk_n, o_domain="pix90")
+        m.d.comb += [xp.o[0].eq(1), xp.o[1].eq(0), xn.o[0].eq(0), xn.o[1].eq(1)]
+        self._output(m, ("control", "dvi_reset_n"), ch.reset_n, sys_.control.dvi_reset_n)
+        i2c = platform.request("ch7301c_i2c", dir="-")
+        self._open_drain(m, ("i2c", "dvi", "scl"), i2c.scl, sys_.i2c.dvi.scl)
+        self._open_drain(m, ("i2c", "dvi", "sda"), i2c.sda, sys_.i2c.dvi.sda)
 
 
 def board_plan(*, pins=None, allow_unconfirmed=False, files=None, name="top", **top_kwargs):

@@ -16,7 +16,9 @@ The one place that knows how to drive ``cocotb_tools.runner`` on this project's 
   options, so re-running a test does not rebuild an unchanged design.
 
 A cocotb test module lives in ``tests/cocotb/`` and reads its parameters with :func:`test_params`, which
-decodes the JSON that :func:`run_cocotb` passes in the ``STEREO_TEST_PARAMS`` environment variable.
+decodes the JSON that :func:`run_cocotb` passes in the ``STEREO_TEST_PARAMS`` environment variable. It reaches the
+exported top's ports by their nested path through :class:`TopPorts` (``TopPorts(dut).cam_a.data`` is the port
+``cam_a__data``: ``hdl.export.flat_name``).
 
 Waves: ``waves=True`` (or ``STEREO_WAVES=1`` in the environment) makes the simulator write a VCD into the
 test directory; :func:`run_cocotb` returns the path of that directory.
@@ -33,9 +35,9 @@ import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-from hdl.export import amaranth_verilog
+from hdl.export import amaranth_verilog, flat_name
 
-__all__ = ["SIMULATORS", "REPO_ROOT", "run_cocotb", "test_params", "simulator_available"]
+__all__ = ["SIMULATORS", "REPO_ROOT", "run_cocotb", "test_params", "simulator_available", "TopPorts"]
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 COCOTB_TEST_DIR = REPO_ROOT / "tests" / "cocotb"
@@ -43,9 +45,10 @@ BUILD_ROOT = REPO_ROOT / "build" / "cocotb"
 SIMULATORS = ("verilator", "icarus")
 TIMESCALE = ("1ns", "1ps")
 PARAMS_ENV = "STEREO_TEST_PARAMS"
-#: Verilator lint warnings that Amaranth's Verilog always raises (comparisons of wide signals with narrow
-#: constants, `!` on a vector); they are not design errors, and Verilator makes warnings fatal by default.
-VERILATOR_LINT_OFF = ("-Wno-WIDTHEXPAND", "-Wno-WIDTHTRUNC")
+#: Verilator lint warnings that Amaranth's Verilog raises (width extension and truncation in generated arithmetic,
+#: `!` on a vector, incomplete ``casez`` on FSM states); they are not design errors, and Verilator makes warnings
+#: fatal by default. The one list: every Verilator build gets it here.
+VERILATOR_LINT_OFF = ("-Wno-WIDTHEXPAND", "-Wno-WIDTHTRUNC", "-Wno-CASEINCOMPLETE")
 
 
 def _verilator_root():
@@ -222,3 +225,38 @@ def test_params():
 
 
 test_params.__test__ = False  # not a pytest test
+
+
+class TopPorts:
+    """The ports of an exported top (``dut``, a cocotb handle) by their nested signature path:
+    ``TopPorts(dut).i2c.dvi.scl.oe`` is ``dut.i2c__dvi__scl__oe`` (:func:`hdl.export.flat_name`). A path that
+    names no port and is no prefix of one raises ``AttributeError``."""
+
+    def __init__(self, dut, path=()):
+        object.__setattr__(self, "_dut", dut)
+        object.__setattr__(self, "_path", tuple(path))
+
+    def __getattr__(self, name):
+        if name.startswith("__"):
+            raise AttributeError(name)
+        path = self._path + (name,)
+        flat = flat_name(path)
+        handle = getattr(self._dut, flat, None)
+        if handle is not None:
+            return handle
+        if not any(port.startswith(flat + "__") for port in self._port_names()):
+            raise AttributeError(f"the design has no port {flat} or {flat}__*")
+        return TopPorts(self._dut, path)
+
+    def __setattr__(self, name, value):
+        raise AttributeError(f"set a port's value through its handle: TopPorts(dut)...{name}.value = ...")
+
+    def _port_names(self):
+        key = id(self._dut)
+        if key not in _PORT_NAMES:
+            _PORT_NAMES[key] = {handle._name for handle in self._dut}
+        return _PORT_NAMES[key]
+
+
+_PORT_NAMES = {}        # id(dut) -> the names of its ports
+

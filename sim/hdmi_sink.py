@@ -368,7 +368,9 @@ def amaranth_sink_testbench(sink, pins, clocks=None, progress=None, progress_eve
 # -- cocotb driver -------------------------------------------------------------------------------------------
 
 class CocotbSink:
-    """Samples the CH7301C pins of a cocotb DUT into a :class:`HdmiSink`, fast enough for full 1080p frames.
+    """Samples the CH7301C pins (``pins``: cocotb handles ``data``, ``hsync``, ``vsync``, ``de``, ``xclk_p``,
+    ``xclk_n``, e.g. ``sim.cocotb_runner.TopPorts(dut).ch7301c``) into a :class:`HdmiSink`, fast enough for full
+    1080p frames.
 
     The driver aligns itself to a rising edge of ``xclk_p`` and then samples every half period,
     ``period_ps / 4`` after each XCLK edge: in the middle of the high phase it reads ``xclk_p``, ``xclk_n``,
@@ -388,14 +390,12 @@ class CocotbSink:
     parent process shows it as a progress bar).
     """
 
-    def __init__(self, dut, sink, *, period_ps, prefix="", progress_file=None, progress_every=50_000):
+    def __init__(self, pins, sink, *, period_ps, progress_file=None, progress_every=50_000):
         if period_ps % 4:
             raise ValueError("period_ps must be a multiple of 4 ps so the quarter-period sample points are exact")
-        self.dut = dut
         self.sink = sink
         self.period_ps = period_ps
-        self.pins = {name: getattr(dut, prefix + name)
-                     for name in ("data", "hsync", "vsync", "de", "xclk_p", "xclk_n")}
+        self.pins = {name: getattr(pins, name) for name in ("data", "hsync", "vsync", "de", "xclk_p", "xclk_n")}
         self.progress_file = progress_file
         self.progress_every = progress_every
 
@@ -456,36 +456,3 @@ def _write_progress(path, done, total):
     with open(tmp, "w") as f:
         f.write(f"{done} {total}\n")
     os.replace(tmp, path)
-
-
-# -- running a CH7301C-pin design under cocotb with the sink ------------------------------------------------
-
-#: Verilator lint switches for Amaranth-generated Verilog (its width-extending expressions are intended).
-VERILATOR_BUILD_ARGS = ("-Wno-WIDTHEXPAND", "-Wno-WIDTHTRUNC")
-
-
-def run_display_cocotb(design, timing, *, simulator, name="display_path", sink_clocks=0, min_frames=1,
-                       compare_golden=True, expect_values=None, expect_edges=None,
-                       free_run_clocks=0, out_dir=None, progress_file=None, waves=None, testcase=None):
-    """Run ``tests/cocotb/cocotb_display.py`` on ``design`` (a top level with ``clk``, ``rst`` and the CH7301C
-    pins ``data``, ``hsync``, ``vsync``, ``de``, ``xclk_p``, ``xclk_n``) through :func:`sim.cocotb_runner.run_cocotb`.
-
-    See that module for the meaning of the parameters. Returns the cocotb test directory; raises
-    ``AssertionError`` when a cocotb test fails.
-    """
-    import dataclasses
-    from .cocotb_runner import run_cocotb
-    params = {"timing": dataclasses.asdict(timing), "sink_clocks": sink_clocks, "min_frames": min_frames,
-              "compare_golden": compare_golden, "free_run_clocks": free_run_clocks}
-    if expect_values:
-        params["expect_values"] = expect_values
-    if expect_edges:
-        params["expect_edges"] = expect_edges
-    # absolute: the simulator runs in its own test directory
-    if out_dir is not None:
-        params["out_dir"] = str(Path(out_dir).resolve())
-    if progress_file is not None:
-        params["progress_file"] = str(Path(progress_file).resolve())
-    return run_cocotb(design, name=name, test_module="cocotb_display", simulator=simulator, params=params,
-                      build_args=VERILATOR_BUILD_ARGS if simulator == "verilator" else (), waves=waves,
-                      testcase=testcase)

@@ -17,13 +17,8 @@ Pure-Python cores (no simulator imports at module level):
 * :class:`I2CBusMonitor`: decodes START/STOP/bytes/ACKs from the two lines and measures every interval of
   UM10204 table 10 (its own copy of the standard's numbers, independent of the RTL's).
 
-Simulator glue:
-
-* :class:`I2CBench`: an Amaranth component that wires one or more DUTs with open-drain pins to wired-AND buses
-  (``<bus>_scl``/``<bus>_sda``) with extra pull-downs for Python models (``<bus>_ext_*_low``) and release-high
-  outputs for a cocotbext-i2c device (``<bus>_peer_*_o``), plus a cycle counter as time base.
-* :func:`amaranth_target_process` / :func:`start_cocotb_targets`: run a list of targets on a bus of an
-  :class:`I2CBench` in the Amaranth simulator / in cocotb.
+The open-drain bus these models sit on in a simulation, and the glue that runs them there (Amaranth simulator and
+cocotb), is ``sim/i2c_bus.py``.
 
 Model assumptions where no public datasheet text was available are listed in docs/i2c.md.
 """
@@ -34,8 +29,7 @@ from sim.sensor_config import SensorConfig
 
 __all__ = [
     "I2CTarget", "RegisterTarget", "MT9D112Model", "CH7301CModel", "DviConfig",
-    "I2CBusMonitor", "STANDARD_MODE_LIMITS_US", "I2CBench",
-    "amaranth_target_process", "start_cocotb_targets", "start_cocotb_monitor",
+    "I2CBusMonitor", "STANDARD_MODE_LIMITS_US",
 ]
 
 
@@ -604,154 +598,3 @@ class I2CBusMonitor:
         if self.max_hold * 1e6 > tvd_max_us + 1e-9:
             out.append(("tVD;DAT(max)", self.max_hold * 1e6, tvd_max_us))
         return out
-
-
-# --------------------------------------------------------------------------------------------------------
-# Amaranth bench: wired-AND buses around DUTs with open-drain pins
-# --------------------------------------------------------------------------------------------------------
-
-_STATUS = ("busy", "done", "error", "error_code", "entry")
-
-
-def I2CBench(duts, *, counter_bits=40):
-    """An Amaranth ``wiring.Component`` wiring each DUT of ``duts`` (``{bus name: component}``, each with
-    ``scl_o/scl_oe/scl_i/sda_o/sda_oe/sda_i``) to its own open-drain bus. Ports per bus ``b``: ``b_scl``,
-    ``b_sda`` (the bus), ``b_ext_scl_low``/``b_ext_sda_low`` (model pull-downs), ``b_peer_scl_o``/
-    ``b_peer_sda_o`` (a cocotbext-i2c device: 1 = release), ``b_drive_high`` (sticky: the DUT drove a line
-    high, which an open-drain output must never do) and the DUT's status outputs when it has them. ``cycles``
-    counts ``sync`` clocks (time base for the Python models)."""
-    from amaranth import Module
-    from amaranth.lib import wiring
-    from amaranth.lib.wiring import In, Out
-
-    class _Bench(wiring.Component):
-        def __init__(self):
-            sig = {"cycles": Out(counter_bits)}
-            for b, dut in duts.items():
-                sig.update({
-                    f"{b}_scl": Out(1), f"{b}_sda": Out(1),
-                    f"{b}_ext_scl_low": In(1), f"{b}_ext_sda_low": In(1),
-                    f"{b}_peer_scl_o": In(1, init=1), f"{b}_peer_sda_o": In(1, init=1),
-                    f"{b}_drive_high": Out(1),
-                })
-                for s in _STATUS:
-                    if hasattr(dut, s):
-                        sig[f"{b}_{s}"] = Out(dut.signature.members[s].shape)
-            super().__init__(sig)
-
-        def elaborate(self, platform):
-            m = Module()
-            m.d.sync += self.cycles.eq(self.cycles + 1)
-            for b, dut in duts.items():
-                m.submodules[b] = dut
-                p = lambda n: getattr(self, f"{b}_{n}")   # noqa: E731
-                scl = ~(dut.scl_oe & ~dut.scl_o) & ~p("ext_scl_low") & p("peer_scl_o")
-                sda = ~(dut.sda_oe & ~dut.sda_o) & ~p("ext_sda_low") & p("peer_sda_o")
-                m.d.comb += [p("scl").eq(scl), p("sda").eq(sda), dut.scl_i.eq(scl), dut.sda_i.eq(sda)]
-                with m.If((dut.scl_oe & dut.scl_o) | (dut.sda_oe & dut.sda_o)):
-                    m.d.sync += p("drive_high").eq(1)
-                for s in _STATUS:
-                    if hasattr(dut, s):
-                        m.d.comb += p(s).eq(getattr(dut, s))
-            return m
-
-    return _Bench()
-
-
-def _pulls(targets):
-    return any(t.scl_low for t in targets), any(t.sda_low for t in targets)
-
-
-def amaranth_target_process(bench, bus, targets, clk_hz, monitor=None):
-    """An ``add_process`` coroutine that runs ``targets`` on bus ``bus`` of ``bench`` in the Amaranth
-    simulator (and feeds ``monitor``); time = ``bench.cycles / clk_hz``."""
-    scl_sig, sda_sig = getattr(bench, f"{bus}_scl"), getattr(bench, f"{bus}_sda")
-    ext_scl, ext_sda = getattr(bench, f"{bus}_ext_scl_low"), getattr(bench, f"{bus}_ext_sda_low")
-
-    async def process(ctx):
-        state = (None, None)
-        scl, sda, cycles = 1, 1, 0
-        while True:
-            now = cycles / clk_hz
-            if monitor is not None:
-                monitor.observe(now, scl, sda)
-            for t in targets:
-                t.update(scl, sda, now)
-            pulls = _pulls(targets)
-            if pulls != state:
-                ctx.set(ext_scl, pulls[0])
-                ctx.set(ext_sda, pulls[1])
-                state = pulls
-            deadlines = [d for d in (t.deadline() for t in targets) if d is not None]
-            trig = ctx.changed(scl_sig, sda_sig)
-            if deadlines:
-                trig = trig.delay(max(min(deadlines) - now, 0) + 0.5 / clk_hz)
-                scl, sda, _, cycles = await trig.sample(bench.cycles)
-            else:
-                scl, sda, cycles = await trig.sample(bench.cycles)
-
-    return process
-
-
-def _levels(scl_sig, sda_sig):
-    try:
-        return int(scl_sig.value), int(sda_sig.value)
-    except ValueError:
-        return None
-
-
-def start_cocotb_targets(dut, bus, targets, monitor=None):
-    """Start a cocotb task that runs ``targets`` on bus ``bus`` of an exported :class:`I2CBench` (``dut`` is
-    the cocotb top-level handle); time from the simulator. Returns the task."""
-    import cocotb
-    from cocotb.simtime import get_sim_time
-    from cocotb.triggers import First, Timer
-
-    scl_sig, sda_sig = getattr(dut, f"{bus}_scl"), getattr(dut, f"{bus}_sda")
-    ext_scl, ext_sda = getattr(dut, f"{bus}_ext_scl_low"), getattr(dut, f"{bus}_ext_sda_low")
-    ext_scl.value = 0
-    ext_sda.value = 0
-
-    async def run():
-        state = (False, False)
-        while True:
-            now = get_sim_time("ns") * 1e-9
-            levels = _levels(scl_sig, sda_sig)
-            if levels is None:                        # before reset: X/Z, nothing to react to
-                await First(scl_sig.value_change, sda_sig.value_change)
-                continue
-            scl, sda = levels
-            if monitor is not None:
-                monitor.observe(now, scl, sda)
-            for t in targets:
-                t.update(scl, sda, now)
-            pulls = _pulls(targets)
-            if pulls != state:
-                ext_scl.value = int(pulls[0])
-                ext_sda.value = int(pulls[1])
-                state = pulls
-            deadlines = [d for d in (t.deadline() for t in targets) if d is not None]
-            triggers = [scl_sig.value_change, sda_sig.value_change]
-            if deadlines:
-                triggers.append(Timer(max(1, round((min(deadlines) - now) * 1e9)), unit="ns"))
-            await First(*triggers)
-
-    return cocotb.start_soon(run())
-
-
-def start_cocotb_monitor(dut, bus, monitor):
-    """Start a cocotb task feeding ``monitor`` with every change of bus ``bus`` (sim time)."""
-    import cocotb
-    from cocotb.simtime import get_sim_time
-    from cocotb.triggers import First
-
-    scl_sig, sda_sig = getattr(dut, f"{bus}_scl"), getattr(dut, f"{bus}_sda")
-
-    async def run():
-        while True:
-            await First(scl_sig.value_change, sda_sig.value_change)
-            levels = _levels(scl_sig, sda_sig)
-            if levels is not None:
-                monitor.observe(get_sim_time("ns") * 1e-9, *levels)
-
-    return cocotb.start_soon(run())

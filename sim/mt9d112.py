@@ -43,12 +43,8 @@ when the previous one has been sent, so a configuration written over I2C during 
 at the next frame boundary. Both can call ``on_sample`` once per PCLK period, just before the rising edge
 (all registered outputs of the design are stable then): the tests use it to record the write port.
 
-* HDL playback, for speed on Verilator/Icarus: :data:`PLAYBACK_VERILOG` (a simulation-only Verilog model)
-  replays a precomputed stream from a ``$readmemh`` file with no Python per PCLK cycle;
-  :func:`playback_design` exports a ``CapturePath`` with such models beside its pins and
-  :func:`run_playback_cocotb` runs it. The stream is fixed before the simulation starts (the model's
-  configuration is read when it is built); the ``cam_<c>_start`` input lets a test hold the sensor silent
-  until, e.g., the I2C model reports it configured. Pauses are not replayed.
+For speed, a precomputed stream can be replayed inside the simulator instead (``sim/sensor_replay.py``); the
+capture path's harness (``sim/capture_bench.py``) and the whole-system routes (``sim/system/``) use it.
 """
 
 from dataclasses import dataclass, field
@@ -63,9 +59,7 @@ from sim.errors import UserError
 from sim.sensor_config import SensorConfig
 
 __all__ = ["SensorTiming", "SENSOR_TIMING", "SMALL_SENSOR_TIMING", "Faults", "SensorStream", "MT9D112",
-           "drive_amaranth", "drive_cocotb", "image_to_bytes", "fault_cases", "CaptureRecord", "run_capture_amaranth",
-           "run_capture_cocotb", "PLAYBACK_VERILOG", "write_playback_file", "playback_design",
-           "run_playback_cocotb"]
+           "drive_amaranth", "drive_cocotb", "image_to_bytes", "fault_cases"]
 
 
 @dataclass(frozen=True)
@@ -341,14 +335,16 @@ def _as_chunks(stream_or_chunks):
     return [stream_or_chunks] if isinstance(stream_or_chunks, SensorStream) else stream_or_chunks
 
 
-async def drive_amaranth(ctx, chunks, *, clk, data, lv, fv, pclk_hz, start_delay=0.0, on_sample=None):
-    """Amaranth-simulator testbench body: send ``chunks`` (a :class:`SensorStream` or an iterable of them).
+async def drive_amaranth(ctx, chunks, *, clk, pins, pclk_hz, start_delay=0.0, on_sample=None):
+    """Amaranth-simulator testbench body: send ``chunks`` (a :class:`SensorStream` or an iterable of them) on
+    ``pins`` (an ``hdl.capture.CameraSignature`` interface of the design: ``data``, ``lv``, ``fv``).
 
     ``clk`` is the camera domain's clock signal (``ClockDomain.clk``; do not also ``add_clock`` it). Each
     sample: PCLK falls and D/LV/FV change, half a period (plus any pause) later ``on_sample(ctx)`` is called
     and PCLK rises. ``start_delay`` (seconds) shifts this camera's phase. Returns the number of samples sent.
     """
     half = 0.5 / pclk_hz
+    data, lv, fv = pins.data, pins.lv, pins.fv
     if start_delay:
         await ctx.delay(start_delay)
     cur_d = cur_l = cur_f = None       # plain-signal sets only when a value changes: the cheapest in pysim
@@ -378,9 +374,9 @@ async def drive_amaranth(ctx, chunks, *, clk, data, lv, fv, pclk_hz, start_delay
     return sent
 
 
-async def drive_cocotb(chunks, *, clk, data, lv, fv, pclk_hz, start_delay=0.0, on_sample=None,
-                       reset=None, reset_cycles=4):
-    """cocotb coroutine: send ``chunks`` on the pins ``clk`` (PCLK), ``data``, ``lv``, ``fv`` (DUT handles).
+async def drive_cocotb(chunks, *, clk, pins, pclk_hz, start_delay=0.0, on_sample=None, reset=None, reset_cycles=4):
+    """cocotb coroutine: send ``chunks`` on PCLK ``clk`` and ``pins`` (DUT handles ``data``, ``lv``, ``fv``, e.g.
+    ``sim.cocotb_runner.TopPorts(dut).cam_a``).
 
     PCLK is a GPI clock (its edges stay out of Python). Sample ``i`` is put on D/LV/FV at a falling edge
     (the first one before the clock starts) and captured by the next rising edge; ``on_sample()`` is called
@@ -395,6 +391,7 @@ async def drive_cocotb(chunks, *, clk, data, lv, fv, pclk_hz, start_delay=0.0, o
     from cocotb.triggers import FallingEdge, Timer
 
     period_ps = 2 * round(0.5e12 / pclk_hz)
+    data, lv, fv = pins.data, pins.lv, pins.fv
     chunks = iter(_as_chunks(chunks))
     pending = next(chunks, None)
     first = (0, 0, 0) if pending is None or not len(pending) else (
@@ -459,333 +456,3 @@ async def drive_cocotb(chunks, *, clk, data, lv, fv, pclk_hz, start_delay=0.0, o
         if running:
             clock.stop()
     return sent
-
-
-# --- Running a capture path (hdl.capture_path.CapturePath) from sensor models --------------------------------
-
-@dataclass
-class CaptureRecord:
-    """What one camera's capture did: every committed write ``(address, grey)`` in order, ``frame_ok`` at
-    every ``frame_done`` strobe, and the number of PCLK samples sent."""
-    writes: list = field(default_factory=list)
-    frames: list = field(default_factory=list)
-    samples: int = 0
-
-
-def _per_camera(value, cameras, default):
-    if isinstance(value, dict):
-        return {c: value.get(c, default) for c in cameras}
-    return {c: (default if value is None else value) for c in cameras}
-
-
-def run_capture_amaranth(path, streams, *, pclk_hz=CLOCKS.CAM_MCLK_HZ, start_delay=0.0, read=True,
-                         pix_hz=CLOCKS.PIXEL_HZ, vcd=None):
-    """Simulate ``path`` (a :class:`hdl.capture_path.CapturePath`) in Amaranth's simulator.
-
-    ``streams``: ``{camera: SensorStream or iterable of chunks}``; the cameras run concurrently, each on its
-    own PCLK (``pclk_hz`` and ``start_delay``: a value, or a dict per camera). Every write port is recorded
-    (:class:`CaptureRecord`). With ``read``, once every stream has been sent, each camera's buffer is read back
-    through its ``pix`` read port at ``pix_hz`` (the pix clock runs only then: the read port is idle before).
-    Returns ``(records, buffers)``: dicts per camera; buffers are uint8 ``(buf_height, buf_width)``.
-    """
-    from amaranth import ClockDomain, Elaboratable, Module, Signal
-    from amaranth.sim import Simulator
-
-    g = path.geometry
-    cameras = list(streams)
-    pclk = _per_camera(pclk_hz, cameras, CLOCKS.CAM_MCLK_HZ)
-    delay = _per_camera(start_delay, cameras, 0.0)
-
-    class Harness(Elaboratable):
-        def __init__(self):
-            self.cam = {c: ClockDomain(f"cam_{c}") for c in path.cameras}
-            self.pix = ClockDomain(path.read_domain)
-
-        def elaborate(self, platform):
-            m = Module()
-            m.domains += [*self.cam.values(), self.pix]
-            m.submodules.path = path
-            return m
-
-    harness = Harness()
-    records = {c: CaptureRecord() for c in cameras}
-    done = {c: Signal(name=f"stream_{c}_done") for c in cameras}
-    buffers = {}
-
-    def monitor(c):
-        w_en, w_addr, w_data = (path.port(c, n) for n in ("w_en", "w_addr", "w_data"))
-        done, ok = path.port(c, "frame_done"), path.port(c, "frame_ok")
-        rec = records[c]
-
-        def on_sample(ctx):
-            if ctx.get(w_en):
-                rec.writes.append((ctx.get(w_addr), ctx.get(w_data)))
-            if ctx.get(done):
-                rec.frames.append(bool(ctx.get(ok)))
-        return on_sample
-
-    sim = Simulator(harness)
-    for c in cameras:
-        async def camera(ctx, c=c):
-            records[c].samples = await drive_amaranth(
-                ctx, streams[c], clk=harness.cam[c].clk, data=path.port(c, "data"), lv=path.port(c, "lv"),
-                fv=path.port(c, "fv"), pclk_hz=pclk[c], start_delay=delay[c], on_sample=monitor(c))
-            ctx.set(done[c], 1)
-        sim.add_testbench(camera)
-
-    if read:
-        async def reader(ctx):
-            for c in cameras:
-                if not ctx.get(done[c]):
-                    await ctx.posedge(done[c])
-            half = 0.5 / pix_hz
-            clk = harness.pix.clk
-            for c in path.cameras:
-                values = []
-                for addr in range(g.buf_depth):
-                    ctx.set(path.port(c, "r_addr"), addr)
-                    ctx.set(clk, 0)
-                    await ctx.delay(half)
-                    ctx.set(clk, 1)           # r_data <= memory[addr]
-                    await ctx.delay(half)
-                    values.append(ctx.get(path.port(c, "r_data")))
-                buffers[c] = np.array(values, dtype=np.uint8).reshape(g.buf_height, g.buf_width)
-        sim.add_testbench(reader)
-
-    if vcd is None:
-        sim.run()
-    else:
-        from sim.gtkw import recording
-        traces = {f"camera_{c}": [harness.cam[c].clk] + [path.port(c, n) for n in (
-            "fv", "lv", "data", "in_frame", "w_en", "w_addr", "w_data", "frame_done", "frame_ok", "frame_count")]
-            for c in cameras}
-        with recording(sim, vcd, Path(vcd).with_suffix(".gtkw"), traces):
-            sim.run()
-    return records, buffers
-
-
-async def run_capture_cocotb(dut, geometry, streams, *, pclk_hz=CLOCKS.CAM_MCLK_HZ, start_delay=0.0,
-                             read=True, pix_hz=CLOCKS.PIXEL_HZ, cameras=None):
-    """The cocotb counterpart of :func:`run_capture_amaranth` for an exported ``CapturePath`` (``dut``).
-
-    Each camera's PCLK is a GPI clock driven by :func:`drive_cocotb` (which also holds ``cam_<c>_rst`` for
-    a few cycles first). ``cameras`` lists all the design's cameras (default: those in ``streams``), whose
-    buffers are read back when ``read``, through the pix ports with the pix clock at ``pix_hz`` (it runs
-    only then, as in :func:`run_capture_amaranth`: the read ports are idle during the capture and every pix
-    edge costs simulation time). Returns ``(records, buffers)`` like :func:`run_capture_amaranth`.
-    """
-    import cocotb
-    from cocotb.clock import Clock
-    from cocotb.triggers import FallingEdge
-
-    cameras_read = list(cameras or streams)
-    cameras = list(streams)
-    pclk = _per_camera(pclk_hz, cameras, CLOCKS.CAM_MCLK_HZ)
-    delay = _per_camera(start_delay, cameras, 0.0)
-    records = {c: CaptureRecord() for c in cameras}
-
-    dut.pix_rst.value = 0
-    dut.pix_clk.value = 0
-
-    def monitor(c):
-        w_en, w_addr, w_data = (getattr(dut, f"cam_{c}_{n}") for n in ("w_en", "w_addr", "w_data"))
-        done, ok = getattr(dut, f"cam_{c}_frame_done"), getattr(dut, f"cam_{c}_frame_ok")
-        rec = records[c]
-
-        def on_sample():
-            if w_en.value:
-                rec.writes.append((int(w_addr.value), int(w_data.value)))
-            if done.value:
-                rec.frames.append(bool(ok.value))
-        return on_sample
-
-    for c in cameras_read:
-        for pin in ("data", "lv", "fv"):       # cameras without a stream stay idle, not undriven
-            getattr(dut, f"cam_{c}_{pin}").value = 0
-        if hasattr(dut, f"cam_{c}_playback"):  # a playback_design: the pins, not the playback models, drive
-            getattr(dut, f"cam_{c}_playback").value = 0
-            getattr(dut, f"cam_{c}_start").value = 0
-
-    async def camera(c):
-        records[c].samples = await drive_cocotb(
-            streams[c], clk=getattr(dut, f"cam_{c}_clk"), data=getattr(dut, f"cam_{c}_data"),
-            lv=getattr(dut, f"cam_{c}_lv"), fv=getattr(dut, f"cam_{c}_fv"), pclk_hz=pclk[c],
-            start_delay=delay[c], on_sample=monitor(c), reset=getattr(dut, f"cam_{c}_rst"))
-
-    tasks = [cocotb.start_soon(camera(c)) for c in cameras]
-    for task in tasks:
-        await task
-
-    buffers = await read_buffers_cocotb(dut, cameras_read, geometry, pix_hz) if read else {}
-    return records, buffers
-
-
-async def read_buffers_cocotb(dut, cameras, geometry, pix_hz):
-    """Read every camera's frame buffer back through its ``pix`` read port (``cam_<c>_r_addr`` ->
-    ``cam_<c>_r_data``, one clock of latency), with the pixel clock running only for the read-back.
-    Returns ``{camera: uint8 (buf_height, buf_width)}``."""
-    from cocotb.clock import Clock
-    from cocotb.triggers import FallingEdge
-    pix_clock = Clock(dut.pix_clk, 2 * round(0.5e12 / pix_hz), unit="ps", impl="gpi")
-    pix_clock.start(start_high=False)
-    falling = FallingEdge(dut.pix_clk)
-    buffers = {}
-    for c in cameras:
-        r_addr, r_data = getattr(dut, f"cam_{c}_r_addr"), getattr(dut, f"cam_{c}_r_data")
-        values = []
-        for addr in range(geometry.buf_depth + 1):
-            await falling
-            if addr:
-                values.append(int(r_data.value))
-            if addr < geometry.buf_depth:
-                r_addr.value = addr
-        buffers[c] = np.array(values, dtype=np.uint8).reshape(geometry.buf_height, geometry.buf_width)
-    pix_clock.stop()
-    return buffers
-
-
-# --- HDL playback (cocotb on Verilator / Icarus: no Python per PCLK cycle) -------------------------------------
-
-#: A Verilog simulation model that replays a SensorStream from a $readmemh file, one sample per PCLK period,
-#: changing its outputs on the falling edge like the sensor. It waits (FV, LV, D low) until ``start`` is seen
-#: high at a falling edge, then plays every sample once, then holds FV, LV and D low and raises ``done``.
-#: Pauses are not replayed (use the Python drivers for those). Simulation only: not for synthesis.
-PLAYBACK_VERILOG = """
-module mt9d112_playback #(parameter DEPTH = 1, parameter FILE = "") (
-  input clk, input start,
-  output reg [7:0] data, output reg lv, output reg fv, output reg done
-);
-  reg [9:0] rom [0:DEPTH-1];
-  reg [31:0] addr;
-  reg playing;
-  initial begin
-    $readmemh(FILE, rom);
-    addr = 0; playing = 0; done = 0; data = 0; lv = 0; fv = 0;
-  end
-  always @(negedge clk) begin
-    if (playing || (start && !done)) begin
-      {fv, lv, data} <= rom[addr];
-      playing <= (addr != DEPTH - 1);
-      done <= (addr == DEPTH - 1);
-      addr <= addr + 1;
-    end else begin
-      {fv, lv, data} <= 10'd0;
-    end
-  end
-endmodule
-"""
-
-
-def write_playback_file(stream, directory=None):
-    """Write ``stream`` (pauses ignored) as a $readmemh file named by its content hash; returns
-    ``(path, depth)``. ``directory`` defaults to build/cocotb/playback under the project root."""
-    import hashlib
-
-    words = (stream.data.astype(np.uint16) | (stream.lv.astype(np.uint16) << 8)
-             | (stream.fv.astype(np.uint16) << 9))
-    directory = Path(directory) if directory else Path(__file__).resolve().parents[1] / "build" / "cocotb" / "playback"
-    directory.mkdir(parents=True, exist_ok=True)
-    digest = hashlib.sha256(words.tobytes()).hexdigest()[:16]
-    path = directory / f"stream-{digest}.hex"
-    if not path.exists():
-        tmp = path.with_suffix(f".tmp{id(words)}")
-        tmp.write_text("\n".join(map("{:03x}".format, words.tolist())) + "\n")
-        tmp.replace(path)
-    return path, len(words)
-
-
-def playback_design(geometry, streams, *, name="capture_path", r_byte_first=True):
-    """Verilog text of a :class:`hdl.capture_path.CapturePath` whose cameras can be fed either by the
-    Python drivers through the top-level pins or by ``mt9d112_playback`` instances replaying ``streams``
-    (``{camera: SensorStream}``), for cocotb on Verilator or Icarus. One design (one build) serves both.
-
-    Top-level ports: every port of the CapturePath (``cam_<c>_data``, ``..._w_addr``, status, read port...)
-    plus, per camera ``c``: ``cam_<c>_playback`` (1: the playback model drives the capture's pins, 0: the
-    top-level pins do), ``cam_<c>_start`` (begin playback), ``cam_<c>_done``. Clocks and resets as
-    CapturePath (``cam_<c>_clk``, ``cam_<c>_rst``, ``pix_clk``, ...). The frame-buffer memories get the
-    compact initialisation of hdl.export.
-    """
-    from amaranth import ClockSignal, Instance, Module, Mux, Signal
-    from amaranth.lib import wiring
-    from amaranth.lib.wiring import In, Out
-
-    from hdl.capture_path import CapturePath
-    from hdl.export import export_verilog
-
-    cameras = tuple(streams)
-    files = {c: write_playback_file(s) for c, s in streams.items()}
-
-    class CapturePlayback(wiring.Component):
-        def __init__(self):
-            self.path = CapturePath(geometry, cameras=cameras, r_byte_first=r_byte_first)
-            members = dict(self.path.signature.members.items())
-            for c in cameras:
-                members.update({f"cam_{c}_playback": In(1), f"cam_{c}_start": In(1), f"cam_{c}_done": Out(1)})
-            super().__init__(members)
-
-        def elaborate(self, platform):
-            m = Module()
-            m.submodules.path = path = self.path
-            for name, member in path.signature.members.items():
-                if member.flow == In and not name.endswith(("_data", "_lv", "_fv")):
-                    m.d.comb += getattr(path, name).eq(getattr(self, name))
-                elif member.flow == Out:
-                    m.d.comb += getattr(self, name).eq(getattr(path, name))
-            for c in cameras:
-                hex_path, depth = files[c]
-                data, lv, fv = Signal(8), Signal(), Signal()
-                m.submodules[f"sensor_{c}"] = Instance(
-                    "mt9d112_playback", p_DEPTH=depth, p_FILE=str(hex_path),
-                    i_clk=ClockSignal(f"cam_{c}"), i_start=getattr(self, f"cam_{c}_start"),
-                    o_data=data, o_lv=lv, o_fv=fv, o_done=getattr(self, f"cam_{c}_done"))
-                sel = getattr(self, f"cam_{c}_playback")
-                for pin, model in (("data", data), ("lv", lv), ("fv", fv)):
-                    m.d.comb += path.port(c, pin).eq(Mux(sel, model, getattr(self, f"cam_{c}_{pin}")))
-            return m
-
-    return export_verilog(CapturePlayback(), name) + PLAYBACK_VERILOG
-
-
-async def run_playback_cocotb(dut, geometry, cameras, *, pclk_hz=CLOCKS.CAM_MCLK_HZ, start_delay=0.0,
-                              pix_hz=CLOCKS.PIXEL_HZ, poll=10e-6):
-    """Run a :func:`playback_design`: start each camera's PCLK (GPI clock, phase ``start_delay``), hold its
-    reset for 4 cycles, start playback, wait (polling every ``poll`` seconds of simulated time) until every
-    camera is done, then read the buffers back through pix. Returns ``(status, buffers)``: per camera
-    ``{"frame_count", "frame_ok"}`` and the uint8 buffers."""
-    from cocotb.clock import Clock
-    from cocotb.triggers import FallingEdge, Timer
-
-    pclk = _per_camera(pclk_hz, cameras, CLOCKS.CAM_MCLK_HZ)
-    delay = _per_camera(start_delay, cameras, 0.0)
-    dut.pix_rst.value = 0
-    dut.pix_clk.value = 0
-    clocks = {}
-    for c in cameras:
-        getattr(dut, f"cam_{c}_rst").value = 1
-        getattr(dut, f"cam_{c}_start").value = 0
-        getattr(dut, f"cam_{c}_playback").value = 1
-        getattr(dut, f"cam_{c}_clk").value = 0
-    elapsed = 0.0
-    for c in sorted(cameras, key=lambda c: delay[c]):
-        if delay[c] > elapsed:
-            await Timer(round((delay[c] - elapsed) * 1e12), unit="ps")
-            elapsed = delay[c]
-        clocks[c] = Clock(getattr(dut, f"cam_{c}_clk"), 2 * round(0.5e12 / pclk[c]), unit="ps", impl="gpi")
-        clocks[c].start(start_high=False)
-    for c in cameras:
-        falling = FallingEdge(getattr(dut, f"cam_{c}_clk"))
-        for _ in range(4):
-            await falling
-        getattr(dut, f"cam_{c}_rst").value = 0
-        getattr(dut, f"cam_{c}_start").value = 1
-    while not all(int(getattr(dut, f"cam_{c}_done").value) for c in cameras):
-        await Timer(round(poll * 1e12), unit="ps")
-    for c in cameras:                               # let the capture pipelines drain
-        falling = FallingEdge(getattr(dut, f"cam_{c}_clk"))
-        for _ in range(8):
-            await falling
-    status = {c: {"frame_count": int(getattr(dut, f"cam_{c}_frame_count").value),
-                  "frame_ok": bool(getattr(dut, f"cam_{c}_frame_ok").value)} for c in cameras}
-    for clock in clocks.values():
-        clock.stop()
-    return status, await read_buffers_cocotb(dut, cameras, geometry, pix_hz)

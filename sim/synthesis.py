@@ -242,7 +242,7 @@ def board_rtlil(small=False):
     from hdl.top import board_plan
     kwargs = {}
     if small:
-        from sim.system_setup import SystemSetup
+        from sim.system.setup import SystemSetup
         setup = SystemSetup.small()
         kwargs = {k: v for k, v in setup.system_kwargs().items() if k != "lock_cycles"}
     _, plan = board_plan(files=(".il",), allow_unconfirmed=True, **kwargs)

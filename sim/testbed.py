@@ -39,14 +39,12 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from amaranth import Module
-
 from golden.capture import capture_frame
 from golden.disparity import difference_levels
-from hdl.disparity import LATENCY, SETTLE_CLOCKS, DisparitySubtractor
-from hdl.frame_buffer import FrameBuffer
+from hdl.disparity import LATENCY, SETTLE_CLOCKS
 from hdl.params import CLOCKS, DIFF_THRESHOLDS, SENSOR
 from sim.amaranth_sim import simulate
+from sim.subtractor_bench import set_pixel, subtractor_bench
 from sim.scene import RECTANGLE_SIZE_M, VMODCAM, make_object, object_footprint, render_pair
 
 __all__ = [
@@ -351,8 +349,8 @@ def fitted_rig_and_distance(fit, rig=VMODCAM):
 
 
 # --- RTL cross-check --------------------------------------------------------------------------------------
-# It runs hdl.disparity.DisparitySubtractor with two hdl.frame_buffer.FrameBuffers preloaded with the captured buffers in Amaranth's
-# simulator and compares its output with the golden model that the sweep uses, pixel for pixel.
+# It runs hdl.disparity.DisparitySubtractor with two frame buffers preloaded with the captured buffers in Amaranth's
+# simulator (sim/subtractor_bench.py) and compares its output with the golden model the sweep uses, pixel for pixel.
 
 @dataclass(frozen=True)
 class RtlCheck:
@@ -381,34 +379,20 @@ def rtl_difference_rows(left, right, settings, rows, geometry=SENSOR, thresholds
     saves simulator set-up time (Amaranth initialises memories word by word)."""
     w = geometry.buf_width
     rows = [int(y) for y in rows]
-    m = Module()
-    m.submodules.sub = sub = DisparitySubtractor(geometry, thresholds)
     last_row = min(geometry.buf_height, max(rows) + 1 + max(r for _, r in settings))
     words = last_row * w
-    m.submodules.left = left_fb = FrameBuffer(geometry, init=np.asarray(left).ravel()[:words].tolist())
-    m.submodules.right = right_fb = FrameBuffer(geometry, init=np.asarray(right).ravel()[:words].tolist())
-    m.d.comb += [
-        left_fb.r_addr.eq(sub.left_addr), sub.left_data.eq(left_fb.r_data),
-        right_fb.r_addr.eq(sub.right_addr), sub.right_data.eq(right_fb.r_data),
-    ]
+    m, sub = subtractor_bench(geometry, thresholds, np.asarray(left).ravel()[:words].tolist(),
+                              np.asarray(right).ravel()[:words].tolist())
     outputs = [[] for _ in settings]
 
     async def bench(ctx):
         for k, (d, r) in enumerate(settings):
             ctx.set(sub.valid, 0)
-            ctx.set(sub.disparity, d)
-            ctx.set(sub.rectification, r)
+            ctx.set(sub.settings.disparity, d)
+            ctx.set(sub.settings.rectification, r)
             await ctx.tick().repeat(SETTLE_CLOCKS)
-            pixels = [(x, y) for y in rows for x in range(w)] + [None] * LATENCY
-            for pixel in pixels:
-                if pixel is None:
-                    ctx.set(sub.valid, 0)
-                else:
-                    x, y = pixel
-                    ctx.set(sub.valid, 1)
-                    ctx.set(sub.x, x)
-                    ctx.set(sub.y, y)
-                    ctx.set(sub.addr, y * w + x)
+            for pixel in [(x, y) for y in rows for x in range(w)] + [None] * LATENCY:
+                set_pixel(ctx, sub, pixel, w)
                 await ctx.tick()
                 if ctx.get(sub.out_valid):
                     outputs[k].append((ctx.get(sub.level), ctx.get(sub.no_data)))

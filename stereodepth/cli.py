@@ -1,8 +1,8 @@
 """``stereodepth``: one command-line tool for the whole project.
 
-Each subcommand lives in its own module ``stereodepth/cmd_<name>.py`` exposing ``HELP`` (one line),
-``add_arguments(parser)`` and ``run(args) -> int``. Modules are imported only when their subcommand runs,
-so ``--help`` stays fast. Bad input raises :class:`stereodepth.errors.UserError`, printed as one line.
+Each subcommand lives in its own module ``stereodepth/cmd_<name>.py`` exposing ``add_arguments(parser)`` and
+``run(args) -> int``; its one-line help is in :data:`COMMANDS`. Modules are imported only when their subcommand
+runs, so ``--help`` stays fast. The library code they call lives in ``sim/``, ``golden/`` and ``hdl/``. Bad input raises :class:`stereodepth.errors.UserError`, printed as one line.
 """
 
 import argparse
@@ -36,7 +36,7 @@ def _load(name):
     return importlib.import_module(f"{__package__}.{module_name}")
 
 
-def build_parser(load_all=False):
+def build_parser():
     parser = argparse.ArgumentParser(
         prog="stereodepth",
         description="FPGA stereo-camera depth system: simulation, golden model and board build.",

@@ -13,8 +13,7 @@
 4. The golden pictures of the disparity display at the matching and at a wrong disparity
    (``sim.disparity_pictures.write_pictures``).
 
-Wall time on this 2-core machine: about 5 to 6 minutes for step 2 (plus about a minute the first time, to build
-the simulator), about a minute for step 3. ``--small`` runs step 2 at the small size too (about a minute in all).
+``--small`` runs step 2 at the small size too. README's table gives the run times.
 """
 
 import sys
@@ -22,8 +21,6 @@ import time
 from pathlib import Path
 
 from .errors import prepare_out_dir
-
-HELP = "run the whole simulated system on the bundled stereo pair -> build/demo/"
 
 
 def add_arguments(parser):
@@ -55,8 +52,9 @@ def small_disparity(disparity, setup_small):
 
 def run(args):
     from . import cmd_run
-    from sim.system_cocotb import DEFAULT_PAIR
-    from sim.system_setup import SystemSetup
+    from sim.errors import SimulationFailed
+    from sim.system.run_cocotb import DEFAULT_PAIR
+    from sim.system.setup import SystemSetup
 
     out = prepare_out_dir(args.out)
     t0 = time.perf_counter()
@@ -76,7 +74,7 @@ def run(args):
     try:
         frame, golden, status = cmd_run.run_cocotb_route(DEFAULT_PAIR[0], DEFAULT_PAIR[1], setup, args.simulator,
                                                          out / f".{args.simulator}")
-    except cmd_run.SimulationFailed as exc:
+    except SimulationFailed as exc:
         print(f"stereodepth demo: simulation failed: {exc}", file=sys.stderr)
         return 1
     wall = time.perf_counter() - t0
@@ -91,7 +89,7 @@ def run(args):
         wave_setup = SystemSetup.small(disparity=ds, rectification=0)
         try:
             frame_s, golden_s, status_s = cmd_run.run_amaranth_route(left_s, right_s, wave_setup, out, vcd=True)
-        except cmd_run.SimulationFailed as exc:
+        except SimulationFailed as exc:
             print(f"stereodepth demo: waveform run failed: {exc}", file=sys.stderr)
             return 1
         from sim.hdmi_sink import write_png

@@ -15,7 +15,6 @@ from pathlib import Path
 
 from .errors import UserError, prepare_out_dir
 
-HELP = "software pipeline: disparity map, distance map and vertical shift of a pair"
 
 _CAMERAS = ("board", "webcam")
 

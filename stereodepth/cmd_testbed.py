@@ -23,7 +23,6 @@ import numpy as np
 
 from .errors import UserError, prepare_out_dir
 
-HELP = "reproduce the thesis's test bed (table 4.2, figure 4.35) in simulation"
 
 #: The longest distance accepted: the disparity there is 27.3 / 20 = 1.4 buffer pixels.
 MAX_DISTANCE_M = 20.0

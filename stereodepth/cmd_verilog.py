@@ -22,8 +22,6 @@ from pathlib import Path
 
 from .errors import UserError
 
-HELP = "write the Genesys board build (Verilog, UCF, ISE scripts) to build/genesys/"
-
 
 def add_arguments(parser):
     parser.add_argument("--out", default="build/genesys", metavar="DIR", help="output directory (build/genesys)")

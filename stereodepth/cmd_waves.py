@@ -1,14 +1,12 @@
 """``stereodepth waves``: a VCD window of the display path and a GTKWave save file that opens it.
 
-Simulated in Amaranth's simulator; see :func:`stereodepth.cmd_display.write_display_waves` for the window.
+Simulated in Amaranth's simulator; see :func:`sim.display.write_display_waves` for the window.
 """
 
 from pathlib import Path
 
 from . import cmd_display
 from .errors import prepare_out_dir
-
-HELP = "write a VCD and a GTKWave save file of the display path"
 
 
 def add_arguments(parser):
@@ -22,12 +20,13 @@ def add_arguments(parser):
 
 
 def run(args):
-    timing = cmd_display._modes()[args.mode]
+    from sim.display import wave_window, write_display_waves
+    timing = cmd_display.modes()[args.mode]
     out = prepare_out_dir(args.out)
     lines = cmd_display.check_wave_lines(args.lines, timing)
-    start, clocks = cmd_display.wave_window(timing, lines)
+    start, clocks = wave_window(timing, lines)
     print(f"display path, {timing.h_active}x{timing.v_active}: {clocks:,} pixel clocks from line {start[1]} "
           f"in Amaranth's simulator ...")
-    files = cmd_display.write_display_waves(timing, out / "display.vcd", lines=lines)
+    files = write_display_waves(timing, out / "display.vcd", lines=lines)
     cmd_display.print_outputs(files)
     return 0

@@ -17,7 +17,8 @@ from hdl.export import amaranth_verilog, compact_memory_init, export_verilog
 from hdl.frame_buffer import FrameBuffer
 from hdl.params import SENSOR, SMALL_SENSOR, SensorGeometry
 from sim.cocotb_runner import run_cocotb
-from sim.mt9d112 import MT9D112, SENSOR_TIMING, SMALL_SENSOR_TIMING, playback_design, run_capture_amaranth
+from sim.capture_bench import playback_design, run_capture_amaranth
+from sim.mt9d112 import MT9D112, SENSOR_TIMING, SMALL_SENSOR_TIMING
 from sim.sensor_config import SensorConfig
 
 PCLK = {"a": 24e6, "b": 23.7e6}
@@ -57,7 +58,7 @@ def test_golden_capture_is_not_trivial():
 
 
 def pair_design(geometry, timing):
-    """The cocotb design: the two-camera CapturePath (compact export) with playback models loaded with the
+    """The cocotb design: the two-camera CapturePath (compact export) with replay modules loaded with the
     pair streams of tests/cocotb/cocotb_capture.py (same images, timing and seeds)."""
     left, right = load_default_pair(geometry.width, geometry.height)
     config = SensorConfig(width=geometry.width, height=geometry.height)
@@ -119,9 +120,9 @@ def test_export_full_size_buffer_is_compact():
 @pytest.mark.slow
 def test_full_resolution_capture_cocotb(simulator):
     """1600 x 1200 RGB565 frames of the pair, both cameras at once, captured bit-exactly (about 4.2 M PCLK
-    cycles per camera), from the Python drivers (every write checked) and from the playback models.
-    Amaranth's simulator would need about half an hour for this; bench/bench_capture.py runs it on the
-    full-size design for part of the frame (or all of it with --amaranth-full)."""
+    cycles per camera), from the Python drivers (every write checked) and from the replay modules.
+    bench/bench_capture.py runs it in Amaranth's simulator on the full-size design for part of the frame (or
+    all of it with --amaranth-full)."""
     run_cocotb(pair_design(SENSOR, SENSOR_TIMING), name="capture_path", test_module="cocotb_capture",
                simulator=simulator,
                testcase="test_stereo_pair_concurrent,test_playback_pair",

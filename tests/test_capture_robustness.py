@@ -22,7 +22,8 @@ from golden.capture import capture_frame, capture_stream
 from golden.stereo_pair import load_default_pair
 from hdl.capture_path import CapturePath
 from hdl.params import SensorGeometry
-from sim.mt9d112 import MT9D112, Faults, SensorStream, SensorTiming, fault_cases, run_capture_amaranth
+from sim.capture_bench import run_capture_amaranth
+from sim.mt9d112 import MT9D112, Faults, SensorStream, SensorTiming, fault_cases
 from sim.sensor_config import SensorConfig
 
 TINY = SensorGeometry(width=16, height=8)

@@ -1,4 +1,4 @@
-"""The command line's progress bar (stereodepth/cmd_run.py): in a log file (not a terminal) it redraws only at
+"""The command line's progress bar (stereodepth/progress.py): in a log file (not a terminal) it redraws only at
 stage changes and every 30 s, so a CI log gets a few lines per run, not one per update."""
 
 import io
@@ -6,10 +6,10 @@ import sys
 
 
 def test_progress_bar_in_a_log_redraws_only_at_stage_changes(monkeypatch):
-    from stereodepth.cmd_run import _Progress
+    from stereodepth.progress import Progress
     log = io.StringIO()                     # isatty() is False
     monkeypatch.setattr(sys, "stderr", log)
-    bar = _Progress("verilator")
+    bar = Progress("verilator")
     for stage, start in (("I2C-init", 0), ("capture", 300), ("display", 700)):
         for done in range(start, start + 300):
             bar.update(done, f"verilator: {stage}")

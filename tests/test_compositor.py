@@ -22,10 +22,11 @@ from golden.disparity import composite_frame
 from golden.stereo_pair import load_default_pair
 from hdl.compositor import LATENCY, Compositor
 from hdl.export import export_verilog
+from hdl.forward import forward
 from hdl.frame_buffer import FrameBuffer
 from hdl.params import (BACKGROUND_RGB, CEA_1080P60, CLOCKS, NO_DATA_RGB, SENSOR, SMALL_SENSOR, SMALL_TIMING,
                         DisplayLayout, Region, VideoTiming)
-from hdl.switches import SWITCH_VALUE_BITS, SwitchControl
+from hdl.switches import SWITCH_VALUE_BITS, SettingsSignature, SwitchControl
 from hdl.video_bus import TimingSignature, VideoSignature
 from sim.amaranth_sim import simulate
 from sim.cocotb_runner import COCOTB_TEST_DIR, run_cocotb
@@ -37,7 +38,6 @@ pytestmark = pytest.mark.filterwarnings("ignore:.*created but never used")
 
 CLOCK_PS = round(1e12 / CLOCKS.PIXEL_HZ)
 #: Amaranth's Verilog compares wide signals with narrow constants; that lint warning is not fatal here.
-VERILATOR_ARGS = ("-Wno-WIDTHEXPAND",)
 
 #: Frames 1, 2, ...: where in the previous frame the switches move, and to what. SMALL_TIMING's disparity
 #: region covers lines 20..43, columns 24..55, so lines 20-43 are changes in the middle of the disparity map.
@@ -61,15 +61,14 @@ def grey_buffers(geometry):
 class DisplayHarness(wiring.Component):
     """Test harness, not part of the design: SwitchControl -> Compositor <- two FrameBuffers, all in ``sync``;
     the buffers' write ports are brought out (``load_*``) so a cocotb bench can fill them, or ``init_*`` preloads
-    them. ``disparity``/``rectification`` expose the switch registers; ``video_word`` is the video output packed
-    as Cat(vsync, hsync, de, rgb) so a cocotb bench reads one signal per clock (it checks it against the
-    ``video`` ports themselves at intervals)."""
+    them. ``timing``, ``sw``, ``video`` and ``settings`` (the switch registers) are the blocks' own; ``video_word``
+    is the video output packed as Cat(vsync, hsync, de, rgb) so a cocotb bench reads one signal per clock (it
+    checks it against the ``video`` ports themselves at intervals)."""
 
     def __init__(self, timing, geometry, *, layout=None, init_left=(), init_right=()):
-        self.video_timing = timing
-        self.geometry = geometry
-        self.layout = layout
-        self._init = (list(init_left), list(init_right))
+        self.switches = SwitchControl()
+        self.compositor = Compositor(timing, geometry, layout)
+        self.buffers = (FrameBuffer(geometry, init=list(init_left)), FrameBuffer(geometry, init=list(init_right)))
         super().__init__({
             "timing": In(TimingSignature),
             "sw": In(SWITCH_VALUE_BITS + 1),
@@ -79,32 +78,27 @@ class DisplayHarness(wiring.Component):
             "load_en": In(1),
             "video": Out(VideoSignature),
             "video_word": Out(27),
-            "disparity": Out(SWITCH_VALUE_BITS),
-            "rectification": Out(SWITCH_VALUE_BITS),
+            "settings": Out(SettingsSignature),
         })
+        for name, obj in (("timing", self.compositor.timing), ("video", self.compositor.video),
+                          ("sw", self.switches.sw), ("settings", self.switches.settings)):
+            forward(self, name, obj)
 
     def elaborate(self, platform):
         m = Module()
-        g = self.geometry
-        m.submodules.switches = switches = SwitchControl()
-        m.submodules.compositor = comp = Compositor(self.video_timing, g, self.layout)
-        m.submodules.left_buffer = left = FrameBuffer(g, init=self._init[0])
-        m.submodules.right_buffer = right = FrameBuffer(g, init=self._init[1])
-        wiring.connect(m, wiring.flipped(self.timing), comp.timing)
-        wiring.connect(m, comp.video, wiring.flipped(self.video))
+        m.submodules.switches = switches = self.switches
+        m.submodules.compositor = comp = self.compositor
+        m.submodules.left_buffer = left = self.buffers[0]
+        m.submodules.right_buffer = right = self.buffers[1]
+        wiring.connect(m, switches.settings, comp.settings)
+        wiring.connect(m, comp.left, left.read)
+        wiring.connect(m, comp.right, right.read)
         m.d.comb += [
-            switches.sw.eq(self.sw),
             switches.frame_start.eq(self.timing.frame_start),
-            comp.disparity.eq(switches.disparity),
-            comp.rectification.eq(switches.rectification),
             self.video_word.eq(Cat(comp.video.vsync, comp.video.hsync, comp.video.de, comp.video.rgb)),
-            self.disparity.eq(switches.disparity),
-            self.rectification.eq(switches.rectification),
-            left.r_addr.eq(comp.left_addr), comp.left_data.eq(left.r_data),
-            right.r_addr.eq(comp.right_addr), comp.right_data.eq(right.r_data),
         ]
         for fb, data in ((left, self.load_left), (right, self.load_right)):
-            m.d.comb += [fb.w_addr.eq(self.load_addr), fb.w_data.eq(data), fb.w_en.eq(self.load_en)]
+            m.d.comb += [fb.write.addr.eq(self.load_addr), fb.write.data.eq(data), fb.write.en.eq(self.load_en)]
         return m
 
 
@@ -188,7 +182,7 @@ def run_amaranth(timing, geometry, schedule, n_frames, layout=None):
             out["vsync"][c] = ctx.get(dut.video.vsync)
             i = c % cpf
             if i == 1 and c < n_frames * cpf:
-                registers.append((ctx.get(dut.disparity), ctx.get(dut.rectification)))
+                registers.append((ctx.get(dut.settings.disparity), ctx.get(dut.settings.rectification)))
             for j, port in enumerate(ports):
                 if columns[j][i] != previous[j]:
                     ctx.set(port, columns[j][i])
@@ -229,7 +223,7 @@ def run_cocotb_display(timing, geometry, schedule, simulator, tmp_path):
              expected=expected_frames(left, right, settings, timing, geometry))
     verilog = export_verilog(DisplayHarness(timing, geometry), "display_harness")   # compact buffer init
     run_cocotb(verilog, name="display_harness", test_module="cocotb_compositor",
-               simulator=simulator, build_args=VERILATOR_ARGS if simulator == "verilator" else (),
+               simulator=simulator,
                params=dict(timing=dataclasses.asdict(timing), latency=LATENCY, data=str(data),
                            schedule=schedule, clock_ps=CLOCK_PS))
 

@@ -5,15 +5,14 @@ import gc
 
 import numpy as np
 import pytest
-from amaranth import Module
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from golden.disparity import difference_levels
 from hdl.disparity import LATENCY, SETTLE_CLOCKS, DisparitySubtractor
-from hdl.frame_buffer import FrameBuffer
 from hdl.params import CLOCKS, DIFF_THRESHOLDS, SensorGeometry
 from sim.amaranth_sim import simulate
+from sim.subtractor_bench import set_pixel, subtractor_bench
 
 pytestmark = pytest.mark.filterwarnings("ignore:.*created but never used")
 
@@ -62,37 +61,19 @@ def run_subtractor(left, right, disparity, rectification, thresholds, pixels):
     documented latency, the right/left addresses and that the left address never leaves the buffer."""
     h, w = right.shape
     geometry = SensorGeometry(width=4 * w, height=4 * h)
-    m = Module()
-    m.submodules.sub = sub = DisparitySubtractor(geometry, thresholds)
-    m.submodules.left = left_fb = FrameBuffer(geometry, init=left.ravel().tolist())
-    m.submodules.right = right_fb = FrameBuffer(geometry, init=right.ravel().tolist())
-    m.d.comb += [
-        left_fb.r_addr.eq(sub.left_addr), sub.left_data.eq(left_fb.r_data),
-        right_fb.r_addr.eq(sub.right_addr), sub.right_data.eq(right_fb.r_data),
-    ]
+    m, sub = subtractor_bench(geometry, thresholds, left.ravel().tolist(), right.ravel().tolist())
     stream = list(pixels) + [None] * LATENCY
     out = []
 
     async def bench(ctx):
-        ctx.set(sub.disparity, disparity)
-        ctx.set(sub.rectification, rectification)
+        ctx.set(sub.settings.disparity, disparity)
+        ctx.set(sub.settings.rectification, rectification)
         await ctx.tick().repeat(SETTLE_CLOCKS)      # the documented settle time, no more
         for pixel in stream:
-            if pixel is None:
-                ctx.set(sub.valid, 0)
-                # Idle clocks carry junk coordinates: they must not matter.
-                ctx.set(sub.x, w - 1)
-                ctx.set(sub.y, 0)
-                ctx.set(sub.addr, w - 1)
-            else:
-                x, y = pixel
-                ctx.set(sub.valid, 1)
-                ctx.set(sub.x, x)
-                ctx.set(sub.y, y)
-                ctx.set(sub.addr, y * w + x)
+            set_pixel(ctx, sub, pixel, w)
             await ctx.tick()
             out.append((ctx.get(sub.out_valid), ctx.get(sub.level), ctx.get(sub.no_data),
-                        ctx.get(sub.left_addr), ctx.get(sub.right_addr)))
+                        ctx.get(sub.left.addr), ctx.get(sub.right.addr)))
 
     simulate(m, clocks={"sync": CLOCKS.PIXEL_HZ}, testbenches=[bench])
     depth = w * h

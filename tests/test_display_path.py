@@ -23,7 +23,8 @@ from hdl.params import CEA_1080P60, SMALL_TIMING
 from hdl.pattern_gen import PatternGenerator
 from sim.amaranth_sim import simulate
 from hdl.export import amaranth_verilog as export_verilog
-from sim.hdmi_sink import HdmiSink, amaranth_sink_testbench, run_display_cocotb
+from sim.display import run_display_cocotb
+from sim.hdmi_sink import HdmiSink, amaranth_sink_testbench
 
 #: CEA-861 1920x1080p60 (VIC 16) intervals as the sink and the edge timer measure them, written out here
 #: from the standard (not taken from hdl.params).
@@ -68,7 +69,7 @@ def sink_run_amaranth(timing, frames=2, **dut_kwargs):
     dut = DisplayPath(timing, **dut_kwargs)
     sink = HdmiSink(timing)
     clocks = frames * timing.clocks_per_frame + DISPLAY_PATH_LATENCY + 1
-    simulate(dut, clocks={"sync": timing.pixel_hz}, testbenches=[amaranth_sink_testbench(sink, dut, clocks)])
+    simulate(dut, clocks={"sync": timing.pixel_hz}, testbenches=[amaranth_sink_testbench(sink, dut.ch7301c, clocks)])
     return sink
 
 
@@ -131,18 +132,20 @@ def test_ch7301c_output_bits_and_alignment():
                 for _ in range(400)]
     seen = []
 
+    pins = dut.pins
+
     async def bench(ctx):
         # Reset state: blank pixel, syncs at their inactive level (hsync negative: idle high).
-        assert (ctx.get(dut.data), ctx.get(dut.de), ctx.get(dut.hsync), ctx.get(dut.vsync)) == (0, 0, 1, 0)
+        assert (ctx.get(pins.data), ctx.get(pins.de), ctx.get(pins.hsync), ctx.get(pins.vsync)) == (0, 0, 1, 0)
         for rgb, de, hs, vs in stimulus:
             ctx.set(dut.video.rgb, rgb)
             ctx.set(dut.video.de, de)
             ctx.set(dut.video.hsync, hs)
             ctx.set(dut.video.vsync, vs)
-            await ctx.posedge(dut.xclk_p)
-            high = [ctx.get(s) for s in (dut.data, dut.de, dut.hsync, dut.vsync, dut.xclk_p, dut.xclk_n)]
-            await ctx.negedge(dut.xclk_p)
-            low = [ctx.get(s) for s in (dut.data, dut.de, dut.hsync, dut.vsync, dut.xclk_p, dut.xclk_n)]
+            await ctx.posedge(pins.xclk_p)
+            high = [ctx.get(s) for s in (pins.data, pins.de, pins.hsync, pins.vsync, pins.xclk_p, pins.xclk_n)]
+            await ctx.negedge(pins.xclk_p)
+            low = [ctx.get(s) for s in (pins.data, pins.de, pins.hsync, pins.vsync, pins.xclk_p, pins.xclk_n)]
             seen.append((high, low))
 
     simulate(dut, clocks={"sync": t.pixel_hz}, testbenches=[bench])

@@ -22,6 +22,8 @@ from hypothesis import strategies as st
 from golden.capture import downscale, gray5
 from hdl.downscaler import Downscaler
 from hdl.grey import Grey
+from hdl.forward import forward
+from hdl.frame_buffer import FrameBufferWriteSignature
 from hdl.params import SensorGeometry
 
 
@@ -34,8 +36,9 @@ class GreyDownscale(wiring.Component):
         super().__init__({
             "pixel": In(16), "valid": In(1),
             "column": In(len(self.downscaler.column)), "row": In(len(self.downscaler.row)),
-            "w_addr": Out(geometry.addr_bits), "w_data": Out(geometry.gray_bits), "w_en": Out(1),
+            "write": Out(FrameBufferWriteSignature(geometry)),
         })
+        forward(self, "write", self.downscaler.write)
 
     def elaborate(self, platform):
         m = Module()
@@ -44,7 +47,6 @@ class GreyDownscale(wiring.Component):
         m.d.comb += [
             grey.pixel.eq(self.pixel), ds.grey.eq(grey.grey), ds.valid.eq(self.valid),
             ds.column.eq(self.column), ds.row.eq(self.row),
-            self.w_addr.eq(ds.w_addr), self.w_data.eq(ds.w_data), self.w_en.eq(ds.w_en),
         ]
         return m
 
@@ -68,12 +70,12 @@ def run_downscaler(geometry, image, extra_cols, extra_rows, idle):
             ctx.set(dut.column, column)
             ctx.set(dut.row, row)
             await ctx.tick()
-            if ctx.get(dut.w_en):
-                writes.append((ctx.get(dut.w_addr), ctx.get(dut.w_data)))
+            if ctx.get(dut.write.en):
+                writes.append((ctx.get(dut.write.addr), ctx.get(dut.write.data)))
             ctx.set(dut.valid, 0)
             for _ in range(idle[k % len(idle)]):
                 await ctx.tick()
-                assert not ctx.get(dut.w_en)
+                assert not ctx.get(dut.write.en)
 
     sim = Simulator(dut)
     sim.add_clock(1 / 24e6)

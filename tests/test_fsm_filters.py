@@ -75,8 +75,8 @@ def test_every_state_is_named_as_in_the_rtl(block, source):
 
 
 def test_the_system_has_six_state_machines_with_filters(tmp_path):
-    from sim.system_setup import SystemSetup
-    from sim.system_bench import SystemBench
+    from sim.system.bench import SystemBench
+    from sim.system.setup import SystemSetup
     fsms = state_machines(SystemBench(**SystemSetup.small().system_kwargs()))
     paths = sorted(".".join(f.path[-2:]) for f in fsms)
     assert paths == sorted([f"system.init_{b}" for b in ("cam_a", "cam_b", "dvi")]

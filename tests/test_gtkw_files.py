@@ -21,7 +21,7 @@ needs_gtkwave = pytest.mark.skipif(not gtkwave_check.available(), reason="gtkwav
 
 @pytest.fixture(scope="module")
 def display_waves(tmp_path_factory):
-    from stereodepth.cmd_display import write_display_waves
+    from sim.display import write_display_waves
     return write_display_waves(SMALL_TIMING, tmp_path_factory.mktemp("waves") / "display.vcd")
 
 
@@ -87,9 +87,9 @@ def system_save_file(tmp_path_factory):
     """The system's save file over a short run (the names and groups do not depend on the run's length)."""
     from amaranth.sim import Simulator
     from sim.gtkw import recording
-    from sim.system_bench import SystemBench
-    from sim.system_setup import SystemSetup
-    from sim.system_waves import system_waves
+    from sim.system.bench import SystemBench
+    from sim.system.setup import SystemSetup
+    from sim.system.waves import system_waves
     bench = SystemBench(**SystemSetup.small().system_kwargs())
     sim = Simulator(bench)
     for domain, hz in (("sync", 100e6), ("pix", 25e6), ("cam_a", 80e6), ("cam_b", 80e6)):
@@ -108,12 +108,9 @@ def test_system_save_file_decodes_the_buses_and_names_the_states(system_save_fil
     assert len(fsms) == 6 and len(names) == len(set(names)) + 6      # each bus's two lines twice: shown, decoded
 
 
-@pytest.mark.xfail(strict=True, reason="the wrappers hdl.system.SimSystem, sim.system_bench.SystemBench and "
-                   "hdl.display_path.DisplayPath copy ports of the block inside under the same names (branch arch "
-                   "replaces them); remove this mark when it lands")
 def test_no_saved_trace_has_a_collision_suffix(system_save_file, display_waves):
-    """Fails today (strict xfail) on bench.top.button$75, cam_<c>_fv/lv/data$NN, sw$1 and the display path's
-    de/hsync/vsync$NN: the wrappers' copies, whose every name in the dump has a suffix."""
+    """No listed trace carries a ``$NN`` suffix (the wrappers forward their children's interfaces instead of
+    copying them: hdl/forward.py)."""
     suffixed = [n for gtkw in (system_save_file, display_waves["GTKWave"]) for n in gtkwave_check.listed(gtkw)
                 if COLLISION.search(n)]
     assert suffixed == []
@@ -121,8 +118,8 @@ def test_no_saved_trace_has_a_collision_suffix(system_save_file, display_waves):
 
 def test_exported_system_ports_have_no_collision_suffix():
     from hdl.export import export_verilog
-    from sim.system_bench import SystemBench
-    from sim.system_setup import SystemSetup
+    from sim.system.bench import SystemBench
+    from sim.system.setup import SystemSetup
     text = export_verilog(SystemBench(clock_ports=True, **SystemSetup.small().system_kwargs()), "system")
     header = text[text.index("module system("):]
     ports = re.findall(r"^\s*(?:input|output|inout)\s+(?:wire\s+|reg\s+)?(?:\[\d+:0\]\s+)?(\S+);", header, re.M)

@@ -16,7 +16,8 @@ from hdl.i2c_init import ErrorCode, InitSequencer
 from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE, InitTable, Poll, Wait, Write, CH7301C
 from sim.amaranth_sim import simulate
 from sim.cocotb_runner import run_cocotb
-from sim.i2c_devices import (CH7301CModel, I2CBench, I2CBusMonitor, MT9D112Model, amaranth_target_process)
+from sim.i2c_bus import I2CBench, amaranth_target_process
+from sim.i2c_devices import CH7301CModel, I2CBusMonitor, MT9D112Model
 
 CLK = 1_000_000
 FAST = dict(retries=2, retry_delay_us=50, timeout_us=500)
@@ -35,20 +36,21 @@ def run_sequencer(table, targets, *, limit_s, quiet_s=0.002, clk=CLK, **kw):
     r = Run()
     r.monitor = I2CBusMonitor()
     r.retries = params["retries"]
-    target = amaranth_target_process(bench, "bus", targets, clk, r.monitor)
+    target = amaranth_target_process(bench.bus.bus, targets, clk, bench.cycles, r.monitor)
+    status = bench.status.bus
 
     async def testbench(ctx):
         done = error = 0
         while not (done or error):
-            done, error, cycles = await ctx.changed(bench.bus_done, bench.bus_error).sample(bench.cycles)
+            done, error, cycles = await ctx.changed(status.done, status.error).sample(bench.cycles)
             assert not (done and error), "done and error together"
         r.t_settled = cycles / clk
         r.done, r.error = done, error
-        r.code, r.entry = ctx.get(bench.bus_error_code), ctx.get(bench.bus_entry)
+        r.code, r.entry = ctx.get(status.error_code), ctx.get(status.entry)
         # afterwards: the status must not change and the bus must stay quiet
-        _, _, expired = await ctx.changed(bench.bus_done, bench.bus_error).delay(quiet_s)
+        _, _, expired = await ctx.changed(status.done, status.error).delay(quiet_s)
         assert expired, "done/error changed after the sequencer had settled"
-        assert ctx.get(bench.bus_drive_high) == 0, "a line was driven high"
+        assert ctx.get(bench.bus.bus.drive_high) == 0, "a line was driven high"
 
     simulate(bench, clocks={"sync": clk}, testbenches=[testbench], processes=[target], timeout_s=limit_s,
              timeout_message=f"the sequencer neither finished nor failed within {limit_s} s")
@@ -196,9 +198,6 @@ def test_random_tables_with_transient_nacks(entries, nacks, nack_byte):
 
 # --- cocotb on Verilator and Icarus ----------------------------------------------------------------------
 
-VERILATOR_ARGS = ("-Wno-WIDTHEXPAND", "-Wno-WIDTHTRUNC", "-Wno-CASEINCOMPLETE")   # Amaranth's Verilog style
-
-
 def cocotb_bench(clk_hz, **kw):
     return I2CBench({"cam": InitSequencer(MT9D112_TABLE, clk_hz=clk_hz, **kw),
                      "dvi": InitSequencer(CH7301C_TABLE, clk_hz=clk_hz, **kw)})
@@ -207,7 +206,7 @@ def cocotb_bench(clk_hz, **kw):
 def run_cocotb_i2c(simulator, clk_hz, testcase=None, **kw):
     params = dict(clk_hz=clk_hz, **kw)
     run_cocotb(cocotb_bench(clk_hz, **kw), name="i2c_bench", test_module="cocotb_i2c", simulator=simulator,
-               params=params, testcase=testcase, build_args=VERILATOR_ARGS if simulator == "verilator" else ())
+               params=params, testcase=testcase)
 
 
 def test_cocotb_i2c(simulator):

@@ -11,8 +11,8 @@ import pytest
 from sim.amaranth_sim import simulate
 
 from hdl.i2c_master import Cmd, I2CMaster, I2CTiming
-from sim.i2c_devices import CH7301CModel, I2CBench, I2CBusMonitor, I2CTarget, MT9D112Model, \
-    amaranth_target_process
+from sim.i2c_bus import I2CBench, amaranth_target_process
+from sim.i2c_devices import CH7301CModel, I2CBusMonitor, I2CTarget, MT9D112Model
 
 CLK = 2_000_000
 TIMEOUT_US = 400
@@ -30,7 +30,7 @@ def run_master(targets, script, *, clk=CLK, bus_hz=100_000, timeout_us=TIMEOUT_U
     master = I2CMaster(clk_hz=clk, bus_hz=bus_hz, timeout_us=timeout_us)
     bench = I2CBench({"bus": master})
     monitor = I2CBusMonitor()
-    target = amaranth_target_process(bench, "bus", targets, clk, monitor)
+    target = amaranth_target_process(bench.bus.bus, targets, clk, bench.cycles, monitor)
 
     async def do(ctx, cmd, wdata=0, rd_ack=0):
         ctx.set(master.cmd, cmd)                              # offered before ready: accepted at once
@@ -42,13 +42,13 @@ def run_master(targets, script, *, clk=CLK, bus_hz=100_000, timeout_us=TIMEOUT_U
         await ctx.tick().until(master.done)
         return dict(nack=ctx.get(master.nack), rdata=ctx.get(master.rdata), arb=ctx.get(master.arb_lost),
                     timeout=ctx.get(master.timed_out), active=ctx.get(master.bus_active),
-                    cycles=ctx.get(bench.cycles), scl_oe=ctx.get(master.scl_oe), sda_oe=ctx.get(master.sda_oe))
+                    cycles=ctx.get(bench.cycles), scl_oe=ctx.get(master.i2c.scl.oe), sda_oe=ctx.get(master.i2c.sda.oe))
 
     finished = []
 
     async def bench_tb(ctx):
         await script(ctx, master, lambda *a, **k: do(ctx, *a, **k))
-        assert ctx.get(bench.bus_drive_high) == 0, "the master drove a line high"
+        assert ctx.get(bench.bus.bus.drive_high) == 0, "the master drove a line high"
         finished.append(True)
 
     simulate(bench, clocks={"sync": clk}, testbenches=[bench_tb], processes=[target], timeout_s=limit_s,

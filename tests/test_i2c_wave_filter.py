@@ -10,15 +10,16 @@ recording is the VCD of Amaranth's simulator; the filter is fed from it directly
 
 import pytest
 
-from golden.i2c_writes import expected_writes
 from hdl.i2c_init import InitSequencer
 from hdl.init_tables import CH7301C_TABLE
 from sim import gtkwave_check
 from sim.amaranth_sim import simulate
 from sim.gtkw import I2CBus, Waves, changes, read_vars
-from sim.i2c_devices import I2CBench, I2CBusMonitor, I2CTarget, MT9D112Model, amaranth_target_process
+from sim.i2c_bus import I2CBench, amaranth_target_process
+from sim.i2c_devices import I2CBusMonitor, I2CTarget, MT9D112Model
+from sim.i2c_expected import expected_writes
 from sim.i2c_wave_filter import decode, transaction_text, transactions
-from sim.system_setup import SystemSetup
+from sim.system.setup import SystemSetup
 
 CLK = 1_000_000
 
@@ -30,22 +31,23 @@ def record(table, targets, vcd, limit_s):
     monitor = I2CBusMonitor()
 
     async def bench_done(ctx):
-        await ctx.changed(bench.bus_done, bench.bus_error)
+        await ctx.changed(bench.status.bus.done, bench.status.bus.error)
         await ctx.delay(100e-6)
+    bus = bench.bus.bus
     simulate(bench, clocks={"sync": CLK}, testbenches=[bench_done],
-             processes=[amaranth_target_process(bench, "bus", targets, CLK, monitor)], vcd=vcd,
-             timeout_s=limit_s, traces=Waves(groups={"bus": [I2CBus("bus", bench.bus_scl, bench.bus_sda)]}))
+             processes=[amaranth_target_process(bus, targets, CLK, bench.cycles, monitor)], vcd=vcd,
+             timeout_s=limit_s, traces=Waves(groups={"bus": [I2CBus("bus", bus.scl, bus.sda)]}))
     return monitor
 
 
 def bus_levels(vcd):
     """``[(time, scl, sda)]`` of the bus in the VCD, read straight from the dump."""
     variables, _ = read_vars(vcd)
-    ids = {v.full.rsplit(".", 1)[1]: v.ident for v in variables if v.scope == ("bench", "top")}
-    seen, _ = changes(vcd, {ids["bus_scl"], ids["bus_sda"]})
+    ids = {line: next(v.ident for v in variables if v.scope[-1] == "bus_bus" and v.name.split("__")[-1] == line)
+           for line in ("scl", "sda")}      # the lines of the bus resolver (sim.i2c_bus.OpenDrainBus)
+    seen, _ = changes(vcd, set(ids.values()))
     level, out = {"scl": True, "sda": True}, []
-    merged = sorted([(t, "scl", v) for t, v in seen[ids["bus_scl"]]]
-                    + [(t, "sda", v) for t, v in seen[ids["bus_sda"]]])
+    merged = sorted([(t, "scl", v) for t, v in seen[ids["scl"]]] + [(t, "sda", v) for t, v in seen[ids["sda"]]])
     for t, line, v in merged:
         level[line] = v != "0"
         if out and out[-1][0] == t:

@@ -14,6 +14,7 @@ from PIL import Image
 
 from golden.capture import capture_frame, capture_stream, rgb888_to_rgb565
 from golden.stereo_pair import load_default_pair
+from hdl.capture import CameraSignature
 from hdl.params import SMALL_SENSOR, SensorGeometry
 from sim.mt9d112 import (MT9D112, SENSOR_TIMING, SMALL_SENSOR_TIMING, Faults, SensorTiming, drive_amaranth,
                          fault_cases, image_to_bytes)
@@ -181,7 +182,8 @@ def test_amaranth_driver_clocking():
     m = Module()
     m.domains.cam = cd = ClockDomain("cam")
     m.domains.ref = ClockDomain("ref")
-    data, lv, fv = Signal(8), Signal(), Signal()
+    pins = CameraSignature.create()
+    data, lv, fv = pins.data, pins.lv, pins.fv
     data_r, edges, ref_ticks = Signal(10), Signal(16), Signal(16)
     m.d.cam += [data_r.eq(data | (lv << 8) | (fv << 9)), edges.eq(edges + 1)]
     m.d.ref += ref_ticks.eq(ref_ticks + 1)
@@ -189,7 +191,7 @@ def test_amaranth_driver_clocking():
     seen, result = [], {}
 
     async def bench(ctx):
-        await drive_amaranth(ctx, samples, clk=cd.clk, data=data, lv=lv, fv=fv, pclk_hz=20e6,
+        await drive_amaranth(ctx, samples, clk=cd.clk, pins=pins, pclk_hz=20e6,
                              on_sample=lambda c: seen.append(c.get(data_r)))
         result["edges"], result["ref"] = ctx.get(edges), ctx.get(ref_ticks)
 

@@ -1,4 +1,4 @@
-"""SensorReplay (sim/sensor_replay.py) and the Amaranth fast bench's gated clocks (sim/system_amaranth_fast.py).
+"""SensorReplay (sim/sensor_replay.py) and the Amaranth replay route's gated clocks (sim/system/rom_bench.py).
 
 The replay's pins are sampled at every rising edge of its PCLK domain and compared with the sensor model's stream
 (the arrays ``sim.mt9d112.MT9D112.frame`` returns, not the packed ROM words), across the wrap to sample 0.
@@ -15,7 +15,7 @@ from amaranth.sim import Simulator
 from hdl.params import SMALL_SENSOR
 from sim.mt9d112 import MT9D112, SMALL_SENSOR_TIMING, SensorStream
 from sim.sensor_config import SensorConfig
-from sim.sensor_replay import SensorReplay, stream_words
+from sim.sensor_replay import SensorReplay, pack_stream
 
 
 def _small_stream(seed=0):
@@ -25,12 +25,12 @@ def _small_stream(seed=0):
     return MT9D112(cfg, timing=SMALL_SENSOR_TIMING, seed=seed).frame(image)
 
 
-def test_stream_words_packs_fv_lv_data():
+def test_pack_stream_packs_fv_lv_data():
     stream = SensorStream(np.array([0, 1, 1], np.uint8), np.array([0, 0, 1], np.uint8),
                           np.array([0x12, 0xFF, 0x00], np.uint8))
-    assert stream_words(stream) == [0x012, 0x2FF, 0x300]
+    assert pack_stream(stream).tolist() == [0x012, 0x2FF, 0x300]
     with pytest.raises(ValueError, match="pauses"):
-        stream_words(SensorStream(stream.fv, stream.lv, stream.data, {1: 1e-6}))
+        pack_stream(SensorStream(stream.fv, stream.lv, stream.data, {1: 1e-6}))
 
 
 @pytest.mark.parametrize("words, message", [([], "at least one"), ([0, 1024], "10 bits"), ([-1], "10 bits")])
@@ -45,7 +45,8 @@ def test_replay_puts_the_model_stream_on_the_pins_and_wraps():
     assert stream.fv.any() and stream.lv.any() and n > 1000
     m = Module()
     m.domains.pclk = ClockDomain()
-    m.submodules.replay = replay = SensorReplay(stream_words(stream), domain="pclk")
+    m.submodules.replay = replay = SensorReplay(pack_stream(stream).tolist(), domain="pclk")
+    pins = replay.pins
     want = list(zip(stream.fv.tolist(), stream.lv.tolist(), stream.data.tolist()))
     extra = 50
     got, idle = [], []
@@ -53,14 +54,14 @@ def test_replay_puts_the_model_stream_on_the_pins_and_wraps():
     async def bench(ctx):
         for _ in range(3):                          # not running: pins 0, index held at 0
             await ctx.tick("pclk")
-            idle.append((ctx.get(replay.fv), ctx.get(replay.lv), ctx.get(replay.data), ctx.get(replay.index)))
+            idle.append((ctx.get(pins.fv), ctx.get(pins.lv), ctx.get(pins.data), ctx.get(replay.index)))
         ctx.set(replay.run, 1)
         for _ in range(n + extra):
             await ctx.tick("pclk")
-            got.append((ctx.get(replay.fv), ctx.get(replay.lv), ctx.get(replay.data)))
+            got.append((ctx.get(pins.fv), ctx.get(pins.lv), ctx.get(pins.data)))
         ctx.set(replay.run, 0)
         await ctx.tick("pclk")
-        idle.append((ctx.get(replay.fv), ctx.get(replay.lv), ctx.get(replay.data), ctx.get(replay.index)))
+        idle.append((ctx.get(pins.fv), ctx.get(pins.lv), ctx.get(pins.data), ctx.get(replay.index)))
 
     sim = Simulator(m)
     sim.add_clock(1e-8, domain="pclk")
@@ -72,28 +73,25 @@ def test_replay_puts_the_model_stream_on_the_pins_and_wraps():
 
 
 def test_gated_clock_runs_its_domain_only_while_enabled():
-    """AmaranthFastBench's clock gate: a counter in the gated domain stands still while the gate is closed and
+    """RomReplayBench's clock gate: a counter in the gated domain stands still while the gate is closed and
     counts one per free-clock period while it is open; enable_clock opens and closes it while the free clock is
     low, so no pulse is lost or cut short (the counts are exact)."""
-    from sim.system_amaranth_fast import _ClockGate, enable_clock
+    from sim.system.rom_bench import ClockGate, enable_clock
 
     class Bench(wiring.Component):
         count: Out(16)
-        cam_a_en: In(1)
+        clock_en: In(wiring.Signature({"cam_a": Out(1)}))
 
         def __init__(self):
             super().__init__()
-            self.free = ClockDomain("free_cam_a", reset_less=True)
-
-        def gated_clock(self, name):
-            return self.free
+            self.free_domains = {"cam_a": ClockDomain("free_cam_a", reset_less=True)}
 
         def elaborate(self, platform):
             m = Module()
             cam = ClockDomain("cam_a", reset_less=True)
-            m.domains += [self.free, cam]
-            m.submodules.gate = gate = _ClockGate("free_cam_a", cam.clk)
-            m.d.comb += gate.en.eq(self.cam_a_en)
+            m.domains += [self.free_domains["cam_a"], cam]
+            m.submodules.gate = gate = ClockGate("free_cam_a", cam.clk)
+            m.d.comb += gate.en.eq(self.clock_en.cam_a)
             m.d.cam_a += self.count.eq(self.count + 1)
             return m
 
@@ -111,7 +109,7 @@ def test_gated_clock_runs_its_domain_only_while_enabled():
         counts.append(ctx.get(dut.count))
 
     sim = Simulator(dut)
-    sim.add_clock(1e-8, domain=dut.free)
+    sim.add_clock(1e-8, domain=dut.free_domains["cam_a"])
     sim.add_testbench(bench)
     sim.run()
     assert counts == [0, 100, 100]

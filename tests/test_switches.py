@@ -45,23 +45,23 @@ def test_selects_register_and_waits_for_frame_start():
     async def bench(ctx):
         ctx.set(dut.sw, SW7 | 22)            # thesis figure 4.15: disparity 22
         await ctx.tick().repeat(10)
-        assert (ctx.get(dut.disparity), ctx.get(dut.rectification)) == (0, 0), "changed without frame_start"
+        assert (ctx.get(dut.settings.disparity), ctx.get(dut.settings.rectification)) == (0, 0), "changed without frame_start"
         ctx.set(dut.frame_start, 1)
         await ctx.tick()
         ctx.set(dut.frame_start, 0)
-        assert (ctx.get(dut.disparity), ctx.get(dut.rectification)) == (22, 0)
+        assert (ctx.get(dut.settings.disparity), ctx.get(dut.settings.rectification)) == (22, 0)
         ctx.set(dut.sw, 3)                   # SW7 = 0: rectification 3 (figure 4.14); disparity holds 22
         await ctx.tick().repeat(10)
-        assert (ctx.get(dut.disparity), ctx.get(dut.rectification)) == (22, 0)
+        assert (ctx.get(dut.settings.disparity), ctx.get(dut.settings.rectification)) == (22, 0)
         ctx.set(dut.frame_start, 1)
         await ctx.tick()
         ctx.set(dut.frame_start, 0)
-        assert (ctx.get(dut.disparity), ctx.get(dut.rectification)) == (22, 3)
+        assert (ctx.get(dut.settings.disparity), ctx.get(dut.settings.rectification)) == (22, 3)
         ctx.set(dut.sw, SW7 | 127)
         await ctx.tick().repeat(10)
         ctx.set(dut.frame_start, 1)
         await ctx.tick()
-        assert (ctx.get(dut.disparity), ctx.get(dut.rectification)) == (127, 3)
+        assert (ctx.get(dut.settings.disparity), ctx.get(dut.settings.rectification)) == (127, 3)
 
     _run(dut, bench)
 
@@ -82,12 +82,12 @@ def test_latency_boundary(stages):
             ctx.set(dut.frame_start, 1)
             await ctx.tick()
             ctx.set(dut.frame_start, 0)
-            seen[k] = (ctx.get(dut.disparity), value)
+            seen[k] = (ctx.get(dut.settings.disparity), value)
             await ctx.tick().repeat(stages + 3)          # let the value reach the pending register
             ctx.set(dut.frame_start, 1)
             await ctx.tick()
             ctx.set(dut.frame_start, 0)
-            assert ctx.get(dut.disparity) == value
+            assert ctx.get(dut.settings.disparity) == value
 
     _run(dut, bench)
     for k, (got, value) in seen.items():
@@ -127,7 +127,7 @@ def test_random_switching_matches_documented_behaviour(use_renamer):
                 ctx.set(inner.sw, changes[c])
             ctx.set(inner.frame_start, c in frame_starts)
             await ctx.tick("pix")
-            got.append((ctx.get(inner.disparity), ctx.get(inner.rectification)))
+            got.append((ctx.get(inner.settings.disparity), ctx.get(inner.settings.rectification)))
 
     simulate(top, clocks={"pix": CLOCKS.PIXEL_HZ}, testbenches=[bench])
     for c in range(1, n):

@@ -2,8 +2,9 @@
 frame buffers -> compositor -> CH7301C pins -> HDMI sink model, compared bit for bit with the golden model's
 frame (golden.disparity.composite_frame of golden.capture.capture_frame of each image).
 
-Default run: the small preset (64 x 48 sensor, 80 x 48 display; sim/system_setup.py) on Amaranth's simulator and
-through cocotb on Verilator and Icarus. Slow: the full 1600 x 1200 -> 1080p run (tests marked ``slow``).
+Default run: the small preset (64 x 48 sensor, 80 x 48 display; sim/system/setup.py) on Amaranth's simulator and
+through cocotb on Verilator and Icarus, along every route. Slow: the full 1600 x 1200 -> 1080p run (tests marked
+``slow``).
 """
 
 import numpy as np
@@ -12,8 +13,13 @@ import pytest
 from golden.stereo_pair import load_default_pair
 from hdl.init_tables import MT9D112_TABLE, Poll, Wait, Write
 from hdl.params import NO_DATA_RGB, SMALL_SENSOR
-from sim.system_tables import QUICK_VARIABLES, SIZE_VARIABLES, mt9d112_table
-from sim.system_setup import SystemSetup
+from sim.system.cocotb_routes import InSimulator, PythonModels
+from sim.system.run_amaranth import ROUTES as AMARANTH_ROUTES, run_amaranth
+from sim.system.waves import system_waves
+from sim.system.run_cocotb import DEFAULT_PAIR, run_cocotb_system
+from sim.system.result import SystemTimeout
+from sim.system.setup import SystemSetup
+from sim.system.tables import QUICK_VARIABLES, SIZE_VARIABLES, mt9d112_table
 
 DISPARITY, RECTIFICATION = 2, 1     # small buffers are 16 x 12: a shift of 2 leaves a no-data band
 
@@ -77,8 +83,6 @@ def test_end_to_end_amaranth(tmp_path):
     """The small system end to end in Amaranth's simulator, writing the demo's waveforms: the frame equals the
     golden frame, and the GTKWave save file opens with every signal it lists (where GTKWave is installed)."""
     from sim import gtkwave_check
-    from sim.system_amaranth import run_amaranth
-    from sim.system_waves import system_waves
     setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION)
     left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
     gtkw = tmp_path / "system.gtkw"
@@ -106,13 +110,12 @@ def test_end_to_end_amaranth(tmp_path):
 
 
 def test_end_to_end_amaranth_replayed_sensors():
-    """The full-size Amaranth route (sim/system_amaranth_fast.py: each camera's stream, made by the sensor model
+    """The full-size Amaranth route (sim/system/rom_bench.py: each camera's stream, made by the sensor model
     before the run, replayed from a ROM; gated simulator clocks) on the small preset: the same frame as the golden
     model, and every sample of the replayed frame period was sent."""
-    from sim.system_amaranth import run_amaranth
     setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION)
     left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
-    result = run_amaranth(left, right, setup, sensors="replay")
+    result = run_amaranth(left, right, setup, route=AMARANTH_ROUTES["replay"])
     _check_status(result.status)
     assert not result.sink.violations, result.sink.violations[:5]
     assert result.mismatched_pixels == 0
@@ -125,26 +128,23 @@ def test_replayed_sensors_need_the_configuration_their_stream_was_made_for(monke
     """The replay ROM is made before the run for the spec's sensor configuration; if the RTL's I2C init leaves a
     register-file model configured otherwise (here: the ROM made for G byte first), the run stops with an error
     instead of replaying a stream the model would not send."""
-    import sim.i2c_expected
-    from sim.system_amaranth import SystemTimeout, run_amaranth
+    import sim.system.run_amaranth
     from sim.sensor_config import SensorConfig
     setup = SystemSetup.small()
     g = setup.geometry
-    monkeypatch.setattr(sim.i2c_expected, "expected_sensor_config",
+    monkeypatch.setattr(sim.system.run_amaranth, "expected_sensor_config",
                         lambda geometry: SensorConfig(width=g.width, height=g.height, rgb565=True,
                                                       r_byte_first=False))
     left, right = load_default_pair(g.width, g.height)
     with pytest.raises(SystemTimeout, match="camera a: the I2C init configured .*r_byte_first=True"):
-        run_amaranth(left, right, setup, sensors="replay")
+        run_amaranth(left, right, setup, route=AMARANTH_ROUTES["replay"])
 
 
 def test_end_to_end_cocotb_python_models(tmp_path):
     """cocotb with the Python models driven per clock (sensor pins per PCLK, the HDMI sink per pixel clock) on
-    Icarus; Verilator runs the same scenario through the fast route below (one Verilator build for both)."""
-    from sim.system_cocotb import run_cocotb_system
-    simulator = "icarus"
-    spec = {"preset": "small", "disparity": DISPARITY, "rectification": RECTIFICATION}
-    result = run_cocotb_system(spec, simulator, out_dir=tmp_path)
+    Icarus; Verilator runs the same scenario through the in-simulator route below."""
+    setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION)
+    result = run_cocotb_system(setup, "icarus", route=PythonModels(), out_dir=tmp_path)
     status = result.status
     _check_status(status)
     _check_golden_is_interesting(result.golden, SystemSetup.small(disparity=DISPARITY,
@@ -159,21 +159,19 @@ def test_end_to_end_cocotb_python_models(tmp_path):
 
 def test_end_to_end_cocotb_pixel_clock_from_time_zero(tmp_path):
     """The real start-up order once: the pixel clock (and the display) runs from time 0, during the I2C init."""
-    from sim.system_cocotb import run_cocotb_system
-    spec = {"preset": "small", "disparity": DISPARITY, "rectification": RECTIFICATION, "pix_after_init": False}
-    result = run_cocotb_system(spec, "icarus", out_dir=tmp_path)
+    setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION, pix_after_init=False)
+    result = run_cocotb_system(setup, "icarus", route=PythonModels(), out_dir=tmp_path)
     _check_status(result.status)
     assert result.status["violations"] == [] and result.mismatched_pixels == 0
 
 
-def test_fast_route_is_equivalent(simulator, tmp_path):
-    """The end-to-end run through the fast route (sim/system_fast.py), checked against the Python models in the
-    same run: the replayed camera pins equal the sensor model's stream sample for sample, and the bus recorder's
-    per-clock samples equal those of the Python sink (``CocotbSink``) sampling the same pins; the frame rebuilt
-    from them equals the golden frame bit for bit."""
-    from sim.system_cocotb import run_cocotb_system
-    spec = {"preset": "small", "disparity": DISPARITY, "rectification": RECTIFICATION}
-    result = run_cocotb_system(spec, simulator, out_dir=tmp_path, sensor="replay", sink="both", check_replay=5000)
+def test_in_simulator_route_is_equivalent(simulator, tmp_path):
+    """The end-to-end run along the in-simulator route (sim/system/verilog_bench.py), checked against the Python
+    models in the same run: the replayed camera pins equal the sensor model's stream sample for sample, and the
+    pin recorder's per-clock samples equal those of the Python sink (``CocotbSink``) sampling the same pins; the
+    frame rebuilt from them equals the golden frame bit for bit."""
+    setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION)
+    result = run_cocotb_system(setup, simulator, route=InSimulator(cross_check=5000), out_dir=tmp_path)
     status = result.status
     _check_status(status)
     assert status["replay_checks"]["a"] == {"samples": 5000, "mismatches": 0}
@@ -183,7 +181,7 @@ def test_fast_route_is_equivalent(simulator, tmp_path):
     assert result.mismatched_pixels == 0
 
 
-FULL_SPEC = {"preset": "full", "disparity": 10, "rectification": 1}
+FULL_SETUP = SystemSetup.full(disparity=10, rectification=1)
 
 
 def _check_full_size_status(status):
@@ -196,10 +194,8 @@ def _check_full_size_status(status):
 @pytest.mark.slow
 @pytest.mark.parametrize("simulator", ["verilator", "icarus"])
 def test_end_to_end_full_size_cocotb(simulator, tmp_path):
-    """1600 x 1200 sensors -> 400 x 300 buffers -> one 1080p frame, bit for bit (the fast route). Verilator
-    about 1.5 min, Icarus about 20 min."""
-    from sim.system_cocotb import run_cocotb_system
-    result = run_cocotb_system(FULL_SPEC, simulator, out_dir=tmp_path, sensor="replay", sink="recorder")
+    """1600 x 1200 sensors -> 400 x 300 buffers -> one 1080p frame, bit for bit (the in-simulator route)."""
+    result = run_cocotb_system(FULL_SETUP, simulator, route=InSimulator(), out_dir=tmp_path)
     status = result.status
     _check_full_size_status(status)
     assert status["violations"] == [] and result.mismatched_pixels == 0
@@ -210,16 +206,12 @@ def test_end_to_end_full_size_cocotb(simulator, tmp_path):
 @pytest.mark.slow
 @pytest.mark.hours
 def test_end_to_end_full_size_amaranth():
-    """The same full-size run in Amaranth's simulator, through its fast route (each camera's stream replayed from
-    a ROM, gated clocks: sim/system_amaranth_fast.py; the HDMI sink still samples every pixel clock in Python):
-    about 1 h 50 min on a 2-core machine (this call, run to the end on 2026-11-23: bit-exact, 6,424 s of
-    simulation). With the sensor models driven per PCLK from Python it would take 3-3.5 hours; the small preset
-    runs both routes."""
-    from sim.system_amaranth import run_amaranth
-    from sim.system_cocotb import setup_from_spec
-    setup = setup_from_spec(FULL_SPEC)
+    """The same full-size run in Amaranth's simulator, along its replay route (each camera's stream replayed from
+    a ROM, gated clocks: sim/system/rom_bench.py; the HDMI sink still samples every pixel clock in Python). Hours
+    long (README gives the figure); the small preset runs both Amaranth routes."""
+    setup = FULL_SETUP
     left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
-    result = run_amaranth(left, right, setup, sensors="replay")
+    result = run_amaranth(left, right, setup, route=AMARANTH_ROUTES["replay"])
     _check_full_size_status(result.status)
     assert not result.sink.violations, result.sink.violations[:5]
     assert result.frame is not None and result.frame.shape == (1080, 1920, 3)
@@ -229,7 +221,6 @@ def test_end_to_end_full_size_amaranth():
 def test_run_command_rejects_bad_input(tmp_path, capsys):
     from PIL import Image
     from stereodepth.cli import main
-    from sim.system_cocotb import DEFAULT_PAIR
     left, right = map(str, DEFAULT_PAIR)
     small = tmp_path / "small.png"
     Image.new("RGB", (10, 10)).save(small)

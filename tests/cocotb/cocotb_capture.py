@@ -1,5 +1,5 @@
-"""cocotb tests of the exported two-camera capture path (hdl.capture_path.CapturePath with the playback
-models of sim.mt9d112.playback_design beside it, exported through hdl.export.export_verilog), on Verilator
+"""cocotb tests of the exported two-camera capture path (hdl.capture_path.CapturePath with the replay modules
+of sim.capture_bench.playback_design beside it, exported through hdl.export.export_verilog), on Verilator
 and Icarus. Driven from tests/test_capture.py.
 
 Every check compares the RTL with the golden model (golden/capture.py), which is written from the spec:
@@ -7,7 +7,7 @@ the write-port sequence with ``capture_stream`` (counting rules applied to the s
 read back through the ``pix`` ports with ``capture_frame`` (image level).
 
 Most tests drive the cameras' pins from Python (sim.mt9d112.drive_cocotb, one call per PCLK cycle, so every
-write can be recorded); ``test_playback_pair`` switches the cameras to the Verilog playback models, which
+write can be recorded); ``test_playback_pair`` switches the cameras to the Verilog replay modules, which
 replay the same streams with no Python per cycle (the design must have been built with
 ``pair_streams()``'s streams, as tests/test_capture.py and bench/bench_capture.py do).
 
@@ -28,8 +28,8 @@ from golden.capture import capture_frame, capture_stream
 from golden.stereo_pair import load_default_pair
 from hdl.params import SensorGeometry
 from sim.cocotb_runner import test_params
-from sim.mt9d112 import (MT9D112, SENSOR_TIMING, SMALL_SENSOR_TIMING, fault_cases, run_capture_cocotb,
-                         run_playback_cocotb)
+from sim.capture_bench import run_capture_cocotb, run_playback_cocotb
+from sim.mt9d112 import MT9D112, SENSOR_TIMING, SMALL_SENSOR_TIMING, fault_cases
 from sim.sensor_config import SensorConfig
 
 PARAMS = test_params()
@@ -128,7 +128,7 @@ for _a, _b in zip(_CASES[0::2], _CASES[1::2] + [None]):
 
 @cocotb.test()
 async def test_playback_pair(dut):
-    """The stereo pair replayed by the Verilog playback models (the same samples as the Python driver would
+    """The stereo pair replayed by the Verilog replay modules (the same samples as the Python driver would
     send) on 24 / 23.7 MHz PCLKs: one good frame per camera, both buffers equal the golden model."""
     streams = pair_streams()
     start = time.perf_counter()

@@ -1,7 +1,7 @@
 """cocotb tests of the display path (hdl/display_path.py) on its CH7301C pins, on Verilator and Icarus.
 
-Driven from pytest through ``sim.cocotb_runner.run_cocotb`` (tests/test_display_path.py) and reused by the
-display demo (``stereodepth/cmd_demo.py``) and the bench. Parameters (``sim.cocotb_runner.test_params()``):
+Driven through ``sim.display.run_display_cocotb`` from tests/test_display_path.py, ``sim.display.capture_frame``
+(the ``display`` command) and the bench. Parameters (``sim.cocotb_runner.test_params()``):
 
 * ``timing``: the :class:`hdl.params.VideoTiming` fields of the design under test (required);
 * ``sink_clocks``: pixel clocks the HDMI sink samples from reset (0 or absent: ``sink_frames`` is skipped);
@@ -31,7 +31,7 @@ from cocotb.utils import get_sim_time
 
 from golden.video import pattern_frame
 from hdl.params import VideoTiming
-from sim.cocotb_runner import test_params
+from sim.cocotb_runner import TopPorts, test_params
 from sim.hdmi_sink import CocotbSink, HdmiSink
 
 PARAMS = test_params()
@@ -60,14 +60,14 @@ class EdgeRecorder:
 
     NAMES = ("hs_lead", "hs_trail", "vs_lead", "vs_trail", "de_rise", "de_fall")
 
-    def __init__(self, dut, timing):
+    def __init__(self, pins, timing):
         t = timing
         lead = {True: RisingEdge, False: FallingEdge}
         trail = {True: FallingEdge, False: RisingEdge}
         self.triggers = {
-            "hs_lead": lead[t.hsync_positive](dut.hsync), "hs_trail": trail[t.hsync_positive](dut.hsync),
-            "vs_lead": lead[t.vsync_positive](dut.vsync), "vs_trail": trail[t.vsync_positive](dut.vsync),
-            "de_rise": RisingEdge(dut.de), "de_fall": FallingEdge(dut.de),
+            "hs_lead": lead[t.hsync_positive](pins.hsync), "hs_trail": trail[t.hsync_positive](pins.hsync),
+            "vs_lead": lead[t.vsync_positive](pins.vsync), "vs_trail": trail[t.vsync_positive](pins.vsync),
+            "de_rise": RisingEdge(pins.de), "de_fall": FallingEdge(pins.de),
         }
         self.edges = {name: [] for name in self.NAMES}
 
@@ -90,9 +90,10 @@ async def sink_frames(dut):
     origin = await start_in_reset(dut)
     # The sink and the edge recorder start while reset holds the pins blank, so both see frame 0 from its
     # first pixel.
-    recorder = EdgeRecorder(dut, TIMING)
+    pins = TopPorts(dut).ch7301c
+    recorder = EdgeRecorder(pins, TIMING)
     recorder.start()
-    reader = CocotbSink(dut, sink, period_ps=PERIOD_PS, progress_file=PARAMS.get("progress_file"))
+    reader = CocotbSink(pins, sink, period_ps=PERIOD_PS, progress_file=PARAMS.get("progress_file"))
     wall = time.perf_counter()
     task = cocotb.start_soon(reader.run(PARAMS["sink_clocks"]))
     await release_reset(dut)

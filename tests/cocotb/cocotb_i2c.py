@@ -24,9 +24,9 @@ from cocotbext.i2c import I2cDevice
 from sim.i2c_expected import expected_prefix, expected_writes
 from hdl.i2c_init import ErrorCode
 from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE, Wait, Write
-from sim.cocotb_runner import test_params
-from sim.i2c_devices import (CH7301CModel, I2CBusMonitor, MT9D112Model, start_cocotb_monitor,
-                             start_cocotb_targets)
+from sim.cocotb_runner import TopPorts, test_params
+from sim.i2c_bus import start_cocotb_monitor, start_cocotb_targets
+from sim.i2c_devices import CH7301CModel, I2CBusMonitor, MT9D112Model
 
 PARAMS = test_params()
 CLK_PERIOD_NS = 1e9 / PARAMS.get("clk_hz", 100_000_000)
@@ -45,8 +45,8 @@ class RecordingDevice(I2cDevice):
         self.segments = []
         self.transactions = []
         self.read_count = {}
-        super().__init__(sda=getattr(dut, f"{bus}_sda"), sda_o=getattr(dut, f"{bus}_peer_sda_o"),
-                         scl=getattr(dut, f"{bus}_scl"), scl_o=getattr(dut, f"{bus}_peer_scl_o"))
+        lines = getattr(TopPorts(dut).bus, bus)
+        super().__init__(sda=lines.sda, sda_o=lines.peer_sda_o, scl=lines.scl, scl_o=lines.peer_scl_o)
 
     def handle_start(self):
         self.segments.append(["?", []])
@@ -102,10 +102,11 @@ def dvi_responder(reg, n):
 
 async def reset(dut):
     for bus in TABLES:
-        getattr(dut, f"{bus}_peer_scl_o").value = 1
-        getattr(dut, f"{bus}_peer_sda_o").value = 1
-        getattr(dut, f"{bus}_ext_scl_low").value = 0
-        getattr(dut, f"{bus}_ext_sda_low").value = 0
+        lines = getattr(TopPorts(dut).bus, bus)
+        lines.peer_scl_o.value = 1
+        lines.peer_sda_o.value = 1
+        lines.ext_scl_low.value = 0
+        lines.ext_sda_low.value = 0
     dut.rst.value = 1
     await ClockCycles(dut.clk, 10)
     dut.rst.value = 0
@@ -120,7 +121,8 @@ async def run_until_settled(dut, limit_ms):
         await Timer(20, unit="us")
         settled = True
         for bus in TABLES:
-            done, err = int(getattr(dut, f"{bus}_done").value), int(getattr(dut, f"{bus}_error").value)
+            state = getattr(TopPorts(dut).status, bus)
+            done, err = int(state.done.value), int(state.error.value)
             assert not (done and err), f"{bus}: done and error together"
             if seen_done.get(bus) and not done:
                 raise AssertionError(f"{bus}: done fell")
@@ -133,8 +135,8 @@ async def run_until_settled(dut, limit_ms):
 
 
 def status(dut, bus):
-    return (int(getattr(dut, f"{bus}_done").value), int(getattr(dut, f"{bus}_error").value),
-            ErrorCode(int(getattr(dut, f"{bus}_error_code").value)), int(getattr(dut, f"{bus}_entry").value))
+    s = getattr(TopPorts(dut).status, bus)
+    return int(s.done.value), int(s.error.value), ErrorCode(int(s.error_code.value)), int(s.entry.value)
 
 
 def entry_index(table, reg):
@@ -148,7 +150,7 @@ async def test_third_party_decode(dut):
                "dvi": RecordingDevice(dut, "dvi", CH7301C_TABLE.device, dvi_responder)}
     monitors = {bus: I2CBusMonitor() for bus in TABLES}
     for bus, mon in monitors.items():
-        start_cocotb_monitor(dut, bus, mon)
+        start_cocotb_monitor(getattr(TopPorts(dut).bus, bus), mon)
     t0 = await reset(dut)
     done_at = await run_until_settled(dut, limit_ms=60)
 
@@ -160,7 +162,7 @@ async def test_third_party_decode(dut):
         assert writes == expected_writes(table), f"{bus}: decoded writes differ from the expected list"
         assert len(monitors[bus].transactions) == len(writes) + len(reads), f"{bus}: retries in a clean run"
         dut._log.info("%s: %d writes decoded by cocotbext-i2c equal the expected list", bus, len(writes))
-        assert int(getattr(dut, f"{bus}_drive_high").value) == 0, f"{bus}: a line was driven high"
+        assert int(getattr(TopPorts(dut).bus, bus).drive_high.value) == 0, f"{bus}: a line was driven high"
         viol = monitors[bus].violations()
         assert not viol, f"{bus}: UM10204 standard-mode violations: {viol}"
         assert not monitors[bus].protocol_errors, monitors[bus].protocol_errors[:3]
@@ -180,8 +182,8 @@ async def test_faults_nack(dut):
     reg = 0x3214                                                  # slew-rate register: the 3rd write
     cam = MT9D112Model(nack_write_byte=2, nack_write_reg=reg)    # NACK its first data byte, for ever
     cam_mon, dvi_mon = I2CBusMonitor(), I2CBusMonitor()
-    start_cocotb_targets(dut, "cam", [cam], cam_mon)
-    start_cocotb_monitor(dut, "dvi", dvi_mon)                    # no device on the DVI bus
+    start_cocotb_targets(TopPorts(dut).bus.cam, [cam], cam_mon)
+    start_cocotb_monitor(TopPorts(dut).bus.dvi, dvi_mon)          # no device on the DVI bus
     await reset(dut)
     done_at = await run_until_settled(dut, limit_ms=30)
     assert not done_at, f"done reported despite faults: {done_at}"
@@ -207,8 +209,8 @@ async def test_stretch_and_stuck(dut):
     cam = MT9D112Model(hold_sda_low=True)
     dvi = CH7301CModel(stretch_s=20e-6)
     cam_mon, dvi_mon = I2CBusMonitor(), I2CBusMonitor()
-    start_cocotb_targets(dut, "cam", [cam], cam_mon)
-    start_cocotb_targets(dut, "dvi", [dvi], dvi_mon)
+    start_cocotb_targets(TopPorts(dut).bus.cam, [cam], cam_mon)
+    start_cocotb_targets(TopPorts(dut).bus.dvi, [dvi], dvi_mon)
     t0 = await reset(dut)
     done_at = await run_until_settled(dut, limit_ms=20)
 

@@ -1,21 +1,21 @@
 """One place that says how a whole-system simulation is set up: sizes, time scale, clocks, models, golden frame.
 
-:class:`SystemSetup` is shared by the Amaranth-simulator runner (``sim/system_amaranth.py``), the cocotb test
-module (``tests/cocotb/cocotb_system.py``), the tests, the bench and the command line, so every route
-simulates the same configuration and compares against the same golden frame.
+:class:`SystemSetup` is shared by both simulators' runners (``sim/system/run_amaranth.py``,
+``sim/system/run_cocotb.py`` and the scenario it runs inside the simulator), the tests, the bench and the command
+line, so every route simulates the same configuration and compares against the same golden frame.
 
 Two presets:
 
 * :meth:`SystemSetup.small`: ``SMALL_SENSOR`` (64 x 48 -> 16 x 12 buffers) on ``SMALL_TIMING`` (80 x 48 active),
   the MT9D112 table with the small output size, only its essential entries and its waits scaled by 1/50
-  (``sim/system_tables.py``), a 1 MHz I2C bus (Fast-mode Plus rate, the fastest the I2C master accepts; a simulation
+  (``sim/system/tables.py``), a 1 MHz I2C bus (Fast-mode Plus rate, the fastest the I2C master accepts; a simulation
   speed-up: the register-file models do not depend on the bus rate; the 100 kHz bus is exercised by the I2C
   block's own tests and by the full preset). For the default test run.
 * :meth:`SystemSetup.full`: the board's sizes (1600 x 1200 -> 400 x 300, 1080p60), the board's MT9D112 table
   unchanged and the 100 kHz bus. For the slow test, the bench and the demo.
 
-The sensors' PCLK is 80 MHz: what the MT9D112 table programs (24 MHz x 80 / 3 / 8; Digilent's CamCtl
-"1600x1200 @ 80 MHz pixel clock"). Camera A is the left image, camera B the right image.
+The sensors' PCLK is ``hdl.params.CLOCKS.CAM_PCLK_HZ``: what the MT9D112 table programs. Camera A is the left
+image, camera B the right image.
 
 Simulation shortcuts, stated:
 
@@ -27,23 +27,26 @@ Simulation shortcuts, stated:
   switches are set after it starts. The display of those first milliseconds (25 ms at full size) would only
   show the still-empty buffers, and the display domain is where the simulators spend most of their time.
   ``pix_after_init=False`` runs it from time 0 (tests/test_system.py does once, in cocotb).
+
+:meth:`SystemSetup.spec` / :meth:`SystemSetup.from_spec` turn a setup into JSON and back (the cocotb scenario gets
+its setup that way).
 """
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 
 from golden.capture import capture_frame
 from golden.disparity import composite_frame
-from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE
+from golden.stereo_pair import fit_to_sensor
+from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE, Poll, Wait
 from hdl.params import (CEA_1080P60, CLOCKS, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, SENSOR, SMALL_SENSOR, SMALL_TIMING,
                         DisplayLayout)
-from sim.system_tables import model_timing, mt9d112_table
+from sim.i2c_devices import CH7301CModel, MT9D112Model
+from sim.mt9d112 import MT9D112, SENSOR_TIMING, SMALL_SENSOR_TIMING
+from sim.system.tables import model_timing, mt9d112_table
 
-__all__ = ["SystemSetup", "CAM_PCLK_HZ"]
-
-#: The sensors' PCLK with the MT9D112 table's PLL settings.
-CAM_PCLK_HZ = 80_000_000
+__all__ = ["SystemSetup"]
 
 
 @dataclass(frozen=True)
@@ -60,7 +63,7 @@ class SystemSetup:
     i2c_hz: int = CLOCKS.I2C_HZ
     i2c_retry_delay_us: int = 1000
     sys_hz: int = CLOCKS.SYS_HZ
-    pclk_hz: int = CAM_PCLK_HZ
+    pclk_hz: int = CLOCKS.CAM_PCLK_HZ
     cam_phase_s: dict = field(default_factory=lambda: {"a": 0.0, "b": 3.1e-9})   # the cameras are not in phase
     lock_cycles: int = 16
     pix_after_init: bool = False       # start the pixel clock only once the I2C init is done (see below)
@@ -68,7 +71,6 @@ class SystemSetup:
 
     @classmethod
     def small(cls, **kw):
-        from sim.mt9d112 import SMALL_SENSOR_TIMING
         kw.setdefault("sensor_timing", SMALL_SENSOR_TIMING)
         kw.setdefault("pix_after_init", True)
         return cls(geometry=SMALL_SENSOR, timing=SMALL_TIMING, time_scale=0.02, quick_table=True,
@@ -76,10 +78,37 @@ class SystemSetup:
 
     @classmethod
     def full(cls, **kw):
-        from sim.mt9d112 import SENSOR_TIMING
         kw.setdefault("sensor_timing", SENSOR_TIMING)
         kw.setdefault("pix_after_init", True)
         return cls(**kw)
+
+    def to_spec(self):
+        """This setup as JSON: ``{"preset": "small"|"full", **fields that differ from the preset}``. Raises
+        ``ValueError`` if a differing field has no JSON form (a layout, sensor timing or table of its own)."""
+        base = type(self).from_spec({"preset": self.preset})
+        spec = {"preset": self.preset}
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if value != getattr(base, f.name):
+                if not isinstance(value, (int, float, bool, str, dict)):
+                    raise ValueError(f"setup field {f.name} = {value!r} differs from the {self.preset} preset "
+                                     "and has no JSON form")
+                spec[f.name] = value
+        return spec
+
+    @classmethod
+    def from_spec(cls, spec):
+        """The setup a :meth:`to_spec` dictionary describes."""
+        spec = dict(spec)
+        preset = spec.pop("preset", "small")
+        if preset not in ("small", "full"):
+            raise ValueError(f"preset must be 'small' or 'full', not {preset!r}")
+        return (cls.small if preset == "small" else cls.full)(**spec)
+
+    @property
+    def preset(self):
+        """``"small"`` or ``"full"``: which preset this setup's sizes are."""
+        return "full" if self.geometry == SENSOR else "small"
 
     def __post_init__(self):
         for name, value in (("disparity", self.disparity), ("rectification", self.rectification)):
@@ -97,7 +126,7 @@ class SystemSetup:
         return mt9d112_table(self.geometry, time_scale=self.time_scale, quick=self.quick_table)
 
     def system_kwargs(self):
-        """Keyword arguments for ``hdl.system.StereoDepthSystem`` / ``SimSystem`` / ``SystemBench``."""
+        """Keyword arguments for ``sim.system.bench.SystemBench`` (and from there ``hdl.system.StereoDepthSystem``)."""
         return dict(geometry=self.geometry, timing=self.timing, layout=self.display_layout,
                     thresholds=self.thresholds, level_grey=self.level_grey, cam_table=self.cam_table,
                     dvi_table=CH7301C_TABLE, clk_hz=self.sys_hz, i2c_hz=self.i2c_hz,
@@ -105,13 +134,11 @@ class SystemSetup:
 
     def i2c_models(self):
         """Fresh register-file models: ``{bus: [target, ...]}`` for the buses ``cam_a``, ``cam_b``, ``dvi``."""
-        from sim.i2c_devices import CH7301CModel, MT9D112Model
         timing = model_timing(self.time_scale)
         return {"cam_a": [MT9D112Model(**timing)], "cam_b": [MT9D112Model(**timing)], "dvi": [CH7301CModel()]}
 
     def sensor(self, model, seed):
         """The video model of one camera, configured through its I2C register-file ``model``."""
-        from sim.mt9d112 import SENSOR_TIMING, MT9D112
         return MT9D112(model, timing=self.sensor_timing or SENSOR_TIMING, pclk_hz=self.pclk_hz, seed=seed)
 
     def switch_words(self):
@@ -120,7 +147,6 @@ class SystemSetup:
 
     def fit(self, image):
         """An RGB image fitted to the sensor (what the sensor model will output)."""
-        from golden.stereo_pair import fit_to_sensor
         image = np.asarray(image, dtype=np.uint8)
         if image.shape[:2] != (self.geometry.height, self.geometry.width):
             image = fit_to_sensor(image, self.geometry.width, self.geometry.height)
@@ -133,3 +159,30 @@ class SystemSetup:
         rb = capture_frame(self.fit(right), g)
         return composite_frame(lb, rb, self.disparity, self.rectification, self.timing, g, self.display_layout,
                                self.thresholds, self.level_grey)
+
+    def deadline_s(self):
+        """Simulated-time budget of a run: the I2C init (table waits + bus time, generously) plus a few frames."""
+        table = self.cam_table
+        waits = sum(e.us for e in table.entries if isinstance(e, Wait)) * 1e-6
+        polls = sum(e.interval_us * 4 for e in table.entries if isinstance(e, Poll)) * 1e-6
+        bus = len(table.entries) * 12 * 9 / self.i2c_hz
+        cam_frame = (self.geometry.height + 20) * (2 * self.geometry.width + 400) / self.pclk_hz
+        display_frame = self.timing.clocks_per_frame / self.timing.pixel_hz
+        return 2 * (waits + polls + bus) + 4 * cam_frame + 4 * display_frame + 1e-3
+
+    def expected_sim_time_s(self):
+        """A rough estimate of a run's simulated time (for progress bars only): the I2C init (table waits and bus
+        time), one sensor frame period, one and a half display frames."""
+        table = self.cam_table
+        init = sum(e.us for e in table.entries if isinstance(e, Wait)) * 1e-6
+        init += sum(e.interval_us for e in table.entries if isinstance(e, Poll)) * 3e-6
+        init += len(table.entries) * 50 / self.i2c_hz
+        g, t = self.geometry, self.timing
+        sensor = (g.height + 10) * (2 * g.width + 256) / self.pclk_hz
+        return init + sensor + 1.5 * t.clocks_per_frame / t.pixel_hz
+
+    def frame_period_samples(self):
+        """PCLK samples of one sensor frame period (vertical blanking + frame): the replay ROMs' depth."""
+        t, g = self.sensor_timing or SENSOR_TIMING, self.geometry
+        line = t.line_time(g.width)
+        return t.v_blank_lines * line + t.frame_start + g.height * line - t.h_blank + t.frame_end

@@ -1,11 +1,12 @@
-"""The fast route's file formats (sim/system_fast.py): the replay ROM files written from a sensor stream and the
-bus recorder's lines read back, checked against formats written independently here."""
+"""The in-simulator route's file formats: the replay ROM files written from a sensor stream (sim/sensor_replay.py)
+and the pin recorder's lines read back (sim/pin_recorder.py), checked against formats written independently here."""
 
 import numpy as np
 import pytest
 
 from sim.mt9d112 import SensorStream
-from sim.system_fast import read_recording, stream_to_hex
+from sim.pin_recorder import read_recording
+from sim.sensor_replay import pack_stream, write_hex
 
 
 def _stream(n, seed=0):
@@ -17,7 +18,7 @@ def _stream(n, seed=0):
 def test_stream_to_hex_writes_one_readmemh_word_per_sample(tmp_path):
     stream = _stream(5000)
     path = tmp_path / "cam.hex"
-    assert stream_to_hex(stream, path) == 5000
+    assert write_hex(pack_stream(stream), path) == 5000
     lines = path.read_text().splitlines()
     assert len(lines) == 5000 and all(len(line) == 3 for line in lines)
     words = [int(line, 16) for line in lines]

@@ -1,0 +1,19 @@
+"""The whole system in simulation: one harness, two simulators, pluggable routes.
+
+========================  ==========================================================================================
+``setup.py``              :class:`~sim.system.setup.SystemSetup`: sizes, clocks, tables, models, golden frame (the
+                          ``small`` and ``full`` presets); ``tables.py`` derives the small and fast MT9D112 tables
+``bench.py``              :class:`~sim.system.bench.SystemBench`: the design + its clocking model + its I2C buses
+                          (``sim/i2c_bus.py``) + a cycle counter; what every route simulates
+``rom_bench.py``          the Amaranth replay route's design: the bench + ROM sensor replays + gated clocks
+``verilog_bench.py``      the cocotb in-simulator route's design: the bench + clock generators + Verilog sensor
+                          replays + the CH7301C pin recorder (``sim/sensor_replay.py``, ``sim/pin_recorder.py``)
+``run_amaranth.py``       :func:`~sim.system.run_amaranth.run_amaranth` and the Amaranth routes
+``cocotb_routes.py``      the cocotb routes (design + how each drives clocks, cameras, display)
+``run_cocotb.py``         :func:`~sim.system.run_cocotb.run_cocotb_system` (the pytest side of a cocotb run)
+``cocotb_scenario.py``    the scenario inside the simulator (``tests/cocotb/cocotb_system.py`` runs it)
+``result.py``             :class:`~sim.system.result.SystemResult` and the check phase every run ends with
+========================  ==========================================================================================
+
+Every run goes through the same phases (reset, init, capture, display, check) against the same golden frame.
+"""

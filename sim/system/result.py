@@ -1,0 +1,57 @@
+"""What a whole-system run gives back, and the check that ends every run (both simulators, every route).
+
+:func:`check_run` is the last phase of a run: from the sink's rebuilt frame, the golden frame, the device models and
+the bus monitors it fills the run's status with the comparison and what the models saw; :class:`SystemResult`
+carries it all back to the caller.
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from hdl.system import I2C_BUSES
+
+__all__ = ["SystemResult", "SystemTimeout", "check_run"]
+
+
+class SystemTimeout(AssertionError):
+    """The simulation did not reach a stage in the allowed simulated time (or could not go on)."""
+
+
+@dataclass
+class SystemResult:
+    """A run's outcome: the rebuilt ``frame`` (None if none was rebuilt), the ``golden`` frame, the ``status``
+    (:func:`check_run`'s keys and the phases' marks: ``<bus>_init_done``, ``t_init_s``, ``cam_<c>_frame_ok``,
+    ``t_captured_s``, ``t_end_s``, ...), wall-time ``figures``; from Amaranth's simulator also the ``sink``, the
+    device ``models`` and the bus ``monitors``, from cocotb the ``test_dir`` (logs, waves)."""
+    frame: np.ndarray
+    golden: np.ndarray
+    status: dict
+    figures: dict = field(default_factory=dict)
+    sink: object = None
+    models: dict = None
+    monitors: dict = None
+    test_dir: object = None
+
+    @property
+    def mismatched_pixels(self):
+        if self.frame is None:
+            return None
+        return int(np.any(self.frame != self.golden, axis=-1).sum())
+
+
+def check_run(status, setup, left, right, sink, models, monitors, *, after_s=None):
+    """The check phase: compare the sink's frame 0 with the golden frame of ``left``/``right`` and record what the
+    models and monitors saw (bus protocol errors after ``after_s``, default all). Fills ``status`` and returns
+    ``(frame, golden)``."""
+    golden = setup.golden_frame(left, right)
+    frame = sink.frames[0] if sink.frames else None
+    status["violations"] = [str(v) for v in sink.violations]
+    status["mt9d112_problems"] = {b: models[b][0].problems() for b in ("cam_a", "cam_b")}
+    status["sensor_config"] = {b: repr(models[b][0].sensor_config()) for b in ("cam_a", "cam_b")}
+    status["dvi_config"] = dict(models["dvi"][0].dvi_config().__dict__)
+    status["i2c_protocol_errors"] = {b: [str(e) for e in monitors[b].protocol_errors
+                                         if after_s is None or e[0] > after_s] for b in I2C_BUSES}
+    status["i2c_transactions"] = {b: len(monitors[b].transactions) for b in I2C_BUSES}
+    status["mismatched_pixels"] = None if frame is None else int(np.any(frame != golden, axis=-1).sum())
+    return frame, golden
