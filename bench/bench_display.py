@@ -38,7 +38,8 @@ def bench_amaranth(timing, free_clocks, sink_clocks):
     dut = DisplayPath(timing)
     sink = HdmiSink(timing)
     wall = time.perf_counter()
-    simulate(dut, clocks={"sync": timing.pixel_hz}, testbenches=[amaranth_sink_testbench(sink, dut.ch7301c, sink_clocks)])
+    simulate(dut, clocks={"sync": timing.pixel_hz},
+             testbenches=[amaranth_sink_testbench(sink, dut.ch7301c, sink_clocks)])
     sink_rate = sink_clocks / (time.perf_counter() - wall)
     sink.check()
     return free_rate, sink_rate

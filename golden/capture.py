@@ -34,8 +34,8 @@ from pathlib import Path
 import numpy as np
 
 __all__ = [
-    "rgb888_to_rgb565", "rgb565_fields", "rgb565_to_bytes", "bytes_to_rgb565", "gray5", "to_rgb565",
-    "downscale", "capture_frame", "assemble_line", "FrameStatus", "StreamCapture", "capture_stream",
+    "rgb888_to_rgb565", "rgb565_to_bytes", "gray5", "to_rgb565", "downscale", "capture_frame", "assemble_line",
+    "FrameStatus", "StreamCapture", "capture_stream"
 ]
 
 

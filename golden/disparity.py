@@ -17,7 +17,7 @@ import numpy as np
 from hdl.params import (BACKGROUND_RGB, CEA_1080P60, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, NO_DATA_RGB, SENSOR,
                         DisplayLayout, gray_to_rgb24)
 
-__all__ = ["difference_levels", "composite_frame", "rgb24_to_bytes"]
+__all__ = ["difference_levels", "composite_frame"]
 
 
 def _check_images(left, right, geometry=None):

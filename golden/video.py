@@ -16,7 +16,7 @@ is returned as ``uint8`` ``(H, W, 3)`` in R, G, B order. The pattern needs ``W >
 
 import numpy as np
 
-__all__ = ["pattern_frame", "pattern_bar_rows", "BAR_COLOURS"]
+__all__ = ["pattern_frame"]
 
 #: (R, G, B) of the eight bars, left to right.
 BAR_COLOURS = (

@@ -38,6 +38,7 @@ from .frame_buffer import FrameBufferWriteSignature
 from .grey import Grey
 from .params import SENSOR
 from .rgb565_assembler import RGB565Assembler
+from .rejecting import rejecting
 
 __all__ = ["CameraSignature", "CaptureStatusSignature", "CameraCapture"]
 
@@ -55,20 +56,21 @@ CaptureStatusSignature = wiring.Signature({
 
 class CameraCapture(wiring.Component):
     def __init__(self, geometry=SENSOR, r_byte_first=True):
-        if geometry.gray_bits != 5:
-            raise ValueError("the spec's grey conversion gives 5 bits; geometry.gray_bits must be 5")
-        self.geometry = geometry
-        self.r_byte_first = r_byte_first
-        # The assembler's column counts 0 .. width (saturating at width).
-        self._downscaler = Downscaler(geometry, column_bits=geometry.width.bit_length(),
-                                      row_bits=geometry.height.bit_length())
-        self._assembler = RGB565Assembler(geometry.width, r_byte_first=r_byte_first)
-        super().__init__({
-            "pins": In(CameraSignature),
-            "write": Out(FrameBufferWriteSignature(geometry)),
-            "status": Out(CaptureStatusSignature),
-        })
-        forward(self, "write", self._downscaler.write)
+        with rejecting(self):
+            if geometry.gray_bits != 5:
+                raise ValueError("the spec's grey conversion gives 5 bits; geometry.gray_bits must be 5")
+            self.geometry = geometry
+            self.r_byte_first = r_byte_first
+            # The assembler's column counts 0 .. width (saturating at width).
+            self._downscaler = Downscaler(geometry, column_bits=geometry.width.bit_length(),
+                                          row_bits=geometry.height.bit_length())
+            self._assembler = RGB565Assembler(geometry.width, r_byte_first=r_byte_first)
+            super().__init__({
+                "pins": In(CameraSignature),
+                "write": Out(FrameBufferWriteSignature(geometry)),
+                "status": Out(CaptureStatusSignature),
+            })
+            forward(self, "write", self._downscaler.write)
 
     def elaborate(self, platform):
         m = Module()

@@ -8,7 +8,7 @@ from .params import CEA_1080P60
 from .video_bus import VideoSignature
 from .rejecting import rejecting
 
-__all__ = ["CH7301CSignature", "CH7301COutput", "split_rgb", "DDR_MODES"]
+__all__ = ["CH7301CSignature", "CH7301COutput", "split_rgb"]
 
 
 #: The CH7301C's input pins as the FPGA drives them: the 12-bit dual-edge ``data`` bus (D[11:0]), ``hsync``,

@@ -49,7 +49,7 @@ from amaranth.lib.wiring import In, Out
 from .params import CEA_1080P60, CLOCKS
 from .rejecting import rejecting
 
-__all__ = ["ClockPlan", "PLAN", "GenesysClocking", "SimClocking", "add_reset_tree"]
+__all__ = ["ClockPlan", "PLAN", "GenesysClocking", "SimClocking"]
 
 # Attribute ranges from the Xilinx unisim simulation models (DCM_ADV.v, PLL_ADV.v; see the module docstring).
 DCM_M_RANGE = (2, 32)
@@ -186,17 +186,18 @@ class GenesysClocking(wiring.Component):
     """
 
     def __init__(self, plan=PLAN, *, cam_domains=("cam_a", "cam_b")):
-        self.plan = plan.check()
-        self.cam_domains = tuple(cam_domains)
-        super().__init__({
-            "clk100": In(1), "button": In(1), "locked": Out(1),
-            "cam_pclk": In(wiring.Signature({name: Out(1) for name in self.cam_domains})),
-        })
-        self.domain_names = ("sync", "pix", "pix90", "mclk", *self.cam_domains)
-        #: The clock domains this block drives; the parent adds them: ``m.domains += clocking.domains``.
-        self.domains = [ClockDomain(name) for name in self.domain_names]
-        #: The global clock nets (BUFG outputs), one per domain.
-        self.clock_signals = {name: Signal(name=f"{name}_bufg") for name in self.domain_names}
+        with rejecting(self):
+            self.plan = plan.check()
+            self.cam_domains = tuple(cam_domains)
+            super().__init__({
+                "clk100": In(1), "button": In(1), "locked": Out(1),
+                "cam_pclk": In(wiring.Signature({name: Out(1) for name in self.cam_domains})),
+            })
+            self.domain_names = ("sync", "pix", "pix90", "mclk", *self.cam_domains)
+            #: The clock domains this block drives; the parent adds them: ``m.domains += clocking.domains``.
+            self.domains = [ClockDomain(name) for name in self.domain_names]
+            #: The global clock nets (BUFG outputs), one per domain.
+            self.clock_signals = {name: Signal(name=f"{name}_bufg") for name in self.domain_names}
 
     def clock_nets(self):
         """``(signal, frequency_hz, family)`` per global clock net, for timing constraints: nets of the same
@@ -319,12 +320,12 @@ class SimClocking(wiring.Component):
         with rejecting(self):
             if lock_cycles < 1:
                 raise ValueError("lock_cycles must be at least 1")
-        self.cam_domains = tuple(cam_domains)
-        self.lock_cycles = lock_cycles
-        super().__init__()
-        self.domain_names = ("sync", "pix", *self.cam_domains)
-        #: The clock domains this block drives; the parent adds them: ``m.domains += clocking.domains``.
-        self.domains = [ClockDomain(name) for name in self.domain_names]
+            self.cam_domains = tuple(cam_domains)
+            self.lock_cycles = lock_cycles
+            super().__init__()
+            self.domain_names = ("sync", "pix", *self.cam_domains)
+            #: The clock domains this block drives; the parent adds them: ``m.domains += clocking.domains``.
+            self.domains = [ClockDomain(name) for name in self.domain_names]
 
     def elaborate(self, platform):
         m = Module()

@@ -56,8 +56,9 @@ from .params import (BACKGROUND_RGB, CEA_1080P60, DIFF_LEVEL_GREY, DIFF_THRESHOL
                      DisplayLayout)
 from .switches import SettingsSignature
 from .video_bus import TimingSignature, VideoSignature
+from .rejecting import rejecting
 
-__all__ = ["Compositor", "LATENCY", "check_layout"]
+__all__ = ["Compositor", "LATENCY"]
 
 #: Clocks from ``timing`` in to ``video`` out.
 LATENCY = 6
@@ -188,36 +189,55 @@ class Compositor(wiring.Component):
 
     def __init__(self, timing=CEA_1080P60, geometry=SENSOR, layout=None, *, thresholds=DIFF_THRESHOLDS,
                  level_grey=DIFF_LEVEL_GREY):
-        if layout is None:
-            layout = DisplayLayout.centred(timing, geometry)
-        self.video_timing = timing          # (the ``timing`` attribute is the TimingSignature port)
-        self.geometry = geometry
-        self.layout = layout
-        self.regions = check_layout(layout, timing, geometry)
-        self.thresholds = check_thresholds(thresholds, geometry.gray_bits)
-        self.level_grey = tuple(int(v) for v in level_grey)
-        if len(self.level_grey) != len(self.thresholds) + 1 or any(not 0 <= v <= 255 for v in self.level_grey):
-            raise ValueError(f"level_grey needs {len(self.thresholds) + 1} entries in 0..255 (one per level), "
-                             f"got {level_grey!r}")
-        if geometry.gray_bits > 8:
-            raise ValueError(f"gray_bits = {geometry.gray_bits}: the display shows at most 8 bits of grey")
-        g = geometry
-        super().__init__({
-            "timing": In(TimingSignature),
-            "settings": In(SettingsSignature),
-            "left": Out(FrameBufferReadSignature(g)),
-            "right": Out(FrameBufferReadSignature(g)),
-            "video": Out(VideoSignature),
-        })
-        self._subtractor = DisparitySubtractor(g, self.thresholds)
-        forward(self, "settings", self._subtractor.settings)     # the switch registers go to the subtractor only
+        with rejecting(self):
+            if layout is None:
+                layout = DisplayLayout.centred(timing, geometry)
+            self.video_timing = timing          # (the ``timing`` attribute is the TimingSignature port)
+            self.geometry = geometry
+            self.layout = layout
+            self.regions = check_layout(layout, timing, geometry)
+            self.thresholds = check_thresholds(thresholds, geometry.gray_bits)
+            self.level_grey = tuple(int(v) for v in level_grey)
+            if len(self.level_grey) != len(self.thresholds) + 1 or any(not 0 <= v <= 255 for v in self.level_grey):
+                raise ValueError(f"level_grey needs {len(self.thresholds) + 1} entries in 0..255 (one per level), "
+                                 f"got {level_grey!r}")
+            if geometry.gray_bits > 8:
+                raise ValueError(f"gray_bits = {geometry.gray_bits}: the display shows at most 8 bits of grey")
+            g = geometry
+            super().__init__({
+                "timing": In(TimingSignature),
+                "settings": In(SettingsSignature),
+                "left": Out(FrameBufferReadSignature(g)),
+                "right": Out(FrameBufferReadSignature(g)),
+                "video": Out(VideoSignature),
+            })
+            self._subtractor = DisparitySubtractor(g, self.thresholds)
+            forward(self, "settings", self._subtractor.settings)     # the switch registers go to the subtractor only
 
     def elaborate(self, platform):
         m = Module()
-        t, g = self.video_timing, self.geometry
-        raster = self.timing
+        inside, eol, vblank_1 = self._region_flags(m)
+        de_d, hsync_d, vsync_d = self._delay_line(m)
+        scanners = self._scanners(m, inside, eol, vblank_1)
+        m.submodules.subtractor = sub = self._subtractor
+        m.d.comb += [            # the disparity region's pixels (latency SUBTRACTOR_LATENCY = 4)
+            sub.valid.eq(inside["disparity"]),
+            sub.x.eq(scanners["disparity"].xb),
+            sub.y.eq(scanners["disparity"].yb),
+            sub.addr.eq(scanners["disparity"].addr),
+        ]
+        grey_5, show_image_5 = self._image_reads(m, inside, scanners)
+        self._colour(m, grey_5, show_image_5, de_d[5])
+        m.d.comb += [
+            self.video.de.eq(de_d[LATENCY]),
+            self.video.hsync.eq(hsync_d[LATENCY]),
+            self.video.vsync.eq(vsync_d[LATENCY]),
+        ]
+        return m
 
-        # --- clock n -> n + 1: region flags, end-of-region-line flags, blanking, the raster's syncs ----------
+    def _region_flags(self, m):
+        """Clock n -> n + 1: region flags, end-of-region-line flags, vertical blanking."""
+        raster = self.timing
         inside, eol = {}, {}
         for source, r in self.regions.items():
             inside[source] = Signal(name=f"in_{source}_1")
@@ -225,14 +245,15 @@ class Compositor(wiring.Component):
             in_x = (raster.x >= r.x0) & (raster.x < r.x1)
             in_y = (raster.y >= r.y0) & (raster.y < r.y1)
             m.d.sync += [inside[source].eq(in_x & in_y), eol[source].eq(raster.x == r.x1 - 1)]
-        vblank_1 = Signal()
-        m.d.sync += vblank_1.eq(raster.y >= t.v_active)
+        vblank_1 = Signal(name="vblank_1")
+        m.d.sync += vblank_1.eq(raster.y >= self.video_timing.v_active)
+        return inside, eol, vblank_1
 
-        # Sync/de delay line: LATENCY registers.
-        de_d = [raster.de]
-        hsync_d = [raster.hsync]
-        vsync_d = [raster.vsync]
-        hsync_idle = 0 if t.hsync_positive else 1       # the delay line starts with the pulses inactive
+    def _delay_line(self, m):
+        """The raster's de and syncs through LATENCY registers (starting with the pulses inactive)."""
+        t, raster = self.video_timing, self.timing
+        de_d, hsync_d, vsync_d = [raster.de], [raster.hsync], [raster.vsync]
+        hsync_idle = 0 if t.hsync_positive else 1
         vsync_idle = 0 if t.vsync_positive else 1
         for i in range(1, LATENCY + 1):
             de_i = Signal(name=f"de_{i}")
@@ -242,27 +263,25 @@ class Compositor(wiring.Component):
             de_d.append(de_i)
             hsync_d.append(hs_i)
             vsync_d.append(vs_i)
+        return de_d, hsync_d, vsync_d
 
-        # --- clock n + 1: running counters of the three regions --------------------------------------------
+    def _scanners(self, m, inside, eol, vblank_1):
+        """Clock n + 1: the running counters of the three regions."""
         scanners = {}
         for source, r in self.regions.items():
-            sc = scanners[source] = _RegionScanner(g, r.scale)
+            sc = scanners[source] = _RegionScanner(self.geometry, r.scale)
             m.submodules[f"scan_{source}"] = sc
             m.d.comb += [sc.active.eq(inside[source]), sc.eol.eq(eol[source] & inside[source]),
                          sc.clear.eq(vblank_1)]
+        return scanners
 
-        # The disparity subtractor takes the disparity region's pixels (latency SUBTRACTOR_LATENCY = 4).
-        m.submodules.subtractor = sub = self._subtractor
-        m.d.comb += [
-            sub.valid.eq(inside["disparity"]),
-            sub.x.eq(scanners["disparity"].xb),
-            sub.y.eq(scanners["disparity"].yb),
-            sub.addr.eq(scanners["disparity"].addr),
-        ]
-
-        # --- clock n + 2: read addresses; each port serves its image region or the subtractor ----------------
-        show_left_2, show_right_2 = Signal(), Signal()
-        left_img_addr_2, right_img_addr_2 = Signal(g.addr_bits), Signal(g.addr_bits)
+    def _image_reads(self, m, inside, scanners):
+        """Clocks n + 2 .. n + 5: each read port serves its image region or the subtractor; the image grey."""
+        g, sub = self.geometry, self._subtractor
+        # n + 2: read addresses
+        show_left_2, show_right_2 = Signal(name="show_left_2"), Signal(name="show_right_2")
+        left_img_addr_2 = Signal(g.addr_bits, name="left_img_addr_2")
+        right_img_addr_2 = Signal(g.addr_bits, name="right_img_addr_2")
         m.d.sync += [
             show_left_2.eq(inside["left"]),
             show_right_2.eq(inside["right"]),
@@ -275,31 +294,32 @@ class Compositor(wiring.Component):
             sub.left.data.eq(self.left.data),
             sub.right.data.eq(self.right.data),
         ]
-
-        # --- clock n + 3 -> n + 4: register the image read data -------------------------------------------
-        show_left_3, show_right_3 = Signal(), Signal()
+        # n + 3 -> n + 4: register the image read data
+        show_left_3, show_right_3 = Signal(name="show_left_3"), Signal(name="show_right_3")
         m.d.sync += [show_left_3.eq(show_left_2), show_right_3.eq(show_right_2)]
-        left_q_4, right_q_4 = Signal(g.gray_bits), Signal(g.gray_bits)
-        show_left_4, show_right_4 = Signal(), Signal()
+        left_q_4, right_q_4 = Signal(g.gray_bits, name="left_q_4"), Signal(g.gray_bits, name="right_q_4")
+        show_left_4, show_right_4 = Signal(name="show_left_4"), Signal(name="show_right_4")
         m.d.sync += [
             left_q_4.eq(self.left.data),
             right_q_4.eq(self.right.data),
             show_left_4.eq(show_left_3),
             show_right_4.eq(show_right_3),
         ]
-
-        # --- clock n + 4 -> n + 5: the image grey; the subtractor's level arrives at n + 5 ------------------
-        grey_5 = Signal(g.gray_bits)
-        show_image_5 = Signal()
+        # n + 4 -> n + 5: the image grey; the subtractor's level arrives at n + 5
+        grey_5 = Signal(g.gray_bits, name="grey_5")
+        show_image_5 = Signal(name="show_image_5")
         m.d.sync += [
             grey_5.eq(Mux(show_left_4, left_q_4, right_q_4)),
             show_image_5.eq(show_left_4 | show_right_4),
         ]
         assert SUBTRACTOR_LATENCY == 4, "the stage numbering above assumes the subtractor's 4-clock latency"
+        return grey_5, show_image_5
 
-        # --- clock n + 5 -> n + 6: the colour ---------------------------------------------------------------
+    def _colour(self, m, grey_5, show_image_5, de_5):
+        """Clock n + 5 -> n + 6: the colour chosen by region."""
+        sub = self._subtractor
         grey8 = self._replicate_to_8_bits(grey_5)
-        level_rgb = Signal(24)
+        level_rgb = Signal(24, name="level_rgb")
         with m.Switch(sub.level):
             for level, v in enumerate(self.level_grey[:-1]):
                 with m.Case(level):
@@ -307,7 +327,7 @@ class Compositor(wiring.Component):
             with m.Default():                       # the top level (the subtractor never exceeds it)
                 v = self.level_grey[-1]
                 m.d.comb += level_rgb.eq((v << 16) | (v << 8) | v)
-        with m.If(~de_d[5]):
+        with m.If(~de_5):
             m.d.sync += self.video.rgb.eq(0)
         with m.Elif(sub.out_valid):
             m.d.sync += self.video.rgb.eq(Mux(sub.no_data, NO_DATA_RGB, level_rgb))
@@ -315,12 +335,6 @@ class Compositor(wiring.Component):
             m.d.sync += self.video.rgb.eq(Cat(grey8, grey8, grey8))
         with m.Else():
             m.d.sync += self.video.rgb.eq(BACKGROUND_RGB)
-        m.d.comb += [
-            self.video.de.eq(de_d[LATENCY]),
-            self.video.hsync.eq(hsync_d[LATENCY]),
-            self.video.vsync.eq(vsync_d[LATENCY]),
-        ]
-        return m
 
     @staticmethod
     def _replicate_to_8_bits(grey):

@@ -43,6 +43,7 @@ from amaranth.lib.wiring import In, Out
 from .frame_buffer import FrameBufferReadSignature
 from .params import DIFF_THRESHOLDS, SENSOR
 from .switches import SettingsSignature
+from .rejecting import rejecting
 
 __all__ = ["DisparitySubtractor", "check_thresholds", "LATENCY", "SETTLE_CLOCKS"]
 
@@ -93,21 +94,22 @@ class DisparitySubtractor(wiring.Component):
     """
 
     def __init__(self, geometry=SENSOR, thresholds=DIFF_THRESHOLDS):
-        self.geometry = geometry
-        self.thresholds = check_thresholds(thresholds, geometry.gray_bits)
-        g = geometry
-        super().__init__({
-            "valid": In(1),
-            "x": In(range(g.buf_width)),
-            "y": In(range(g.buf_height)),
-            "addr": In(g.addr_bits),
-            "settings": In(SettingsSignature),
-            "left": Out(FrameBufferReadSignature(g)),
-            "right": Out(FrameBufferReadSignature(g)),
-            "level": Out(range(len(self.thresholds) + 1)),
-            "no_data": Out(1),
-            "out_valid": Out(1),
-        })
+        with rejecting(self):
+            self.geometry = geometry
+            self.thresholds = check_thresholds(thresholds, geometry.gray_bits)
+            g = geometry
+            super().__init__({
+                "valid": In(1),
+                "x": In(range(g.buf_width)),
+                "y": In(range(g.buf_height)),
+                "addr": In(g.addr_bits),
+                "settings": In(SettingsSignature),
+                "left": Out(FrameBufferReadSignature(g)),
+                "right": Out(FrameBufferReadSignature(g)),
+                "level": Out(range(len(self.thresholds) + 1)),
+                "no_data": Out(1),
+                "out_valid": Out(1),
+            })
 
     def elaborate(self, platform):
         m = Module()

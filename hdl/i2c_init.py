@@ -28,12 +28,13 @@ about 0.46 ms per MT9D112 write and 0.30 ms per CH7301C write at 100 kHz.
 from amaranth import Module, Signal, unsigned
 from amaranth.lib import data, enum, wiring
 from amaranth.lib.memory import Memory
-from amaranth.lib.wiring import In, Out
+from amaranth.lib.wiring import Out
 
 from .forward import forward
 from .i2c_master import Cmd, I2CMaster, I2CSignature
 from .init_tables import InitTable, Wait, Write
 from .params import CLOCKS
+from .rejecting import rejecting
 
 __all__ = ["ErrorCode", "InitStatusSignature", "InitSequencer"]
 
@@ -73,18 +74,19 @@ def _us_to_cycles(us, clk_hz):
 class InitSequencer(wiring.Component):
     def __init__(self, table, *, clk_hz=CLOCKS.SYS_HZ, bus_hz=CLOCKS.I2C_HZ, retries=3,
                  retry_delay_us=1000, timeout_us=25_000):
-        if not isinstance(table, InitTable):
-            raise TypeError("table must be an hdl.init_tables.InitTable")
-        if retries < 0:
-            raise ValueError("retries must be >= 0")
-        self.table = table
-        self.clk_hz = clk_hz
-        self.bus_hz = bus_hz
-        self.retries = retries
-        self.retry_delay = max(1, _us_to_cycles(retry_delay_us, clk_hz))
-        self.master = I2CMaster(clk_hz=clk_hz, bus_hz=bus_hz, timeout_us=timeout_us)
-        super().__init__({"i2c": Out(I2CSignature), "status": Out(InitStatusSignature(len(table)))})
-        forward(self, "i2c", self.master.i2c)
+        with rejecting(self):
+            if not isinstance(table, InitTable):
+                raise TypeError("table must be an hdl.init_tables.InitTable")
+            if retries < 0:
+                raise ValueError("retries must be >= 0")
+            self.table = table
+            self.clk_hz = clk_hz
+            self.bus_hz = bus_hz
+            self.retries = retries
+            self.retry_delay = max(1, _us_to_cycles(retry_delay_us, clk_hz))
+            self.master = I2CMaster(clk_hz=clk_hz, bus_hz=bus_hz, timeout_us=timeout_us)
+            super().__init__({"i2c": Out(I2CSignature), "status": Out(InitStatusSignature(len(table)))})
+            forward(self, "i2c", self.master.i2c)
 
     def _rom(self):
         dev = self.table.device
@@ -110,159 +112,181 @@ class InitSequencer(wiring.Component):
 
     def elaborate(self, platform):
         m = Module()
-        dev = self.table.device
-        n = len(self.table)
-        m.submodules.master = master = self.master
-        status = self.status
+        m.submodules.master = self.master
+        states = _States(self, m)
+        m.d.comb += self.status.busy.eq(~self.status.done & ~self.status.error)
+        with m.FSM() as fsm:
+            states.entry()
+            states.transaction()
+            states.retry()
+            states.complete()
+            states.end()
+        states.drive_master(fsm)
+        return m
 
-        layout, words, max_count, max_attempts = self._rom()
+
+class _States:
+    """The sequencer's ROM, registers and step programs, and the states of its FSM, a group per method (emitted
+    inside the ``m.FSM()`` block of :meth:`InitSequencer.elaborate`, in this order)."""
+
+    def __init__(self, seq, m):
+        self.seq, self.m, self.master = seq, m, seq.master
+        dev, n = seq.table.device, len(seq.table)
+        self.n = n
+        layout, words, max_count, max_attempts = seq._rom()
         m.submodules.rom = rom = Memory(shape=layout, depth=n, init=words)
         rd = rom.read_port(domain="sync")            # synchronous ROM: the word of `pc` one cycle later
-        pc = Signal(range(n + 1))
-        m.d.comb += [rd.addr.eq(pc), status.entry.eq(pc)]
-        e = rd.data
-
+        self.pc = Signal(range(n + 1), name="pc")
+        m.d.comb += [rd.addr.eq(self.pc), seq.status.entry.eq(self.pc)]
+        self.e = e = rd.data
         # Step programs: what the master does in each step of a write / a poll read.
         addr_w = dev.address << 1
         addr_r = addr_w | 1
         reg_bytes = [e.reg[8 * i:8 * i + 8] for i in reversed(range(dev.reg_bytes))]      # MSB first
         val_bytes = [e.value[8 * i:8 * i + 8] for i in reversed(range(dev.data_bytes))]
         # (cmd, wdata, rd_ack, address step?)
-        write_steps = ([(Cmd.START, 0, 0, False), (Cmd.WRITE, addr_w, 0, True)]
-                       + [(Cmd.WRITE, b, 0, False) for b in reg_bytes]
-                       + [(Cmd.WRITE, b, 0, False) for b in val_bytes]
-                       + [(Cmd.STOP, 0, 0, False)])
-        read_steps = ([(Cmd.START, 0, 0, False), (Cmd.WRITE, addr_w, 0, True)]
-                      + [(Cmd.WRITE, b, 0, False) for b in reg_bytes]
-                      + [(Cmd.START, 0, 0, False), (Cmd.WRITE, addr_r, 0, True)]
-                      + [(Cmd.READ, 0, int(i < dev.data_bytes - 1), False) for i in range(dev.data_bytes)]
-                      + [(Cmd.STOP, 0, 0, False)])
-        step = Signal(range(max(len(write_steps), len(read_steps))))
-        last_step = Signal()
-        is_addr = Signal()
-        is_write = Signal()
-        timer = Signal(range(max_count + 2))
-        attempt = Signal(range(self.retries + 1))
-        polls = Signal(range(max_attempts + 1))
-        rx = Signal(8 * dev.data_bytes)
-        fail_code = Signal(ErrorCode)
+        self.write_steps = ([(Cmd.START, 0, 0, False), (Cmd.WRITE, addr_w, 0, True)]
+                            + [(Cmd.WRITE, b, 0, False) for b in reg_bytes]
+                            + [(Cmd.WRITE, b, 0, False) for b in val_bytes]
+                            + [(Cmd.STOP, 0, 0, False)])
+        self.read_steps = ([(Cmd.START, 0, 0, False), (Cmd.WRITE, addr_w, 0, True)]
+                           + [(Cmd.WRITE, b, 0, False) for b in reg_bytes]
+                           + [(Cmd.START, 0, 0, False), (Cmd.WRITE, addr_r, 0, True)]
+                           + [(Cmd.READ, 0, int(i < dev.data_bytes - 1), False) for i in range(dev.data_bytes)]
+                           + [(Cmd.STOP, 0, 0, False)])
+        self.step = Signal(range(max(len(self.write_steps), len(self.read_steps))), name="step")
+        self.last_step = Signal(name="last_step")
+        self.is_addr = Signal(name="is_addr")
+        self.is_write = Signal(name="is_write")
+        self.timer = Signal(range(max_count + 2), name="timer")
+        self.attempt = Signal(range(seq.retries + 1), name="attempt")
+        self.polls = Signal(range(max_attempts + 1), name="polls")
+        self.rx = Signal(8 * dev.data_bytes, name="rx")
+        self.fail_code = Signal(ErrorCode, name="fail_code")
 
-        def finish_entry():
-            m.d.sync += [pc.eq(pc + 1), polls.eq(0), attempt.eq(0)]
-            m.next = "LOAD"
+    def finish_entry(self):
+        self.m.d.sync += [self.pc.eq(self.pc + 1), self.polls.eq(0), self.attempt.eq(0)]
+        self.m.next = "LOAD"
 
-        def retry_or_fail():
-            if self.retries == 0:
-                m.next = "ERROR"
-                return
-            with m.If(attempt < self.retries):
-                m.d.sync += [attempt.eq(attempt + 1), timer.eq(0)]
-                m.next = "RETRY_WAIT"
+    def retry_or_fail(self):
+        m, retries = self.m, self.seq.retries
+        if retries == 0:
+            m.next = "ERROR"
+            return
+        with m.If(self.attempt < retries):
+            m.d.sync += [self.attempt.eq(self.attempt + 1), self.timer.eq(0)]
+            m.next = "RETRY_WAIT"
+        with m.Else():
+            m.next = "ERROR"
+
+    def entry(self):
+        """Load the next entry: done after the last one, a wait, or a transaction to issue."""
+        m, e, timer = self.m, self.e, self.timer
+        with m.State("LOAD"):                          # the ROM reads the word of the new pc
+            m.next = "FETCH"
+        with m.State("FETCH"):
+            m.d.sync += [self.step.eq(0), self.rx.eq(0), timer.eq(0)]
+            with m.If(self.pc == self.n):
+                m.next = "DONE"
+            with m.Elif(e.op == _OP_WAIT):
+                m.next = "WAIT"
             with m.Else():
-                m.next = "ERROR"
+                m.next = "ISSUE"
+        with m.State("WAIT"):
+            m.d.sync += timer.eq(timer + 1)
+            with m.If(timer + 1 >= e.count):
+                self.finish_entry()
 
-        m.d.comb += status.busy.eq(~status.done & ~status.error)
-
-        with m.FSM() as fsm:
-            with m.State("LOAD"):                          # the ROM reads the word of the new pc
-                m.next = "FETCH"
-
-            with m.State("FETCH"):
-                m.d.sync += [step.eq(0), rx.eq(0), timer.eq(0)]
-                with m.If(pc == n):
-                    m.next = "DONE"
-                with m.Elif(e.op == _OP_WAIT):
-                    m.next = "WAIT"
+    def transaction(self):
+        """Issue the steps of a write or a poll read one by one; a NACK, a lost arbitration or a stuck bus ends it."""
+        m, master, fail_code = self.m, self.master, self.fail_code
+        with m.State("ISSUE"):
+            with m.If(master.ready):
+                m.next = "BUSY"
+        with m.State("BUSY"):
+            with m.If(master.done):
+                with m.If(master.timed_out):
+                    m.d.sync += fail_code.eq(ErrorCode.STUCK)
+                    m.next = "ERROR"
+                with m.Elif(master.arb_lost):
+                    m.d.sync += fail_code.eq(ErrorCode.ARB)
+                    self.retry_or_fail()
+                with m.Elif(self.is_write & master.nack):
+                    with m.If(self.is_addr):
+                        m.d.sync += fail_code.eq(ErrorCode.NACK_ADDR)
+                    with m.Else():
+                        m.d.sync += fail_code.eq(ErrorCode.NACK_DATA)
+                    m.next = "ABORT"
+                with m.Elif(self.last_step):
+                    m.next = "COMPLETE"
                 with m.Else():
+                    with m.If(master.cmd == Cmd.READ):
+                        m.d.sync += self.rx.eq((self.rx << 8) | master.rdata)
+                    m.d.sync += self.step.eq(self.step + 1)
                     m.next = "ISSUE"
 
-            with m.State("WAIT"):
-                m.d.sync += timer.eq(timer + 1)
-                with m.If(timer + 1 >= e.count):
-                    finish_entry()
-
-            with m.State("ISSUE"):
-                with m.If(master.ready):
-                    m.next = "BUSY"
-
-            with m.State("BUSY"):
-                with m.If(master.done):
-                    with m.If(master.timed_out):
-                        m.d.sync += fail_code.eq(ErrorCode.STUCK)
-                        m.next = "ERROR"
-                    with m.Elif(master.arb_lost):
-                        m.d.sync += fail_code.eq(ErrorCode.ARB)
-                        retry_or_fail()
-                    with m.Elif(is_write & master.nack):
-                        with m.If(is_addr):
-                            m.d.sync += fail_code.eq(ErrorCode.NACK_ADDR)
-                        with m.Else():
-                            m.d.sync += fail_code.eq(ErrorCode.NACK_DATA)
-                        m.next = "ABORT"
-                    with m.Elif(last_step):
-                        m.next = "COMPLETE"
-                    with m.Else():
-                        with m.If(master.cmd == Cmd.READ):
-                            m.d.sync += rx.eq((rx << 8) | master.rdata)
-                        m.d.sync += step.eq(step + 1)
-                        m.next = "ISSUE"
-
-            with m.State("ABORT"):                         # STOP after a NACK, then retry or give up
-                with m.If(master.ready):
-                    m.next = "ABORT_WAIT"
-            with m.State("ABORT_WAIT"):
-                with m.If(master.done):
-                    with m.If(master.timed_out):
-                        m.d.sync += fail_code.eq(ErrorCode.STUCK)
-                        m.next = "ERROR"
-                    with m.Else():
-                        retry_or_fail()
-
-            with m.State("RETRY_WAIT"):
-                m.d.sync += timer.eq(timer + 1)
-                with m.If(timer + 1 >= self.retry_delay):
-                    m.d.sync += [step.eq(0), rx.eq(0), timer.eq(0)]
-                    m.next = "ISSUE"
-
-            with m.State("COMPLETE"):
-                with m.If(e.op == _OP_WRITE):
-                    finish_entry()
-                with m.Elif((rx & e.mask) == e.value):
-                    finish_entry()
-                with m.Elif(polls + 1 >= e.attempts):
-                    m.d.sync += fail_code.eq(ErrorCode.POLL)
+    def retry(self):
+        """STOP after a NACK, then wait and retry the transaction, or give up."""
+        m, master, timer = self.m, self.master, self.timer
+        with m.State("ABORT"):
+            with m.If(master.ready):
+                m.next = "ABORT_WAIT"
+        with m.State("ABORT_WAIT"):
+            with m.If(master.done):
+                with m.If(master.timed_out):
+                    m.d.sync += self.fail_code.eq(ErrorCode.STUCK)
                     m.next = "ERROR"
                 with m.Else():
-                    m.d.sync += [polls.eq(polls + 1), attempt.eq(0), timer.eq(0)]
-                    m.next = "POLL_WAIT"
+                    self.retry_or_fail()
+        with m.State("RETRY_WAIT"):
+            m.d.sync += timer.eq(timer + 1)
+            with m.If(timer + 1 >= self.seq.retry_delay):
+                m.d.sync += [self.step.eq(0), self.rx.eq(0), timer.eq(0)]
+                m.next = "ISSUE"
 
-            with m.State("POLL_WAIT"):
-                m.d.sync += timer.eq(timer + 1)
-                with m.If(timer + 1 >= e.count):
-                    m.d.sync += [step.eq(0), rx.eq(0), timer.eq(0)]
-                    m.next = "ISSUE"
+    def complete(self):
+        """A finished write, or a poll read that matched, did not match yet, or ran out of attempts."""
+        m, e, timer, polls = self.m, self.e, self.timer, self.polls
+        with m.State("COMPLETE"):
+            with m.If(e.op == _OP_WRITE):
+                self.finish_entry()
+            with m.Elif((self.rx & e.mask) == e.value):
+                self.finish_entry()
+            with m.Elif(polls + 1 >= e.attempts):
+                m.d.sync += self.fail_code.eq(ErrorCode.POLL)
+                m.next = "ERROR"
+            with m.Else():
+                m.d.sync += [polls.eq(polls + 1), self.attempt.eq(0), timer.eq(0)]
+                m.next = "POLL_WAIT"
+        with m.State("POLL_WAIT"):
+            m.d.sync += timer.eq(timer + 1)
+            with m.If(timer + 1 >= e.count):
+                m.d.sync += [self.step.eq(0), self.rx.eq(0), timer.eq(0)]
+                m.next = "ISSUE"
 
-            with m.State("DONE"):
-                m.d.sync += status.done.eq(1)
+    def end(self):
+        m, status = self.m, self.seq.status
+        with m.State("DONE"):
+            m.d.sync += status.done.eq(1)
+        with m.State("ERROR"):
+            m.d.sync += [status.error.eq(1), status.error_code.eq(self.fail_code)]
 
-            with m.State("ERROR"):
-                m.d.sync += [status.error.eq(1), status.error_code.eq(fail_code)]
-
-        # What the master does in each step. Kept out of the FSM and gated by the FSM state so that the exported
-        # Verilog re-evaluates it when the state changes (Icarus -g2012 does not run `always @*` at time 0).
+    def drive_master(self, fsm):
+        """What the master does in each step. Kept out of the FSM and gated by the FSM state so that the exported
+        Verilog re-evaluates it when the state changes (Icarus -g2012 does not run `always @*` at time 0)."""
+        m, master, e = self.m, self.master, self.e
         aborting = fsm.ongoing("ABORT")
         m.d.comb += master.cmd_valid.eq(fsm.ongoing("ISSUE") | aborting)
         with m.If(aborting):
             m.d.comb += master.cmd.eq(Cmd.STOP)
         with m.Elif(~fsm.ongoing("LOAD")):
-            for steps, op in ((write_steps, _OP_WRITE), (read_steps, _OP_POLL)):
+            for steps, op in ((self.write_steps, _OP_WRITE), (self.read_steps, _OP_POLL)):
                 with m.If(e.op == op):
-                    with m.Switch(step):
+                    with m.Switch(self.step):
                         for i, (cmd, wdata, rd_ack, addr_step) in enumerate(steps):
                             with m.Case(i):
                                 m.d.comb += [
                                     master.cmd.eq(cmd), master.wdata.eq(wdata), master.rd_ack.eq(rd_ack),
-                                    is_addr.eq(addr_step), is_write.eq(cmd == Cmd.WRITE),
-                                    last_step.eq(i == len(steps) - 1),
+                                    self.is_addr.eq(addr_step), self.is_write.eq(cmd == Cmd.WRITE),
+                                    self.last_step.eq(i == len(steps) - 1),
                                 ]
-        return m

@@ -43,7 +43,7 @@ from amaranth.lib.wiring import In, Out
 from .params import CLOCKS
 from .rejecting import rejecting
 
-__all__ = ["OpenDrainSignature", "I2CSignature", "Cmd", "I2C_SPEC_NS", "I2CTiming", "I2CMaster"]
+__all__ = ["OpenDrainSignature", "I2CSignature", "Cmd", "I2CTiming", "I2CMaster"]
 
 #: One open-drain pin as its driver sees it: ``oe`` = 1 with ``o`` = 0 pulls the line low, ``oe`` = 0 releases it
 #: (a pull-up makes it high); ``i`` is the line's level, high when idle. A driver must never set ``oe`` with
@@ -141,203 +141,227 @@ class I2CMaster(wiring.Component):
 
     def elaborate(self, platform):
         m = Module()
-        t = self.timing
-
-        scl = Signal(init=1)
-        sda = Signal(init=1)
-        m.submodules.scl_sync = FFSynchronizer(self.i2c.scl.i, scl, init=1)
-        m.submodules.sda_sync = FFSynchronizer(self.i2c.sda.i, sda, init=1)
-
-        scl_low = Signal()
-        sda_low = Signal()
-        m.d.comb += [
-            self.i2c.scl.o.eq(0), self.i2c.sda.o.eq(0),
-            self.i2c.scl.oe.eq(scl_low), self.i2c.sda.oe.eq(sda_low),
-        ]
-
-        longest = max(t.low, t.high, t.hold, t.su_sta, t.hd_sta, t.su_sto, t.buf)
-        timer = Signal(range(longest + 2))
-        low_cnt = Signal(range(t.low + 1))           # cycles since the master pulled SCL low (saturating)
-        with m.If(~scl_low):
-            m.d.sync += low_cnt.eq(0)
-        with m.Elif(low_cnt < t.low):
-            m.d.sync += low_cnt.eq(low_cnt + 1)
-        wait = Signal(range(self.timeout + 2))       # stuck-bus timeout counter
-        shift = Signal(8)
-        bit = Signal(range(9))
-        reading = Signal()
-        ack_level = Signal()                         # READ: 1 = pull SDA low in the acknowledge slot
-        pulses = Signal(range(10))                   # bus-clear pulses
-        clearing = Signal()                          # STOP sequence belongs to a bus clear
-        cleared = Signal()                           # bus clear already tried for this START
-
-        res_nack = Signal()
-        res_arb = Signal()
-        res_timeout = Signal()
-        m.d.comb += [
-            self.nack.eq(res_nack), self.arb_lost.eq(res_arb), self.timed_out.eq(res_timeout),
-            self.rdata.eq(shift),
-        ]
-
-        def reached(counter, n):
-            """True in the n-th cycle of a count from 0 (no constant comparison when n <= 1)."""
-            return counter >= n - 1 if n > 1 else C(1, 1)
-
-        def fail(kind):
-            m.d.sync += [scl_low.eq(0), sda_low.eq(0), self.bus_active.eq(0), kind.eq(1)]
-            m.next = "DONE"
-
-        def release_scl(prefix, *, then):
-            """States ``<prefix>_SETUP`` (SCL low for ``low`` and SDA set up for ``su_dat``, then release SCL)
-            and ``<prefix>_WAIT_HIGH`` (wait for SCL to read high -- a target may stretch it -- then go to
-            ``then``; time out after ``timeout`` cycles): the same for a repeated START, a bit and a STOP."""
-            with m.State(f"{prefix}_SETUP"):
-                m.d.sync += timer.eq(timer + 1)
-                with m.If((reached(low_cnt, t.low)) & (reached(timer, t.su_dat))):
-                    m.d.sync += [scl_low.eq(0), timer.eq(0), wait.eq(0)]
-                    m.next = f"{prefix}_WAIT_HIGH"
-            with m.State(f"{prefix}_WAIT_HIGH"):
-                m.d.sync += wait.eq(wait + 1)
-                with m.If(scl):
-                    m.next = then
-                with m.Elif(wait >= self.timeout):
-                    fail(res_timeout)
-
+        fsm_states = _States(self, m)
         with m.FSM() as fsm:
-            with m.State("IDLE"):
-                with m.If(self.cmd_valid):
-                    m.d.sync += [res_nack.eq(0), res_arb.eq(0), res_timeout.eq(0), timer.eq(0), wait.eq(0)]
-                    with m.Switch(self.cmd):
-                        with m.Case(Cmd.START):
-                            m.d.sync += cleared.eq(0)
-                            with m.If(self.bus_active):
-                                m.next = "RS_HOLD"
-                            with m.Else():
-                                m.next = "WAIT_IDLE"
-                        with m.Case(Cmd.WRITE):
-                            m.d.sync += [shift.eq(self.wdata), reading.eq(0), bit.eq(0)]
-                            m.next = "BIT_HOLD"
-                        with m.Case(Cmd.READ):
-                            m.d.sync += [reading.eq(1), ack_level.eq(self.rd_ack), bit.eq(0)]
-                            m.next = "BIT_HOLD"
-                        with m.Case(Cmd.STOP):
-                            m.d.sync += clearing.eq(0)
-                            with m.If(self.bus_active):
-                                m.next = "STOP_HOLD"
-                            with m.Else():
-                                m.next = "DONE"
-
-            # --- START from an idle bus -----------------------------------------------------------------
-            with m.State("WAIT_IDLE"):
-                m.d.sync += wait.eq(wait + 1)
-                with m.If(scl & sda):
-                    m.d.sync += timer.eq(timer + 1)
-                    with m.If(reached(timer, t.buf)):
-                        m.d.sync += [sda_low.eq(1), timer.eq(0)]
-                        m.next = "START_HD"
-                with m.Else():
-                    m.d.sync += timer.eq(0)
-                with m.If(wait >= self.timeout):
-                    with m.If(scl & ~sda & ~cleared):
-                        m.d.sync += [cleared.eq(1), pulses.eq(0), timer.eq(0), scl_low.eq(1)]
-                        m.next = "CLR_LOW"
-                    with m.Else():
-                        fail(res_timeout)
-
-            with m.State("START_HD"):                         # SDA low, SCL high: hold the START
-                m.d.sync += timer.eq(timer + 1)
-                with m.If(reached(timer, t.hd_sta)):
-                    m.d.sync += [scl_low.eq(1), self.bus_active.eq(1)]
-                    m.next = "DONE"
-
-            # --- repeated START (SCL is low when we get here) ----------------------------------------------
-            with m.State("RS_HOLD"):
-                with m.If(reached(low_cnt, t.hold)):
-                    m.d.sync += [sda_low.eq(0), timer.eq(0)]
-                    m.next = "RS_SETUP"
-            release_scl("RS", then="RS_SU")
-            with m.State("RS_SU"):
-                m.d.sync += timer.eq(timer + 1)
-                with m.If(reached(timer, t.su_sta)):
-                    with m.If(~sda | ~scl):
-                        fail(res_arb)
-                    with m.Else():
-                        m.d.sync += [sda_low.eq(1), timer.eq(0)]
-                        m.next = "START_HD"
-
-            # --- one bit: SDA changes `hold` after SCL fell, SCL released at `low`, sampled at end of high --
-            with m.State("BIT_HOLD"):
-                with m.If(reached(low_cnt, t.hold)):
-                    with m.If(bit == 8):
-                        m.d.sync += sda_low.eq(reading & ack_level)
-                    with m.Else():
-                        m.d.sync += sda_low.eq(~reading & ~shift[7])
-                    m.d.sync += timer.eq(0)
-                    m.next = "BIT_SETUP"
-            release_scl("BIT", then="BIT_HIGH")
-            with m.State("BIT_HIGH"):
-                m.d.sync += timer.eq(timer + 1)
-                with m.If(reached(timer, t.high)):
-                    m.d.sync += timer.eq(0)
-                    with m.If(bit == 8):
-                        m.d.sync += [res_nack.eq(~reading & sda), scl_low.eq(1)]
-                        m.next = "DONE"
-                    with m.Elif(~reading & ~sda_low & ~sda):
-                        fail(res_arb)                           # we sent a 1 but SDA is low
-                    with m.Else():
-                        m.d.sync += [shift.eq((shift << 1) | (reading & sda)), bit.eq(bit + 1), scl_low.eq(1)]
-                        m.next = "BIT_HOLD"
-
-            # --- STOP (SCL is low when we get here) --------------------------------------------------------
-            with m.State("STOP_HOLD"):
-                with m.If(reached(low_cnt, t.hold)):
-                    m.d.sync += [sda_low.eq(1), timer.eq(0)]
-                    m.next = "STOP_SETUP"
-            release_scl("STOP", then="STOP_SU")
-            with m.State("STOP_SU"):
-                m.d.sync += timer.eq(timer + 1)
-                with m.If(reached(timer, t.su_sto)):
-                    m.d.sync += [sda_low.eq(0), timer.eq(0)]
-                    m.next = "STOP_CHECK"
-            with m.State("STOP_CHECK"):                       # let the release pass the synchroniser
-                m.d.sync += timer.eq(timer + 1)
-                with m.If(timer >= 3):
-                    with m.If(~sda):
-                        fail(res_arb)
-                    with m.Elif(clearing):
-                        m.d.sync += [self.bus_active.eq(0), clearing.eq(0), timer.eq(0), wait.eq(0)]
-                        m.next = "WAIT_IDLE"
-                    with m.Else():
-                        m.d.sync += self.bus_active.eq(0)
-                        m.next = "DONE"
-
-            # --- bus clear (UM10204 3.1.16): SCL pulses until the target releases SDA ----------------------
-            with m.State("CLR_LOW"):
-                with m.If(reached(low_cnt, t.low)):
-                    m.d.sync += [scl_low.eq(0), timer.eq(0), wait.eq(0)]
-                    m.next = "CLR_WAIT_HIGH"
-            with m.State("CLR_WAIT_HIGH"):
-                m.d.sync += wait.eq(wait + 1)
-                with m.If(scl):
-                    m.next = "CLR_HIGH"
-                with m.Elif(wait >= self.timeout):
-                    fail(res_timeout)
-            with m.State("CLR_HIGH"):
-                m.d.sync += timer.eq(timer + 1)
-                with m.If(reached(timer, t.high)):
-                    m.d.sync += [timer.eq(0), scl_low.eq(1), pulses.eq(pulses + 1)]
-                    with m.If(sda):
-                        m.d.sync += [clearing.eq(1), self.bus_active.eq(1)]
-                        m.next = "STOP_HOLD"
-                    with m.Elif(pulses >= 8):
-                        fail(res_timeout)
-                    with m.Else():
-                        m.next = "CLR_LOW"
-
+            fsm_states.idle()
+            fsm_states.start()
+            fsm_states.repeated_start()
+            fsm_states.bit()
+            fsm_states.stop()
+            fsm_states.bus_clear()
             with m.State("DONE"):
                 m.next = "IDLE"
-
         # Outside the FSM so they are plain continuous assignments in the exported Verilog (an `always @*`
         # block is not run at time 0 by Icarus in its -g2012 mode until one of its inputs changes).
         m.d.comb += [self.ready.eq(fsm.ongoing("IDLE")), self.done.eq(fsm.ongoing("DONE"))]
         return m
+
+
+class _States:
+    """The master's registers and the states of its FSM, a group of states per method (emitted inside the
+    ``m.FSM()`` block of :meth:`I2CMaster.elaborate`, in this order)."""
+
+    def __init__(self, master, m):
+        self.master, self.m, self.t = master, m, master.timing
+        t = self.t
+        self.scl = Signal(init=1)
+        self.sda = Signal(init=1)
+        m.submodules.scl_sync = FFSynchronizer(master.i2c.scl.i, self.scl, init=1)
+        m.submodules.sda_sync = FFSynchronizer(master.i2c.sda.i, self.sda, init=1)
+        self.scl_low = Signal()
+        self.sda_low = Signal()
+        m.d.comb += [
+            master.i2c.scl.o.eq(0), master.i2c.sda.o.eq(0),
+            master.i2c.scl.oe.eq(self.scl_low), master.i2c.sda.oe.eq(self.sda_low),
+        ]
+        longest = max(t.low, t.high, t.hold, t.su_sta, t.hd_sta, t.su_sto, t.buf)
+        self.timer = Signal(range(longest + 2))
+        self.low_cnt = Signal(range(t.low + 1))      # cycles since the master pulled SCL low (saturating)
+        with m.If(~self.scl_low):
+            m.d.sync += self.low_cnt.eq(0)
+        with m.Elif(self.low_cnt < t.low):
+            m.d.sync += self.low_cnt.eq(self.low_cnt + 1)
+        self.wait = Signal(range(master.timeout + 2))   # stuck-bus timeout counter
+        self.shift = Signal(8)
+        self.bit_count = Signal(range(9), name="bit")
+        self.reading = Signal()
+        self.ack_level = Signal()                    # READ: 1 = pull SDA low in the acknowledge slot
+        self.pulses = Signal(range(10))              # bus-clear pulses
+        self.clearing = Signal()                     # STOP sequence belongs to a bus clear
+        self.cleared = Signal()                      # bus clear already tried for this START
+        self.res_nack = Signal()
+        self.res_arb = Signal()
+        self.res_timeout = Signal()
+        m.d.comb += [
+            master.nack.eq(self.res_nack), master.arb_lost.eq(self.res_arb), master.timed_out.eq(self.res_timeout),
+            master.rdata.eq(self.shift),
+        ]
+
+    @staticmethod
+    def reached(counter, n):
+        """True in the n-th cycle of a count from 0 (no constant comparison when n <= 1)."""
+        return counter >= n - 1 if n > 1 else C(1, 1)
+
+    def fail(self, kind):
+        self.m.d.sync += [self.scl_low.eq(0), self.sda_low.eq(0), self.master.bus_active.eq(0), kind.eq(1)]
+        self.m.next = "DONE"
+
+    def release_scl(self, prefix, *, then):
+        """States ``<prefix>_SETUP`` (SCL low for ``low`` and SDA set up for ``su_dat``, then release SCL) and
+        ``<prefix>_WAIT_HIGH`` (wait for SCL to read high -- a target may stretch it -- then go to ``then``; time
+        out after ``timeout`` cycles): the same for a repeated START, a bit and a STOP."""
+        m, t, timer, wait = self.m, self.t, self.timer, self.wait
+        with m.State(f"{prefix}_SETUP"):
+            m.d.sync += timer.eq(timer + 1)
+            with m.If((self.reached(self.low_cnt, t.low)) & (self.reached(timer, t.su_dat))):
+                m.d.sync += [self.scl_low.eq(0), timer.eq(0), wait.eq(0)]
+                m.next = f"{prefix}_WAIT_HIGH"
+        with m.State(f"{prefix}_WAIT_HIGH"):
+            m.d.sync += wait.eq(wait + 1)
+            with m.If(self.scl):
+                m.next = then
+            with m.Elif(wait >= self.master.timeout):
+                self.fail(self.res_timeout)
+
+    def idle(self):
+        m, master = self.m, self.master
+        with m.State("IDLE"):
+            with m.If(master.cmd_valid):
+                m.d.sync += [self.res_nack.eq(0), self.res_arb.eq(0), self.res_timeout.eq(0), self.timer.eq(0),
+                             self.wait.eq(0)]
+                with m.Switch(master.cmd):
+                    with m.Case(Cmd.START):
+                        m.d.sync += self.cleared.eq(0)
+                        with m.If(master.bus_active):
+                            m.next = "RS_HOLD"
+                        with m.Else():
+                            m.next = "WAIT_IDLE"
+                    with m.Case(Cmd.WRITE):
+                        m.d.sync += [self.shift.eq(master.wdata), self.reading.eq(0), self.bit_count.eq(0)]
+                        m.next = "BIT_HOLD"
+                    with m.Case(Cmd.READ):
+                        m.d.sync += [self.reading.eq(1), self.ack_level.eq(master.rd_ack), self.bit_count.eq(0)]
+                        m.next = "BIT_HOLD"
+                    with m.Case(Cmd.STOP):
+                        m.d.sync += self.clearing.eq(0)
+                        with m.If(master.bus_active):
+                            m.next = "STOP_HOLD"
+                        with m.Else():
+                            m.next = "DONE"
+
+    def start(self):
+        """START from an idle bus."""
+        m, t, timer, wait, scl, sda = self.m, self.t, self.timer, self.wait, self.scl, self.sda
+        with m.State("WAIT_IDLE"):
+            m.d.sync += wait.eq(wait + 1)
+            with m.If(scl & sda):
+                m.d.sync += timer.eq(timer + 1)
+                with m.If(self.reached(timer, t.buf)):
+                    m.d.sync += [self.sda_low.eq(1), timer.eq(0)]
+                    m.next = "START_HD"
+            with m.Else():
+                m.d.sync += timer.eq(0)
+            with m.If(wait >= self.master.timeout):
+                with m.If(scl & ~sda & ~self.cleared):
+                    m.d.sync += [self.cleared.eq(1), self.pulses.eq(0), timer.eq(0), self.scl_low.eq(1)]
+                    m.next = "CLR_LOW"
+                with m.Else():
+                    self.fail(self.res_timeout)
+        with m.State("START_HD"):                         # SDA low, SCL high: hold the START
+            m.d.sync += timer.eq(timer + 1)
+            with m.If(self.reached(timer, t.hd_sta)):
+                m.d.sync += [self.scl_low.eq(1), self.master.bus_active.eq(1)]
+                m.next = "DONE"
+
+    def repeated_start(self):
+        """Repeated START (SCL is low when we get here)."""
+        m, t, timer = self.m, self.t, self.timer
+        with m.State("RS_HOLD"):
+            with m.If(self.reached(self.low_cnt, t.hold)):
+                m.d.sync += [self.sda_low.eq(0), timer.eq(0)]
+                m.next = "RS_SETUP"
+        self.release_scl("RS", then="RS_SU")
+        with m.State("RS_SU"):
+            m.d.sync += timer.eq(timer + 1)
+            with m.If(self.reached(timer, t.su_sta)):
+                with m.If(~self.sda | ~self.scl):
+                    self.fail(self.res_arb)
+                with m.Else():
+                    m.d.sync += [self.sda_low.eq(1), timer.eq(0)]
+                    m.next = "START_HD"
+
+    def bit(self):
+        """One bit: SDA changes ``hold`` after SCL fell, SCL released at ``low``, sampled at the end of high."""
+        m, t, timer, bit, reading, sda = self.m, self.t, self.timer, self.bit_count, self.reading, self.sda
+        with m.State("BIT_HOLD"):
+            with m.If(self.reached(self.low_cnt, t.hold)):
+                with m.If(bit == 8):
+                    m.d.sync += self.sda_low.eq(reading & self.ack_level)
+                with m.Else():
+                    m.d.sync += self.sda_low.eq(~reading & ~self.shift[7])
+                m.d.sync += timer.eq(0)
+                m.next = "BIT_SETUP"
+        self.release_scl("BIT", then="BIT_HIGH")
+        with m.State("BIT_HIGH"):
+            m.d.sync += timer.eq(timer + 1)
+            with m.If(self.reached(timer, t.high)):
+                m.d.sync += timer.eq(0)
+                with m.If(bit == 8):
+                    m.d.sync += [self.res_nack.eq(~reading & sda), self.scl_low.eq(1)]
+                    m.next = "DONE"
+                with m.Elif(~reading & ~self.sda_low & ~sda):
+                    self.fail(self.res_arb)                    # we sent a 1 but SDA is low
+                with m.Else():
+                    m.d.sync += [self.shift.eq((self.shift << 1) | (reading & sda)), bit.eq(bit + 1),
+                                 self.scl_low.eq(1)]
+                    m.next = "BIT_HOLD"
+
+    def stop(self):
+        """STOP (SCL is low when we get here)."""
+        m, t, timer, master = self.m, self.t, self.timer, self.master
+        with m.State("STOP_HOLD"):
+            with m.If(self.reached(self.low_cnt, t.hold)):
+                m.d.sync += [self.sda_low.eq(1), timer.eq(0)]
+                m.next = "STOP_SETUP"
+        self.release_scl("STOP", then="STOP_SU")
+        with m.State("STOP_SU"):
+            m.d.sync += timer.eq(timer + 1)
+            with m.If(self.reached(timer, t.su_sto)):
+                m.d.sync += [self.sda_low.eq(0), timer.eq(0)]
+                m.next = "STOP_CHECK"
+        with m.State("STOP_CHECK"):                       # let the release pass the synchroniser
+            m.d.sync += timer.eq(timer + 1)
+            with m.If(timer >= 3):
+                with m.If(~self.sda):
+                    self.fail(self.res_arb)
+                with m.Elif(self.clearing):
+                    m.d.sync += [master.bus_active.eq(0), self.clearing.eq(0), timer.eq(0), self.wait.eq(0)]
+                    m.next = "WAIT_IDLE"
+                with m.Else():
+                    m.d.sync += master.bus_active.eq(0)
+                    m.next = "DONE"
+
+    def bus_clear(self):
+        """Bus clear (UM10204 3.1.16): SCL pulses until the target releases SDA."""
+        m, t, timer, wait = self.m, self.t, self.timer, self.wait
+        with m.State("CLR_LOW"):
+            with m.If(self.reached(self.low_cnt, t.low)):
+                m.d.sync += [self.scl_low.eq(0), timer.eq(0), wait.eq(0)]
+                m.next = "CLR_WAIT_HIGH"
+        with m.State("CLR_WAIT_HIGH"):
+            m.d.sync += wait.eq(wait + 1)
+            with m.If(self.scl):
+                m.next = "CLR_HIGH"
+            with m.Elif(wait >= self.master.timeout):
+                self.fail(self.res_timeout)
+        with m.State("CLR_HIGH"):
+            m.d.sync += timer.eq(timer + 1)
+            with m.If(self.reached(timer, t.high)):
+                m.d.sync += [timer.eq(0), self.scl_low.eq(1), self.pulses.eq(self.pulses + 1)]
+                with m.If(self.sda):
+                    m.d.sync += [self.clearing.eq(1), self.master.bus_active.eq(1)]
+                    m.next = "STOP_HOLD"
+                with m.Elif(self.pulses >= 8):
+                    self.fail(self.res_timeout)
+                with m.Else():
+                    m.next = "CLR_LOW"

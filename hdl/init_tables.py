@@ -46,9 +46,8 @@ from dataclasses import dataclass, field
 from .params import I2C_ADDR, CEA_1080P60
 
 __all__ = [
-    "I2CDeviceSpec", "Write", "Wait", "Poll", "InitTable",
-    "MT9D112", "CH7301C", "MT9D112_TABLE", "CH7301C_TABLE",
-    "mt9d112_var", "ch7301c_table",
+    "I2CDeviceSpec", "Write", "Wait", "Poll", "InitTable", "MT9D112", "CH7301C", "MT9D112_TABLE",
+    "CH7301C_TABLE", "ch7301c_table"
 ]
 
 

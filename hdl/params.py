@@ -1,7 +1,8 @@
 """One source of truth for the constants shared by the RTL, the simulation models and the golden model.
 
 Every block takes its sizes as constructor arguments whose defaults come from here, so a test can build the
-same RTL small. Sources: ../shared/spec.md (which pins the thesis down) and CEA-861 for the video timing.
+same RTL small. Sources: ../shared/spec.md (which pins the thesis down), CEA-861 for the video timing, and
+docs/hardware-facts.md for the parts' clocks and addresses.
 """
 
 from dataclasses import dataclass
@@ -79,7 +80,7 @@ class VideoTiming:
 CEA_1080P60 = VideoTiming(
     h_active=1920, h_front=88, h_sync=44, h_back=148,
     v_active=1080, v_front=4, v_sync=5, v_back=36,
-    hsync_positive=True, vsync_positive=True, pixel_hz=148_500_000,
+    hsync_positive=True, vsync_positive=True, pixel_hz=CLOCKS.PIXEL_HZ,
 )
 
 #: A small mode with the same structure, for fast tests of the same RTL (92 x 55 = 5060 clocks a frame;
@@ -87,7 +88,7 @@ CEA_1080P60 = VideoTiming(
 SMALL_TIMING = VideoTiming(
     h_active=80, h_front=4, h_sync=3, h_back=5,
     v_active=48, v_front=2, v_sync=2, v_back=3,
-    hsync_positive=True, vsync_positive=True, pixel_hz=148_500_000,
+    hsync_positive=True, vsync_positive=True, pixel_hz=CLOCKS.PIXEL_HZ,
 )
 
 
@@ -131,7 +132,7 @@ SMALL_SENSOR = SensorGeometry(width=64, height=48)
 # --- I2C device addresses (7-bit) -------------------------------------------------------------------------
 
 class I2C_ADDR:
-    """7-bit I2C addresses (see ../shared/hardware-facts.md and docs/hardware-facts.md for sources)."""
+    """7-bit I2C addresses (docs/hardware-facts.md gives the sources)."""
     MT9D112 = 0x3C   # 0x78 as an 8-bit write address; each camera has its own bus on the VmodCAM
     CH7301C = 0x76   # AS strap dependent (0x75 or 0x76): see docs/hardware-facts.md
 

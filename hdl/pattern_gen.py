@@ -6,8 +6,9 @@ from amaranth.lib.wiring import In, Out
 
 from .params import CEA_1080P60
 from .video_bus import TimingSignature, VideoSignature, Y_BITS
+from .rejecting import rejecting
 
-__all__ = ["PatternGenerator", "ReciprocalDivider"]
+__all__ = ["PatternGenerator"]
 
 
 class ReciprocalDivider:
@@ -53,14 +54,15 @@ class PatternGenerator(wiring.Component):
     """
 
     def __init__(self, timing=CEA_1080P60):
-        if timing.h_active < 8 or timing.v_active < 2:
-            raise ValueError(f"the test pattern needs at least 8 x 2 active pixels, got "
-                             f"{timing.h_active} x {timing.v_active}")
-        self.mode = timing
-        super().__init__({
-            "timing": In(TimingSignature),
-            "video": Out(VideoSignature),
-        })
+        with rejecting(self):
+            if timing.h_active < 8 or timing.v_active < 2:
+                raise ValueError(f"the test pattern needs at least 8 x 2 active pixels, got "
+                                 f"{timing.h_active} x {timing.v_active}")
+            self.mode = timing
+            super().__init__({
+                "timing": In(TimingSignature),
+                "video": Out(VideoSignature),
+            })
 
     def elaborate(self, platform):
         m = Module()

@@ -2,14 +2,26 @@
 when they fail.
 
 Amaranth warns (``UnusedElaboratable``) about every Elaboratable that is garbage-collected without having been
-elaborated, including one whose constructor raised. Wrapping the checks in ``with rejecting(self):`` marks the
-object as deliberately unused when an exception leaves the block, then lets the exception go on. This is the
-only place that touches Amaranth's private ``_MustUse__silence`` flag.
+elaborated, including one whose constructor raised, and the sub-blocks that constructor had already built. Wrapping
+the constructor's work in ``with rejecting(self):`` marks the object and every Elaboratable it holds so far (its
+attributes, and the values of dicts, lists and tuples among them) as deliberately unused when an exception leaves
+the block (and, in turn, everything those hold), then lets the exception go on. This is the project's one way of doing so, and the only place that touches
+Amaranth's private ``_MustUse__silence`` flag; ``tests/test_rejecting.py`` checks every rejecting constructor.
 """
 
 from contextlib import contextmanager
 
+from amaranth import Elaboratable
+
 __all__ = ["rejecting"]
+
+
+def _held(obj):
+    """The Elaboratables ``obj`` holds directly: its attributes and the values of its dicts, lists and tuples."""
+    for value in vars(obj).values():
+        values = value.values() if isinstance(value, dict) else value if isinstance(value, (list, tuple)) \
+            else (value,)
+        yield from (v for v in values if isinstance(v, Elaboratable))
 
 
 @contextmanager
@@ -17,5 +29,11 @@ def rejecting(component):
     try:
         yield
     except BaseException:
-        component._MustUse__silence = True
+        todo, seen = [component], set()
+        while todo:
+            obj = todo.pop()
+            if id(obj) not in seen:
+                seen.add(id(obj))
+                obj._MustUse__silence = True
+                todo.extend(_held(obj))
         raise

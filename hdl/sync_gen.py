@@ -7,7 +7,7 @@ from .params import CEA_1080P60
 from .video_bus import TimingSignature, X_BITS, Y_BITS
 from .rejecting import rejecting
 
-__all__ = ["SyncGenerator", "check_timing"]
+__all__ = ["SyncGenerator"]
 
 
 def check_timing(timing):

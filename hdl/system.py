@@ -23,21 +23,21 @@ simulation harness with :class:`~hdl.clocking.SimClocking` in simulation, whose 
 =========  ================================================================================================
 
 CH7301C output stage: with ``ddr="behavioural"`` (simulation, Verilog export) the system ends in
-:class:`~hdl.ch7301c_output.CH7301COutput`'s behavioural dual-edge model and has the CH7301C pins (``ch7301c``). With
-``ddr=None`` (the board) it stops at the compositor's video stream (``video``, ``pix``) and :class:`hdl.top.GenesysTop` builds the pins from Virtex-5 ODDRs (through
-``amaranth.lib.io.DDRBuffer``), including the XCLK pair as two single-ended ODDR outputs in the 90-degree
-``pix90`` domain: the Genesys's XCLK pins are LVCMOS33 (docs/board.md), so the OBUFDS of
-``CH7301COutput(ddr="virtex5")`` cannot drive them.
+:class:`~hdl.ch7301c_output.CH7301COutput`'s behavioural dual-edge model and has the CH7301C pins (``ch7301c``).
+With ``ddr=None`` (the board) it stops at the compositor's video stream (``video``, ``pix``) and
+:class:`hdl.top.GenesysTop` builds the pins from Virtex-5 ODDRs (through ``amaranth.lib.io.DDRBuffer``), including
+the XCLK pair as two single-ended ODDR outputs in the 90-degree ``pix90`` domain: the Genesys's XCLK pins are
+LVCMOS33 (docs/board.md), so the OBUFDS of ``CH7301COutput(ddr="virtex5")`` cannot drive them.
 
 Status LEDs (``panel.leds``): 0 camera A bus init done, 1 camera A bus error, 2 camera B bus init done, 3 camera B
 bus error, 4 CH7301C init done, 5 CH7301C error, 6 display heartbeat (toggles every ``2**heartbeat_log2``
 display frames: 32 frames = 0.53 s at 60 Hz), 7 camera A heartbeat (toggles every ``2**cam_heartbeat_log2``
 captured frames, about 0.5 s at 15 fps).
 
-Sensor and transmitter control pins (``control``, ``sync``): ``cam_rst_n`` and ``dvi_reset_n`` are low while ``sync`` is in
-reset (so until the clocks are locked) and high from the first clock after; ``cam_vdden`` (VmodCAM supply
-enable) is high once out of reset; ``cam_pwdn`` is low. The MT9D112 table starts with a wait longer than the
-sensor's 7000-MCLK boot time, so the first I2C access follows the reset release correctly.
+Sensor and transmitter control pins (``control``, ``sync``): ``cam_rst_n`` and ``dvi_reset_n`` are low while
+``sync`` is in reset (so until the clocks are locked) and high from the first clock after; ``cam_vdden``
+(VmodCAM supply enable) is high once out of reset; ``cam_pwdn`` is low. The MT9D112 table starts with a wait
+longer than the sensor's 7000-MCLK boot time, so the first I2C access follows the reset release correctly.
 
 Latency: from a raster position of the sync generator to the CH7301C pins, :data:`DISPLAY_LATENCY` pixel clocks
 (compositor 6 + output 1). The display runs from reset; each frame buffer shows whatever its camera last wrote
@@ -61,6 +61,7 @@ from .params import CEA_1080P60, CLOCKS, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, SENSO
 from .switches import SettingsSignature, SwitchControl
 from .sync_gen import SyncGenerator
 from .video_bus import VideoSignature
+from .rejecting import rejecting
 
 __all__ = ["StereoDepthSystem", "PanelSignature", "ControlSignature", "DISPLAY_LATENCY", "CAMERAS", "I2C_BUSES"]
 
@@ -140,25 +141,26 @@ class StereoDepthSystem(wiring.Component):
                  level_grey=DIFF_LEVEL_GREY, cam_table=MT9D112_TABLE, dvi_table=CH7301C_TABLE,
                  clk_hz=CLOCKS.SYS_HZ, i2c_hz=CLOCKS.I2C_HZ, i2c_retry_delay_us=1000, r_byte_first=True,
                  ddr="behavioural", heartbeat_log2=5, cam_heartbeat_log2=3):
-        if ddr not in ("behavioural", None):
-            raise ValueError(f"ddr must be 'behavioural' or None (board: pins built by hdl.top), not {ddr!r}")
-        self.geometry = geometry
-        self.video_timing = timing
-        self.heartbeat_log2 = heartbeat_log2
-        self.cam_heartbeat_log2 = cam_heartbeat_log2
-        # The blocks, built now so that bad parameters fail at construction and their interfaces can be forwarded.
-        self.capture_path = CapturePath(geometry, cameras=CAMERAS, r_byte_first=r_byte_first, read_domain="pix")
-        self.compositor = Compositor(timing, geometry, layout, thresholds=thresholds, level_grey=level_grey)
-        self.sync_gen = SyncGenerator(timing)
-        self.switches = SwitchControl(domain="pix")
-        self.output = CH7301COutput(timing, ddr=ddr) if ddr is not None else None
-        tables = {"cam_a": cam_table, "cam_b": cam_table, "dvi": dvi_table}
-        self.sequencers = {
-            bus: InitSequencer(table, clk_hz=clk_hz, bus_hz=i2c_hz, retry_delay_us=i2c_retry_delay_us)
-            for bus, table in tables.items()
-        }
-        super().__init__(self._members(tables))
-        self._forward_members()
+        with rejecting(self):
+            if ddr not in ("behavioural", None):
+                raise ValueError(f"ddr must be 'behavioural' or None (board: pins built by hdl.top), not {ddr!r}")
+            self.geometry = geometry
+            self.video_timing = timing
+            self.heartbeat_log2 = heartbeat_log2
+            self.cam_heartbeat_log2 = cam_heartbeat_log2
+            # The blocks, built now so that bad parameters fail at construction and their interfaces can be forwarded.
+            self.capture_path = CapturePath(geometry, cameras=CAMERAS, r_byte_first=r_byte_first, read_domain="pix")
+            self.compositor = Compositor(timing, geometry, layout, thresholds=thresholds, level_grey=level_grey)
+            self.sync_gen = SyncGenerator(timing)
+            self.switches = SwitchControl(domain="pix")
+            self.output = CH7301COutput(timing, ddr=ddr) if ddr is not None else None
+            tables = {"cam_a": cam_table, "cam_b": cam_table, "dvi": dvi_table}
+            self.sequencers = {
+                bus: InitSequencer(table, clk_hz=clk_hz, bus_hz=i2c_hz, retry_delay_us=i2c_retry_delay_us)
+                for bus, table in tables.items()
+            }
+            super().__init__(self._members(tables))
+            self._forward_members()
 
     def _members(self, tables):
         members = {

@@ -30,8 +30,7 @@ from sim.gtkw import recording
 from sim.mt9d112 import drive_amaranth, drive_cocotb
 from sim.sensor_replay import REPLAY_VERILOG, pack_stream, write_hex
 
-__all__ = ["CaptureRecord", "run_capture_amaranth", "run_capture_cocotb", "read_buffers_cocotb", "playback_design",
-           "run_playback_cocotb"]
+__all__ = ["CaptureRecord", "run_capture_amaranth", "run_capture_cocotb", "playback_design", "run_playback_cocotb"]
 
 
 @dataclass

@@ -36,7 +36,7 @@ from golden.disparity import composite_frame, difference_levels
 from golden.stereo_pair import DATA_DIR, load_default_pair
 from hdl.params import CEA_1080P60, SENSOR
 
-__all__ = ["crop_offset", "ground_truth", "motorcycle_mask", "find_settings", "Settings", "write_pictures"]
+__all__ = ["crop_offset", "find_settings", "Settings", "write_pictures"]
 
 #: The motorcycle's bounding box in the original 741 x 500 image (x0, x1, y0, y1), and the ground-truth
 #: disparity (original pixels) above which a pixel in the box is the motorcycle, not the shelves behind it.

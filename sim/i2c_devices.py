@@ -25,6 +25,7 @@ Model assumptions where no public datasheet text was available are listed in doc
 
 from dataclasses import dataclass
 
+from hdl.params import CLOCKS, I2C_ADDR
 from sim.sensor_config import SensorConfig
 
 __all__ = [
@@ -303,8 +304,8 @@ class MT9D112Model(RegisterTarget):
 
     CHIP_VERSION = 0x1580
 
-    def __init__(self, address=0x3C, *, extclk_hz=24_000_000, boot_s=7000 / 24e6, pll_lock_s=1e-3,
-                 cmd_busy_reads=2, **faults):
+    def __init__(self, address=I2C_ADDR.MT9D112, *, extclk_hz=CLOCKS.CAM_MCLK_HZ, boot_s=7000 / CLOCKS.CAM_MCLK_HZ,
+                 pll_lock_s=1e-3, cmd_busy_reads=2, **faults):
         super().__init__(address, reg_bytes=2, data_bytes=2, name="mt9d112", **faults)
         self.extclk_hz = extclk_hz
         self.boot_s = boot_s
@@ -448,7 +449,7 @@ class CH7301CModel(RegisterTarget):
     choice). Read-only version ID 0x4A = 0x95 and device ID 0x4B = 0x17; power management 0x49 starts in full
     power-down (0x01, model assumption)."""
 
-    def __init__(self, address=0x76, **faults):
+    def __init__(self, address=I2C_ADDR.CH7301C, **faults):
         super().__init__(address, reg_bytes=1, data_bytes=1, name="ch7301c", **faults)
         self.regs = {0x49: 0x01, 0x4A: 0x95, 0x4B: 0x17}
 

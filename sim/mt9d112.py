@@ -335,6 +335,20 @@ def _as_chunks(stream_or_chunks):
     return [stream_or_chunks] if isinstance(stream_or_chunks, SensorStream) else stream_or_chunks
 
 
+def _changed_only(current, fv, lv, data, write):
+    """``put(f, l, d)``: ``write(pin, value)`` for the pins whose value changes from the last put (starting from
+    ``current``): a write only on a change is the cheapest for both simulators."""
+    current = list(current)
+    pins = (fv, lv, data)
+
+    def put(*values):
+        for k, value in enumerate(values):
+            if value != current[k]:
+                write(pins[k], value)
+                current[k] = value
+    return put
+
+
 async def drive_amaranth(ctx, chunks, *, clk, pins, pclk_hz, start_delay=0.0, on_sample=None):
     """Amaranth-simulator testbench body: send ``chunks`` (a :class:`SensorStream` or an iterable of them) on
     ``pins`` (an ``hdl.capture.CameraSignature`` interface of the design: ``data``, ``lv``, ``fv``).
@@ -344,26 +358,16 @@ async def drive_amaranth(ctx, chunks, *, clk, pins, pclk_hz, start_delay=0.0, on
     and PCLK rises. ``start_delay`` (seconds) shifts this camera's phase. Returns the number of samples sent.
     """
     half = 0.5 / pclk_hz
-    data, lv, fv = pins.data, pins.lv, pins.fv
     if start_delay:
         await ctx.delay(start_delay)
-    cur_d = cur_l = cur_f = None       # plain-signal sets only when a value changes: the cheapest in pysim
+    put = _changed_only((None, None, None), pins.fv, pins.lv, pins.data, ctx.set)
     sent = 0
     for chunk in _as_chunks(chunks):
         fvs, lvs, ds = chunk.fv.tolist(), chunk.lv.tolist(), chunk.data.tolist()
         pauses = chunk.pauses
         for i in range(len(fvs)):
             ctx.set(clk, 0)
-            d, l, f = ds[i], lvs[i], fvs[i]
-            if d != cur_d:
-                ctx.set(data, d)
-                cur_d = d
-            if l != cur_l:
-                ctx.set(lv, l)
-                cur_l = l
-            if f != cur_f:
-                ctx.set(fv, f)
-                cur_f = f
+            put(fvs[i], lvs[i], ds[i])
             await ctx.delay(half + pauses[i] if pauses and i in pauses else half)
             if on_sample is not None:
                 on_sample(ctx)
@@ -412,7 +416,7 @@ async def drive_cocotb(chunks, *, clk, pins, pclk_hz, start_delay=0.0, on_sample
         reset.value = 0     # the first sample is captured by the next rising edge
     running = reset is not None
     wait = False                        # we are at a falling edge (or before the clock starts)
-    cur = [first[0], first[1], first[2]]
+    put = _changed_only(first, fv, lv, data, lambda handle, value: setattr(handle, "value", value))
     sent = 0
 
     def all_chunks():
@@ -428,16 +432,7 @@ async def drive_cocotb(chunks, *, clk, pins, pclk_hz, start_delay=0.0, on_sample
                 if wait:
                     await falling
                 wait = True
-                f, l, d = fvs[i], lvs[i], ds[i]
-                if f != cur[0]:
-                    fv.value = f
-                    cur[0] = f
-                if l != cur[1]:
-                    lv.value = l
-                    cur[1] = l
-                if d != cur[2]:
-                    data.value = d
-                    cur[2] = d
+                put(fvs[i], lvs[i], ds[i])
                 if on_sample is not None:
                     on_sample()
                 pause = pauses.get(i)

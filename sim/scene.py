@@ -30,17 +30,16 @@ background. Shapes are tested closed (a point on the outline is inside).
 """
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from hdl.params import SENSOR
 
 __all__ = [
-    "StereoRig", "VMODCAM", "PlanarObject", "FINISHES", "SHAPES", "BACKGROUND_RGB", "OBJECT_RGB",
-    "RECTANGLE_SIZE_M", "CIRCLE_DIAMETER_M", "TRIANGLE_SIZE_M", "SMALL_RECTANGLE_SIZE_M",
-    "rectangle", "circle", "triangle", "small_rectangle", "make_object",
-    "render_view", "render_pair", "object_footprint", "with_misalignment",
+    "StereoRig", "VMODCAM", "PlanarObject", "BACKGROUND_RGB", "RECTANGLE_SIZE_M", "CIRCLE_DIAMETER_M",
+    "TRIANGLE_SIZE_M", "rectangle", "circle", "triangle", "small_rectangle", "make_object", "render_view",
+    "render_pair", "object_footprint"
 ]
 
 # --- The test objects (thesis 4.6; sizes the thesis does not give are this project's choice) ------------
@@ -347,11 +346,3 @@ def object_footprint(scene, rig=VMODCAM, side="right", scale=SENSOR.scale, index
     rows = np.arange(0, rig.height - scale + 1, scale)[: rig.height // scale] + 0.5
     _, label = _shade(objects, rig, side, cols, rows)
     return label == index
-
-
-def with_misalignment(rig, principal_offset_px=None, vertical_offset_px=None, convergence_deg=None):
-    """``rig`` with some misalignment parameters replaced (None keeps the current value)."""
-    changes = {k: v for k, v in dict(principal_offset_px=principal_offset_px,
-                                     vertical_offset_px=vertical_offset_px,
-                                     convergence_deg=convergence_deg).items() if v is not None}
-    return replace(rig, **changes)

@@ -26,7 +26,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-__all__ = ["Report", "CAPACITY", "estimate", "synthesize", "longest_paths", "board_rtlil", "yosys_available"]
+__all__ = ["Report", "estimate", "synthesize", "longest_paths", "yosys_available"]
 
 #: XC5VLX50T capacity (spec: 28,800 LUTs and flip-flops, 60 RAMB36 = 2160 Kb; Digilent reference manual: 12
 #: DCMs, 6 PLLs; the Virtex-5 family has 32 global clock buffers; 48 DSP48E slices).

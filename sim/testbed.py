@@ -49,12 +49,10 @@ from sim.scene import RECTANGLE_SIZE_M, VMODCAM, make_object, object_footprint, 
 
 __all__ = [
     "THESIS_DISTANCES_M", "THESIS_CALCULATED_PX", "THESIS_OBSERVED_PX", "MAX_DISPARITY", "MAX_RECTIFICATION",
-    "exact_disparity", "centre_disparity", "table_object_name",
-    "SweepCurve", "Alignment", "TestbedPoint", "FitResult", "FIT_MODELS",
-    "sweep_region", "disparity_curve", "rectification_curve", "find_alignment", "capture_pair",
-    "run_point", "run_table", "run_near_field", "NEAR_FIELD_OBJECTS", "NEAR_FIELD_DISTANCE_M",
-    "fit_observed", "fitted_rig_and_distance",
-    "RtlCheck", "rtl_difference_rows", "rtl_crosscheck",
+    "exact_disparity", "table_object_name", "SweepCurve", "Alignment", "TestbedPoint", "FitResult", "FIT_MODELS",
+    "sweep_region", "disparity_curve", "rectification_curve", "find_alignment", "capture_pair", "run_point",
+    "run_table", "run_near_field", "NEAR_FIELD_DISTANCE_M", "fit_observed", "fitted_rig_and_distance",
+    "RtlCheck", "rtl_difference_rows", "rtl_crosscheck"
 ]
 
 # --- Thesis table 4.2 (../shared/spec.md) -----------------------------------------------------------------

@@ -2,7 +2,8 @@
 
 Each subcommand lives in its own module ``stereodepth/cmd_<name>.py`` exposing ``add_arguments(parser)`` and
 ``run(args) -> int``; its one-line help is in :data:`COMMANDS`. Modules are imported only when their subcommand
-runs, so ``--help`` stays fast. The library code they call lives in ``sim/``, ``golden/`` and ``hdl/``. Bad input raises :class:`stereodepth.errors.UserError`, printed as one line.
+runs, so ``--help`` stays fast. The library code they call lives in ``sim/``, ``golden/`` and ``hdl/``. Bad
+input raises :class:`stereodepth.errors.UserError`, printed as one line.
 """
 
 import argparse

@@ -263,12 +263,14 @@ def _figures(out, table, near, fits, resim, rig, kw):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    _figure_4_35(plt, out, table, fits, resim)
+    _difference_images(plt, out, table, rig, kw)
+    _near_field_figure(plt, out, near, rig, kw)
 
+
+def _figure_4_35(plt, out, table, fits, resim):
+    """Figure 4.35: calculated, found and observed disparity against distance."""
     from sim import testbed as tb
-    from golden.disparity import difference_levels
-    from sim.scene import make_object
-
-    # Figure 4.35: calculated, found and observed disparity against distance.
     z = np.array([p.distance_m for p in table])
     found = np.array([p.found for p in table])
     lo = np.array([p.plateau[0] for p in table])
@@ -306,7 +308,12 @@ def _figures(out, table, near, fits, resim, rig, kw):
     fig.savefig(out / "figure_4_35.png", dpi=110)
     plt.close(fig)
 
-    # Difference images at found - 1, found, found + 1 (figures 4.15-4.17), at the distance nearest 1 m.
+
+def _difference_images(plt, out, table, rig, kw):
+    """Difference images at found - 1, found, found + 1 (figures 4.15-4.17), at the distance nearest 1 m."""
+    from golden.disparity import difference_levels
+    from sim import testbed as tb
+    from sim.scene import make_object
     p = min(table, key=lambda q: abs(q.distance_m - 1.0))
     scene = make_object(p.object_name, p.distance_m, finish=kw["finish"])
     left, right = tb.capture_pair(scene, rig, supersample=kw["supersample"])
@@ -321,9 +328,14 @@ def _figures(out, table, near, fits, resim, rig, kw):
     fig.savefig(out / "disparity_maps.png", dpi=100)
     plt.close(fig)
 
-    # Near field (figures 4.31-4.33): each object's residual per disparity (normalised by its region), the big
-    # rectangle at the smallest disparity that makes it vanish (far from its true one),
-    # the small rectangle at zero disparity (its two images separated) and at the found disparity.
+
+def _near_field_figure(plt, out, near, rig, kw):
+    """Near field (figures 4.31-4.33): each object's residual per disparity (normalised by its region), the big
+    rectangle at the smallest disparity that makes it vanish (far from its true one), the small rectangle at zero
+    disparity (its two images separated) and at the found disparity."""
+    from golden.disparity import difference_levels
+    from sim import testbed as tb
+    from sim.scene import make_object
     by_name = {q.object_name: q for q in near}
     fig = plt.figure(figsize=(13, 6.6))
     grid = fig.add_gridspec(2, 3, height_ratios=(1.1, 1))

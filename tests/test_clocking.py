@@ -76,7 +76,8 @@ def test_board_primitives_carry_the_plan():
     """Recompute every output frequency from the parameters in the exported Verilog (Xilinx formulas:
     CLKFX = CLKIN * M / D; PLL output = CLKIN * CLKFBOUT_MULT / DIVCLK_DIVIDE / CLKOUTn_DIVIDE)."""
     g = GenesysClocking()
-    text = verilog.convert(_Wrap(g), ports=[g.clk100, g.button, g.locked, *(getattr(g.cam_pclk, d) for d in g.cam_domains)])
+    pclks = [getattr(g.cam_pclk, d) for d in g.cam_domains]
+    text = verilog.convert(_Wrap(g), ports=[g.clk100, g.button, g.locked, *pclks])
     dcms = _instances(text, "DCM_ADV")
     plls = _instances(text, "PLL_ADV")
     assert list(dcms) == ["dcm_pix"] and sorted(plls) == ["pll_cam", "pll_pix"]

@@ -1,7 +1,6 @@
 """DisparitySubtractor in the Amaranth simulator against golden.difference_levels (hypothesis), and the golden
 model against hand-worked examples from the spec."""
 
-import gc
 
 import numpy as np
 import pytest
@@ -14,7 +13,6 @@ from hdl.params import CLOCKS, DIFF_THRESHOLDS, SensorGeometry
 from sim.amaranth_sim import simulate
 from sim.subtractor_bench import set_pixel, subtractor_bench
 
-pytestmark = pytest.mark.filterwarnings("ignore:.*created but never used")
 
 
 # --- the golden model against hand-worked examples ---------------------------------------------------------
@@ -148,7 +146,6 @@ def test_bad_thresholds():
     for bad in [(), (2, 40), (2.5,), ("2",)]:
         with pytest.raises(ValueError):
             DisparitySubtractor(thresholds=bad)
-    gc.collect()    # the half-built components warn "never used" when collected: inside this test's filter
 
 
 # --- the pictures (golden frames of the bundled pair) ----------------------------------------------------

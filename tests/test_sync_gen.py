@@ -117,7 +117,6 @@ def test_1080p_full_frame_every_clock():
     assert frame[:, 4].sum() == 5 * 2200
 
 
-@pytest.mark.filterwarnings("ignore::amaranth.hdl._ir.UnusedElaboratable")   # the rejected instance
 @pytest.mark.parametrize("bad", [
     dict(h_active=4100),                # h_total = 4192: x does not fit 12 bits
     dict(v_active=2100),                # y does not fit 11 bits

@@ -16,7 +16,6 @@ from hdl.params import DIFF_THRESHOLDS
 from sim.scene import VMODCAM, StereoRig, make_object, object_footprint, rectangle
 from stereodepth.cli import main
 
-pytestmark = pytest.mark.filterwarnings("ignore:.*created but never used")
 
 
 @pytest.fixture(scope="module")

@@ -21,6 +21,7 @@ The sensor models must then be given matching timing (``MT9D112Model(boot_s=...,
 from dataclasses import replace
 
 from hdl.init_tables import MT9D112_TABLE, InitTable, Poll, Wait, Write
+from hdl.params import CLOCKS
 
 __all__ = ["mt9d112_table", "model_timing", "SIZE_VARIABLES", "QUICK_VARIABLES"]
 
@@ -85,5 +86,5 @@ def entries_after_command(entries):
 
 def model_timing(time_scale=1.0):
     """Keyword arguments for ``sim.i2c_devices.MT9D112Model`` matching a table scaled by ``time_scale``:
-    the sensor's boot time (7000 MCLK at 24 MHz) and PLL lock time (1 ms), scaled the same way."""
-    return dict(boot_s=7000 / 24e6 * time_scale, pll_lock_s=1e-3 * time_scale)
+    the sensor's boot time (7000 MCLK) and PLL lock time (1 ms), scaled the same way."""
+    return dict(boot_s=7000 / CLOCKS.CAM_MCLK_HZ * time_scale, pll_lock_s=1e-3 * time_scale)

@@ -27,8 +27,9 @@ from hdl.system import CAMERAS
 from sim.pin_recorder import RECORDER_VERILOG
 from sim.sensor_replay import REPLAY_VERILOG
 from sim.system.bench import SystemBench
+from hdl.rejecting import rejecting
 
-__all__ = ["VerilogReplayBench", "CLOCK_VERILOG", "ReplayControlSignature", "RecorderSignature", "write_sources"]
+__all__ = ["VerilogReplayBench", "ReplayControlSignature", "RecorderSignature", "write_sources"]
 
 CLOCK_VERILOG = r"""
 // sim/system/verilog_bench.py: clocks generated in the simulator (simulation only).
@@ -120,23 +121,24 @@ class VerilogReplayBench(wiring.Component):
     """
 
     def __init__(self, *, replay_depth, periods_ps, **system_kwargs):
-        if periods_ps["pix"] % 4 or periods_ps["sync"] % 2 or periods_ps["cam"] % 2:
-            raise ValueError("clock periods must be even (the pixel period a multiple of 4) in picoseconds")
-        self.replay_depth = int(replay_depth)
-        self.periods_ps = dict(periods_ps)
-        self.bench = SystemBench(define_domains=False, **system_kwargs)
-        cam_pins = {f"cam_{c}" for c in CAMERAS}
-        own = [name for name in self.bench.signature.members if name not in cam_pins]
-        members = {name: self.bench.signature.members[name] for name in own}
-        clocks = wiring.Signature({name: Out(1) for name in _CLOCKS})
-        members.update({
-            "clock_en": In(clocks), "clocks": Out(clocks),
-            "replay": Out(wiring.Signature({f"cam_{c}": Out(ReplayControlSignature) for c in CAMERAS})),
-            "recorder": Out(RecorderSignature),
-        })
-        super().__init__(members)
-        for name in own:
-            forward(self, name, getattr(self.bench, name))
+        with rejecting(self):
+            if periods_ps["pix"] % 4 or periods_ps["sync"] % 2 or periods_ps["cam"] % 2:
+                raise ValueError("clock periods must be even (the pixel period a multiple of 4) in picoseconds")
+            self.replay_depth = int(replay_depth)
+            self.periods_ps = dict(periods_ps)
+            self.bench = SystemBench(define_domains=False, **system_kwargs)
+            cam_pins = {f"cam_{c}" for c in CAMERAS}
+            own = [name for name in self.bench.signature.members if name not in cam_pins]
+            members = {name: self.bench.signature.members[name] for name in own}
+            clocks = wiring.Signature({name: Out(1) for name in _CLOCKS})
+            members.update({
+                "clock_en": In(clocks), "clocks": Out(clocks),
+                "replay": Out(wiring.Signature({f"cam_{c}": Out(ReplayControlSignature) for c in CAMERAS})),
+                "recorder": Out(RecorderSignature),
+            })
+            super().__init__(members)
+            for name in own:
+                forward(self, name, getattr(self.bench, name))
 
     def elaborate(self, platform):
         m = Module()

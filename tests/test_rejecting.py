@@ -1,0 +1,100 @@
+"""Every constructor that rejects its arguments does so without Amaranth's "created but never used" warning, for
+itself and for the sub-blocks it had built before the check failed (hdl/rejecting.py, the one way to do it)."""
+
+import gc
+import warnings
+
+import pytest
+from amaranth.hdl import Fragment, UnusedElaboratable
+
+from hdl.capture import CameraCapture
+from hdl.capture_path import CapturePath
+from hdl.ch7301c_output import CH7301COutput
+from hdl.clocking import ClockPlan, GenesysClocking, SimClocking
+from hdl.compositor import Compositor
+from hdl.disparity import DisparitySubtractor
+from hdl.downscaler import Downscaler
+from hdl.grey import Grey
+from hdl.i2c_init import InitSequencer
+from hdl.i2c_master import I2CMaster
+from hdl.init_tables import CH7301C_TABLE
+from hdl.params import SMALL_SENSOR, SMALL_TIMING, SensorGeometry, VideoTiming
+from hdl.pattern_gen import PatternGenerator
+from hdl.rgb565_assembler import RGB565Assembler
+from hdl.switches import SwitchControl
+from hdl.sync_gen import SyncGenerator
+from hdl.system import StereoDepthSystem
+from hdl.top import GenesysTop
+from sim.sensor_replay import SensorReplay
+from sim.system.bench import SystemBench
+from sim.system.rom_bench import RomReplayBench
+from sim.system.verilog_bench import VerilogReplayBench
+
+SMALL = dict(geometry=SMALL_SENSOR, timing=SMALL_TIMING)
+
+REJECTED = {
+    "CameraCapture": lambda: CameraCapture(SensorGeometry(width=64, height=48, gray_bits=6)),
+    "Downscaler": lambda: Downscaler(SensorGeometry(width=30, height=30, scale=3)),
+    "RGB565Assembler": lambda: RGB565Assembler(0),
+    "CapturePath": lambda: CapturePath(SMALL_SENSOR, cameras=("a", "a")),
+    "CapturePath, a camera's capture": lambda: CapturePath(SensorGeometry(width=64, height=48, gray_bits=6)),
+    "Compositor": lambda: Compositor(SMALL_TIMING, SMALL_SENSOR, thresholds=(2, 4), level_grey=(0, 255)),
+    "DisparitySubtractor": lambda: DisparitySubtractor(SMALL_SENSOR, thresholds=()),
+    "SwitchControl": lambda: SwitchControl(stages=1),
+    "SyncGenerator": lambda: SyncGenerator(SMALL_TIMING, start=(10_000, 0)),
+    "PatternGenerator": lambda: PatternGenerator(VideoTiming(h_active=4, h_front=1, h_sync=1, h_back=1,
+                                                             v_active=1, v_front=1, v_sync=1, v_back=1)),
+    "CH7301COutput": lambda: CH7301COutput(ddr="spartan"),
+    "I2CMaster": lambda: I2CMaster(clk_hz=1_000_000, bus_hz=5_000_000),
+    "InitSequencer": lambda: InitSequencer(CH7301C_TABLE, retries=-1),
+    "GenesysClocking": lambda: GenesysClocking(ClockPlan(dcm_m=40)),
+    "SimClocking": lambda: SimClocking(lock_cycles=0),
+    "StereoDepthSystem": lambda: StereoDepthSystem(**SMALL, ddr="virtex5"),
+    "StereoDepthSystem, its compositor": lambda: StereoDepthSystem(**SMALL, level_grey=(0,)),
+    "GenesysTop": lambda: GenesysTop(ddr="behavioural"),
+    "SensorReplay": lambda: SensorReplay([], domain="sync"),
+    "SystemBench": lambda: SystemBench(define_domains=False, clock_ports=True, **SMALL),
+    "RomReplayBench": lambda: RomReplayBench(replay_words={"a": [0]}, **SMALL),
+    "VerilogReplayBench": lambda: VerilogReplayBench(replay_depth=1, periods_ps={"sync": 3, "pix": 4, "cam": 2},
+                                                     **SMALL),
+}
+
+
+@pytest.fixture(autouse=True)
+def warnings_on():
+    """Amaranth stays quiet about unused elaboratables until something has been elaborated in the process (a
+    crash before that is no reason to warn): elaborate one block so the warning is live."""
+    Fragment.get(Grey(), None)
+
+
+@pytest.mark.parametrize("make", REJECTED.values(), ids=REJECTED.keys())
+def test_rejected_constructor_leaves_no_unused_elaboratable(make):
+    gc.collect()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        with pytest.raises((ValueError, TypeError)):
+            make()
+        gc.collect()
+    unused = [str(w.message) for w in caught if issubclass(w.category, UnusedElaboratable)]
+    assert not unused, unused
+
+
+def test_the_check_sees_a_missing_rejecting():
+    """Without ``rejecting`` a failed constructor does warn: the test above would catch it."""
+    from amaranth.lib import wiring
+
+    class Careless(wiring.Component):
+        def __init__(self):
+            super().__init__({})
+            raise ValueError("rejected")
+
+        def elaborate(self, platform):
+            raise AssertionError
+
+    gc.collect()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        with pytest.raises(ValueError):
+            Careless()
+        gc.collect()
+    assert any(issubclass(w.category, UnusedElaboratable) for w in caught)
