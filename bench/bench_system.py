@@ -116,7 +116,7 @@ def main(argv=None):
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--quick", action="store_true",
                         help="Icarus: extrapolate from a short probe instead of measuring the whole run "
-                             "(which takes about 20 minutes)")
+                             "(the longest)")
     parser.add_argument("--amaranth-whole", action="store_true",
                         help="Amaranth: measure the whole run (hours) instead of extrapolating from a probe")
     args = parser.parse_args([] if argv is None else argv)

@@ -55,6 +55,29 @@ CaptureStatusSignature = wiring.Signature({
 
 
 class CameraCapture(wiring.Component):
+    """One camera's capture, pins to frame-buffer write port; see the module docstring for the counting rules,
+    the status and the latency.
+
+    Parameters
+    ----------
+    geometry : :class:`hdl.params.SensorGeometry`
+        Sensor and buffer size (``gray_bits`` must be 5, what the spec's grey conversion gives).
+    r_byte_first : bool
+        The byte order the sensor is configured for.
+
+    Attributes
+    ----------
+    pins : ``In(CameraSignature)``
+        Sampled on the rising PCLK edge (this block's domain).
+    write : ``Out(FrameBufferWriteSignature(geometry))``
+    status : ``Out(CaptureStatusSignature)``
+
+    Raises
+    ------
+    ValueError
+        ``gray_bits`` other than 5, or a geometry the downscaler or the assembler rejects.
+    """
+
     def __init__(self, geometry=SENSOR, r_byte_first=True):
         with rejecting(self):
             if geometry.gray_bits != 5:

@@ -14,31 +14,25 @@ from .capture import CameraCapture, CameraSignature, CaptureStatusSignature
 from .forward import forward
 from .frame_buffer import FrameBuffer, FrameBufferReadSignature, FrameBufferWriteSignature
 from .params import SENSOR
+from .signature import ParametricSignature
 from .rejecting import rejecting
 
 __all__ = ["CapturePortSignature", "CapturePath"]
 
 
-class CapturePortSignature(wiring.Signature):
+class CapturePortSignature(ParametricSignature):
     """Everything of one camera's capture path, as the path presents it: ``pins`` (``In(CameraSignature)``, the
     sensor pins), ``write`` (``Out(FrameBufferWriteSignature)``, the write port the capture drives into its buffer,
     for test benches to watch), ``status`` (``Out(CaptureStatusSignature)``), all in the camera's domain, and
     ``read`` (``In(FrameBufferReadSignature)``, the buffer's read port, in the read domain)."""
 
     def __init__(self, geometry):
-        self.geometry = geometry
         super().__init__({
             "pins": In(CameraSignature),
             "write": Out(FrameBufferWriteSignature(geometry)),
             "status": Out(CaptureStatusSignature),
             "read": In(FrameBufferReadSignature(geometry)),
-        })
-
-    def __eq__(self, other):
-        return type(other) is type(self) and self.members == other.members
-
-    def __repr__(self):
-        return f"CapturePortSignature({self.geometry!r})"
+        }, geometry=geometry)
 
 
 class CapturePath(wiring.Component):

@@ -71,6 +71,25 @@ class CH7301COutput(wiring.Component):
     clock n is on the pins from the rising edge that ends clock n: first word while the clock is high, second
     word while it is low, ``hsync``/``vsync``/``de`` for the whole clock. After reset the pins show a blank
     pixel with the syncs at their inactive level (``timing`` gives the polarities).
+
+    Parameters
+    ----------
+    timing : :class:`hdl.params.VideoTiming`
+        For the sync polarities.
+    ddr : str
+        ``"behavioural"`` or ``"virtex5"``.
+    xclk_domain : str or None
+        ``"virtex5"`` only: the domain of the XCLK ODDR.
+
+    Attributes
+    ----------
+    video : ``In(VideoSignature)``
+    pins : ``Out(CH7301CSignature)``
+
+    Raises
+    ------
+    ValueError
+        An unknown ``ddr``, or ``xclk_domain`` without ``ddr="virtex5"``.
     """
 
     video: In(VideoSignature)

@@ -28,6 +28,26 @@ __all__ = ["Downscaler"]
 
 
 class Downscaler(wiring.Component):
+    """Keeps one pixel of each ``scale`` x ``scale`` block and addresses it in the buffer; see the module docstring.
+
+    Parameters
+    ----------
+    geometry : :class:`hdl.params.SensorGeometry`
+        Sensor size, ``scale`` (a power of two) and buffer size.
+    column_bits, row_bits : int
+        Widths of the ``column`` and ``row`` inputs (default: enough for the sensor's width and height).
+
+    Attributes
+    ----------
+    write : ``Out(FrameBufferWriteSignature(geometry))``
+        ``write.addr`` is below ``buf_depth`` whenever ``write.en`` is high.
+
+    Raises
+    ------
+    ValueError
+        ``scale`` not a power of two, or a sensor smaller than one block.
+    """
+
     def __init__(self, geometry=SENSOR, *, column_bits=None, row_bits=None):
         with rejecting(self):
             scale = geometry.scale

@@ -21,39 +21,27 @@ from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
 from .params import SENSOR
+from .signature import ParametricSignature
 
 __all__ = ["FrameBufferReadSignature", "FrameBufferWriteSignature", "FrameBuffer"]
 
 
-class FrameBufferReadSignature(wiring.Signature):
+class FrameBufferReadSignature(ParametricSignature):
     """A frame buffer's read port as the reader sees it: ``addr`` out (``geometry.addr_bits``), ``data`` in
     (``geometry.gray_bits``), valid one read-domain clock after ``addr``. A reader has ``Out(sig)``, the
     buffer ``In(sig)``. Two signatures are equal when their widths are."""
 
     def __init__(self, geometry):
-        self.geometry = geometry
-        super().__init__({"addr": Out(geometry.addr_bits), "data": In(geometry.gray_bits)})
-
-    def __eq__(self, other):
-        return type(other) is type(self) and self.members == other.members
-
-    def __repr__(self):
-        return f"FrameBufferReadSignature({self.geometry!r})"
+        super().__init__({"addr": Out(geometry.addr_bits), "data": In(geometry.gray_bits)}, geometry=geometry)
 
 
-class FrameBufferWriteSignature(wiring.Signature):
+class FrameBufferWriteSignature(ParametricSignature):
     """A frame buffer's write port as the writer sees it: ``addr``, ``data`` and ``en`` out; the word is written
     on the write-domain clock edge where ``en`` is high. A writer has ``Out(sig)``, the buffer ``In(sig)``."""
 
     def __init__(self, geometry):
-        self.geometry = geometry
-        super().__init__({"addr": Out(geometry.addr_bits), "data": Out(geometry.gray_bits), "en": Out(1)})
-
-    def __eq__(self, other):
-        return type(other) is type(self) and self.members == other.members
-
-    def __repr__(self):
-        return f"FrameBufferWriteSignature({self.geometry!r})"
+        super().__init__({"addr": Out(geometry.addr_bits), "data": Out(geometry.gray_bits), "en": Out(1)},
+                         geometry=geometry)
 
 
 class FrameBuffer(wiring.Component):

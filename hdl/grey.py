@@ -17,7 +17,15 @@ __all__ = ["Grey"]
 
 
 class Grey(wiring.Component):
-    pixel: In(16)     # RGB565: R in bits 15:11, G 10:5, B 4:0
+    """RGB565 ``pixel`` (R in bits 15:11, G 10:5, B 4:0) to its 5-bit ``grey``; see the module docstring.
+
+    Attributes
+    ----------
+    pixel : ``In(16)``
+    grey : ``Out(5)``
+    """
+
+    pixel: In(16)
     grey: Out(5)
 
     def elaborate(self, platform):

@@ -34,6 +34,7 @@ from .forward import forward
 from .i2c_master import Cmd, I2CMaster, I2CSignature
 from .init_tables import InitTable, Wait, Write
 from .params import CLOCKS
+from .signature import ParametricSignature
 from .rejecting import rejecting
 
 __all__ = ["ErrorCode", "InitStatusSignature", "InitSequencer"]
@@ -48,20 +49,13 @@ class ErrorCode(enum.Enum, shape=3):
     ARB = 5           # SDA low while the master released it (arbitration lost / bus error), after retries
 
 
-class InitStatusSignature(wiring.Signature):
+class InitStatusSignature(ParametricSignature):
     """What an init sequencer reports for a table of ``entries`` entries: ``busy``, ``done``, ``error``,
     ``error_code`` (:class:`ErrorCode`) and ``entry`` (0 .. ``entries``)."""
 
     def __init__(self, entries):
-        self.entries = entries
         super().__init__({"busy": Out(1), "done": Out(1), "error": Out(1), "error_code": Out(ErrorCode),
-                          "entry": Out(range(entries + 1))})
-
-    def __eq__(self, other):
-        return type(other) is type(self) and self.members == other.members
-
-    def __repr__(self):
-        return f"InitStatusSignature({self.entries})"
+                          "entry": Out(range(entries + 1))}, entries=entries)
 
 
 _OP_WRITE, _OP_WAIT, _OP_POLL = 0, 1, 2
@@ -72,6 +66,32 @@ def _us_to_cycles(us, clk_hz):
 
 
 class InitSequencer(wiring.Component):
+    """Plays ``table`` once after reset; see the module docstring for the entries, the faults and the status.
+
+    Parameters
+    ----------
+    table : :class:`hdl.init_tables.InitTable`
+    clk_hz, bus_hz : int
+        The ``sync`` clock and the bus rate (:class:`~hdl.i2c_master.I2CMaster`).
+    retries : int
+        Further attempts of a transaction after a NACK or a lost arbitration.
+    retry_delay_us, timeout_us : int
+        Wait before a retry; stuck-bus time-out.
+
+    Attributes
+    ----------
+    i2c : ``Out(I2CSignature)``
+        The master's pins.
+    status : ``Out(InitStatusSignature(len(table)))``
+
+    Raises
+    ------
+    TypeError
+        ``table`` is not an ``InitTable``.
+    ValueError
+        Negative ``retries``, or timing the master rejects.
+    """
+
     def __init__(self, table, *, clk_hz=CLOCKS.SYS_HZ, bus_hz=CLOCKS.I2C_HZ, retries=3,
                  retry_delay_us=1000, timeout_us=25_000):
         with rejecting(self):

@@ -114,9 +114,34 @@ class I2CTiming:
 
 class I2CMaster(wiring.Component):
     """Byte-level I2C master on open-drain pins; see the module docstring for the commands, the bus timing,
-    clock stretching, bus clear, time-outs and arbitration. Clock domain ``sync`` (``clk_hz``). Latency: a
-    command takes its bus time (for a byte, 9 SCL periods) plus the 2-flop input synchroniser; ``done`` pulses
-    in the cycle after the last bus interval ends."""
+    clock stretching, bus clear, time-outs and arbitration.
+
+    Parameters
+    ----------
+    clk_hz : int
+        The ``sync`` clock.
+    bus_hz : int
+        The bus rate (the speed class of :class:`I2CTiming`).
+    timeout_us : int
+        Stuck-bus time-out.
+
+    Attributes
+    ----------
+    cmd, cmd_valid, wdata, rd_ack : ``In``
+        A command, taken while ``ready``.
+    ready, done, nack, rdata, arb_lost, timed_out, bus_active : ``Out``
+        ``done`` pulses when a command ends; ``nack``, ``rdata``, ``arb_lost``, ``timed_out`` hold its result until
+        the next command.
+    i2c : ``Out(I2CSignature)``
+
+    Clock domain ``sync``. Latency: a command takes its bus time (for a byte, 9 SCL periods) plus the 2-flop input
+    synchroniser; ``done`` pulses in the cycle after the last bus interval ends.
+
+    Raises
+    ------
+    ValueError
+        A clock too slow for the bus rate, a bus rate above 1 MHz, a time-out shorter than the bus-free time.
+    """
 
     cmd: In(Cmd)
     cmd_valid: In(1)
@@ -223,6 +248,16 @@ class _States:
             with m.Elif(wait >= self.master.timeout):
                 self.fail(self.res_timeout)
 
+    def hold_then_release(self, prefix, sda_low, *, then):
+        """State ``<prefix>_HOLD`` (``hold`` cycles after SCL fell, set SDA to ``sda_low``), then
+        :meth:`release_scl`: the first half of a repeated START and of a STOP."""
+        m = self.m
+        with m.State(f"{prefix}_HOLD"):
+            with m.If(self.reached(self.low_cnt, self.t.hold)):
+                m.d.sync += [self.sda_low.eq(sda_low), self.timer.eq(0)]
+                m.next = f"{prefix}_SETUP"
+        self.release_scl(prefix, then=then)
+
     def idle(self):
         m, master = self.m, self.master
         with m.State("IDLE"):
@@ -276,11 +311,7 @@ class _States:
     def repeated_start(self):
         """Repeated START (SCL is low when we get here)."""
         m, t, timer = self.m, self.t, self.timer
-        with m.State("RS_HOLD"):
-            with m.If(self.reached(self.low_cnt, t.hold)):
-                m.d.sync += [self.sda_low.eq(0), timer.eq(0)]
-                m.next = "RS_SETUP"
-        self.release_scl("RS", then="RS_SU")
+        self.hold_then_release("RS", 0, then="RS_SU")
         with m.State("RS_SU"):
             m.d.sync += timer.eq(timer + 1)
             with m.If(self.reached(timer, t.su_sta)):
@@ -319,11 +350,7 @@ class _States:
     def stop(self):
         """STOP (SCL is low when we get here)."""
         m, t, timer, master = self.m, self.t, self.timer, self.master
-        with m.State("STOP_HOLD"):
-            with m.If(self.reached(self.low_cnt, t.hold)):
-                m.d.sync += [self.sda_low.eq(1), timer.eq(0)]
-                m.next = "STOP_SETUP"
-        self.release_scl("STOP", then="STOP_SU")
+        self.hold_then_release("STOP", 1, then="STOP_SU")
         with m.State("STOP_SU"):
             m.d.sync += timer.eq(timer + 1)
             with m.If(self.reached(timer, t.su_sto)):

@@ -45,12 +45,25 @@ class PatternGenerator(wiring.Component):
 
     All divisions are floor divisions. Outside the active area ``rgb`` is 0.
 
-    Clock domain: ``sync`` (placed in ``pix`` by the parent). Ports: ``timing`` (``In(TimingSignature)``, from
-    :class:`hdl.sync_gen.SyncGenerator`), ``video`` (``Out(VideoSignature)``).
+    Parameters
+    ----------
+    timing : :class:`hdl.params.VideoTiming`
 
-    Latency: 1 clock. ``video.rgb``/``de``/``hsync``/``vsync`` are registers holding the pixel whose
-    position was on ``timing`` one clock earlier, so they stay mutually aligned. The colour is a pure
-    function of ``(x, y)`` (no state), so the pattern is right from the first clock whatever the raster does.
+    Attributes
+    ----------
+    timing : ``In(TimingSignature)``
+        From :class:`hdl.sync_gen.SyncGenerator` (the video mode is ``mode``).
+    video : ``Out(VideoSignature)``
+
+    Clock domain: ``sync`` (placed in ``pix`` by the parent). Latency: 1 clock. ``video.rgb``/``de``/``hsync``/
+    ``vsync`` are registers holding the pixel whose position was on ``timing`` one clock earlier, so they stay
+    mutually aligned. The colour is a pure function of ``(x, y)`` (no state), so the pattern is right from the
+    first clock whatever the raster does.
+
+    Raises
+    ------
+    ValueError
+        An active area smaller than 8 x 2 pixels.
     """
 
     def __init__(self, timing=CEA_1080P60):

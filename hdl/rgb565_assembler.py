@@ -33,6 +33,21 @@ __all__ = ["RGB565Assembler"]
 
 
 class RGB565Assembler(wiring.Component):
+    """Byte pairs to RGB565 pixels with their column; see the module docstring for the ports and the latency.
+
+    Parameters
+    ----------
+    width : int
+        Pixels per line: ``column`` saturates there.
+    r_byte_first : bool
+        The R byte (R[4:0] G[5:3]) comes first in each pair.
+
+    Raises
+    ------
+    ValueError
+        ``width`` below 1.
+    """
+
     def __init__(self, width=SENSOR.width, *, r_byte_first=True):
         with rejecting(self):
             if width < 1:

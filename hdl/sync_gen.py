@@ -51,6 +51,18 @@ class SyncGenerator(wiring.Component):
     ``start`` = (x, y) makes a simulation begin elsewhere in the raster (e.g. a few lines before the vsync
     pulse, to look at the vertical blanking of a 1080p frame without simulating the 2.4 M clocks before it);
     the board build uses the default.
+
+    Parameters
+    ----------
+    timing : :class:`hdl.params.VideoTiming`
+    start : (int, int)
+        The raster position after reset.
+
+    Raises
+    ------
+    ValueError
+        A timing whose totals do not fit ``x``/``y`` or that lacks an active area, sync pulse or front porch; a
+        ``start`` outside the raster.
     """
 
     def __init__(self, timing=CEA_1080P60, *, start=(0, 0)):

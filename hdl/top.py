@@ -50,9 +50,25 @@ __all__ = ["GenesysTop", "board_plan"]
 
 
 class GenesysTop(wiring.Component):
-    """The Genesys board design. ``system_kwargs`` go to :class:`~hdl.system.StereoDepthSystem` (``ddr`` is
-    always ``None`` here: the top level builds the CH7301C pins). Elaborate it with a
-    :class:`hdl.genesys.GenesysPlatform` (``platform.prepare(GenesysTop())``)."""
+    """The Genesys board design: see the module docstring for the pins. Elaborate it with a
+    :class:`hdl.genesys.GenesysPlatform` (``platform.prepare(GenesysTop())``); it has no ports of its own.
+
+    Parameters
+    ----------
+    geometry, timing
+        For :class:`~hdl.system.StereoDepthSystem`.
+    plan : :class:`hdl.clocking.ClockPlan`
+    **system_kwargs
+        For :class:`~hdl.system.StereoDepthSystem` (``ddr`` is always ``None`` here: the top level builds the
+        CH7301C pins).
+
+    Raises
+    ------
+    ValueError
+        Negative sync polarities (the output stage assumes CEA-861 1080p60's), or a ``ddr``.
+    TypeError
+        Elaborated without a platform.
+    """
 
     def __init__(self, geometry=SENSOR, timing=CEA_1080P60, *, plan=PLAN, **system_kwargs):
         with rejecting(self):

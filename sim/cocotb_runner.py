@@ -9,9 +9,9 @@ The one place that knows how to drive ``cocotb_tools.runner`` on this project's 
 * ``verilator_fast=True`` (Verilator only, for long runs): cocotb sees only the top-level module's signals --
   the runner's ``--public-flat-rw``, which keeps every signal of the design visible and writable through VPI and
   so stops Verilator optimising any of them away, is replaced by a configuration file making just the top
-  module's signals public -- and the model is compiled with ``-O2`` instead of the wheel's ``-Os``. On the
-  full-size system (bench/bench_system.py) this runs about 3.9 times faster (2.3 from the VPI scope, 1.7 from
-  ``-O2``); tests that reach into the hierarchy (``dut.sub.signal``) cannot use it.
+  module's signals public -- and the model is compiled with ``-O2`` instead of the wheel's ``-Os`` (both make the
+  full-size system much faster: ``python -m bench system``); tests that reach into the hierarchy
+  (``dut.sub.signal``) cannot use it.
 * Builds are cached under ``build/cocotb/<name>-<hash>/<simulator>``, keyed by the Verilog text and the build
   options, so re-running a test does not rebuild an unchanged design.
 

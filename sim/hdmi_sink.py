@@ -382,9 +382,8 @@ class CocotbSink:
     on any pin stops the run with :class:`SinkError`.
 
     Values are read as binary strings straight from the simulator handle (``handle._handle``: cocotb's GPI
-    object; the public ``handle.value`` builds a ``LogicArray`` per read, about 3 us, which made the whole loop
-    about 3x slower). Measured on Verilator: 45-50k pixel clocks per second on a lightly loaded 2-core
-    machine, 17-19k with the machine's load average at 5-7.
+    object; the public ``handle.value`` builds a ``LogicArray`` per read, several times slower in this loop).
+    ``python -m bench display`` gives the rate.
 
     ``progress_file``: if given, ``"<done> <total>"`` is written there every ``progress_every`` clocks (a
     parent process shows it as a progress bar).

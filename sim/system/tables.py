@@ -11,8 +11,8 @@ derives such tables from the board's table, entry for entry: the same registers 
 * with ``quick=True``, only the entries the sensor needs to come up in RGB565 at that size kept (:data:`QUICK`):
   the boot wait, the chip-version check, the output format, width, height and crop-window variables, the
   sequencer "capture" command with its wait and completion poll, and the output enable -- 17 of the table's
-  42 entries. The default-run simulations use it (the Amaranth simulator spends about 1 s of
-  wall time per 20 us of I2C traffic on this design); the full table runs in the full-size run.
+  42 entries. The default-run simulations use it (in the Amaranth simulator the I2C traffic dominates a small
+  run's time); the full table runs in the full-size run.
 
 The sensor models must then be given matching timing (``MT9D112Model(boot_s=..., pll_lock_s=...)``):
 :func:`model_timing` returns the scaled figures.
