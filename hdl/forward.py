@@ -9,6 +9,11 @@ signals, one name, nothing to connect, and an exported top whose ports are the c
 The object must comply with the member's description (same signature and flow for an interface member, same
 shape and initial value for a port member); this is checked. Forward in ``__init__``, after
 ``super().__init__()`` has created the member.
+
+The forwarded signals are renamed after the member they now are (``hdl.export.flat_name`` of its path in
+``component``): forwarded again by the parent, they take the parent's name, so each signal ends up named as the
+outermost component presents it -- in the exported top and, as the same signal, in every module below it. Two
+children whose signals had the same names (three I2C buses' ``drive_high``) then no longer collide.
 """
 
 from amaranth.hdl import Signal, Value
@@ -36,3 +41,12 @@ def forward(component, path, obj):
         raise TypeError(f"cannot forward {obj!r} as {type(component).__name__}.{'.'.join(path)}: "
                         + "; ".join(reasons))
     setattr(parent, path[-1], obj)
+    _rename(member, obj, path)
+
+
+def _rename(member, obj, path):
+    if member.is_port:
+        Value.cast(obj).name = "__".join(path)
+        return
+    for sub_path, _, value in member.signature.flatten(obj):
+        Value.cast(value).name = "__".join(map(str, path + sub_path))
