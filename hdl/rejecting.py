@@ -2,11 +2,12 @@
 when they fail.
 
 Amaranth warns (``UnusedElaboratable``) about every Elaboratable that is garbage-collected without having been
-elaborated, including one whose constructor raised, and the sub-blocks that constructor had already built. Wrapping
-the constructor's work in ``with rejecting(self):`` marks the object and every Elaboratable it holds so far (its
-attributes, and the values of dicts, lists and tuples among them) as deliberately unused when an exception leaves
-the block (and, in turn, everything those hold), then lets the exception go on. This is the project's one way of doing so, and the only place that touches
-Amaranth's private ``_MustUse__silence`` flag; ``tests/test_rejecting.py`` checks every rejecting constructor.
+elaborated, including one whose constructor raised, and the sub-blocks that constructor had already built.
+Wrapping the constructor's work in ``with rejecting(self):`` marks the object and every Elaboratable it holds so
+far (its attributes, and the values of dicts, lists and tuples among them; in turn, everything those hold) as
+deliberately unused when an exception leaves the block, then lets the exception go on. This is the project's one
+way of doing so, and the only place that touches Amaranth's private ``_MustUse__silence`` flag;
+``tests/test_rejecting.py`` checks every rejecting constructor.
 """
 
 from contextlib import contextmanager
