@@ -13,6 +13,7 @@
 ``run_cocotb.py``         :func:`~sim.system.run_cocotb.run_cocotb_system` (the pytest side of a cocotb run)
 ``cocotb_scenario.py``    the scenario inside the simulator (``tests/cocotb/cocotb_system.py`` runs it)
 ``result.py``             :class:`~sim.system.result.SystemResult` and the check phase every run ends with
+``waves.py``              what the whole system's GTKWave save file shows (groups, markers, view; ``sim/gtkw.py``)
 ========================  ==========================================================================================
 
 Every run goes through the same phases (reset, init, capture, display, check) against the same golden frame.
