@@ -174,8 +174,7 @@ class I2CMaster(wiring.Component):
             fsm_states.bit()
             fsm_states.stop()
             fsm_states.bus_clear()
-            with m.State("DONE"):
-                m.next = "IDLE"
+            fsm_states.done()
         # Outside the FSM so they are plain continuous assignments in the exported Verilog (an `always @*`
         # block is not run at time 0 by Icarus in its -g2012 mode until one of its inputs changes).
         m.d.comb += [self.ready.eq(fsm.ongoing("IDLE")), self.done.eq(fsm.ongoing("DONE"))]
@@ -392,3 +391,8 @@ class _States:
                     self.fail(self.res_timeout)
                 with m.Else():
                     m.next = "CLR_LOW"
+
+    def done(self):
+        m = self.m
+        with m.State("DONE"):
+            m.next = "IDLE"

@@ -1,8 +1,9 @@
 """The GTKWave translate filters of the state machines (sim/fsm_filters.py) name every state the RTL can be in.
 
 Checked against two things the generator does not read: the state names written in the RTL's source (``m.State``
-arguments, read with ``ast``; the I2C master's ``release_scl(prefix, ...)`` helper makes ``<prefix>_SETUP`` and
-``<prefix>_WAIT_HIGH`` from f-strings, expanded here from its call sites) and the encoded values the exported
+arguments, read with ``ast``; the I2C master's ``release_scl(prefix, ...)`` and ``hold_then_release(prefix, ...)``
+helpers make ``<prefix>_HOLD``, ``<prefix>_SETUP`` and ``<prefix>_WAIT_HIGH`` from f-strings, expanded here from
+their call sites, also where one helper hands its prefix on to the other) and the encoded values the exported
 Verilog tests ``fsm_state`` for, with the register's reset value naming the first state.
 """
 
@@ -22,23 +23,38 @@ HDL = Path(__file__).resolve().parent.parent / "hdl"
 
 def source_states(path):
     """State names of the ``m.State(...)`` calls in a source file, in source order; f-string names made inside a
-    helper function are expanded with the constant first argument of each call of that helper."""
+    helper function (or method) are expanded with the constant first argument of each call of that helper, or,
+    where a helper passes its own parameter on, with the prefixes of its own call sites."""
     tree = ast.parse(Path(path).read_text())
-    names, templates = [], {}
-    for func in ast.walk(tree):
-        if not isinstance(func, ast.FunctionDef):
-            continue
+    funcs = [f for f in ast.walk(tree) if isinstance(f, ast.FunctionDef)]
+    names, templates, calls = [], {}, []
+    for func in funcs:
         for node in ast.walk(func):
-            if isinstance(node, ast.Call) and getattr(node.func, "attr", None) == "State" and node.args:
-                arg = node.args[0]
-                if isinstance(arg, ast.Constant):
-                    names.append(arg.value)
-                elif isinstance(arg, ast.JoinedStr) and func.args.args:
-                    templates.setdefault(func.name, []).append(arg)
-    for call in ast.walk(tree):
-        if isinstance(call, ast.Call) and getattr(call.func, "id", None) in templates:
-            prefix = call.args[0].value
-            for template in templates[call.func.id]:
+            if not isinstance(node, ast.Call) or not node.args:
+                continue
+            callee = getattr(node.func, "id", None) or getattr(node.func, "attr", None)
+            arg = node.args[0]
+            if callee == "State" and isinstance(arg, ast.Constant):
+                names.append(arg.value)
+            elif callee == "State" and isinstance(arg, ast.JoinedStr):
+                templates.setdefault(func.name, []).append(arg)
+            else:
+                calls.append((func, callee, arg))
+
+    def prefixes(helper):
+        out = []
+        for func, callee, arg in calls:
+            if callee != helper:
+                continue
+            if isinstance(arg, ast.Constant):
+                out.append(arg.value)
+            elif isinstance(arg, ast.Name) and arg.id in (a.arg for a in func.args.args):
+                out += prefixes(func.name)              # the helper's caller hands its own prefix on
+        return out
+
+    for helper, strings in templates.items():
+        for prefix in prefixes(helper):
+            for template in strings:
                 names.append("".join(prefix if isinstance(v, ast.FormattedValue) else v.value
                                      for v in template.values))
     return names
