@@ -37,8 +37,6 @@ a capture, on the compact export.
 
 import re
 
-from amaranth.back import verilog as _verilog
-
 __all__ = ["flat_name", "flat_ports", "amaranth_verilog", "export_verilog", "compact_memory_init"]
 
 
@@ -117,6 +115,9 @@ def _loop_var(name, verilog):
 def amaranth_verilog(component, name, ports=None):
     """Amaranth's own Verilog for ``component`` (top-level module ``name``; a ``wiring.Component`` needs no
     ``ports``), without source locations."""
+    # imported here: the cocotb test processes import this module for flat_name alone, and importing Amaranth
+    # inside a simulator costs them about 0.3 s each
+    from amaranth.back import verilog as _verilog
     if ports is None:
         return _verilog.convert(component, name=name, emit_src=False)
     return _verilog.convert(component, name=name, ports=ports, emit_src=False)

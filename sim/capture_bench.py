@@ -41,12 +41,17 @@ class CaptureRecord:
     frames: list = field(default_factory=list)
     samples: int = 0
 
-    def observe(self, write_en, write_addr, write_data, frame_done, frame_ok):
-        """Record one PCLK period's write port and status (values already read from the simulator)."""
-        if write_en:
-            self.writes.append((write_addr, write_data))
-        if frame_done:
-            self.frames.append(bool(frame_ok))
+    def observe(self, read, write, status):
+        """Record one PCLK period's ``write`` port and capture ``status``, each value read with ``read(signal)``
+        (and only when it counts: per-sample reads are what a simulation pays for)."""
+        if read(write.en):
+            self.writes.append((read(write.addr), read(write.data)))
+        if read(status.frame_done):
+            self.frames.append(bool(read(status.frame_ok)))
+
+
+def _cocotb_value(handle):
+    return int(handle.value)
 
 
 def _per_camera(value, cameras, default):
@@ -95,8 +100,7 @@ def run_capture_amaranth(path, streams, *, pclk_hz=CLOCKS.CAM_MCLK_HZ, start_del
 
         async def camera(ctx, c=c, port=port):
             def on_sample(ctx):
-                records[c].observe(ctx.get(port.write.en), ctx.get(port.write.addr), ctx.get(port.write.data),
-                                   ctx.get(port.status.frame_done), ctx.get(port.status.frame_ok))
+                records[c].observe(ctx.get, port.write, port.status)
             records[c].samples = await drive_amaranth(
                 ctx, streams[c], clk=harness.cam[c].clk, pins=port.pins, pclk_hz=pclk[c], start_delay=delay[c],
                 on_sample=on_sample)
@@ -172,10 +176,10 @@ async def run_capture_cocotb(dut, geometry, streams, *, pclk_hz=CLOCKS.CAM_MCLK_
 
     async def camera(c):
         port = getattr(ports, f"cam_{c}")
+        write, status, observe = port.write, port.status, records[c].observe
 
         def on_sample():
-            records[c].observe(port.write.en.value, int(port.write.addr.value), int(port.write.data.value),
-                               port.status.frame_done.value, port.status.frame_ok.value)
+            observe(_cocotb_value, write, status)
         records[c].samples = await drive_cocotb(
             streams[c], clk=getattr(dut, f"cam_{c}_clk"), pins=port.pins, pclk_hz=pclk[c], start_delay=delay[c],
             on_sample=on_sample, reset=getattr(dut, f"cam_{c}_rst"))

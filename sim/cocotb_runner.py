@@ -237,16 +237,21 @@ class TopPorts:
         object.__setattr__(self, "_path", tuple(path))
 
     def __getattr__(self, name):
+        # called only for a member not resolved yet: the result is kept as an attribute, so a per-cycle
+        # ``ports.cam_a.write.en`` costs plain attribute look-ups, not simulator handle searches
         if name.startswith("__"):
             raise AttributeError(name)
         path = self._path + (name,)
         flat = flat_name(path)
-        handle = getattr(self._dut, flat, None)
-        if handle is not None:
-            return handle
-        if not any(port.startswith(flat + "__") for port in self._port_names()):
+        names = self._port_names()
+        if flat in names:
+            member = getattr(self._dut, flat)
+        elif any(port.startswith(flat + "__") for port in names):
+            member = TopPorts(self._dut, path)
+        else:
             raise AttributeError(f"the design has no port {flat} or {flat}__*")
-        return TopPorts(self._dut, path)
+        object.__setattr__(self, name, member)
+        return member
 
     def __setattr__(self, name, value):
         raise AttributeError(f"set a port's value through its handle: TopPorts(dut)...{name}.value = ...")
