@@ -67,11 +67,11 @@ class DepthHarness(wiring.Component):
             with m.Elif(port.request & grant):
                 m.d.sync += reads.eq(reads + 1)
             m.d.comb += [
-                buf.w_addr.eq(self.load_addr), buf.w_data.eq(getattr(self, f"load_{name}")),
-                buf.w_en.eq(self.load_en),
+                buf.write.addr.eq(self.load_addr), buf.write.data.eq(getattr(self, f"load_{name}")),
+                buf.write.en.eq(self.load_en),
                 port.grant.eq(grant),
-                buf.r_addr.eq(Mux(port.request & grant, port.port.addr, other)),
-                port.port.data.eq(buf.r_data),
+                buf.read.addr.eq(Mux(port.request & grant, port.port.addr, other)),
+                port.port.data.eq(buf.read.data),
             ]
 
         m.submodules.maps = maps = Memory(shape=unsigned(cfg.code_bits), depth=g.buf_depth, init=[])

@@ -17,7 +17,8 @@ from golden.depth import depth_map
 from hdl.depth import DepthEngine, schedule
 from hdl.params import DEPTH, SENSOR, SMALL_DEPTH, SMALL_SENSOR, DepthConfig
 from sim.amaranth_sim import simulate
-from sim.cocotb_runner import export_verilog, run_cocotb
+from hdl.export import export_verilog
+from sim.cocotb_runner import run_cocotb
 from sim.depth_harness import DepthHarness
 
 G, CFG = SMALL_SENSOR, SMALL_DEPTH

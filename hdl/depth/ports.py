@@ -1,41 +1,34 @@
 """The depth engine's interface signatures and its pipeline token.
 
-``FrameBufferReadSignature`` mirrors the frame buffer's read port (``hdl/frame_buffer.py``) as a reader sees it:
-``addr`` out, ``data`` in, one clock of read latency. ``SharedReadSignature`` adds the request/grant pair with
+``SharedReadSignature`` is the frame buffer's read port (``hdl.frame_buffer.FrameBufferReadSignature``: ``addr``
+out, ``data`` in, one clock of read latency) plus the request/grant pair with
 which the engine shares that one port with another reader: the engine drives ``request`` and ``port.addr``;
 in a clock where ``grant`` is high the arbiter passes ``port.addr`` to the buffer, and ``port.data`` holds that
 word in the next clock. ``ResultReadSignature`` is the reader's view of the engine's output rows.
 """
 
-from amaranth.lib import data, wiring
+from amaranth.lib import data
 from amaranth.lib.wiring import In, Out
 
+from ..frame_buffer import FrameBufferReadSignature
 from ..params import SENSOR
+from ..signature import ParametricSignature
 
-__all__ = ["FrameBufferReadSignature", "SharedReadSignature", "ResultReadSignature", "token_layout"]
-
-
-class FrameBufferReadSignature(wiring.Signature):
-    """A frame buffer's read port as its reader sees it: ``addr`` -> ``data`` one clock later."""
-
-    def __init__(self, geometry=SENSOR):
-        self.geometry = geometry
-        super().__init__({"addr": Out(geometry.addr_bits), "data": In(geometry.gray_bits)})
+__all__ = ["SharedReadSignature", "ResultReadSignature", "token_layout"]
 
 
-class SharedReadSignature(wiring.Signature):
+class SharedReadSignature(ParametricSignature):
     """A read port shared through an arbiter: ``port`` plus ``request`` (out) and ``grant`` (in)."""
 
     def __init__(self, geometry=SENSOR):
-        self.geometry = geometry
         super().__init__({
             "port": Out(FrameBufferReadSignature(geometry)),
             "request": Out(1),
             "grant": In(1),
-        })
+        }, geometry=geometry)
 
 
-class ResultReadSignature(wiring.Signature):
+class ResultReadSignature(ParametricSignature):
     """The reader's side of the engine's ring of result rows: ``addr`` = (row mod rows) * width + x, ``data``
     (the code) one clock later; ``rows_ready`` (in) counts the rows of the current map in the ring,
     ``rows_released`` (out) the rows the reader no longer needs."""
@@ -46,7 +39,7 @@ class ResultReadSignature(wiring.Signature):
             "data": In(code_bits),
             "rows_ready": In(range(height + 1)),
             "rows_released": Out(range(height + 1)),
-        })
+        }, addr_bits=addr_bits, code_bits=code_bits, height=height)
 
 
 def token_layout(groups, width):
