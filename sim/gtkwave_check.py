@@ -21,7 +21,7 @@ import tempfile
 import time
 from pathlib import Path
 
-__all__ = ["available", "listed", "displayed", "window", "screenshot"]
+__all__ = ["available", "listed", "markers", "displayed", "window", "screenshot"]
 
 _SCRIPT = """\
 foreach signal [gtkwave::getDisplayedSignals] { puts "DISPLAYED $signal" }
@@ -51,6 +51,15 @@ def listed(gtkw_path):
         else:
             names.append(line)
     return names
+
+
+def markers(gtkw_path):
+    """``{label: time}`` of the named markers a save file sets (``[markername] Xlabel`` and the times on the
+    ``*`` line)."""
+    lines = Path(gtkw_path).read_text().splitlines()
+    times = next(line for line in lines if line.startswith("*")).split()[2:]
+    names = [line[len("[markername] "):] for line in lines if line.startswith("[markername] ")]
+    return {name[1:]: int(times[ord(name[0]) - ord("A")]) for name in names}
 
 
 def _open(gtkw_path, timeout_s, env=None):

@@ -19,7 +19,7 @@ from amaranth.lib.wiring import In, Out
 from hdl.forward import forward
 from hdl.signature import ParametricSignature
 
-__all__ = ["ResolvedBusSignature", "OpenDrainBus", "I2CBench", "amaranth_target_process", "start_cocotb_targets",
+__all__ = ["ResolvedBusSignature", "OpenDrainBus", "I2CBench", "i2c_bench_waves", "amaranth_target_process", "start_cocotb_targets",
            "start_cocotb_monitor"]
 
 
@@ -90,6 +90,15 @@ def I2CBench(duts, *, counter_bits=40):
             return m
 
     return _Bench()
+
+
+def i2c_bench_waves(buses):
+    """What the save file of an :func:`I2CBench` run under cocotb marks (a :class:`sim.cocotb_waves.RunWaves`):
+    each bus's sequencer done or in error."""
+    from sim.cocotb_waves import RunWaves
+    from sim.gtkw import Event
+    return RunWaves(events=[Event(f"{b} init {what}", f"status__{b}__{what}") for b in buses
+                            for what in ("done", "error")])
 
 
 def _step(targets, monitor, scl, sda, now):

@@ -8,7 +8,6 @@ Amaranth run, which writes it; here it is written over a short run for its names
 
 import re
 import shutil
-from pathlib import Path
 
 import pytest
 
@@ -53,14 +52,6 @@ def test_a_missing_signal_is_caught(display_waves, tmp_path):
 COLLISION = re.compile(r"\$\d+")
 
 
-def marker_times(gtkw):
-    """``{label: time}`` of the named markers a save file sets."""
-    lines = Path(gtkw).read_text().splitlines()
-    times = next(line for line in lines if line.startswith("*")).split()[2:]
-    names = [line[len("[markername] "):] for line in lines if line.startswith("[markername] ")]
-    return {name[1:]: int(times["ABCDEFGHIJKLMNOPQRSTUVWXYZ".index(name[0])]) for name in names}
-
-
 def first_change(vcd, name, value):
     """First time the dump variable ``name`` (full name) equals ``value``, read from the VCD directly."""
     variables, _ = read_vars(vcd)
@@ -75,7 +66,7 @@ def test_display_save_file_opens_on_the_vsync_window(display_waves):
     first, last = gtkwave_check.window(gtkw)
     end = changes(vcd, ())[1]
     assert first == 0 and 0.95 * end <= last <= 1.1 * end         # the whole window, not a femtosecond
-    marks = marker_times(gtkw)
+    marks = gtkwave_check.markers(gtkw)
     assert set(marks) == {"last active line end", "vsync", "vsync end", "vsync on the pins"}
     vsync = "bench.top.sync_gen.vsync"
     assert marks["vsync"] == first_change(vcd, vsync, int(SMALL_TIMING.vsync_positive))

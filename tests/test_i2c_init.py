@@ -16,7 +16,7 @@ from hdl.i2c_init import ErrorCode, InitSequencer
 from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE, InitTable, Poll, Wait, Write, CH7301C
 from sim.amaranth_sim import simulate
 from sim.cocotb_runner import run_cocotb
-from sim.i2c_bus import I2CBench, amaranth_target_process
+from sim.i2c_bus import I2CBench, amaranth_target_process, i2c_bench_waves
 from sim.i2c_devices import CH7301CModel, I2CBusMonitor, MT9D112Model
 
 CLK = 1_000_000
@@ -203,10 +203,10 @@ def cocotb_bench(clk_hz, **kw):
                      "dvi": InitSequencer(CH7301C_TABLE, clk_hz=clk_hz, **kw)})
 
 
-def run_cocotb_i2c(simulator, clk_hz, testcase=None, **kw):
+def run_cocotb_i2c(simulator, clk_hz, testcase=None, waves=None, **kw):
     params = dict(clk_hz=clk_hz, **kw)
-    run_cocotb(cocotb_bench(clk_hz, **kw), name="i2c_bench", test_module="cocotb_i2c", simulator=simulator,
-               params=params, testcase=testcase)
+    return run_cocotb(cocotb_bench(clk_hz, **kw), name="i2c_bench", test_module="cocotb_i2c", simulator=simulator,
+                      params=params, testcase=testcase, waves=waves, run_waves=i2c_bench_waves(("cam", "dvi")))
 
 
 def test_cocotb_i2c(simulator):
