@@ -23,11 +23,12 @@ from golden.video import pattern_frame
 from hdl.display_path import DisplayPath
 from sim.amaranth_sim import simulate
 from sim.cocotb_runner import run_cocotb, simulator_available
+from sim.cocotb_waves import RunWaves
 from sim.errors import SimulationFailed, UserError
 from sim.gtkw import Event, Show, Waves
 from sim.hdmi_sink import HdmiSink, amaranth_sink_testbench
 
-__all__ = ["Capture", "capture_frame", "run_display_cocotb", "wave_window", "write_display_waves"]
+__all__ = ["Capture", "capture_frame", "run_display_cocotb", "display_run_waves", "wave_window", "write_display_waves"]
 
 
 @dataclass
@@ -56,7 +57,14 @@ def run_display_cocotb(design, timing, *, simulator, name="display_path", sink_c
         if path is not None:        # absolute: the simulator runs in its own test directory
             params[key] = str(Path(path).resolve())
     return run_cocotb(design, name=name, test_module="cocotb_display", simulator=simulator, params=params,
-                      waves=waves, testcase=testcase)
+                      waves=waves, testcase=testcase, run_waves=display_run_waves(timing))
+
+
+def display_run_waves(timing):
+    """The markers of a display path's cocotb save file (``STEREO_WAVES=1``): the first frame start, the vsync
+    pulse after it on the pins."""
+    return RunWaves(events=[Event("frame start", "frame_start"),
+                            Event("vsync", "ch7301c__vsync", value=int(timing.vsync_positive), after="frame start")])
 
 
 def capture_frame(timing, simulator, work_dir, *, design=None, expected=None, progress=None):

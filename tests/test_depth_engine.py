@@ -19,6 +19,7 @@ from hdl.params import DEPTH, SENSOR, SMALL_DEPTH, SMALL_SENSOR, DepthConfig
 from sim.amaranth_sim import simulate
 from hdl.export import export_verilog
 from sim.cocotb_runner import run_cocotb
+from sim.cocotb_waves import RunWaves
 from sim.depth_harness import DepthHarness
 
 G, CFG = SMALL_SENSOR, SMALL_DEPTH
@@ -171,6 +172,7 @@ def run_cocotb_depth(left, right, geometry, config, simulator, tmp_path, grant_m
     verilog = export_verilog(DepthHarness(geometry, config), name)
     run_cocotb(verilog, name=name, test_module="cocotb_depth", simulator=simulator,
                build_args=VERILATOR_ARGS if simulator == "verilator" else (),
+               run_waves=RunWaves(design=lambda: DepthHarness(geometry, config)),   # STEREO_WAVES=1: FSM names
                params=dict(data=str(data), result=str(result), clock_ps=CLOCK_PS, grant_mask=grant_mask,
                            timeout_clocks=3_000_000))
     return json.loads(result.read_text())

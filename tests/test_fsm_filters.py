@@ -13,9 +13,11 @@ from pathlib import Path
 
 import pytest
 
+from hdl.depth import DepthEngine
 from hdl.i2c_init import ErrorCode, InitSequencer
 from hdl.i2c_master import Cmd, I2CMaster
 from hdl.init_tables import MT9D112_TABLE
+from hdl.params import SMALL_DEPTH, SMALL_SENSOR
 from sim.fsm_filters import enum_states, state_machines, write_filter
 
 HDL = Path(__file__).resolve().parent.parent / "hdl"
@@ -60,31 +62,33 @@ def source_states(path):
     return names
 
 
-def verilog_encodings(design, name):
-    """``(values fsm_state is tested for, reset value)`` in the top module of the Verilog: the labels of the
-    ``case`` statements on it and its comparisons with constants (Yosys folds some states into defaults)."""
+def verilog_encodings(design, name, state="fsm_state"):
+    """``(values the state register is tested for, reset value)`` in the top module of the Verilog: the labels of
+    the ``case`` statements on it and its comparisons with constants (Yosys folds some states into defaults).
+    ``state``: the register's name (``<fsm name>_state``)."""
     from amaranth.back import verilog
     text = verilog.convert(design, name=name, emit_src=False)
     top = text[text.index(f"module {name}("):]
     top = top[:top.index("endmodule")]
-    reset = int(re.search(r"reg \[\d+:0\] fsm_state = \d+'h([0-9a-f]+);", top)[1], 16)
+    reset = int(re.search(rf"reg \[\d+:0\] {state} = \d+'h([0-9a-f]+);", top)[1], 16)
     values = set()
-    for block in re.findall(r"casez \(fsm_state\)(.*?)endcase", top, re.S):
+    for block in re.findall(rf"casez \({state}\)(.*?)endcase", top, re.S):
         values |= {int(v, 16) for v in re.findall(r"^\s+\d+'h([0-9a-f]+):", block, re.M)}
-    values |= {int(v, 16) for v in re.findall(r"fsm_state == \d+'h([0-9a-f]+)", top)}
+    values |= {int(v, 16) for v in re.findall(rf"{state} == \d+'h([0-9a-f]+)", top)}
     return values | {reset}, reset
 
 
-@pytest.mark.parametrize("block, source", [
-    (lambda: I2CMaster(clk_hz=1_000_000), "i2c_master.py"),
-    (lambda: InitSequencer(MT9D112_TABLE, clk_hz=1_000_000), "i2c_init.py"),
+@pytest.mark.parametrize("block, source, state", [
+    (lambda: I2CMaster(clk_hz=1_000_000), "i2c_master.py", "fsm_state"),
+    (lambda: InitSequencer(MT9D112_TABLE, clk_hz=1_000_000), "i2c_init.py", "fsm_state"),
+    (lambda: DepthEngine(SMALL_SENSOR, SMALL_DEPTH), "depth/engine.py", "engine_state"),
 ])
-def test_every_state_is_named_as_in_the_rtl(block, source):
+def test_every_state_is_named_as_in_the_rtl(block, source, state):
     fsm = state_machines(block())[0]
-    assert fsm.path == ("top",)
+    assert fsm.path == ("top",) and fsm.signal == state
     expected = source_states(HDL / source)
     assert sorted(fsm.states.values()) == sorted(expected) and len(set(expected)) == len(expected)
-    values, reset = verilog_encodings(block(), "dut")
+    values, reset = verilog_encodings(block(), "dut", state)
     assert set(fsm.states) == values            # every value the RTL's case statements test has a name
     assert fsm.states[reset] == expected[0]     # the reset state is the first one the source defines
     assert max(fsm.states) < 2 ** fsm.width

@@ -20,6 +20,7 @@ from sim.cocotb_runner import REPO_ROOT, run_cocotb, simulator_available
 from sim.errors import SimulationFailed, UserError
 from sim.system.cocotb_routes import InSimulator
 from sim.system.result import SystemResult
+from sim.system.waves import cocotb_system_waves
 
 __all__ = ["DEFAULT_PAIR", "run_cocotb_system", "run_cocotb_checked", "run_rate_probe"]
 
@@ -73,7 +74,7 @@ def _run(route, setup, simulator, params, *, waves=None, testcase=None):
     return run_cocotb(_design_verilog(route, setup), name=f"system_{route.name}", test_module="cocotb_system",
                       simulator=simulator, params=params, waves=waves, testcase=testcase,
                       build_args=route.build_args(simulator), extra_sources=route.extra_sources(),
-                      verilator_fast=route.verilator_fast)
+                      verilator_fast=route.verilator_fast, run_waves=cocotb_system_waves(route, setup))
 
 
 def _with_progress(run, progress_file, progress):

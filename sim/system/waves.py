@@ -1,5 +1,6 @@
 """What the whole system's GTKWave save file shows (``system.gtkw``, written by ``stereodepth demo`` and
-``stereodepth run --vcd`` through :func:`sim.system.run_amaranth.run_amaranth`).
+``stereodepth run --vcd`` through :func:`sim.system.run_amaranth.run_amaranth`), and what a cocotb run's save
+file marks (:func:`cocotb_system_waves`; ``STEREO_WAVES=1``).
 
 Groups, in the order of the run: reset and clocking; each I2C bus (its lines decoded into bytes and
 transactions, the state of its init sequencer and I2C master by name, its init status); each camera's pins, its
@@ -15,7 +16,7 @@ display frame after them; GTKWave's Zoom Full (Ctrl+Alt+F) shows the whole run.
 from hdl.system import CAMERAS, I2C_BUSES
 from sim.gtkw import Event, I2CBus, Show, Waves
 
-__all__ = ["system_waves"]
+__all__ = ["system_waves", "system_events", "cocotb_system_waves"]
 
 
 def system_waves(top):
@@ -39,11 +40,40 @@ def system_waves(top):
     groups["video_stream"] = [video.rgb, video.de, video.hsync, video.vsync, top.frame_start]
     groups["ch7301c_pins"] = [pins.xclk_p, pins.xclk_n, pins.data, pins.de, pins.hsync, pins.vsync]
     groups["leds"] = [Show(top.panel.leds, fmt="bin")]
-    events = [Event(f"{b} I2C done", getattr(top.init, b).done) for b in I2C_BUSES]
-    events += [Event(f"camera {c.upper()} frame", getattr(top.capture, f"cam_{c}").frame_done,
+    events = system_events(lambda path: _member(top, path), top.system.video_timing)
+    return Waves(groups=groups, events=events, view=VIEW, before_s=BEFORE_S, after_s=AFTER_S)
+
+
+#: The window both save files open on: the camera configuration's end to the vsync pulse, widened (seconds).
+VIEW, BEFORE_S, AFTER_S = ("cam_a I2C done", "vsync"), 60e-6, 5e-6
+
+
+def system_events(signal, timing):
+    """The named markers of a whole-system run, in the order of the run: each bus's I2C init done, each camera's
+    first captured frame after its bus's init, the first display frame start after both, that frame's vsync
+    pulse. ``signal(path)`` gives what an :class:`~sim.gtkw.Event` takes for the member at ``path`` of the
+    system's signature (``("init", "cam_a", "done")``); ``timing``: the display's video timing."""
+    events = [Event(f"{b} I2C done", signal(("init", b, "done"))) for b in I2C_BUSES]
+    events += [Event(f"camera {c.upper()} frame", signal(("capture", f"cam_{c}", "frame_done")),
                      after=f"cam_{c} I2C done") for c in CAMERAS]
-    events.append(Event("display frame", top.frame_start,
+    events.append(Event("display frame", signal(("frame_start",)),
                         after=tuple(f"camera {c.upper()} frame" for c in CAMERAS)))
-    events.append(Event("vsync", pins.vsync, value=int(top.system.video_timing.vsync_positive),
+    events.append(Event("vsync", signal(("ch7301c", "vsync")), value=int(timing.vsync_positive),
                         after="display frame"))
-    return Waves(groups=groups, events=events, view=("cam_a I2C done", "vsync"), before_s=60e-6, after_s=5e-6)
+    return events
+
+
+def _member(top, path):
+    for name in path:
+        top = getattr(top, name)
+    return top
+
+
+def cocotb_system_waves(route, setup):
+    """The :class:`sim.cocotb_waves.RunWaves` of a cocotb run of the system along ``route``: the same markers
+    and window as :func:`system_waves`, on the exported top's flat port names, and the route's design for the
+    state machines' names."""
+    from hdl.export import flat_name
+    from sim.cocotb_waves import RunWaves
+    return RunWaves(design=lambda: route.design(setup), events=system_events(flat_name, setup.timing),
+                    view=VIEW, before_s=BEFORE_S, after_s=AFTER_S)
