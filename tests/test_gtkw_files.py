@@ -116,3 +116,23 @@ def test_exported_system_ports_have_no_collision_suffix():
     ports = re.findall(r"^\s*(?:input|output|inout)\s+(?:wire\s+|reg\s+)?(?:\[\d+:0\]\s+)?(\S+);", header, re.M)
     assert len(ports) > 40
     assert [p for p in ports if "$" in p] == []
+
+
+def test_a_named_state_machine_gets_a_row_by_state_name(tmp_path):
+    """An FSM given a name (the depth engine's ``m.FSM(name="engine")``) has its state in ``engine_state``."""
+    from amaranth import Module, Signal
+    from amaranth.sim import Simulator
+    from sim.gtkw import recording
+    m = Module()
+    go = Signal()
+    with m.FSM(name="engine"):
+        with m.State("IDLE"):
+            m.d.sync += go.eq(1)
+            m.next = "RUN"
+        with m.State("RUN"):
+            m.next = "IDLE"
+    sim = Simulator(m)
+    sim.add_clock(1e-6)
+    with recording(sim, tmp_path / "x.vcd", tmp_path / "x.gtkw", {"go": [go]}):
+        sim.run_until(5e-6)
+    assert [n for n in gtkwave_check.listed(tmp_path / "x.gtkw") if n.endswith("_state")] == ["bench.top.engine_state"]
