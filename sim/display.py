@@ -61,10 +61,11 @@ def run_display_cocotb(design, timing, *, simulator, name="display_path", sink_c
 
 
 def display_run_waves(timing):
-    """The markers of a display path's cocotb save file (``STEREO_WAVES=1``): the first frame start, the vsync
-    pulse after it on the pins."""
-    return RunWaves(events=[Event("frame start", "frame_start"),
-                            Event("vsync", "ch7301c__vsync", value=int(timing.vsync_positive), after="frame start")])
+    """The markers of a display path's cocotb save file (``STEREO_WAVES=1``): reset released (the sync generator
+    starts a frame in reset), the first vsync pulse on the pins, the next frame start."""
+    return RunWaves(events=[Event("reset released", "rst", value=0),
+                            Event("vsync", "ch7301c__vsync", value=int(timing.vsync_positive), after="reset released"),
+                            Event("next frame start", "frame_start", after="vsync")])
 
 
 def capture_frame(timing, simulator, work_dir, *, design=None, expected=None, progress=None):

@@ -57,6 +57,7 @@ def test_a_cocotb_run_with_waves_leaves_a_save_file_gtkwave_opens(simulator, mon
     want = gtkwave_check.listed(gtkw)
     shown, facilities = gtkwave_check.displayed(gtkw)
     assert shown == want and facilities > len(want) > 20        # every listed signal is in the dump
+    assert [n for n in want if "$" in n] == []                  # names as the design gives them
     first, last = gtkwave_check.window(gtkw)
     end = changes(dump, ())[1]
     assert first == 0 and 0.95 * end <= last <= 1.1 * end       # the whole run
