@@ -356,7 +356,7 @@ def write_save_file(gtkw_path, vcd_path, waves, *, amaranth_names=None):
         shown = {resolve(w).ident for entries in groups.values() for e in entries for w in _entry_signals(e)}
         fsms = _fsm_entries(variables, shown)
         if fsms:
-            groups["state_machines"] = fsms
+            groups["more_state_machines" if "state_machines" in groups else "state_machines"] = fsms
     members = {name: {resolve(w).ident for e in entries for w in _entry_signals(e)}
                for name, entries in groups.items()}
     seen, end = changes(vcd_path, {resolve(e.signal).ident for e in waves.events}.union(*members.values()))
