@@ -20,7 +20,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from sim.gtkw import Event, I2CBus, Show, Waves, read_vars, write_save_file
+from sim.gtkw import Event, I2CBus, Show, Waves, common_prefix, read_vars, write_save_file
 
 __all__ = ["RunWaves", "dump_file", "dump_plusargs", "write_run_save_file", "top_ports"]
 
@@ -129,13 +129,16 @@ def _i2c_partner(port, line):
 
 def _fsm_shows(fsms, scope, variables, filters, write_filter):
     """A :class:`Show` with its translate filter for each state machine the dump holds."""
-    out = []
+    found = []
     for fsm in fsms:
         where = (*scope, *fsm.path[1:])
         var = next((v for v in variables if v.scope == where and v.name == fsm.signal), None)
-        if var is None:
-            continue
-        label = " ".join(fsm.path[1:]) or scope[-1]         # GTKWave shows an alias after its last "."
-        path = write_filter(filters / f"{'.'.join(fsm.path[1:]) or scope[-1]}.{fsm.signal}.txt", fsm.states)
+        if var is not None:
+            found.append((fsm, var))
+    common = common_prefix([var.scope for _, var in found])
+    out = []
+    for fsm, var in found:
+        path = write_filter(filters / f"{'.'.join(var.scope)}.{fsm.signal}.txt", fsm.states)
+        label = " ".join(var.scope[common:])               # GTKWave shows an alias after its last "."
         out.append(Show(var.full, fmt="dec", alias=f"{label} state", translate=path))
     return out

@@ -13,6 +13,8 @@ signal once per module that uses it, as aliases) the one without a ``$NN`` colli
 module is shown: that module is the one that drives or reads it, where its name is its own. A signal whose
 every name has such a suffix is shown with it (tests/test_gtkw_files.py fails on those).
 
+A dump is a VCD, or an FST (Icarus under cocotb), read through GTKWave's ``fst2vcd``.
+
 The directives (GTKWave 3.3 manual, "Save files"; checked against GTKWave 3.3.118 by opening the files,
 tests/test_gtkw_files.py): ``[timestart]`` (left edge of the window), ``*zoom marker a b ...`` (zoom and the
 named markers' times), ``[markername] Xlabel``, ``[size]``, ``[signals_width]``, ``@flags``, ``-label``
@@ -35,7 +37,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 __all__ = ["Show", "I2CBus", "Event", "Waves", "DumpVar", "read_vars", "changes", "recording", "write_save_file",
-           "I2C_FILTER"]
+           "I2C_FILTER", "common_prefix"]
 
 #: The transaction filter program GTKWave runs for an :class:`I2CBus`.
 I2C_FILTER = Path(__file__).resolve().parent / "i2c_wave_filter.py"
@@ -335,11 +337,12 @@ def _fsm_entries(variables, shown):
     for v in sorted(variables, key=lambda v: v.scope):
         if _is_fsm_state(v) and v.ident not in shown:
             fsms.setdefault(v.ident, v)
-    common = _common_prefix([v.scope for v in fsms.values()])
+    common = common_prefix([v.scope for v in fsms.values()])
     return [Show(v.full, alias=".".join(v.scope[common:]) + " state") for v in fsms.values()]
 
 
-def _common_prefix(scopes):
+def common_prefix(scopes):
+    """How many leading names all ``scopes`` (tuples) share, leaving at least one of the shortest."""
     n = min((len(s) for s in scopes), default=0)
     for i in range(n):
         if len({s[i] for s in scopes}) > 1:
