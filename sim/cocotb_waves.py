@@ -67,6 +67,8 @@ def write_run_save_file(dump, verilog_text, top, run_waves=None, design=None):
     dump = Path(dump)
     gtkw = dump.with_suffix(".gtkw")
     filters = dump.parent / f"{dump.stem}_filters"
+    if not dump.exists():
+        raise FileNotFoundError(f"the simulator wrote no dump at {dump}")
     variables, _ = read_vars(dump)
     scope = min((v.scope for v in variables if v.scope and v.scope[-1] == top), key=len, default=None)
     if scope is None:
