@@ -79,11 +79,10 @@ def gray5(word):
 
 def to_rgb565(image):
     """An image as RGB565 words: a ``(H, W)`` uint16 array is taken as RGB565 already, a ``(H, W, 3)`` uint8
-    array is packed by truncation; a path is read as a PNG (RGB)."""
+    array is packed by truncation; a path is read by :func:`golden.image_file.read_image`."""
     if isinstance(image, (str, Path)):
-        from PIL import Image
-        with Image.open(image) as img:
-            image = np.asarray(img.convert("RGB"), dtype=np.uint8)
+        from .image_file import read_image
+        image = read_image(image)
     image = np.asarray(image)
     if image.ndim == 2 and image.dtype == np.uint16:
         return image

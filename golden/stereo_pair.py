@@ -1,4 +1,5 @@
-"""The bundled default stereo pair (golden/data/README.md), resized to a sensor's resolution.
+"""Stereo pairs fitted to a sensor's resolution, and the bundled default pair (golden/data/README.md). Image files
+are read by :func:`golden.image_file.read_image` (re-exported here).
 
 Resizing uses Pillow's bilinear filter on 8-bit RGB, which is deterministic for a given Pillow version
 (pinned in pyproject.toml); every consumer (tests, demo, golden model) gets the same pixels from here.
@@ -9,48 +10,48 @@ from pathlib import Path
 import numpy as np
 from PIL import Image
 
-__all__ = ["DATA_DIR", "load_default_pair", "load_pair", "read_image", "fit_to_sensor"]
+from .image_file import ImageFileError, read_image
+
+__all__ = ["DATA_DIR", "load_default_pair", "load_pair", "read_image", "fit_to_sensor", "crop_size"]
 
 DATA_DIR = Path(__file__).resolve().parent / "data"
+
+
+def crop_size(width, height, sensor_width, sensor_height):
+    """``(w, h)`` of the centre crop of a ``width`` x ``height`` image to the sensor's aspect ratio."""
+    if width * sensor_height > height * sensor_width:          # too wide: crop columns
+        return round(height * sensor_width / sensor_height), height
+    if width * sensor_height < height * sensor_width:          # too tall: crop rows
+        return width, round(width * sensor_height / sensor_width)
+    return width, height
 
 
 def fit_to_sensor(image, width, height):
     """Centre-crop ``image`` (H x W x 3 uint8) to ``width:height`` and resize it to ``width`` x ``height``."""
     img = Image.fromarray(np.asarray(image, dtype=np.uint8))
     w, h = img.size
-    if w * height > h * width:          # too wide: crop columns
-        new_w = round(h * width / height)
-        x0 = (w - new_w) // 2
-        img = img.crop((x0, 0, x0 + new_w, h))
-    elif w * height < h * width:        # too tall: crop rows
-        new_h = round(w * height / width)
-        y0 = (h - new_h) // 2
-        img = img.crop((0, y0, w, y0 + new_h))
+    new_w, new_h = crop_size(w, h, width, height)
+    x0, y0 = (w - new_w) // 2, (h - new_h) // 2
+    if (new_w, new_h) != (w, h):
+        img = img.crop((x0, y0, x0 + new_w, y0 + new_h))
     if img.size != (width, height):
         img = img.resize((width, height), Image.BILINEAR)
     return np.asarray(img.convert("RGB"), dtype=np.uint8)
 
 
-def read_image(path):
-    """An image file as an (H, W, 3) uint8 RGB array. Raises ``OSError`` with a one-line message for a missing or
-    unreadable file."""
-    path = Path(path)
-    if not path.is_file():
-        raise OSError(f"no such image file: {path}")
-    try:
-        with Image.open(path) as img:
-            return np.asarray(img.convert("RGB"), dtype=np.uint8)
-    except (OSError, ValueError) as exc:
-        raise OSError(f"cannot read image {path}: {exc}") from None
-
-
-def load_pair(left_path, right_path, width, height):
-    """Read a stereo pair from image files and fit both to the sensor size. Raises ``OSError`` or
-    ``ValueError`` (with a one-line message) for a missing, unreadable or mismatched pair."""
+def load_pair(left_path, right_path, width, height, *, min_size=(1, 1)):
+    """Read a stereo pair from image files and fit both to the sensor size. ``min_size``: the least ``(w, h)``
+    of the centre crop. Raises :class:`~golden.image_file.ImageFileError` (a ``ValueError``, one line) for a
+    missing, unreadable, too small, too large or mismatched pair."""
     images = [read_image(left_path), read_image(right_path)]
     if images[0].shape != images[1].shape:
-        raise ValueError(f"left image is {images[0].shape[1]}x{images[0].shape[0]} but right image is "
-                         f"{images[1].shape[1]}x{images[1].shape[0]}: a stereo pair must be the same size")
+        raise ImageFileError(f"left image is {images[0].shape[1]}x{images[0].shape[0]} but right image is "
+                             f"{images[1].shape[1]}x{images[1].shape[0]}: a stereo pair must be the same size")
+    h, w = images[0].shape[:2]
+    crop = crop_size(w, h, width, height)
+    if crop[0] < min_size[0] or crop[1] < min_size[1]:
+        raise ImageFileError(f"the pair is {w}x{h}: its centre crop to the sensor's {width}:{height} is "
+                             f"{crop[0]}x{crop[1]}, smaller than the least usable {min_size[0]}x{min_size[1]}")
     return tuple(fit_to_sensor(img, width, height) for img in images)
 
 

@@ -53,7 +53,8 @@ from pathlib import Path
 import numpy as np
 
 from golden.capture import rgb565_to_bytes, to_rgb565
-from golden.stereo_pair import fit_to_sensor, read_image
+from golden.image_file import ImageFileError, read_image
+from golden.stereo_pair import fit_to_sensor
 from hdl.params import CLOCKS
 from sim.errors import UserError
 from sim.sensor_config import SensorConfig
@@ -201,7 +202,7 @@ class MT9D112:
         if isinstance(image, (str, Path)):
             try:
                 image = read_image(image)
-            except OSError as exc:
+            except ImageFileError as exc:
                 raise UserError(str(exc)) from None
         image = np.asarray(image)
         if image.ndim == 3 and image.shape[:2] != (cfg.height, cfg.width):
