@@ -42,6 +42,7 @@ def build_parser():
         prog="stereodepth",
         description="FPGA stereo-camera depth system: simulation, golden model and board build.",
     )
+    parser.add_argument("--version", action="store_true", help="print the version (and git commit) and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name, (_, help_text) in COMMANDS.items():
         sub.add_parser(name, help=help_text, add_help=False)
@@ -51,13 +52,19 @@ def build_parser():
 def main(argv=None):
     argv = list(sys.argv[1:] if argv is None else argv)
     parser, _ = build_parser()
-    if not argv or argv[0] in ("-h", "--help") or argv[0] not in COMMANDS:
-        if argv and argv[0] not in ("-h", "--help") and not argv[0].startswith("-"):
-            parser.print_usage(sys.stderr)
-            print(f"stereodepth: error: unknown command {argv[0]!r} (see --help)", file=sys.stderr)
-            return 2
+    if argv and argv[0] in ("-h", "--help"):
         parser.print_help()
-        return 0 if argv else 2
+        return 0
+    if argv and argv[0] == "--version":
+        from sim.provenance import project_version
+        print(f"stereodepth {project_version()}")
+        return 0
+    if not argv or argv[0] not in COMMANDS:
+        parser.print_usage(sys.stderr)
+        what = ("a command is required" if not argv else
+                f"unrecognized option {argv[0]!r}" if argv[0].startswith("-") else f"unknown command {argv[0]!r}")
+        print(f"stereodepth: error: {what} (see --help)", file=sys.stderr)
+        return 2
     name = argv[0]
     try:
         module = _load(name)
@@ -75,5 +82,5 @@ def main(argv=None):
         print(f"stereodepth {name}: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
-        print(f"stereodepth {name}: interrupted", file=sys.stderr)
+        print(f"stereodepth {name}: interrupted; files named *.partial.* are incomplete", file=sys.stderr)
         return 130

@@ -13,7 +13,9 @@
 4. The golden pictures of the disparity display at the matching and at a wrong disparity
    (``sim.disparity_pictures.write_pictures``).
 
-``--small`` runs step 2 at the small size too. README's table gives the run times.
+``--small`` runs step 2 at the small size too. README's table gives the run times. As with ``run``, an earlier
+run's outputs are removed at the start, each output appears under its own name only when complete, and
+``result.json`` records the provenance (``stereodepth/outputs.py``, ``sim/provenance.py``).
 """
 
 import sys
@@ -21,6 +23,12 @@ import time
 from pathlib import Path
 
 from .errors import prepare_out_dir
+from .outputs import RunOutputs
+
+#: Every file ``demo`` writes into ``--out`` (the golden pictures are named by disparity: removed by pattern).
+OUTPUTS = ("hdmi_frame.png", "golden_frame.png", "difference.png", "result.json", "system.vcd", "system.gtkw",
+           "hdmi_frame_small.png")
+STALE_PATTERNS = ("disparity_golden_*.png",)
 
 
 def add_arguments(parser):
@@ -56,7 +64,10 @@ def run(args):
     from sim.system.run_cocotb import DEFAULT_PAIR
     from sim.system.setup import SystemSetup
 
+    from sim.provenance import provenance, utc_now
+    started = utc_now()
     out = prepare_out_dir(args.out)
+    outputs = RunOutputs(out, OUTPUTS, stale=STALE_PATTERNS).start()
     t0 = time.perf_counter()
     print("finding the motorcycle's disparity in the bundled pair ...", flush=True)
     settings, _, _ = find_demo_settings()
@@ -78,7 +89,9 @@ def run(args):
         print(f"stereodepth demo: simulation failed: {exc}", file=sys.stderr)
         return 1
     wall = time.perf_counter() - t0
-    files.update(cmd_run.write_outputs(out, frame, golden, status, {"simulator": args.simulator}))
+    record = provenance(DEFAULT_PAIR, dict(vars(args), setup=setup.to_spec()), started)
+    files.update(cmd_run.write_outputs(outputs, frame, golden, status, {"simulator": args.simulator,
+                                                                       "provenance": record}))
     ok, lines = cmd_run.summarise(setup, args.simulator, frame, golden, status, status.get("wall_s", wall))
     print("\n".join(lines), flush=True)
 
@@ -88,13 +101,15 @@ def run(args):
         left_s, right_s = load_default_pair(small.geometry.width, small.geometry.height)
         wave_setup = SystemSetup.small(disparity=ds, rectification=0)
         try:
-            frame_s, golden_s, status_s = cmd_run.run_amaranth_route(left_s, right_s, wave_setup, out, vcd=True)
+            frame_s, golden_s, status_s = cmd_run.run_amaranth_route(left_s, right_s, wave_setup, outputs,
+                                                                        vcd=True)
         except SimulationFailed as exc:
             print(f"stereodepth demo: waveform run failed: {exc}", file=sys.stderr)
             return 1
         from sim.hdmi_sink import write_png
         if frame_s is not None:
-            files["small-size HDMI frame (the waveform run)"] = write_png(frame_s, out / "hdmi_frame_small.png")
+            files["small-size HDMI frame (the waveform run)"] = outputs.write("hdmi_frame_small.png",
+                                                                              lambda p: write_png(frame_s, p))
         small_ok = frame_s is not None and status_s.get("mismatched_pixels") == 0
         print(f"  small-size frame {'equals' if small_ok else 'DIFFERS from'} the golden frame "
               f"({status_s.get('wall_s', 0):.0f} s)")

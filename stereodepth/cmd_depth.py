@@ -5,18 +5,27 @@ Writes to ``--out`` (default build/depth/):
 * ``disparity.png``   the SAD winner-take-all disparity map with a colour bar in pixels,
 * ``distance.png``    the distance map Z = B f / (d * pitch) with a colour bar in cm,
 * ``disparity.npy``   the disparity map as int16 (-1 = no data), for scripts,
-* ``vertical_shift.txt`` the vertical shift found by the tangent method (also printed).
+* ``vertical_shift.txt`` the vertical shift found by the tangent method (also printed),
+* ``result.json``     the shift and the provenance (input files with SHA-256, parameters, tools, git commit, times).
 
-Bad input (missing or unreadable file, different sizes, out-of-range values) is a one-line error, exit 2.
+Bad input (missing or unreadable file, different sizes, out-of-range values, an image over
+:data:`MAX_PIXELS`) is a one-line error, exit 2. Outputs appear under their names only when complete
+(``stereodepth/outputs.py``); a progress bar on stderr follows the vertical-shift search and the SAD search.
 """
 
+import json
 import math
-from pathlib import Path
 
 from .errors import UserError, prepare_out_dir
+from .outputs import RunOutputs
+from .progress import Progress
 
 
 _CAMERAS = ("board", "webcam")
+#: The largest image ``depth`` takes: 4 M pixels (e.g. 2304 x 1728). Its SAD search keeps a few float64 maps of the
+#: image (about 0.1 kB a pixel, so under 0.6 GB here) and takes about 6 s per M pixel per 64 disparities.
+MAX_PIXELS = 4_000_000
+OUTPUTS = ("disparity.png", "distance.png", "disparity.npy", "vertical_shift.txt", "result.json")
 
 
 def add_arguments(parser):
@@ -63,23 +72,13 @@ def _length(text, option, unit, scale):
 
 
 def read_image(path):
-    """An image file as an (H, W, 3) uint8 array (16-bit grey scaled to 8 bits); UserError if missing or
-    unreadable."""
-    import numpy as np
-    from PIL import Image, UnidentifiedImageError
-
-    path = Path(path)
-    if not path.is_file():
-        raise UserError(f"no such image file: {path}")
+    """An image file as an (H, W, 3) uint8 array (``golden.image_file``: 16-bit grey scaled, palette, alpha
+    ignored) of at most :data:`MAX_PIXELS`; UserError if missing, unreadable or too large."""
+    from golden.image_file import ImageFileError, read_image as read
     try:
-        with Image.open(path) as img:
-            if img.mode.startswith("I;16") or img.mode == "I":
-                grey = np.clip(np.rint(np.asarray(img, dtype=np.float64) * (255 / 65535)), 0, 255)
-                return np.repeat(grey.astype(np.uint8)[..., None], 3, axis=2)
-            return np.asarray(img.convert("RGB"), dtype=np.uint8)
-    except (OSError, ValueError, UnidentifiedImageError, Image.DecompressionBombError) as exc:
-        raise UserError(f"cannot read image {path}: {str(exc).splitlines()[0] if str(exc) else type(exc).__name__}") \
-            from None
+        return read(path, max_pixels=MAX_PIXELS)
+    except ImageFileError as exc:
+        raise UserError(str(exc)) from None
 
 
 def camera_from_args(args):
@@ -110,7 +109,7 @@ def _shift_text(result):
     return "\n".join(lines)
 
 
-def _write_figures(result, out, camera, max_disparity, window):
+def _write_figures(result, outputs, camera, max_disparity, window):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -132,7 +131,7 @@ def _write_figures(result, out, camera, max_disparity, window):
     ax.set_title(f"SAD {window}x{window} disparity, vertical shift {result.shift:+d} rows (grey: no data)",
                  fontsize=9)
     ax.set_axis_off()
-    fig.savefig(out / "disparity.png", dpi=100, bbox_inches="tight")
+    outputs.write("disparity.png", lambda p: fig.savefig(p, dpi=100, bbox_inches="tight", format="png"))
     plt.close(fig)
 
     dist_cm = result.distance_m * 100
@@ -150,17 +149,13 @@ def _write_figures(result, out, camera, max_disparity, window):
     ax.set_title(f"distance Z = B f / (d pitch), {cam}\n(white: beyond {far:.0f} cm or d = 0; grey: no data)",
                  fontsize=9)
     ax.set_axis_off()
-    fig.savefig(out / "distance.png", dpi=100, bbox_inches="tight")
+    outputs.write("distance.png", lambda p: fig.savefig(p, dpi=100, bbox_inches="tight", format="png"))
     plt.close(fig)
 
 
-def run(args):
-    max_disparity = _int(args.max_disparity, "--max-disparity", 1)
-    window = _int(args.window, "--window", 1)
-    max_vshift = _int(args.max_vertical_shift, "--max-vertical-shift", 0)
-    camera = camera_from_args(args)
-    left = read_image(args.left)
-    right = read_image(args.right)
+def _check_pair(args, left, right, max_disparity, window):
+    """The pair against the options: same size, wider than ``max_disparity``, at least ``window`` square; returns
+    the ``--shift`` value (None: estimate it)."""
     if left.shape != right.shape:
         raise UserError(f"left image is {left.shape[1]}x{left.shape[0]} but right image is "
                         f"{right.shape[1]}x{right.shape[0]}: a stereo pair must be the same size")
@@ -169,27 +164,46 @@ def run(args):
         raise UserError(f"--max-disparity must be below the image width {w}, not {max_disparity}")
     if window > min(h, w):
         raise UserError(f"--window {window} is larger than the {w}x{h} image")
-    shift = None if args.shift is None else _int(args.shift, "--shift", -(h - 1), h - 1)
+    return None if args.shift is None else _int(args.shift, "--shift", -(h - 1), h - 1)
 
-    out = prepare_out_dir(args.out)
+
+def run(args):
+    from sim.provenance import provenance, utc_now
+    started = utc_now()
+    max_disparity = _int(args.max_disparity, "--max-disparity", 1)
+    window = _int(args.window, "--window", 1)
+    max_vshift = _int(args.max_vertical_shift, "--max-vertical-shift", 0)
+    camera = camera_from_args(args)
+    out = prepare_out_dir(args.out)                             # writable, before any work
+    left = read_image(args.left)
+    right = read_image(args.right)
+    shift = _check_pair(args, left, right, max_disparity, window)
+    outputs = RunOutputs(out, OUTPUTS).start()
 
     import numpy as np
 
     from golden.software.pipeline import depth_pipeline
 
+    bar = Progress("depth")
     try:
         result = depth_pipeline(left, right, max_disparity=max_disparity, window=window, camera=camera,
-                                shift=shift, max_vertical_shift=max_vshift)
+                                shift=shift, max_vertical_shift=max_vshift,
+                                progress=lambda stage, f: bar.update(int(1000 * f), f"depth: {stage}"))
     except ValueError as exc:
         raise UserError(f"{exc} (give the shift with --shift)") from None
+    finally:
+        bar.close()
+    text = _shift_text(result)
     try:
-        np.save(out / "disparity.npy", result.disparity)
-        text = _shift_text(result)
-        (out / "vertical_shift.txt").write_text(text + "\n")
-        _write_figures(result, out, camera, max_disparity, window)
+        outputs.write("disparity.npy", lambda p: np.save(p, result.disparity))
+        outputs.write("vertical_shift.txt", lambda p: p.write_text(text + "\n"))
+        _write_figures(result, outputs, camera, max_disparity, window)
+        record = {"vertical_shift": result.shift, "estimated": result.search is not None,
+                  "provenance": provenance([args.left, args.right], dict(vars(args), shift=shift), started)}
+        outputs.write("result.json", lambda p: p.write_text(json.dumps(record, indent=1) + "\n"))
     except OSError as exc:
         raise UserError(f"cannot write to {out}: {exc.strerror or exc}") from None
     print(text)
     print(f"wrote {out / 'disparity.png'}, {out / 'distance.png'}, {out / 'disparity.npy'}, "
-          f"{out / 'vertical_shift.txt'}")
+          f"{out / 'vertical_shift.txt'}, {out / 'result.json'}")
     return 0

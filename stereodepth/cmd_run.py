@@ -8,7 +8,10 @@ frame, which is compared bit for bit with the golden model's frame.
 
 Writes to ``--out`` (default build/run/): ``hdmi_frame.png`` (the frame rebuilt from the simulated pins),
 ``golden_frame.png``, ``difference.png`` (only if they differ), ``result.json`` (I2C outcome, timing checks,
-figures). ``--vcd`` (Amaranth simulator, ``--small`` only) also writes ``system.vcd`` + ``system.gtkw``.
+figures, and ``provenance``: input files with SHA-256, parameters, tool versions, git commit, UTC start and end).
+``--vcd`` (Amaranth simulator, ``--small`` only) also writes ``system.vcd`` + ``system.gtkw``. The directory is
+checked writable before any work; an earlier run's outputs are removed at the start and each output appears under
+its own name only when complete (``stereodepth/outputs.py``).
 
 Sizes: the default is the board's (1600 x 1200 sensors, 400 x 300 buffers, 1080p60 display); ``--small`` runs
 the small test configuration (64 x 48 sensors, 80 x 48 display; ``sim/system/setup.py``). Simulators:
@@ -24,9 +27,12 @@ import time
 from pathlib import Path
 
 from .errors import UserError, prepare_out_dir
+from .outputs import RunOutputs
 from .progress import Progress
 
 SIMULATORS = ("verilator", "icarus", "amaranth")
+#: Every file ``run`` writes into ``--out``.
+OUTPUTS = ("hdmi_frame.png", "golden_frame.png", "difference.png", "result.json", "system.vcd", "system.gtkw")
 
 
 def add_arguments(parser):
@@ -56,11 +62,13 @@ def switch_value(name, text):
 
 
 def load_images(left, right, setup):
-    """The pair fitted to the sensor; one-line :class:`UserError` for a missing, unreadable or mismatched pair."""
+    """The pair fitted to the sensor; one-line :class:`UserError` for a missing, unreadable, mismatched, too large
+    (``golden.image_file.MAX_PIXELS``) pair, or one whose crop to the sensor's aspect is smaller than the frame
+    buffer (it would be enlarged beyond what the buffers hold)."""
     from golden.stereo_pair import load_pair
     g = setup.geometry
     try:
-        return load_pair(left, right, g.width, g.height)
+        return load_pair(left, right, g.width, g.height, min_size=(g.buf_width, g.buf_height))
     except (OSError, ValueError) as exc:
         raise UserError(str(exc)) from None
 
@@ -82,16 +90,18 @@ def run_cocotb_route(left_path, right_path, setup, simulator, work):
     return result.frame, result.golden, result.status
 
 
-def run_amaranth_route(left, right, setup, out, *, vcd=False):
+def run_amaranth_route(left, right, setup, outputs, *, vcd=False):
     """Amaranth's simulator (the Python sensor drivers at the small size, the ROM replay at full size) with a
-    progress bar; returns ``(frame, golden, status)``."""
+    progress bar; returns ``(frame, golden, status)``. With ``vcd``, ``system.vcd`` + ``system.gtkw`` of
+    ``outputs`` (a :class:`RunOutputs`), committed once the simulation has ended."""
     from sim.errors import SimulationFailed
     from sim.system.result import SystemTimeout
     from sim.system.run_amaranth import ROUTES, run_amaranth
     from sim.system.waves import system_waves
     bar = Progress("amaranth")
     stages = {"i2c": 0, "capture": 500, "display": 800, "done": 1000}
-    kwargs = dict(vcd=out / "system.vcd", gtkw=out / "system.gtkw", traces=system_waves) if vcd else {}
+    kwargs = dict(vcd=outputs.partial("system.vcd"), gtkw=outputs.partial("system.gtkw"),
+                  traces=system_waves) if vcd else {}
     route = ROUTES["python" if setup.preset == "small" else "replay"]
     try:
         result = run_amaranth(left, right, setup, route=route,
@@ -101,23 +111,36 @@ def run_amaranth_route(left, right, setup, out, *, vcd=False):
         raise SimulationFailed(str(exc)) from None
     finally:
         bar.close()
+    if vcd:
+        outputs.commit("system.vcd")
+        outputs.commit_save_file("system.gtkw", "system.vcd")
     return result.frame, result.golden, dict(result.status, wall_s=result.figures["wall_s"])
 
 
-def write_outputs(out, frame, golden, status, figures):
+def write_outputs(outputs, frame, golden, status, figures):
+    """The frames and ``result.json`` (``status`` + ``figures``), each committed when written, result.json
+    last."""
     import numpy as np
     from sim.hdmi_sink import write_png
     files = {}
     if frame is not None:
-        files["HDMI frame (from the simulated pins)"] = write_png(frame, out / "hdmi_frame.png")
-    files["golden frame"] = write_png(golden, out / "golden_frame.png")
+        files["HDMI frame (from the simulated pins)"] = outputs.write("hdmi_frame.png", lambda p: write_png(frame, p))
+    files["golden frame"] = outputs.write("golden_frame.png", lambda p: write_png(golden, p))
     if frame is not None and not np.array_equal(frame, golden):
         diff = np.where(np.any(frame != golden, axis=-1, keepdims=True), 255, 0).astype(np.uint8)
-        files["difference (white = differs)"] = write_png(np.repeat(diff, 3, axis=-1), out / "difference.png")
+        files["difference (white = differs)"] = outputs.write("difference.png",
+                                                              lambda p: write_png(np.repeat(diff, 3, axis=-1), p))
     status = dict(status, **figures)
-    (out / "result.json").write_text(json.dumps(status, indent=1, default=str))
-    files["result"] = out / "result.json"
+    files["result"] = outputs.write("result.json",
+                                    lambda p: p.write_text(json.dumps(status, indent=1, default=str) + "\n"))
     return files
+
+
+def run_provenance(args, setup, started):
+    """``result.json``'s ``provenance``: the pair's files, every argument and the setup, tools, commit, times."""
+    from sim.provenance import provenance
+    parameters = dict(vars(args), disparity=setup.disparity, rectification=setup.rectification, setup=setup.to_spec())
+    return provenance([args.left, args.right], parameters, started)
 
 
 def summarise(setup, simulator, frame, golden, status, wall):
@@ -152,18 +175,21 @@ def print_files(files):
 
 
 def run(args):
+    from sim.provenance import utc_now
+    started = utc_now()
     disparity = switch_value("disparity", args.disparity)
     rectification = switch_value("rectification", args.rectification)
     setup = make_setup(args.small, disparity, rectification)
     if args.vcd and (args.simulator != "amaranth" or not args.small):
         raise UserError("--vcd is written by the Amaranth route at the small size: use --simulator amaranth --small")
+    out = prepare_out_dir(args.out)                             # writable, before any work
     left, right = load_images(args.left, args.right, setup)     # validates the pair before any simulation
-    out = prepare_out_dir(args.out)
+    outputs = RunOutputs(out, OUTPUTS).start()
     wall = time.perf_counter()
     from sim.errors import SimulationFailed
     try:
         if args.simulator == "amaranth":
-            frame, golden, status = run_amaranth_route(left, right, setup, out, vcd=args.vcd)
+            frame, golden, status = run_amaranth_route(left, right, setup, outputs, vcd=args.vcd)
         else:
             frame, golden, status = run_cocotb_route(args.left, args.right, setup, args.simulator,
                                                      out / f".{args.simulator}")
@@ -171,7 +197,8 @@ def run(args):
         print(f"stereodepth run: simulation failed: {exc}", file=sys.stderr)
         return 1
     wall = time.perf_counter() - wall
-    files = write_outputs(out, frame, golden, status, {"total_wall_s": wall, "simulator": args.simulator})
+    files = write_outputs(outputs, frame, golden, status, {"total_wall_s": wall, "simulator": args.simulator,
+                                                           "provenance": run_provenance(args, setup, started)})
     if args.vcd:
         files["VCD"] = out / "system.vcd"
         files["GTKWave save file (gtkwave system.gtkw)"] = out / "system.gtkw"

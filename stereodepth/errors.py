@@ -7,14 +7,21 @@ __all__ = ["UserError", "prepare_out_dir"]
 
 
 def prepare_out_dir(path):
-    """Create the output directory ``path`` (and its parents) and return it as a ``Path``; a path that cannot be
-    created, or is a file, is a :class:`UserError`."""
+    """Create the output directory ``path`` (and its parents) and check that a file can be written in it, before
+    any work; returns it as a ``Path``. A path that cannot be created, is a file, or is not writable is a
+    :class:`UserError`."""
+    import tempfile
     from pathlib import Path
     path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise UserError(f"output path {path} is not a directory")
     try:
         path.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise UserError(f"cannot create output directory {path}: {exc.strerror or exc}") from None
-    if not path.is_dir():
-        raise UserError(f"output path {path} is not a directory")
+    try:
+        with tempfile.TemporaryFile(dir=path, prefix=".write-check-"):
+            pass
+    except OSError as exc:
+        raise UserError(f"output directory {path} is not writable: {exc.strerror or exc}") from None
     return path

@@ -67,15 +67,18 @@ class DepthResult:
 
 
 def depth_pipeline(left, right, max_disparity=sad.MAX_DISPARITY, window=sad.SAD_WINDOW, camera=BOARD_CAMERAS,
-                   shift=None, max_vertical_shift=ssd.MAX_VERTICAL_SHIFT):
+                   shift=None, max_vertical_shift=ssd.MAX_VERTICAL_SHIFT, progress=None):
     """Figure 3.8 on a left/right pair (RGB or grey arrays of one size). ``shift=None`` estimates the vertical
-    shift by the tangent method; an int uses that shift instead (0 = no rectification, thesis figure 3.18)."""
+    shift by the tangent method; an int uses that shift instead (0 = no rectification, thesis figure 3.18).
+    ``progress(stage, fraction)``, if given, is called as the stages (``vertical shift``, ``SAD``) go on."""
+    progress = progress or (lambda stage, fraction: None)
     left_grey, right_grey = to_grey(left), to_grey(right)
     if left_grey.shape != right_grey.shape:
         raise ValueError(f"left {left_grey.shape[1]}x{left_grey.shape[0]} and right "
                          f"{right_grey.shape[1]}x{right_grey.shape[0]} images differ in size")
     search = None
     if shift is None:
+        progress("vertical shift", 0.0)
         search = estimate_vertical_shift(left_grey, right_grey, max_vertical_shift)
         shift = search.shift
     height = left_grey.shape[0]
@@ -84,5 +87,5 @@ def depth_pipeline(left, right, max_disparity=sad.MAX_DISPARITY, window=sad.SAD_
     right_moved, valid_rows = rectify.shift_rows(right_grey, shift)
     disparity = np.full(left_grey.shape, -1, dtype=np.int16)
     disparity[valid_rows] = sad.sad_disparity(left_grey[valid_rows], right_moved[valid_rows],
-                                              max_disparity, window)
+                                              max_disparity, window, lambda f: progress("SAD", f))
     return DepthResult(int(shift), search, disparity, distance_from_disparity(disparity, camera))

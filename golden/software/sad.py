@@ -96,8 +96,9 @@ def winner_take_all(volume):
     return np.argmin(np.asarray(volume), axis=0).astype(np.int16)
 
 
-def sad_disparity(left, right, max_disparity=MAX_DISPARITY, window=SAD_WINDOW):
-    """The winner-take-all SAD disparity map (int16, 0..max_disparity) of the left image."""
+def sad_disparity(left, right, max_disparity=MAX_DISPARITY, window=SAD_WINDOW, progress=None):
+    """The winner-take-all SAD disparity map (int16, 0..max_disparity) of the left image. ``progress(fraction)``,
+    if given, is called after each candidate disparity."""
     left, right = _check(left, right, max_disparity, window)
     best = np.full(left.shape, np.inf)
     disparity = np.zeros(left.shape, dtype=np.int16)
@@ -107,4 +108,6 @@ def sad_disparity(left, right, max_disparity=MAX_DISPARITY, window=SAD_WINDOW):
         better = cost < best
         best[better] = cost[better]
         disparity[better] = d
+        if progress:
+            progress((d + 1) / (max_disparity + 1))
     return disparity
