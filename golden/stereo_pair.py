@@ -50,8 +50,8 @@ def load_pair(left_path, right_path, width, height, *, min_size=(1, 1)):
     h, w = images[0].shape[:2]
     crop = crop_size(w, h, width, height)
     if crop[0] < min_size[0] or crop[1] < min_size[1]:
-        raise ImageFileError(f"the pair is {w}x{h}: its centre crop to the sensor's {width}:{height} is "
-                             f"{crop[0]}x{crop[1]}, smaller than the least usable {min_size[0]}x{min_size[1]}")
+        raise ImageFileError(f"the pair is {w}x{h} ({crop[0]}x{crop[1]} once centre-cropped to the sensor's "
+                             f"{width}:{height}), smaller than the least usable {min_size[0]}x{min_size[1]}")
     return tuple(fit_to_sensor(img, width, height) for img in images)
 
 

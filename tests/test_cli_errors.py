@@ -1,0 +1,157 @@
+"""Bad input to the command line, run as a user runs it (a subprocess, from a working directory holding the files):
+every case exits with its code, prints exactly one error line on stderr (a usage line before it for a usage error;
+nothing else but progress-bar lines), no traceback, and leaves an earlier run's outputs alone.
+
+``python tests/test_cli_errors.py`` runs the same cases and prints the table of docs/running.md.
+"""
+
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+IS_ROOT = hasattr(os, "geteuid") and os.geteuid() == 0
+#: Root without capabilities (no CAP_DAC_OVERRIDE): file permissions apply to it as to any user.
+UNPRIVILEGED = ["setpriv", "--bounding-set=-all", "--inh-caps=-all"] if IS_ROOT else []
+
+#: (what, arguments after ``stereodepth``, exit code, text the error line contains). ``readonly/`` is an existing
+#: directory the user cannot write to (as root, those cases run without root's capabilities).
+CASES = [
+    ("unknown option", ["--bogus"], 2, "stereodepth: error: unrecognized option '--bogus'"),
+    ("no command", [], 2, "stereodepth: error: a command is required"),
+    ("unknown command", ["bogus"], 2, "stereodepth: error: unknown command 'bogus'"),
+    ("unknown option of a command", ["run", "left.png", "right.png", "--bogus"], 2,
+     "unrecognized arguments: --bogus"),
+    ("missing image", ["run", "missing.png", "right.png"], 2, "no such image file: missing.png"),
+    ("directory given as an image", ["run", "adir", "right.png"], 2, "adir is a directory, not an image file"),
+    ("not an image", ["run", "text.png", "right.png"], 2, "cannot read image text.png: not an image file Pillow"),
+    ("truncated image", ["run", "truncated.png", "right.png"], 2, "cannot read image truncated.png"),
+    ("unreadable image (no permission)", ["run", "secret.png", "right.png"], 2,
+     "cannot read image secret.png: Permission denied"),
+    ("32-bit float image", ["run", "float.tif", "right.png"], 2, "has pixel format 'F', which has no defined 8-bit"),
+    ("pair of different sizes", ["run", "left.png", "narrow.png"], 2, "a stereo pair must be the same size"),
+    ("1x1 pair", ["run", "one.png", "one.png"], 2, "smaller than the least usable 400x300"),
+    ("pair smaller than the small buffers", ["run", "one.png", "one.png", "--small"], 2,
+     "smaller than the least usable 16x12"),
+    ("10000x10000 image", ["run", "huge.png", "huge.png"], 2,
+     "huge.png is 10000x10000 = 100,000,000 pixels, more than the limit of 25,000,000"),
+    ("20000x10000 image (Pillow's bomb limit)", ["run", "bomb.png", "bomb.png"], 2, "Pillow refuses to decode it"),
+    ("switch value out of range", ["run", "left.png", "right.png", "--disparity", "200"], 2,
+     "--disparity must be 0..127"),
+    ("--vcd without the Amaranth simulator", ["run", "left.png", "right.png", "--vcd"], 2,
+     "--vcd is written by the Amaranth route"),
+    ("read-only output directory", ["run", "left.png", "right.png", "--out", "readonly"], 2,
+     "output directory readonly is not writable: Permission denied"),
+    ("output path is a file", ["run", "left.png", "right.png", "--out", "left.png"], 2,
+     "output path left.png is not a directory"),
+    ("output path below a file", ["run", "left.png", "right.png", "--out", "left.png/sub"], 2,
+     "cannot create output directory left.png/sub"),
+    ("read-only output directory, demo", ["demo", "--out", "readonly"], 2,
+     "output directory readonly is not writable"),
+    ("image over depth's limit", ["depth", "big.png", "big.png"], 2,
+     "is 2001x2001 = 4,004,001 pixels, more than the limit of 4,000,000"),
+    ("depth: window larger than the image", ["depth", "left.png", "right.png", "--window", "500"], 2,
+     "--window 500 is larger than the 480x360 image"),
+]
+
+
+def make_files(d):
+    """The input files of :data:`CASES` in directory ``d``."""
+    d = Path(d)
+    rng = np.random.default_rng(18)
+    rgb = rng.integers(0, 256, (360, 480, 3), dtype=np.uint8)
+    Image.fromarray(rgb).save(d / "left.png")
+    Image.fromarray(rgb).save(d / "right.png")
+    Image.fromarray(rgb[:, :400]).save(d / "narrow.png")
+    Image.fromarray(rgb[:1, :1]).save(d / "one.png")
+    Image.fromarray(rgb[:, :, 0].astype(np.float32)).save(d / "float.tif")
+    (d / "text.png").write_text("not a picture\n")
+    (d / "truncated.png").write_bytes((d / "left.png").read_bytes()[:2000])
+    shutil.copy(d / "left.png", d / "secret.png")
+    (d / "adir").mkdir()
+    Image.new("1", (10000, 10000)).save(d / "huge.png")             # 100 M pixels in a few kB
+    Image.new("1", (20000, 10000)).save(d / "bomb.png")
+    Image.new("L", (2001, 2001)).save(d / "big.png")
+    (d / "readonly").mkdir()
+    (d / "readonly" / "result.json").write_text("{}\n")             # an earlier run's result: must stay
+    (d / "readonly").chmod(0o555)
+    (d / "secret.png").chmod(0o000)
+
+
+def stereodepth(args, cwd, *, unprivileged=False):
+    """Run ``python -m stereodepth args`` in ``cwd`` (with root's capabilities dropped when asked)."""
+    prefix = UNPRIVILEGED if unprivileged else []
+    return subprocess.run([*prefix, sys.executable, "-m", "stereodepth", *args], cwd=cwd, capture_output=True,
+                          text=True, timeout=120, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+
+
+def unprivileged(what):
+    """Cases about permissions run without root's power to read and write anything."""
+    return "read-only" in what or "no permission" in what
+
+
+def error_lines(stderr):
+    """stderr without progress-bar lines and the usage line of a usage error."""
+    return [line for line in stderr.splitlines() if line.strip() and "%|" not in line
+            and not line.startswith("usage: ")]
+
+
+@pytest.fixture(scope="module")
+def files():
+    d = Path(tempfile.mkdtemp(prefix="cli_errors_"))
+    make_files(d)
+    yield d
+    (d / "readonly").chmod(0o755)
+    shutil.rmtree(d)
+
+
+@pytest.mark.parametrize("what, args, code, message", CASES, ids=[c[0] for c in CASES])
+def test_bad_input_is_one_line_and_an_exit_code(files, what, args, code, message):
+    if unprivileged(what) and IS_ROOT and not shutil.which("setpriv"):
+        pytest.skip("root, and no setpriv to drop its capabilities")
+    run = stereodepth(args, files, unprivileged=unprivileged(what))
+    assert run.returncode == code, run.stderr
+    assert "Traceback" not in run.stderr and "Warning" not in run.stderr, run.stderr
+    lines = error_lines(run.stderr)
+    assert len(lines) == 1 and message in lines[0], run.stderr
+    assert lines[0].startswith("stereodepth"), lines
+    assert run.stdout == ""
+    assert (files / "readonly" / "result.json").read_text() == "{}\n"
+
+
+def test_version_names_the_release_and_the_commit(files):
+    from sim.provenance import git_commit
+    run = stereodepth(["--version"], files)
+    assert run.returncode == 0 and run.stderr == ""
+    from importlib.metadata import version
+    assert run.stdout.startswith(f"stereodepth {version('stereo-fpga')}")
+    commit = git_commit()
+    if commit:
+        assert f"(git {commit[:12]}" in run.stdout
+
+
+def table(d):
+    """The markdown table of docs/running.md: each case run, its exit code and error line."""
+    rows = ["| case | command | exit | message (stderr) |", "|---|---|---|---|"]
+    for what, args, _, _ in CASES:
+        run = stereodepth(args, d, unprivileged=unprivileged(what))
+        message = " / ".join(error_lines(run.stderr)).replace("|", "\\|")
+        rows.append(f"| {what} | `stereodepth {' '.join(args)}` | {run.returncode} | {message} |")
+    return "\n".join(rows)
+
+
+if __name__ == "__main__":
+    work = Path(tempfile.mkdtemp(prefix="cli_errors_"))
+    try:
+        make_files(work)
+        print(table(work))
+    finally:
+        (work / "readonly").chmod(0o755)
+        shutil.rmtree(work)

@@ -1,0 +1,110 @@
+"""``stereodepth run`` into a directory holding an earlier run, as a user runs it (a subprocess): a complete run
+replaces every output and records what produced it; a run stopped with Ctrl-C (SIGINT) leaves nothing that looks
+complete, only files named ``*.partial.*``. And stereodepth/outputs.py's own rules."""
+
+import hashlib
+import json
+import re
+import signal
+import subprocess
+import sys
+import time
+from datetime import datetime
+from pathlib import Path
+
+import pytest
+
+from sim.system.run_cocotb import DEFAULT_PAIR
+from stereodepth.outputs import RunOutputs, partial_name
+
+ROOT = Path(__file__).resolve().parents[1]
+EARLIER = ("result.json", "hdmi_frame.png", "golden_frame.png", "difference.png", "system.vcd", "system.gtkw",
+           "hdmi_frame.partial.png")
+
+
+def earlier_run(out):
+    """``out`` as an earlier (interrupted) run left it; returns the files' contents."""
+    out.mkdir(parents=True, exist_ok=True)
+    for name in EARLIER:
+        (out / name).write_text(f"earlier run: {name}\n")
+    (out / "notes.txt").write_text("the user's own file\n")
+
+
+def start_run(out, *extra):
+    return subprocess.Popen([sys.executable, "-m", "stereodepth", "run", *map(str, DEFAULT_PAIR), "--small",
+                             "--simulator", "amaranth", "--vcd", "--out", str(out), *extra],
+                            cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+
+
+def test_ctrl_c_leaves_only_partial_names(tmp_path):
+    out = tmp_path / "out"
+    earlier_run(out)
+    run = start_run(out)
+    vcd = out / "system.partial.vcd"
+    deadline = time.monotonic() + 120
+    while not (vcd.exists() and vcd.stat().st_size > 200_000):        # the simulation is under way
+        assert run.poll() is None and time.monotonic() < deadline, run.communicate()
+        time.sleep(0.1)
+    run.send_signal(signal.SIGINT)
+    stdout, stderr = run.communicate(timeout=60)
+    assert run.returncode == 130, stderr
+    assert "Traceback" not in stderr
+    assert stderr.strip().splitlines()[-1] == "stereodepth run: interrupted; files named *.partial.* are incomplete"
+    left = sorted(p.name for p in out.iterdir() if not p.name.startswith("."))
+    assert left == ["notes.txt", "system.partial.vcd"], left           # earlier outputs gone, nothing complete
+    assert vcd.stat().st_size > 200_000
+
+
+def _sha256(path):
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def test_complete_run_replaces_every_output_and_records_its_provenance(tmp_path):
+    out = tmp_path / "out"
+    earlier_run(out)
+    before = datetime.now().astimezone()
+    run = start_run(out, "--disparity", "3")
+    stdout, stderr = run.communicate(timeout=600)
+    assert run.returncode == 0, stderr
+    names = sorted(p.name for p in out.iterdir() if not p.name.startswith("."))
+    assert names == ["golden_frame.png", "hdmi_frame.png", "notes.txt", "result.json", "system.gtkw",
+                     "system.vcd"], names
+    assert f'[dumpfile] "{(out / "system.vcd").resolve()}"' in (out / "system.gtkw").read_text()
+    result = json.loads((out / "result.json").read_text())
+    record = result["provenance"]
+    assert [i["path"] for i in record["inputs"]] == [str(p.resolve()) for p in DEFAULT_PAIR]
+    assert [i["sha256"] for i in record["inputs"]] == [_sha256(p) for p in DEFAULT_PAIR]
+    params = record["parameters"]
+    assert (params["disparity"], params["rectification"], params["simulator"], params["small"], params["vcd"]) \
+        == (3, 0, "amaranth", True, True)
+    assert params["out"] == str(out) and params["setup"]["preset"] == "small"
+    import amaranth
+    import cocotb
+    assert record["tools"]["amaranth"] == amaranth.__version__ and record["tools"]["cocotb"] == cocotb.__version__
+    assert set(record["tools"]) >= {"verilator", "iverilog", "numpy", "pillow", "python"}
+    git = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "HEAD"], capture_output=True, text=True)
+    if git.returncode == 0:
+        assert record["git_commit"].startswith(git.stdout.strip())
+    started, ended = (datetime.fromisoformat(record[k].replace("Z", "+00:00")) for k in ("started_utc", "ended_utc"))
+    assert re.fullmatch(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ", record["ended_utc"])
+    assert before.replace(microsecond=0) <= started <= ended <= datetime.now().astimezone()
+
+
+def test_outputs_are_renamed_only_when_complete_and_stale_ones_removed(tmp_path):
+    earlier_run(tmp_path)
+    outputs = RunOutputs(tmp_path, ("result.json", "system.vcd", "system.gtkw"), stale=("hdmi_*.png",)).start()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["difference.png", "golden_frame.png", "notes.txt"]
+    assert partial_name("system.vcd") == "system.partial.vcd"
+    outputs.partial("system.vcd").write_text("$enddefinitions $end\n")
+    assert not (tmp_path / "system.vcd").exists()
+    outputs.commit("system.vcd")
+    assert (tmp_path / "system.vcd").exists() and not (tmp_path / "system.partial.vcd").exists()
+    outputs.partial("system.gtkw").write_text(f'[dumpfile] "{(tmp_path / "system.partial.vcd").resolve()}"\n')
+    outputs.commit_save_file("system.gtkw", "system.vcd")
+    assert (tmp_path / "system.gtkw").read_text() == f'[dumpfile] "{(tmp_path / "system.vcd").resolve()}"\n'
+    with pytest.raises(ZeroDivisionError):
+        outputs.write("result.json", lambda p: p.write_text("{") and 1 / 0)    # a writer that fails half-way
+    assert not (tmp_path / "result.json").exists() and (tmp_path / "result.partial.json").exists()
+    with pytest.raises(ValueError, match="not one of this command's outputs"):
+        outputs.partial("other.png")
