@@ -7,9 +7,11 @@ import sys
 from pathlib import Path
 
 from .errors import UserError, prepare_out_dir
+from .outputs import RunOutputs
 from .progress import Progress
 
 SIMULATORS = ("verilator", "icarus", "amaranth")
+OUTPUTS = ("hdmi_frame.png", "display.vcd", "display.gtkw")
 DEFAULT_OUT = Path("build/display")   # not build/demo: the whole-system demo writes its own hdmi_frame.png there
 
 
@@ -33,12 +35,13 @@ def add_arguments(parser):
 
 
 def run(args):
-    from sim.display import capture_frame, write_display_waves
+    from sim.display import capture_frame
     from sim.errors import SimulationFailed
     from sim.hdmi_sink import write_png
     timing = modes()[args.mode]
     out = prepare_out_dir(args.out)
     lines = check_wave_lines(args.wave_lines, timing)
+    outputs = RunOutputs(out, OUTPUTS).start()
     bar = Progress(f"{args.simulator}: simulate", total=timing.clocks_per_frame + 16, unit="clk")
     try:
         capture = capture_frame(timing, args.simulator, out, progress=bar.update)
@@ -49,12 +52,19 @@ def run(args):
         bar.close()
     files = {}
     if capture.frame is not None:
-        files["PNG"] = write_png(capture.frame, out / "hdmi_frame.png")
+        files["PNG"] = outputs.write("hdmi_frame.png", lambda p: write_png(capture.frame, p))
     if not args.no_waves:
-        files.update(write_display_waves(timing, out / "display.vcd", lines=lines))
+        files.update(write_waves(timing, outputs, lines))
     print_capture(capture, timing, args.simulator)
     print_outputs(files)
     return 0 if capture.ok else 1
+
+
+def write_waves(timing, outputs, lines):
+    """``display.vcd`` + ``display.gtkw`` of ``outputs`` (written under their partial names, then committed)."""
+    from sim.display import write_display_waves
+    write_display_waves(timing, outputs.partial("display.vcd"), lines=lines)     # the .gtkw beside it
+    return {"VCD": outputs.commit("display.vcd"), "GTKWave": outputs.commit_save_file("display.gtkw", "display.vcd")}
 
 
 def check_wave_lines(lines, timing):

@@ -22,6 +22,12 @@ import math
 import numpy as np
 
 from .errors import UserError, prepare_out_dir
+from .outputs import RunOutputs, write_atomic
+
+#: Every file ``testbed`` writes into ``--out`` (an earlier run's are removed at the start; each is written under
+#: its partial name and renamed when complete).
+OUTPUTS = ("table.csv", "near_field.csv", "fits.csv", "rtl_check.csv", "figure_4_35.png", "disparity_maps.png",
+           "near_field.png")
 
 
 #: The longest distance accepted: the disparity there is 27.3 / 20 = 1.4 buffer pixels.
@@ -80,10 +86,12 @@ def _check_args(args):
 
 
 def _write_csv(path, header, rows):
-    with open(path, "w", newline="") as f:
-        writer = csv.writer(f)
-        writer.writerow(header)
-        writer.writerows(rows)
+    def write(partial):
+        with open(partial, "w", newline="") as f:
+            writer = csv.writer(f)
+            writer.writerow(header)
+            writer.writerows(rows)
+    write_atomic(path, write)
 
 
 def _fmt(value, digits=3):
@@ -115,6 +123,7 @@ def _rtl_samples(points, n):
 def run(args):
     distances, max_r = _check_args(args)
     out = prepare_out_dir(args.out)
+    RunOutputs(out, OUTPUTS).start()
 
     from sim import testbed as tb
     from sim.scene import StereoRig, object_footprint, make_object
@@ -305,7 +314,7 @@ def _figure_4_35(plt, out, table, fits, resim):
     ax2.grid(alpha=0.3)
     ax2.legend(fontsize=7, ncol=2)
     fig.tight_layout()
-    fig.savefig(out / "figure_4_35.png", dpi=110)
+    write_atomic(out / "figure_4_35.png", lambda p: fig.savefig(p, dpi=110))
     plt.close(fig)
 
 
@@ -325,7 +334,7 @@ def _difference_images(plt, out, table, rig, kw):
         axis.set_title(f"{p.object_name} at {p.distance_m:.2f} m: disparity {d}, rectification {r}", fontsize=8)
         axis.axis("off")
     fig.tight_layout()
-    fig.savefig(out / "disparity_maps.png", dpi=100)
+    write_atomic(out / "disparity_maps.png", lambda p: fig.savefig(p, dpi=100))
     plt.close(fig)
 
 
@@ -366,5 +375,5 @@ def _near_field_figure(plt, out, near, rig, kw):
         axis.set_title(f"d = {d}: {what}", fontsize=8)
         axis.axis("off")
     fig.tight_layout()
-    fig.savefig(out / "near_field.png", dpi=100)
+    write_atomic(out / "near_field.png", lambda p: fig.savefig(p, dpi=100))
     plt.close(fig)

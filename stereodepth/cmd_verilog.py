@@ -20,7 +20,7 @@ board).
 
 from pathlib import Path
 
-from .errors import UserError
+from .errors import UserError, prepare_out_dir
 
 
 def add_arguments(parser):
@@ -70,6 +70,7 @@ def write_board_build(out, *, pins=None, allow_unconfirmed=False):
 
 
 def run(args):
+    prepare_out_dir(args.out)                                   # writable, before any work
     pins = _read_pins(args.pins) if args.pins else None
     platform, written = write_board_build(args.out, pins=pins, allow_unconfirmed=args.allow_unconfirmed)
     for path in written:

@@ -7,6 +7,7 @@ from pathlib import Path
 
 from . import cmd_display
 from .errors import prepare_out_dir
+from .outputs import RunOutputs
 
 
 def add_arguments(parser):
@@ -20,13 +21,14 @@ def add_arguments(parser):
 
 
 def run(args):
-    from sim.display import wave_window, write_display_waves
+    from sim.display import wave_window
     timing = cmd_display.modes()[args.mode]
     out = prepare_out_dir(args.out)
     lines = cmd_display.check_wave_lines(args.lines, timing)
+    outputs = RunOutputs(out, ("display.vcd", "display.gtkw")).start()
     start, clocks = wave_window(timing, lines)
     print(f"display path, {timing.h_active}x{timing.v_active}: {clocks:,} pixel clocks from line {start[1]} "
           f"in Amaranth's simulator ...")
-    files = write_display_waves(timing, out / "display.vcd", lines=lines)
+    files = cmd_display.write_waves(timing, outputs, lines)
     cmd_display.print_outputs(files)
     return 0

@@ -8,13 +8,22 @@ renamed to its own name only once complete. A run that is interrupted or fails l
 import os
 from pathlib import Path
 
-__all__ = ["RunOutputs", "partial_name"]
+__all__ = ["RunOutputs", "partial_name", "write_atomic"]
 
 
 def partial_name(name):
     """``system.vcd`` -> ``system.partial.vcd`` (the extension kept, so viewers still open it)."""
     path = Path(name)
     return f"{path.stem}.partial{path.suffix}"
+
+
+def write_atomic(path, writer):
+    """``writer(partial path)`` writes the file; renamed to ``path`` once it returns. Returns ``path``."""
+    path = Path(path)
+    partial = path.with_name(partial_name(path.name))
+    writer(partial)
+    os.replace(partial, path)
+    return path
 
 
 class RunOutputs:
@@ -49,8 +58,8 @@ class RunOutputs:
 
     def write(self, name, writer):
         """``writer(path)`` writes the file; it is written under the partial name and committed."""
-        writer(self.partial(name))
-        return self.commit(name)
+        self.partial(name)                              # one of the outputs
+        return write_atomic(self.dir / name, writer)
 
     def commit_save_file(self, name, vcd_name):
         """Commit the GTKWave save file ``name``, which names its VCD by absolute path: point it at the VCD's
