@@ -31,6 +31,7 @@ __all__ = ["MAX_PIXELS", "ImageFileError", "read_image", "image_size"]
 #: about 75 MB decoded. docs/running.md states it.
 MAX_PIXELS = 25_000_000
 
+_ORIENTATION = 0x0112                   # the EXIF tag
 _GREY = ("L", "1")
 _GREY16 = ("I;16", "I;16L", "I;16B", "I;16N")
 _COLOUR = ("RGB", "RGBA", "RGBX", "RGBa", "P", "PA", "LA", "La", "CMYK", "YCbCr")
@@ -85,7 +86,7 @@ def _to_rgb(img, path):
     if img.mode in _GREY:
         return np.repeat(np.asarray(img.convert("L"), dtype=np.uint8)[..., None], 3, axis=2)
     if img.mode in _COLOUR:
-        return np.asarray(img.convert("RGB"), dtype=np.uint8)
+        return np.asarray(img if img.mode == "RGB" else img.convert("RGB"), dtype=np.uint8)
     raise ImageFileError(f"image {path} has pixel format {img.mode!r}, which has no defined 8-bit range: save it "
                          "as 8- or 16-bit grey, RGB, RGBA or palette")
 
@@ -97,7 +98,9 @@ def read_image(path, *, min_size=(1, 1), max_pixels=MAX_PIXELS):
         _check_size(path, img.size, (0, 0), max_pixels)                   # before any pixel is decoded
         try:
             img.load()
-            rgb = _to_rgb(ImageOps.exif_transpose(img), path)
+            if img.getexif().get(_ORIENTATION, 1) != 1:
+                img = ImageOps.exif_transpose(img)
+            rgb = _to_rgb(img, path)
         except ImageFileError:
             raise
         except (OSError, ValueError, SyntaxError) as exc:

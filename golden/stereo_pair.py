@@ -42,17 +42,22 @@ def fit_to_sensor(image, width, height):
 def load_pair(left_path, right_path, width, height, *, min_size=(1, 1)):
     """Read a stereo pair from image files and fit both to the sensor size. ``min_size``: the least ``(w, h)``
     of the centre crop. Raises :class:`~golden.image_file.ImageFileError` (a ``ValueError``, one line) for a
-    missing, unreadable, too small, too large or mismatched pair."""
-    images = [read_image(left_path), read_image(right_path)]
-    if images[0].shape != images[1].shape:
-        raise ImageFileError(f"left image is {images[0].shape[1]}x{images[0].shape[0]} but right image is "
-                             f"{images[1].shape[1]}x{images[1].shape[0]}: a stereo pair must be the same size")
-    h, w = images[0].shape[:2]
-    crop = crop_size(w, h, width, height)
-    if crop[0] < min_size[0] or crop[1] < min_size[1]:
-        raise ImageFileError(f"the pair is {w}x{h} ({crop[0]}x{crop[1]} once centre-cropped to the sensor's "
-                             f"{width}:{height}), smaller than the least usable {min_size[0]}x{min_size[1]}")
-    return tuple(fit_to_sensor(img, width, height) for img in images)
+    missing, unreadable, too small, too large or mismatched pair. One decoded file is held at a time."""
+    fitted, shapes = [], []
+    for path in (left_path, right_path):
+        image = read_image(path)
+        shapes.append(image.shape)
+        if shapes[0] != shapes[-1]:
+            raise ImageFileError(f"left image is {shapes[0][1]}x{shapes[0][0]} but right image is "
+                                 f"{shapes[1][1]}x{shapes[1][0]}: a stereo pair must be the same size")
+        h, w = image.shape[:2]
+        crop = crop_size(w, h, width, height)
+        if crop[0] < min_size[0] or crop[1] < min_size[1]:
+            raise ImageFileError(f"the pair is {w}x{h} ({crop[0]}x{crop[1]} once centre-cropped to the sensor's "
+                                 f"{width}:{height}), smaller than the least usable {min_size[0]}x{min_size[1]}")
+        fitted.append(fit_to_sensor(image, width, height))
+        del image
+    return tuple(fitted)
 
 
 def load_default_pair(width=1600, height=1200):
