@@ -1,6 +1,7 @@
 # Every target bootstraps the virtual environment on a fresh machine (python3 -m venv + pip install -e .[test]).
 # `make test` also installs the Debian tools the tests need (Icarus Verilog; GTKWave + xvfb for the save-file
-# checks) through scripts/system-deps.sh, or stops before pytest with the command that would.
+# checks) through scripts/system-deps.sh, or stops before pytest with the command that would; that check runs
+# first, before the virtual environment is installed, so a machine without them learns it in a second.
 
 PYTHON ?= python3
 VENV   := .venv
@@ -32,10 +33,10 @@ venv: $(STAMP)
 system-deps:
 	@scripts/system-deps.sh
 
-test: $(STAMP) system-deps
+test: system-deps $(STAMP)
 	$(PY) -m pytest -n $(JOBS) -q
 
-test-slow: $(STAMP) system-deps
+test-slow: system-deps $(STAMP)
 	$(PY) -m pytest -q -n 2 -m "slow and not hours"
 
 demo: $(STAMP)
