@@ -1,7 +1,7 @@
 """``stereodepth run LEFT RIGHT``: the whole simulated system end to end on your own stereo pair.
 
-The pair (any size, any format Pillow reads; fitted to the sensor by centre-crop and resize, as
-``golden.stereo_pair.load_pair`` does) goes into the two MT9D112 sensor models; the RTL configures them and the
+The pair (read by ``golden.image_file``; from the frame buffer's size once cropped to 4:3 up to 25 M pixels;
+fitted to the sensor by centre-crop and resize, as ``golden.stereo_pair.load_pair`` does) goes into the two MT9D112 sensor models; the RTL configures them and the
 CH7301C over I2C, captures both cameras into the frame buffers, composites the left image, the right image and
 the disparity map for the given switch settings and drives the CH7301C pins; the HDMI sink model rebuilds the
 frame, which is compared bit for bit with the golden model's frame.
