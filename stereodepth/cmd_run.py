@@ -15,10 +15,12 @@ its own name only when complete (``stereodepth/outputs.py``).
 
 Sizes: the default is the board's (1600 x 1200 sensors, 400 x 300 buffers, 1080p60 display); ``--small`` runs
 the small test configuration (64 x 48 sensors, 80 x 48 display; ``sim/system/setup.py``). Simulators:
-``verilator`` (default) and ``icarus`` run through cocotb along the in-simulator route (the sensors replayed and
-the pins recorded inside the simulator; ``sim/system/cocotb_routes.py``); ``amaranth`` runs Amaranth's own
-simulator (``sim/system/run_amaranth.py``): at full size along its replay route (the sensor streams replayed from
-ROMs in the simulated design), with ``--small`` with the sensor models driven from Python per PCLK.
+``verilator`` (default) runs with its testbench in C++ (``sim/system/run_verilator.py``: clocks, sensor streams and
+the pin recorder in C++, the Python models answering the I2C buses); ``icarus`` runs through cocotb along the
+in-simulator route (the sensors replayed and the pins recorded inside the simulator;
+``sim/system/cocotb_routes.py``); ``amaranth`` runs Amaranth's own simulator (``sim/system/run_amaranth.py``): at
+full size along its replay route (the sensor streams replayed from ROMs in the simulated design), with ``--small``
+with the sensor models driven from Python per PCLK.
 """
 
 import json
@@ -99,6 +101,32 @@ def run_cocotb_route(left_path, right_path, setup, simulator, work):
     return result.frame, result.golden, result.status
 
 
+def run_verilator_route(left, right, setup):
+    """Verilator with the C++ testbench, with a progress bar; returns ``(frame, golden, status)``."""
+    from sim.errors import SimulationFailed
+    from sim.system.result import SystemTimeout
+    from sim.system.run_verilator import run_verilator
+    require_simulator("verilator")
+    bar = Progress("verilator: build (first run only)")
+    try:
+        result = run_verilator(left, right, setup,
+                               progress=lambda stage, f: bar.update(int(1000 * f), f"verilator: {stage}"))
+    except (SystemTimeout, RuntimeError, OSError) as exc:     # a phase timed out; the build or the library failed
+        raise SimulationFailed(str(exc).splitlines()[0]) from None
+    finally:
+        bar.close()
+    figures = {k: v for k, v in result.figures.items() if k != "run"}
+    return result.frame, result.golden, dict(result.status, **figures)
+
+
+def simulate(simulator, left_path, right_path, left, right, setup, out):
+    """The whole system on ``simulator``, ``verilator`` (the C++ testbench) or ``icarus`` (cocotb's in-simulator
+    route, working in ``out/.icarus``); returns ``(frame, golden, status)``."""
+    if simulator == "verilator":
+        return run_verilator_route(left, right, setup)
+    return run_cocotb_route(left_path, right_path, setup, simulator, out / f".{simulator}")
+
+
 def run_amaranth_route(left, right, setup, outputs, *, vcd=False):
     """Amaranth's simulator (the Python sensor drivers at the small size, the ROM replay at full size) with a
     progress bar; returns ``(frame, golden, status)``. With ``vcd``, ``system.vcd`` + ``system.gtkw`` of
@@ -157,7 +185,8 @@ def summarise(setup, simulator, frame, golden, status, wall):
     ok = frame is not None and status.get("mismatched_pixels") == 0 and not status.get("violations")
     lines = [f"whole system, {g.width}x{g.height} sensors -> {g.buf_width}x{g.buf_height} buffers -> "
              f"{t.h_active}x{t.v_active} display, disparity {setup.disparity}, rectification "
-             f"{setup.rectification}, on {simulator}: {wall:.1f} s wall time"]
+             f"{setup.rectification}, on {simulator}: {wall:.1f} s wall time"
+             + (f" (the simulation {status['wall_s']:.1f} s)" if status.get("wall_s") else "")]
     for bus in ("cam_a", "cam_b", "dvi"):
         if f"{bus}_init_done" in status:
             lines.append(f"  I2C {bus}: {'configured' if status[f'{bus}_init_done'] else 'FAILED'}")
@@ -201,8 +230,7 @@ def run(args):
         if args.simulator == "amaranth":
             frame, golden, status = run_amaranth_route(left, right, setup, outputs, vcd=args.vcd)
         else:
-            frame, golden, status = run_cocotb_route(args.left, args.right, setup, args.simulator,
-                                                     out / f".{args.simulator}")
+            frame, golden, status = simulate(args.simulator, args.left, args.right, left, right, setup, out)
     except SimulationFailed as exc:
         print(f"stereodepth run: simulation failed: {exc}", file=sys.stderr)
         return 1

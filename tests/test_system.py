@@ -3,8 +3,8 @@ frame buffers -> compositor -> CH7301C pins -> HDMI sink model, compared bit for
 frame (golden.disparity.composite_frame of golden.capture.capture_frame of each image).
 
 Default run: the small preset (64 x 48 sensor, 80 x 48 display; sim/system/setup.py) on Amaranth's simulator and
-through cocotb on Verilator and Icarus, along every route. Slow: the full 1600 x 1200 -> 1080p run (tests marked
-``slow``).
+through cocotb on Verilator and Icarus, along every route (tests/test_verilator_route.py runs the Verilator route
+with the C++ testbench). Slow: the full 1600 x 1200 -> 1080p run (tests marked ``slow``).
 """
 
 import numpy as np
@@ -191,16 +191,30 @@ def _check_full_size_status(status):
     assert (status["disparity"], status["rectification"]) == (10, 1)
 
 
-@pytest.mark.slow
-@pytest.mark.parametrize("simulator", ["verilator", "icarus"])
-def test_end_to_end_full_size_cocotb(simulator, tmp_path):
-    """1600 x 1200 sensors -> 400 x 300 buffers -> one 1080p frame, bit for bit (the in-simulator route)."""
-    result = run_cocotb_system(FULL_SETUP, simulator, route=InSimulator(), out_dir=tmp_path)
-    status = result.status
-    _check_full_size_status(status)
+def _check_full_size_frame(status, result):
     assert status["violations"] == [] and result.mismatched_pixels == 0
     assert status["recorded_clocks"] == 2200 * 1125 + 9
     assert status["i2c_transactions"]["cam_a"] >= 40        # the board's whole MT9D112 table
+
+
+@pytest.mark.slow
+def test_end_to_end_full_size_verilator():
+    """1600 x 1200 sensors -> 400 x 300 buffers -> one 1080p frame, bit for bit, on Verilator with the testbench
+    in C++ (sim/system/run_verilator.py): the route of make demo."""
+    from sim.system.run_verilator import run_verilator
+    left, right = load_default_pair(FULL_SETUP.geometry.width, FULL_SETUP.geometry.height)
+    result = run_verilator(left, right, FULL_SETUP)
+    _check_full_size_status(result.status)
+    _check_full_size_frame(result.status, result)
+    assert all(c["mismatches"] == 0 and c["samples"] > 4_000_000 for c in result.status["replay_checks"].values())
+
+
+@pytest.mark.slow
+def test_end_to_end_full_size_icarus(tmp_path):
+    """The same on Icarus through cocotb (the in-simulator route)."""
+    result = run_cocotb_system(FULL_SETUP, "icarus", route=InSimulator(), out_dir=tmp_path)
+    _check_full_size_status(result.status)
+    _check_full_size_frame(result.status, result)
 
 
 @pytest.mark.slow

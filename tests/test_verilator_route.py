@@ -1,0 +1,169 @@
+"""The Verilator route with its testbench in C++ (sim/system/run_verilator.py, sim/verilator/) on the small preset:
+the frame, the models' checks, the raw reference model replaying the run exactly, and each check shown to bite."""
+
+import numpy as np
+import pytest
+
+from golden.stereo_pair import load_default_pair
+from hdl.init_tables import CH7301C_TABLE
+from sim.hdmi_sink import HdmiSink
+from sim.i2c_expected import expected_writes
+from sim.system.result import SystemTimeout
+from sim.system.run_verilator import VerilatorRun, camera_pins, run_verilator
+from sim.system.setup import SystemSetup
+from sim.verilator.harness import STIMULUS
+from sim.verilator.raw import run_raw
+from sim.verilator.recording import decode, feed_sink
+
+DISPARITY, RECTIFICATION = 2, 1
+
+
+def _setup():
+    return SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION)
+
+
+def _pair(setup):
+    return load_default_pair(setup.geometry.width, setup.geometry.height)
+
+
+@pytest.fixture(scope="module")
+def base():
+    setup = _setup()
+    return run_verilator(*_pair(setup), setup, keep_stimulus=True)
+
+
+def test_small_run_is_bit_exact_and_every_check_holds(base):
+    status, run = base.status, base.figures["run"]
+    setup = run.setup
+    for bus in ("cam_a", "cam_b", "dvi"):
+        assert status[f"{bus}_init_done"] and not status[f"{bus}_init_error"]
+        assert not status["drive_high"][bus] and not status["i2c_protocol_errors"][bus]
+    assert status["cam_a_frame_ok"] and status["cam_b_frame_ok"]
+    assert (status["disparity"], status["rectification"]) == (DISPARITY, RECTIFICATION)
+    assert status["violations"] == [] and status["mismatched_pixels"] == 0
+    np.testing.assert_array_equal(base.frame, base.golden)
+    assert status["recorded_clocks"] == setup.timing.clocks_per_frame + 9
+    # Every sample each camera sent (more than a frame period: the wrap-around too) equals the model's stream.
+    for c in ("a", "b"):
+        assert status["replay_checks"][c]["mismatches"] == 0
+        assert status["replay_checks"][c]["samples"] > len(run.words[c])
+    # The register-file models answered live: they received exactly the tables' writes.
+    for bus in ("cam_a", "cam_b"):
+        assert [("mt9d112", r, v) for r, v in base.models[bus][0].writes] == expected_writes(setup.cam_table)
+        assert base.models[bus][0].problems() == []
+    assert [("ch7301c", r, v) for r, v in base.models["dvi"][0].writes] == expected_writes(CH7301C_TABLE)
+    assert status["dvi_config"]["dvi_on"] and status["dvi_config"]["idf"] == 0
+
+
+def test_raw_model_replays_the_run_exactly(base):
+    """The raw model (raw_main.cpp, no Python) given the run's stimulus log evaluates the design as often and
+    records the same pins, word for word."""
+    run = base.figures["run"]
+    figures, recording = run_raw(run)
+    assert figures["complete"] and figures["evals"] == base.status["evals"]
+    np.testing.assert_array_equal(recording, run.recording[:run.h.recorded])
+
+
+def test_raw_model_sees_a_changed_stimulus(base):
+    """Bites: the same log with the disparity switch word changed records different pins."""
+    run = base.figures["run"]
+    stimulus = run.h.stimulus().copy()
+    sw = run.h.port(("panel", "sw"))
+    word = np.flatnonzero((stimulus["kind"] == 0) & (stimulus["a"] == sw) & (stimulus["b"] == 0x80 | DISPARITY))
+    assert len(word) == 1
+    stimulus["b"][word[0]] = 0x80 | (DISPARITY + 3)
+    _, recording = run_raw(run, stimulus.astype(STIMULUS))
+    assert len(recording) == run.h.recorded
+    assert np.count_nonzero(recording != run.recording[:run.h.recorded]) > 10
+
+
+def test_replay_check_bites():
+    """A camera that replays one wrong sample is caught by the replay check (the frame would hide a shifted
+    stream: the capture starts at the frame's FV edge)."""
+    setup = _setup()
+    run = VerilatorRun(setup, *_pair(setup))
+    bad = run.words["a"].copy()
+    i = int(np.flatnonzero(bad >> 8 == 0b11)[100])          # a byte of an active line
+    bad[i] ^= 0x10
+    run.h.bind_camera(0, camera_pins("a"), bad, run.seen["a"])
+    run.run()
+    run.check()
+    assert run.status["replay_checks"]["a"]["mismatches"] >= 1
+    assert run.status["replay_checks"]["b"]["mismatches"] == 0
+
+
+def test_configuration_guard(monkeypatch):
+    """The streams are made before the run for the expected configuration: an I2C init that configures a sensor
+    otherwise stops the run (here the stream is made for G byte first)."""
+    import sim.system.run_verilator
+    from sim.sensor_config import SensorConfig
+    setup = _setup()
+    g = setup.geometry
+    monkeypatch.setattr(sim.system.run_verilator, "expected_sensor_config",
+                        lambda geometry: SensorConfig(width=g.width, height=g.height, rgb565=True,
+                                                      r_byte_first=False))
+    with pytest.raises(SystemTimeout, match="camera a: the I2C init configured .*r_byte_first=True"):
+        run_verilator(*_pair(setup), setup)
+
+
+def test_a_device_that_does_not_answer_fails_the_init():
+    """The models answer live: a CH7301C that NACKs its address leaves the DVI bus in error and no frame."""
+    setup = _setup()
+    run = VerilatorRun(setup, *_pair(setup))
+    run.models["dvi"][0].nack_address = True
+    status = run.run()
+    assert status["dvi_init_error"] and not status["dvi_init_done"] and status["cam_a_init_done"]
+    assert "t_end_s" not in status and run.check()[0] is None
+
+
+def test_sink_reports_wrong_xclk_levels(base):
+    """Bites: one recorded word with XCLK_P high a quarter period after the falling edge is an xclk violation at
+    that clock; the frame is still rebuilt."""
+    run = base.figures["run"]
+    words = run.recording[:run.h.recorded].copy()
+    words[1234] |= 1 << 30
+    sink = feed_sink(words, HdmiSink(run.setup.timing))
+    assert [(v.kind, v.clock) for v in sink.violations] == [("xclk", 1234)]
+    assert sink.frames and np.array_equal(sink.frames[0], base.frame)
+
+
+def test_recorder_word_fields():
+    fields = decode(np.array([0xABC | 0x123 << 12 | 0b10101 << 24 | 0b01 << 29], dtype=np.uint32))
+    assert {k: int(v[0]) for k, v in fields.items()} == {
+        "first": 0xABC, "second": 0x123, "de": 1, "vsync": 0, "hsync": 1, "xclk_n_high": 0, "xclk_p_high": 1,
+        "xclk_n_low": 1, "xclk_p_low": 0}
+
+
+def test_build_key_follows_the_design(tmp_path, monkeypatch):
+    """A cached build is found by the design's parameters and sources: the switch settings (inputs) keep the key,
+    a design parameter or one changed line in a module the bench imports changes it; a module it does not import
+    (the depth engine, not part of the system yet; the golden models) is not part of the key."""
+    import shutil
+    from sim.verilator import build
+    key = build.cache_key(_setup())
+    assert build.cache_key(SystemSetup.small(disparity=DISPARITY + 1, rectification=0)) == key
+    assert build.cache_key(SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION, lock_cycles=17)) != key
+    files = [f.relative_to(build.REPO_ROOT) for f in build._design_files()]
+    names = {str(f) for f in files}
+    assert {"hdl/system.py", "hdl/i2c_master.py", "hdl/export.py", "sim/i2c_bus.py", "sim/system/bench.py"} <= names
+    assert not any(n.startswith(("golden/", "hdl/depth/", "sim/system/run_")) for n in names)
+    for f in files:                                 # the same sources elsewhere: the same key
+        (tmp_path / f).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(build.REPO_ROOT / f, tmp_path / f)
+    monkeypatch.setattr(build, "REPO_ROOT", tmp_path)
+    assert build.cache_key(_setup()) == key
+    source = tmp_path / "hdl" / "i2c_master.py"
+    source.write_text(source.read_text() + "\n# a change\n")
+    assert build.cache_key(_setup()) != key
+
+
+def test_harness_refuses_values_that_do_not_fit(base):
+    """A value wider than the port (Verilator expects the bits above a port's width clear) or a write to an output is
+    refused before it reaches the model."""
+    h = base.figures["run"].h
+    with pytest.raises(ValueError, match="does not fit .*8 bits"):
+        h[("panel", "sw")] = 0x100
+    with pytest.raises(ValueError, match="does not fit .*1 bits"):
+        h[("bus", "dvi", "ext_sda_low")] = 2
+    with pytest.raises(ValueError, match="is an output"):
+        h["locked"] = 1
