@@ -137,7 +137,7 @@ def test_recorder_word_fields():
 def test_build_key_follows_the_design(tmp_path, monkeypatch):
     """A cached build is found by the design's parameters and sources: the switch settings (inputs) keep the key,
     a design parameter or one changed line in a module the bench imports changes it; a module it does not import
-    (the depth engine, not part of the system yet; the golden models) is not part of the key."""
+    (the golden models, the runners) is not part of the key."""
     import shutil
     from sim.verilator import build
     key = build.cache_key(_setup())
@@ -146,7 +146,7 @@ def test_build_key_follows_the_design(tmp_path, monkeypatch):
     files = [f.relative_to(build.REPO_ROOT) for f in build._design_files()]
     names = {str(f) for f in files}
     assert {"hdl/system.py", "hdl/i2c_master.py", "hdl/export.py", "sim/i2c_bus.py", "sim/system/bench.py"} <= names
-    assert not any(n.startswith(("golden/", "hdl/depth/", "sim/system/run_")) for n in names)
+    assert not any(n.startswith(("golden/", "sim/system/run_", "sim/verilator/", "bench/")) for n in names)
     for f in files:                                 # the same sources elsewhere: the same key
         (tmp_path / f).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(build.REPO_ROOT / f, tmp_path / f)
@@ -167,3 +167,38 @@ def test_harness_refuses_values_that_do_not_fit(base):
         h[("bus", "dvi", "ext_sda_low")] = 2
     with pytest.raises(ValueError, match="is an output"):
         h["locked"] = 1
+
+
+def test_the_testbench_has_every_port_of_the_exported_top(base):
+    """The C++ testbench's ports are the exported top's (its signature flattened by hdl.export.flat_name, the
+    design elaborated apart), with the same directions and widths: nothing in the route lists them, so a top that
+    gains ports needs no change here."""
+    from amaranth.hdl import Fragment, Shape
+    from amaranth.lib import wiring
+    from hdl.export import flat_name
+    from sim.system.bench import SystemBench
+    run = base.figures["run"]
+    design = SystemBench(clock_ports=True, **_setup().system_kwargs())
+    want = {flat_name(path): (member.flow == wiring.In, Shape.cast(member.shape).width)
+            for path, member, _ in design.signature.flatten(design)}
+    Fragment.get(design, None)                      # elaborated, as an export would
+    lib, handle = run.h._lib, run.h._h
+    got = {name: (bool(lib.tb_port_is_input(handle, i)), lib.tb_port_width(handle, i))
+           for name, i in run.h.ports.items()}
+    assert got == want and not run.build.wide_ports
+
+
+def test_ports_inc_leaves_ports_wider_than_64_bits_alone():
+    """ports.inc from a Verilated header: member, Verilog name (escapes undone), direction and width of each port;
+    a port wider than 64 bits gets a WIDE line (the testbench leaves it alone) rather than failing the build."""
+    from sim.verilator.build import ports_inc, wide_ports
+    header = ("    VL_IN8(&clocks___05Fsync,0,0);\n    VL_OUT16(&ch7301c___05Fdata,11,0);\n"
+              "    VL_IN64(&word,63,0);\n    VL_OUTW(&depth___05Frow,127,0,4);\n")
+    text = ports_inc(header)
+    assert text.splitlines() == ['PORT(clocks___05Fsync, "clocks__sync", true, 1)',
+                                 'PORT(ch7301c___05Fdata, "ch7301c__data", false, 12)',
+                                 'PORT(word, "word", true, 64)',
+                                 'WIDE(depth___05Frow, "depth__row", false, 128)']
+    assert wide_ports(text) == {"depth__row"}
+    with pytest.raises(RuntimeError, match="no ports"):
+        ports_inc("class Vsystem {};")

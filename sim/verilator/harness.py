@@ -68,6 +68,7 @@ class Harness:
         self._h = lib.tb_new()
         self.ports = {lib.tb_port_name(self._h, i).decode(): i for i in range(lib.tb_port_count(self._h))}
         self._index = dict(self.ports)              # names and paths already looked up
+        self._wide = build.wide_ports
         self._limit = [1 << lib.tb_port_width(self._h, i) if lib.tb_port_is_input(self._h, i) else 0
                        for i in range(len(self.ports))]     # 0: an output
         lib.tb_watch_falling_edges(self._h, int(build.negedge))
@@ -91,6 +92,8 @@ class Harness:
         index = self._index.get(name)
         if index is None:
             flat = name if isinstance(name, str) else flat_name(name)
+            if flat in self._wide:
+                raise KeyError(f"port {flat!r} is wider than 64 bits: the C++ testbench leaves it alone")
             if flat not in self.ports:
                 raise KeyError(f"the model has no port {flat!r}")
             index = self._index[name] = self.ports[flat]

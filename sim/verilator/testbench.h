@@ -6,7 +6,8 @@
 // the log of them.
 //
 // The model's ports come from ports.inc (generated from the Verilated header: PORT(member, "name", is_input, width)
-// lines, the C++ member and the Verilog name); the testbench addresses them by index. Time is in picoseconds.
+// lines, the C++ member and the Verilog name; WIDE(...) lines for ports wider than 64 bits, left alone); the
+// testbench addresses them by index. Time is in picoseconds.
 //
 // Event loop (Engine::run), one iteration per instant:
 //   * a recorder sample point (a quarter pixel period after each pixel-clock edge) reads the pins, no eval (one
@@ -65,7 +66,9 @@ Port make_port(const char* name, T& field, bool input, int width) {
 inline std::vector<Port> bind_ports(Vsystem* top) {
     std::vector<Port> ports;
 #define PORT(member, name, input, width) ports.push_back(make_port(name, top->member, input, width));
+#define WIDE(member, name, input, width)  // wider than 64 bits: not bound (an input stays 0)
 #include "ports.inc"
+#undef WIDE
 #undef PORT
     return ports;
 }
