@@ -36,7 +36,7 @@ from golden.disparity import composite_frame, difference_levels
 from golden.stereo_pair import DATA_DIR, load_default_pair
 from hdl.params import CEA_1080P60, SENSOR
 
-__all__ = ["crop_offset", "find_settings", "Settings", "write_pictures"]
+__all__ = ["bundled_pair_settings", "crop_offset", "find_settings", "Settings", "write_pictures"]
 
 #: The motorcycle's bounding box in the original 741 x 500 image (x0, x1, y0, y1), and the ground-truth
 #: disparity (original pixels) above which a pixel in the box is the motorcycle, not the shelves behind it.
@@ -129,14 +129,20 @@ def find_settings(left, right, geometry=SENSOR, max_disparity=60, max_rectificat
                     _black_fraction(left, right, mask, d, r), _black_fraction(left, right, mask, wrong, 0))
 
 
+def bundled_pair_settings(geometry=SENSOR):
+    """``(Settings, left, right)``: :func:`find_settings` on the bundled pair's captured buffers (the switch
+    settings ``make demo`` runs the system at), with the pair's buffers (``golden.capture.capture_frame``)."""
+    left_rgb, right_rgb = load_default_pair(geometry.width, geometry.height)
+    left, right = capture_frame(left_rgb, geometry), capture_frame(right_rgb, geometry)
+    return find_settings(left, right, geometry), left, right
+
+
 def write_pictures(outdir, timing=CEA_1080P60, geometry=SENSOR):
     """Write the golden composited frames for the bundled pair at the motorcycle's disparity and at a wrong one
     (both at the rectification found, 0) into ``outdir``; return their paths (matched first)."""
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
-    left_rgb, right_rgb = load_default_pair(geometry.width, geometry.height)
-    left, right = capture_frame(left_rgb, geometry), capture_frame(right_rgb, geometry)
-    s = find_settings(left, right, geometry)
+    s, left, right = bundled_pair_settings(geometry)
     pictures = [
         (s.disparity, s.rectification, "matched",
          f"Golden model frame, disparity {s.disparity}, rectification {s.rectification}: the motorcycle's "

@@ -41,17 +41,6 @@ def add_arguments(parser):
     parser.add_argument("--no-waves", action="store_true", help="skip the VCD / GTKWave step")
 
 
-def find_demo_settings():
-    """``(Settings, left RGB, right RGB)`` for the bundled pair at the board's size."""
-    from golden.capture import capture_frame
-    from golden.stereo_pair import load_default_pair
-    from hdl.params import SENSOR
-    from sim.disparity_pictures import find_settings
-    left, right = load_default_pair(SENSOR.width, SENSOR.height)
-    s = find_settings(capture_frame(left, SENSOR), capture_frame(right, SENSOR), SENSOR)
-    return s, left, right
-
-
 def small_disparity(disparity, setup_small):
     """The board's disparity scaled to the small buffers (same fraction of the image width, at least 1)."""
     from hdl.params import SENSOR
@@ -60,6 +49,7 @@ def small_disparity(disparity, setup_small):
 
 def run(args):
     from . import cmd_run
+    from sim.disparity_pictures import bundled_pair_settings
     from sim.errors import SimulationFailed
     from sim.system.run_cocotb import DEFAULT_PAIR
     from sim.system.setup import SystemSetup
@@ -70,7 +60,7 @@ def run(args):
     outputs = RunOutputs(out, OUTPUTS, stale=STALE_PATTERNS).start()
     t0 = time.perf_counter()
     print("finding the motorcycle's disparity in the bundled pair ...", flush=True)
-    settings, _, _ = find_demo_settings()
+    settings, _, _ = bundled_pair_settings()
     d, r = settings.disparity, settings.rectification
     print(f"  disparity {d}, rectification {r} (mean |L-R| minimum over the motorcycle; Middlebury ground truth "
           f"median {settings.ground_truth_median:.1f} buffer pixels); a wrong one: {settings.wrong_disparity}")
