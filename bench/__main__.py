@@ -1,4 +1,5 @@
-"""Run every ``bench/bench_*.py`` module's ``main()`` in turn, or only the ones named on the command line."""
+"""Run every ``bench/bench_*.py`` module's ``main()`` in turn, or only the ones named on the command line; options
+after a single name go to that benchmark (``python -m bench system --cocotb``)."""
 
 import argparse
 import importlib
@@ -18,7 +19,9 @@ def main(argv=None):
     parser = argparse.ArgumentParser(prog="python -m bench", description=__doc__)
     parser.add_argument("benches", nargs="*", metavar="NAME",
                         help=f"benchmarks to run (default: all): {', '.join(n[len('bench_'):] for n in names)}")
-    args = parser.parse_args(argv)
+    args, options = parser.parse_known_args(argv)
+    if options and len(args.benches) != 1:
+        parser.error(f"options {' '.join(options)} go to one benchmark: name exactly one")
     chosen = []
     for name in args.benches or names:
         module = name if name.startswith("bench_") else f"bench_{name}"
@@ -30,7 +33,8 @@ def main(argv=None):
         print(f"== {module} ==", flush=True)
         start = time.perf_counter()
         try:
-            importlib.import_module(f"bench.{module}").main()
+            bench_main = importlib.import_module(f"bench.{module}").main
+            bench_main(options) if options else bench_main()
         except Exception as exc:        # noqa: BLE001 - one failing bench must not hide the others' figures
             failed.append(module)
             print(f"{module} failed: {type(exc).__name__}: {exc}", file=sys.stderr)
