@@ -7,7 +7,9 @@ ROM (synchronous read), one word per entry. Out of reset the sequencer runs the 
 * ``Write``: ``S addr+W reg.. data.. P`` (most significant byte first).
 * ``Wait``: counts the given time.
 * ``Poll``: ``S addr+W reg.. Sr addr+R data.. P`` until ``data & mask == value``; ``attempts`` reads at most,
-  ``interval_us`` apart. A one-attempt poll is an ID check.
+  ``interval_us`` apart. A one-attempt poll is an ID check that stops the table on a mismatch.
+* ``Check``: one read as for a poll; ``data & mask != value`` sets the sticky ``mismatch`` status and the table
+  goes on (identification bytes that are shown, not enforced).
 
 Faults: a NACK (address or data byte) or a lost arbitration ends the transaction with a STOP; the sequencer
 waits ``retry_delay_us`` and repeats the whole transaction, at most ``retries`` more times, then stops with
@@ -18,8 +20,8 @@ never raises ``done`` (only a reset restarts it).
 Outputs: ``i2c`` (:data:`hdl.i2c_master.I2CSignature`, the master's own pins) and ``status``
 (:class:`InitStatusSignature`, all ``sync``, registered): ``busy`` until the table ends or fails; ``done``
 (sticky) once every entry has completed; ``error`` (sticky) with ``error_code`` (:class:`ErrorCode`) and
-``entry`` = index of the failing entry (while running: the current entry; after ``done``: the table length).
-``done`` and ``error`` are never high together.
+``entry`` = index of the failing entry (while running: the current entry; after ``done``: the table length);
+``mismatch`` (sticky) once a ``Check`` read another value. ``done`` and ``error`` are never high together.
 
 Clock domain: ``sync`` (``clk_hz``, 100 MHz on the board). Latency: the bus time of the table plus its waits;
 about 0.46 ms per MT9D112 write and 0.30 ms per CH7301C write at 100 kHz.
@@ -32,7 +34,7 @@ from amaranth.lib.wiring import Out
 
 from .forward import forward
 from .i2c_master import Cmd, I2CMaster, I2CSignature
-from .init_tables import InitTable, Wait, Write
+from .init_tables import Check, InitTable, Wait, Write
 from .params import CLOCKS
 from .signature import ParametricSignature
 from .rejecting import rejecting
@@ -51,14 +53,15 @@ class ErrorCode(enum.Enum, shape=3):
 
 class InitStatusSignature(ParametricSignature):
     """What an init sequencer reports for a table of ``entries`` entries: ``busy``, ``done``, ``error``,
-    ``error_code`` (:class:`ErrorCode`) and ``entry`` (0 .. ``entries``)."""
+    ``error_code`` (:class:`ErrorCode`), ``mismatch`` (a ``Check`` read another value) and ``entry``
+    (0 .. ``entries``)."""
 
     def __init__(self, entries):
         super().__init__({"busy": Out(1), "done": Out(1), "error": Out(1), "error_code": Out(ErrorCode),
-                          "entry": Out(range(entries + 1))}, entries=entries)
+                          "mismatch": Out(1), "entry": Out(range(entries + 1))}, entries=entries)
 
 
-_OP_WRITE, _OP_WAIT, _OP_POLL = 0, 1, 2
+_OP_WRITE, _OP_WAIT, _OP_POLL, _OP_CHECK = 0, 1, 2, 3
 
 
 def _us_to_cycles(us, clk_hz):
@@ -118,6 +121,9 @@ class InitSequencer(wiring.Component):
             elif isinstance(e, Wait):
                 words.append(dict(op=_OP_WAIT, reg=0, value=0, mask=0,
                                   count=_us_to_cycles(e.us, self.clk_hz), attempts=0))
+            elif isinstance(e, Check):
+                words.append(dict(op=_OP_CHECK, reg=e.reg, value=e.value & ((1 << db) - 1),
+                                  mask=e.mask & ((1 << db) - 1), count=0, attempts=1))
             else:
                 words.append(dict(op=_OP_POLL, reg=e.reg, value=e.value & ((1 << db) - 1),
                                   mask=e.mask & ((1 << db) - 1),
@@ -270,6 +276,10 @@ class _States:
         with m.State("COMPLETE"):
             with m.If(e.op == _OP_WRITE):
                 self.finish_entry()
+            with m.Elif(e.op == _OP_CHECK):
+                with m.If((self.rx & e.mask) != e.value):
+                    m.d.sync += self.seq.status.mismatch.eq(1)
+                self.finish_entry()
             with m.Elif((self.rx & e.mask) == e.value):
                 self.finish_entry()
             with m.Elif(polls + 1 >= e.attempts):
@@ -300,8 +310,8 @@ class _States:
         with m.If(aborting):
             m.d.comb += master.cmd.eq(Cmd.STOP)
         with m.Elif(~fsm.ongoing("LOAD")):
-            for steps, op in ((self.write_steps, _OP_WRITE), (self.read_steps, _OP_POLL)):
-                with m.If(e.op == op):
+            for steps, ops in ((self.write_steps, (_OP_WRITE,)), (self.read_steps, (_OP_POLL, _OP_CHECK))):
+                with m.If(e.op.matches(*ops)):
                     with m.Switch(self.step):
                         for i, (cmd, wdata, rd_ack, addr_step) in enumerate(steps):
                             with m.Case(i):

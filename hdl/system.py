@@ -30,9 +30,10 @@ the XCLK pair as two single-ended ODDR outputs in the 90-degree ``pix90`` domain
 LVCMOS33 (docs/board.md), so the OBUFDS of ``CH7301COutput(ddr="virtex5")`` cannot drive them.
 
 Status LEDs (``panel.leds``): 0 camera A bus init done, 1 camera A bus error, 2 camera B bus init done, 3 camera B
-bus error, 4 CH7301C init done, 5 CH7301C error, 6 display heartbeat (toggles every ``2**heartbeat_log2``
-display frames: 32 frames = 0.53 s at 60 Hz), 7 camera A heartbeat (toggles every ``2**cam_heartbeat_log2``
-captured frames, about 0.5 s at 15 fps).
+bus error, 4 CH7301C init done, 5 CH7301C: steady on = I2C error (bring-up stopped), blinking with LED 6 = its
+version or device ID byte (0x4A / 0x4B) read another value than the table's (``init.dvi.mismatch``, bring-up
+went on), 6 display heartbeat (toggles every ``2**heartbeat_log2`` display frames: 32 frames = 0.53 s at
+60 Hz), 7 camera A heartbeat (toggles every ``2**cam_heartbeat_log2`` captured frames, about 0.5 s at 15 fps).
 
 Sensor and transmitter control pins (``control``, ``sync``): ``cam_rst_n`` and ``dvi_reset_n`` are low while
 ``sync`` is in reset (so until the clocks are locked) and high from the first clock after; ``cam_vdden``
@@ -234,7 +235,8 @@ class StereoDepthSystem(wiring.Component):
         m.d.comb += [
             self.panel.leds[0].eq(init.cam_a.done), self.panel.leds[1].eq(init.cam_a.error),
             self.panel.leds[2].eq(init.cam_b.done), self.panel.leds[3].eq(init.cam_b.error),
-            self.panel.leds[4].eq(init.dvi.done), self.panel.leds[5].eq(init.dvi.error),
+            self.panel.leds[4].eq(init.dvi.done),
+            self.panel.leds[5].eq(init.dvi.error | (init.dvi.mismatch & frames[-1])),
             self.panel.leds[6].eq(frames[-1]),
             self.panel.leds[7].eq(self.capture.cam_a.frame_count[self.cam_heartbeat_log2]),
         ]

@@ -292,143 +292,70 @@ class RegisterTarget(I2CTarget):
 class MT9D112Model(RegisterTarget):
     """The MT9D112's I2C register file (16-bit registers, 16-bit data) at 7-bit address 0x3C.
 
-    Behaviour modelled: chip version 0x3000 = 0x1580 (read only); MCU variables through 0x338C (address: bit 15
-    8-bit access, bits 12:8 driver, 7:0 offset) and 0x3390 (data); the sequencer command variable (driver 1,
-    offset 3) reads back the command for ``cmd_busy_reads`` reads, then 0, and only then does the command take
-    effect (2 = capture: context B; 1 = preview: context A; 5/6 = refresh) -- and only while the MCU is out of
-    reset (0x3386 bit 0 clear). Context settings (output size, output format) are latched when a command
-    completes. PLL: 0x341C dividers, 0x341E bit 1 power-down, bit 0 bypass; turning the bypass off less than
-    ``pll_lock_s`` after powering the PLL is logged in :meth:`problems`. The device NACKs its address for
-    ``boot_s`` after the start of the simulation (reset released at t = 0).
+    The registers, MCU variables and sequencer are :class:`sim.mt9d112_registers.MT9D112Registers` (``self.chip``):
+    every write is decoded there and one the model does not understand raises
+    :class:`~sim.mt9d112_registers.RegisterError`. :meth:`state` is the resulting sensor state (compared field by
+    field with ``golden.part_config.mt9d112_expected``), :meth:`sensor_config` the output the video model
+    (``sim/mt9d112.py``) obeys. The device NACKs its address for ``boot_s`` after the start of the simulation
+    (reset released at t = 0). ``still_frames``: frames a still capture sends before returning to preview.
     """
 
     CHIP_VERSION = 0x1580
 
     def __init__(self, address=I2C_ADDR.MT9D112, *, extclk_hz=CLOCKS.CAM_MCLK_HZ, boot_s=7000 / CLOCKS.CAM_MCLK_HZ,
-                 pll_lock_s=1e-3, cmd_busy_reads=2, **faults):
+                 pll_lock_s=1e-3, cmd_busy_reads=2, still_frames=1, **faults):
         super().__init__(address, reg_bytes=2, data_bytes=2, name="mt9d112", **faults)
-        self.extclk_hz = extclk_hz
+        from sim.mt9d112_registers import MT9D112Registers
         self.boot_s = boot_s
-        self.pll_lock_s = pll_lock_s
         self.cmd_busy_reads = cmd_busy_reads
-        self.regs = {0x3000: self.CHIP_VERSION, 0x3386: 0x0000, 0x341E: 0x8F0B, 0x341C: 0x0000,
-                     0x301A: 0x0000, 0x3202: 0x0000}
-        # Power-on variable values assumed by the model (context A preview SVGA, context B UXGA, YUV).
-        self.vars = {(7, 0x03): 800, (7, 0x05): 600, (7, 0x07): 1600, (7, 0x09): 1200,
-                     (7, 0x95): 0x0000, (7, 0x97): 0x0000, (1, 0x03): 0}
-        self.var_address = 0
-        self.context = "A"
-        self.latched = self._latch("A")
-        self._cmd_reads = 0
-        self._pll_up_at = None
-        self._problems = []
-        self.commands_done = []
+        self.chip = MT9D112Registers(extclk_hz=extclk_hz, pll_lock_s=pll_lock_s, cmd_busy_reads=cmd_busy_reads,
+                                     still_frames=still_frames)
 
     # ---- bus side ----------------------------------------------------------------------------------------
     def ready(self):
         return self.now >= self.boot_s
 
     def write_register(self, reg, value):
-        if reg == 0x3000:
-            return                                       # read-only
-        if reg == 0x338C:
-            self.var_address = value
-        elif reg == 0x3390:
-            self._write_var(value)
-        elif reg == 0x341E:
-            old = self.regs.get(0x341E, 0)
-            if (old & 0x2) and not (value & 0x2):
-                self._pll_up_at = self.now
-            if (old & 0x1) and not (value & 0x1):
-                if self._pll_up_at is None or value & 0x2:
-                    self._problems.append("PLL bypass turned off while the PLL is powered down")
-                elif self.now - self._pll_up_at < self.pll_lock_s:
-                    self._problems.append(
-                        f"PLL bypass turned off {1e6 * (self.now - self._pll_up_at):.0f} us after power-up "
-                        f"(lock time {1e6 * self.pll_lock_s:.0f} us)")
-        self.regs[reg] = value
+        self.chip.write(reg, value, self.now)
 
     def read_register(self, reg):
-        if reg == 0x3390:
-            return self._read_var()
-        return self.regs.get(reg, 0)
-
-    def _var_key(self):
-        a = self.var_address
-        return ((a >> 8) & 0x1F, a & 0xFF), bool(a & 0x8000)
-
-    def _write_var(self, value):
-        key, is8 = self._var_key()
-        value &= 0xFF if is8 else 0xFFFF
-        self.vars[key] = value
-        if key == (1, 0x03) and value:
-            self._cmd_reads = 0
-
-    def _read_var(self):
-        key, is8 = self._var_key()
-        value = self.vars.get(key, 0)
-        if key == (1, 0x03) and value:
-            if self.mcu_running:
-                self._cmd_reads += 1
-                if self._cmd_reads > self.cmd_busy_reads:
-                    self._execute(value)
-                    value = self.vars[key] = 0
-        return value & (0xFF if is8 else 0xFFFF)
-
-    @property
-    def mcu_running(self):
-        return not (self.regs.get(0x3386, 0) & 0x1)
-
-    def _execute(self, cmd):
-        if cmd == 1:
-            self.context = "A"
-        elif cmd == 2:
-            self.context = "B"
-        self.latched = self._latch(self.context)
-        self.commands_done.append(cmd)
-
-    def _latch(self, context):
-        w, h, f = ((7, 0x03), (7, 0x05), (7, 0x95)) if context == "A" else ((7, 0x07), (7, 0x09), (7, 0x97))
-        keys = dict(width=w, height=h, fmt=f, crop_x0=(7, 0x5F), crop_x1=(7, 0x61), crop_y0=(7, 0x63),
-                    crop_y1=(7, 0x65), col_start=(7, 0x31), col_end=(7, 0x35), row_start=(7, 0x2F),
-                    row_end=(7, 0x33))
-        return {k: self.vars.get(v) for k, v in keys.items()}
+        return self.chip.read(reg, self.now)
 
     # ---- configuration seen by the sensor model ---------------------------------------------------------
     @property
+    def commands_done(self):
+        return self.chip.commands_done
+
+    @property
     def streaming(self):
-        """Parallel output on: the bits both references set in 0x301A (0x00CC: stream, drive pins, parallel)."""
-        return (self.regs.get(0x301A, 0) & 0x00CC) == 0x00CC
+        """Parallel output on (0x301A bits 0x00CC)."""
+        return self.chip.parallel_output
 
     @property
     def pixel_clock_hz(self):
-        ctl = self.regs.get(0x341E, 0x8F0B)
-        if ctl & 0x1 or ctl & 0x2:
-            return self.extclk_hz
-        div = self.regs.get(0x341C, 0)
-        m, n = div & 0xFF, (div >> 8) & 0x3F
-        return self.extclk_hz * m / (n + 1) / 8
+        return self.chip.pclk_hz
+
+    def state(self):
+        """The sensor state (``MT9D112Registers.state``)."""
+        return self.chip.state()
 
     def sensor_config(self):
-        """The output configuration in force: ``rgb565`` only once RGB 5:6:5 is selected for the active
-        context, the context was entered by a completed sequencer command, and the parallel output streams."""
-        f = self.latched["fmt"] or 0
-        rgb = bool(f & 0x20) and ((f >> 6) & 0x3) == 0 and not (f & 0x0105)
-        return SensorConfig(width=self.latched["width"], height=self.latched["height"],
-                            rgb565=rgb and self.streaming and bool(self.commands_done),
-                            r_byte_first=not (f & 0x2))
+        """The output in force: ``rgb565`` once the active context outputs RGB 5:6:5 without R/B swap, a
+        sequencer command has completed and the parallel output is on."""
+        st = self.chip.state()
+        rgb = st["output_format"] == "rgb565" and not st["rb_swapped"]
+        return SensorConfig(width=st["output_width"], height=st["output_height"],
+                            rgb565=rgb and st["parallel_output"] and bool(self.chip.commands_done),
+                            r_byte_first=st["r_byte_first"])
+
+    def start_frame(self):
+        """Called by the video model at each frame boundary; returns the configuration of that frame."""
+        self.chip.start_frame()
+        return self.sensor_config()
 
     def problems(self):
-        """Inconsistencies found in what was written (empty list = none)."""
-        out = list(self._problems)
-        lat = self.latched
-        if self.context == "B" and None not in lat.values():
-            if lat["crop_x1"] - lat["crop_x0"] < lat["width"] or lat["crop_y1"] - lat["crop_y0"] < lat["height"]:
-                out.append("output size larger than the crop window (the resizer only scales down)")
-            if (lat["col_end"] - lat["col_start"] + 1 < lat["crop_x1"]
-                    or lat["row_end"] - lat["row_start"] + 1 < lat["crop_y1"]):
-                out.append("crop window larger than the sensor window")
-        return out
+        """Writes not understood and inconsistencies found in what was written (empty list = none)."""
+        return list(self.chip.errors) + self.chip.consistency()
 
 
 # --------------------------------------------------------------------------------------------------------
@@ -446,26 +373,33 @@ class DviConfig:
 
 class CH7301CModel(RegisterTarget):
     """The CH7301C's register file (8-bit registers) at 7-bit address 0x76 (AS strap; 0x75 is the other
-    choice). Read-only version ID 0x4A = 0x95 and device ID 0x4B = 0x17; power management 0x49 starts in full
-    power-down (0x01, model assumption)."""
+    choice): :class:`sim.ch7301c_registers.CH7301CRegisters` (``self.chip``) decodes every write (one it does not
+    understand raises ``RegisterError``). Version ID 0x4A / device ID 0x4B read ``version_id`` / ``device_id``
+    (0x95 / 0x17 by default; another value models a part the table does not expect). :meth:`state` is the
+    transmitter's mode, :meth:`dvi_config` the summary the older tests use."""
 
-    def __init__(self, address=I2C_ADDR.CH7301C, **faults):
+    def __init__(self, address=I2C_ADDR.CH7301C, *, version_id=0x95, device_id=0x17, **faults):
         super().__init__(address, reg_bytes=1, data_bytes=1, name="ch7301c", **faults)
-        self.regs = {0x49: 0x01, 0x4A: 0x95, 0x4B: 0x17}
+        from sim.ch7301c_registers import CH7301CRegisters
+        self.chip = CH7301CRegisters(version_id=version_id, device_id=device_id)
 
     def write_register(self, reg, value):
-        if reg not in (0x4A, 0x4B):
-            self.regs[reg & 0xFF] = value
+        self.chip.write(reg & 0xFF, value)
 
     def read_register(self, reg):
-        return self.regs.get(reg & 0xFF, 0)
+        return self.chip.read(reg & 0xFF)
+
+    def state(self):
+        return self.chip.state()
+
+    def problems(self):
+        return list(self.chip.errors)
 
     def dvi_config(self):
-        pm, idf = self.regs.get(0x49, 0x01), self.regs.get(0x1F, 0)
-        pll = (self.regs.get(0x33), self.regs.get(0x34), self.regs.get(0x36))
-        rng = {(0x06, 0x26, 0xA0): "high", (0x08, 0x16, 0x60): "low"}.get(pll, "unset")
-        return DviConfig(dvi_on=(pm & 0xC1) == 0xC0, idf=idf & 0x7, hsync_positive=bool(idf & 0x08),
-                         vsync_positive=bool(idf & 0x10), pll_range=rng)
+        st = self.chip.state()
+        rng = {"> 65 MHz": "high", "<= 65 MHz": "low"}.get(st["dvi_pll"], "unset")
+        return DviConfig(dvi_on=st["dvi_output"], idf=self.chip.regs[0x1F] & 0x7,
+                         hsync_positive=st["hsync_positive"], vsync_positive=st["vsync_positive"], pll_range=rng)
 
 
 # --------------------------------------------------------------------------------------------------------

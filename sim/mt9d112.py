@@ -214,8 +214,10 @@ class MT9D112:
         return words
 
     def frame(self, image, faults=None):
-        """One frame period: vertical blanking then the frame (or, unconfigured, a frame period of FV low)."""
-        cfg = self.config()
+        """One frame period: vertical blanking then the frame (or, unconfigured, a frame period of FV low). A
+        register-file model with ``start_frame()`` is told that a frame starts (a still capture counts it)."""
+        start = getattr(self._config, "start_frame", None)
+        cfg = start() if start is not None else self.config()
         t = self.timing
         faults = faults or Faults()
         line_len = 2 * cfg.width

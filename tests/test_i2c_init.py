@@ -10,14 +10,15 @@ retry/timeout values) runs on both simulators in the ``slow`` test.
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
-from sim.i2c_expected import (expected_dvi_config, expected_prefix, expected_reads, expected_sensor_config,
-                               expected_writes)
+from golden.part_config import ch7301c_expected, mt9d112_expected
 from hdl.i2c_init import ErrorCode, InitSequencer
 from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE, InitTable, Poll, Wait, Write, CH7301C
 from sim.amaranth_sim import simulate
 from sim.cocotb_runner import run_cocotb
 from sim.i2c_bus import I2CBench, amaranth_target_process, i2c_bench_waves
-from sim.i2c_devices import CH7301CModel, I2CBusMonitor, MT9D112Model
+from sim.i2c_devices import CH7301CModel, I2CBusMonitor, MT9D112Model, RegisterTarget
+from sim.i2c_table import expected_prefix, expected_reads, expected_writes
+from sim.sensor_config import expected_sensor_config
 
 CLK = 1_000_000
 FAST = dict(retries=2, retry_delay_us=50, timeout_us=500)
@@ -47,6 +48,7 @@ def run_sequencer(table, targets, *, limit_s, quiet_s=0.002, clk=CLK, **kw):
         r.t_settled = cycles / clk
         r.done, r.error = done, error
         r.code, r.entry = ctx.get(status.error_code), ctx.get(status.entry)
+        r.mismatch = ctx.get(status.mismatch)
         # afterwards: the status must not change and the bus must stay quiet
         _, _, expired = await ctx.changed(status.done, status.error).delay(quiet_s)
         assert expired, "done/error changed after the sequencer had settled"
@@ -75,7 +77,9 @@ def test_mt9d112_table_configures_1600x1200_rgb565():
     assert [reg for _, reg in expected_reads(MT9D112_TABLE)] == [0x3000, 0x3390]
     assert cam.sensor_config() == expected_sensor_config()
     assert cam.problems() == []
-    assert cam.pixel_clock_hz == 80e6 and cam.streaming and cam.commands_done == [2]
+    state = cam.state()
+    assert {k: state[k] for k in mt9d112_expected()} == {k: e.value for k, e in mt9d112_expected().items()}
+    assert cam.commands_done == [2]
     polls = [t for t in r.monitor.transactions if "Sr" in t]
     assert len(polls) == len(cam.reads)                      # every register read uses a repeated START
     assert len(r.monitor.transactions) == len(cam.writes) + len(cam.reads)   # no retry in a clean run
@@ -87,8 +91,8 @@ def test_ch7301c_table_configures_dvi_for_1080p():
     r = run_sequencer(CH7301C_TABLE, [dvi], limit_s=0.02)
     assert (r.done, r.error, r.entry) == (1, 0, len(CH7301C_TABLE))
     assert named("ch7301c", dvi.writes) == expected_writes(CH7301C_TABLE)
-    assert dvi.reads == [(0x4A, 0x95), (0x4B, 0x17)]
-    assert dvi.dvi_config() == expected_dvi_config()
+    assert dvi.reads == [(0x4A, 0x95), (0x4B, 0x17)] and r.mismatch == 0
+    assert dvi.state() == {k: e.value for k, e in ch7301c_expected().items()}
     assert len(r.monitor.transactions) == len(dvi.writes) + len(dvi.reads)
     assert r.monitor.violations() == []
 
@@ -149,12 +153,23 @@ def test_bus_held_low_is_stuck(line):
     assert r.t_settled < FAST["timeout_us"] * 1e-6 + 0.5e-3   # timeout (+ the 9-pulse bus clear for SDA)
 
 
-def test_wrong_chip_id_is_a_poll_error():
-    dvi = CH7301CModel()
-    dvi.regs[0x4B] = 0x18
+@pytest.mark.parametrize("ids", [dict(version_id=0x4A), dict(device_id=0x18)], ids=["version", "device"])
+def test_unexpected_ch7301c_id_is_shown_and_the_bring_up_goes_on(ids):
+    """The CH7301C's ID bytes are Checks: another value sets ``mismatch`` (an LED) and the table completes."""
+    dvi = CH7301CModel(**ids)
     r = run_sequencer(CH7301C_TABLE, [dvi], limit_s=0.02)
-    assert (r.done, r.error, r.code, r.entry) == (0, 1, ErrorCode.POLL, 1)
-    assert dvi.writes == [] and r.quiet_after
+    assert (r.done, r.error, r.mismatch) == (1, 0, 1)
+    assert named("ch7301c", dvi.writes) == expected_writes(CH7301C_TABLE)
+
+
+def test_wrong_chip_version_stops_the_sensor_table():
+    """The MT9D112's chip version stays a one-shot Poll: another value stops its table at that entry."""
+    cam = MT9D112Model()
+    cam.chip.regs[0x3000] = 0x1581
+    r = run_sequencer(MT9D112_TABLE, [cam], limit_s=0.02)
+    idx = next(i for i, e in enumerate(MT9D112_TABLE.entries) if isinstance(e, Poll) and e.reg == 0x3000)
+    assert (r.done, r.error, r.code, r.entry) == (0, 1, ErrorCode.POLL, idx)
+    assert cam.writes == [] and r.quiet_after
 
 
 def test_poll_gives_up_after_its_attempts():
@@ -176,6 +191,21 @@ def test_waits_last_their_time():
 
 # --- random tables ---------------------------------------------------------------------------------------
 
+class ScratchTarget(RegisterTarget):
+    """A plain 8-bit register file at the CH7301C's address: any register takes any value (the CH7301C model
+    refuses registers it does not know; these tables test the sequencer, not the part)."""
+
+    def __init__(self, address, **faults):
+        super().__init__(address, reg_bytes=1, data_bytes=1, name="scratch", **faults)
+        self.regs = {}
+
+    def write_register(self, reg, value):
+        self.regs[reg] = value
+
+    def read_register(self, reg):
+        return self.regs.get(reg, 0)
+
+
 _entry = st.one_of(
     st.builds(lambda r, v: Write(r, v, "random"), st.integers(0, 0x48), st.integers(0, 0xFF)),
     st.builds(lambda us: Wait(us, "random"), st.integers(0, 300)),
@@ -188,7 +218,7 @@ _entry = st.one_of(
 def test_random_tables_with_transient_nacks(entries, nacks, nack_byte):
     """Any table, with up to ``retries`` NACKs of a register or data byte: every write lands, in order, once."""
     table = InitTable(CH7301C, tuple(entries))
-    dvi = CH7301CModel(nack_write_byte=nack_byte, nack_times=nacks)
+    dvi = ScratchTarget(0x76, nack_write_byte=nack_byte, nack_times=nacks)
     r = run_sequencer(table, [dvi], limit_s=0.05)
     assert (r.done, r.error) == (1, 0)
     assert named("ch7301c", dvi.writes) == expected_writes(table)

@@ -1,6 +1,6 @@
 """The I2C transaction filter GTKWave runs (sim/i2c_wave_filter.py) decodes a recorded bus as two independent
 references do: the project's bus monitor (sim.i2c_devices.I2CBusMonitor, fed by the simulation itself, not by
-the VCD) transaction by transaction, and the golden write list (golden/i2c_writes.py) write by write.
+the VCD) transaction by transaction, and the table's write list (sim/i2c_table.py) write by write.
 
 Buses: the MT9D112 table (writes, and polls that read back after a repeated START) against the register-file
 model; the CH7301C table against a target that NACKs its address (the sequencer retries, then gives up). The
@@ -17,7 +17,7 @@ from sim.amaranth_sim import simulate
 from sim.gtkw import I2CBus, Waves, changes, read_vars
 from sim.i2c_bus import I2CBench, amaranth_target_process
 from sim.i2c_devices import I2CBusMonitor, I2CTarget, MT9D112Model
-from sim.i2c_expected import expected_writes
+from sim.i2c_table import expected_writes
 from sim.i2c_wave_filter import decode, transaction_text, transactions
 from sim.system.setup import SystemSetup
 

@@ -7,7 +7,7 @@ import pytest
 from golden.stereo_pair import load_default_pair
 from hdl.init_tables import CH7301C_TABLE
 from sim.hdmi_sink import HdmiSink
-from sim.i2c_expected import expected_writes
+from sim.i2c_table import expected_writes
 from sim.system.result import SystemTimeout
 from sim.system.run_verilator import VerilatorRun, camera_pins, run_verilator
 from sim.system.setup import SystemSetup

@@ -30,8 +30,8 @@ from sim.gtkw import recording
 from sim.hdmi_sink import HdmiSink, amaranth_sink_testbench
 from sim.i2c_bus import amaranth_target_process
 from sim.i2c_devices import I2CBusMonitor
-from sim.i2c_expected import expected_sensor_config
 from sim.mt9d112 import drive_amaranth
+from sim.sensor_config import expected_sensor_config
 from sim.sensor_replay import pack_stream
 from sim.system.bench import SystemBench
 from sim.system.result import SystemResult, SystemTimeout, check_run
@@ -95,7 +95,7 @@ class PythonSensors(AmaranthRoute):
 
 class ReplayedSensors(AmaranthRoute):
     """Each camera's frame-period stream, made before the run for the spec's configuration
-    (:func:`sim.i2c_expected.expected_sensor_config`), replayed from a ROM in the design; gated simulator clocks.
+    (:func:`sim.sensor_config.expected_sensor_config`), replayed from a ROM in the design; gated simulator clocks.
     A :class:`~sim.system.result.SystemTimeout` is raised if the I2C init configures a register-file model to
     anything else."""
 

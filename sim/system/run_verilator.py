@@ -12,7 +12,7 @@ Python keeps the models and the phases of every run (``sim/system/run_amaranth.p
 runs in C++ until something Python must answer -- an I2C line changes (the register-file models answer at that
 instant; the bus monitors see every change of the whole run), a status output a phase waits for changes, or a
 time a phase set -- so nothing polls and no Python runs per clock. Each sensor's stream is made before the run by
-the sensor model for the configuration the I2C init must produce (:func:`sim.i2c_expected.expected_sensor_config`);
+the sensor model for the configuration the I2C init must produce (:func:`sim.sensor_config.expected_sensor_config`);
 a camera starts the instant its register-file model says RGB565 and streaming, and only if that configuration is
 exactly the expected one (a :class:`~sim.system.result.SystemTimeout` otherwise: the configuration guard).
 
@@ -28,7 +28,7 @@ import numpy as np
 from hdl.system import CAMERAS, DISPLAY_LATENCY, I2C_BUSES
 from sim.hdmi_sink import HdmiSink
 from sim.i2c_devices import I2CBusMonitor
-from sim.i2c_expected import expected_sensor_config
+from sim.sensor_config import expected_sensor_config
 from sim.sensor_replay import pack_stream
 from sim.system.cocotb_routes import period_ps
 from sim.system.result import SystemResult, SystemTimeout, check_run

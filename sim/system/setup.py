@@ -59,7 +59,7 @@ class SystemSetup:
     disparity: int = 0
     rectification: int = 0
     time_scale: float = 1.0            # applied to the MT9D112 table's waits and the model's boot/PLL times
-    quick_table: bool = False          # only the MT9D112 table's essential entries (sim/system_tables.py)
+    quick_table: bool = False          # only the MT9D112 table's essential entries (sim/system/tables.py)
     i2c_hz: int = CLOCKS.I2C_HZ
     i2c_retry_delay_us: int = 1000
     sys_hz: int = CLOCKS.SYS_HZ

@@ -21,7 +21,7 @@ from cocotb.simtime import get_sim_time
 from cocotb.triggers import ClockCycles, Timer
 from cocotbext.i2c import I2cDevice
 
-from sim.i2c_expected import expected_prefix, expected_writes
+from sim.i2c_table import expected_prefix, expected_writes
 from hdl.i2c_init import ErrorCode
 from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE, Wait, Write
 from sim.cocotb_runner import TopPorts, test_params
