@@ -1,8 +1,14 @@
 """Dual-clock frame buffer: one grey image, written by a camera, read by the display side (thesis 4.2.1).
 
-A simple dual-port block RAM (``amaranth.lib.memory.Memory``) of ``geometry.buf_depth`` words of
-``geometry.gray_bits`` bits, addressed ``A = y * buf_width + x`` (thesis eq. 4.1). 400 x 300 x 5 bits by
-default: 120,000 words, which synthesis maps onto block RAM.
+A simple dual-port RAM of ``geometry.buf_depth`` words of ``geometry.gray_bits`` bits, addressed
+``A = y * buf_width + x`` (thesis eq. 4.1). 400 x 300 x 5 bits by default: 120,000 words.
+
+Mapping: the word is stored as ``gray_bits`` one-bit-wide memories (``amaranth.lib.memory.Memory``, one per bit,
+same addresses, same ports). A 120,000 x 1 memory fits only one way into Virtex-5 block RAM: RAMB36 in its
+32K x 1 aspect ratio, 4 blocks (or the same 4 blocks' worth as 8 RAMB18 16K x 1), so a synthesis tool cannot
+take more than 4 x 5 = 20 RAMB36 for a frame buffer whatever it does -- a single 120,000 x 5 memory could be
+built from 4K x 9 (30 blocks) or 8K x 4 (30 blocks) as well as 32K x 1 (20). It stays one Amaranth design that
+Amaranth's simulator runs (tests/test_capture.py, tests/test_compositor.py).
 
 Clock domains: the write port is in ``write_domain`` (a camera's PCLK domain), the read port in
 ``read_domain`` (the pixel clock). The two ports share no logic, so no synchroniser is needed; a read of a word
@@ -15,7 +21,7 @@ Safety: a write whose ``write.addr`` is not below the depth is dropped, so no ad
 stream can land outside the buffer, whatever the capture logic upstream does.
 """
 
-from amaranth import Module, unsigned
+from amaranth import Cat, Module
 from amaranth.lib import wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
@@ -75,15 +81,17 @@ class FrameBuffer(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         depth = self.geometry.buf_depth
-        m.submodules.memory = memory = Memory(
-            shape=unsigned(self.geometry.gray_bits), depth=depth, init=self._init)
-        write = memory.write_port(domain=self.write_domain)
-        read = memory.read_port(domain=self.read_domain)
-        m.d.comb += [
-            write.addr.eq(self.write.addr),
-            write.data.eq(self.write.data),
-            write.en.eq(self.write.en & (self.write.addr < depth)),
-            read.addr.eq(self.read.addr),
-            self.read.data.eq(read.data),
-        ]
+        w_en = self.write.en & (self.write.addr < depth)
+        bits = []
+        for i in range(self.geometry.gray_bits):
+            init = [(word >> i) & 1 for word in self._init]
+            m.submodules[f"bit{i}"] = memory = Memory(shape=1, depth=depth, init=init)
+            write = memory.write_port(domain=self.write_domain)
+            read = memory.read_port(domain=self.read_domain)
+            m.d.comb += [
+                write.addr.eq(self.write.addr), write.data.eq(self.write.data[i]), write.en.eq(w_en),
+                read.addr.eq(self.read.addr),
+            ]
+            bits.append(read.data)
+        m.d.comb += self.read.data.eq(Cat(*bits))
         return m

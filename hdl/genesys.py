@@ -30,8 +30,8 @@ from amaranth.vendor import XilinxPlatform
 from .params import CLOCKS
 
 __all__ = [
-    "GenesysPlatform", "PIN_SOURCES", "UNCONFIRMED", "VMODCAM_PINS", "CAM_PCLK_MAX_HZ",
-    "parse_pin_file", "ucf_net_line",
+    "GenesysPlatform", "PIN_SOURCES", "UNCONFIRMED", "VMODCAM_PINS", "CAM_PCLK_MAX_HZ", "CAM_OFFSET_IN_NS",
+    "CAM_VALID_NS", "XST_OPTIONS", "parse_pin_file", "ucf_net_line",
 ]
 
 # --- Sources ------------------------------------------------------------------------------------------------
@@ -94,6 +94,23 @@ def _unconfirmed_names():
 UNCONFIRMED = _unconfirmed_names()
 
 _LVCMOS33 = Attrs(IOSTANDARD="LVCMOS33")
+#: CH7301C data, H, V, DE: fast edges (the data pins change at 297 Mb/s, twice per pixel clock; the PoC ML505 DVI
+#: UCF, the same CH7301C wiring, sets SLEW = FAST on every DVI pin) and a stated drive of 12 mA (LVCMOS33's
+#: default made explicit: no Genesys source gives one for these pins; the XCLK pair keeps the source's 24 mA).
+#: Check the edges on the first power-up (docs/board.md).
+_DVI_DATA = Attrs(DRIVE="12", SLEW="FAST")
+
+#: OFFSET IN of each camera's D, LV, FV against its PCLK rising edge: data valid from 1.25 ns before the edge,
+#: for 7.5 ns. Source: Digilent's VmodCAM reference design for the Atlys (the same camera board, 80 MHz PCLK):
+#: ``OFFSET = IN 1.25 ns VALID 7.5 ns BEFORE "CAMA_PCLK_I" RISING`` (system.ucf, stored copy in
+#: tariqmuh/XPS_VmodCam IP1_VideoIn/implementation/system.ucf). The MT9D112 data sheet's output timing figures
+#: could not be read here; Digilent's numbers are the constraint its own design meets with this sensor.
+CAM_OFFSET_IN_NS = 1.25
+CAM_VALID_NS = 7.5
+
+#: XST options of the command-line script (Amaranth's ``top.xst`` template) that the Project Navigator TCL
+#: must carry too (``Other XST Command Line Options``): the same synthesis whichever flow is used.
+XST_OPTIONS = ("-use_new_parser yes",)
 
 
 def _vmodcam_resource(number, cam, pins):
@@ -128,6 +145,7 @@ class GenesysPlatform(XilinxPlatform):
     """
 
     device = "xc5vlx50t"
+    xst_options = XST_OPTIONS
     package = "ff1136"
     speed = "1"
     default_clk = "clk100"
@@ -159,12 +177,13 @@ class GenesysPlatform(XilinxPlatform):
                      Attrs(IOSTANDARD="LVCMOS33", DRIVE="4", SLEW="SLOW")),
             Resource(
                 "ch7301c", 0,
-                Subsignal("d", Pins("G10 G8 B12 D12 C12 D11 F10 D10 E9 F9 E8 F8", dir="o", assert_width=12)),
+                Subsignal("d", Pins("G10 G8 B12 D12 C12 D11 F10 D10 E9 F9 E8 F8", dir="o", assert_width=12),
+                          _DVI_DATA),
                 Subsignal("xclk_p", Pins("K11", dir="o"), Attrs(DRIVE="24", SLEW="FAST")),
                 Subsignal("xclk_n", Pins("J11", dir="o"), Attrs(DRIVE="24", SLEW="FAST")),
-                Subsignal("h", Pins("H8", dir="o")),
-                Subsignal("v", Pins("F13", dir="o")),
-                Subsignal("de", Pins("V10", dir="o")),
+                Subsignal("h", Pins("H8", dir="o"), _DVI_DATA),
+                Subsignal("v", Pins("F13", dir="o"), _DVI_DATA),
+                Subsignal("de", Pins("V10", dir="o"), _DVI_DATA),
                 Subsignal("reset_n", Pins("AF23", dir="o"), Attrs(PULLUP="TRUE")),
                 _LVCMOS33,
             ),
@@ -189,6 +208,8 @@ class GenesysPlatform(XilinxPlatform):
         templates = dict(super().file_templates)
         if self.toolchain == "ISE":
             templates["{{name}}.ucf"] = _UCF_TEMPLATE
+            templates["{{name}}.v"] = _VERILOG_TEMPLATE
+            templates["{{name}}.xst"] = _XST_TEMPLATE
             templates["{{name}}_ise_project.tcl"] = _ISE_PROJECT_TEMPLATE
             templates["{{name}}.il"] = "{{emit_rtlil()}}"
         if self._files is not None:
@@ -200,6 +221,27 @@ class GenesysPlatform(XilinxPlatform):
         """UCF lines for every port bit of the prepared design (call inside a build, i.e. from a template)."""
         return "\n".join(ucf_net_line(port, pin, attrs, allow_unconfirmed=self.allow_unconfirmed)
                          for port, pin, attrs in self.iter_port_constraints_bits())
+
+    def ucf_camera_offset_lines(self):
+        """OFFSET IN constraints of each camera's D, LV, FV against its PCLK pin (call inside a build)."""
+        lines = []
+        ports = [port for port, _, _ in self.iter_port_constraints_bits()]
+        for number in (0, 1):
+            prefix = f"vmodcam_{number}__"
+            group = f"CAM{number}_IN"
+            for port in ports:
+                if port.startswith((prefix + "d__io", prefix + "lv__io", prefix + "fv__io")):
+                    lines.append(f'NET "{_ucf_port_name(port)}" TNM = "{group}";')
+            lines.append(f'TIMEGRP "{group}" OFFSET = IN {CAM_OFFSET_IN_NS} ns VALID {CAM_VALID_NS} ns BEFORE '
+                         f'"{prefix}pclk__io" RISING;')
+        return "\n".join(lines)
+
+    @staticmethod
+    def board_verilog_text(verilog):
+        """The board's Verilog without the memory initial blocks that only write zeros (see hdl/memory_init.py:
+        the block RAMs configure to zero anyway)."""
+        from .memory_init import strip_zero_memory_init
+        return strip_zero_memory_init(verilog)[0]
 
     def add_clock_group(self, signal, frequency, family):
         """Constrain an internal clock net (PERIOD) and put it in ``family``: nets of different families are
@@ -236,7 +278,28 @@ _UCF_TEMPLATE = r"""
     {% for a, b in platform.ucf_tig_pairs() -%}
     TIMESPEC "TS_TIG{{a|hierarchy("__")}}_TO{{b|hierarchy("__")}}" = FROM "PRD{{a|hierarchy("/")}}" TO "PRD{{b|hierarchy("/")}}" TIG;
     {% endfor %}
+    # Camera inputs: D, LV, FV valid 1.25 ns before PCLK rises, for 7.5 ns (Digilent's VmodCAM design; the input
+    # registers are IOB flip-flops, hdl/top.py).
+    {{platform.ucf_camera_offset_lines()}}
     {{get_override("add_constraints")|default("# (no additional constraints)")}}
+"""
+
+_VERILOG_TEMPLATE = r"""
+    /* {{autogenerated}} */
+    {{platform.board_verilog_text(emit_verilog())}}
+"""
+
+_XST_TEMPLATE = r"""
+    # {{autogenerated}}
+    run
+    -ifn {{name}}.prj
+    -ofn {{name}}.ngc
+    -top {{name}}
+    {% for option in platform.xst_options -%}
+    {{option}}
+    {% endfor -%}
+    -p {{platform.device}}{{platform.package}}-{{platform.speed}}
+    {{get_override("script_after_run")|default("# (script_after_run placeholder)")}}
 """
 
 
@@ -253,6 +316,7 @@ _ISE_PROJECT_TEMPLATE = r"""
     project set top_level_module_type "HDL"
     project set synthesis_tool "XST (VHDL/Verilog)"
     project set "Preferred Language" "Verilog"
+    project set "Other XST Command Line Options" "{{platform.xst_options|join(" ")}}" -process "Synthesize - XST"
     xfile add "{{name}}.v"
     xfile add "{{name}}.ucf"
     project set top "{{name}}"

