@@ -206,10 +206,12 @@ def run_cocotb(design, *, name, test_module, simulator, params=None, waves=None,
             timescale=TIMESCALE if simulator == "icarus" else None, log_file=test_dir / "sim.log",
             plusargs=dump_plusargs(simulator, test_dir) if waves else [],
         )
-    except SystemExit as exc:   # under pytest, cocotb_tools exits on failure: turn it into a readable failure
+    except (SystemExit, RuntimeError) as exc:   # cocotb_tools exits on failure, or raises when the simulator
+        # itself stops (a $fatal in a model): turn either into a readable failure with the log's tail
         _save_waves(waves, simulator, test_dir, verilog_text, name, run_waves, design, failed=True)
         _check_results(results_xml, test_dir / "sim.log")
-        raise AssertionError(f"simulator exited with {exc.code}; see {test_dir / 'sim.log'}") from None
+        raise AssertionError(f"simulator stopped ({exc}); see {test_dir / 'sim.log'}\n"
+                             + _log_tail(test_dir / "sim.log")) from None
     _save_waves(waves, simulator, test_dir, verilog_text, name, run_waves, design,
                 failed=not _passed(results_xml))
     _check_results(results_xml, test_dir / "sim.log")
@@ -250,6 +252,12 @@ def _build(runner, simulator, verilog_text, name, source, extra_sources, build_a
     runner.build(**kwargs)
 
 
+def _log_tail(log_file, lines=30):
+    if not log_file.exists():
+        return ""
+    return "\n".join(log_file.read_text(errors="replace").splitlines()[-lines:])
+
+
 def _check_results(results_xml, log_file):
     if not results_xml.exists():
         raise AssertionError(f"cocotb wrote no results ({results_xml}); see {log_file}")
@@ -259,10 +267,7 @@ def _check_results(results_xml, log_file):
     if not cases:
         raise AssertionError(f"cocotb ran no test; see {log_file}")
     if failed:
-        tail = ""
-        if log_file.exists():
-            tail = "\n".join(log_file.read_text(errors="replace").splitlines()[-60:])
-        raise AssertionError(f"cocotb tests failed: {failed}; log {log_file}\n{tail}")
+        raise AssertionError(f"cocotb tests failed: {failed}; log {log_file}\n{_log_tail(log_file, 60)}")
 
 
 def test_params():

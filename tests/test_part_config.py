@@ -50,6 +50,14 @@ def test_simulation_size_table_reaches_the_golden_state_at_that_size():
     assert differences(cam.state(), mt9d112_expected(SMALL_SENSOR)) == {}
 
 
+def test_quick_simulation_table_keeps_the_sensor_streaming():
+    """The default-run simulations' short table sets the capture mode too: a sensor left in still capture sends
+    one frame and returns to preview (which a one-frame simulation would not notice)."""
+    cam, result = configured_sensor(mt9d112_table(SMALL_SENSOR, time_scale=0.02, quick=True))
+    assert result.done and cam.state()["capture_video"]
+    assert all(cam.start_frame().rgb565 for _ in range(4))
+
+
 def test_ch7301c_table_reaches_the_golden_mode():
     dvi = CH7301CModel()
     result = play_table(CH7301C_TABLE, dvi)

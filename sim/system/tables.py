@@ -10,9 +10,10 @@ derives such tables from the board's table, entry for entry: the same registers 
 * every ``Wait`` and every ``Poll`` interval multiplied by ``time_scale`` (at least 1 us),
 * with ``quick=True``, only the entries the sensor needs to come up in RGB565 at that size kept (:data:`QUICK`):
   the boot wait, the chip-version check, the output format, width, height and crop-window variables, the
-  sequencer "capture" command with its wait and completion poll, and the output enable -- 17 of the table's
-  42 entries. The default-run simulations use it (in the Amaranth simulator the I2C traffic dominates a small
-  run's time); the full table runs in the full-size run.
+  sequencer's capture mode (video: without it the sensor sends one still frame and returns to preview) and
+  "capture" command with its wait and completion poll, and the output enable -- 19 of the table's
+  42 entries. The default-run simulations use it (the Amaranth simulator spends about 1 s of
+  wall time per 20 us of I2C traffic on this design); the full table runs in the full-size run.
 
 The sensor models must then be given matching timing (``MT9D112Model(boot_s=..., pll_lock_s=...)``):
 :func:`model_timing` returns the scaled figures.
@@ -32,8 +33,9 @@ _VAR_DATA = 0x3390
 SIZE_VARIABLES = {(7, 0x07): "width", (7, 0x09): "height", (7, 0x61): "width", (7, 0x65): "height"}
 
 
-#: Variables kept by ``quick=True``: output format, size, crop X1/Y1 (context B) and the sequencer command.
-QUICK_VARIABLES = {(7, 0x97), (7, 0x07), (7, 0x09), (7, 0x61), (7, 0x65), (1, 0x03)}
+#: Variables kept by ``quick=True``: output format, size, crop X1/Y1 (context B), the capture mode and the
+#: sequencer command.
+QUICK_VARIABLES = {(7, 0x97), (7, 0x07), (7, 0x09), (7, 0x61), (7, 0x65), (1, 0x20), (1, 0x03)}
 _QUICK_REGISTERS = {0x3000, 0x301A}       # chip version poll, output enable
 
 

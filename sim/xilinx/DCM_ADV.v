@@ -13,7 +13,8 @@
 // * RST = 1 (asynchronous): every output low, LOCKED low. After RST falls the model measures CLKIN over
 //   MEASURE_EDGES rising edges, checks it against CLKIN_PERIOD (more than 1 % apart is an error), waits the lock
 //   time and starts the outputs at a rising edge of CLKIN, raising LOCKED with them (with feedback: once CLKFB
-//   has followed twice).
+//   has followed twice). The lock sequence and the output generator are shared with PLL_ADV
+//   (sim/xilinx/xil_clocking.v).
 // * Not modelled ($fatal if used): variable phase shift (PSEN), the dynamic reconfiguration port (DEN),
 //   CLKIN_DIVIDE_BY_2, jitter, STATUS bits (0), loss of lock on a changing input.
 // The lock time is a model parameter (SIM_LOCK_TIME_NS, default `XIL_DCM_LOCK_TIME_NS` or 10 us); DS202's
@@ -53,7 +54,7 @@ module DCM_ADV #(
   output CLKFX180,
   output [15:0] DO,
   output DRDY,
-  output reg LOCKED,
+  output LOCKED,
   output PSDONE,
   input CLKFB,
   input CLKIN,
@@ -87,101 +88,30 @@ module DCM_ADV #(
   always @(DEN) if (DEN === 1'b1) $fatal(1, "DCM_ADV %m: the dynamic reconfiguration port (DEN) is not modelled");
   always @(PSEN) if (PSEN === 1'b1) $fatal(1, "DCM_ADV %m: variable phase shift (PSEN) is not modelled");
 
-  // index: 0 CLK0, 1 CLK90, 2 CLK180, 3 CLK270, 4 CLK2X, 5 CLK2X180, 6 CLKDV, 7 CLKFX, 8 CLKFX180
-  function automatic real period_of(input integer n, input real t_in);
-    case (n)
-      0, 1, 2, 3: period_of = t_in;
-      4, 5: period_of = t_in / 2.0;
-      6: period_of = t_in * CLKDV_DIVIDE;
-      default: period_of = t_in * CLKFX_DIVIDE / CLKFX_MULTIPLY;
-    endcase
-  endfunction
-  function automatic real offset_of(input integer n, input real t_in);   // delay of the first rising edge
-    case (n)
-      1: offset_of = t_in / 4.0;
-      2: offset_of = t_in / 2.0;
-      3: offset_of = 3.0 * t_in / 4.0;
-      5: offset_of = t_in / 4.0;
-      8: offset_of = t_in * CLKFX_DIVIDE / CLKFX_MULTIPLY / 2.0;
-      default: offset_of = 0.0;
-    endcase
-  endfunction
+  // ---- lock sequence and outputs (xil_clocking.v) ---------------------------------------------------------
+  localparam real SHIFT = CLKOUT_PHASE_SHIFT == "FIXED" ? PHASE_SHIFT / 256.0 : 0.0;
+  wire running;
+  wire [31:0] epoch;
+  wire [63:0] period_bits, t0_bits;
+  wire [8:0] outs;               // CLK0, CLK90, CLK180, CLK270, CLK2X, CLK2X180, CLKDV, CLKFX, CLKFX180
 
-  real t_first, t_edge, period_in, t0, t_ready, shift;
-  integer edges;
-  integer epoch = 0;
-  integer fb_edges = 0;
-  reg running = 1'b0;
+  xil_clock_lock #(.MEASURE_EDGES(MEASURE_EDGES), .LOCK_TIME_NS(SIM_LOCK_TIME_NS), .EXPECTED_NS(CLKIN_PERIOD),
+                   .START_FRACTION(SHIFT < 0.0 ? SHIFT + 1.0 : SHIFT), .FEEDBACK(FEEDBACK)) lock (
+    .clkin(CLKIN), .rst(RST), .fb(CLKFB), .fb_out(CLK_FEEDBACK == "2X" ? outs[4] : outs[0]), .running(running),
+    .locked(LOCKED), .epoch(epoch), .period_bits(period_bits), .t0_bits(t0_bits));
 
-  initial LOCKED = 1'b0;
-
-  initial begin : control
-    forever begin
-      running = 1'b0;
-      LOCKED = 1'b0;
-      epoch = epoch + 1;
-      fb_edges = 0;
-      while (RST !== 1'b0) @(RST);
-      edges = 0;
-      while (edges <= MEASURE_EDGES && RST === 1'b0) begin
-        @(posedge CLKIN or posedge RST);
-        if (RST === 1'b0) begin
-          if (edges == 0) t_first = $realtime;
-          t_edge = $realtime;
-          edges = edges + 1;
-        end
-      end
-      if (RST === 1'b0) begin
-        period_in = (t_edge - t_first) / MEASURE_EDGES;
-        if (period_in > 1.01 * CLKIN_PERIOD || period_in < 0.99 * CLKIN_PERIOD)
-          $fatal(1, "DCM_ADV %m: CLKIN period %f ns, CLKIN_PERIOD says %f ns", period_in, CLKIN_PERIOD);
-        shift = (CLKOUT_PHASE_SHIFT == "FIXED") ? period_in * PHASE_SHIFT / 256.0 : 0.0;
-        t_ready = $realtime + SIM_LOCK_TIME_NS;
-        while ($realtime < t_ready && RST === 1'b0) @(posedge CLKIN or posedge RST);
-      end
-      if (RST === 1'b0) begin
-        t0 = $realtime + (shift < 0.0 ? shift + period_in : shift);
-        running = 1'b1;
-        while (FEEDBACK && fb_edges < 2 && RST === 1'b0) @(fb_edges or RST);
-        if (RST === 1'b0) LOCKED = 1'b1;
-        while (RST === 1'b0) @(RST);
-      end
-    end
-  end
-
-  wire [8:0] outs;
+  wire dll_running = running & FEEDBACK;      // the DLL outputs need the feedback
   genvar g;
   generate
     for (g = 0; g < 9; g = g + 1) begin : out
-      reg q;
-      reg enabled;                      // the DLL outputs run only with feedback
-      real period, first, t_rise;
-      integer my_epoch, k;
-      initial enabled = (g >= 7) || FEEDBACK;
-      always begin
-        q = 1'b0;
-        wait (running === 1'b1 && enabled === 1'b1);
-        my_epoch = epoch;
-        period = period_of(g, period_in);
-        first = t0 + offset_of(g, period_in);
-        k = 0;
-        while (first + k * period < $realtime) k = k + 1;
-        while (running === 1'b1 && epoch == my_epoch) begin
-          t_rise = first + k * period;
-          if (t_rise > $realtime) #(t_rise - $realtime);
-          if (running === 1'b1 && epoch == my_epoch) q = 1'b1;
-          if (t_rise + period / 2.0 > $realtime) #(t_rise + period / 2.0 - $realtime);
-          q = 1'b0;
-          k = k + 1;
-        end
-      end
-      assign outs[g] = q & running;
+      // period as a multiple of CLKIN's; first rising edge as a fraction of the output's own period
+      localparam real RATIO = g < 4 ? 1.0 : g < 6 ? 0.5 : g == 6 ? CLKDV_DIVIDE : 1.0 * CLKFX_DIVIDE / CLKFX_MULTIPLY;
+      localparam real PHASE = g == 1 ? 0.25 : g == 2 || g == 5 || g == 8 ? 0.5 : g == 3 ? 0.75 : 0.0;
+      xil_clock_out #(.RATIO(RATIO), .PHASE(PHASE), .DUTY(0.5)) gen (
+        .running(g < 7 ? dll_running : running), .epoch(epoch), .period_bits(period_bits), .t0_bits(t0_bits),
+        .out(outs[g]));
     end
   endgenerate
-
-  // feedback: CLKFB must follow CLK0 (1X) or CLK2X (2X)
-  always @(posedge CLKFB)
-    if (running === 1'b1 && (CLK_FEEDBACK == "2X" ? outs[4] : outs[0]) === 1'b1) fb_edges = fb_edges + 1;
 
   assign {CLKFX180, CLKFX, CLKDV, CLK2X180, CLK2X, CLK270, CLK180, CLK90, CLK0} = outs;
   assign DO = 16'd0;

@@ -1,6 +1,6 @@
-// Behavioural simulation model of the Virtex-5 FDPE (D flip-flop, clock enable, asynchronous preset). UG621
-// "FDPE": PRE = 1 sets Q at once; otherwise Q takes D on the rising edge of C when CE = 1. INIT is Q's value
-// after configuration (time 0).
+// Behavioural simulation model of the Xilinx FDPE (D flip-flop, clock enable, asynchronous preset; UG190
+// chapter 5 storage element): PRE = 1 sets Q at once; otherwise Q takes D on the rising edge of C when CE = 1.
+// INIT is Q's value after configuration (time 0).
 module FDPE #(
   parameter [0:0] INIT = 1'b1
 ) (

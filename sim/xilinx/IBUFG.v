@@ -1,5 +1,5 @@
-// Behavioural simulation model of the Virtex-5 IBUFG (global-clock input buffer). UG621 "IBUFG", UG190
-// chapter 1 (global clock inputs): O follows I, zero delay.
+// Behavioural simulation model of the Virtex-5 IBUFG (global-clock input buffer; UG190 chapter 1, global clock
+// inputs): O follows I, zero delay.
 module IBUFG #(
   parameter CAPACITANCE = "DONT_CARE",
   parameter IBUF_DELAY_VALUE = "0",

@@ -1,5 +1,5 @@
-// Behavioural simulation model of the Virtex-5 IOBUF (bidirectional buffer). UG621 "IOBUF": T = 1 releases the
-// pad (high impedance) and T = 0 drives I onto it; O always reads the pad. Zero delay.
+// Behavioural simulation model of the Virtex-5 IOBUF (bidirectional buffer; UG190 chapter 6): T = 1 releases
+// the pad (high impedance) and T = 0 drives I onto it; O always reads the pad. Zero delay.
 module IOBUF #(
   parameter CAPACITANCE = "DONT_CARE",
   parameter integer DRIVE = 12,

@@ -1,4 +1,4 @@
-// Behavioural simulation model of the Virtex-5 OBUF (single-ended output buffer). UG621 "OBUF": O follows I;
+// Behavioural simulation model of the Virtex-5 OBUF (single-ended output buffer; UG190 chapter 6): O follows I;
 // DRIVE / SLEW / IOSTANDARD are electrical, invisible to a logic simulation. Zero delay.
 module OBUF #(
   parameter CAPACITANCE = "DONT_CARE",

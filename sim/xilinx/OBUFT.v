@@ -1,4 +1,4 @@
-// Behavioural simulation model of the Virtex-5 OBUFT (3-state output buffer). UG621 "OBUFT": T = 1 puts the
+// Behavioural simulation model of the Virtex-5 OBUFT (3-state output buffer; UG190 chapter 6): T = 1 puts the
 // output in high impedance, T = 0 drives I onto O. Zero delay.
 module OBUFT #(
   parameter CAPACITANCE = "DONT_CARE",

@@ -8,20 +8,18 @@
 //   f_CLKFBOUT = f_VCO / CLKFBOUT_MULT (= the phase detector's frequency; CLKFBOUT must come back on CLKFBIN).
 //
 // Behaviour modelled:
-// * RST = 1 (asynchronous): every output low, LOCKED low. After RST falls the model measures the period of the
-//   selected input (CLKINSEL = 1: CLKIN1, 0: CLKIN2) over MEASURE_EDGES rising edges, checks it against
-//   CLKINn_PERIOD (more than 1 % apart is an error: UG190 asks for the real input period there), waits the lock
-//   time, and starts every output at a rising edge of the input (t0): CLKOUTn rises at
-//   t0 + CLKOUTn_PHASE / 360 x T_n + k x T_n and stays high CLKOUTn_DUTY_CYCLE x T_n. Edge times are computed
-//   from t0, so the outputs do not drift from the input over a long run (each edge is within the simulator's
-//   1 ps precision of its ideal time). Outputs with phase 0 are therefore aligned to the input's rising edges
-//   every time the two periods meet (UG190: the feedback path aligns CLKFBOUT, and with it the zero-phase
-//   outputs, to CLKIN).
+// * RST = 1 (asynchronous): every output low, LOCKED low. After RST falls the model measures the period of
+//   CLKIN1 (CLKINSEL = 1) over MEASURE_EDGES rising edges, checks it against CLKIN1_PERIOD (more than 1 % apart
+//   is an error: UG190 asks for the real input period there), waits the lock time, and starts every output at a
+//   rising edge of the input (t0): CLKOUTn rises at t0 + CLKOUTn_PHASE / 360 x T_n + k x T_n and stays high
+//   CLKOUTn_DUTY_CYCLE x T_n (sim/xilinx/xil_clocking.v: the lock sequence and the output generator shared with
+//   DCM_ADV). Edge times are computed from t0, so the outputs do not drift from the input over a long run.
+//   Outputs with phase 0 are aligned to the input's rising edges every time the two periods meet (UG190: the
+//   feedback path aligns CLKFBOUT, and with it the zero-phase outputs, to CLKIN).
 // * LOCKED rises once the outputs run and CLKFBIN has shown two rising edges that coincide with CLKFBOUT's
 //   (the feedback loop is closed); it stays low for ever if the feedback is not connected.
 // * CLKOUTDCMn and CLKFBDCM are copies of CLKOUTn and CLKFBOUT (the DCM-facing outputs).
-// * Not modelled ($fatal if used): the dynamic reconfiguration port (DEN), REL, switching CLKINSEL while
-//   running, jitter, the BANDWIDTH and COMPENSATION settings (accepted: they change jitter and insertion delay,
+// * Not modelled ($fatal if used): CLKIN2 (CLKINSEL = 0), the dynamic reconfiguration port (DEN), REL, jitter, the BANDWIDTH and COMPENSATION settings (accepted: they change jitter and insertion delay,
 //   not the frequencies or phases a logic simulation sees), loss of lock on a changing input.
 //
 // The lock time is a model parameter (SIM_LOCK_TIME_NS, default `XIL_PLL_LOCK_TIME_NS` or 10 us): DS202's
@@ -89,7 +87,7 @@ module PLL_ADV #(
   output CLKOUTDCM5,
   output [15:0] DO,
   output DRDY,
-  output reg LOCKED,
+  output LOCKED,
   input CLKFBIN,
   input CLKIN1,
   input CLKIN2,
@@ -118,118 +116,38 @@ module PLL_ADV #(
     if (PLL_PMCD_MODE != "FALSE") $fatal(1, "PLL_ADV %m: PLL_PMCD_MODE is not modelled");
   end
 
-  // ---- output n parameters --------------------------------------------------------------------------------
-  // index 0..5: CLKOUT0..5, 6: CLKFBOUT
-  function automatic integer divide_of(input integer n);
-    case (n)
-      0: divide_of = CLKOUT0_DIVIDE; 1: divide_of = CLKOUT1_DIVIDE; 2: divide_of = CLKOUT2_DIVIDE;
-      3: divide_of = CLKOUT3_DIVIDE; 4: divide_of = CLKOUT4_DIVIDE; 5: divide_of = CLKOUT5_DIVIDE;
-      default: divide_of = CLKFBOUT_MULT;
-    endcase
-  endfunction
-  function automatic real phase_of(input integer n);
-    case (n)
-      0: phase_of = CLKOUT0_PHASE; 1: phase_of = CLKOUT1_PHASE; 2: phase_of = CLKOUT2_PHASE;
-      3: phase_of = CLKOUT3_PHASE; 4: phase_of = CLKOUT4_PHASE; 5: phase_of = CLKOUT5_PHASE;
-      default: phase_of = CLKFBOUT_PHASE;
-    endcase
-  endfunction
-  function automatic real duty_of(input integer n);
-    case (n)
-      0: duty_of = CLKOUT0_DUTY_CYCLE; 1: duty_of = CLKOUT1_DUTY_CYCLE; 2: duty_of = CLKOUT2_DUTY_CYCLE;
-      3: duty_of = CLKOUT3_DUTY_CYCLE; 4: duty_of = CLKOUT4_DUTY_CYCLE; 5: duty_of = CLKOUT5_DUTY_CYCLE;
-      default: duty_of = 0.5;
-    endcase
-  endfunction
-
-  // ---- lock control -----------------------------------------------------------------------------------------
-  wire clkin = CLKINSEL ? CLKIN1 : CLKIN2;
-  real expected_period;
-  real t_first, t_edge, period_in, vco_period, t0, t_ready;
-  integer edges;
-  integer epoch = 0;           // bumped at every reset: stale output processes stop
-  reg running = 1'b0;
-  integer fb_edges = 0;
-
-  initial LOCKED = 1'b0;
-
+  // ---- lock sequence and outputs (xil_clocking.v) ---------------------------------------------------------
   always @(DEN) if (DEN === 1'b1) $fatal(1, "PLL_ADV %m: the dynamic reconfiguration port (DEN) is not modelled");
   always @(REL) if (REL === 1'b1) $fatal(1, "PLL_ADV %m: REL is not modelled");
-  always @(CLKINSEL) if (running === 1'b1) $fatal(1, "PLL_ADV %m: CLKINSEL switched while running is not modelled");
+  always @(CLKINSEL or RST) if (CLKINSEL === 1'b0 && RST === 1'b0) $fatal(1, "PLL_ADV %m: CLKIN2 is not modelled");
 
-  initial begin : control
-    forever begin
-      running = 1'b0;
-      LOCKED = 1'b0;
-      epoch = epoch + 1;
-      fb_edges = 0;
-      while (RST !== 1'b0) @(RST);
-      expected_period = CLKINSEL ? CLKIN1_PERIOD : CLKIN2_PERIOD;
-      // measure the input period over MEASURE_EDGES rising edges
-      edges = 0;
-      while (edges <= MEASURE_EDGES && RST === 1'b0) begin
-        @(posedge clkin or posedge RST);
-        if (RST === 1'b0) begin
-          if (edges == 0) t_first = $realtime;
-          t_edge = $realtime;
-          edges = edges + 1;
-        end
-      end
-      if (RST === 1'b0) begin
-        period_in = (t_edge - t_first) / MEASURE_EDGES;
-        if (expected_period > 0.0 && (period_in > 1.01 * expected_period || period_in < 0.99 * expected_period))
-          $fatal(1, "PLL_ADV %m: input period %f ns, CLKIN%0d_PERIOD says %f ns", period_in, CLKINSEL ? 1 : 2,
-                 expected_period);
-        vco_period = period_in * DIVCLK_DIVIDE / CLKFBOUT_MULT;
-        t_ready = $realtime + SIM_LOCK_TIME_NS;
-        while ($realtime < t_ready && RST === 1'b0) @(posedge clkin or posedge RST);
-      end
-      if (RST === 1'b0) begin
-        t0 = $realtime;           // a rising edge of the input
-        running = 1'b1;
-        while (fb_edges < 2 && RST === 1'b0) @(fb_edges or RST);
-        if (RST === 1'b0) LOCKED = 1'b1;
-        while (RST === 1'b0) @(RST);
-      end
-    end
-  end
+  wire running;
+  wire [31:0] epoch;
+  wire [63:0] period_bits, t0_bits;
+  wire [6:0] outs;               // CLKOUT0..5, CLKFBOUT
 
-  // ---- output generators --------------------------------------------------------------------------------------
-  // index 0..5: CLKOUT0..5, 6: CLKFBOUT. An output is forced low while the PLL is not running (reset).
-  wire [6:0] outs;
+  xil_clock_lock #(.MEASURE_EDGES(MEASURE_EDGES), .LOCK_TIME_NS(SIM_LOCK_TIME_NS), .EXPECTED_NS(CLKIN1_PERIOD),
+                   .FEEDBACK(1'b1)) lock (
+    .clkin(CLKIN1), .rst(RST), .fb(CLKFBIN), .fb_out(outs[6]), .running(running), .locked(LOCKED),
+    .epoch(epoch), .period_bits(period_bits), .t0_bits(t0_bits));
 
   genvar g;
   generate
     for (g = 0; g < 7; g = g + 1) begin : out
-      reg q;
-      real period, high, first, t_rise;
-      integer my_epoch, k;
-      always begin
-        q = 1'b0;
-        wait (running === 1'b1);
-        my_epoch = epoch;
-        period = vco_period * divide_of(g);
-        high = period * duty_of(g);
-        first = t0 + period * phase_of(g) / 360.0;
-        while (first < t0) first = first + period;
-        k = 0;
-        while (first + k * period < $realtime) k = k + 1;   // a late start never makes an early or short edge
-        while (running === 1'b1 && epoch == my_epoch) begin
-          t_rise = first + k * period;
-          if (t_rise > $realtime) #(t_rise - $realtime);
-          if (running === 1'b1 && epoch == my_epoch) q = 1'b1;
-          if (t_rise + high > $realtime) #(t_rise + high - $realtime);
-          q = 1'b0;
-          k = k + 1;
-        end
-      end
-      assign outs[g] = q & running;
+      localparam integer DIV = g == 0 ? CLKOUT0_DIVIDE : g == 1 ? CLKOUT1_DIVIDE : g == 2 ? CLKOUT2_DIVIDE :
+                               g == 3 ? CLKOUT3_DIVIDE : g == 4 ? CLKOUT4_DIVIDE : g == 5 ? CLKOUT5_DIVIDE :
+                               CLKFBOUT_MULT;
+      localparam real PH = g == 0 ? CLKOUT0_PHASE : g == 1 ? CLKOUT1_PHASE : g == 2 ? CLKOUT2_PHASE :
+                           g == 3 ? CLKOUT3_PHASE : g == 4 ? CLKOUT4_PHASE : g == 5 ? CLKOUT5_PHASE : CLKFBOUT_PHASE;
+      localparam real DUTY = g == 0 ? CLKOUT0_DUTY_CYCLE : g == 1 ? CLKOUT1_DUTY_CYCLE :
+                             g == 2 ? CLKOUT2_DUTY_CYCLE : g == 3 ? CLKOUT3_DUTY_CYCLE :
+                             g == 4 ? CLKOUT4_DUTY_CYCLE : g == 5 ? CLKOUT5_DUTY_CYCLE : 0.5;
+      // T_n = T_in x DIVCLK_DIVIDE / CLKFBOUT_MULT x CLKOUTn_DIVIDE; phase in degrees of T_n
+      xil_clock_out #(.RATIO(1.0 * DIVCLK_DIVIDE * DIV / CLKFBOUT_MULT),
+                      .PHASE((PH < 0.0 ? PH + 360.0 : PH) / 360.0), .DUTY(DUTY)) gen (
+        .running(running), .epoch(epoch), .period_bits(period_bits), .t0_bits(t0_bits), .out(outs[g]));
     end
   endgenerate
-
-  // the feedback loop: CLKFBIN must follow CLKFBOUT
-  always @(posedge CLKFBIN)
-    if (running === 1'b1 && outs[6] === 1'b1) fb_edges = fb_edges + 1;
 
   assign {CLKFBOUT, CLKOUT5, CLKOUT4, CLKOUT3, CLKOUT2, CLKOUT1, CLKOUT0} = outs;
   assign {CLKFBDCM, CLKOUTDCM5, CLKOUTDCM4, CLKOUTDCM3, CLKOUTDCM2, CLKOUTDCM1, CLKOUTDCM0} = outs;

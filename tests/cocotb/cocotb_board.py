@@ -18,7 +18,9 @@ else comes from the design and the models:
 
 Parameters (``sim.cocotb_runner.test_params``): ``setup`` (a ``SystemSetup`` spec), ``left``, ``right``,
 ``out_dir``; optional ``dvi_version_id`` (what the CH7301C model's version register reads: another value than
-0x95 must leave the bring-up running and LED5 blinking with LED6), ``measure_eye``, ``timeout_ms``.
+0x95 must leave the bring-up running and LED5 blinking with LED6), ``measure_eye``, ``check_heartbeat`` (LD6 must
+toggle within the few frames sampled: the small build's rate), ``timeout_ms``, ``init_timeout_ms``,
+``capture_timeout_ms``.
 """
 
 import bisect
@@ -282,7 +284,8 @@ def _check(status, setup):
         f"LEDs after the bring-up: {status['leds_after_init']:08b} (want LD0, LD2, LD4 on, LD1, LD3 off)"
     led5 = [(v >> 5) & 1 for v in status["leds"]]
     led6 = [(v >> 6) & 1 for v in status["leds"]]
-    assert len(set(led6)) == 2, f"LD6 (display heartbeat) did not toggle: {led6}"
+    if PARAMS.get("check_heartbeat", True):          # the board's rate (32 frames) needs a longer window
+        assert len(set(led6)) == 2, f"LD6 (display heartbeat) did not toggle: {led6}"
     if expect_mismatch:
         assert led5 == led6, f"LD5 does not blink with LD6 for a CH7301C ID mismatch: {led5} vs {led6}"
     else:
