@@ -37,10 +37,11 @@ from golden.part_config import ch7301c_expected, mt9d112_expected
 from golden.stereo_pair import load_pair
 from hdl.clocking import PLAN
 from hdl.system import CAMERAS, I2C_BUSES
-from sim.cocotb_runner import test_params
+from sim.cocotb_runner import TopPorts, test_params
 from sim.hdmi_sink import HdmiSink, SinkError
-from sim.i2c_devices import CH7301CModel, I2CBusMonitor, start_cocotb_targets
 from sim.board_top import board_setup
+from sim.i2c_bus import start_cocotb_targets
+from sim.i2c_devices import CH7301CModel, I2CBusMonitor
 from sim.mt9d112 import drive_cocotb
 
 PARAMS = test_params()
@@ -111,12 +112,13 @@ class EyeMeter:
         return before, after
 
 
-async def sample_ch7301c(dut, sink, *, max_clocks, leds_at_vsync=None):
+async def sample_ch7301c(ports, sink, *, max_clocks, leds_at_vsync=None):
     """Feed ``sink`` from the CH7301C pins on both XCLK_P edges, from a rising edge with DE low, until it has
     rebuilt one frame (or ``max_clocks``). Returns the XCLK_P edge times."""
-    data, hs, vs, de = (_reader(getattr(dut, n)) for n in ("data", "hsync", "vsync", "de"))
-    leds = _reader(dut.leds)
-    rise, fall = RisingEdge(dut.xclk_p), FallingEdge(dut.xclk_p)
+    ch = ports.ch7301c
+    data, hs, vs, de = (_reader(getattr(ch, n)) for n in ("data", "hsync", "vsync", "de"))
+    leds = _reader(ports.panel.leds)
+    rise, fall = RisingEdge(ch.xclk_p), FallingEdge(ch.xclk_p)
     await rise
     while de() != "0":
         await rise
@@ -155,19 +157,20 @@ async def board(dut):
     left, right = load_pair(PARAMS["left"], PARAMS["right"], g.width, g.height)
     images = {"a": left, "b": right}
     status = {}
+    ports = TopPorts(dut)
 
-    dut.btn_rst_n.value = 0                     # the reset button (active low) pressed
-    dut.sw.value = 0
+    ports.btn_rst_n.value = 0                   # the reset button (active low) pressed
+    ports.panel.sw.value = 0
     for c in CAMERAS:
-        for pin, v in (("pclk", 0), ("d", 0), ("lv", 0), ("fv", 0)):
-            getattr(dut, f"cam_{c}_{pin}").value = v
-    Clock(dut.clk100, OSC_PS, unit="ps").start()
+        for pin in ("pclk", "data", "lv", "fv"):
+            getattr(getattr(ports, f"cam_{c}"), pin).value = 0
+    Clock(ports.clk100, OSC_PS, unit="ps").start()
 
     models = setup.i2c_models()
     models["dvi"] = [CH7301CModel(version_id=PARAMS.get("dvi_version_id", 0x95))]
     monitors = {bus: I2CBusMonitor() for bus in I2C_BUSES}
     for bus in I2C_BUSES:
-        start_cocotb_targets(dut, bus, models[bus], monitors[bus])
+        start_cocotb_targets(getattr(ports.bus, bus), models[bus], monitors[bus])
 
     frames_sent = {c: [0] for c in CAMERAS}
 
@@ -176,35 +179,35 @@ async def board(dut):
         sensor = setup.sensor(model, seed=seed)
         while not model.sensor_config().rgb565:
             await Timer(1000, unit="ns")
+        pins = getattr(ports, f"cam_{c}")
         await drive_cocotb(_counted(sensor.frames([images[c]] * 1_000_000, tail=False, max_idle=10),
                                     frames_sent[c]),
-                           clk=getattr(dut, f"cam_{c}_pclk"), data=getattr(dut, f"cam_{c}_d"),
-                           lv=getattr(dut, f"cam_{c}_lv"), fv=getattr(dut, f"cam_{c}_fv"),
-                           pclk_hz=setup.pclk_hz, start_delay=setup.cam_phase_s.get(c, 0.0))
+                           clk=pins.pclk, pins=pins, pclk_hz=setup.pclk_hz,
+                           start_delay=setup.cam_phase_s.get(c, 0.0))
 
     for seed, c in enumerate(CAMERAS):
         cocotb.start_soon(camera(c, seed))
 
     await Timer(200, unit="ns")
-    dut.btn_rst_n.value = 1
-    await _wait(lambda: str(dut.dvi_reset_n.value) == "1", "the clocks locking (reset pins released)", 1e-3, 50)
+    ports.btn_rst_n.value = 1
+    await _wait(lambda: str(ports.ch7301c.reset_n.value) == "1", "the clocks locking (reset pins released)", 1e-3, 50)
     status["t_locked_us"] = now_ps() * 1e-6
-    status["mclk"] = {c: _period_stats(*await _edges(getattr(dut, f"cam_{c}_mclk"), 20), 1e12 / PLAN.mclk_hz)
+    status["mclk"] = {c: _period_stats(*await _edges(getattr(ports, f"cam_{c}").mclk, 20), 1e12 / PLAN.mclk_hz)
                       for c in CAMERAS}
-    xp, xn = await _xclk_pair(dut, 64)
+    xp, xn = await _xclk_pair(ports.ch7301c, 64)
     status["xclk"] = _period_stats(*xp, 1e12 / PLAN.pix_hz)
     status["xclk_n_is_complement"] = _complement(xp, xn)
 
     def bus_finished():                         # LD0, LD2, LD4: the three buses done; LD1 / LD3: an error
-        led = int(dut.leds.value)
+        led = int(ports.panel.leds.value)
         return led & 0b10101 == 0b10101 or led & 0b1010
     await _wait(bus_finished, "the I2C bring-up of the three buses", PARAMS.get("init_timeout_ms", 50) * 1e-3,
                 2000)
     status["t_init_us"] = now_ps() * 1e-6
-    status["leds_after_init"] = int(dut.leds.value)
+    status["leds_after_init"] = int(ports.panel.leds.value)
 
     for word in setup.switch_words():
-        dut.sw.value = word
+        ports.panel.sw.value = word
         await Timer(round(30e12 / PLAN.pix_hz), unit="ps")
 
     await _wait(lambda: all(frames_sent[c][0] >= 1 for c in CAMERAS), "a whole frame sent by both cameras",
@@ -213,18 +216,19 @@ async def board(dut):
     await Timer(2, unit="us")                   # the capture pipelines drain
 
     sink = HdmiSink(t, starts_at_frame=False)
-    eye = EyeMeter(dut.data) if PARAMS.get("measure_eye", True) else None
+    eye = EyeMeter(ports.ch7301c.data) if PARAMS.get("measure_eye", True) else None
     leds_at_vsync = []
-    edges = await sample_ch7301c(dut, sink, max_clocks=3 * t.clocks_per_frame, leds_at_vsync=leds_at_vsync)
+    edges = await sample_ch7301c(ports, sink, max_clocks=3 * t.clocks_per_frame, leds_at_vsync=leds_at_vsync)
     if eye is not None:
         eye.running = False
         status["eye_ps"] = dict(zip(("setup", "hold"), eye.margins(edges)))
     for _ in range(6):                          # LEDs over a few more display frames (heartbeat, ID LED)
         await Timer(round(t.clocks_per_frame * 1e12 / PLAN.pix_hz / 2), unit="ps")
-        leds_at_vsync.append(int(dut.leds.value))
+        leds_at_vsync.append(int(ports.panel.leds.value))
     status["leds"] = leds_at_vsync
-    status["pins"] = {n: str(getattr(dut, n).value) for n in ("cam_vdden", "cam_a_rst_n", "cam_b_rst_n",
-                                                              "cam_a_pwdn", "cam_b_pwdn", "dvi_reset_n")}
+    pins = {"cam_vdden": ports.cam_vdden, "cam_a_rst_n": ports.cam_a.rst_n, "cam_b_rst_n": ports.cam_b.rst_n,
+            "cam_a_pwdn": ports.cam_a.pwdn, "cam_b_pwdn": ports.cam_b.pwdn, "dvi_reset_n": ports.ch7301c.reset_n}
+    status["pins"] = {n: str(h.value) for n, h in pins.items()}
     _finish(status, setup, models, monitors, sink, images, out_dir)
 
 
@@ -236,9 +240,9 @@ def _complement(xp, xn):
     return bool(rises) and set(rises) <= set(xp[1]) and set(falls) <= set(xp[0]) and len(rises) >= len(xp[1]) - 2
 
 
-async def _xclk_pair(dut, count):
-    xp = cocotb.start_soon(_edges(dut.xclk_p, count))
-    xn = cocotb.start_soon(_edges(dut.xclk_n, count - 1))
+async def _xclk_pair(ch, count):
+    xp = cocotb.start_soon(_edges(ch.xclk_p, count))
+    xn = cocotb.start_soon(_edges(ch.xclk_n, count - 1))
     return await xp, await xn
 
 
