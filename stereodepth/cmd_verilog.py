@@ -74,7 +74,7 @@ def run(args):
     pins = _read_pins(args.pins) if args.pins else None
     platform, written = write_board_build(args.out, pins=pins, allow_unconfirmed=args.allow_unconfirmed)
     for path in written:
-        print(path)
+        print(f"{path}  ({path.stat().st_size:,} bytes)")
     unconfirmed = platform.unconfirmed_in_use
     if unconfirmed:
         how = ("left without LOC (trial builds only: do not program a board)" if args.allow_unconfirmed
