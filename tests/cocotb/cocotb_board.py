@@ -37,12 +37,13 @@ from golden.part_config import ch7301c_expected, mt9d112_expected
 from golden.stereo_pair import load_pair
 from hdl.clocking import PLAN
 from hdl.system import CAMERAS, I2C_BUSES
+from sim.board_top import board_setup
 from sim.cocotb_runner import TopPorts, test_params
 from sim.hdmi_sink import HdmiSink, SinkError
-from sim.board_top import board_setup
 from sim.i2c_bus import start_cocotb_targets
 from sim.i2c_devices import CH7301CModel, I2CBusMonitor
 from sim.mt9d112 import drive_cocotb
+from sim.system.result import check_run
 
 PARAMS = test_params()
 OSC_PS = 10_000
@@ -252,19 +253,14 @@ def _state_diff(model, expected):
 
 
 def _finish(status, setup, models, monitors, sink, images, out_dir):
-    golden = setup.golden_frame(images["a"], images["b"])
-    frame = sink.frames[0] if sink.frames else None
+    frame, golden = check_run(status, setup, images["a"], images["b"], sink, models, monitors, after_s=0.0)
     np.save(out_dir / "golden.npy", golden)
     if frame is not None:
         np.save(out_dir / "frame.npy", frame)
-    status["violations"] = [str(v) for v in sink.violations]
-    status["mismatched_pixels"] = None if frame is None else int(np.any(frame != golden, axis=-1).sum())
     status["state_diff"] = {b: _state_diff(models[b][0], mt9d112_expected(setup.geometry))
                             for b in ("cam_a", "cam_b")}
     status["state_diff"]["dvi"] = _state_diff(models["dvi"][0], ch7301c_expected(setup.timing))
     status["problems"] = {b: models[b][0].problems() for b in I2C_BUSES}
-    status["i2c_protocol_errors"] = {b: [str(e) for e in monitors[b].protocol_errors if e[0] > 0]
-                                     for b in I2C_BUSES}
     status["i2c_violations"] = {b: [str(v) for v in monitors[b].violations(require_all=False)] for b in I2C_BUSES}
     (out_dir / "result.json").write_text(json.dumps(status, indent=1, default=str))
     _check(status, setup)
