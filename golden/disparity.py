@@ -5,8 +5,10 @@
   ``y + r >= height`` there is no left pixel: ``no_data`` is True and ``level`` is 0 (no wrapping).
 * :func:`composite_frame`: the displayed active area: the left and right images (grey replicated to 8 bits
   by :func:`hdl.params.gray_to_rgb24`), the disparity map (``level_grey[level]`` on all channels, or
-  ``NO_DATA_RGB``), ``BACKGROUND_RGB`` elsewhere, placed by :class:`hdl.params.DisplayLayout` with every buffer
-  pixel repeated ``scale`` x ``scale`` times.
+  ``NO_DATA_RGB``), the depth map of the pair (``golden.depth.depth_map`` of the rectification-shifted left
+  image and the right one) with its colour bar, labels and readout (``golden.depth_display``),
+  ``BACKGROUND_RGB`` elsewhere, placed by :class:`hdl.params.DisplayLayout` with every buffer pixel repeated
+  ``scale`` x ``scale`` times.
 
 Only constants and the layout definition come from ``hdl.params`` (the spec's single source of truth); nothing
 here is derived from the RTL.
@@ -14,7 +16,9 @@ here is derived from the RTL.
 
 import numpy as np
 
-from hdl.params import (BACKGROUND_RGB, CEA_1080P60, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, NO_DATA_RGB, SENSOR,
+from golden.depth import depth_map
+from golden.depth_display import draw_depth_display, engine_left
+from hdl.params import (BACKGROUND_RGB, CEA_1080P60, DEPTH, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, NO_DATA_RGB, SENSOR,
                         DisplayLayout, gray_to_rgb24)
 
 __all__ = ["difference_levels", "composite_frame"]
@@ -70,11 +74,12 @@ def rgb24_to_bytes(rgb):
 
 
 def composite_frame(left, right, disparity, rectification, timing=CEA_1080P60, geometry=SENSOR, layout=None,
-                    thresholds=DIFF_THRESHOLDS, level_grey=DIFF_LEVEL_GREY):
-    """The displayed frame, uint8 (v_active, h_active, 3), for the two grey buffers and the switch settings."""
+                    thresholds=DIFF_THRESHOLDS, level_grey=DIFF_LEVEL_GREY, depth=DEPTH, *, details=False):
+    """The displayed frame, uint8 (v_active, h_active, 3), for the two grey buffers and the switch settings.
+    ``details=True`` returns ``(frame, codes, readout text)``: also the depth map shown and its readout."""
     left, right = _check_images(left, right, geometry)
     if layout is None:
-        layout = DisplayLayout.centred(timing, geometry)
+        layout = DisplayLayout.centred(timing, geometry, depth)
     if len(level_grey) != len(thresholds) + 1:
         raise ValueError(f"level_grey needs {len(thresholds) + 1} entries, got {len(level_grey)}")
     frame = np.empty((timing.v_active, timing.h_active), dtype=np.int64)
@@ -87,7 +92,12 @@ def composite_frame(left, right, disparity, rectification, timing=CEA_1080P60, g
         "disparity": np.where(no_data, NO_DATA_RGB, grey_rgb[levels]),
     }
     for region in layout.regions:
-        picture = pictures[region.source]
-        s = region.scale
-        frame[region.y0:region.y1, region.x0:region.x1] = np.repeat(np.repeat(picture, s, axis=0), s, axis=1)
+        if region.source in pictures:
+            s = region.scale
+            frame[region.y0:region.y1, region.x0:region.x1] = np.repeat(
+                np.repeat(pictures[region.source], s, axis=0), s, axis=1)
+    codes = depth_map(engine_left(left, _check_shift("rectification", rectification)), right, depth)
+    text = draw_depth_display(frame, codes, layout, geometry, depth)
+    if details:
+        return rgb24_to_bytes(frame), codes, text
     return rgb24_to_bytes(frame)

@@ -1,24 +1,30 @@
-"""Display compositor: the left image, the right image and the disparity map on one video frame (thesis 4.3-4.5).
+"""Display compositor: the camera images, the difference map and the depth map on one video frame (thesis 4.3-4.5,
+issue 15).
 
 Inputs: the sync generator's raster (``timing``: :data:`hdl.video_bus.TimingSignature`), the switch registers
-(``settings``: :data:`hdl.switches.SettingsSignature`) and one read port per frame buffer (``left``, ``right``:
-:class:`hdl.frame_buffer.FrameBufferReadSignature`, data one clock after the address). Output: a
-:data:`hdl.video_bus.VideoSignature` stream (``video``).
+(``settings``: :data:`hdl.switches.SettingsSignature`), one read port per frame buffer (``left``, ``right``:
+:class:`hdl.depth.SharedReadSignature`; the compositor raises ``request`` in every clock it reads and needs no
+grant: its arbiter gives it priority) and the depth engine's result ring (``depth``:
+:class:`hdl.depth.ResultReadSignature`). Output: a :data:`hdl.video_bus.VideoSignature` stream (``video``).
 
 Layout (``layout``, default :meth:`hdl.params.DisplayLayout.centred`): each region shows its buffer with every
-pixel repeated ``scale`` x ``scale`` times.
+pixel repeated ``scale`` x ``scale`` times (docs/display.md, "Four panels").
 
-* ``left`` / ``right``: the camera image, grey by bit replication of the ``gray_bits`` value to 8 bits per
-  channel (what :func:`hdl.params.gray_to_rgb24` specifies).
-* ``disparity``: the :class:`hdl.disparity.DisparitySubtractor` output for the buffer pixel, shown as
-  ``level_grey[level]`` on all three channels, or ``NO_DATA_RGB`` where the shifted left read falls outside
-  the image.
+* ``left`` / ``right``: the camera image, grey by bit replication (:func:`hdl.params.gray_to_rgb24`).
+* ``disparity``: the :class:`hdl.disparity.DisparitySubtractor` output, ``level_grey[level]`` or ``NO_DATA_RGB``.
+* ``depth``: the engine's code through the colour map ROM (:func:`hdl.colour_map.colour_table`); the crosshair
+  (``CROSSHAIR_RGB``) on the centre row and column, 2 .. ``crosshair_arm`` buffer pixels from the centre; a row
+  the engine has not finished (``rows_ready``) shows ``DEPTH_NOT_READY_RGB``. A finished depth row is released
+  to the engine after its last display line.
+* the colour bar (every code's colour, near on top), the tick marks (``TEXT_RGB``), the distance labels and the
+  centre-distance readout (:class:`hdl.text_layer.TextLayer`: glyph pixels ``TEXT_RGB``, the rest of a text box
+  ``BACKGROUND_RGB``); the readout shows :class:`hdl.centre_distance.CentreDistance` of this frame's map.
 * ``BACKGROUND_RGB`` elsewhere in the active area, ``rgb = 0`` outside it (``de`` low).
 
-Each buffer has a single read port shared by the image region and the disparity computation; the regions never
-overlap (checked), so each port serves at most one read per clock. Addresses come from running counters (one
-per region: increment per buffer pixel, rewind to the row start to repeat a row ``scale`` times), so there is
-no per-pixel multiplier; the counters clear in vertical blanking (``y >= v_active``).
+The image regions and the disparity computation share each buffer's port; they never overlap (checked), so the
+compositor makes at most one read per port per clock. Addresses come from running counters
+(:class:`hdl.region_scanner.RegionScanner`), so there is no per-pixel multiplier; they clear in vertical
+blanking (``y >= v_active``).
 
 Clock domain: ``sync`` (single domain; the parent places it in ``pix`` with ``DomainRenamer``).
 
@@ -29,11 +35,11 @@ that ``timing`` gave at clock ``n``; ``de``/``hsync``/``vsync`` are the input on
 clock    what happens
 =======  ================================================================================================
 n        ``timing`` in; compare ``x``/``y`` with the region bounds
-n + 1    region flags registered; running counters give the buffer address/coordinates of the pixel
-n + 2    read addresses registered (image counter or subtractor address, per port)
-n + 3    frame-buffer read data
-n + 4    read data registered (BRAM output register)
-n + 5    disparity level / no-data and the image grey registered
+n + 1    region flags registered; running counters give the buffer/ring address and coordinates
+n + 2    read addresses and requests registered; crosshair, window and row-ready flags
+n + 3    frame-buffer and result-ring read data; text layer's font pixel
+n + 4    read data registered (BRAM output register); the colour-map code (depth map or bar)
+n + 5    disparity level / no-data, the image grey, the code's colour registered
 n + 6    ``video`` registered: the colour chosen by region
 =======  ================================================================================================
 
@@ -41,34 +47,34 @@ Switch timing: ``settings`` are used only for pixels in the disparity region. Th
 on the clock edge ending the ``frame_start`` clock (raster position 0, with :class:`hdl.switches.SwitchControl`)
 and the subtractor needs them settled ``SETTLE_CLOCKS`` (2) clocks before it samples a pixel, one clock after the
 raster gives it; the constructor checks that the region starts at least 2 pixels into the raster (the default
-layouts start tens of lines down). So every disparity pixel of a frame uses the values loaded at that frame's
-start.
+layouts start lines down). So every disparity pixel of a frame uses the values loaded at that frame's start.
 """
 
 from amaranth import Cat, Const, Module, Mux, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
+from .centre_distance import SETTLE_CLOCKS as READOUT_SETTLE, CentreDistance
+from .colour_map import colour_table
+from .depth.ports import ResultReadSignature, SharedReadSignature
 from .disparity import LATENCY as SUBTRACTOR_LATENCY, SETTLE_CLOCKS, DisparitySubtractor, check_thresholds
 from .forward import forward
-from .frame_buffer import FrameBufferReadSignature
-from .params import (BACKGROUND_RGB, CEA_1080P60, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, NO_DATA_RGB, SENSOR,
-                     DisplayLayout)
-from .switches import SettingsSignature
-from .video_bus import TimingSignature, VideoSignature
+from .params import (BACKGROUND_RGB, CEA_1080P60, CROSSHAIR_RGB, DEPTH, DEPTH_NOT_READY_RGB, DIFF_LEVEL_GREY,
+                     DIFF_THRESHOLDS, NO_DATA_RGB, SENSOR, TEXT_RGB, DisplayLayout)
+from .region_scanner import RegionScanner
 from .rejecting import rejecting
+from .switches import SettingsSignature
+from .text_layer import LATENCY as TEXT_LATENCY, TextLayer
+from .video_bus import TimingSignature, VideoSignature
 
-__all__ = ["Compositor", "LATENCY"]
+__all__ = ["Compositor", "LATENCY", "check_layout"]
 
 #: Clocks from ``timing`` in to ``video`` out.
 LATENCY = 6
-SOURCES = ("left", "right", "disparity")
+SOURCES = ("left", "right", "disparity", "depth")
 
 
-def check_layout(layout, timing, geometry):
-    """``ValueError`` unless ``layout`` has one region per source, each a whole buffer at a positive integer
-    scale inside the active area, the regions do not overlap and the disparity map starts at least
-    ``SETTLE_CLOCKS`` pixels into the raster (so it never sees the switch registers change)."""
+def _check_regions(layout, timing, geometry):
     regions = {}
     for r in layout.regions:
         if r.source not in SOURCES or r.source in regions:
@@ -83,81 +89,63 @@ def check_layout(layout, timing, geometry):
                              f"{geometry.buf_width}x{geometry.buf_height}")
         if not isinstance(r.scale, int) or r.scale < 1:
             raise ValueError(f"region {r.source} needs a positive integer scale, not {r.scale!r}")
-        if r.x0 < 0 or r.y0 < 0 or r.x1 > timing.h_active or r.y1 > timing.v_active:
-            raise ValueError(f"region {r.source} [{r.x0}, {r.x1}) x [{r.y0}, {r.y1}) is outside the "
+    return regions
+
+
+def check_layout(layout, timing, geometry, config=DEPTH):
+    """The regions by source; ``ValueError`` unless ``layout`` has one region per source, each a whole buffer at
+    a positive integer scale, everything inside the active area and nothing overlapping (but the readout, which
+    may lie inside the depth map), the colour bar has one band per code, the readout starts after the centre
+    window's last line, the crosshair fits the map, and the disparity map starts at least ``SETTLE_CLOCKS``
+    pixels into the raster (so it never sees the switch registers change)."""
+    regions = _check_regions(layout, timing, geometry)
+    if layout.bar is None or layout.readout is None:
+        raise ValueError("layout needs a colour bar and a readout")
+    if layout.bar.codes != config.disparities or layout.bar.step < 1 or layout.bar.width < 1:
+        raise ValueError(f"the colour bar needs {config.disparities} bands of at least one row")
+    named = [(f"region {r.source}", r.box) for r in regions.values()] + [("colour bar", layout.bar.box)]
+    named += [(f"tick {i}", t) for i, t in enumerate(layout.ticks)]
+    named += [(f"label {t.text!r}", t.box) for t in layout.labels]
+    readout, depth = layout.readout.box, regions["depth"]
+    for name, b in named + [("readout", readout)]:
+        if b.x0 < 0 or b.y0 < 0 or b.x1 > timing.h_active or b.y1 > timing.v_active:
+            raise ValueError(f"{name} [{b.x0}, {b.x1}) x [{b.y0}, {b.y1}) is outside the "
                              f"{timing.h_active}x{timing.v_active} active area")
-    rs = list(regions.values())
-    for i, a in enumerate(rs):
-        for b in rs[i + 1:]:
-            if a.x0 < b.x1 and b.x0 < a.x1 and a.y0 < b.y1 and b.y0 < a.y1:
-                raise ValueError(f"regions {a.source} and {b.source} overlap")
+    if not readout.inside(depth.box):                # over the depth map, or a place of its own
+        named.append(("readout", readout))
+    for i, (name_a, a) in enumerate(named):
+        for name_b, b in named[i + 1:]:
+            if a.overlaps(b):
+                raise ValueError(f"{name_a} and {name_b} overlap")
+    xc, yc = geometry.buf_width // 2, geometry.buf_height // 2
+    if readout.y0 < depth.y0 + (yc + 2) * depth.scale:
+        raise ValueError("the readout must start below the line after the centre window (buffer row "
+                         f"{yc + 1}) so that it shows this frame's distance")
+    arm = layout.crosshair_arm
+    if not 0 <= arm <= min(xc, yc, geometry.buf_width - 1 - xc, geometry.buf_height - 1 - yc):
+        raise ValueError(f"crosshair arm {arm} does not fit the {geometry.buf_width}x{geometry.buf_height} map")
     # The switch registers change on the edge ending frame_start's clock (raster position 0); the subtractor
     # samples raster position p one clock later and needs them SETTLE_CLOCKS clocks before that.
     first = regions["disparity"].y0 * timing.h_total + regions["disparity"].x0
     if first < SETTLE_CLOCKS:
         raise ValueError(f"the disparity region must start at least {SETTLE_CLOCKS} pixels after the raster "
                          "origin, where the switch registers change")
+    if timing.h_total < READOUT_SETTLE + LATENCY:
+        raise ValueError("a line is too short for the centre distance to settle before the readout")
     return regions
 
 
-class _RegionScanner(wiring.Component):
-    """Running address of one region: the buffer address and coordinates of the current display pixel.
-
-    Inputs (registered flags of the pixel at this clock): ``active`` (pixel inside the region), ``eol`` (last
-    pixel of a region line), ``clear`` (vertical blanking). Outputs, valid while ``active``: ``addr`` =
-    ``yb * buf_width + xb`` and ``xb``, ``yb``, all registers (no logic between them and the outputs).
-    """
-
-    def __init__(self, geometry, scale):
-        self.geometry = geometry
-        self.scale = scale
-        super().__init__({
-            "active": In(1),
-            "eol": In(1),
-            "clear": In(1),
-            "addr": Out(geometry.addr_bits),
-            "xb": Out(range(geometry.buf_width)),
-            "yb": Out(range(geometry.buf_height)),
-        })
-
-    def elaborate(self, platform):
-        m = Module()
-        s = self.scale
-        row_start = Signal.like(self.addr)          # address of (0, yb): where a repeated row rewinds to
-        if s > 1:
-            x_phase = Signal(range(s))             # which of the s copies of a pixel this is
-            y_phase = Signal(range(s))             # which of the s copies of a row this is
-            last_x_copy, last_y_copy = x_phase == s - 1, y_phase == s - 1
-        else:                                      # every pixel and row is the last (only) copy
-            last_x_copy = last_y_copy = Const(1)
-        with m.If(self.clear):
-            m.d.sync += [self.addr.eq(0), row_start.eq(0), self.xb.eq(0), self.yb.eq(0)]
-            if s > 1:
-                m.d.sync += [x_phase.eq(0), y_phase.eq(0)]
-        with m.Elif(self.active & self.eol):
-            m.d.sync += self.xb.eq(0)
-            if s > 1:
-                m.d.sync += x_phase.eq(0)
-            with m.If(last_y_copy):                 # next buffer row
-                m.d.sync += [self.addr.eq(self.addr + 1), row_start.eq(self.addr + 1), self.yb.eq(self.yb + 1)]
-                if s > 1:
-                    m.d.sync += y_phase.eq(0)
-            if s > 1:
-                with m.Else():                      # repeat this buffer row
-                    m.d.sync += [self.addr.eq(row_start), y_phase.eq(y_phase + 1)]
-        with m.Elif(self.active):
-            with m.If(last_x_copy):                 # next buffer pixel
-                m.d.sync += [self.addr.eq(self.addr + 1), self.xb.eq(self.xb + 1)]
-                if s > 1:
-                    m.d.sync += x_phase.eq(0)
-            if s > 1:
-                with m.Else():                      # another copy of the same buffer pixel
-                    m.d.sync += x_phase.eq(x_phase + 1)
-        return m
+def _delayed(m, signal, clocks, name):
+    """``signal`` through ``clocks`` registers."""
+    for i in range(clocks):
+        nxt = Signal.like(signal, name=f"{name}_d{i + 1}")
+        m.d.sync += nxt.eq(signal)
+        signal = nxt
+    return signal
 
 
 class Compositor(wiring.Component):
-    """Lays the left image, the right image and the disparity map out on the video frame; latency 6 clocks.
+    """Lays out the camera images, the difference map and the depth map on the video frame; latency 6 clocks.
 
     See the module docstring for the layout, the pipeline and the switch timing.
 
@@ -167,6 +155,10 @@ class Compositor(wiring.Component):
     geometry : :class:`hdl.params.SensorGeometry`
     layout : :class:`hdl.params.DisplayLayout` or None
         Default: :meth:`~hdl.params.DisplayLayout.centred`.
+    config : :class:`hdl.params.DepthConfig`
+        The depth engine's D (codes 0..D, D = invalid).
+    out_rows : int
+        Rows in the engine's result ring.
     thresholds : sequence of int
         The subtractor's threshold table.
     level_grey : sequence of int
@@ -177,7 +169,10 @@ class Compositor(wiring.Component):
     timing : ``In(TimingSignature)``
         The raster (the video mode is ``video_timing``).
     settings : ``In(SettingsSignature)``
-    left, right : ``Out(FrameBufferReadSignature(geometry))``
+    left, right : ``Out(SharedReadSignature(geometry))``
+        ``grant`` is not used (the arbiter gives the compositor priority).
+    depth : ``Out(ResultReadSignature(...))``
+        The engine's result ring.
     video : ``Out(VideoSignature)``
 
     Raises
@@ -187,15 +182,15 @@ class Compositor(wiring.Component):
         table, more than 8 bits of grey.
     """
 
-    def __init__(self, timing=CEA_1080P60, geometry=SENSOR, layout=None, *, thresholds=DIFF_THRESHOLDS,
-                 level_grey=DIFF_LEVEL_GREY):
+    def __init__(self, timing=CEA_1080P60, geometry=SENSOR, layout=None, *, config=DEPTH, out_rows=4,
+                 thresholds=DIFF_THRESHOLDS, level_grey=DIFF_LEVEL_GREY):
         with rejecting(self):
             if layout is None:
-                layout = DisplayLayout.centred(timing, geometry)
+                layout = DisplayLayout.centred(timing, geometry, config)
             self.video_timing = timing          # (the ``timing`` attribute is the TimingSignature port)
-            self.geometry = geometry
+            self.geometry, self.config, self.out_rows = geometry, config, out_rows
             self.layout = layout
-            self.regions = check_layout(layout, timing, geometry)
+            self.regions = check_layout(layout, timing, geometry, config)
             self.thresholds = check_thresholds(thresholds, geometry.gray_bits)
             self.level_grey = tuple(int(v) for v in level_grey)
             if len(self.level_grey) != len(self.thresholds) + 1 or any(not 0 <= v <= 255 for v in self.level_grey):
@@ -204,15 +199,20 @@ class Compositor(wiring.Component):
             if geometry.gray_bits > 8:
                 raise ValueError(f"gray_bits = {geometry.gray_bits}: the display shows at most 8 bits of grey")
             g = geometry
+            ring_addr_bits = (out_rows * g.buf_width - 1).bit_length()
             super().__init__({
                 "timing": In(TimingSignature),
                 "settings": In(SettingsSignature),
-                "left": Out(FrameBufferReadSignature(g)),
-                "right": Out(FrameBufferReadSignature(g)),
+                "left": Out(SharedReadSignature(g)),
+                "right": Out(SharedReadSignature(g)),
+                "depth": Out(ResultReadSignature(ring_addr_bits, config.code_bits, g.buf_height)),
                 "video": Out(VideoSignature),
             })
             self._subtractor = DisparitySubtractor(g, self.thresholds)
             forward(self, "settings", self._subtractor.settings)     # the switch registers go to the subtractor only
+            self._distance = CentreDistance(g, config)
+            self._text = TextLayer(layout.labels, layout.readout, v_active=timing.v_active,
+                                   x_bits=len(self.timing.x), y_bits=len(self.timing.y))
 
     def elaborate(self, platform):
         m = Module()
@@ -226,8 +226,11 @@ class Compositor(wiring.Component):
             sub.y.eq(scanners["disparity"].yb),
             sub.addr.eq(scanners["disparity"].addr),
         ]
+        m.submodules.text = text = self._text
+        m.d.comb += [text.x.eq(self.timing.x), text.y.eq(self.timing.y), text.chars.eq(self._distance.chars)]
         grey_5, show_image_5 = self._image_reads(m, inside, scanners)
-        self._colour(m, grey_5, show_image_5, de_d[5])
+        depth_5 = self._depth_reads(m, inside, scanners, vblank_1)
+        self._colour(m, grey_5, show_image_5, depth_5, de_d[5])
         m.d.comb += [
             self.video.de.eq(de_d[LATENCY]),
             self.video.hsync.eq(hsync_d[LATENCY]),
@@ -237,14 +240,20 @@ class Compositor(wiring.Component):
 
     def _region_flags(self, m):
         """Clock n -> n + 1: region flags, end-of-region-line flags, vertical blanking."""
-        raster = self.timing
+        raster, layout = self.timing, self.layout
+
+        def within(b):
+            return (raster.x >= b.x0) & (raster.x < b.x1) & (raster.y >= b.y0) & (raster.y < b.y1)
+
         inside, eol = {}, {}
-        for source, r in self.regions.items():
+        areas = {source: r.box for source, r in self.regions.items()}
+        areas["bar"] = layout.bar.box
+        for source, b in areas.items():
             inside[source] = Signal(name=f"in_{source}_1")
             eol[source] = Signal(name=f"eol_{source}_1")
-            in_x = (raster.x >= r.x0) & (raster.x < r.x1)
-            in_y = (raster.y >= r.y0) & (raster.y < r.y1)
-            m.d.sync += [inside[source].eq(in_x & in_y), eol[source].eq(raster.x == r.x1 - 1)]
+            m.d.sync += [inside[source].eq(within(b)), eol[source].eq(raster.x == b.x1 - 1)]
+        inside["tick"] = Signal(name="in_tick_1")
+        m.d.sync += inside["tick"].eq(_or(within(t) for t in layout.ticks))
         vblank_1 = Signal(name="vblank_1")
         m.d.sync += vblank_1.eq(raster.y >= self.video_timing.v_active)
         return inside, eol, vblank_1
@@ -266,10 +275,15 @@ class Compositor(wiring.Component):
         return de_d, hsync_d, vsync_d
 
     def _scanners(self, m, inside, eol, vblank_1):
-        """Clock n + 1: the running counters of the three regions."""
+        """Clock n + 1: the running counters of the regions (the depth map's address wraps around the ring)
+        and the colour bar's band."""
+        g, bar = self.geometry, self.layout.bar
         scanners = {}
         for source, r in self.regions.items():
-            sc = scanners[source] = _RegionScanner(self.geometry, r.scale)
+            wrap = self.out_rows * g.buf_width if source == "depth" else None
+            scanners[source] = RegionScanner(g.buf_width, g.buf_height, r.scale, wrap=wrap)
+        scanners["bar"] = RegionScanner(1, bar.codes, bar.width, bar.step)
+        for source, sc in scanners.items():
             m.submodules[f"scan_{source}"] = sc
             m.d.comb += [sc.active.eq(inside[source]), sc.eol.eq(eol[source] & inside[source]),
                          sc.clear.eq(vblank_1)]
@@ -278,33 +292,31 @@ class Compositor(wiring.Component):
     def _image_reads(self, m, inside, scanners):
         """Clocks n + 2 .. n + 5: each read port serves its image region or the subtractor; the image grey."""
         g, sub = self.geometry, self._subtractor
-        # n + 2: read addresses
+        # n + 2: read addresses; the subtractor registers its own addresses from the disparity flag at n + 1.
         show_left_2, show_right_2 = Signal(name="show_left_2"), Signal(name="show_right_2")
+        subtracting_2 = Signal(name="subtracting_2")
         left_img_addr_2 = Signal(g.addr_bits, name="left_img_addr_2")
         right_img_addr_2 = Signal(g.addr_bits, name="right_img_addr_2")
         m.d.sync += [
             show_left_2.eq(inside["left"]),
             show_right_2.eq(inside["right"]),
+            subtracting_2.eq(inside["disparity"]),
             left_img_addr_2.eq(scanners["left"].addr),
             right_img_addr_2.eq(scanners["right"].addr),
         ]
         m.d.comb += [
-            self.left.addr.eq(Mux(show_left_2, left_img_addr_2, sub.left.addr)),
-            self.right.addr.eq(Mux(show_right_2, right_img_addr_2, sub.right.addr)),
-            sub.left.data.eq(self.left.data),
-            sub.right.data.eq(self.right.data),
+            self.left.port.addr.eq(Mux(show_left_2, left_img_addr_2, sub.left.addr)),
+            self.right.port.addr.eq(Mux(show_right_2, right_img_addr_2, sub.right.addr)),
+            self.left.request.eq(show_left_2 | subtracting_2),
+            self.right.request.eq(show_right_2 | subtracting_2),
+            sub.left.data.eq(self.left.port.data),
+            sub.right.data.eq(self.right.port.data),
         ]
         # n + 3 -> n + 4: register the image read data
-        show_left_3, show_right_3 = Signal(name="show_left_3"), Signal(name="show_right_3")
-        m.d.sync += [show_left_3.eq(show_left_2), show_right_3.eq(show_right_2)]
+        show_left_4 = _delayed(m, show_left_2, 2, "show_left")
+        show_right_4 = _delayed(m, show_right_2, 2, "show_right")
         left_q_4, right_q_4 = Signal(g.gray_bits, name="left_q_4"), Signal(g.gray_bits, name="right_q_4")
-        show_left_4, show_right_4 = Signal(name="show_left_4"), Signal(name="show_right_4")
-        m.d.sync += [
-            left_q_4.eq(self.left.data),
-            right_q_4.eq(self.right.data),
-            show_left_4.eq(show_left_3),
-            show_right_4.eq(show_right_3),
-        ]
+        m.d.sync += [left_q_4.eq(self.left.port.data), right_q_4.eq(self.right.port.data)]
         # n + 4 -> n + 5: the image grey; the subtractor's level arrives at n + 5
         grey_5 = Signal(g.gray_bits, name="grey_5")
         show_image_5 = Signal(name="show_image_5")
@@ -315,7 +327,46 @@ class Compositor(wiring.Component):
         assert SUBTRACTOR_LATENCY == 4, "the stage numbering above assumes the subtractor's 4-clock latency"
         return grey_5, show_image_5
 
-    def _colour(self, m, grey_5, show_image_5, de_5):
+    def _depth_reads(self, m, inside, scanners, vblank_1):
+        """Clocks n + 1 .. n + 5: the depth map from the result ring (rows released as they are shown), the
+        crosshair, the centre window, the bar's band and the colour of the code."""
+        g, cfg, arm = self.geometry, self.config, self.layout.crosshair_arm
+        scan, result = scanners["depth"], self.depth
+        with m.If(vblank_1):
+            m.d.sync += result.rows_released.eq(0)
+        with m.Elif(scan.row_done):
+            m.d.sync += result.rows_released.eq(result.rows_released + 1)
+        xb, yb, xc, yc = scan.xb, scan.yb, g.buf_width // 2, g.buf_height // 2
+        in_depth_2, ready_2, cross_2 = Signal(name="in_depth_2"), Signal(name="ready_2"), Signal(name="cross_2")
+        window_2, bar_code_2 = Signal(9, name="window_2"), Signal(cfg.code_bits, name="bar_code_2")
+        ring_addr_2 = Signal.like(result.addr, name="ring_addr_2")
+        arm_x = ((xb + 2 <= xc) & (xb + arm >= xc)) | ((xb >= xc + 2) & (xb <= xc + arm))
+        arm_y = ((yb + 2 <= yc) & (yb + arm >= yc)) | ((yb >= yc + 2) & (yb <= yc + arm))
+        m.d.sync += [
+            in_depth_2.eq(inside["depth"]), ready_2.eq(yb < result.rows_ready), ring_addr_2.eq(scan.addr),
+            cross_2.eq(((yb == yc) & arm_x) | ((xb == xc) & arm_y)),
+            window_2.eq(Cat(((xb == xc + dx) & (yb == yc + dy)) for dy in (-1, 0, 1) for dx in (-1, 0, 1))),
+            bar_code_2.eq(cfg.disparities - 1 - scanners["bar"].yb),
+        ]
+        m.d.comb += result.addr.eq(ring_addr_2)
+        # n + 3: the ring's data; the centre window; n + 4: the code to colour (depth map or bar band).
+        in_depth_3, window_3 = _delayed(m, in_depth_2, 1, "in_depth"), _delayed(m, window_2, 1, "window")
+        m.submodules.distance = distance = self._distance
+        m.d.comb += [distance.capture.eq(Mux(in_depth_3, window_3, 0)), distance.code.eq(result.data)]
+        code_4 = Signal(cfg.code_bits, name="code_4")
+        m.d.sync += code_4.eq(Mux(in_depth_3, result.data, _delayed(m, bar_code_2, 1, "bar_code")))
+        colour_5 = Signal(24, name="colour_5")
+        with m.Switch(code_4):
+            for code, rgb in enumerate(colour_table(cfg)):
+                with m.Case(code):
+                    m.d.sync += colour_5.eq(rgb)
+        return dict(colour=colour_5, depth=_delayed(m, in_depth_2, 3, "in_depth"),
+                    ready=_delayed(m, ready_2, 3, "ready"), cross=_delayed(m, cross_2, 3, "cross"),
+                    bar=_delayed(m, inside["bar"], 4, "in_bar"), tick=_delayed(m, inside["tick"], 4, "in_tick"),
+                    in_text=_delayed(m, self._text.in_text, 5 - TEXT_LATENCY, "in_text"),
+                    lit=_delayed(m, self._text.lit, 5 - TEXT_LATENCY, "lit"))
+
+    def _colour(self, m, grey_5, show_image_5, depth_5, de_5):
         """Clock n + 5 -> n + 6: the colour chosen by region."""
         sub = self._subtractor
         grey8 = self._replicate_to_8_bits(grey_5)
@@ -327,14 +378,24 @@ class Compositor(wiring.Component):
             with m.Default():                       # the top level (the subtractor never exceeds it)
                 v = self.level_grey[-1]
                 m.d.comb += level_rgb.eq((v << 16) | (v << 8) | v)
+        rgb = self.video.rgb
         with m.If(~de_5):
-            m.d.sync += self.video.rgb.eq(0)
+            m.d.sync += rgb.eq(0)
+        with m.Elif(depth_5["in_text"]):
+            m.d.sync += rgb.eq(Mux(depth_5["lit"], TEXT_RGB, BACKGROUND_RGB))
         with m.Elif(sub.out_valid):
-            m.d.sync += self.video.rgb.eq(Mux(sub.no_data, NO_DATA_RGB, level_rgb))
+            m.d.sync += rgb.eq(Mux(sub.no_data, NO_DATA_RGB, level_rgb))
         with m.Elif(show_image_5):
-            m.d.sync += self.video.rgb.eq(Cat(grey8, grey8, grey8))
+            m.d.sync += rgb.eq(Cat(grey8, grey8, grey8))
+        with m.Elif(depth_5["depth"]):
+            m.d.sync += rgb.eq(Mux(~depth_5["ready"], DEPTH_NOT_READY_RGB,
+                                   Mux(depth_5["cross"], CROSSHAIR_RGB, depth_5["colour"])))
+        with m.Elif(depth_5["bar"]):
+            m.d.sync += rgb.eq(depth_5["colour"])
+        with m.Elif(depth_5["tick"]):
+            m.d.sync += rgb.eq(TEXT_RGB)
         with m.Else():
-            m.d.sync += self.video.rgb.eq(BACKGROUND_RGB)
+            m.d.sync += rgb.eq(BACKGROUND_RGB)
 
     @staticmethod
     def _replicate_to_8_bits(grey):
@@ -343,3 +404,10 @@ class Compositor(wiring.Component):
         while len(bits) < 8:
             bits.extend(grey[i] for i in reversed(range(len(grey))))   # MSB first
         return Cat(*reversed(bits[:8]))
+
+
+def _or(values):
+    out = Const(0)
+    for v in values:
+        out = out | v
+    return out

@@ -12,8 +12,10 @@ __all__ = [
     "SensorGeometry", "SENSOR", "SMALL_SENSOR",
     "CLOCKS", "I2C_ADDR",
     "DIFF_THRESHOLDS", "DIFF_LEVEL_GREY", "NO_DATA_RGB", "BACKGROUND_RGB", "gray_to_rgb24",
-    "Region", "DisplayLayout",
     "DepthConfig", "DEPTH", "SMALL_DEPTH",
+    "VMODCAM_RIG", "disparity_of_distance", "DEPTH_COLOURS", "DEPTH_INVALID_RGB", "DEPTH_NOT_READY_RGB",
+    "CROSSHAIR_RGB", "TEXT_RGB", "DEPTH_LABELS_M", "CROSSHAIR_ARM", "READOUT_TEXT", "FONT_CELL", "FONT",
+    "Box", "Region", "TextBox", "ColourBar", "DisplayLayout",
 ]
 
 
@@ -83,11 +85,11 @@ CEA_1080P60 = VideoTiming(
     hsync_positive=True, vsync_positive=True, pixel_hz=CLOCKS.PIXEL_HZ,
 )
 
-#: A small mode with the same structure, for fast tests of the same RTL (92 x 55 = 5060 clocks a frame;
-#: its active area holds the default layout of SMALL_SENSOR's 16 x 12 buffers).
+#: A small mode with the same structure, for fast tests of the same RTL (124 x 59 = 7316 clocks a frame;
+#: its active area holds the default four-panel layout of SMALL_SENSOR's 16 x 12 buffers with SMALL_DEPTH).
 SMALL_TIMING = VideoTiming(
-    h_active=80, h_front=4, h_sync=3, h_back=5,
-    v_active=48, v_front=2, v_sync=2, v_back=3,
+    h_active=112, h_front=4, h_sync=3, h_back=5,
+    v_active=52, v_front=2, v_sync=2, v_back=3,
     hsync_positive=True, vsync_positive=True, pixel_hz=CLOCKS.PIXEL_HZ,
 )
 
@@ -147,7 +149,7 @@ DIFF_THRESHOLDS = (2, 4, 8, 16)
 DIFF_LEVEL_GREY = (0, 64, 128, 192, 255)
 #: Colour of disparity pixels whose shifted left read falls outside the 400 x 300 image ("no data").
 NO_DATA_RGB = 0x2040C0
-#: Colour of the screen outside the three images.
+#: Colour of the screen outside the images (and of a text box's unlit pixels).
 BACKGROUND_RGB = 0x303030
 
 
@@ -156,58 +158,6 @@ def gray_to_rgb24(gray, gray_bits=5):
     g8 = (gray << (8 - gray_bits)) | (gray >> (2 * gray_bits - 8)) if gray_bits < 8 else gray
     return (g8 << 16) | (g8 << 8) | g8
 
-
-# --- Screen layout of the compositor (spec "HDMI driver": defined in one place) ---------------------------
-
-@dataclass(frozen=True)
-class Region:
-    """One image on the screen: ``source`` ("left", "right" or "disparity") drawn with its top-left corner at
-    (``x0``, ``y0``) of the active area, each buffer pixel repeated ``scale`` x ``scale`` times."""
-    source: str
-    x0: int
-    y0: int
-    scale: int
-    width: int       # buffer width (pixels before scaling)
-    height: int      # buffer height
-
-    @property
-    def x1(self):
-        return self.x0 + self.width * self.scale
-
-    @property
-    def y1(self):
-        return self.y0 + self.height * self.scale
-
-
-@dataclass(frozen=True)
-class DisplayLayout:
-    """Where the left image, the right image and the disparity map go on the screen.
-
-    Default (:meth:`centred`): the two camera images at 1x side by side on top, separated by ``gap``; the
-    disparity map at 2x below them, another ``gap`` lower; the whole group centred in the active area.
-    For 1080p and 400 x 300 buffers: left [540, 940) x [70, 370), right [980, 1380) x [70, 370),
-    disparity [560, 1360) x [410, 1010). Regions never overlap.
-    """
-    regions: tuple
-
-    def region(self, source):
-        return next(r for r in self.regions if r.source == source)
-
-    @classmethod
-    def centred(cls, timing, geometry, gap=None):
-        w, h = geometry.buf_width, geometry.buf_height
-        if gap is None:
-            gap = 40 if timing.h_active >= 640 else 4
-        top_w, total_h = 2 * w + gap, 3 * h + gap
-        if max(top_w, 2 * w) > timing.h_active or total_h > timing.v_active:
-            raise ValueError(f"{w}x{h} buffers do not fit the {timing.h_active}x{timing.v_active} active area")
-        x_left = (timing.h_active - top_w) // 2
-        y_top = (timing.v_active - total_h) // 2
-        return cls(regions=(
-            Region("left", x_left, y_top, 1, w, h),
-            Region("right", x_left + w + gap, y_top, 1, w, h),
-            Region("disparity", (timing.h_active - 2 * w) // 2, y_top + h + gap, 2, w, h),
-        ))
 
 
 # --- Automatic depth engine (docs/depth.md) ---------------------------------------------------------------
@@ -263,3 +213,207 @@ class DepthConfig:
 DEPTH = DepthConfig()
 #: A reduced engine for fast tests of the same RTL on SMALL_SENSOR's 16 x 12 buffers.
 SMALL_DEPTH = DepthConfig(disparities=8, lanes=4)
+
+
+# --- The depth display (issue 15; docs/display.md "Four panels") ------------------------------------------
+
+class VMODCAM_RIG:
+    """The stereo rig's optics, the numbers the test bed uses (sim/scene.py): baseline 6.3 cm (VmodCAM reference
+    manual: 63 mm camera spacing), focal length 3.81 mm (thesis 4.6.7), 2.2 um sensor pixels (MT9D112)."""
+    BASELINE_M = 0.063
+    FOCAL_M = 3.81e-3
+    PIXEL_M = 2.2e-6
+
+
+def disparity_of_distance(distance_m, geometry=SENSOR):
+    """The buffer-pixel disparity of a point at ``distance_m``: d = B f / (Z p s), ``s`` = the buffer's scale
+    (p s = 4 x 2.2 um for the 400 x 300 buffers). Its inverse gives the distance of a disparity."""
+    return VMODCAM_RIG.BASELINE_M * VMODCAM_RIG.FOCAL_M / (distance_m * VMODCAM_RIG.PIXEL_M * geometry.scale)
+
+
+#: The depth colour map: nine sRGB anchors of matplotlib's perceptual "viridis" (sampled at 0, 1/8, .., 1),
+#: dark blue-violet (far, small disparity) to yellow (near, large disparity). Disparity d of D gets the
+#: piecewise-linear colour at u = 8 d / (D - 1), each channel rounded to nearest (docs/display.md).
+DEPTH_COLOURS = (
+    (68, 1, 84), (71, 45, 123), (59, 82, 139), (44, 114, 142), (33, 145, 140),
+    (40, 174, 128), (94, 201, 98), (173, 220, 48), (253, 231, 37),
+)
+#: Colour of an invalid depth pixel (code D).
+DEPTH_INVALID_RGB = 0x000000
+#: Colour of a depth row the engine has not finished when the display reaches it (never in a working system).
+DEPTH_NOT_READY_RGB = NO_DATA_RGB
+#: Crosshair, tick marks and text.
+CROSSHAIR_RGB = 0xFFFFFF
+TEXT_RGB = 0xFFFFFF
+#: Distances (metres) marked on the colour bar (each where its disparity lies inside 0 < d < D).
+DEPTH_LABELS_M = (0.5, 1, 2, 3, 5)
+#: Buffer pixels of each crosshair arm; the arms leave the 3 x 3 window the distance is measured in free.
+CROSSHAIR_ARM = 8
+#: The centre distance readout: four digits (centimetres, leading zeros blank; "----" when invalid) and "cm".
+READOUT_TEXT = "0000cm"
+
+#: A 5 x 7 font in a 6 x 8 cell (one blank column right, one blank row below). Rows top to bottom, "#" = lit.
+FONT_CELL = (6, 8)
+FONT = {
+    " ": (".....",) * 7,
+    "0": (".###.", "#...#", "#..##", "#.#.#", "##..#", "#...#", ".###."),
+    "1": ("..#..", ".##..", "..#..", "..#..", "..#..", "..#..", ".###."),
+    "2": (".###.", "#...#", "....#", "...#.", "..#..", ".#...", "#####"),
+    "3": ("#####", "...#.", "..#..", "...#.", "....#", "#...#", ".###."),
+    "4": ("...#.", "..##.", ".#.#.", "#..#.", "#####", "...#.", "...#."),
+    "5": ("#####", "#....", "####.", "....#", "....#", "#...#", ".###."),
+    "6": ("..##.", ".#...", "#....", "####.", "#...#", "#...#", ".###."),
+    "7": ("#####", "....#", "...#.", "..#..", ".#...", ".#...", ".#..."),
+    "8": (".###.", "#...#", "#...#", ".###.", "#...#", "#...#", ".###."),
+    "9": (".###.", "#...#", "#...#", ".####", "....#", "...#.", ".##.."),
+    ".": (".....", ".....", ".....", ".....", ".....", ".##..", ".##.."),
+    "-": (".....", ".....", ".....", "#####", ".....", ".....", "....."),
+    "c": (".....", ".....", ".###.", "#....", "#....", "#...#", ".###."),
+    "m": (".....", ".....", "##.#.", "#.#.#", "#.#.#", "#...#", "#...#"),
+}
+
+
+# --- Screen layout of the compositor (spec "HDMI driver": defined in one place) ---------------------------
+
+@dataclass(frozen=True)
+class Box:
+    """A rectangle of the active area: columns [x0, x1), rows [y0, y1)."""
+    x0: int
+    y0: int
+    width: int
+    height: int
+
+    @property
+    def x1(self):
+        return self.x0 + self.width
+
+    @property
+    def y1(self):
+        return self.y0 + self.height
+
+    def overlaps(self, other):
+        return self.x0 < other.x1 and other.x0 < self.x1 and self.y0 < other.y1 and other.y0 < self.y1
+
+    def inside(self, other):
+        return other.x0 <= self.x0 and self.x1 <= other.x1 and other.y0 <= self.y0 and self.y1 <= other.y1
+
+
+@dataclass(frozen=True)
+class Region:
+    """One image on the screen: ``source`` ("left", "right", "disparity" or "depth") drawn with its top-left
+    corner at (``x0``, ``y0``) of the active area, each buffer pixel repeated ``scale`` x ``scale`` times."""
+    source: str
+    x0: int
+    y0: int
+    scale: int
+    width: int       # buffer width (pixels before scaling)
+    height: int      # buffer height
+
+    @property
+    def x1(self):
+        return self.x0 + self.width * self.scale
+
+    @property
+    def y1(self):
+        return self.y0 + self.height * self.scale
+
+    @property
+    def box(self):
+        return Box(self.x0, self.y0, self.x1 - self.x0, self.y1 - self.y0)
+
+
+@dataclass(frozen=True)
+class TextBox:
+    """``text`` in :data:`FONT` with its top-left corner at (``x0``, ``y0``), every font pixel ``scale`` x
+    ``scale``: glyph pixels in ``TEXT_RGB``, the rest of the box in ``BACKGROUND_RGB`` (opaque)."""
+    text: str
+    x0: int
+    y0: int
+    scale: int
+
+    @property
+    def box(self):
+        return Box(self.x0, self.y0, len(self.text) * FONT_CELL[0] * self.scale, FONT_CELL[1] * self.scale)
+
+
+@dataclass(frozen=True)
+class ColourBar:
+    """The depth colour map as a vertical bar: code c (0..codes-1) fills rows
+    ``y0 + (codes - 1 - c) * step`` .. ``+ step`` (near = large disparity on top) of columns [x0, x0 + width)."""
+    x0: int
+    y0: int
+    width: int
+    step: int
+    codes: int
+
+    @property
+    def box(self):
+        return Box(self.x0, self.y0, self.width, self.codes * self.step)
+
+
+@dataclass(frozen=True)
+class DisplayLayout:
+    """Where everything goes on the screen: the four panels (``regions``), the colour bar with its tick marks
+    (``ticks``, boxes in ``TEXT_RGB``) and distance labels (``labels``), the centre-distance ``readout`` and the
+    crosshair's ``crosshair_arm`` (buffer pixels).
+
+    Default (:meth:`centred`): the two camera images at 1x side by side on top, separated by ``gap``; the
+    difference map and the depth map at 2x below them, side by side, another ``gap`` lower; the colour bar right
+    of the depth map with its labels; the readout beside the crosshair (right of and below the centre) inside
+    the depth map if it fits there, else just below the depth map. For 1080p and 400 x 300 buffers: left
+    [540, 940) x [70, 370), right [980, 1380) x [70, 370), difference map [100, 900) x [410, 1010), depth map
+    [940, 1740) x [410, 1010), bar [1748, 1764) x [422, 998). :func:`hdl.compositor.check_layout` checks that
+    nothing overlaps (except the readout inside the depth map) and everything fits.
+    """
+    regions: tuple
+    bar: ColourBar = None
+    ticks: tuple = ()
+    labels: tuple = ()
+    readout: TextBox = None
+    crosshair_arm: int = CROSSHAIR_ARM
+
+    def region(self, source):
+        return next(r for r in self.regions if r.source == source)
+
+    @classmethod
+    def centred(cls, timing, geometry, depth=DEPTH, gap=None):
+        w, h, codes = geometry.buf_width, geometry.buf_height, depth.disparities
+        large = timing.h_active >= 640
+        if gap is None:
+            gap = 40 if large else 4
+        fs = 2 if large else 1                      # font scale
+        cell_w, cell_h = FONT_CELL[0] * fs, FONT_CELL[1] * fs
+        step = max(1, 2 * h // codes)
+        bar_gap, bar_w, tick_w = 4 * fs, 8 * fs, 3 * fs
+        marks = [(f"{z:g}m", disparity_of_distance(z, geometry)) for z in DEPTH_LABELS_M]
+        marks = [(text, d) for text, d in marks if 0 < d < codes]
+        label_w = max((len(text) for text, _ in marks), default=0) * cell_w
+        top_w = 2 * w + gap
+        bottom_w = 4 * w + gap + bar_gap + bar_w + tick_w + fs + label_w
+        readout_w = len(READOUT_TEXT) * cell_w
+        xc, yc = w // 2, h // 2
+        inside = (xc + 3) * 2 + readout_w <= 2 * w and (yc + 3) * 2 + cell_h <= 2 * h
+        total_h = 3 * h + gap + (0 if inside else fs + cell_h)
+        if max(top_w, bottom_w) > timing.h_active or total_h > timing.v_active:
+            raise ValueError(f"{w}x{h} buffers and the depth display do not fit the "
+                             f"{timing.h_active}x{timing.v_active} active area")
+        x_left, y_top = (timing.h_active - top_w) // 2, (timing.v_active - total_h) // 2
+        x_bottom, y_bottom = (timing.h_active - bottom_w) // 2, y_top + h + gap
+        depth_region = Region("depth", x_bottom + 2 * w + gap, y_bottom, 2, w, h)
+        bar = ColourBar(depth_region.x1 + bar_gap, y_bottom + (2 * h - codes * step) // 2, bar_w, step, codes)
+        ticks, labels = [], []
+        for text, d in marks:
+            t = bar.y0 + int((codes - 1 - d + 0.5) * step)
+            ticks.append(Box(bar.box.x1, t - fs // 2, tick_w, fs))
+            labels.append(TextBox(text, bar.box.x1 + tick_w + fs, t - cell_h // 2, fs))
+        if inside:
+            readout = TextBox(READOUT_TEXT, depth_region.x0 + (xc + 3) * 2, depth_region.y0 + (yc + 3) * 2, fs)
+        else:
+            readout = TextBox(READOUT_TEXT, depth_region.x0, depth_region.y1 + fs, fs)
+        return cls(regions=(
+            Region("left", x_left, y_top, 1, w, h),
+            Region("right", x_left + w + gap, y_top, 1, w, h),
+            Region("disparity", x_bottom, y_bottom, 2, w, h),
+            depth_region,
+        ), bar=bar, ticks=tuple(ticks), labels=tuple(labels), readout=readout,
+            crosshair_arm=min(CROSSHAIR_ARM, xc - 1, yc - 1, w - 1 - xc, h - 1 - yc))

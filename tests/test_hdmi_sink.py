@@ -66,14 +66,14 @@ def test_correct_stream_rebuilds_frames_and_measures_exact_timing():
     for frame in sink.frames:
         assert np.array_equal(frame, pattern_frame(T))
     obs = sink.observed
-    assert set(obs["line_clocks"]) == {92}
+    assert set(obs["line_clocks"]) == {124}
     assert set(obs["hsync_clocks"]) == {3}
     assert set(obs["h_front"]) == {4} and set(obs["h_back"]) == {5}
-    assert set(obs["active_pixels"]) == {80}
-    assert set(obs["vsync_clocks"]) == {2 * 92} and set(obs["vsync_lines"]) == {2}
+    assert set(obs["active_pixels"]) == {112}
+    assert set(obs["vsync_clocks"]) == {2 * 124} and set(obs["vsync_lines"]) == {2}
     assert set(obs["v_front"]) == {2} and set(obs["v_back"]) == {3}
-    assert obs["active_lines"] == {48: 2}
-    assert obs["frame_clocks"] == {92 * 55: 2}          # frame 0 -> 1 and frame 1 -> the extra clock
+    assert obs["active_lines"] == {52: 2}
+    assert obs["frame_clocks"] == {124 * 59: 2}         # frame 0 -> 1 and frame 1 -> the extra clock
 
 
 def test_negative_polarity_mode_is_accepted():
@@ -88,7 +88,7 @@ def test_wrong_line_length_is_reported():
     s = raster(T)
     sink = run(delete(s, clock_of(s, T.h_total - 1, 10)))      # one back-porch clock missing on line 10
     assert "line_clocks" in kinds(sink)
-    assert any("line length is 91, expected 92" in v.message for v in sink.violations), sink.report()
+    assert any("line length is 123, expected 124" in v.message for v in sink.violations), sink.report()
     with pytest.raises(SinkError, match="line_clocks"):
         sink.check()
 
@@ -151,7 +151,7 @@ def test_missing_active_line_is_reported():
         s[k][line] = 0                                             # line 20 blank
     sink = run(s)
     assert "active_lines" in kinds(sink)
-    assert any("frame has 47 active lines" in v.message for v in sink.violations), sink.report()
+    assert any("frame has 51 active lines" in v.message for v in sink.violations), sink.report()
     assert sink.frames_completed == 1                              # the broken frame is not delivered
 
 

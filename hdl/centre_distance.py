@@ -1,0 +1,103 @@
+"""CentreDistance: the distance at the depth map's centre as readout characters (docs/display.md)."""
+
+from fractions import Fraction
+
+from amaranth import Module, Mux, Signal
+from amaranth.lib import data, wiring
+from amaranth.lib.wiring import In, Out
+
+from .params import DEPTH, READOUT_TEXT, SENSOR, VMODCAM_RIG
+from .text_layer import CHAR_BITS, char_codes
+
+__all__ = ["CentreDistance", "readout_table", "SETTLE_CLOCKS"]
+
+WINDOW = 9
+#: Clocks after the last window capture until ``chars`` holds its readout.
+SETTLE_CLOCKS = WINDOW + 4
+
+
+def readout_table(geometry=SENSOR, config=DEPTH):
+    """The readout text of every code 0..D: the distance B f / (d p s) in whole centimetres (rounded half up),
+    right-aligned in four characters, then "cm"; "----cm" for d = 0 (infinitely far) and the invalid code D.
+    Exact rational arithmetic (the rig's decimal constants as fractions)."""
+    numerator = Fraction(str(VMODCAM_RIG.BASELINE_M)) * Fraction(str(VMODCAM_RIG.FOCAL_M)) * 100
+    denominator = Fraction(str(VMODCAM_RIG.PIXEL_M)) * geometry.scale
+    digits = len(READOUT_TEXT) - 2
+    table = []
+    for d in range(config.disparities + 1):
+        if d == 0 or d == config.invalid:
+            text = "-" * digits
+        else:
+            cm = int(numerator / (denominator * d) + Fraction(1, 2))
+            text = str(cm).rjust(digits)
+            if len(text) > digits:
+                raise ValueError(f"{cm} cm does not fit {digits} digits")
+        table.append(text + READOUT_TEXT[digits:])
+    return table
+
+
+class CentreDistance(wiring.Component):
+    """Keeps the nine codes of the 3 x 3 window at the depth map's centre, takes their median (the fifth
+    smallest; the invalid code D sorts above every disparity) and gives the readout of that code
+    (:func:`readout_table`) as font codes.
+
+    The median is found by a free-running search: every clock one of the nine codes is the candidate; it is
+    the median when at most four codes are smaller and at least five are not larger. So ``chars`` holds the
+    window's readout :data:`SETTLE_CLOCKS` clocks after the window last changed.
+
+    Parameters
+    ----------
+    geometry, config
+        Buffer scale (for the distance) and D.
+
+    Attributes
+    ----------
+    capture : In(9)
+        One-hot: ``code`` is window position k (raster order, k = 3 (dy + 1) + dx + 1) this clock.
+    code : In(code_bits)
+    median : Out(code_bits)
+    chars : Out(ArrayLayout(CHAR_BITS, len(READOUT_TEXT)))
+
+    Clock domain: ``sync``.
+    """
+
+    def __init__(self, geometry=SENSOR, config=DEPTH):
+        self.geometry, self.config = geometry, config
+        self.table = readout_table(geometry, config)
+        super().__init__({
+            "capture": In(WINDOW),
+            "code": In(config.code_bits),
+            "median": Out(config.code_bits),
+            "chars": Out(data.ArrayLayout(CHAR_BITS, len(READOUT_TEXT))),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        bits = self.config.code_bits
+        window = [Signal(bits, name=f"window{k}") for k in range(WINDOW)]
+        for k in range(WINDOW):
+            with m.If(self.capture[k]):
+                m.d.sync += window[k].eq(self.code)
+        # The search: candidate i; its comparisons registered; the counts decide.
+        i = Signal(range(WINDOW))
+        m.d.sync += i.eq(Mux(i == WINDOW - 1, 0, i + 1))
+        candidate = Signal(bits)
+        with m.Switch(i):
+            for k in range(WINDOW):
+                with m.Case(k):
+                    m.d.comb += candidate.eq(window[k])
+        less, not_more = Signal(WINDOW), Signal(WINDOW)
+        value = Signal(bits)
+        m.d.sync += [less[k].eq(window[k] < candidate) for k in range(WINDOW)]
+        m.d.sync += [not_more[k].eq(window[k] <= candidate) for k in range(WINDOW)]
+        m.d.sync += value.eq(candidate)
+        half = WINDOW // 2
+        with m.If((sum(less) <= half) & (sum(not_more) > half)):
+            m.d.sync += self.median.eq(value)
+        # The readout of the median: a ROM of D + 1 entries, registered.
+        with m.Switch(self.median):
+            for code, text in enumerate(self.table):
+                with m.Case(code):
+                    for pos, c in enumerate(char_codes(text)):
+                        m.d.sync += self.chars[pos].eq(c)
+        return m

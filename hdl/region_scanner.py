@@ -1,0 +1,90 @@
+"""RegionScanner: the running coordinates of a scaled picture on the raster (no per-pixel multiplier)."""
+
+from amaranth import Const, Module, Mux, Signal
+from amaranth.lib import wiring
+from amaranth.lib.wiring import In, Out
+
+__all__ = ["RegionScanner"]
+
+
+class RegionScanner(wiring.Component):
+    """Running address of a ``width`` x ``height`` picture drawn with every pixel repeated ``scale_x`` times
+    along a line and every row ``scale_y`` times: the address and coordinates of the current display pixel.
+
+    Parameters
+    ----------
+    width, height : int
+        The picture (before scaling).
+    scale_x, scale_y : int
+        Repetitions of a pixel along the line and of a row.
+    wrap : int or None
+        ``addr`` counts modulo ``wrap`` (a ring of rows: ``wrap`` = rows x ``width``); None: no wrap.
+
+    Attributes
+    ----------
+    active, eol, clear : In(1)
+        Registered flags of the pixel at this clock: inside the picture, last pixel of a picture line, vertical
+        blanking (clears the counters).
+    addr, xb, yb : Out
+        Valid while ``active``: ``addr`` = ``yb * width + xb`` (modulo ``wrap``), ``xb``, ``yb``; all registers.
+    row_done : Out(1)
+        Combinational: this pixel ends the last copy of picture row ``yb``.
+
+    Clock domain: ``sync``.
+    """
+
+    def __init__(self, width, height, scale_x, scale_y=None, *, wrap=None):
+        self.width, self.height = width, height
+        self.scale_x, self.scale_y = scale_x, scale_x if scale_y is None else scale_y
+        self.wrap = wrap
+        super().__init__({
+            "active": In(1),
+            "eol": In(1),
+            "clear": In(1),
+            "addr": Out(range(max(2, wrap if wrap is not None else width * height))),
+            "xb": Out(range(max(2, width))),           # (at least one bit: no zero-width vectors in Verilog)
+            "yb": Out(range(max(2, height))),
+            "row_done": Out(1),
+        })
+
+    def _phase(self, m, scale, name):
+        """(phase register or None, is-last-copy condition)."""
+        if scale == 1:
+            return None, Const(1)
+        phase = Signal(range(scale), name=name)
+        return phase, phase == scale - 1
+
+    def elaborate(self, platform):
+        m = Module()
+        x_phase, last_x_copy = self._phase(m, self.scale_x, "x_phase")
+        y_phase, last_y_copy = self._phase(m, self.scale_y, "y_phase")
+        row_start = Signal.like(self.addr)          # address of (0, yb): where a repeated row rewinds to
+        following = Signal.like(self.addr)          # the address after this one
+        if self.wrap is None:
+            m.d.comb += following.eq(self.addr + 1)
+        else:
+            m.d.comb += following.eq(Mux(self.addr == self.wrap - 1, 0, self.addr + 1))
+        m.d.comb += self.row_done.eq(self.active & self.eol & last_y_copy)
+        with m.If(self.clear):
+            m.d.sync += [self.addr.eq(0), row_start.eq(0), self.xb.eq(0), self.yb.eq(0)]
+            m.d.sync += [p.eq(0) for p in (x_phase, y_phase) if p is not None]
+        with m.Elif(self.active & self.eol):
+            m.d.sync += self.xb.eq(0)
+            if x_phase is not None:
+                m.d.sync += x_phase.eq(0)
+            with m.If(last_y_copy):                 # next picture row
+                m.d.sync += [self.addr.eq(following), row_start.eq(following), self.yb.eq(self.yb + 1)]
+                if y_phase is not None:
+                    m.d.sync += y_phase.eq(0)
+            if y_phase is not None:
+                with m.Else():                      # repeat this row
+                    m.d.sync += [self.addr.eq(row_start), y_phase.eq(y_phase + 1)]
+        with m.Elif(self.active):
+            with m.If(last_x_copy):                 # next picture pixel
+                m.d.sync += [self.addr.eq(following), self.xb.eq(self.xb + 1)]
+                if x_phase is not None:
+                    m.d.sync += x_phase.eq(0)
+            if x_phase is not None:
+                with m.Else():                      # another copy of the same pixel
+                    m.d.sync += x_phase.eq(x_phase + 1)
+        return m

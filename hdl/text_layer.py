@@ -1,0 +1,151 @@
+"""TextLayer: text boxes on the raster from a small font ROM (the depth display's labels and readout)."""
+
+from amaranth import Module, Signal
+from amaranth.lib import data, wiring
+from amaranth.lib.wiring import In, Out
+
+from .params import FONT, FONT_CELL, TextBox
+from .region_scanner import RegionScanner
+from .rejecting import rejecting
+
+__all__ = ["TextLayer", "FONT_ORDER", "char_codes", "LATENCY"]
+
+#: The font's characters in ROM order: a character's code is its index here.
+FONT_ORDER = tuple(FONT)
+#: Clocks from a raster position to its ``in_text`` / ``lit``.
+LATENCY = 3
+CHAR_BITS = (len(FONT_ORDER) - 1).bit_length()
+
+
+def char_codes(text):
+    """The ROM codes of ``text``; ``ValueError`` for a character the font does not have."""
+    missing = sorted(set(text) - set(FONT_ORDER))
+    if missing:
+        raise ValueError(f"the font has no glyph for {missing!r}")
+    return [FONT_ORDER.index(c) for c in text]
+
+
+class TextLayer(wiring.Component):
+    """Draws ``boxes`` (constant :class:`hdl.params.TextBox` es) and one ``dynamic`` box whose characters come
+    from ``chars``. A box covers ``len(text)`` cells of ``FONT_CELL`` font pixels, each ``scale`` x ``scale``
+    display pixels; a font pixel is lit where its glyph (:data:`hdl.params.FONT`) has ``#`` (the cell's last
+    column and row never are). The boxes must not overlap.
+
+    Parameters
+    ----------
+    boxes : tuple of TextBox
+    dynamic : TextBox or None
+        Its ``text`` gives only the length; ``chars`` gives the characters.
+    v_active : int
+        Active lines (the counters clear below them).
+
+    Attributes
+    ----------
+    x, y : In
+        The raster position.
+    chars : In(ArrayLayout(CHAR_BITS, len(dynamic.text)))
+        Character codes (:data:`FONT_ORDER` indices) of the dynamic box; sampled when its cells are drawn.
+    in_text, lit : Out(1)
+        :data:`LATENCY` clocks after ``x``, ``y``: the position is inside a box, and it is a lit font pixel.
+
+    Clock domain: ``sync``.
+
+    Raises
+    ------
+    ValueError
+        A character the font lacks.
+    """
+
+    def __init__(self, boxes, dynamic=None, *, v_active, x_bits=12, y_bits=11):
+        with rejecting(self):
+            self.boxes = tuple(boxes)
+            for box in self.boxes:
+                char_codes(box.text)
+            self.dynamic = dynamic
+            self.v_active = v_active
+            n = len(dynamic.text) if dynamic is not None else 1
+            super().__init__({
+                "x": In(x_bits),
+                "y": In(y_bits),
+                "chars": In(data.ArrayLayout(CHAR_BITS, n)),
+                "in_text": Out(1),
+                "lit": Out(1),
+            })
+
+    def elaborate(self, platform):
+        m = Module()
+        clear = Signal()
+        m.d.sync += clear.eq(self.y >= self.v_active)
+        in_any_2, lit_any_3, in_any_3 = [], [], Signal()
+        entries = [(box, None) for box in self.boxes]
+        if self.dynamic is not None:
+            entries.append((self.dynamic, self.chars))
+        for i, (box, chars) in enumerate(entries):
+            inside_2, lit_3 = self._box(m, i, box, chars, clear)
+            in_any_2.append(inside_2)
+            lit_any_3.append(lit_3)
+        m.d.sync += in_any_3.eq(_any(in_any_2))
+        m.d.comb += [self.in_text.eq(in_any_3), self.lit.eq(_any(lit_any_3))]
+        return m
+
+    def _box(self, m, i, box, chars, clear):
+        """One box: flags (n + 1), glyph row from the ROM (n + 2), the font pixel (n + 3)."""
+        cw, ch = FONT_CELL
+        b = box.box
+        inside, eol = Signal(name=f"in_text{i}_1"), Signal(name=f"eol_text{i}_1")
+        m.d.sync += [
+            inside.eq((self.x >= b.x0) & (self.x < b.x1) & (self.y >= b.y0) & (self.y < b.y1)),
+            eol.eq(self.x == b.x1 - 1),
+        ]
+        scan = RegionScanner(len(box.text) * cw, ch, box.scale)
+        m.submodules[f"text_scan{i}"] = scan
+        m.d.comb += [scan.active.eq(inside), scan.eol.eq(eol & inside), scan.clear.eq(clear)]
+        # n + 1 -> n + 2: the cell's character, its glyph row, the column within the cell.
+        row_bits = Signal(cw - 1, name=f"glyph_row{i}_2")
+        column = Signal(range(cw), name=f"cell_column{i}_2")
+        inside_2 = Signal(name=f"in_text{i}_2")
+        m.d.sync += inside_2.eq(inside)
+        with m.Switch(scan.xb):
+            for u in range(len(box.text) * cw):
+                with m.Case(u):
+                    cell, col = divmod(u, cw)
+                    m.d.sync += column.eq(col)
+                    code = chars[cell] if chars is not None else char_codes(box.text[cell])[0]
+                    m.d.sync += row_bits.eq(self._glyph_row(m, code, scan.yb, f"{i}_{cell}"))
+        # n + 2 -> n + 3: the font pixel (column cw - 1 is the blank spacing column).
+        lit = Signal(name=f"lit_text{i}_3")
+        pixel = row_bits.bit_select(column, 1)
+        m.d.sync += lit.eq(inside_2 & (column < cw - 1) & pixel)
+        return inside_2, lit
+
+    def _glyph_row(self, m, code, row, tag):
+        """The ``cw - 1`` bits of glyph ``code``'s row ``row`` (bit c = column c; 0 below the glyph)."""
+        cw, ch = FONT_CELL
+        bits = Signal(cw - 1, name=f"glyph_{tag}")
+        if isinstance(code, int):
+            glyphs = [(code, FONT[FONT_ORDER[code]])]
+        else:
+            glyphs = list(enumerate(FONT[c] for c in FONT_ORDER))
+        with m.Switch(row):
+            for r in range(ch - 1):
+                with m.Case(r):
+                    if isinstance(code, int):
+                        m.d.comb += bits.eq(_row_value(glyphs[0][1][r]))
+                    else:
+                        with m.Switch(code):
+                            for index, glyph in glyphs:
+                                with m.Case(index):
+                                    m.d.comb += bits.eq(_row_value(glyph[r]))
+        return bits
+
+
+def _row_value(pattern):
+    """A glyph row ("#.#..") as an integer, bit c = column c (the leftmost pixel is bit 0)."""
+    return int(pattern[::-1].replace("#", "1").replace(".", "0"), 2)
+
+
+def _any(signals):
+    out = 0
+    for s in signals:
+        out = out | s
+    return out

@@ -1,0 +1,191 @@
+"""The depth display's pieces: colour map ROM, readout ROM, text layer, centre median, the arbiter and the layout.
+
+The RTL tables (hdl/colour_map.py, hdl/centre_distance.py) against the golden model (golden/depth_display.py,
+written separately from the spec) and against values worked by hand; the text layer and the centre median in
+the Amaranth simulator against the golden drawing and NumPy's median.
+"""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+from golden.depth_display import centre_readout, depth_colours, draw_text, distance_m
+from hdl.centre_distance import CentreDistance, SETTLE_CLOCKS, readout_table
+from hdl.colour_map import colour_table
+from hdl.params import (BACKGROUND_RGB, CEA_1080P60, DEPTH, DEPTH_COLOURS, DEPTH_INVALID_RGB, FONT, FONT_CELL,
+                        SENSOR, SMALL_DEPTH, SMALL_SENSOR, SMALL_TIMING, TEXT_RGB, DepthConfig, DisplayLayout,
+                        TextBox, VideoTiming, disparity_of_distance)
+from hdl.read_arbiter import ReadArbiter
+from hdl.text_layer import FONT_ORDER, LATENCY as TEXT_LATENCY, TextLayer, char_codes
+from sim.amaranth_sim import simulate
+
+CONFIGS = [DEPTH, SMALL_DEPTH, DepthConfig(disparities=128, lanes=16)]
+
+
+def _rgb(value):
+    return tuple((value >> s) & 0xFF for s in (16, 8, 0))
+
+
+@pytest.mark.parametrize("config", CONFIGS, ids=lambda c: f"D{c.disparities}")
+def test_colour_rom_equals_golden(config):
+    """The ROM (exact fractions) equals the golden colours (NumPy interpolation) for every code."""
+    assert colour_table(config) == depth_colours(config).tolist()
+
+
+def test_colour_map_by_hand():
+    """Far = the first anchor, near = the last (yellow: warm); d = 31 of D = 64 is at u = 8 x 31 / 63 = 3 + 59/63,
+    59/63 of the way from anchor 3 (44, 114, 142) to anchor 4 (33, 145, 140): (44 - 11 x 59/63, 114 + 31 x
+    59/63, 142 - 2 x 59/63) = (33.70, 143.03, 140.13) -> (34, 143, 140); invalid is black. Lightness
+    (Rec. 709 luma) rises with disparity: the map is perceptually ordered, near is brightest."""
+    table = colour_table(DEPTH)
+    assert _rgb(table[0]) == DEPTH_COLOURS[0] and _rgb(table[63]) == DEPTH_COLOURS[-1] == (253, 231, 37)
+    assert _rgb(table[31]) == (34, 143, 140)
+    assert table[64] == DEPTH_INVALID_RGB == 0
+    rgb = np.array([_rgb(v) for v in table[:64]], dtype=float)
+    luma = rgb @ [0.2126, 0.7152, 0.0722]
+    assert (np.diff(luma) > 0).all()
+    assert rgb[63, 0] > rgb[63, 2] and rgb[0, 2] > rgb[0, 0]        # near warm (red > blue), far cool
+
+
+@pytest.mark.parametrize("config, geometry", [(DEPTH, SENSOR), (SMALL_DEPTH, SMALL_SENSOR)])
+def test_readout_rom_equals_golden(config, geometry):
+    """Every code's readout (exact rationals) equals the golden text (floats) for a map made of that code."""
+    for code, text in enumerate(readout_table(geometry, config)):
+        codes = np.full((12, 16), code)
+        assert centre_readout(codes, geometry, config) == (code, text)
+
+
+def test_readout_by_hand():
+    """Z = 0.063 x 3.81e-3 / (d x 4 x 2.2e-6) m = 27.2761 / d m: d = 1 -> 2728 cm, d = 27 -> 101.02 -> 101 cm,
+    d = 62 -> 43.99 -> 44 cm; d = 0 (infinitely far) and the invalid code show dashes."""
+    table = readout_table()
+    assert table[1] == "2728cm" and table[27] == " 101cm" and table[62] == "  44cm"
+    assert table[0] == table[64] == "----cm"
+    assert abs(disparity_of_distance(1.0) - 27.2761) < 1e-3 and abs(distance_m(27.2761) - 1.0) < 1e-4
+
+
+def test_centre_median_golden_by_hand():
+    """The fifth smallest of the 3 x 3 window at (W // 2, H // 2); the invalid code sorts above every
+    disparity: 4 invalid codes leave the median valid, 5 make it invalid."""
+    codes = np.zeros((12, 16), dtype=int)
+    codes[5:8, 7:10] = [[64, 64, 30], [64, 64, 28], [27, 27, 29]]
+    assert centre_readout(codes) == (30, f"{int(27.2761 / 30 * 100 + 0.5):4d}cm")
+    codes[7, 7] = 64
+    assert centre_readout(codes)[0] == 64
+
+
+def test_font_and_layout_facts():
+    """Every glyph is 5 x 7 of '#' and '.'; the label texts, the readout and the layout's numbers
+    (hdl.params.DisplayLayout docstring)."""
+    for char, glyph in FONT.items():
+        assert len(glyph) == FONT_CELL[1] - 1 and all(len(r) == FONT_CELL[0] - 1 and set(r) <= {"#", "."}
+                                                         for r in glyph), char
+    full = DisplayLayout.centred(CEA_1080P60, SENSOR, DEPTH)
+    assert [r.box for r in full.regions][2:] == [full.region("disparity").box, full.region("depth").box]
+    assert (full.region("disparity").x0, full.region("depth").x0, full.region("depth").y0) == (100, 940, 410)
+    assert (full.bar.x0, full.bar.y0, full.bar.box.y1) == (1748, 422, 998)
+    assert [lab.text for lab in full.labels] == ["0.5m", "1m", "2m", "3m", "5m"]
+    assert full.readout.box.inside(full.region("depth").box)
+    small = DisplayLayout.centred(SMALL_TIMING, SMALL_SENSOR, SMALL_DEPTH)
+    assert [lab.text for lab in small.labels] == ["5m"]          # d(3 m) = 9.1 is beyond D = 8
+    assert small.readout.y0 == small.region("depth").y1 + 1      # does not fit inside a 32 x 24 map
+
+
+def run_text_layer(boxes, dynamic, dynamic_text, timing):
+    """The text layer over one frame of the raster: (in_text, lit) as (v_active, h_active) arrays."""
+    dut = TextLayer(boxes, dynamic, v_active=timing.v_active)
+    out_in = np.zeros((timing.v_active, timing.h_active), dtype=bool)
+    out_lit = np.zeros_like(out_in)
+
+    async def bench(ctx):
+        for i, c in enumerate(char_codes(dynamic_text)):
+            ctx.set(dut.chars[i], c)
+        ctx.set(dut.y, timing.v_active)                # blanking first: the counters clear
+        await ctx.tick().repeat(2)
+        pending = []
+        for y in range(timing.v_active + 1):
+            for x in range(timing.h_active):
+                if y < timing.v_active:
+                    ctx.set(dut.x, x)
+                    ctx.set(dut.y, y)
+                    pending.append((y, x))
+                else:
+                    ctx.set(dut.y, timing.v_active)
+                await ctx.tick()
+                if len(pending) >= TEXT_LATENCY:
+                    py, px = pending.pop(0)
+                    out_in[py, px], out_lit[py, px] = ctx.get(dut.in_text), ctx.get(dut.lit)
+
+    simulate(dut, clocks={"sync": 1e6}, testbenches=[bench])
+    return out_in, out_lit
+
+
+def test_text_layer_equals_golden_drawing():
+    """Constant boxes at scales 1 and 2 and a dynamic box, every glyph of the font, against golden draw_text.
+    (The raster here has no blanking columns: the layer needs none.)"""
+    timing = VideoTiming(h_active=100, h_front=0, h_sync=1, h_back=0, v_active=40, v_front=1, v_sync=1, v_back=1)
+    everything = "".join(FONT_ORDER)
+    boxes = (TextBox(everything[:8], 1, 0, 1), TextBox(everything[8:], 1, 9, 1), TextBox("0.5m", 40, 20, 2))
+    dynamic = TextBox("0000cm", 0, 30, 1)
+    shown = "-9.1cm"
+    lit_in, lit = run_text_layer(boxes, dynamic, shown, timing)
+    frame = np.full((timing.v_active, timing.h_active), -1, dtype=np.int64)
+    for box in boxes:
+        draw_text(frame, box, box.text)
+    draw_text(frame, dynamic, shown)
+    assert (lit_in == (frame != -1)).all()
+    assert (lit == (frame == TEXT_RGB)).all()
+    assert ((frame == TEXT_RGB) | (frame == BACKGROUND_RGB) | (frame == -1)).all()
+
+
+def run_centre_distance(windows, config=DEPTH):
+    dut = CentreDistance(SENSOR, config)
+    results = []
+
+    async def bench(ctx):
+        for window in windows:
+            for k, code in enumerate(window):
+                ctx.set(dut.capture, 1 << k)
+                ctx.set(dut.code, int(code))
+                await ctx.tick()
+            ctx.set(dut.capture, 0)
+            await ctx.tick().repeat(SETTLE_CLOCKS)
+            text = "".join(FONT_ORDER[ctx.get(dut.chars[i])] for i in range(6))
+            results.append((ctx.get(dut.median), text))
+
+    simulate(dut, clocks={"sync": 1e6}, testbenches=[bench])
+    return results
+
+
+@settings(max_examples=5, deadline=None)
+@given(st.lists(st.lists(st.sampled_from([0, 1, 2, 27, 30, 31, 62, 63, 64]), min_size=9, max_size=9),
+                min_size=6, max_size=6))
+def test_centre_distance_equals_golden(windows):
+    """Windows of codes with many ties and invalid codes: the RTL's median and readout equal the golden's, each
+    within SETTLE_CLOCKS of the window's last change."""
+    got = run_centre_distance(windows)
+    for window, result in zip(windows, got):
+        codes = np.zeros((300, 400), dtype=int)
+        codes[149:152, 199:202] = np.reshape(window, (3, 3))
+        assert result == centre_readout(codes)
+
+
+def test_arbiter_priority():
+    """The display always wins; the engine is granted exactly in the clocks the display leaves free and sees
+    the buffer's data in both cases."""
+    dut = ReadArbiter(SMALL_SENSOR)
+    seen = []
+
+    async def bench(ctx):
+        for display, engine in ((0, 0), (0, 1), (1, 0), (1, 1)):
+            ctx.set(dut.display.request, display)
+            ctx.set(dut.display.port.addr, 5)
+            ctx.set(dut.engine.request, engine)
+            ctx.set(dut.engine.port.addr, 9)
+            ctx.set(dut.buffer.data, 17)
+            seen.append((ctx.get(dut.display.grant), ctx.get(dut.engine.grant), ctx.get(dut.buffer.addr),
+                         ctx.get(dut.engine.port.data), ctx.get(dut.display.port.data)))
+            await ctx.delay(1e-9)
+
+    simulate(dut, clocks={}, testbenches=[bench])
+    assert seen == [(1, 1, 9, 17, 17), (1, 1, 9, 17, 17), (1, 0, 5, 17, 17), (1, 0, 5, 17, 17)]
