@@ -3,6 +3,7 @@
 :class:`DepthHarness` is what the Amaranth-simulator and cocotb tests (and the bench) run: the two images are
 written through ``load_*`` (one word of each per clock), ``start`` starts a map, and the harness
 
+* moves the left image up by ``row_offset`` rows for the engine (the rectification switch);
 * grants the engine's read requests in the clocks a pseudo-random pattern leaves free (``grant_mask``: grant
   when ``lfsr & grant_mask == 0``, independently per buffer; 0 grants every request); in the other clocks the
   buffers read another address (a stand-in for the compositor), so data the engine did not ask for is wrong;
@@ -37,6 +38,7 @@ class DepthHarness(wiring.Component):
             "load_right": In(g.gray_bits),
             "grant_mask": In(8),
             "start": In(1),
+            "row_offset": In(range(g.buf_height)),
             "hold": In(1),
             "done": Out(1),
             "clocks": Out(32),
@@ -85,7 +87,8 @@ class DepthHarness(wiring.Component):
         m.d.comb += engine.result.addr.eq(ring_base + x)
         m.d.sync += [copy_valid.eq(copying), copy_addr.eq(map_addr)]
         m.d.comb += [store.addr.eq(copy_addr), store.data.eq(engine.result.data), store.en.eq(copy_valid)]
-        m.d.comb += [engine.result.rows_released.eq(row), engine.start.eq(self.start), self.done.eq(row == h)]
+        m.d.comb += [engine.result.rows_released.eq(row), engine.start.eq(self.start), self.done.eq(row == h),
+                     engine.left_row_offset.eq(self.row_offset)]
         m.d.comb += self.rows_ready.eq(engine.result.rows_ready)
         with m.If(~copying & ~self.hold & (row < engine.result.rows_ready)):
             m.d.sync += [copying.eq(1), x.eq(0)]

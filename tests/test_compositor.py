@@ -1,6 +1,6 @@
-"""The display path (SwitchControl + Compositor + two FrameBuffers) against golden.composite_frame, bit for bit,
-in the Amaranth simulator and in cocotb on Verilator and Icarus; plus the golden compositor against hand-worked
-layout facts and the compositor's argument checks.
+"""The display path (SwitchControl + StereoDisplay: Compositor + DepthEngine + two ReadArbiters, on two
+FrameBuffers) against golden.composite_frame, bit for bit, in the Amaranth simulator and in cocotb on Verilator and
+Icarus; plus the golden compositor against hand-worked layout facts and the compositor's argument checks.
 
 The buffers hold the bundled stereo pair (golden.stereo_pair) converted to 5-bit grey by the spec's rule
 (:func:`grey_buffers`). Frames run back to back while the switches move in the middle of frames (inside the
@@ -20,11 +20,12 @@ from golden.capture import capture_frame
 from golden.disparity import composite_frame
 from golden.stereo_pair import load_default_pair
 from hdl.compositor import LATENCY, Compositor
+from hdl.stereo_display import StereoDisplay, check_engine_keeps_up
 from hdl.export import export_verilog
 from hdl.forward import forward
 from hdl.frame_buffer import FrameBuffer
-from hdl.params import (BACKGROUND_RGB, CEA_1080P60, CLOCKS, NO_DATA_RGB, SENSOR, SMALL_SENSOR, SMALL_TIMING,
-                        DisplayLayout, Region, VideoTiming)
+from hdl.params import (BACKGROUND_RGB, CEA_1080P60, CLOCKS, DEPTH, NO_DATA_RGB, SENSOR, SMALL_DEPTH, SMALL_SENSOR,
+                        SMALL_TIMING, Box, ColourBar, DisplayLayout, Region, TextBox, VideoTiming)
 from hdl.switches import SWITCH_VALUE_BITS, SettingsSignature, SwitchControl
 from hdl.video_bus import TimingSignature, VideoSignature
 from sim.amaranth_sim import simulate
@@ -38,12 +39,13 @@ CLOCK_PS = round(1e12 / CLOCKS.PIXEL_HZ)
 #: Amaranth's Verilog compares wide signals with narrow constants; that lint warning is not fatal here.
 
 #: Frames 1, 2, ...: where in the previous frame the switches move, and to what. SMALL_TIMING's disparity
-#: region covers lines 20..43, columns 24..55, so lines 20-43 are changes in the middle of the disparity map.
+#: region covers lines 17..40, columns 8..39 (the depth map columns 44..75), so lines 17-40 are changes in the
+#: middle of both maps.
 SMALL_SCHEDULE = [
     dict(line=25, column=30, disparity=22, rectification=3),    # the thesis's setting (all no-data at 16 x 12)
-    dict(line=30, column=40, disparity=127, rectification=127),  # the maximum
+    dict(line=30, column=50, disparity=127, rectification=127),  # the maximum
     dict(line=20, column=24, disparity=3, rectification=1),
-    dict(line=43, column=55, disparity=15),                      # rectification must stay 1
+    dict(line=40, column=55, disparity=15),                      # rectification must stay 1
     dict(line=50, column=2, rectification=11),                   # disparity must stay 15
     dict(line=0, column=3, disparity=5, rectification=2),
 ]
@@ -57,15 +59,15 @@ def grey_buffers(geometry):
 
 
 class DisplayHarness(wiring.Component):
-    """Test harness, not part of the design: SwitchControl -> Compositor <- two FrameBuffers, all in ``sync``;
+    """Test harness, not part of the design: SwitchControl -> StereoDisplay <- two FrameBuffers, all in ``sync``;
     the buffers' write ports are brought out (``load_*``) so a cocotb bench can fill them, or ``init_*`` preloads
     them. ``timing``, ``sw``, ``video`` and ``settings`` (the switch registers) are the blocks' own; ``video_word``
     is the video output packed as Cat(vsync, hsync, de, rgb) so a cocotb bench reads one signal per clock (it
     checks it against the ``video`` ports themselves at intervals)."""
 
-    def __init__(self, timing, geometry, *, layout=None, init_left=(), init_right=()):
+    def __init__(self, timing, geometry, *, layout=None, config=SMALL_DEPTH, init_left=(), init_right=()):
         self.switches = SwitchControl()
-        self.compositor = Compositor(timing, geometry, layout)
+        self.compositor = StereoDisplay(timing, geometry, layout, config=config)
         self.buffers = (FrameBuffer(geometry, init=list(init_left)), FrameBuffer(geometry, init=list(init_right)))
         super().__init__({
             "timing": In(TimingSignature),
@@ -100,18 +102,20 @@ class DisplayHarness(wiring.Component):
         return m
 
 
-def expected_frames(left, right, settings, timing, geometry, layout=None):
-    return np.stack([composite_frame(left, right, d, r, timing, geometry, layout) for d, r in settings])
+def expected_frames(left, right, settings, timing, geometry, layout=None, config=SMALL_DEPTH):
+    return np.stack([composite_frame(left, right, d, r, timing, geometry, layout, depth=config)
+                     for d, r in settings])
 
 
 # --- the golden compositor on its own ----------------------------------------------------------------------
 
 def test_golden_layout_1080p():
-    """Spot checks of the golden frame against the layout the spec fixes (hdl.params.DisplayLayout docstring)."""
+    """Spot checks of the golden frame against the layout the spec fixes (hdl.params.DisplayLayout docstring)
+    and the depth display's colours worked by hand."""
     left = np.full((300, 400), 31, dtype=np.uint8)
     right = np.zeros((300, 400), dtype=np.uint8)
     right[0, 0] = 16
-    frame = composite_frame(left, right, 10, 0)
+    frame, codes, text = composite_frame(left, right, 10, 0, details=True)
     assert frame.shape == (1080, 1920, 3)
     bg = [(BACKGROUND_RGB >> s) & 0xFF for s in (16, 8, 0)]
     nd = [(NO_DATA_RGB >> s) & 0xFF for s in (16, 8, 0)]
@@ -120,35 +124,71 @@ def test_golden_layout_1080p():
     assert (frame[70, 940] == bg).all() and (frame[70, 979] == bg).all()
     assert (frame[70, 980] == 0x84).all()                                           # right (0, 0): 16 -> 0x84
     assert (frame[70, 981:1380] == 0).all()
-    # Disparity map at 2x from (560, 410): |31 - 0| = 31 -> level 4 -> 255; the last 10 buffer columns have
+    # Disparity map at 2x from (100, 410): |31 - 0| = 31 -> level 4 -> 255; the last 10 buffer columns have
     # no left pixel (x + 10 >= 400) -> 20 display columns of NO_DATA_RGB; right (0, 0) = 16: |31 - 16| = 15
     # -> level 3 -> 192, shown as a 2 x 2 block.
-    assert (frame[410:412, 560:562] == 192).all()
-    disparity_area = frame[410:1010, 560:1340].copy()
+    assert (frame[410:412, 100:102] == 192).all()
+    disparity_area = frame[410:1010, 100:880].copy()
     disparity_area[:2, :2] = 255
     assert (disparity_area == 255).all()
-    assert (frame[410:1010, 1340:1360] == nd).all()
-    assert (frame[409, 560:1360] == bg).all() and (frame[1010, 560:1360] == bg).all()
-    assert (frame[410:1010, 559] == bg).all() and (frame[410:1010, 1360] == bg).all()
+    assert (frame[410:1010, 880:900] == nd).all()
+    assert (frame[409, 100:900] == bg).all() and (frame[1010, 100:900] == bg).all()
+    assert (frame[410:1010, 99] == bg).all() and (frame[410:1010, 900] == bg).all()
+    # Depth map at 2x from (940, 410): two flat images match at disparity 0 away from right (0, 0): viridis's
+    # first anchor (68, 1, 84); the crosshair's right arm at buffer (202..208, 150) = display (1344..1357,
+    # 710..711); no distance for d = 0: "----cm" at (1346, 716), the dashes on its font row 3 (display 722).
+    assert (codes[5:, 5:] == 0).all() and text == "----cm"
+    assert (frame[420:700, 960:1300] == (68, 1, 84)).all()
+    assert (frame[710:712, 1344:1358] == 255).all() and (frame[710:712, 1342:1344] == (68, 1, 84)).all()
+    assert (frame[722:724, 1346:1356] == 255).all() and (frame[720:722, 1346:1356] == bg).all()
+    # Colour bar [1748, 1764) from row 422, 9 rows per code: code 63 (yellow, the last anchor) on top, code 0
+    # at the bottom; the 1 m tick (2 rows) centred on the band of d = 27.28: row 422 + int((63 - 27.28 + 0.5) * 9)
+    # = 748.
+    assert (frame[422:431, 1748:1764] == (253, 231, 37)).all() and (frame[989:998, 1748:1764] == (68, 1, 84)).all()
+    assert (frame[421, 1748:1764] == bg).all() and (frame[998, 1748:1764] == bg).all()
+    assert (frame[747:749, 1764:1770] == 255).all() and (frame[746, 1764:1770] == bg).all()
+    assert (frame[749, 1764:1770] == bg).all()
+
+
+def test_engine_keeps_up_check():
+    """The depth map may not start before the engine's first row can be ready, nor be shown faster than the
+    engine computes rows; the default layouts pass."""
+    small = DisplayLayout.centred(SMALL_TIMING, SMALL_SENSOR, SMALL_DEPTH)
+    left, right, disp, depth = small.regions
+    check_engine_keeps_up(SMALL_TIMING, small, SMALL_SENSOR, SMALL_DEPTH)
+    check_engine_keeps_up(CEA_1080P60, DisplayLayout.centred(CEA_1080P60, SENSOR), SENSOR, DEPTH)
+    early = dataclasses.replace(small, regions=(left, right, disp, dataclasses.replace(depth, y0=4)))
+    fast = dataclasses.replace(small, regions=(left, right, disp, dataclasses.replace(depth, scale=1)))
+    for layout in (early, fast):
+        with pytest.raises(ValueError):
+            check_engine_keeps_up(SMALL_TIMING, layout, SMALL_SENSOR, SMALL_DEPTH)
 
 
 def test_compositor_argument_checks():
-    small = DisplayLayout.centred(SMALL_TIMING, SMALL_SENSOR)
-    left, right, disp = small.regions
-    overlapping = DisplayLayout((left, dataclasses.replace(right, x0=left.x0 + 1), disp))
-    at_origin = DisplayLayout((dataclasses.replace(left, x0=40, y0=0), dataclasses.replace(right, x0=40, y0=20),
-                               dataclasses.replace(disp, x0=1, y0=0)))   # 1 pixel in: switches not settled
-    outside = DisplayLayout((left, right, dataclasses.replace(disp, x0=60)))
-    missing = DisplayLayout((left, right))
-    wrong_size = DisplayLayout((left, right, Region("disparity", 0, 20, 2, 8, 6)))
-    for layout in (overlapping, at_origin, outside, missing, wrong_size):
+    small = DisplayLayout.centred(SMALL_TIMING, SMALL_SENSOR, SMALL_DEPTH)
+    left, right, disp, depth = small.regions
+    bad = [
+        dataclasses.replace(small, regions=(left, dataclasses.replace(right, x0=left.x0 + 1), disp, depth)),
+        dataclasses.replace(small, regions=(left, right, dataclasses.replace(disp, x0=100), depth)),
+        dataclasses.replace(small, regions=(left, right, disp)),
+        dataclasses.replace(small, regions=(left, right, Region("disparity", 0, 20, 2, 8, 6), depth)),
+        dataclasses.replace(small, bar=dataclasses.replace(small.bar, x0=depth.x1 - 1)),       # over the map
+        dataclasses.replace(small, bar=dataclasses.replace(small.bar, codes=4)),
+        dataclasses.replace(small, readout=dataclasses.replace(small.readout, y0=depth.y0 + 2)),   # too early
+        dataclasses.replace(small, readout=dataclasses.replace(small.readout, x0=disp.x0, y0=depth.y0 + 16)),
+        dataclasses.replace(small, crosshair_arm=7),
+        dataclasses.replace(small, labels=(dataclasses.replace(small.labels[0], x0=small.ticks[0].x0),)),
+    ]
+    at_origin = (dataclasses.replace(left, x0=40, y0=0), dataclasses.replace(right, x0=60, y0=0),
+                 dataclasses.replace(disp, x0=1, y0=0), depth)          # 1 pixel in: switches not settled
+    bad.append(dataclasses.replace(small, regions=at_origin))
+    for layout in bad:
         with pytest.raises(ValueError):
-            Compositor(SMALL_TIMING, SMALL_SENSOR, layout)
-    two_in = DisplayLayout((at_origin.regions[0], at_origin.regions[1],
-                            dataclasses.replace(disp, x0=2, y0=0)))
-    Fragment.get(Compositor(SMALL_TIMING, SMALL_SENSOR, two_in), None)     # 2 pixels in is enough
+            Compositor(SMALL_TIMING, SMALL_SENSOR, layout, config=SMALL_DEPTH)
+    two_in = dataclasses.replace(small, regions=at_origin[:2] + (dataclasses.replace(disp, x0=2, y0=0), depth))
+    Fragment.get(Compositor(SMALL_TIMING, SMALL_SENSOR, two_in, config=SMALL_DEPTH), None)   # 2 pixels in is enough
     with pytest.raises(ValueError):
-        Compositor(SMALL_TIMING, SMALL_SENSOR, thresholds=(2, 4), level_grey=(0, 255))
+        Compositor(SMALL_TIMING, SMALL_SENSOR, config=SMALL_DEPTH, thresholds=(2, 4), level_grey=(0, 255))
 
 
 # --- the RTL against the golden model ----------------------------------------------------------------------
@@ -201,12 +241,16 @@ def test_display_path_amaranth():
 def test_display_path_other_layout_amaranth():
     """Scales 1, 2 and 3; the disparity map starting 2 pixels into the raster (the earliest the constructor
     allows: the switch registers settle just in time, SETTLE_CLOCKS); the right image touching the active area's
-    right edge; negative sync polarities."""
-    timing = VideoTiming(h_active=100, h_front=3, h_sync=4, h_back=5, v_active=60, v_front=1, v_sync=2,
+    right edge; the readout away from the depth map, a bar of 1-pixel bands; the depth map on the first line
+    the engine's check allows (12: 5 rows fetched in 12-clock blankings, 3 passes); negative sync polarities."""
+    timing = VideoTiming(h_active=140, h_front=3, h_sync=4, h_back=5, v_active=60, v_front=1, v_sync=2,
                          v_back=2, hsync_positive=False, vsync_positive=False)
     w, h = SMALL_SENSOR.buf_width, SMALL_SENSOR.buf_height
-    layout = DisplayLayout((Region("disparity", 2, 0, 3, w, h), Region("left", 52, 0, 1, w, h),
-                            Region("right", 100 - 2 * w, 24, 2, w, h)))
+    layout = DisplayLayout(
+        regions=(Region("disparity", 2, 0, 3, w, h), Region("left", 52, 0, 1, w, h),
+                 Region("right", 140 - 2 * w, 24, 2, w, h), Region("depth", 70, 12, 2, w, h)),
+        bar=ColourBar(104, 12, 3, 1, SMALL_DEPTH.disparities), ticks=(Box(107, 14, 1, 1),),
+        labels=(TextBox("5m", 52, 40, 1),), readout=TextBox("0000cm", 52, 50, 1), crosshair_arm=3)
     schedule = [dict(line=30, column=60, disparity=3, rectification=2),
                 dict(line=10, column=20, disparity=1, rectification=0)]
     run_amaranth(timing, SMALL_SENSOR, schedule, 3, layout)

@@ -14,6 +14,7 @@ import pytest
 from amaranth.hdl import Fragment
 
 from golden.depth import depth_map
+from golden.depth_display import engine_left
 from hdl.depth import DepthEngine, schedule
 from hdl.params import DEPTH, SENSOR, SMALL_DEPTH, SMALL_SENSOR, DepthConfig
 from sim.amaranth_sim import simulate
@@ -34,7 +35,7 @@ def random_pair(seed, shape=SHAPE, top=32):
 
 
 def run_engine(left, right, *, geometry=G, config=CFG, grant_mask=0, restart_after=None, hold_clocks=0,
-               timeout=200_000):
+               row_offset=0, timeout=200_000):
     """One map from the harness in Amaranth's simulator: returns (codes, clocks, reads, rows_ready seen while
     the reader held back)."""
     dut = DepthHarness(geometry, config)
@@ -50,6 +51,8 @@ def run_engine(left, right, *, geometry=G, config=CFG, grant_mask=0, restart_aft
         ctx.set(dut.load_en, 0)
         ctx.set(dut.grant_mask, grant_mask)
         ctx.set(dut.hold, 1 if hold_clocks else 0)
+        ctx.set(dut.row_offset, row_offset)
+        await ctx.tick().repeat(2)
         ctx.set(dut.start, 1)
         await ctx.tick()
         ctx.set(dut.start, 0)
@@ -93,6 +96,17 @@ def test_random_pair_bit_exact(seed, grant_mask):
     left, right = random_pair(seed)
     codes, clocks, reads, _ = run_engine(left, right, grant_mask=grant_mask)
     assert_same(codes, depth_map(left, right, CFG))
+    assert reads == (G.buf_depth, G.buf_depth)
+
+
+@pytest.mark.parametrize("offset", [3, SHAPE[0] - 1])
+def test_left_row_offset_bit_exact(offset):
+    """The rectification switch moves the left image up for the engine: row y of the map is matched against
+    left row min(y + offset, H - 1) (golden.depth_display.engine_left); still each pixel read once."""
+    left, right = random_pair(11)
+    left[offset:] = right[:SHAPE[0] - offset]           # a vertical misalignment the offset undoes
+    codes, _, reads, _ = run_engine(left, right, grant_mask=0b11, row_offset=offset)
+    assert_same(codes, depth_map(engine_left(left, offset), right, CFG))
     assert reads == (G.buf_depth, G.buf_depth)
 
 

@@ -69,6 +69,9 @@ class DepthEngine(wiring.Component):
     -----
     start : In(1)
         Start a map (one pulse per frame); a map in progress is abandoned.
+    left_row_offset : In(range(height))
+        The map is of the left image moved up by this many rows (row y is buffer row min(y + offset, H - 1)):
+        the rectification switch. Held from two clocks before ``start`` to the end of the map.
     left, right : Out(SharedReadSignature)
         The frame buffers' read ports, each shared through request/grant (see ``SharedReadSignature``);
         every pixel is read once per map, rows in order.
@@ -124,6 +127,7 @@ class DepthEngine(wiring.Component):
         self.lead = plan.steps - w
         super().__init__({
             "start": In(1),
+            "left_row_offset": In(range(h)),
             "left": Out(SharedReadSignature(geometry)),
             "right": Out(SharedReadSignature(geometry)),
             "result": In(ResultReadSignature((out_rows * w - 1).bit_length(), config.code_bits, h)),
@@ -165,6 +169,7 @@ class DepthEngine(wiring.Component):
         limit = Signal(range(h + 1))            # rows that may be fetched: none while idle; late is safe
         m.d.sync += limit.eq(Mux(~self.busy, 0, Mux(y + RING_ROWS - ry < h, y + RING_ROWS - ry, h)))
         m.d.comb += [left_ring.limit.eq(limit), right_ring.limit.eq(limit),
+                     left_ring.row_offset.eq(self.left_row_offset),
                      left_ring.start.eq(self.start), right_ring.start.eq(self.start)]
 
         self._passes(m, y, step, clock, can_start, in_run, out_base)

@@ -17,7 +17,8 @@ class RowRing(wiring.Component):
 
     Rows 0, 1, 2, ... are read through ``buffer`` (a shared read port: one read in each clock with
     ``request`` and ``grant`` high, data one clock later), every pixel once, and row r is written into ring
-    slot ``r mod rows``. One block RAM word per column holds that column's pixel of every slot, in lanes of
+    slot ``r mod rows``. Ring row r holds buffer row min(r + ``row_offset``, height - 1) (the rectification
+    switch moving the left image up; ``row_offset`` is sampled at ``start``). One block RAM word per column holds that column's pixel of every slot, in lanes of
     8 bits (byte write enables), so one read gives a whole column of the ring.
 
     Parameters
@@ -31,6 +32,8 @@ class RowRing(wiring.Component):
     -----
     start : In(1)
         Restart at row 0 (a fetch in flight is dropped).
+    row_offset : In(range(height))
+        Buffer rows to skip (held from two clocks before ``start``).
     limit : In(range(height + 1))
         Rows below ``limit`` may be fetched; the reader raises it as slots become free.
     fetched : Out(range(height + 1))
@@ -56,6 +59,7 @@ class RowRing(wiring.Component):
         super().__init__({
             "buffer": Out(SharedReadSignature(geometry)),
             "start": In(1),
+            "row_offset": In(range(geometry.buf_height)),
             "limit": In(range(geometry.buf_height + 1)),
             "fetched": Out(range(geometry.buf_height + 1)),
             "col": In(range(geometry.buf_width)),
@@ -75,7 +79,11 @@ class RowRing(wiring.Component):
         issued = Signal(range(g.buf_height + 1))      # row being requested
         slot = Signal(range(rows))                   # issued mod rows
         col = Signal(range(g.buf_width))
-        addr = Signal(g.addr_bits)                   # issued * width + col, counted
+        addr = Signal(g.addr_bits)                   # source row * width + col, counted
+        source = Signal(range(g.buf_height))         # the buffer row being fetched: min(issued + offset, h - 1)
+        row_start = Signal(g.addr_bits)              # source * width
+        offset_addr = Signal(g.addr_bits)            # row_offset * width, registered (a quasi-static input)
+        m.d.sync += offset_addr.eq(self.row_offset * g.buf_width)
         pending = Signal()                           # a granted read's data arrives this clock
         pending_col = Signal.like(col)
         pending_slot = Signal.like(slot)
@@ -100,6 +108,10 @@ class RowRing(wiring.Component):
             ]
             with m.If(col == g.buf_width - 1):
                 m.d.sync += [col.eq(0), issued.eq(issued + 1), slot.eq(slot + 1)]
+                with m.If(source == g.buf_height - 1):          # below the image: the last row again
+                    m.d.sync += addr.eq(row_start)
+                with m.Else():
+                    m.d.sync += [source.eq(source + 1), row_start.eq(addr + 1)]
             with m.Else():
                 m.d.sync += col.eq(col + 1)
 
@@ -112,6 +124,6 @@ class RowRing(wiring.Component):
             m.d.sync += self.fetched.eq(self.fetched + 1)
 
         with m.If(self.start):
-            m.d.sync += [issued.eq(0), slot.eq(0), col.eq(0), addr.eq(0), pending.eq(0), self.fetched.eq(0),
-                         allowed.eq(0)]
+            m.d.sync += [issued.eq(0), slot.eq(0), col.eq(0), addr.eq(offset_addr), row_start.eq(offset_addr),
+                         source.eq(self.row_offset), pending.eq(0), self.fetched.eq(0), allowed.eq(0)]
         return m

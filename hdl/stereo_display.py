@@ -1,0 +1,126 @@
+"""StereoDisplay: the pixel-clock side of the system: compositor, depth engine and the two read arbiters."""
+
+from amaranth import Module, Mux, Signal
+from amaranth.lib import wiring
+from amaranth.lib.wiring import In, Out
+
+from .compositor import LATENCY as COMPOSITOR_LATENCY, Compositor
+from .depth import DepthEngine, schedule
+from .disparity import SETTLE_CLOCKS
+from .forward import forward
+from .frame_buffer import FrameBufferReadSignature
+from .params import CEA_1080P60, DEPTH, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, SENSOR
+from .read_arbiter import ReadArbiter
+from .rejecting import rejecting
+from .switches import SettingsSignature
+from .video_bus import TimingSignature, VideoSignature
+
+__all__ = ["StereoDisplay", "LATENCY", "ENGINE_START_DELAY", "check_engine_keeps_up"]
+
+#: Clocks from ``timing`` in to ``video`` out (the compositor's).
+LATENCY = COMPOSITOR_LATENCY
+#: Clocks from ``timing.frame_start`` to the engine's ``start``: the switch registers (loaded at the frame
+#: start) have settled, so the map uses this frame's rectification.
+ENGINE_START_DELAY = SETTLE_CLOCKS
+
+
+def check_engine_keeps_up(timing, layout, geometry, config):
+    """``ValueError`` unless the engine is sure to finish every depth row before the display shows it, even when
+    the compositor reads a buffer in every active pixel (so the engine's reads get only the blanking clocks,
+    ``h_total - h_active`` a line):
+
+    * the first row: fetching 5 rows of both images (rows 0..4 start pass 1, which finishes row 0) takes at most
+      ceil(5 W / blanking) lines; three passes (pass 0, pass 1 and the registered starts) at most
+      3 (``pass_clocks`` + 3) clocks; the depth map must start after both and ``ENGINE_START_DELAY``;
+    * every further row: a pass (``pass_clocks`` + 3) and the W reads of a row fit in the ``scale`` lines a
+      buffer row is shown on.
+    """
+    plan, depth = schedule(geometry, config), layout.region("depth")
+    w, blank = geometry.buf_width, timing.h_total - timing.h_active
+    pass_clocks = plan.pass_clocks + 3
+    if blank <= 0 or w > depth.scale * blank or pass_clocks > depth.scale * timing.h_total:
+        raise ValueError(f"the depth engine ({pass_clocks} clocks and {w} reads a row) cannot keep up with a "
+                         f"depth map shown at {depth.scale}x on {timing.h_total}-clock lines")
+    first = -(-5 * w // blank) * timing.h_total + 3 * pass_clocks + ENGINE_START_DELAY
+    if depth.y0 * timing.h_total + depth.x0 < first:
+        raise ValueError(f"the depth map must start at least {first} clocks into the frame (line "
+                         f"{-(-first // timing.h_total)}) for the engine's first row to be ready")
+
+
+class StereoDisplay(wiring.Component):
+    """The :class:`hdl.compositor.Compositor` and the :class:`hdl.depth.DepthEngine` sharing each frame buffer's
+    one read port through a :class:`hdl.read_arbiter.ReadArbiter` (the compositor has priority).
+
+    The engine starts a map :data:`ENGINE_START_DELAY` clocks after every ``timing.frame_start`` and reads the
+    left image moved up by the rectification register (clamped to the image: row y is row min(y + r, H - 1));
+    the compositor shows the finished rows from the engine's result ring and releases them.
+
+    Parameters
+    ----------
+    timing, geometry, layout, thresholds, level_grey
+        As for :class:`hdl.compositor.Compositor`.
+    config : :class:`hdl.params.DepthConfig`
+    out_rows : int
+        Rows in the engine's result ring.
+
+    Attributes
+    ----------
+    timing : ``In(TimingSignature)``
+    settings : ``In(SettingsSignature)``
+    left, right : ``Out(FrameBufferReadSignature(geometry))``
+        To the frame buffers' read ports.
+    video : ``Out(VideoSignature)``
+
+    Clock domain: ``sync`` (the parent renames it to ``pix``). Latency: :data:`LATENCY` clocks.
+
+    Raises
+    ------
+    ValueError
+        The compositor's and the engine's parameter checks; a layout the engine cannot keep up with
+        (:func:`check_engine_keeps_up`).
+    """
+
+    def __init__(self, timing=CEA_1080P60, geometry=SENSOR, layout=None, *, config=DEPTH, out_rows=4,
+                 thresholds=DIFF_THRESHOLDS, level_grey=DIFF_LEVEL_GREY):
+        with rejecting(self):
+            self.geometry = geometry
+            self.compositor = Compositor(timing, geometry, layout, config=config, out_rows=out_rows,
+                                         thresholds=thresholds, level_grey=level_grey)
+            self.engine = DepthEngine(geometry, config, out_rows=out_rows)
+            check_engine_keeps_up(timing, self.compositor.layout, geometry, config)
+            self.arbiters = {side: ReadArbiter(geometry) for side in ("left", "right")}
+            super().__init__({
+                "timing": In(TimingSignature),
+                "settings": In(SettingsSignature),
+                "left": Out(FrameBufferReadSignature(geometry)),
+                "right": Out(FrameBufferReadSignature(geometry)),
+                "video": Out(VideoSignature),
+            })
+            forward(self, "timing", self.compositor.timing)
+            forward(self, "settings", self.compositor.settings)
+            forward(self, "video", self.compositor.video)
+            for side, arbiter in self.arbiters.items():
+                forward(self, side, arbiter.buffer)
+
+    def elaborate(self, platform):
+        m = Module()
+        comp, engine = self.compositor, self.engine
+        m.submodules.compositor = comp
+        m.submodules.engine = engine
+        for side, arbiter in self.arbiters.items():
+            m.submodules[f"{side}_arbiter"] = arbiter
+            wiring.connect(m, getattr(comp, side), arbiter.display)
+            wiring.connect(m, getattr(engine, side), arbiter.engine)
+        wiring.connect(m, comp.depth, engine.result)
+        start = self.timing.frame_start
+        for i in range(ENGINE_START_DELAY):
+            delayed = Signal(name=f"engine_start_{i + 1}")
+            m.d.sync += delayed.eq(start)
+            start = delayed
+        h = self.geometry.buf_height
+        rect = self.settings.rectification
+        m.d.comb += [
+            engine.start.eq(start),
+            engine.left_row_offset.eq(Mux(rect >= h, h - 1, rect)),
+        ]
+        return m
