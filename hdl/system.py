@@ -4,10 +4,12 @@ Blocks (each in its own file, see docs/architecture.md):
 
 * two cameras: an :class:`~hdl.i2c_init.InitSequencer` per camera bus (each MT9D112 has its own I2C bus) and a
   :class:`~hdl.capture_path.CapturePath` (capture + frame buffer per camera; camera A = left, B = right);
-* the display: :class:`~hdl.sync_gen.SyncGenerator` -> :class:`~hdl.compositor.Compositor` (which holds the
-  :class:`~hdl.disparity.DisparitySubtractor` and reads both frame buffers) -> :class:`~hdl.ch7301c_output.
-  CH7301COutput`; :class:`~hdl.switches.SwitchControl` turns SW7..SW0 into the disparity and rectification
-  registers;
+* the display: :class:`~hdl.sync_gen.SyncGenerator` -> :class:`~hdl.stereo_display.StereoDisplay` (the
+  :class:`~hdl.compositor.Compositor` with its :class:`~hdl.disparity.DisparitySubtractor` and the
+  :class:`~hdl.depth.DepthEngine`, sharing each frame buffer's one read port through a
+  :class:`~hdl.read_arbiter.ReadArbiter`) -> :class:`~hdl.ch7301c_output.CH7301COutput`;
+  :class:`~hdl.switches.SwitchControl` turns SW7..SW0 into the disparity and rectification registers (the
+  rectification also moves the left rows the depth engine reads);
 * the CH7301C's own :class:`~hdl.i2c_init.InitSequencer` on the board's I2C bus;
 * status LEDs and the sensor/transmitter reset and power pins.
 
@@ -17,7 +19,8 @@ simulation harness with :class:`~hdl.clocking.SimClocking` in simulation, whose 
 
 =========  ================================================================================================
 ``sync``   100 MHz: the three I2C init sequencers, the sensor/transmitter reset pins, LEDs 0..5
-``pix``    148.5 MHz: sync generator, switches, compositor, frame-buffer read ports, CH7301C output, LED 6
+``pix``    148.5 MHz: sync generator, switches, compositor, depth engine, frame-buffer read ports, CH7301C output,
+           LED 6
 ``cam_a``  camera A's PCLK: its capture and frame-buffer write port, LED 7
 ``cam_b``  camera B's PCLK: its capture and frame-buffer write port
 =========  ================================================================================================
@@ -53,12 +56,12 @@ from amaranth.lib.wiring import In, Out
 from .capture import CameraSignature, CaptureStatusSignature
 from .capture_path import CapturePath
 from .ch7301c_output import CH7301COutput, CH7301CSignature
-from .compositor import LATENCY as COMPOSITOR_LATENCY, Compositor
+from .stereo_display import LATENCY as COMPOSITOR_LATENCY, StereoDisplay
 from .forward import forward
 from .i2c_init import InitSequencer, InitStatusSignature
 from .i2c_master import I2CSignature
 from .init_tables import CH7301C_TABLE, MT9D112_TABLE
-from .params import CEA_1080P60, CLOCKS, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, SENSOR
+from .params import CEA_1080P60, CLOCKS, DEPTH, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, SENSOR
 from .switches import SettingsSignature, SwitchControl
 from .sync_gen import SyncGenerator
 from .video_bus import VideoSignature
@@ -95,6 +98,8 @@ class StereoDepthSystem(wiring.Component):
         Screen layout (default centred).
     thresholds, level_grey : sequence of int
         The disparity display (:class:`~hdl.compositor.Compositor`).
+    depth : :class:`hdl.params.DepthConfig`
+        The depth engine.
     cam_table, dvi_table : :class:`hdl.init_tables.InitTable`
         The I2C init tables.
     clk_hz, i2c_hz : int
@@ -139,7 +144,7 @@ class StereoDepthSystem(wiring.Component):
     """
 
     def __init__(self, geometry=SENSOR, timing=CEA_1080P60, layout=None, *, thresholds=DIFF_THRESHOLDS,
-                 level_grey=DIFF_LEVEL_GREY, cam_table=MT9D112_TABLE, dvi_table=CH7301C_TABLE,
+                 level_grey=DIFF_LEVEL_GREY, depth=DEPTH, cam_table=MT9D112_TABLE, dvi_table=CH7301C_TABLE,
                  clk_hz=CLOCKS.SYS_HZ, i2c_hz=CLOCKS.I2C_HZ, i2c_retry_delay_us=1000, r_byte_first=True,
                  ddr="behavioural", heartbeat_log2=5, cam_heartbeat_log2=3):
         with rejecting(self):
@@ -151,7 +156,8 @@ class StereoDepthSystem(wiring.Component):
             self.cam_heartbeat_log2 = cam_heartbeat_log2
             # The blocks, built now so that bad parameters fail at construction and their interfaces can be forwarded.
             self.capture_path = CapturePath(geometry, cameras=CAMERAS, r_byte_first=r_byte_first, read_domain="pix")
-            self.compositor = Compositor(timing, geometry, layout, thresholds=thresholds, level_grey=level_grey)
+            self.display = StereoDisplay(timing, geometry, layout, config=depth, thresholds=thresholds,
+                                            level_grey=level_grey)
             self.sync_gen = SyncGenerator(timing)
             self.switches = SwitchControl(domain="pix")
             self.output = CH7301COutput(timing, ddr=ddr) if ddr is not None else None
@@ -188,7 +194,7 @@ class StereoDepthSystem(wiring.Component):
             forward(self, ("i2c", bus), seq.i2c)
             forward(self, ("init", bus), seq.status)
         forward(self, ("panel", "sw"), self.switches.sw)
-        forward(self, "video", self.compositor.video)
+        forward(self, "video", self.display.video)
         forward(self, "frame_start", self.sync_gen.frame_start)
         forward(self, "settings", self.switches.settings)
         if self.output is not None:
@@ -217,15 +223,15 @@ class StereoDepthSystem(wiring.Component):
         pix = DomainRenamer("pix")
         m.submodules.sync_gen = pix(self.sync_gen)
         m.submodules.switches = switches = self.switches
-        m.submodules.compositor = comp = pix(self.compositor)
-        wiring.connect(m, self.sync_gen, self.compositor.timing)
-        wiring.connect(m, switches.settings, self.compositor.settings)
-        wiring.connect(m, self.compositor.left, capture.cam_a.read)       # camera A = left
-        wiring.connect(m, self.compositor.right, capture.cam_b.read)      # camera B = right
+        m.submodules.display = pix(self.display)
+        wiring.connect(m, self.sync_gen, self.display.timing)
+        wiring.connect(m, switches.settings, self.display.settings)
+        wiring.connect(m, self.display.left, capture.cam_a.read)       # camera A = left
+        wiring.connect(m, self.display.right, capture.cam_b.read)      # camera B = right
         m.d.comb += switches.frame_start.eq(self.sync_gen.frame_start)
         if self.output is not None:
             m.submodules.output = pix(self.output)
-            wiring.connect(m, self.compositor.video, self.output.video)
+            wiring.connect(m, self.display.video, self.output.video)
 
         # --- LEDs ------------------------------------------------------------------------------------------------
         frames = Signal(self.heartbeat_log2 + 1)

@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from hdl.params import SENSOR
+from hdl.params import SENSOR, VMODCAM_RIG
 
 __all__ = [
     "StereoRig", "VMODCAM", "PlanarObject", "BACKGROUND_RGB", "RECTANGLE_SIZE_M", "CIRCLE_DIAMETER_M",
@@ -74,9 +74,9 @@ class StereoRig:
     Defaults are the thesis's: baseline 6.3 cm (VmodCAM reference manual: 63 mm inter-camera spacing),
     f = 3.81 mm (thesis 4.6.7), 2.2 um pixels and 1600 x 1200 (MT9D112 datasheet), no misalignment.
     """
-    baseline_m: float = 0.063
-    focal_m: float = 3.81e-3
-    pixel_m: float = 2.2e-6
+    baseline_m: float = VMODCAM_RIG.BASELINE_M
+    focal_m: float = VMODCAM_RIG.FOCAL_M
+    pixel_m: float = VMODCAM_RIG.PIXEL_M
     width: int = SENSOR.width
     height: int = SENSOR.height
     principal_offset_px: float = 0.0   # cx_left - cx_right, sensor pixels

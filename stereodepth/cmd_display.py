@@ -26,7 +26,7 @@ def add_arguments(parser):
                         help="verilator (default, the fastest for a full 1080p frame), icarus or amaranth (both far "
                              "slower at 1080p; fine with --mode small)")
     parser.add_argument("--mode", choices=("1080p", "small"), default="1080p",
-                        help="video mode: 1080p (CEA-861 1920x1080p60, default) or small (80x48 test mode)")
+                        help="video mode: 1080p (CEA-861 1920x1080p60, default) or small (112x52 test mode)")
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help="output directory (default build/display)")
     parser.add_argument("--no-waves", action="store_true", help="do not write the VCD and GTKWave files")
     parser.add_argument("--wave-lines", type=int, default=None, metavar="N",

@@ -12,7 +12,7 @@ from .outputs import RunOutputs
 
 def add_arguments(parser):
     parser.add_argument("--mode", choices=("1080p", "small"), default="1080p",
-                        help="video mode: 1080p (CEA-861 1920x1080p60, default) or small (80x48 test mode)")
+                        help="video mode: 1080p (CEA-861 1920x1080p60, default) or small (112x52 test mode)")
     parser.add_argument("--out", type=Path, default=cmd_display.DEFAULT_OUT,
                         help="output directory (default build/display)")
     parser.add_argument("--lines", type=int, default=None, metavar="N",

@@ -12,13 +12,15 @@ from hdl.capture_path import CapturePath
 from hdl.ch7301c_output import CH7301COutput
 from hdl.clocking import ClockPlan, GenesysClocking, SimClocking
 from hdl.compositor import Compositor
+from hdl.stereo_display import StereoDisplay
+from hdl.text_layer import TextLayer
 from hdl.disparity import DisparitySubtractor
 from hdl.downscaler import Downscaler
 from hdl.grey import Grey
 from hdl.i2c_init import InitSequencer
 from hdl.i2c_master import I2CMaster
 from hdl.init_tables import CH7301C_TABLE
-from hdl.params import SMALL_SENSOR, SMALL_TIMING, SensorGeometry, VideoTiming
+from hdl.params import SMALL_DEPTH, SMALL_SENSOR, SMALL_TIMING, SensorGeometry, TextBox, VideoTiming
 from hdl.pattern_gen import PatternGenerator
 from hdl.rgb565_assembler import RGB565Assembler
 from hdl.switches import SwitchControl
@@ -30,7 +32,7 @@ from sim.system.bench import SystemBench
 from sim.system.rom_bench import RomReplayBench
 from sim.system.verilog_bench import VerilogReplayBench
 
-SMALL = dict(geometry=SMALL_SENSOR, timing=SMALL_TIMING)
+SMALL = dict(geometry=SMALL_SENSOR, timing=SMALL_TIMING, depth=SMALL_DEPTH)
 
 REJECTED = {
     "CameraCapture": lambda: CameraCapture(SensorGeometry(width=64, height=48, gray_bits=6)),
@@ -38,7 +40,10 @@ REJECTED = {
     "RGB565Assembler": lambda: RGB565Assembler(0),
     "CapturePath": lambda: CapturePath(SMALL_SENSOR, cameras=("a", "a")),
     "CapturePath, a camera's capture": lambda: CapturePath(SensorGeometry(width=64, height=48, gray_bits=6)),
-    "Compositor": lambda: Compositor(SMALL_TIMING, SMALL_SENSOR, thresholds=(2, 4), level_grey=(0, 255)),
+    "Compositor": lambda: Compositor(SMALL_TIMING, SMALL_SENSOR, config=SMALL_DEPTH, thresholds=(2, 4),
+                                     level_grey=(0, 255)),
+    "StereoDisplay": lambda: StereoDisplay(SMALL_TIMING, SMALL_SENSOR, config=SMALL_DEPTH, out_rows=1),
+    "TextLayer": lambda: TextLayer((TextBox("0.5km", 0, 0, 1),), v_active=10),
     "DisparitySubtractor": lambda: DisparitySubtractor(SMALL_SENSOR, thresholds=()),
     "SwitchControl": lambda: SwitchControl(stages=1),
     "SyncGenerator": lambda: SyncGenerator(SMALL_TIMING, start=(10_000, 0)),

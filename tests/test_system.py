@@ -1,10 +1,11 @@
 """The whole system end to end: stereo pair -> two MT9D112 models (configured over I2C by the RTL) -> capture ->
-frame buffers -> compositor -> CH7301C pins -> HDMI sink model, compared bit for bit with the golden model's
-frame (golden.disparity.composite_frame of golden.capture.capture_frame of each image).
+frame buffers -> compositor and depth engine -> CH7301C pins -> HDMI sink model, compared bit for bit with the
+golden model's frame (golden.disparity.composite_frame of golden.capture.capture_frame of each image: the four
+panels, the depth map with its colour bar, labels, crosshair and centre distance).
 
-Default run: the small preset (64 x 48 sensor, 80 x 48 display; sim/system/setup.py) on Amaranth's simulator and
-through cocotb on Verilator and Icarus, along every route (tests/test_verilator_route.py runs the Verilator route
-with the C++ testbench). Slow: the full 1600 x 1200 -> 1080p run (tests marked ``slow``).
+Default run: the small preset (64 x 48 sensor, 112 x 52 display, D = 8; sim/system/setup.py) on Amaranth's
+simulator and through cocotb on Verilator and Icarus, along every route (tests/test_verilator_route.py runs the
+Verilator route with the C++ testbench). Slow: the full 1600 x 1200 -> 1080p run (tests marked ``slow``).
 """
 
 import numpy as np
@@ -62,12 +63,17 @@ def test_derived_tables_keep_the_board_table_but_size_and_time():
 
 def _check_golden_is_interesting(golden, setup):
     """The comparison would be weak if the golden frame were flat: require several disparity levels and the
-    no-data colour in the disparity region."""
+    no-data colour in the difference map, several depth colours in the depth map and a distance (digits, not
+    dashes) in the readout."""
     r = setup.display_layout.region("disparity")
     region = golden[r.y0:r.y1, r.x0:r.x1].reshape(-1, 3)
     colours = {tuple(c) for c in region}
     no_data = ((NO_DATA_RGB >> 16) & 0xFF, (NO_DATA_RGB >> 8) & 0xFF, NO_DATA_RGB & 0xFF)
     assert no_data in colours and len(colours) >= 4
+    d = setup.display_layout.region("depth")
+    assert len({tuple(c) for c in golden[d.y0:d.y1, d.x0:d.x1].reshape(-1, 3)}) >= 4
+    assert setup.golden_frame(*load_default_pair(setup.geometry.width, setup.geometry.height),
+                              details=True)[2].strip()[0].isdigit()
 
 
 def _check_status(status):

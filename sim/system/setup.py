@@ -6,7 +6,8 @@ line, so every route simulates the same configuration and compares against the s
 
 Two presets:
 
-* :meth:`SystemSetup.small`: ``SMALL_SENSOR`` (64 x 48 -> 16 x 12 buffers) on ``SMALL_TIMING`` (80 x 48 active),
+* :meth:`SystemSetup.small`: ``SMALL_SENSOR`` (64 x 48 -> 16 x 12 buffers) on ``SMALL_TIMING`` (112 x 52 active),
+  ``SMALL_DEPTH`` (D = 8),
   the MT9D112 table with the small output size, only its essential entries and its waits scaled by 1/50
   (``sim/system/tables.py``), a 1 MHz I2C bus (Fast-mode Plus rate, the fastest the I2C master accepts; a simulation
   speed-up: the register-file models do not depend on the bus rate; the 100 kHz bus is exercised by the I2C
@@ -40,8 +41,8 @@ from golden.capture import capture_frame
 from golden.disparity import composite_frame
 from golden.stereo_pair import fit_to_sensor
 from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE, Poll, Wait
-from hdl.params import (CEA_1080P60, CLOCKS, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, SENSOR, SMALL_SENSOR, SMALL_TIMING,
-                        DisplayLayout)
+from hdl.params import (CEA_1080P60, CLOCKS, DEPTH, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, SENSOR, SMALL_DEPTH,
+                        SMALL_SENSOR, SMALL_TIMING, DisplayLayout)
 from sim.i2c_devices import CH7301CModel, MT9D112Model
 from sim.mt9d112 import MT9D112, SENSOR_TIMING, SMALL_SENSOR_TIMING
 from sim.system.tables import model_timing, mt9d112_table
@@ -56,6 +57,7 @@ class SystemSetup:
     layout: object = None
     thresholds: tuple = DIFF_THRESHOLDS
     level_grey: tuple = DIFF_LEVEL_GREY
+    depth: object = DEPTH              # the depth engine's DepthConfig
     disparity: int = 0
     rectification: int = 0
     time_scale: float = 1.0            # applied to the MT9D112 table's waits and the model's boot/PLL times
@@ -73,7 +75,7 @@ class SystemSetup:
     def small(cls, **kw):
         kw.setdefault("sensor_timing", SMALL_SENSOR_TIMING)
         kw.setdefault("pix_after_init", True)
-        return cls(geometry=SMALL_SENSOR, timing=SMALL_TIMING, time_scale=0.02, quick_table=True,
+        return cls(geometry=SMALL_SENSOR, timing=SMALL_TIMING, depth=SMALL_DEPTH, time_scale=0.02, quick_table=True,
                    i2c_hz=1_000_000, i2c_retry_delay_us=20, **kw)
 
     @classmethod
@@ -117,7 +119,7 @@ class SystemSetup:
 
     @property
     def display_layout(self):
-        return self.layout or DisplayLayout.centred(self.timing, self.geometry)
+        return self.layout or DisplayLayout.centred(self.timing, self.geometry, self.depth)
 
     @property
     def cam_table(self):
@@ -128,7 +130,8 @@ class SystemSetup:
     def system_kwargs(self):
         """Keyword arguments for ``sim.system.bench.SystemBench`` (and from there ``hdl.system.StereoDepthSystem``)."""
         return dict(geometry=self.geometry, timing=self.timing, layout=self.display_layout,
-                    thresholds=self.thresholds, level_grey=self.level_grey, cam_table=self.cam_table,
+                    thresholds=self.thresholds, level_grey=self.level_grey, depth=self.depth,
+                    cam_table=self.cam_table,
                     dvi_table=CH7301C_TABLE, clk_hz=self.sys_hz, i2c_hz=self.i2c_hz,
                     i2c_retry_delay_us=self.i2c_retry_delay_us, lock_cycles=self.lock_cycles)
 
@@ -152,13 +155,14 @@ class SystemSetup:
             image = fit_to_sensor(image, self.geometry.width, self.geometry.height)
         return image
 
-    def golden_frame(self, left, right):
-        """The golden model's displayed frame for the pair (images at any size: fitted to the sensor first)."""
+    def golden_frame(self, left, right, *, details=False):
+        """The golden model's displayed frame for the pair (images at any size: fitted to the sensor first).
+        ``details=True``: ``(frame, depth codes, readout text)`` (``golden.disparity.composite_frame``)."""
         g = self.geometry
         lb = capture_frame(self.fit(left), g)
         rb = capture_frame(self.fit(right), g)
         return composite_frame(lb, rb, self.disparity, self.rectification, self.timing, g, self.display_layout,
-                               self.thresholds, self.level_grey)
+                               self.thresholds, self.level_grey, self.depth, details=details)
 
     def deadline_s(self):
         """Simulated-time budget of a run: the I2C init (table waits + bus time, generously) plus a few frames."""
@@ -180,6 +184,14 @@ class SystemSetup:
         g, t = self.geometry, self.timing
         sensor = (g.height + 10) * (2 * g.width + 256) / self.pclk_hz
         return init + sensor + 1.5 * t.clocks_per_frame / t.pixel_hz
+
+    def clock_edges(self, t_end_s, t_pix_start_s, t_cam_start_s):
+        """Rising edges of each clock domain in a run that ends at ``t_end_s`` (the pixel clock from
+        ``t_pix_start_s``, the PCLKs from ``t_cam_start_s``): ``{domain: edges}``."""
+        return {"sync": t_end_s * self.sys_hz,
+                "pix": max(0.0, t_end_s - t_pix_start_s) * self.timing.pixel_hz,
+                "cam_a": max(0.0, t_end_s - t_cam_start_s) * self.pclk_hz,
+                "cam_b": max(0.0, t_end_s - t_cam_start_s) * self.pclk_hz}
 
     def frame_period_samples(self):
         """PCLK samples of one sensor frame period (vertical blanking + frame): the replay ROMs' depth."""
