@@ -27,12 +27,14 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-__all__ = ["Report", "estimate", "synthesize", "longest_paths", "frame_buffer_blocks", "yosys_available"]
+__all__ = ["Report", "estimate", "synthesize", "longest_paths", "frame_buffer_blocks", "yosys_available", "BUDGET"]
 
 #: XC5VLX50T capacity (spec: 28,800 LUTs and flip-flops, 60 RAMB36 = 2160 Kb; Digilent reference manual: 12
 #: DCMs, 6 PLLs; the Virtex-5 family has 32 global clock buffers; 48 DSP48E slices).
 CAPACITY = {"LUT": 28_800, "FF": 28_800, "RAMB36": 60, "DSP48E": 48, "BUFG": 32, "DCM_ADV": 12, "PLL_ADV": 6}
 BRAM_KBIT = 36 * 1024           # one RAMB36 holds 36 Kib of data + parity
+#: The whole design's budget with the depth engine (issue 14): block RAM in RAMB36 equivalents, LUTs in percent.
+BUDGET = {"ramb36": 58, "lut_percent": 60}
 THESIS_BRAM_PERCENT = 56
 
 _LUTS = {f"LUT{i}" for i in range(1, 7)} | {"INV"}
@@ -57,6 +59,19 @@ class Report:
     @property
     def bram_blocks36(self):
         return self.ramb36 + self.ramb18 / 2
+
+    def totals(self):
+        """The figures ``resources.json`` holds: totals, each domain's worst logic chain, the budget check."""
+        lut_percent = 100 * self.luts / CAPACITY["LUT"]
+        return {
+            "luts": self.luts, "ffs": self.ffs, "ramb36": self.bram_blocks36,
+            "dsp48e": self.cells.get("DSP48E", 0),
+            "lut_percent": round(lut_percent, 2),
+            "logic_depth": {d: {"levels": lv, "carry4": c, "endpoint": end}
+                            for d, (lv, c, end) in sorted(self.levels.items())},
+            "budget": dict(BUDGET),
+            "within_budget": self.bram_blocks36 <= BUDGET["ramb36"] and lut_percent <= BUDGET["lut_percent"],
+        }
 
     def lines(self, frame_bits=None):
         c = self.cells

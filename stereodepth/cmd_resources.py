@@ -1,6 +1,8 @@
 """``stereodepth resources``: the Yosys ``synth_xilinx -family xc5v`` resource estimate of the board design
-(``sim/synthesis.py`` says what is counted and the limits of the estimate)."""
+(``sim/synthesis.py`` says what is counted and the limits of the estimate); writes ``resources.json`` (totals,
+worst logic depth per clock domain, the budget check) and exits 1 when the design is over budget."""
 
+import json
 from pathlib import Path
 
 from .errors import UserError
@@ -23,7 +25,13 @@ def run(args):
     lines.append("")
     lines.append(f"(Yosys {report.seconds:.0f} s; estimate only: Yosys's xc5v support is experimental and XST maps "
                  "differently; levels ignore routing -- see sim/synthesis.py)")
+    totals = report.totals()
+    budget = totals["budget"]
+    lines.append(f"budget: {totals['ramb36']:g} of <= {budget['ramb36']} RAMB36, {totals['lut_percent']:.1f} % of "
+                 f"<= {budget['lut_percent']} % LUTs: {'within budget' if totals['within_budget'] else 'OVER BUDGET'}")
     text = "\n".join(lines)
     print(text)
     Path(args.out, "report.txt").write_text(text + "\n")
-    return 0
+    Path(args.out, "resources.json").write_text(json.dumps(totals, indent=2) + "\n")
+    print(f"wrote {Path(args.out, 'resources.json')}")
+    return 0 if totals["within_budget"] else 1

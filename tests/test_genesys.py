@@ -214,6 +214,18 @@ def test_resource_counter_and_levels_on_a_known_design(tmp_path):
     # 36 inputs need at least 2 LUT6 levels; ABC's delay-oriented mapping may spend one more.
     assert report.levels["pix"][0] in (2, 3)
     assert report.levels["sync"][0] >= 1 and report.luts >= 7
+    totals = report.totals()
+    assert (totals["ffs"], totals["ramb36"], totals["dsp48e"]) == (45, 0.5, 0) and totals["within_budget"]
+    assert set(totals["logic_depth"]) == {"sync", "pix"} and totals["logic_depth"]["pix"]["levels"] in (2, 3)
+
+
+def test_resource_budget_check():
+    """resources.json's budget flag: 58 RAMB36 and 60 % of the 28,800 LUTs (17,280) are the limits."""
+    from sim.synthesis import Report
+    at_limit = Report(cells={}, luts=17_280, ffs=0, ramb36=57, ramb18=2)
+    assert at_limit.totals()["within_budget"]
+    assert not Report(cells={}, luts=17_281, ffs=0, ramb36=0, ramb18=0).totals()["within_budget"]
+    assert not Report(cells={}, luts=0, ffs=0, ramb36=58, ramb18=1).totals()["within_budget"]
 
 
 def test_longest_paths_on_a_hand_made_netlist():
