@@ -37,8 +37,9 @@ clock    what happens
 n        ``timing`` in; compare ``x``/``y`` with the region bounds
 n + 1    region flags registered; running counters give the buffer/ring address and coordinates
 n + 2    read addresses and requests registered; crosshair, window and row-ready flags
-n + 3    frame-buffer and result-ring read data; text layer's font pixel
-n + 4    read data registered (BRAM output register); the colour-map code (depth map or bar)
+n + 3    frame-buffer and result-ring read data
+n + 4    read data registered (BRAM output register); the colour-map code (depth map or bar); the text
+         layer's font pixel
 n + 5    disparity level / no-data, the image grey, the code's colour registered
 n + 6    ``video`` registered: the colour chosen by region
 =======  ================================================================================================

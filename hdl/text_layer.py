@@ -1,6 +1,6 @@
 """TextLayer: text boxes on the raster from a small font ROM (the depth display's labels and readout)."""
 
-from amaranth import Module, Signal
+from amaranth import Cat, Module, Signal
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
@@ -13,7 +13,7 @@ __all__ = ["TextLayer", "FONT_ORDER", "char_codes", "LATENCY"]
 #: The font's characters in ROM order: a character's code is its index here.
 FONT_ORDER = tuple(FONT)
 #: Clocks from a raster position to its ``in_text`` / ``lit``.
-LATENCY = 3
+LATENCY = 4
 CHAR_BITS = (len(FONT_ORDER) - 1).bit_length()
 
 
@@ -76,20 +76,21 @@ class TextLayer(wiring.Component):
         m = Module()
         clear = Signal()
         m.d.sync += clear.eq(self.y >= self.v_active)
-        in_any_2, lit_any_3, in_any_3 = [], [], Signal()
+        in_any_3, lit_any_4, in_any_4 = [], [], Signal()
         entries = [(box, None) for box in self.boxes]
         if self.dynamic is not None:
             entries.append((self.dynamic, self.chars))
         for i, (box, chars) in enumerate(entries):
-            inside_2, lit_3 = self._box(m, i, box, chars, clear)
-            in_any_2.append(inside_2)
-            lit_any_3.append(lit_3)
-        m.d.sync += in_any_3.eq(_any(in_any_2))
-        m.d.comb += [self.in_text.eq(in_any_3), self.lit.eq(_any(lit_any_3))]
+            inside_3, lit_4 = self._box(m, i, box, chars, clear)
+            in_any_3.append(inside_3)
+            lit_any_4.append(lit_4)
+        m.d.sync += in_any_4.eq(_any(in_any_3))
+        m.d.comb += [self.in_text.eq(in_any_4), self.lit.eq(_any(lit_any_4))]
         return m
 
     def _box(self, m, i, box, chars, clear):
-        """One box: flags (n + 1), glyph row from the ROM (n + 2), the font pixel (n + 3)."""
+        """One box: flags (n + 1), the cell's character (n + 2), its glyph row from the ROM (n + 3), the font
+        pixel (n + 4)."""
         cw, ch = FONT_CELL
         b = box.box
         inside, eol = Signal(name=f"in_text{i}_1"), Signal(name=f"eol_text{i}_1")
@@ -100,48 +101,49 @@ class TextLayer(wiring.Component):
         scan = RegionScanner(len(box.text) * cw, ch, box.scale)
         m.submodules[f"text_scan{i}"] = scan
         m.d.comb += [scan.active.eq(inside), scan.eol.eq(eol & inside), scan.clear.eq(clear)]
-        # n + 1 -> n + 2: the cell's character, its glyph row, the column within the cell.
-        row_bits = Signal(cw - 1, name=f"glyph_row{i}_2")
-        column = Signal(range(cw), name=f"cell_column{i}_2")
-        inside_2 = Signal(name=f"in_text{i}_2")
-        m.d.sync += inside_2.eq(inside)
+        # n + 1 -> n + 2: the cell's character code, the glyph row, the column within the cell.
+        code = Signal(CHAR_BITS, name=f"char{i}_2")
+        row, column = Signal(range(ch), name=f"glyph_row{i}_2"), Signal(range(cw), name=f"cell_column{i}_2")
+        m.d.sync += row.eq(scan.yb)
         with m.Switch(scan.xb):
             for u in range(len(box.text) * cw):
                 with m.Case(u):
                     cell, col = divmod(u, cw)
-                    m.d.sync += column.eq(col)
-                    code = chars[cell] if chars is not None else char_codes(box.text[cell])[0]
-                    m.d.sync += row_bits.eq(self._glyph_row(m, code, scan.yb, f"{i}_{cell}"))
-        # n + 2 -> n + 3: the font pixel (column cw - 1 is the blank spacing column).
-        lit = Signal(name=f"lit_text{i}_3")
-        pixel = row_bits.bit_select(column, 1)
-        m.d.sync += lit.eq(inside_2 & (column < cw - 1) & pixel)
-        return inside_2, lit
+                    m.d.sync += [column.eq(col),
+                                 code.eq(chars[cell] if chars is not None else char_codes(box.text[cell])[0])]
+        # n + 2 -> n + 3: the glyph row's bits from the font ROM.
+        row_bits = Signal(cw - 1, name=f"glyph_bits{i}_3")
+        m.d.sync += row_bits.eq(self._glyph_row(m, code, row, str(i)))
+        inside_3 = _delay(m, inside, 2, f"in_text{i}")
+        column_3 = _delay(m, column, 1, f"cell_column{i}")
+        # n + 3 -> n + 4: the font pixel (column cw - 1 is the blank spacing column).
+        lit = Signal(name=f"lit_text{i}_4")
+        m.d.sync += lit.eq(inside_3 & (column_3 < cw - 1) & row_bits.bit_select(column_3, 1))
+        return inside_3, lit
 
     def _glyph_row(self, m, code, row, tag):
         """The ``cw - 1`` bits of glyph ``code``'s row ``row`` (bit c = column c; 0 below the glyph)."""
         cw, ch = FONT_CELL
         bits = Signal(cw - 1, name=f"glyph_{tag}")
-        if isinstance(code, int):
-            glyphs = [(code, FONT[FONT_ORDER[code]])]
-        else:
-            glyphs = list(enumerate(FONT[c] for c in FONT_ORDER))
-        with m.Switch(row):
-            for r in range(ch - 1):
-                with m.Case(r):
-                    if isinstance(code, int):
-                        m.d.comb += bits.eq(_row_value(glyphs[0][1][r]))
-                    else:
-                        with m.Switch(code):
-                            for index, glyph in glyphs:
-                                with m.Case(index):
-                                    m.d.comb += bits.eq(_row_value(glyph[r]))
+        with m.Switch(Cat(row, code)):
+            for index, c in enumerate(FONT_ORDER):
+                for r in range(ch - 1):
+                    with m.Case(r | (index << len(row))):
+                        m.d.comb += bits.eq(_row_value(FONT[c][r]))
         return bits
 
 
 def _row_value(pattern):
     """A glyph row ("#.#..") as an integer, bit c = column c (the leftmost pixel is bit 0)."""
     return int(pattern[::-1].replace("#", "1").replace(".", "0"), 2)
+
+
+def _delay(m, signal, clocks, name):
+    for k in range(clocks):
+        nxt = Signal.like(signal, name=f"{name}_d{k + 1}")
+        m.d.sync += nxt.eq(signal)
+        signal = nxt
+    return signal
 
 
 def _any(signals):
