@@ -2,8 +2,9 @@
 
 from fractions import Fraction
 
-from amaranth import Module, Mux, Signal
+from amaranth import Module, Mux, Signal, unsigned
 from amaranth.lib import data, wiring
+from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
 from .params import DEPTH, READOUT_TEXT, SENSOR, VMODCAM_RIG
@@ -94,10 +95,12 @@ class CentreDistance(wiring.Component):
         half = WINDOW // 2
         with m.If((sum(less) <= half) & (sum(not_more) > half)):
             m.d.sync += self.median.eq(value)
-        # The readout of the median: a ROM of D + 1 entries, registered.
-        with m.Switch(self.median):
-            for code, text in enumerate(self.table):
-                with m.Case(code):
-                    for pos, c in enumerate(char_codes(text)):
-                        m.d.sync += self.chars[pos].eq(c)
+        # The readout of the median: a ROM of D + 1 entries (the rest as invalid), registered.
+        words = [sum(c << (CHAR_BITS * pos) for pos, c in enumerate(char_codes(text))) for text in self.table]
+        words += [words[-1]] * (2 ** bits - len(words))
+        m.submodules.readout_rom = rom = Memory(shape=unsigned(len(self.chars.as_value())), depth=len(words),
+                                                init=words)
+        port = rom.read_port(domain="comb")
+        m.d.comb += port.addr.eq(self.median)
+        m.d.sync += self.chars.eq(port.data)
         return m

@@ -51,8 +51,9 @@ raster gives it; the constructor checks that the region starts at least 2 pixels
 layouts start lines down). So every disparity pixel of a frame uses the values loaded at that frame's start.
 """
 
-from amaranth import Cat, Const, Module, Mux, Signal
+from amaranth import Cat, Const, Module, Mux, Signal, unsigned
 from amaranth.lib import wiring
+from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
 from .centre_distance import SETTLE_CLOCKS as READOUT_SETTLE, CentreDistance
@@ -357,10 +358,12 @@ class Compositor(wiring.Component):
         code_4 = Signal(cfg.code_bits, name="code_4")
         m.d.sync += code_4.eq(Mux(in_depth_3, result.data, _delayed(m, bar_code_2, 1, "bar_code")))
         colour_5 = Signal(24, name="colour_5")
-        with m.Switch(code_4):
-            for code, rgb in enumerate(colour_table(cfg)):
-                with m.Case(code):
-                    m.d.sync += colour_5.eq(rgb)
+        table = colour_table(cfg)
+        m.submodules.colour_rom = rom = Memory(shape=unsigned(24), depth=2 ** len(code_4),
+                                               init=table + [table[-1]] * (2 ** len(code_4) - len(table)))
+        colour = rom.read_port(domain="comb")
+        m.d.comb += colour.addr.eq(code_4)
+        m.d.sync += colour_5.eq(colour.data)
         return dict(colour=colour_5, depth=_delayed(m, in_depth_2, 3, "in_depth"),
                     ready=_delayed(m, ready_2, 3, "ready"), cross=_delayed(m, cross_2, 3, "cross"),
                     bar=_delayed(m, inside["bar"], 4, "in_bar"), tick=_delayed(m, inside["tick"], 4, "in_tick"),

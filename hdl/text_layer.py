@@ -1,7 +1,8 @@
 """TextLayer: text boxes on the raster from a small font ROM (the depth display's labels and readout)."""
 
-from amaranth import Cat, Module, Signal
+from amaranth import Cat, Module, Signal, unsigned
 from amaranth.lib import data, wiring
+from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
 from .params import FONT, FONT_CELL, TextBox
@@ -122,15 +123,19 @@ class TextLayer(wiring.Component):
         return inside_3, lit
 
     def _glyph_row(self, m, code, row, tag):
-        """The ``cw - 1`` bits of glyph ``code``'s row ``row`` (bit c = column c; 0 below the glyph)."""
+        """The ``cw - 1`` bits of glyph ``code``'s row ``row`` (bit c = column c; 0 below the glyph): an
+        asynchronous ROM addressed by (code, row), every entry defined (unused codes and row 7 are 0)."""
         cw, ch = FONT_CELL
-        bits = Signal(cw - 1, name=f"glyph_{tag}")
-        with m.Switch(Cat(row, code)):
-            for index, c in enumerate(FONT_ORDER):
-                for r in range(ch - 1):
-                    with m.Case(r | (index << len(row))):
-                        m.d.comb += bits.eq(_row_value(FONT[c][r]))
-        return bits
+        row_bits = len(row)
+        table = [0] * (2 ** (CHAR_BITS + row_bits))
+        for index, c in enumerate(FONT_ORDER):
+            for r in range(ch - 1):
+                table[(index << row_bits) | r] = _row_value(FONT[c][r])
+        rom = Memory(shape=unsigned(cw - 1), depth=len(table), init=table)
+        m.submodules[f"font_rom{tag}"] = rom
+        port = rom.read_port(domain="comb")
+        m.d.comb += port.addr.eq(Cat(row, code))
+        return port.data
 
 
 def _row_value(pattern):

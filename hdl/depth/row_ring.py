@@ -18,8 +18,9 @@ class RowRing(wiring.Component):
     Rows 0, 1, 2, ... are read through ``buffer`` (a shared read port: one read in each clock with
     ``request`` and ``grant`` high, data one clock later), every pixel once, and row r is written into ring
     slot ``r mod rows``. Ring row r holds buffer row min(r + ``row_offset``, height - 1) (the rectification
-    switch moving the left image up; ``row_offset`` is sampled at ``start``). One block RAM word per column holds that column's pixel of every slot, in lanes of
-    8 bits (byte write enables), so one read gives a whole column of the ring.
+    switch moving the left image up; ``row_offset`` is sampled at ``start``). One block RAM word per column
+    holds that column's pixel of every slot, in lanes of 8 bits (byte write enables), so one read gives a whole
+    column of the ring.
 
     Parameters
     ----------
