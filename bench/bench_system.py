@@ -56,9 +56,7 @@ def _setup():
 
 
 def _cycles(t_end, t_pix_start, t_cam_start):
-    s = _setup()
-    return {"sync": t_end * s.sys_hz, "pix": max(0.0, t_end - t_pix_start) * s.timing.pixel_hz,
-            "cam_a": max(0.0, t_end - t_cam_start) * s.pclk_hz, "cam_b": max(0.0, t_end - t_cam_start) * s.pclk_hz}
+    return _setup().clock_edges(t_end, t_pix_start, t_cam_start)
 
 
 def bench_verilator(repeat=REPEAT):

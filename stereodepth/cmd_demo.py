@@ -4,9 +4,12 @@
    rectification, found from the pair (``sim.disparity_pictures.find_settings``, Middlebury ground truth beside).
 2. The whole system end to end at the board's size -- 1600 x 1200 sensors, 400 x 300 frame buffers, one
    1920 x 1080 frame -- on Verilator (``stereodepth run`` does the same with your own pair): both MT9D112 models
-   configured over I2C by the RTL, both cameras captured, the frame composited and driven onto the CH7301C
-   pins, rebuilt by the HDMI sink model and compared bit for bit with the golden model.
-   -> ``hdmi_frame.png`` (the frame from the simulated pins), ``golden_frame.png``, ``result.json``.
+   configured over I2C by the RTL, both cameras captured, the depth map computed by the engine, the four panels
+   composited and driven onto the CH7301C pins, rebuilt by the HDMI sink model and compared bit for bit with the
+   golden model. The depth panel the pins carried is read back (its colours inverted) and scored against the
+   motorcycle's ground truth (``sim.depth_truth``): bad > 1, bad > 2, density; the readout gives the centre
+   distance. -> ``hdmi_frame.png`` (the frame from the simulated pins), ``golden_frame.png``,
+   ``depth_map.png`` (the depth map alone, buffer size, with its colour bar), ``result.json``.
 3. Waveforms of the whole system at the small test size in Amaranth's simulator (I2C init, capture, one display
    frame) -> ``system.vcd`` and ``system.gtkw`` (GTKWave save file with the buses, cameras, switches, video
    stream and CH7301C pins grouped), and that run's frame as ``hdmi_frame_small.png``.
@@ -26,8 +29,8 @@ from .errors import prepare_out_dir
 from .outputs import RunOutputs
 
 #: Every file ``demo`` writes into ``--out`` (the golden pictures are named by disparity: removed by pattern).
-OUTPUTS = ("hdmi_frame.png", "golden_frame.png", "difference.png", "result.json", "system.vcd", "system.gtkw",
-           "hdmi_frame_small.png")
+OUTPUTS = ("hdmi_frame.png", "golden_frame.png", "difference.png", "depth_map.png", "result.json", "system.vcd",
+           "system.gtkw", "hdmi_frame_small.png")
 STALE_PATTERNS = ("disparity_golden_*.png",)
 
 
@@ -36,7 +39,7 @@ def add_arguments(parser):
                         help="simulator of the end-to-end run: verilator (default) or icarus (much slower at full "
                              "size)")
     parser.add_argument("--small", action="store_true",
-                        help="run the end-to-end step at the small test size (64x48 sensors, 80x48 display)")
+                        help="run the end-to-end step at the small test size (64x48 sensors, 112x52 display)")
     parser.add_argument("--out", type=Path, default=Path("build/demo"), help="output directory (build/demo)")
     parser.add_argument("--no-waves", action="store_true", help="skip the VCD / GTKWave step")
 
@@ -80,10 +83,18 @@ def run(args):
         print(f"stereodepth demo: simulation failed: {exc}", file=sys.stderr)
         return 1
     record = provenance(DEFAULT_PAIR, dict(vars(args), setup=setup.to_spec()), started)
+    from sim.depth_panel import depth_outputs, summary_lines
+    from sim.depth_truth import motorcycle_truth
+    depth, depth_files = depth_outputs(frame, setup, motorcycle_truth("right", setup.geometry), outputs.write)
     files.update(cmd_run.write_outputs(outputs, frame, golden, status, {"simulator": args.simulator,
-                                                                       "provenance": record}))
+                                                                       "depth": depth, "provenance": record}))
+    files.update(depth_files)
     ok, lines = cmd_run.summarise(setup, args.simulator, frame, golden, status, time.perf_counter() - t_step)
-    print("\n".join(lines), flush=True)
+    if status.get("t_end_s") and status.get("wall_s"):
+        edges = sum(setup.clock_edges(status["t_end_s"], status["t_init_s"], status["t_init_s"]).values())
+        lines.insert(-1, f"  {edges / 1e6:.1f} M clock edges (all domains) in {status['wall_s']:.1f} s of "
+                         f"simulation: {edges / status['wall_s'] / 1e6:.2f} M edges/s")
+    print("\n".join(lines[:-1] + summary_lines(depth) + lines[-1:]), flush=True)
 
     if not args.no_waves:
         print("waveforms: the whole system at the small size in Amaranth's simulator ...", flush=True)

@@ -1,20 +1,23 @@
 """``stereodepth run LEFT RIGHT``: the whole simulated system end to end on your own stereo pair.
 
 The pair (read by ``golden.image_file``; from the frame buffer's size once cropped to 4:3 up to 25 M pixels;
-fitted to the sensor by centre-crop and resize, as ``golden.stereo_pair.load_pair`` does) goes into the two MT9D112 sensor models; the RTL configures them and the
-CH7301C over I2C, captures both cameras into the frame buffers, composites the left image, the right image and
-the disparity map for the given switch settings and drives the CH7301C pins; the HDMI sink model rebuilds the
-frame, which is compared bit for bit with the golden model's frame.
+fitted to the sensor by centre-crop and resize, as ``golden.stereo_pair.load_pair`` does) goes into the two
+MT9D112 sensor models; the RTL configures them and the CH7301C over I2C, captures both cameras into the frame
+buffers, composites the left image, the right image, the difference map for the given switch settings and the depth engine's map (colour bar, labels, crosshair,
+centre distance) and drives the CH7301C pins; the HDMI sink model rebuilds the frame, which is compared bit for
+bit with the golden model's frame.
 
 Writes to ``--out`` (default build/run/): ``hdmi_frame.png`` (the frame rebuilt from the simulated pins),
-``golden_frame.png``, ``difference.png`` (only if they differ), ``result.json`` (I2C outcome, timing checks,
-figures, and ``provenance``: input files with SHA-256, parameters, tool versions, git commit, UTC start and end).
+``golden_frame.png``, ``difference.png`` (only if they differ), ``depth_map.png`` (the depth map the displayed
+frame carries, at buffer size with its colour bar), ``result.json`` (I2C outcome, timing checks, figures; under
+``depth`` the centre distance shown and, with ``--ground-truth``, bad > 1 / bad > 2 of the depth panel; and
+``provenance``: input files with SHA-256, parameters, tool versions, git commit, UTC start and end).
 ``--vcd`` (Amaranth simulator, ``--small`` only) also writes ``system.vcd`` + ``system.gtkw``. The directory is
 checked writable before any work; an earlier run's outputs are removed at the start and each output appears under
 its own name only when complete (``stereodepth/outputs.py``).
 
 Sizes: the default is the board's (1600 x 1200 sensors, 400 x 300 buffers, 1080p60 display); ``--small`` runs
-the small test configuration (64 x 48 sensors, 80 x 48 display; ``sim/system/setup.py``). Simulators:
+the small test configuration (64 x 48 sensors, 112 x 52 display; ``sim/system/setup.py``). Simulators:
 ``verilator`` (default) runs with its testbench in C++ (``sim/system/run_verilator.py``: clocks, sensor streams and
 the pin recorder in C++, the Python models answering the I2C buses); ``icarus`` runs through cocotb along the
 in-simulator route (the sensors replayed and the pins recorded inside the simulator;
@@ -34,7 +37,8 @@ from .progress import Progress
 
 SIMULATORS = ("verilator", "icarus", "amaranth")
 #: Every file ``run`` writes into ``--out``.
-OUTPUTS = ("hdmi_frame.png", "golden_frame.png", "difference.png", "result.json", "system.vcd", "system.gtkw")
+OUTPUTS = ("hdmi_frame.png", "golden_frame.png", "difference.png", "depth_map.png", "result.json", "system.vcd",
+           "system.gtkw")
 
 
 def add_arguments(parser):
@@ -48,7 +52,11 @@ def add_arguments(parser):
                         help="verilator (default), icarus, or amaranth (hours at full size; quick with --small)")
     parser.add_argument("--out", type=Path, default=Path("build/run"), help="output directory (build/run)")
     parser.add_argument("--small", action="store_true",
-                        help="small configuration: 64x48 sensors, 80x48 display (fast; for a quick look)")
+                        help="small configuration: 64x48 sensors, 112x52 display (fast; for a quick look)")
+    parser.add_argument("--ground-truth", type=Path, default=None, metavar="FILE",
+                        help="the right image's disparity map at the input's size (PFM, inf = unknown; or 16-bit "
+                             "PNG in 1/256 pixel, 0 = unknown, e.g. Middlebury disp1.pfm): report bad > 1 / "
+                             "bad > 2 of the depth panel")
     parser.add_argument("--vcd", action="store_true",
                         help="write system.vcd + system.gtkw (Amaranth simulator, --small only)")
 
@@ -222,6 +230,11 @@ def run(args):
         raise UserError("--vcd is written by the Amaranth route at the small size: use --simulator amaranth --small")
     out = prepare_out_dir(args.out)                             # writable, before any work
     left, right = load_images(args.left, args.right, setup)     # validates the pair before any simulation
+    truth = None
+    if args.ground_truth is not None:
+        from golden.image_file import image_size
+        from sim.depth_panel import read_truth
+        truth = read_truth(args.ground_truth, image_size(args.left), setup.geometry)
     require_simulator(args.simulator)
     outputs = RunOutputs(out, OUTPUTS).start()
     wall = time.perf_counter()
@@ -235,12 +248,16 @@ def run(args):
         print(f"stereodepth run: simulation failed: {exc}", file=sys.stderr)
         return 1
     wall = time.perf_counter() - wall
+    from sim.depth_panel import depth_outputs, summary_lines
+    depth, depth_files = depth_outputs(frame, setup, truth, outputs.write)
     files = write_outputs(outputs, frame, golden, status, {"total_wall_s": wall, "simulator": args.simulator,
+                                                           "depth": depth,
                                                            "provenance": run_provenance(args, setup, started)})
+    files.update(depth_files)
     if args.vcd:
         files["VCD"] = out / "system.vcd"
         files["GTKWave save file (gtkwave system.gtkw)"] = out / "system.gtkw"
     ok, lines = summarise(setup, args.simulator, frame, golden, status, wall)
-    print("\n".join(lines))
+    print("\n".join(lines[:-1] + summary_lines(depth) + lines[-1:]))
     print_files(files)
     return 0 if ok else 1

@@ -4,7 +4,8 @@ file marks (:func:`cocotb_system_waves`; ``STEREO_WAVES=1``).
 
 Groups, in the order of the run: reset and clocking; each I2C bus (its lines decoded into bytes and
 transactions, the state of its init sequencer and I2C master by name, its init status); each camera's pins, its
-capture's line counter and frame status; the switches; the video stream; the CH7301C pins; the LEDs.
+capture's line counter and frame status; the switches; the depth engine (start, busy, its read requests and the
+arbiters' grants, the result rows ready and released); the video stream; the CH7301C pins; the LEDs.
 :mod:`sim.gtkw` adds any other state machine in a group of its own.
 
 Named markers, in the order of the run: each bus's I2C init done, each camera's first captured frame, the first
@@ -36,6 +37,10 @@ def system_waves(top):
                                  status.frame_done, status.frame_ok, Show(status.frame_count, fmt="dec")]
     groups["switches"] = [top.panel.sw, Show(top.settings.disparity, fmt="dec"),
                           Show(top.settings.rectification, fmt="dec")]
+    engine = top.system.display.engine
+    groups["depth_engine"] = [engine.start, engine.busy, Show(engine.left_row_offset, fmt="dec"),
+                              engine.left.request, engine.left.grant, engine.right.request, engine.right.grant,
+                              Show(engine.result.rows_ready, fmt="dec"), Show(engine.result.rows_released, fmt="dec")]
     video, pins = top.video, top.ch7301c
     groups["video_stream"] = [video.rgb, video.de, video.hsync, video.vsync, top.frame_start]
     groups["ch7301c_pins"] = [pins.xclk_p, pins.xclk_n, pins.data, pins.de, pins.hsync, pins.vsync]
