@@ -165,3 +165,29 @@ def _fit_truth(truth, geometry):
     rows = np.clip(np.rint((geometry.scale * i + 0.5) * chh / gh - 0.5).astype(int), 0, chh - 1) + y0
     cols = np.clip(np.rint((geometry.scale * j + 0.5) * cw / gw - 0.5).astype(int), 0, cw - 1) + x0
     return truth[np.ix_(rows, cols)] * gw / cw / geometry.scale
+
+
+def depth_outputs(frame, setup, truth=None, write=None):
+    """The depth figures of a run's displayed ``frame`` (:func:`depth_summary`, ``truth`` in buffer pixels or
+    None) and ``depth_map.png`` (:func:`depth_picture_png` of the panel), written through ``write(name,
+    writer)`` (``writer(path)`` makes the file; ``write`` returns the final path); returns ``(summary, {what:
+    path})``. Nothing without a frame."""
+    if frame is None:
+        return {}, {}
+    layout, config = setup.display_layout, setup.depth
+    summary = depth_summary(frame, layout, setup.geometry, config, truth)
+    picture = panel_picture(frame, layout)
+    path = write("depth_map.png", lambda p: depth_picture_png(picture, p, setup.geometry, config))
+    return summary, {"depth map from the displayed frame, buffer size, with its colour bar": path}
+
+
+def summary_lines(summary):
+    """Printable lines of a :func:`depth_summary`."""
+    if not summary:
+        return []
+    lines = [f"  centre distance shown: {summary['centre_readout'].strip()}"]
+    if "bad2" in summary:
+        lines.append(f"  depth panel vs ground truth: bad > 1 {100 * summary['bad1']:.1f} %, bad > 2 "
+                     f"{100 * summary['bad2']:.1f} %, density {100 * summary['density']:.1f} % "
+                     f"({summary['pixels_with_truth']} pixels with a truth)")
+    return lines

@@ -68,8 +68,8 @@ def test_complete_run_replaces_every_output_and_records_its_provenance(tmp_path)
     stdout, stderr = run.communicate(timeout=600)
     assert run.returncode == 0, stderr
     names = sorted(p.name for p in out.iterdir() if not p.name.startswith("."))
-    assert names == ["golden_frame.png", "hdmi_frame.png", "notes.txt", "result.json", "system.gtkw",
-                     "system.vcd"], names
+    assert names == ["depth_map.png", "golden_frame.png", "hdmi_frame.png", "notes.txt", "result.json",
+                     "system.gtkw", "system.vcd"], names
     assert f'[dumpfile] "{(out / "system.vcd").resolve()}"' in (out / "system.gtkw").read_text()
     result = json.loads((out / "result.json").read_text())
     record = result["provenance"]
