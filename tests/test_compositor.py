@@ -259,10 +259,11 @@ def test_display_path_other_layout_amaranth():
 def run_cocotb_display(timing, geometry, schedule, simulator, tmp_path):
     left, right = grey_buffers(geometry)
     events, settings = switch_events(schedule, timing)
+    config = DEPTH if geometry == SENSOR else SMALL_DEPTH
     data = tmp_path / "display.npz"
     np.savez(data, left=left, right=right,
-             expected=expected_frames(left, right, settings, timing, geometry))
-    verilog = export_verilog(DisplayHarness(timing, geometry), "display_harness")   # compact buffer init
+             expected=expected_frames(left, right, settings, timing, geometry, config=config))
+    verilog = export_verilog(DisplayHarness(timing, geometry, config=config), "display_harness")
     run_cocotb(verilog, name="display_harness", test_module="cocotb_compositor",
                simulator=simulator,
                params=dict(timing=dataclasses.asdict(timing), latency=LATENCY, data=str(data),
@@ -275,7 +276,7 @@ def test_display_path_cocotb(simulator, tmp_path):
 
 @pytest.mark.slow
 def test_display_path_1080p_cocotb(tmp_path):
-    """The full 1920 x 1080 frame from 400 x 300 buffers on Verilator: (0, 0) from reset, then the thesis's
+    """The full 1920 x 1080 frame from 400 x 300 buffers (the board's engine, D = 64) on Verilator: (0, 0) from reset, then the thesis's
     (22, 3) set in the middle of the disparity map of frame 0, then the maximum (127, 127)."""
     schedule = [dict(line=500, column=700, disparity=22, rectification=3),
                 dict(line=900, column=1000, disparity=127, rectification=127)]

@@ -37,6 +37,7 @@ if cocotb is not None:
         dut.start.value = 0
         dut.grant_mask.value = p["grant_mask"]
         dut.hold.value = 0
+        dut.row_offset.value = 0                  # the rectification offset (tests/test_depth_engine.py: Amaranth)
         dut.read_addr.value = 0
         for _ in range(3):
             await FallingEdge(clk)
