@@ -58,6 +58,7 @@ from amaranth.lib.wiring import In, Out
 
 from .centre_distance import SETTLE_CLOCKS as READOUT_SETTLE, CentreDistance
 from .colour_map import colour_table
+from .delay import delayed
 from .depth.ports import ResultReadSignature, SharedReadSignature
 from .disparity import LATENCY as SUBTRACTOR_LATENCY, SETTLE_CLOCKS, DisparitySubtractor, check_thresholds
 from .forward import forward
@@ -135,15 +136,6 @@ def check_layout(layout, timing, geometry, config=DEPTH):
     if timing.h_total < READOUT_SETTLE + LATENCY:
         raise ValueError("a line is too short for the centre distance to settle before the readout")
     return regions
-
-
-def _delayed(m, signal, clocks, name):
-    """``signal`` through ``clocks`` registers."""
-    for i in range(clocks):
-        nxt = Signal.like(signal, name=f"{name}_d{i + 1}")
-        m.d.sync += nxt.eq(signal)
-        signal = nxt
-    return signal
 
 
 class Compositor(wiring.Component):
@@ -315,8 +307,8 @@ class Compositor(wiring.Component):
             sub.right.data.eq(self.right.port.data),
         ]
         # n + 3 -> n + 4: register the image read data
-        show_left_4 = _delayed(m, show_left_2, 2, "show_left")
-        show_right_4 = _delayed(m, show_right_2, 2, "show_right")
+        show_left_4 = delayed(m, show_left_2, 2, "show_left")
+        show_right_4 = delayed(m, show_right_2, 2, "show_right")
         left_q_4, right_q_4 = Signal(g.gray_bits, name="left_q_4"), Signal(g.gray_bits, name="right_q_4")
         m.d.sync += [left_q_4.eq(self.left.port.data), right_q_4.eq(self.right.port.data)]
         # n + 4 -> n + 5: the image grey; the subtractor's level arrives at n + 5
@@ -352,11 +344,11 @@ class Compositor(wiring.Component):
         ]
         m.d.comb += result.addr.eq(ring_addr_2)
         # n + 3: the ring's data; the centre window; n + 4: the code to colour (depth map or bar band).
-        in_depth_3, window_3 = _delayed(m, in_depth_2, 1, "in_depth"), _delayed(m, window_2, 1, "window")
+        in_depth_3, window_3 = delayed(m, in_depth_2, 1, "in_depth"), delayed(m, window_2, 1, "window")
         m.submodules.distance = distance = self._distance
         m.d.comb += [distance.capture.eq(Mux(in_depth_3, window_3, 0)), distance.code.eq(result.data)]
         code_4 = Signal(cfg.code_bits, name="code_4")
-        m.d.sync += code_4.eq(Mux(in_depth_3, result.data, _delayed(m, bar_code_2, 1, "bar_code")))
+        m.d.sync += code_4.eq(Mux(in_depth_3, result.data, delayed(m, bar_code_2, 1, "bar_code")))
         colour_5 = Signal(24, name="colour_5")
         table = colour_table(cfg)
         m.submodules.colour_rom = rom = Memory(shape=unsigned(24), depth=2 ** len(code_4),
@@ -364,11 +356,11 @@ class Compositor(wiring.Component):
         colour = rom.read_port(domain="comb")
         m.d.comb += colour.addr.eq(code_4)
         m.d.sync += colour_5.eq(colour.data)
-        return dict(colour=colour_5, depth=_delayed(m, in_depth_2, 3, "in_depth"),
-                    ready=_delayed(m, ready_2, 3, "ready"), cross=_delayed(m, cross_2, 3, "cross"),
-                    bar=_delayed(m, inside["bar"], 4, "in_bar"), tick=_delayed(m, inside["tick"], 4, "in_tick"),
-                    in_text=_delayed(m, self._text.in_text, 5 - TEXT_LATENCY, "in_text"),
-                    lit=_delayed(m, self._text.lit, 5 - TEXT_LATENCY, "lit"))
+        return dict(colour=colour_5, depth=delayed(m, in_depth_3, 2, "in_depth_3"),
+                    ready=delayed(m, ready_2, 3, "ready"), cross=delayed(m, cross_2, 3, "cross"),
+                    bar=delayed(m, inside["bar"], 4, "in_bar"), tick=delayed(m, inside["tick"], 4, "in_tick"),
+                    in_text=delayed(m, self._text.in_text, 5 - TEXT_LATENCY, "in_text"),
+                    lit=delayed(m, self._text.lit, 5 - TEXT_LATENCY, "lit"))
 
     def _colour(self, m, grey_5, show_image_5, depth_5, de_5):
         """Clock n + 5 -> n + 6: the colour chosen by region."""

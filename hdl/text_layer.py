@@ -5,6 +5,7 @@ from amaranth.lib import data, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
+from .delay import delayed
 from .params import FONT, FONT_CELL, TextBox
 from .region_scanner import RegionScanner
 from .rejecting import rejecting
@@ -115,8 +116,8 @@ class TextLayer(wiring.Component):
         # n + 2 -> n + 3: the glyph row's bits from the font ROM.
         row_bits = Signal(cw - 1, name=f"glyph_bits{i}_3")
         m.d.sync += row_bits.eq(self._glyph_row(m, code, row, str(i)))
-        inside_3 = _delay(m, inside, 2, f"in_text{i}")
-        column_3 = _delay(m, column, 1, f"cell_column{i}")
+        inside_3 = delayed(m, inside, 2, f"in_text{i}")
+        column_3 = delayed(m, column, 1, f"cell_column{i}")
         # n + 3 -> n + 4: the font pixel (column cw - 1 is the blank spacing column).
         lit = Signal(name=f"lit_text{i}_4")
         m.d.sync += lit.eq(inside_3 & (column_3 < cw - 1) & row_bits.bit_select(column_3, 1))
@@ -141,14 +142,6 @@ class TextLayer(wiring.Component):
 def _row_value(pattern):
     """A glyph row ("#.#..") as an integer, bit c = column c (the leftmost pixel is bit 0)."""
     return int(pattern[::-1].replace("#", "1").replace(".", "0"), 2)
-
-
-def _delay(m, signal, clocks, name):
-    for k in range(clocks):
-        nxt = Signal.like(signal, name=f"{name}_d{k + 1}")
-        m.d.sync += nxt.eq(signal)
-        signal = nxt
-    return signal
 
 
 def _any(signals):
