@@ -39,8 +39,9 @@ def test_pin_file_changes_only_the_ucf():
     board's whichever pins are given."""
     from hdl.top import board_plan
     pins = {name: f"A{i + 1}" for i, name in enumerate(UNCONFIRMED)}
-    _, placeholder = board_plan(files=(".v", ".ucf"), geometry=small_setup().geometry)
-    _, located = board_plan(files=(".v", ".ucf"), pins=pins, geometry=small_setup().geometry)
+    top_kwargs = board_top_kwargs(small_setup())
+    _, placeholder = board_plan(files=(".v", ".ucf"), **top_kwargs)
+    _, located = board_plan(files=(".v", ".ucf"), pins=pins, **top_kwargs)
     assert placeholder.files["top.v"] == located.files["top.v"]
     assert placeholder.files["top.ucf"] != located.files["top.ucf"]
 
