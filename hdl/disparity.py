@@ -10,7 +10,8 @@ unreachable).
 No data, never wrapping: where ``x + disparity >= buf_width`` or ``y + rectification >= buf_height`` the
 shifted pixel is outside the left image. The thesis's address arithmetic (figure 4.7) would wrap into the next
 row or past the end of the buffer there; this block instead raises ``no_data`` (``level`` is then 0) and drives
-``left.addr`` to 0, so the left port is never given an address outside the image.
+``left.addr`` to 0, so the left port is never given an address outside the image. On clocks without a valid
+pixel both ``left.addr`` and ``right.addr`` are 0, so neither port ever reads outside its buffer.
 
 No multiplier per pixel: the caller supplies the right pixel's address ``addr`` (= ``y * buf_width + x``) from
 a running counter along with ``x`` and ``y``; the left address is ``addr + offset`` with the per-frame constant
@@ -138,8 +139,10 @@ class DisparitySubtractor(wiring.Component):
         m.d.sync += [
             valid_1.eq(self.valid),
             no_data_1.eq(outside),
-            self.right.addr.eq(self.addr),
-            self.left.addr.eq(Mux(outside, 0, self.addr + offset)),
+            # Between valid pixels both ports idle at address 0: the per-frame offset may still be settling
+            # and the caller's address counter may sit past the buffer's end (tests/formal/harness_disparity).
+            self.right.addr.eq(Mux(self.valid, self.addr, 0)),
+            self.left.addr.eq(Mux(outside | ~self.valid, 0, self.addr + offset)),
         ]
 
         # Clock n + 1 -> n + 2: the frame buffers read; only the flags travel along.

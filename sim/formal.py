@@ -35,7 +35,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from amaranth import ClockDomain, Fragment, Module, Signal
+from amaranth import ClockDomain, Fragment, Module, Signal, Value
 from amaranth.back import rtlil
 from amaranth.hdl import Assert, Assume, Cover
 from amaranth.sim import Simulator
@@ -85,7 +85,7 @@ class FormalHarness:
     def free(self, name, shape=1):
         """An input driven by the environment: any value on any clock, unless an assumption restricts it."""
         signal = Signal(shape, name=name)
-        self._free.append(signal)
+        self._free.append(Value.cast(signal))          # the port is the plain signal under an enum/struct view
         return signal
 
     def prove(self, m, name, test, *, bound=None):
@@ -321,7 +321,9 @@ def check(harness, *, outdir=DEFAULT_OUTDIR, covers=True):
                          workdir / ("unbounded" if b is None else f"bounded_{b}"), outdir)
               for b in bounds]
     cover_results, cover_vcds = {}, {}
-    names = [p.name for p in harness.properties("cover")] if covers else []
+    # Covers make a passing proof meaningful; a failing one already has its counterexample.
+    proved = all(g.ok for g in groups)
+    names = [p.name for p in harness.properties("cover")] if covers and proved else []
     if names:
         cover_results = engines.reach(harness.rtlil("covers"), workdir / "covers", names)
         for n, o in cover_results.items():
