@@ -1,7 +1,8 @@
 # Every target bootstraps the virtual environment on a fresh machine (python3 -m venv + pip install -e .[test]).
-# `make test` also installs the Debian tools the tests need (Icarus Verilog; GTKWave + xvfb for the save-file
-# checks) through scripts/system-deps.sh, or stops before pytest with the command that would; that check runs
-# first, before the virtual environment is installed, so a machine without them learns it in a second.
+# `make test` also installs the Debian tools the tests need (Icarus Verilog; yosys-abc for the formal proofs;
+# GTKWave + xvfb for the save-file checks) through scripts/system-deps.sh, or stops before pytest with the
+# command that would; that check runs first, before the virtual environment is installed, so a machine without
+# them learns it in a second.
 
 PYTHON ?= python3
 VENV   := .venv
@@ -9,7 +10,7 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 JOBS   ?= 2
 
-.PHONY: all help venv system-deps test test-slow demo verilog waves bench resources clean distclean
+.PHONY: all help venv system-deps test test-slow formal demo verilog waves bench resources clean distclean
 
 all: help
 
@@ -17,6 +18,7 @@ help:
 	@echo "make demo       run the main job on the bundled stereo pair -> build/demo/ (PNG frames, VCD, GTKWave save file)"
 	@echo "make test       run the default test suite (Amaranth simulator + cocotb on Verilator and Icarus)"
 	@echo "make test-slow  run the slow, full-resolution tests"
+	@echo "make formal     prove every block's safety properties (table: block, properties, bound, time)"
 	@echo "make verilog    write the board build (Verilog, UCF, ISE scripts) to build/genesys/"
 	@echo "make waves      write the display-path VCD + GTKWave save file and print how to open them"
 	@echo "make bench      run the benchmarks in bench/ and print their figures"
@@ -38,6 +40,9 @@ test: system-deps $(STAMP)
 
 test-slow: system-deps $(STAMP)
 	$(PY) -m pytest -q -n 2 -m "slow and not hours"
+
+formal: system-deps $(STAMP)
+	$(PY) -m tests.formal
 
 demo: $(STAMP)
 	$(PY) -m stereodepth demo

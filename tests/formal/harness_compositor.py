@@ -33,7 +33,7 @@ def top_layout(timing, geometry):
 class CompositorHarness(FormalHarness):
     name = "compositor"
     block = "Compositor"
-    engine = "induction"
+    engine = "induction"            # closes at k = 8 with the scanner invariants; PDR does not finish in 10 min
     max_steps = 12
 
     def __init__(self, timing=SMALL_TIMING, geometry=SMALL_SENSOR, layout=None):

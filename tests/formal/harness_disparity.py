@@ -23,6 +23,8 @@ from sim.formal import FormalHarness
 class DisparityHarness(FormalHarness):
     name = "disparity"
     block = "DisparitySubtractor"
+    engine = "induction"            # the 4-clock pipeline closes at k = 5; PDR takes over ten times longer
+    max_steps = 8
 
     def __init__(self, geometry=SMALL_SENSOR, thresholds=DIFF_THRESHOLDS):
         super().__init__()
@@ -55,6 +57,7 @@ class DisparityHarness(FormalHarness):
                                                                                name="past_rectification")
         shifted_x, shifted_y = px + pd, py + pr
         outside = (shifted_x >= w) | (shifted_y >= h)
+        self.prove(m, "reads_idle_at_zero_between_pixels", ~pv | was_valid | ((left_addr == 0) & (right_addr == 0)))
         self.prove(m, "left_read_in_buffer", ~was_valid | (left_addr < g.buf_depth))
         self.prove(m, "right_read_in_buffer", ~was_valid | (right_addr < g.buf_depth))
         self.prove(m, "right_read_at_pixel", ~was_valid | (right_addr == self.past(m, i["addr"], name="past_addr")))

@@ -9,7 +9,7 @@ interval of :class:`~hdl.i2c_master.I2CTiming` is still derived from it.
 
 from amaranth import Signal
 
-from hdl.i2c_init import InitSequencer
+from hdl.i2c_init import ErrorCode, InitSequencer
 from hdl.i2c_master import Cmd, I2CMaster
 from hdl.init_tables import I2CDeviceSpec, InitTable, Wait, Write
 from sim.formal import FormalHarness
@@ -102,3 +102,52 @@ class I2CMasterHarness(FormalHarness):
         self.prove(m, "stuck_scl_command_still_within_bound", ~(busy & stuck) | (clocks <= bound))
         self.prove(m, "stuck_scl_command_ends_timed_out", ~(done & stuck) | timed_out)
         self.cover(m, "stuck_scl_timed_out", done & stuck & timed_out)
+
+
+#: A three-entry table on a 1-byte-register device: one write (S addr reg data P) and two waits; three entries
+#: so that the ROM's 2-bit address could point past the table.
+TABLE = InitTable(I2CDeviceSpec("formal", 0x3C, reg_bytes=1, data_bytes=1),
+                  (Write(0x12, 0x5A, "one register write"), Wait(5, "a pause"), Wait(5, "another pause")))
+
+
+class InitSequencerHarness(FormalHarness):
+    name = "i2c_init"
+    block = "InitSequencer"
+
+    def __init__(self, table=TABLE, retries=1):
+        super().__init__()
+        self.table, self.retries = table, retries
+
+    def dut(self):
+        return InitSequencer(self.table, clk_hz=CLK_HZ, bus_hz=BUS_HZ, retries=self.retries, retry_delay_us=10,
+                             timeout_us=TIMEOUT_US)
+
+    def build(self, m):
+        n = len(self.table)
+        dut = self.dut()
+        module = self.open(m, "dut", dut)
+        # The block's ports, its master's command interface and its ROM's read port (the one place to adapt).
+        pins = master_pins(dut)
+        done, error, error_code, entry = dut.done, dut.error, dut.error_code, dut.entry
+        master = dut.master
+        rom_addr = module.submodules.rom.read_ports[0].addr
+        bus(self, m, pins)
+
+        pv = self.past_valid(m)
+        self.prove(m, "rom_index_within_table", entry <= n)
+        self.prove(m, "rom_read_inside_table", rom_addr < n)
+        self.prove(m, "done_and_error_never_together", ~(done & error))
+        self.prove(m, "done_sticky", ~(pv & self.past(m, done, name="past_done")) | done)
+        self.prove(m, "error_sticky", ~(pv & self.past(m, error, name="past_error")) | error)
+        self.prove(m, "done_only_after_whole_table", ~done | (entry == n))
+        self.prove(m, "error_has_a_code", ~error | (error_code != ErrorCode.NONE))
+        self.prove(m, "bus_released_after_error", ~error | (~pins["scl_oe"] & ~pins["sda_oe"]))
+
+        # A NACKed address byte, then the same entry's transaction again from its START.
+        address_nacked = Signal(name="address_nacked")
+        with m.If(master.done & master.nack):
+            m.d.sync += address_nacked.eq(1)
+        self.cover(m, "nack_then_retry", address_nacked & master.ready & master.cmd_valid &
+                   (master.cmd == Cmd.START) & (entry == 0))
+        self.cover(m, "table_done", done)
+        self.cover(m, "stuck_bus_error", error & (error_code == ErrorCode.STUCK))

@@ -1,0 +1,38 @@
+"""The formal harnesses of the default run (``make formal``, ``make test``) and their slow full-size variants."""
+
+from hdl.params import SENSOR, SMALL_SENSOR, SMALL_TIMING, DisplayLayout
+
+from .harness_capture import CaptureHarness
+from .harness_compositor import CompositorHarness
+from .harness_disparity import DisparityHarness
+from .harness_frame_buffer import FrameBufferHarness
+from .harness_i2c import I2CMasterHarness, InitSequencerHarness
+from .harness_switches import SwitchControlHarness
+from .harness_sync_gen import SyncGenerator1080pHarness, SyncGeneratorHarness
+
+#: name -> factory (a fresh harness per run: harnesses keep their properties between elaborations).
+DEFAULT = {
+    "sync_gen_small": SyncGeneratorHarness,
+    "sync_gen_1080p": SyncGenerator1080pHarness,
+    "switches": SwitchControlHarness,
+    "frame_buffer": FrameBufferHarness,
+    "capture": CaptureHarness,
+    "disparity": DisparityHarness,
+    "compositor": CompositorHarness,
+    "i2c_master": I2CMasterHarness,
+    "i2c_init": InitSequencerHarness,
+}
+
+
+def _named(harness, name):
+    harness.name = name
+    return harness
+
+
+#: The same properties at full size or with the default (centred) layout: minutes to hours each.
+SLOW = {
+    "compositor_centred": lambda: _named(CompositorHarness(layout=DisplayLayout.centred(SMALL_TIMING, SMALL_SENSOR)),
+                                         "compositor_centred"),
+    "disparity_full": lambda: _named(DisparityHarness(SENSOR), "disparity_full"),
+    "capture_full": lambda: _named(CaptureHarness(SENSOR), "capture_full"),
+}

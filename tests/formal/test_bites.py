@@ -1,0 +1,109 @@
+"""Each harness bites: one deliberate bug per block (a mutated parameter or a wrong connection) makes its proof
+fail, names the broken property and leaves a counterexample VCD in ``build/formal/<harness>/``."""
+
+import dataclasses
+
+import pytest
+
+from hdl.compositor import Compositor
+from hdl.capture import CameraCapture
+from hdl.disparity import DisparitySubtractor
+from hdl.frame_buffer import FrameBuffer
+from hdl.i2c_init import InitSequencer
+from hdl.i2c_master import I2CMaster
+from hdl.init_tables import InitTable
+from hdl.params import DisplayLayout, Region, SensorGeometry
+from hdl.sync_gen import SyncGenerator
+from sim.formal import check
+
+from .harness_capture import CaptureHarness
+from .harness_compositor import CompositorHarness
+from .harness_disparity import DisparityHarness
+from .harness_frame_buffer import FrameBufferHarness
+from .harness_i2c import BUS_HZ, CLK_HZ, TIMEOUT_US, I2CMasterHarness, InitSequencerHarness
+from .harness_switches import SwitchControlHarness
+from .harness_sync_gen import SyncGeneratorHarness
+
+
+class SyncPulseTooWide(SyncGeneratorHarness):
+    """hsync one clock wider than CEA-861 (the back porch one shorter, so the line length is right)."""
+    def dut(self):
+        t = self.timing
+        return SyncGenerator(dataclasses.replace(t, h_sync=t.h_sync + 1, h_back=t.h_back - 1), start=self.start)
+
+
+class SwitchesLoadAnyTime(SwitchControlHarness):
+    """frame_start wired high: the registers follow the switches at any clock (tearing)."""
+    def connect(self, m, dut, sw, frame_start):
+        m.d.comb += [dut.sw.eq(sw), dut.frame_start.eq(1)]
+        return dut.disparity, dut.rectification
+
+
+class BufferDeeperThanImage(FrameBufferHarness):
+    """The memory sized for a 4 x 4 image behind the 3 x 3 image's addresses: out-of-range writes land."""
+    def dut(self):
+        return FrameBuffer(SensorGeometry(width=16, height=16, scale=4))
+
+
+class CaptureWrongByteOrder(CaptureHarness):
+    """The capture set for G byte first while the sensor sends R byte first."""
+    def dut(self):
+        return CameraCapture(self.geometry, r_byte_first=False)
+
+
+class SubtractorWiderImage(DisparityHarness):
+    """The subtractor believes the image is 4 pixels wider: shifted reads wrap into the next row."""
+    def dut(self):
+        g = self.geometry
+        return DisparitySubtractor(dataclasses.replace(g, width=g.width + 4 * g.scale), self.thresholds)
+
+
+class CompositorLeftImageMoved(CompositorHarness):
+    """The left image drawn one line lower than the layout puts it."""
+    def dut(self):
+        regions = tuple(dataclasses.replace(r, y0=r.y0 + 1) if r.source == "left" else r
+                        for r in self.layout.regions)
+        return Compositor(self.timing, self.geometry, DisplayLayout(regions))
+
+
+class MasterLongTimeout(I2CMasterHarness):
+    """The master built with twice the documented stuck-bus time-out."""
+    def dut(self):
+        return I2CMaster(clk_hz=CLK_HZ, bus_hz=BUS_HZ, timeout_us=2 * TIMEOUT_US)
+
+
+class SequencerShortTable(InitSequencerHarness):
+    """The sequencer's ROM holds only the table's last entry: it reports done before the table is played."""
+    def dut(self):
+        short = InitTable(self.table.device, self.table.entries[-1:])
+        return InitSequencer(short, clk_hz=CLK_HZ, bus_hz=BUS_HZ, retries=self.retries, retry_delay_us=10,
+                             timeout_us=TIMEOUT_US)
+
+
+BITES = {
+    "sync_gen": (SyncPulseTooWide, "hsync_window_and_polarity"),
+    "switches": (SwitchesLoadAnyTime, "changes_only_after_frame_start"),
+    "frame_buffer": (BufferDeeperThanImage, "memory_written_only_below_depth"),
+    "capture": (CaptureWrongByteOrder, "pixel_bytes_paired_in_order"),
+    "disparity": (SubtractorWiderImage, "left_read_at_shifted_pixel"),
+    "compositor": (CompositorLeftImageMoved, "left_port_reads_left_image"),
+    "i2c_master": (MasterLongTimeout, "stuck_scl_command_still_within_bound"),
+    "i2c_init": (SequencerShortTable, "done_only_after_whole_table"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(BITES))
+def test_bug_is_caught(name):
+    mutant, broken = BITES[name]
+    harness = mutant()
+    harness.name = f"bite_{name}"
+    report = check(harness)
+    assert not report.ok
+    failed = [g for g in report.groups if g.outcome.status == "failed"]
+    assert failed, "\n".join(report.lines())
+    assert any(broken in prop for g in failed for prop in g.failed), "\n".join(report.lines())
+    vcd = failed[0].vcd
+    assert vcd.exists() and vcd.parent.name == harness.name and vcd.parent.parent.name == "formal"
+    assert vcd.stat().st_size > 0
+    line = report.lines()[0]
+    assert line.startswith(f"FAIL bite_{name}: ") and broken in line and str(vcd) in line

