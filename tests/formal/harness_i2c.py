@@ -89,7 +89,8 @@ class I2CMasterHarness(FormalHarness):
     def _stuck_scl(self, m, t, dut, accepted, busy, done, timed_out, lines):
         """A command that finds SCL held low by another device all along ends with ``timed_out`` within the
         documented bound: the time-out plus, for a byte, the SCL low phase before the master lets SCL go."""
-        bound = dut.timeout + t.hold + t.low + t.su_dat + 4
+        timeout = -(-TIMEOUT_US * CLK_HZ // 1_000_000)       # the configured time-out, in clocks
+        bound = timeout + t.hold + t.low + t.su_dat + 4
         stuck = Signal(name="scl_stuck_since_command")
         clocks = Signal(range(bound + 2), name="stuck_clocks")
         uses_bus = ~((dut.cmd == Cmd.STOP) & ~dut.bus_active)

@@ -82,11 +82,11 @@ class SequencerShortTable(InitSequencerHarness):
 
 BITES = {
     "sync_gen": (SyncPulseTooWide, "hsync_window_and_polarity"),
-    "switches": (SwitchesLoadAnyTime, "changes_only_after_frame_start"),
+    "switches": (SwitchesLoadAnyTime, "_changes_only_after_frame_start"),
     "frame_buffer": (BufferDeeperThanImage, "memory_written_only_below_depth"),
     "capture": (CaptureWrongByteOrder, "pixel_bytes_paired_in_order"),
     "disparity": (SubtractorWiderImage, "left_read_at_shifted_pixel"),
-    "compositor": (CompositorLeftImageMoved, "left_port_reads_left_image"),
+    "compositor": (CompositorLeftImageMoved, "scan_left_tracks_raster"),     # the first of the left image's
     "i2c_master": (MasterLongTimeout, "stuck_scl_command_still_within_bound"),
     "i2c_init": (SequencerShortTable, "done_only_after_whole_table"),
 }
