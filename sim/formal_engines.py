@@ -12,8 +12,8 @@ a counterexample or cover trace comes back as the value of every input port on e
 * :func:`reach`: each cover, as an assertion that it never happens, through ``pdr``: "reached" with a trace, or
   "unreached" (then proven unreachable).
 
-ABC is the ``yosys-abc`` program of Debian's ``yosys`` package (``apt-get install yosys``; ``.ci/run`` installs
-it); ``$YOSYS_ABC`` overrides the path.
+ABC is the ``yosys-abc`` program of Debian's ``yosys`` package (``apt-get install yosys``; ``make test``
+installs it through ``scripts/system-deps.sh``); ``$YOSYS_ABC`` overrides the path.
 
 The model: the harness's single clock domain, one step per clock edge, the ``sync`` reset an input like any
 other, every register starting at its Amaranth ``init`` value (a register without one, such as a memory's read
@@ -122,7 +122,7 @@ def _abc(workdir, aig, command, timeout):
     abc = abc_path()
     if abc is None:
         raise FormalToolError("yosys-abc is not installed: the PDR and BMC engines need it (Debian: apt-get "
-                              "install yosys; .ci/run installs it), or set $YOSYS_ABC")
+                              "install yosys; make test installs it), or set $YOSYS_ABC")
     return _run([abc, "-c", f"read_aiger {aig}.aig; fold; strash; {command}; write_cex -a {aig}.aiw"],
                 workdir, f"{aig}.abc.log", timeout)
 

