@@ -339,15 +339,17 @@ def check(harness, *, outdir=DEFAULT_OUTDIR, covers=True):
 
 
 def format_table(reports):
-    """The summary table: one row per proof (block, properties, unbounded or bounded to k, engine, covers,
-    time)."""
-    rows = [("block", "harness", "properties", "proof", "engine", "covers", "result", "time")]
+    """The summary table: one row per proof (block, properties, unbounded or bounded to k, engine, result, its
+    time, covers reached, the harness's whole time with the cover searches)."""
+    rows = [("block", "harness", "properties", "proof", "engine", "result", "proof time", "covers",
+             "with covers")]
     for r in reports:
         reached = sum(o.status == "reached" for o in r.covers.values())
         for i, g in enumerate(r.groups):
-            covers = f"{reached}/{len(r.covers)}" if i == 0 else ""
-            rows.append((r.block, r.harness, str(len(g.names)), g.proof, g.engine, covers,
-                         "ok" if g.ok else g.outcome.status, f"{g.seconds:.1f} s"))
+            first = i == 0
+            rows.append((r.block, r.harness, str(len(g.names)), g.proof, g.engine,
+                         "ok" if g.ok else g.outcome.status, f"{g.seconds:.1f} s",
+                         f"{reached}/{len(r.covers)}" if first else "", f"{r.seconds:.1f} s" if first else ""))
     widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]))]
     lines = ["  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip() for row in rows]
     lines.insert(1, "  ".join("-" * w for w in widths))
