@@ -55,7 +55,8 @@ class CaptureHarness(FormalHarness):
         self.prove(m, "pixel_bytes_paired_in_order", ~pixel_valid | (pv & (pixel == expect_pixel)))
         self.prove(m, "column_counter_bounded", column <= g.width)
         self.prove(m, "row_counter_bounded", row <= g.height)
-        self.prove(m, "in_frame_follows_fv", ~pv | (in_frame == self.past(m, ref["in_frame"], name="past_ref_in_frame")))
+        self.prove(m, "in_frame_follows_fv",
+                   ~pv | (in_frame == self.past(m, ref["in_frame"], name="past_ref_in_frame")))
         pv2 = self.past_valid(m, 2)
         self.prove(m, "frame_start_exactly_at_fv_rise",
                    ~pv2 | (frame_start == self.past(m, ref["rise"], 2, name="past_rise")))
