@@ -313,6 +313,8 @@ def check(harness, *, outdir=DEFAULT_OUTDIR, covers=True):
     start = time.perf_counter()
     outdir = Path(outdir) / harness.name
     workdir = outdir / "work"
+    for old in [*outdir.glob("*.vcd"), *outdir.glob("*.gtkw")]:      # traces of an earlier run
+        old.unlink()
     asserts = harness.properties("assert")
     if not asserts:
         raise ValueError(f"{harness.name} declares no assertion")
