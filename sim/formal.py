@@ -259,7 +259,8 @@ class Report:
         for g in self.groups:
             if g.outcome.status == "failed":
                 which = ", ".join(g.failed) or "(no assert_ wire is 0 in the trace)"
-                out.append(f"FAIL {self.harness}: {which} fails at clock {g.outcome.steps} "
+                verb = "fails" if len(g.failed) == 1 else "fail"
+                out.append(f"FAIL {self.harness}: {which} {verb} at clock {g.outcome.steps} "
                            f"({g.engine}, {g.proof}); counterexample: {g.vcd}")
             elif not g.ok:
                 out.append(f"UNKNOWN {self.harness}: {g.engine} did not close the proof of "
