@@ -34,9 +34,9 @@ class CaptureHarness(FormalHarness):
         dut = self.dut()
         module = self.open(m, "dut", dut)
         # The block's ports and the counters of its submodules (the one place to adapt to a new signature).
-        m.d.comb += [dut.data.eq(data), dut.lv.eq(lv), dut.fv.eq(fv)]
-        w_addr, w_en = dut.w_addr, dut.w_en
-        frame_start, frame_done, in_frame = dut.frame_start, dut.frame_done, dut.in_frame
+        m.d.comb += [dut.pins.data.eq(data), dut.pins.lv.eq(lv), dut.pins.fv.eq(fv)]
+        w_addr, w_en = dut.write.addr, dut.write.en
+        frame_start, frame_done, in_frame = dut.status.frame_start, dut.status.frame_done, dut.status.in_frame
         assembler = module.submodules.assembler
         column, row = assembler.column, module.submodules.downscaler.row
         pixel, pixel_valid = assembler.pixel, assembler.valid

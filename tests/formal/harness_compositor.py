@@ -54,8 +54,10 @@ class CompositorHarness(FormalHarness):
         module = self.open(m, "dut", dut)
         # The block's ports (the one place to adapt when the signature changes).
         wiring.connect(m, raster, dut.timing)
-        m.d.comb += [getattr(dut, name).eq(value) for name, value in free.items()]
-        ports = {"left": dut.left_addr, "right": dut.right_addr}
+        m.d.comb += [dut.settings.disparity.eq(free["disparity"]),
+                     dut.settings.rectification.eq(free["rectification"]),
+                     dut.left.data.eq(free["left_data"]), dut.right.data.eq(free["right_data"])]
+        ports = {"left": dut.left.addr, "right": dut.right.addr}
         video = dut.video
 
         pv = self.past_valid(m)

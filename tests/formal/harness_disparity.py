@@ -43,9 +43,11 @@ class DisparityHarness(FormalHarness):
             ("left_data", g.gray_bits), ("right_data", g.gray_bits))}
         m.submodules.dut = dut = self.dut()
         # The block's ports (the one place to adapt when the signature changes).
-        m.d.comb += [getattr(dut, name).eq(value) for name, value in i.items()]
+        m.d.comb += [getattr(dut, name).eq(i[name]) for name in ("valid", "x", "y", "addr")]
+        m.d.comb += [dut.settings.disparity.eq(i["disparity"]), dut.settings.rectification.eq(i["rectification"]),
+                     dut.left.data.eq(i["left_data"]), dut.right.data.eq(i["right_data"])]
         left_addr, right_addr, level, no_data, out_valid = (
-            dut.left_addr, dut.right_addr, dut.level, dut.no_data, dut.out_valid)
+            dut.left.addr, dut.right.addr, dut.level, dut.no_data, dut.out_valid)
 
         self._contract(m, i)
         pv = self.past_valid(m)

@@ -37,8 +37,9 @@ class FrameBufferHarness(FormalHarness):
         dut = self.dut()
         module = self.open(m, "dut", dut)
         # The block's ports and its memory's write port (the one place to adapt when the signature changes).
-        m.d.comb += [dut.w_addr.eq(w_addr), dut.w_data.eq(w_data), dut.w_en.eq(w_en), dut.r_addr.eq(r_addr)]
-        r_data = dut.r_data
+        m.d.comb += [dut.write.addr.eq(w_addr), dut.write.data.eq(w_data), dut.write.en.eq(w_en),
+                     dut.read.addr.eq(r_addr)]
+        r_data = dut.read.data
         write_port = module.submodules.memory.write_ports[0]
 
         pv = self.past_valid(m)

@@ -32,7 +32,8 @@ def bus(harness, m, pins):
 
 def master_pins(master):
     """The master's pins (the one place to adapt when the signature changes)."""
-    return {name: getattr(master, name) for name in ("scl_o", "scl_oe", "scl_i", "sda_o", "sda_oe", "sda_i")}
+    return {f"{line}_{pin}": getattr(getattr(master.i2c, line), pin)
+            for line in ("scl", "sda") for pin in ("o", "oe", "i")}
 
 
 class I2CMasterHarness(FormalHarness):
@@ -129,7 +130,8 @@ class InitSequencerHarness(FormalHarness):
         module = self.open(m, "dut", dut)
         # The block's ports, its master's command interface and its ROM's read port (the one place to adapt).
         pins = master_pins(dut)
-        done, error, error_code, entry = dut.done, dut.error, dut.error_code, dut.entry
+        status = dut.status
+        done, error, error_code, entry = status.done, status.error, status.error_code, status.entry
         master = dut.master
         rom_addr = module.submodules.rom.read_ports[0].addr
         bus(self, m, pins)

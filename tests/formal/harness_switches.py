@@ -26,7 +26,7 @@ class SwitchControlHarness(FormalHarness):
     def connect(self, m, dut, sw, frame_start):
         """The block's ports (the one place to adapt when the signature changes)."""
         m.d.comb += [dut.sw.eq(sw), dut.frame_start.eq(frame_start)]
-        return dut.disparity, dut.rectification
+        return dut.settings.disparity, dut.settings.rectification
 
     def build(self, m):
         sw = self.free("sw", SWITCH_VALUE_BITS + 1)

@@ -36,7 +36,7 @@ class SwitchesLoadAnyTime(SwitchControlHarness):
     """frame_start wired high: the registers follow the switches at any clock (tearing)."""
     def connect(self, m, dut, sw, frame_start):
         m.d.comb += [dut.sw.eq(sw), dut.frame_start.eq(1)]
-        return dut.disparity, dut.rectification
+        return dut.settings.disparity, dut.settings.rectification
 
 
 class BufferDeeperThanImage(FrameBufferHarness):
