@@ -188,15 +188,23 @@ class DepthEngine(wiring.Component):
             with m.State("IDLE"):
                 with m.If(self.start):
                     m.next = "SETTLE"
-            with m.State("SETTLE"):                # two clocks for can_start to see this pass
+            # Two clocks for can_start to see this pass; a start in them or in WAIT settles again (can_start may
+            # still see the abandoned map's rows).
+            with m.State("SETTLE"):
                 m.d.comb += self.busy.eq(1)
                 m.next = "SETTLE2"
+                with m.If(self.start):
+                    m.next = "SETTLE"
             with m.State("SETTLE2"):
                 m.d.comb += self.busy.eq(1)
                 m.next = "WAIT"
+                with m.If(self.start):
+                    m.next = "SETTLE"
             with m.State("WAIT"):
                 m.d.comb += self.busy.eq(1)
-                with m.If(can_start & ~self.start):
+                with m.If(self.start):
+                    m.next = "SETTLE"
+                with m.Elif(can_start):
                     m.d.sync += [step.eq(0), clock.eq(0)]
                     m.next = "RUN"
             with m.State("RUN"):
@@ -344,10 +352,12 @@ class DepthEngine(wiring.Component):
         ]
         m.submodules.results = results = Memory(shape=unsigned(cfg.code_bits), depth=self.out_rows * w, init=[])
         write, read = results.write_port(), results.read_port()
+        # Pass 0 has no output row: a median output then is the last of an abandoned map, still in the pipeline
+        # after ``start``, and is dropped (tests/formal/harness_depth.py).
         m.d.comb += [
             write.addr.eq(out_base + median.out_x),
             write.data.eq(median.out_code),
-            write.en.eq(median.out_valid),
+            write.en.eq(median.out_valid & (y != 0)),
             read.addr.eq(self.result.addr),
             self.result.data.eq(read.data),
         ]
