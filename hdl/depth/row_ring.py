@@ -41,6 +41,10 @@ class RowRing(wiring.Component):
         Rows completely in the ring.
     col : In(range(width))
         Ring read address; ``column`` holds that column of every slot one clock later.
+    fetch_row, fetch_col : Out
+        The ring row and column the next read requests (``buffer.port.addr`` = min(fetch_row + row_offset,
+        height - 1) * width + fetch_col, counted); for the formal harness's invariant
+        (tests/formal/harness_depth.py).
 
     Clock domain: ``sync`` (the parent renames it to ``pix``).
 
@@ -65,6 +69,8 @@ class RowRing(wiring.Component):
             "fetched": Out(range(geometry.buf_height + 1)),
             "col": In(range(geometry.buf_width)),
             "column": Out(data.ArrayLayout(geometry.gray_bits, rows)),
+            "fetch_row": Out(range(geometry.buf_height + 1)),
+            "fetch_col": Out(range(geometry.buf_width)),
         })
 
     def elaborate(self, platform):
@@ -77,9 +83,9 @@ class RowRing(wiring.Component):
         for k in range(rows):
             m.d.comb += self.column[k].eq(read.data[k * lane:k * lane + g.gray_bits])
 
-        issued = Signal(range(g.buf_height + 1))      # row being requested
+        issued = self.fetch_row                      # row being requested
         slot = Signal(range(rows))                   # issued mod rows
-        col = Signal(range(g.buf_width))
+        col = self.fetch_col
         addr = Signal(g.addr_bits)                   # source row * width + col, counted
         source = Signal(range(g.buf_height))         # the buffer row being fetched: min(issued + offset, h - 1)
         row_start = Signal(g.addr_bits)              # source * width

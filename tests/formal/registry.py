@@ -4,6 +4,7 @@ from hdl.params import SENSOR, SMALL_SENSOR, SMALL_TIMING, DisplayLayout
 
 from .harness_capture import CaptureHarness
 from .harness_compositor import CompositorHarness
+from .harness_depth import DepthEngineHarness
 from .harness_disparity import DisparityHarness
 from .harness_frame_buffer import FrameBufferHarness
 from .harness_i2c import I2CMasterHarness, InitSequencerHarness
@@ -21,11 +22,17 @@ DEFAULT = {
     "compositor": CompositorHarness,
     "i2c_master": I2CMasterHarness,
     "i2c_init": InitSequencerHarness,
+    "depth": DepthEngineHarness,
 }
 
 
 def _named(harness, name):
     harness.name = name
+    return harness
+
+
+def _all_covers(harness):
+    harness.all_covers = True
     return harness
 
 
@@ -35,4 +42,5 @@ SLOW = {
                                          "compositor_centred"),
     "disparity_full": lambda: _named(DisparityHarness(SENSOR), "disparity_full"),
     "capture_full": lambda: _named(CaptureHarness(SENSOR), "capture_full"),
+    "depth_all_covers": lambda: _named(_all_covers(DepthEngineHarness()), "depth_all_covers"),
 }
