@@ -6,6 +6,7 @@ import dataclasses
 import pytest
 
 from hdl.compositor import Compositor
+from hdl.depth.engine import DepthEngine
 from hdl.capture import CameraCapture
 from hdl.disparity import DisparitySubtractor
 from hdl.frame_buffer import FrameBuffer
@@ -18,6 +19,7 @@ from sim.formal import check
 
 from .harness_capture import CaptureHarness
 from .harness_compositor import CompositorHarness
+from .harness_depth import DepthEngineHarness
 from .harness_disparity import DisparityHarness
 from .harness_frame_buffer import FrameBufferHarness
 from .harness_i2c import BUS_HZ, CLK_HZ, TIMEOUT_US, I2CMasterHarness, InitSequencerHarness
@@ -80,6 +82,14 @@ class SequencerShortTable(InitSequencerHarness):
                              timeout_us=TIMEOUT_US)
 
 
+class DepthEngineWiderImage(DepthEngineHarness):
+    """The engine built for a buffer one pixel wider than the one it reads: its row addresses run ahead."""
+    def dut(self):
+        g = self.geometry
+        wider = dataclasses.replace(g, width=g.width + g.scale)
+        return DepthEngine(wider, self.config, out_rows=self.out_rows)
+
+
 BITES = {
     "sync_gen": (SyncPulseTooWide, "hsync_window_and_polarity"),
     "switches": (SwitchesLoadAnyTime, "_changes_only_after_frame_start"),
@@ -89,6 +99,7 @@ BITES = {
     "compositor": (CompositorLeftImageMoved, "scan_left_tracks_raster"),     # the first of the left image's
     "i2c_master": (MasterLongTimeout, "stuck_scl_command_still_within_bound"),
     "i2c_init": (SequencerShortTable, "done_only_after_whole_table"),
+    "depth": (DepthEngineWiderImage, "read_address_is_row_and_column"),
 }
 
 
