@@ -6,7 +6,7 @@ follows one word, at an address ``watched`` that the solver picks and keeps, thr
 of that word must return the shadow. Since the address is arbitrary, the proof covers every word.
 """
 
-from amaranth import Signal
+from amaranth import Cat, Signal
 
 from hdl.frame_buffer import FrameBuffer
 from hdl.params import SensorGeometry
@@ -36,20 +36,22 @@ class FrameBufferHarness(FormalHarness):
 
         dut = self.dut()
         module = self.open(m, "dut", dut)
-        # The block's ports and its memory's write port (the one place to adapt when the signature changes).
+        # The block's ports and its memories' write ports, one memory per bit of grey (the one place to adapt when
+        # the signature changes).
         m.d.comb += [dut.write.addr.eq(w_addr), dut.write.data.eq(w_data), dut.write.en.eq(w_en),
                      dut.read.addr.eq(r_addr)]
         r_data = dut.read.data
-        write_port = module.submodules.memory.write_ports[0]
+        write_ports = [module.submodules[f"bit{i}"].write_ports[0] for i in range(g.gray_bits)]
 
         pv = self.past_valid(m)
         # Proof device, not a contract: the watched address is one fixed (but arbitrary) word of the buffer.
         self.assume(m, "watched_address_is_fixed", ~pv | (watched == self.past(m, watched, name="past_watched")))
         self.assume(m, "watched_address_in_buffer", watched < depth)
 
-        self.prove(m, "memory_written_only_below_depth", ~write_port.en | (write_port.addr < depth))
-        self.prove(m, "write_below_depth_reaches_memory",
-                   ~(w_en & (w_addr < depth)) | (write_port.en & (write_port.addr == w_addr)))
+        self.prove(m, "memory_written_only_below_depth",
+                   Cat(~port.en | (port.addr < depth) for port in write_ports).all())
+        self.prove(m, "write_below_depth_reaches_memory", ~(w_en & (w_addr < depth)) |
+                   Cat(port.en & (port.addr == w_addr) for port in write_ports).all())
 
         # The watched word: the last in-range write to it since reset (a reset clears the harness, not the RAM).
         shadow = Signal(g.gray_bits, name="shadow")
