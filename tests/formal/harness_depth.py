@@ -55,7 +55,7 @@ class DepthEngineHarness(FormalHarness):
         module = self.open(m, "dut", dut)
         # The block's ports and its submodules' (the one place to adapt when the signature changes): the pass
         # counter is the median's ``y``, the rings' writes and the result ring's write are their memories' ports.
-        m.d.comb += [dut.start.eq(start), dut.result.rows_released.eq(rows_released),
+        m.d.comb += [dut.start.eq(start), dut.result.rows_released.eq(rows_released), dut.left_row_offset.eq(0),
                      dut.result.addr.eq(self.free("result_addr", len(dut.result.addr)))]
         reads = {}
         for side in ("left", "right"):
@@ -90,9 +90,11 @@ class DepthEngineHarness(FormalHarness):
         w, h, ry = g.buf_width, g.buf_height, cfg.census_height // 2
         fetched = ring.fetched
         # Helper invariant: the counted address is the row and column the ring is fetching (PDR alone does not
-        # find this product in minutes).
+        # find this product in minutes); past the last row the ring re-reads row h - 1 (the harness holds the
+        # left rows' rectification offset at 0: the source row is the ring row).
+        source_row = Mux(ring.fetch_row < h, ring.fetch_row, h - 1)
         self.prove(m, f"{side}_read_address_is_row_and_column",
-                   (port.port.addr == ring.fetch_row * w + ring.fetch_col) & (ring.fetch_col < w))
+                   (port.port.addr == source_row * w + ring.fetch_col) & (ring.fetch_col < w))
         self.prove(m, f"{side}_requests_only_rows_of_the_image", ~port.request | (ring.fetch_row < h))
         self.prove(m, f"{side}_read_address_in_buffer", ~port.request | (port.port.addr < g.buf_depth))
         # The request comes from registers fed by ``busy`` through the fetch limit: two clocks.

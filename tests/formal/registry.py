@@ -1,9 +1,8 @@
 """The formal harnesses of the default run (``make formal``, ``make test``) and their slow full-size variants."""
 
-from hdl.params import SENSOR, SMALL_SENSOR, SMALL_TIMING, DisplayLayout
+from hdl.params import SENSOR
 
 from .harness_capture import CaptureHarness
-from .harness_compositor import CompositorHarness
 from .harness_depth import DepthEngineHarness
 from .harness_disparity import DisparityHarness
 from .harness_frame_buffer import FrameBufferHarness
@@ -21,7 +20,6 @@ DEFAULT = {
     "frame_buffer": FrameBufferHarness,
     "capture": CaptureHarness,
     "disparity": DisparityHarness,
-    "compositor": CompositorHarness,
     "i2c_master": I2CMasterHarness,
     "i2c_init": InitSequencerHarness,
 }
@@ -39,8 +37,6 @@ def _all_covers(harness):
 
 #: The same properties at full size or with the default (centred) layout: minutes to hours each.
 SLOW = {
-    "compositor_centred": lambda: _named(CompositorHarness(layout=DisplayLayout.centred(SMALL_TIMING, SMALL_SENSOR)),
-                                         "compositor_centred"),
     "disparity_full": lambda: _named(DisparityHarness(SENSOR), "disparity_full"),
     "capture_full": lambda: _named(CaptureHarness(SENSOR), "capture_full"),
     "depth_all_covers": lambda: _named(_all_covers(DepthEngineHarness()), "depth_all_covers"),

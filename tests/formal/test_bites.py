@@ -5,7 +5,6 @@ import dataclasses
 
 import pytest
 
-from hdl.compositor import Compositor
 from hdl.depth.engine import DepthEngine
 from hdl.capture import CameraCapture
 from hdl.disparity import DisparitySubtractor
@@ -13,12 +12,11 @@ from hdl.frame_buffer import FrameBuffer
 from hdl.i2c_init import InitSequencer
 from hdl.i2c_master import I2CMaster
 from hdl.init_tables import InitTable
-from hdl.params import DisplayLayout, Region, SensorGeometry
+from hdl.params import SensorGeometry
 from hdl.sync_gen import SyncGenerator
 from sim.formal import check
 
 from .harness_capture import CaptureHarness
-from .harness_compositor import CompositorHarness
 from .harness_depth import DepthEngineHarness
 from .harness_disparity import DisparityHarness
 from .harness_frame_buffer import FrameBufferHarness
@@ -60,14 +58,6 @@ class SubtractorWiderImage(DisparityHarness):
         return DisparitySubtractor(dataclasses.replace(g, width=g.width + 4 * g.scale), self.thresholds)
 
 
-class CompositorLeftImageMoved(CompositorHarness):
-    """The left image drawn one line lower than the layout puts it."""
-    def dut(self):
-        regions = tuple(dataclasses.replace(r, y0=r.y0 + 1) if r.source == "left" else r
-                        for r in self.layout.regions)
-        return Compositor(self.timing, self.geometry, DisplayLayout(regions))
-
-
 class MasterLongTimeout(I2CMasterHarness):
     """The master built with twice the documented stuck-bus time-out."""
     def dut(self):
@@ -96,7 +86,6 @@ BITES = {
     "frame_buffer": (BufferDeeperThanImage, "memory_written_only_below_depth"),
     "capture": (CaptureWrongByteOrder, "pixel_bytes_paired_in_order"),
     "disparity": (SubtractorWiderImage, "left_read_at_shifted_pixel"),
-    "compositor": (CompositorLeftImageMoved, "scan_left_tracks_raster"),     # the first of the left image's
     "i2c_master": (MasterLongTimeout, "stuck_scl_command_still_within_bound"),
     "i2c_init": (SequencerShortTable, "done_only_after_whole_table"),
     "depth": (DepthEngineWiderImage, "read_address_is_row_and_column"),
