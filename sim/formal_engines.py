@@ -217,7 +217,10 @@ def _read_aiger_trace(workdir, base):
     lines = [line for line in lines if line and line != "." and not line.startswith(("b", "c"))]
     if lines and lines[0] in ("0", "1"):        # an AIGER 1.9 witness header, from a newer ABC
         lines = lines[1:]
-    latches, frames = lines[0], lines[1:]
+    if ywa["latch_count"] == 0:                   # a combinational model: the (empty) latch line was dropped
+        latches, frames = "", lines
+    else:
+        latches, frames = lines[0], lines[1:]
     if set(latches[:ywa["latch_count"]]) - {"0"}:
         raise FormalToolError(f"the trace {base}.aiw does not start from the initial state")
     inputs = {}                                    # aiger input index -> (name, bit)

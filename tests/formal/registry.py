@@ -7,6 +7,7 @@ from .harness_depth import DepthEngineHarness
 from .harness_disparity import DisparityHarness
 from .harness_frame_buffer import FrameBufferHarness
 from .harness_i2c import I2CMasterHarness, InitSequencerHarness
+from .harness_read_arbiter import ReadArbiterHarness
 from .harness_switches import SwitchControlHarness
 from .harness_sync_gen import SyncGenerator1080pHarness, SyncGeneratorHarness
 
@@ -22,6 +23,7 @@ DEFAULT = {
     "disparity": DisparityHarness,
     "i2c_master": I2CMasterHarness,
     "i2c_init": InitSequencerHarness,
+    "read_arbiter": ReadArbiterHarness,
 }
 
 

@@ -4,6 +4,7 @@ fail, names the broken property and leaves a counterexample VCD in ``build/forma
 import dataclasses
 
 import pytest
+from amaranth import Module, Mux
 
 from hdl.depth.engine import DepthEngine
 from hdl.capture import CameraCapture
@@ -13,6 +14,7 @@ from hdl.i2c_init import InitSequencer
 from hdl.i2c_master import I2CMaster
 from hdl.init_tables import InitTable
 from hdl.params import SensorGeometry
+from hdl.read_arbiter import ReadArbiter
 from hdl.sync_gen import SyncGenerator
 from sim.formal import check
 
@@ -21,6 +23,7 @@ from .harness_depth import DepthEngineHarness
 from .harness_disparity import DisparityHarness
 from .harness_frame_buffer import FrameBufferHarness
 from .harness_i2c import BUS_HZ, CLK_HZ, TIMEOUT_US, I2CMasterHarness, InitSequencerHarness
+from .harness_read_arbiter import ReadArbiterHarness
 from .harness_switches import SwitchControlHarness
 from .harness_sync_gen import SyncGeneratorHarness
 
@@ -80,6 +83,26 @@ class DepthEngineWiderImage(DepthEngineHarness):
         return DepthEngine(wider, self.config, out_rows=self.out_rows)
 
 
+class EngineFirstArbiter(ReadArbiter):
+    """Priority to the engine: the display is refused while the engine requests (it would miss pixels)."""
+    def elaborate(self, platform):
+        m = Module()
+        display, engine = self.display, self.engine
+        m.d.comb += [
+            engine.grant.eq(1),
+            display.grant.eq(~engine.request),
+            self.buffer.addr.eq(Mux(engine.request, engine.port.addr, display.port.addr)),
+            display.port.data.eq(self.buffer.data),
+            engine.port.data.eq(self.buffer.data),
+        ]
+        return m
+
+
+class ArbiterEngineFirst(ReadArbiterHarness):
+    def dut(self):
+        return EngineFirstArbiter(self.geometry)
+
+
 BITES = {
     "sync_gen": (SyncPulseTooWide, "hsync_window_and_polarity"),
     "switches": (SwitchesLoadAnyTime, "_changes_only_after_frame_start"),
@@ -89,6 +112,7 @@ BITES = {
     "i2c_master": (MasterLongTimeout, "stuck_scl_command_still_within_bound"),
     "i2c_init": (SequencerShortTable, "done_only_after_whole_table"),
     "depth": (DepthEngineWiderImage, "read_address_is_row_and_column"),
+    "read_arbiter": (ArbiterEngineFirst, "display_never_refused"),
 }
 
 
