@@ -1,8 +1,9 @@
 """The formal harnesses of the default run (``make formal``, ``make test``) and their slow full-size variants."""
 
-from hdl.params import SENSOR
+from hdl.params import SENSOR, SMALL_DEPTH, SMALL_SENSOR, SMALL_TIMING, DisplayLayout
 
 from .harness_capture import CaptureHarness
+from .harness_compositor import CompositorHarness
 from .harness_depth import DepthEngineHarness
 from .harness_disparity import DisparityHarness
 from .harness_frame_buffer import FrameBufferHarness
@@ -24,6 +25,7 @@ DEFAULT = {
     "i2c_master": I2CMasterHarness,
     "i2c_init": InitSequencerHarness,
     "read_arbiter": ReadArbiterHarness,
+    "compositor": CompositorHarness,
 }
 
 
@@ -42,4 +44,6 @@ SLOW = {
     "disparity_full": lambda: _named(DisparityHarness(SENSOR), "disparity_full"),
     "capture_full": lambda: _named(CaptureHarness(SENSOR), "capture_full"),
     "depth_all_covers": lambda: _named(_all_covers(DepthEngineHarness()), "depth_all_covers"),
+    "compositor_centred": lambda: _named(CompositorHarness(
+        layout=DisplayLayout.centred(SMALL_TIMING, SMALL_SENSOR, SMALL_DEPTH)), "compositor_centred"),
 }

@@ -8,6 +8,7 @@ from amaranth import Module, Mux
 
 from hdl.depth.engine import DepthEngine
 from hdl.capture import CameraCapture
+from hdl.compositor import Compositor
 from hdl.disparity import DisparitySubtractor
 from hdl.frame_buffer import FrameBuffer
 from hdl.i2c_init import InitSequencer
@@ -19,6 +20,7 @@ from hdl.sync_gen import SyncGenerator
 from sim.formal import check
 
 from .harness_capture import CaptureHarness
+from .harness_compositor import CompositorHarness
 from .harness_depth import DepthEngineHarness
 from .harness_disparity import DisparityHarness
 from .harness_frame_buffer import FrameBufferHarness
@@ -103,6 +105,15 @@ class ArbiterEngineFirst(ReadArbiterHarness):
         return EngineFirstArbiter(self.geometry)
 
 
+class CompositorLeftMovedDown(CompositorHarness):
+    """The compositor built with the left image one line lower than the layout it is checked against."""
+    def dut(self):
+        regions = tuple(dataclasses.replace(r, y0=r.y0 + 1) if r.source == "left" else r
+                        for r in self.layout.regions)
+        return Compositor(self.timing, self.geometry, dataclasses.replace(self.layout, regions=regions),
+                          config=self.config, out_rows=self.out_rows)
+
+
 BITES = {
     "sync_gen": (SyncPulseTooWide, "hsync_window_and_polarity"),
     "switches": (SwitchesLoadAnyTime, "_changes_only_after_frame_start"),
@@ -113,6 +124,7 @@ BITES = {
     "i2c_init": (SequencerShortTable, "done_only_after_whole_table"),
     "depth": (DepthEngineWiderImage, "read_address_is_row_and_column"),
     "read_arbiter": (ArbiterEngineFirst, "display_never_refused"),
+    "compositor": (CompositorLeftMovedDown, "left_request_exactly_for_its_image_or_the_difference_map"),
 }
 
 
