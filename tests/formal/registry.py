@@ -5,6 +5,7 @@ from hdl.params import SENSOR, SMALL_DEPTH, SMALL_SENSOR, SMALL_TIMING, DisplayL
 from .harness_capture import CaptureHarness
 from .harness_compositor import CompositorHarness
 from .harness_depth import DepthEngineHarness
+from .harness_depth_codes import MedianCodesHarness, WinnerCodesHarness
 from .harness_disparity import DisparityHarness
 from .harness_frame_buffer import FrameBufferHarness
 from .harness_i2c import I2CMasterHarness, InitSequencerHarness
@@ -26,6 +27,8 @@ DEFAULT = {
     "i2c_init": InitSequencerHarness,
     "read_arbiter": ReadArbiterHarness,
     "compositor": CompositorHarness,
+    "winner_codes": WinnerCodesHarness,
+    "median_codes": MedianCodesHarness,
 }
 
 

@@ -7,6 +7,7 @@ import pytest
 from amaranth import Module, Mux
 
 from hdl.depth.engine import DepthEngine
+from hdl.depth.winner import Winner
 from hdl.capture import CameraCapture
 from hdl.compositor import Compositor
 from hdl.disparity import DisparitySubtractor
@@ -22,6 +23,7 @@ from sim.formal import check
 from .harness_capture import CaptureHarness
 from .harness_compositor import CompositorHarness
 from .harness_depth import DepthEngineHarness
+from .harness_depth_codes import WinnerCodesHarness
 from .harness_disparity import DisparityHarness
 from .harness_frame_buffer import FrameBufferHarness
 from .harness_i2c import BUS_HZ, CLK_HZ, TIMEOUT_US, I2CMasterHarness, InitSequencerHarness
@@ -114,6 +116,12 @@ class CompositorLeftMovedDown(CompositorHarness):
                           config=self.config, out_rows=self.out_rows)
 
 
+class WinnerMoreDisparities(WinnerCodesHarness):
+    """The winner built for D = 8 behind the D = 6 engine: disparities 6 and 7 come out as codes."""
+    def dut(self):
+        return Winner(dataclasses.replace(self.config, disparities=8), self.width)
+
+
 BITES = {
     "sync_gen": (SyncPulseTooWide, "hsync_window_and_polarity"),
     "switches": (SwitchesLoadAnyTime, "_changes_only_after_frame_start"),
@@ -124,6 +132,7 @@ BITES = {
     "i2c_init": (SequencerShortTable, "done_only_after_whole_table"),
     "depth": (DepthEngineWiderImage, "read_address_is_row_and_column"),
     "read_arbiter": (ArbiterEngineFirst, "display_never_refused"),
+    "winner_codes": (WinnerMoreDisparities, "code_is_disparity_or_invalid"),
     "compositor": (CompositorLeftMovedDown, "left_request_exactly_for_its_image_or_the_difference_map"),
 }
 
