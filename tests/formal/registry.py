@@ -17,6 +17,7 @@ from .harness_sync_gen import SyncGenerator1080pHarness, SyncGeneratorHarness
 #: first, so that `make formal`'s two workers finish together.
 DEFAULT = {
     "depth": DepthEngineHarness,
+    "compositor": CompositorHarness,
     "sync_gen_small": SyncGeneratorHarness,
     "sync_gen_1080p": SyncGenerator1080pHarness,
     "switches": SwitchControlHarness,
@@ -26,7 +27,6 @@ DEFAULT = {
     "i2c_master": I2CMasterHarness,
     "i2c_init": InitSequencerHarness,
     "read_arbiter": ReadArbiterHarness,
-    "compositor": CompositorHarness,
     "winner_codes": WinnerCodesHarness,
     "median_codes": MedianCodesHarness,
 }
