@@ -29,6 +29,9 @@ class RegionScanner(wiring.Component):
         Valid while ``active``: ``addr`` = ``yb * width + xb`` (modulo ``wrap``), ``xb``, ``yb``; all registers.
     row_done : Out(1)
         Combinational: this pixel ends the last copy of picture row ``yb``.
+    row_start, x_phase, y_phase : Out
+        The rest of the state, for the formal harness's invariant (tests/formal/harness_compositor.py): the
+        address of (0, ``yb``), where a repeated row rewinds to; which copy of a pixel / row this is (0 at scale 1).
 
     Clock domain: ``sync``.
     """
@@ -45,20 +48,23 @@ class RegionScanner(wiring.Component):
             "xb": Out(range(max(2, width))),           # (at least one bit: no zero-width vectors in Verilog)
             "yb": Out(range(max(2, height))),
             "row_done": Out(1),
+            "row_start": Out(range(max(2, wrap if wrap is not None else width * height))),
+            "x_phase": Out(range(max(2, self.scale_x))),
+            "y_phase": Out(range(max(2, self.scale_y))),
         })
 
-    def _phase(self, m, scale, name):
-        """(phase register or None, is-last-copy condition)."""
+    @staticmethod
+    def _phase(phase, scale):
+        """(phase register or None at scale 1, is-last-copy condition)."""
         if scale == 1:
             return None, Const(1)
-        phase = Signal(range(scale), name=name)
         return phase, phase == scale - 1
 
     def elaborate(self, platform):
         m = Module()
-        x_phase, last_x_copy = self._phase(m, self.scale_x, "x_phase")
-        y_phase, last_y_copy = self._phase(m, self.scale_y, "y_phase")
-        row_start = Signal.like(self.addr)          # address of (0, yb): where a repeated row rewinds to
+        x_phase, last_x_copy = self._phase(self.x_phase, self.scale_x)
+        y_phase, last_y_copy = self._phase(self.y_phase, self.scale_y)
+        row_start = self.row_start                  # address of (0, yb): where a repeated row rewinds to
         following = Signal.like(self.addr)          # the address after this one
         if self.wrap is None:
             m.d.comb += following.eq(self.addr + 1)

@@ -41,13 +41,6 @@ def packed_layout(geometry=SMALL_SENSOR, config=SMALL_DEPTH):
                          crosshair_arm=min(w // 2, h // 2) - 1)
 
 
-def registers(module):
-    """The signals a block's ``Module`` assigns, by name (a proof device: the helper invariants below name a
-    scanner's internal counters, which are not ports)."""
-    module._flush()
-    return {sig.name: sig for stmts in module._statements.values() for st in stmts for sig in st._lhs_signals()}
-
-
 class CompositorHarness(FormalHarness):
     name = "compositor"
     block = "Compositor"
@@ -116,7 +109,7 @@ class CompositorHarness(FormalHarness):
                        ~self.past_valid(m, n) | (port.request == (was[side] | was["disparity"])))
         for source in ("left", "right", "disparity"):
             self._scanner_tracks_raster(m, raster, self.layout.region(source),
-                                        self.inside(module.submodules[f"scan_{source}"]))
+                                        module.submodules[f"scan_{source}"])
         ring_size = self.out_rows * g.buf_width
         self.prove(m, "ring_address_in_ring", dut.depth.addr < ring_size)
 
@@ -129,7 +122,6 @@ class CompositorHarness(FormalHarness):
     def _scanner_tracks_raster(self, m, raster, r, scanner):
         """Helper invariant: a region's running counters (``scan_<region>``) are the raster's progress through
         the region up to the pixel 2 clocks ago (flags 1 clock, counters 1 clock); 0 in vertical blanking."""
-        reg = registers(scanner)
         x = self.past(m, raster.x, 2, name=f"scan_{r.source}_x")
         y = self.past(m, raster.y, 2, name=f"scan_{r.source}_y")
         in_rows = (y >= r.y0) & (y < r.y1)
@@ -143,8 +135,8 @@ class CompositorHarness(FormalHarness):
         lines, pixels = Mux(blank, 0, lines), Mux(blank, 0, pixels)
         yb, xb = lines // r.scale, pixels // r.scale
         row_start = yb * self.geometry.buf_width
-        expected = ((reg["yb"] == yb) & (reg["xb"] == xb) & (reg["addr"] == row_start + xb) &
-                    (reg["row_start"] == row_start))
+        expected = ((scanner.yb == yb) & (scanner.xb == xb) & (scanner.addr == row_start + xb) &
+                    (scanner.row_start == row_start))
         if r.scale > 1:
-            expected &= (reg["x_phase"] == pixels % r.scale) & (reg["y_phase"] == lines % r.scale)
+            expected &= (scanner.x_phase == pixels % r.scale) & (scanner.y_phase == lines % r.scale)
         self.prove(m, f"scan_{r.source}_tracks_raster", ~self.past_valid(m, 2) | expected)
