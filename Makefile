@@ -42,7 +42,7 @@ test-slow: system-deps $(STAMP)
 	$(PY) -m pytest -q -n 2 -m "slow and not hours"
 
 formal: system-deps $(STAMP)
-	$(PY) -m tests.formal
+	$(PY) -m sim.formal
 
 demo: $(STAMP)
 	$(PY) -m stereodepth demo

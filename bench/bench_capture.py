@@ -1,7 +1,7 @@
 """Benchmarks of the camera capture path (docs/capture.md).
 
 1. Export: Verilog size and simulator build time of the full-size two-camera capture path (two 400 x 300
-   buffers) as Amaranth writes it (one ``initial`` line per memory word) and with hdl/export.py's compact
+   buffers) as Amaranth writes it (one ``initial`` line per memory word) and with board/export.py's compact
    initialisation, on Verilator and Icarus. Both builds are then run (cocotb reads every word of both
    buffers back as zero), which also shows the two exports agree.
 2. Full 1600 x 1200 capture of the bundled pair, both cameras at once (24 MHz and 23.7 MHz PCLKs, about
@@ -27,17 +27,18 @@ import time
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
+from sim.runners import build_dir
 from golden.capture import capture_frame, capture_stream
 from golden.stereo_pair import load_default_pair
 from hdl.capture_path import CapturePath
-from hdl.export import amaranth_verilog, export_verilog
-from hdl.params import SENSOR
-from sim.cocotb_runner import run_cocotb
-from sim.capture_bench import playback_design, run_capture_amaranth
-from sim.mt9d112 import MT9D112, SENSOR_TIMING, Faults, SensorTiming
-from sim.sensor_config import SensorConfig
+from board.export import amaranth_verilog, export_verilog
+from spec.sensor import SENSOR
+from sim.runners.cocotb import run_cocotb
+from sim.harness.capture import playback_design, run_capture_amaranth
+from sim.models.mt9d112.sensor import MT9D112, SENSOR_TIMING, Faults, SensorTiming
+from sim.models.mt9d112.config import SensorConfig
 
-OUT_DIR = Path(__file__).resolve().parents[1] / "build" / "bench"
+OUT_DIR = build_dir("bench")
 SIMULATORS = ("verilator", "icarus")
 PCLK = {"a": 24e6, "b": 23.7e6}
 START = {"a": 0.0, "b": 13.7e-9}
@@ -64,7 +65,7 @@ def bench_export():
     for simulator in SIMULATORS:
         for kind, text in texts.items():
             start = time.perf_counter()
-            test_dir = run_cocotb(text, name="capture_path", test_module="cocotb_capture", simulator=simulator,
+            test_dir = run_cocotb(text, name="capture_path", test_module="sim.harness.capture_cocotb", simulator=simulator,
                                   build_args=_build_args(simulator, nonce),
                                   testcase="test_buffers_read_zero_after_power_up",
                                   params={"width": SENSOR.width, "height": SENSOR.height})
@@ -85,7 +86,7 @@ def bench_cocotb_full(simulator):
     report = OUT_DIR / f"capture_full_{simulator}.json"
     report.unlink(missing_ok=True)
     start = time.perf_counter()
-    run_cocotb(playback_design(SENSOR, streams), name="capture_path", test_module="cocotb_capture",
+    run_cocotb(playback_design(SENSOR, streams), name="capture_path", test_module="sim.harness.capture_cocotb",
                simulator=simulator, build_args=_build_args(simulator),
                testcase="test_stereo_pair_concurrent,test_playback_pair",
                params={"width": SENSOR.width, "height": SENSOR.height, "timing": "sensor",

@@ -2,14 +2,14 @@
 
 Pairs: the bundled motorcycle pair as the system captures it (``stereodepth run``: fitted to the 1600 x 1200
 sensor, then ``golden.capture.capture_frame`` to the 400 x 300 x 5-bit buffers) and three synthetic scenes of
-sim/scene.py rendered for the VmodCAM (textured planes; the thesis's test-bed cards on white; a card nearer
+sim/testbed/scene.py rendered for the VmodCAM (textured planes; the thesis's test-bed cards on white; a card nearer
 than D allows). No other real stereo pair with ground truth is available offline (scikit-image ships only the
 motorcycle; opencv-python-headless ships no sample images).
 
 Figures: bad > 1 and bad > 2 px over every pixel with a ground truth (an invalid pixel counts bad) and the
 density, for the engine, the thesis's SAD 15 x 15 + WTA, OpenCV StereoBM (best block size) and StereoSGBM on
 the same buffers shifted to 8 bits, all with the right image as reference (OpenCV runs on the mirrored pair).
-Motorcycle ground truth: the right view made from Middlebury's left map (sim/depth_truth.py), and, to compare
+Motorcycle ground truth: the right view made from Middlebury's left map (sim/analysis/truth.py), and, to compare
 with the issue's probe, the mirrored pair against Middlebury's own left map ("left view").
 
 Writes build/bench/depth.md and build/bench/depth_motorcycle.png (right image, ground truth, the four maps;
@@ -22,15 +22,17 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from sim.runners import build_dir
 from golden.capture import capture_frame
 from golden.depth import depth_map
 from golden.software.sad import sad_disparity
 from golden.stereo_pair import load_default_pair
 from hdl.depth import schedule
-from hdl.params import DEPTH, SENSOR
-from sim.depth_truth import bad_pixel_rates, motorcycle_truth, scene_truth
+from spec.depth import DEPTH
+from spec.sensor import SENSOR
+from sim.analysis.truth import bad_pixel_rates, motorcycle_truth, scene_truth
 
-OUT_DIR = Path(__file__).resolve().parents[1] / "build" / "bench"
+OUT_DIR = build_dir("bench")
 BM_BLOCKS = tuple(range(5, 33, 4))
 
 
@@ -96,7 +98,7 @@ def motorcycle_buffers():
 
 
 def synthetic_scenes():
-    from sim.scene import VMODCAM, PlanarObject
+    from sim.testbed.scene import VMODCAM, PlanarObject
     textured = dict(finish="textured", texel_m=0.02)
     return {
         "textured planes (2.5 m wall, cards at 0.8 / 1.2 / 1.6 m)": (
@@ -125,7 +127,7 @@ def picture(right, truth, rows, path):
     import matplotlib.pyplot as plt
     cmap = plt.get_cmap("turbo").copy()
     cmap.set_bad((0.45, 0.45, 0.45))
-    panels = [("right image (reference)", right, "gray", None), ("ground truth (right view)", truth, cmap, True)]
+    panels = [("right image (reference)", right, "grey", None), ("ground truth (right view)", truth, cmap, True)]
     panels += [(f"{r[0]}\nbad>2 {100 * r[2]:.1f} %, density {100 * r[3]:.1f} %",
                 np.where(r[5], r[4], np.nan), cmap, True) for r in rows]
     fig, axes = plt.subplots(2, 3, figsize=(15, 8.4), constrained_layout=True)
@@ -146,7 +148,7 @@ def picture(right, truth, rows, path):
 
 def main():
     from golden.capture import capture_frame as capture
-    from sim.scene import render_pair
+    from sim.testbed.scene import render_pair
     left, right = motorcycle_buffers()
     t = min(_timed(lambda: depth_map(left, right, DEPTH)) for _ in range(3))
     plan = schedule(SENSOR, DEPTH)

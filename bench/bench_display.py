@@ -5,7 +5,7 @@ Two figures per simulator:
 
 * free-running: the design runs with no Python per clock (Amaranth: a testbench awaiting N ticks at once;
   cocotb: one ``Timer`` of N clocks);
-* with the HDMI sink: every pixel clock sampled on both XCLK phases and fed to ``sim/hdmi_sink.py`` (the way
+* with the HDMI sink: every pixel clock sampled on both XCLK phases and fed to ``sim/models/ch7301c/hdmi_sink.py`` (the way
   the tests and the demo rebuild frames).
 
 The cocotb runs reuse the cached build of the design if there is one; build time is not included. The
@@ -23,8 +23,8 @@ CLOCKS = {"amaranth": (30_000, 10_000), "icarus": (30_000, 10_000), "verilator":
 
 def bench_amaranth(timing, free_clocks, sink_clocks):
     from hdl.display_path import DisplayPath
-    from sim.amaranth_sim import simulate
-    from sim.hdmi_sink import HdmiSink, amaranth_sink_testbench
+    from sim.runners.amaranth import simulate
+    from sim.models.ch7301c.hdmi_sink import HdmiSink, amaranth_sink_testbench
 
     dut = DisplayPath(timing)
 
@@ -47,7 +47,7 @@ def bench_amaranth(timing, free_clocks, sink_clocks):
 
 def bench_cocotb(timing, simulator, free_clocks, sink_clocks):
     from hdl.display_path import DisplayPath
-    from sim.display import run_display_cocotb
+    from sim.harness.display import run_display_cocotb
 
     with tempfile.TemporaryDirectory() as tmp:
         run_display_cocotb(DisplayPath(timing), timing, simulator=simulator, sink_clocks=sink_clocks, min_frames=0,
@@ -60,8 +60,8 @@ def bench_cocotb(timing, simulator, free_clocks, sink_clocks):
 
 
 def main():
-    from hdl.params import CEA_1080P60
-    from sim.cocotb_runner import simulator_available
+    from spec.video import CEA_1080P60
+    from sim.runners.cocotb import simulator_available
 
     timing = CEA_1080P60
     rows = []

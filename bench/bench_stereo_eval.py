@@ -25,11 +25,12 @@ import cv2
 import numpy as np
 from skimage import data
 
+from sim.runners import build_dir
 from golden.software.pipeline import depth_pipeline, estimate_vertical_shift, to_grey
 from golden.software.rectify import vertical_shift
 from golden.software.sad import SAD_WINDOWS, sad_disparity
 
-OUT_DIR = Path(__file__).resolve().parents[1] / "build" / "bench"
+OUT_DIR = build_dir("bench")
 NUM_DISPARITIES = 64            # candidates 0..63 for every method (OpenCV needs a multiple of 16)
 SHIFTS = range(-6, 7)
 MARGIN = 6

@@ -6,7 +6,7 @@ Two levels:
 * **Image level** -- :func:`capture_frame`: what a well-formed frame leaves in a frame buffer. RGB 8:8:8 is
   packed to RGB565 by truncation (:func:`rgb888_to_rgb565`), the pixel at (``scale*i``, ``scale*j``) of every
   ``scale`` x ``scale`` block is kept (:func:`downscale`), and converted to grey with
-  ``gray5 = (R5 + (G6 >> 1) + B5) // 3`` (:func:`gray5`), exact integer division.
+  ``grey5 = (R5 + (G6 >> 1) + B5) // 3`` (:func:`grey5`), exact integer division.
 * **Stream level** -- :func:`capture_stream`: the spec's counting rules applied sample by sample to a
   camera's (FV, LV, D[7:0]) samples, one per PCLK rising edge, malformed streams included. It returns every
   frame-buffer write in order (address, grey), the status of every frame, and the resulting buffer. The RTL's
@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 
 __all__ = [
-    "rgb888_to_rgb565", "rgb565_to_bytes", "gray5", "to_rgb565", "downscale", "capture_frame", "assemble_line",
+    "rgb888_to_rgb565", "rgb565_to_bytes", "grey5", "to_rgb565", "downscale", "capture_frame", "assemble_line",
     "FrameStatus", "StreamCapture", "capture_stream"
 ]
 
@@ -70,7 +70,7 @@ def bytes_to_rgb565(first, second, r_byte_first=True):
     return ((first << 8) | second) if r_byte_first else ((second << 8) | first)
 
 
-def gray5(word):
+def grey5(word):
     """``(R5 + (G6 >> 1) + B5) // 3`` of RGB565 words: exact integer division, 0..31 (spec "Grey")."""
     r, g, b = rgb565_fields(word)
     result = (r + (g >> 1) + b) // 3
@@ -105,10 +105,10 @@ def downscale(array, geometry):
 
 def capture_frame(image, geometry):
     """What one well-formed frame of ``image`` leaves in a frame buffer: uint8 ``(buf_height, buf_width)``
-    grey values of ``geometry.gray_bits`` (= 5) bits."""
-    if geometry.gray_bits != 5:
-        raise ValueError("the spec's grey conversion gives 5 bits; geometry.gray_bits must be 5")
-    return gray5(downscale(to_rgb565(image), geometry)).astype(np.uint8)
+    grey values of ``geometry.grey_bits`` (= 5) bits."""
+    if geometry.grey_bits != 5:
+        raise ValueError("the spec's grey conversion gives 5 bits; geometry.grey_bits must be 5")
+    return grey5(downscale(to_rgb565(image), geometry)).astype(np.uint8)
 
 
 def assemble_line(line_bytes, r_byte_first=True):
@@ -184,7 +184,7 @@ def capture_stream(fv, lv, data, geometry, *, r_byte_first=True, initial=None):
                 word = bytes_to_rgb565(first, data[i], r_byte_first)
                 if column % s == 0 and row % s == 0 and column // s < bw and row // s < bh:   # rule 5
                     addr = (row // s) * bw + column // s
-                    value = gray5(word)
+                    value = grey5(word)
                     buffer[addr] = value
                     result.writes.append((i, addr, value))
             nbytes += 1

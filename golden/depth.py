@@ -17,12 +17,12 @@ for the disparity subtractor (docs/disparity.md). For every right-image pixel th
 5. :func:`median3x3`: the 5th smallest of the 3 x 3 codes around each pixel, coordinates clamped; D sorts
    above every disparity, so a pixel is invalid only where most of its neighbourhood is.
 
-:func:`depth_map` runs the whole chain. Only constants come from ``hdl.params``.
+:func:`depth_map` runs the whole chain. Only constants come from ``spec``.
 """
 
 import numpy as np
 
-from hdl.params import DEPTH
+from spec.depth import DEPTH
 
 __all__ = ["census", "matching_cost", "path_step", "path_cost", "winner", "median3x3", "depth_map", "DepthResult"]
 

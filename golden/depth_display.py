@@ -1,7 +1,7 @@
 """Golden model of the depth panel and its overlays (docs/display.md, "Four panels"), written from the spec.
 
 * :func:`depth_colours`: the colour of every code 0..D (D = invalid): the viridis anchors of
-  ``hdl.params.DEPTH_COLOURS`` interpolated linearly at u = (n - 1) d / (D - 1), rounded to nearest.
+  ``spec.display.DEPTH_COLOURS`` interpolated linearly at u = (n - 1) d / (D - 1), rounded to nearest.
 * :func:`engine_left`: the left image as the engine reads it with the rectification switch value r: row y is
   row min(y + r, H - 1).
 * :func:`centre_readout`: the median of the 3 x 3 codes around (W // 2, H // 2) and its readout text: the
@@ -12,13 +12,15 @@
 * :func:`draw_text`: a text box in the 5 x 7 font (glyph pixels ``TEXT_RGB``, the rest ``BACKGROUND_RGB``).
 * :func:`draw_depth_display`: everything of the depth display on a frame of 0xRRGGBB values.
 
-Only constants come from ``hdl.params``; nothing is taken from the RTL.
+Only constants come from ``spec``; nothing is taken from the RTL.
 """
 
 import numpy as np
 
-from hdl.params import (BACKGROUND_RGB, CROSSHAIR_RGB, DEPTH, DEPTH_COLOURS, DEPTH_INVALID_RGB, FONT, FONT_CELL,
-                        SENSOR, TEXT_RGB, VMODCAM_RIG)
+from spec.depth import DEPTH
+from spec.display import BACKGROUND_RGB, CROSSHAIR_RGB, DEPTH_COLOURS, DEPTH_INVALID_RGB, TEXT_RGB
+from spec.font import FONT, FONT_CELL
+from spec.sensor import SENSOR, VMODCAM_RIG
 
 __all__ = ["depth_colours", "engine_left", "centre_readout", "depth_picture", "draw_text", "draw_depth_display",
            "distance_m"]
@@ -72,7 +74,7 @@ def depth_picture(codes, config=DEPTH, arm=0):
 
 
 def draw_text(frame, box, text):
-    """Draw ``text`` in the font at ``box`` (a ``hdl.params.TextBox``: x0, y0, scale) onto ``frame``."""
+    """Draw ``text`` in the font at ``box`` (a ``spec.layout.TextBox``: x0, y0, scale) onto ``frame``."""
     cw, ch = FONT_CELL
     cells = np.zeros((ch, cw * len(text)), dtype=bool)
     for i, char in enumerate(text):

@@ -4,13 +4,13 @@
   quantised to ``level`` = number of thresholds ``t`` with ``|L - R| >= t``; where ``x + d >= width`` or
   ``y + r >= height`` there is no left pixel: ``no_data`` is True and ``level`` is 0 (no wrapping).
 * :func:`composite_frame`: the displayed active area: the left and right images (grey replicated to 8 bits
-  by :func:`hdl.params.gray_to_rgb24`), the disparity map (``level_grey[level]`` on all channels, or
+  by :func:`spec.display.grey_to_rgb24`), the disparity map (``level_grey[level]`` on all channels, or
   ``NO_DATA_RGB``), the depth map of the pair (``golden.depth.depth_map`` of the rectification-shifted left
   image and the right one) with its colour bar, labels and readout (``golden.depth_display``),
-  ``BACKGROUND_RGB`` elsewhere, placed by :class:`hdl.params.DisplayLayout` with every buffer pixel repeated
+  ``BACKGROUND_RGB`` elsewhere, placed by :class:`spec.layout.DisplayLayout` with every buffer pixel repeated
   ``scale`` x ``scale`` times.
 
-Only constants and the layout definition come from ``hdl.params`` (the spec's single source of truth); nothing
+Only constants and the layout definition come from ``spec`` (the spec's single source of truth); nothing
 here is derived from the RTL.
 """
 
@@ -18,8 +18,11 @@ import numpy as np
 
 from golden.depth import depth_map
 from golden.depth_display import draw_depth_display, engine_left
-from hdl.params import (BACKGROUND_RGB, CEA_1080P60, DEPTH, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, NO_DATA_RGB, SENSOR,
-                        DisplayLayout, gray_to_rgb24)
+from spec.depth import DEPTH
+from spec.display import BACKGROUND_RGB, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, NO_DATA_RGB, grey_to_rgb24
+from spec.layout import DisplayLayout
+from spec.sensor import SENSOR
+from spec.video import CEA_1080P60
 
 __all__ = ["difference_levels", "composite_frame"]
 
@@ -35,7 +38,7 @@ def _check_images(left, right, geometry=None):
         if left.shape != (geometry.buf_height, geometry.buf_width):
             raise ValueError(f"images are {left.shape[1]}x{left.shape[0]}, the buffers "
                              f"{geometry.buf_width}x{geometry.buf_height}")
-        top = 2 ** geometry.gray_bits
+        top = 2 ** geometry.grey_bits
         if left.min(initial=0) < 0 or right.min(initial=0) < 0 or max(left.max(initial=0),
                                                                        right.max(initial=0)) >= top:
             raise ValueError(f"grey values must be in 0..{top - 1}")
@@ -87,8 +90,8 @@ def composite_frame(left, right, disparity, rectification, timing=CEA_1080P60, g
     levels, no_data = difference_levels(left, right, disparity, rectification, thresholds)
     grey_rgb = np.array([(v << 16) | (v << 8) | v for v in level_grey], dtype=np.int64)
     pictures = {
-        "left": gray_to_rgb24(left, geometry.gray_bits),
-        "right": gray_to_rgb24(right, geometry.gray_bits),
+        "left": grey_to_rgb24(left, geometry.grey_bits),
+        "right": grey_to_rgb24(right, geometry.grey_bits),
         "disparity": np.where(no_data, NO_DATA_RGB, grey_rgb[levels]),
     }
     for region in layout.regions:

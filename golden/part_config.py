@@ -1,8 +1,8 @@
 """Golden model of the bring-up: the state the MT9D112 sensors and the CH7301C must end up in, field by field.
 
 Written from the spec and the public references below, never from the RTL or its init tables (this module
-imports only ``hdl.params``). Each field is an :class:`Expected` ``(value, source)``. The tests play the tables
-into the register-file models (``sim/mt9d112_registers.py``, ``sim/ch7301c_registers.py``), which decode every
+imports only ``spec``). Each field is an :class:`Expected` ``(value, source)``. The tests play the tables
+into the register-file models (``sim/models/mt9d112/registers.py``, ``sim/models/ch7301c/registers.py``), which decode every
 write into the part's state, and compare that state with these fields one by one.
 
 Sources:
@@ -23,7 +23,8 @@ Sources:
 
 from typing import NamedTuple
 
-from hdl.params import CEA_1080P60, SENSOR
+from spec.sensor import SENSOR
+from spec.video import CEA_1080P60
 
 __all__ = ["Expected", "mt9d112_expected", "ch7301c_expected", "PCLK_HZ"]
 

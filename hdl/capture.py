@@ -32,13 +32,13 @@ from amaranth import Module, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
-from .downscaler import Downscaler
-from .forward import forward
-from .frame_buffer import FrameBufferWriteSignature
-from .grey import Grey
-from .params import SENSOR
-from .rgb565_assembler import RGB565Assembler
-from .rejecting import rejecting
+from hdl.downscaler import Downscaler
+from hdl.forward import forward
+from hdl.frame_buffer import FrameBufferWriteSignature
+from hdl.grey import Grey
+from spec.sensor import SENSOR
+from hdl.rgb565_assembler import RGB565Assembler
+from hdl.rejecting import rejecting
 
 __all__ = ["CameraSignature", "CaptureStatusSignature", "CameraCapture"]
 
@@ -60,8 +60,8 @@ class CameraCapture(wiring.Component):
 
     Parameters
     ----------
-    geometry : :class:`hdl.params.SensorGeometry`
-        Sensor and buffer size (``gray_bits`` must be 5, what the spec's grey conversion gives).
+    geometry : :class:`spec.sensor.SensorGeometry`
+        Sensor and buffer size (``grey_bits`` must be 5, what the spec's grey conversion gives).
     r_byte_first : bool
         The byte order the sensor is configured for.
 
@@ -75,13 +75,13 @@ class CameraCapture(wiring.Component):
     Raises
     ------
     ValueError
-        ``gray_bits`` other than 5, or a geometry the downscaler or the assembler rejects.
+        ``grey_bits`` other than 5, or a geometry the downscaler or the assembler rejects.
     """
 
     def __init__(self, geometry=SENSOR, r_byte_first=True):
         with rejecting(self):
-            if geometry.gray_bits != 5:
-                raise ValueError("the spec's grey conversion gives 5 bits; geometry.gray_bits must be 5")
+            if geometry.grey_bits != 5:
+                raise ValueError("the spec's grey conversion gives 5 bits; geometry.grey_bits must be 5")
             self.geometry = geometry
             self.r_byte_first = r_byte_first
             # The assembler's column counts 0 .. width (saturating at width).

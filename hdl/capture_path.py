@@ -10,12 +10,12 @@ from amaranth import DomainRenamer, Module
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
-from .capture import CameraCapture, CameraSignature, CaptureStatusSignature
-from .forward import forward
-from .frame_buffer import FrameBuffer, FrameBufferReadSignature, FrameBufferWriteSignature
-from .params import SENSOR
-from .signature import ParametricSignature
-from .rejecting import rejecting
+from hdl.capture import CameraCapture, CameraSignature, CaptureStatusSignature
+from hdl.forward import forward
+from hdl.frame_buffer import FrameBuffer, FrameBufferReadSignature, FrameBufferWriteSignature
+from spec.sensor import SENSOR
+from hdl.signature import ParametricSignature
+from hdl.rejecting import rejecting
 
 __all__ = ["CapturePortSignature", "CapturePath"]
 
@@ -40,7 +40,7 @@ class CapturePath(wiring.Component):
 
     Parameters
     ----------
-    geometry : :class:`hdl.params.SensorGeometry`
+    geometry : :class:`spec.sensor.SensorGeometry`
     cameras : tuple of str
         Camera names; camera ``c`` is captured in domain ``cam_<c>`` and has the member ``cam_<c>``.
     r_byte_first : bool

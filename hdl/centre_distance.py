@@ -7,8 +7,10 @@ from amaranth.lib import data, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
-from .params import DEPTH, READOUT_TEXT, SENSOR, VMODCAM_RIG
-from .text_layer import CHAR_BITS, char_codes
+from spec.depth import DEPTH
+from spec.display import READOUT_TEXT
+from spec.sensor import SENSOR, VMODCAM_RIG
+from hdl.text_layer import CHAR_BITS, char_codes
 
 __all__ = ["CentreDistance", "readout_table", "SETTLE_CLOCKS"]
 

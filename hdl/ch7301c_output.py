@@ -4,9 +4,9 @@ from amaranth.hdl import Module, Signal, Mux, Cat, ClockSignal, Instance, Const
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
-from .params import CEA_1080P60
-from .video_bus import VideoSignature
-from .rejecting import rejecting
+from spec.video import CEA_1080P60
+from hdl.video_bus import VideoSignature
+from hdl.rejecting import rejecting
 
 __all__ = ["CH7301CSignature", "CH7301COutput", "split_rgb"]
 
@@ -74,7 +74,7 @@ class CH7301COutput(wiring.Component):
 
     Parameters
     ----------
-    timing : :class:`hdl.params.VideoTiming`
+    timing : :class:`spec.video.VideoTiming`
         For the sync polarities.
     ddr : str
         ``"behavioural"`` or ``"virtex5"``.

@@ -2,14 +2,15 @@
 
 from fractions import Fraction
 
-from .params import DEPTH, DEPTH_COLOURS, DEPTH_INVALID_RGB
+from spec.depth import DEPTH
+from spec.display import DEPTH_COLOURS, DEPTH_INVALID_RGB
 
 __all__ = ["colour_table"]
 
 
 def colour_table(config=DEPTH):
     """24-bit RGB (R in bits 23:16) of every code 0..D: disparity d at u = (n - 1) d / (D - 1) along the
-    ``n`` anchors of :data:`hdl.params.DEPTH_COLOURS`, linear between the two anchors around it, each channel
+    ``n`` anchors of :data:`spec.display.DEPTH_COLOURS`, linear between the two anchors around it, each channel
     rounded half up (exact fractions); the invalid code D is ``DEPTH_INVALID_RGB``."""
     anchors, top = DEPTH_COLOURS, config.disparities - 1
     table = []

@@ -7,10 +7,10 @@ Inputs: the sync generator's raster (``timing``: :data:`hdl.video_bus.TimingSign
 grant: its arbiter gives it priority) and the depth engine's result ring (``depth``:
 :class:`hdl.depth.ResultReadSignature`). Output: a :data:`hdl.video_bus.VideoSignature` stream (``video``).
 
-Layout (``layout``, default :meth:`hdl.params.DisplayLayout.centred`): each region shows its buffer with every
+Layout (``layout``, default :meth:`spec.layout.DisplayLayout.centred`): each region shows its buffer with every
 pixel repeated ``scale`` x ``scale`` times (docs/display.md, "Four panels").
 
-* ``left`` / ``right``: the camera image, grey by bit replication (:func:`hdl.params.gray_to_rgb24`).
+* ``left`` / ``right``: the camera image, grey by bit replication (:func:`spec.display.grey_to_rgb24`).
 * ``disparity``: the :class:`hdl.disparity.DisparitySubtractor` output, ``level_grey[level]`` or ``NO_DATA_RGB``.
 * ``depth``: the engine's code through the colour map ROM (:func:`hdl.colour_map.colour_table`); the crosshair
   (``CROSSHAIR_RGB``) on the centre row and column, 2 .. ``crosshair_arm`` buffer pixels from the centre; a row
@@ -56,19 +56,30 @@ from amaranth.lib import wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
-from .centre_distance import SETTLE_CLOCKS as READOUT_SETTLE, CentreDistance
-from .colour_map import colour_table
-from .delay import delayed
-from .depth.ports import ResultReadSignature, SharedReadSignature
-from .disparity import LATENCY as SUBTRACTOR_LATENCY, SETTLE_CLOCKS, DisparitySubtractor, check_thresholds
-from .forward import forward
-from .params import (BACKGROUND_RGB, CEA_1080P60, CROSSHAIR_RGB, DEPTH, DEPTH_NOT_READY_RGB, DIFF_LEVEL_GREY,
-                     DIFF_THRESHOLDS, NO_DATA_RGB, SENSOR, TEXT_RGB, DisplayLayout)
-from .region_scanner import RegionScanner
-from .rejecting import rejecting
-from .switches import SettingsSignature
-from .text_layer import LATENCY as TEXT_LATENCY, TextLayer
-from .video_bus import TimingSignature, VideoSignature
+from hdl.centre_distance import SETTLE_CLOCKS as READOUT_SETTLE, CentreDistance
+from hdl.colour_map import colour_table
+from hdl.delay import delayed
+from hdl.depth.ports import ResultReadSignature, SharedReadSignature
+from hdl.disparity import LATENCY as SUBTRACTOR_LATENCY, SETTLE_CLOCKS, DisparitySubtractor, check_thresholds
+from hdl.forward import forward
+from spec.depth import DEPTH
+from spec.display import (
+    BACKGROUND_RGB,
+    CROSSHAIR_RGB,
+    DEPTH_NOT_READY_RGB,
+    DIFF_LEVEL_GREY,
+    DIFF_THRESHOLDS,
+    NO_DATA_RGB,
+    TEXT_RGB,
+)
+from spec.layout import DisplayLayout
+from spec.sensor import SENSOR
+from spec.video import CEA_1080P60
+from hdl.region_scanner import RegionScanner
+from hdl.rejecting import rejecting
+from hdl.switches import SettingsSignature
+from hdl.text_layer import LATENCY as TEXT_LATENCY, TextLayer
+from hdl.video_bus import TimingSignature, VideoSignature
 
 __all__ = ["Compositor", "LATENCY", "check_layout"]
 
@@ -145,11 +156,11 @@ class Compositor(wiring.Component):
 
     Parameters
     ----------
-    timing : :class:`hdl.params.VideoTiming`
-    geometry : :class:`hdl.params.SensorGeometry`
-    layout : :class:`hdl.params.DisplayLayout` or None
-        Default: :meth:`~hdl.params.DisplayLayout.centred`.
-    config : :class:`hdl.params.DepthConfig`
+    timing : :class:`spec.video.VideoTiming`
+    geometry : :class:`spec.sensor.SensorGeometry`
+    layout : :class:`spec.layout.DisplayLayout` or None
+        Default: :meth:`~spec.layout.DisplayLayout.centred`.
+    config : :class:`spec.depth.DepthConfig`
         The depth engine's D (codes 0..D, D = invalid).
     out_rows : int
         Rows in the engine's result ring.
@@ -185,13 +196,13 @@ class Compositor(wiring.Component):
             self.geometry, self.config, self.out_rows = geometry, config, out_rows
             self.layout = layout
             self.regions = check_layout(layout, timing, geometry, config)
-            self.thresholds = check_thresholds(thresholds, geometry.gray_bits)
+            self.thresholds = check_thresholds(thresholds, geometry.grey_bits)
             self.level_grey = tuple(int(v) for v in level_grey)
             if len(self.level_grey) != len(self.thresholds) + 1 or any(not 0 <= v <= 255 for v in self.level_grey):
                 raise ValueError(f"level_grey needs {len(self.thresholds) + 1} entries in 0..255 (one per level), "
                                  f"got {level_grey!r}")
-            if geometry.gray_bits > 8:
-                raise ValueError(f"gray_bits = {geometry.gray_bits}: the display shows at most 8 bits of grey")
+            if geometry.grey_bits > 8:
+                raise ValueError(f"grey_bits = {geometry.grey_bits}: the display shows at most 8 bits of grey")
             g = geometry
             ring_addr_bits = (out_rows * g.buf_width - 1).bit_length()
             super().__init__({
@@ -309,10 +320,10 @@ class Compositor(wiring.Component):
         # n + 3 -> n + 4: register the image read data
         show_left_4 = delayed(m, show_left_2, 2, "show_left")
         show_right_4 = delayed(m, show_right_2, 2, "show_right")
-        left_q_4, right_q_4 = Signal(g.gray_bits, name="left_q_4"), Signal(g.gray_bits, name="right_q_4")
+        left_q_4, right_q_4 = Signal(g.grey_bits, name="left_q_4"), Signal(g.grey_bits, name="right_q_4")
         m.d.sync += [left_q_4.eq(self.left.port.data), right_q_4.eq(self.right.port.data)]
         # n + 4 -> n + 5: the image grey; the subtractor's level arrives at n + 5
-        grey_5 = Signal(g.gray_bits, name="grey_5")
+        grey_5 = Signal(g.grey_bits, name="grey_5")
         show_image_5 = Signal(name="show_image_5")
         m.d.sync += [
             grey_5.eq(Mux(show_left_4, left_q_4, right_q_4)),

@@ -3,7 +3,7 @@
 For each input pixel (buffer coordinates ``x``, ``y`` of the right image) the block reads the right buffer at
 ``A = y * buf_width + x`` and the left buffer at the shifted position ``(x + disparity, y + rectification)``,
 takes the absolute difference of the two grey values and quantises it through a threshold table:
-``level`` = the number of thresholds ``t`` with ``|L - R| >= t`` (default ``hdl.params.DIFF_THRESHOLDS``,
+``level`` = the number of thresholds ``t`` with ``|L - R| >= t`` (default ``spec.display.DIFF_THRESHOLDS``,
 2/4/8/16 -> levels 0..4; the order of the table does not matter, a repeated threshold makes a level
 unreachable).
 
@@ -41,10 +41,11 @@ from amaranth import Module, Mux, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
-from .frame_buffer import FrameBufferReadSignature
-from .params import DIFF_THRESHOLDS, SENSOR
-from .switches import SettingsSignature
-from .rejecting import rejecting
+from hdl.frame_buffer import FrameBufferReadSignature
+from spec.display import DIFF_THRESHOLDS
+from spec.sensor import SENSOR
+from hdl.switches import SettingsSignature
+from hdl.rejecting import rejecting
 
 __all__ = ["DisparitySubtractor", "check_thresholds", "LATENCY", "SETTLE_CLOCKS"]
 
@@ -54,16 +55,16 @@ LATENCY = 4
 SETTLE_CLOCKS = 2
 
 
-def check_thresholds(thresholds, gray_bits):
-    """The threshold table as a tuple of ints; ``ValueError`` unless every entry is in 0 .. 2**gray_bits
-    (a threshold of 2**gray_bits is never reached by a difference of gray_bits-bit values)."""
+def check_thresholds(thresholds, grey_bits):
+    """The threshold table as a tuple of ints; ``ValueError`` unless every entry is in 0 .. 2**grey_bits
+    (a threshold of 2**grey_bits is never reached by a difference of grey_bits-bit values)."""
     try:
         table = tuple(int(t) for t in thresholds)
     except (TypeError, ValueError):
         raise ValueError(f"threshold table must be a sequence of integers, not {thresholds!r}") from None
     if any(t != t_in for t, t_in in zip(table, thresholds)):
         raise ValueError(f"threshold table must hold integers, not {thresholds!r}")
-    limit = 2 ** gray_bits
+    limit = 2 ** grey_bits
     if not table or any(t < 0 or t > limit for t in table):
         raise ValueError(f"threshold table {table!r} must be non-empty with entries in 0..{limit}")
     return table
@@ -74,7 +75,7 @@ class DisparitySubtractor(wiring.Component):
 
     Parameters
     ----------
-    geometry : :class:`hdl.params.SensorGeometry`
+    geometry : :class:`spec.sensor.SensorGeometry`
         Buffer size and grey depth.
     thresholds : sequence of int
         The threshold table (:func:`check_thresholds`).
@@ -97,7 +98,7 @@ class DisparitySubtractor(wiring.Component):
     def __init__(self, geometry=SENSOR, thresholds=DIFF_THRESHOLDS):
         with rejecting(self):
             self.geometry = geometry
-            self.thresholds = check_thresholds(thresholds, geometry.gray_bits)
+            self.thresholds = check_thresholds(thresholds, geometry.grey_bits)
             g = geometry
             super().__init__({
                 "valid": In(1),
@@ -140,7 +141,7 @@ class DisparitySubtractor(wiring.Component):
             valid_1.eq(self.valid),
             no_data_1.eq(outside),
             # Between valid pixels both ports idle at address 0: the per-frame offset may still be settling
-            # and the caller's address counter may sit past the buffer's end (tests/formal/harness_disparity).
+            # and the caller's address counter may sit past the buffer's end (sim/formal/harnesses/disparity.py).
             self.right.addr.eq(Mux(self.valid, self.addr, 0)),
             self.left.addr.eq(Mux(outside | ~self.valid, 0, self.addr + offset)),
         ]
@@ -151,8 +152,8 @@ class DisparitySubtractor(wiring.Component):
         m.d.sync += [no_data_2.eq(no_data_1), valid_2.eq(valid_1)]
 
         # Clock n + 2 -> n + 3: register the BRAM outputs.
-        left_q = Signal(g.gray_bits)
-        right_q = Signal(g.gray_bits)
+        left_q = Signal(g.grey_bits)
+        right_q = Signal(g.grey_bits)
         no_data_3 = Signal()
         valid_3 = Signal()
         m.d.sync += [
@@ -164,7 +165,7 @@ class DisparitySubtractor(wiring.Component):
 
         # Clock n + 3 -> n + 4: absolute difference (thesis: subtract the smaller from the larger) and the
         # threshold table as a bank of constant comparators whose true outputs are counted.
-        diff = Signal(g.gray_bits)
+        diff = Signal(g.grey_bits)
         m.d.comb += diff.eq(Mux(left_q >= right_q, left_q - right_q, right_q - left_q))
         count = sum((diff >= t) for t in self.thresholds)
         m.d.sync += [

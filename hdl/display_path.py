@@ -4,11 +4,11 @@ from amaranth.hdl import Module
 from amaranth.lib import wiring
 from amaranth.lib.wiring import Out
 
-from .ch7301c_output import CH7301COutput, CH7301CSignature
-from .forward import forward
-from .params import CEA_1080P60
-from .pattern_gen import PatternGenerator
-from .sync_gen import SyncGenerator
+from hdl.ch7301c_output import CH7301COutput, CH7301CSignature
+from hdl.forward import forward
+from spec.video import CEA_1080P60
+from hdl.pattern_gen import PatternGenerator
+from hdl.sync_gen import SyncGenerator
 
 __all__ = ["DisplayPath", "DISPLAY_PATH_LATENCY"]
 
@@ -23,7 +23,7 @@ class DisplayPath(wiring.Component):
 
     Parameters
     ----------
-    timing : :class:`hdl.params.VideoTiming`
+    timing : :class:`spec.video.VideoTiming`
     ddr : str
         ``"behavioural"`` or ``"virtex5"`` (:class:`~hdl.ch7301c_output.CH7301COutput`).
     start : (int, int)

@@ -20,9 +20,9 @@ from amaranth import Module, unsigned
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
-from .frame_buffer import FrameBufferWriteSignature
-from .params import SENSOR
-from .rejecting import rejecting
+from hdl.frame_buffer import FrameBufferWriteSignature
+from spec.sensor import SENSOR
+from hdl.rejecting import rejecting
 
 __all__ = ["Downscaler"]
 
@@ -32,7 +32,7 @@ class Downscaler(wiring.Component):
 
     Parameters
     ----------
-    geometry : :class:`hdl.params.SensorGeometry`
+    geometry : :class:`spec.sensor.SensorGeometry`
         Sensor size, ``scale`` (a power of two) and buffer size.
     column_bits, row_bits : int
         Widths of the ``column`` and ``row`` inputs (default: enough for the sensor's width and height).
@@ -61,7 +61,7 @@ class Downscaler(wiring.Component):
             row_bits = row_bits or geometry.height.bit_length()
             super().__init__({
                 "valid": In(1),
-                "grey": In(geometry.gray_bits),
+                "grey": In(geometry.grey_bits),
                 "column": In(unsigned(column_bits)),
                 "row": In(unsigned(row_bits)),
                 "write": Out(FrameBufferWriteSignature(geometry)),

@@ -10,7 +10,7 @@ The object must comply with the member's description (same signature and flow fo
 shape and initial value for a port member); this is checked. Forward in ``__init__``, after
 ``super().__init__()`` has created the member.
 
-The forwarded signals are renamed after the member they now are (``hdl.export.flat_name`` of its path in
+The forwarded signals are renamed after the member they now are (``board.export.flat_name`` of its path in
 ``component``): forwarded again by the parent, they take the parent's name, so each signal ends up named as the
 outermost component presents it -- in the exported top and, as the same signal, in every module below it. Two
 children whose signals had the same names (three I2C buses' ``drive_high``) then no longer collide.

@@ -1,9 +1,9 @@
 """Dual-clock frame buffer: one grey image, written by a camera, read by the display side (thesis 4.2.1).
 
-A simple dual-port RAM of ``geometry.buf_depth`` words of ``geometry.gray_bits`` bits, addressed
+A simple dual-port RAM of ``geometry.buf_depth`` words of ``geometry.grey_bits`` bits, addressed
 ``A = y * buf_width + x`` (thesis eq. 4.1). 400 x 300 x 5 bits by default: 120,000 words.
 
-Mapping: the word is stored as ``gray_bits`` one-bit-wide memories (``amaranth.lib.memory.Memory``, one per bit,
+Mapping: the word is stored as ``grey_bits`` one-bit-wide memories (``amaranth.lib.memory.Memory``, one per bit,
 same addresses, same ports). A 120,000 x 1 memory fits only one way into Virtex-5 block RAM: RAMB36 in its
 32K x 1 aspect ratio, 4 blocks (or the same 4 blocks' worth as 8 RAMB18 16K x 1), so a synthesis tool cannot
 take more than 4 x 5 = 20 RAMB36 for a frame buffer whatever it does -- a single 120,000 x 5 memory could be
@@ -26,19 +26,19 @@ from amaranth.lib import wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
-from .params import SENSOR
-from .signature import ParametricSignature
+from spec.sensor import SENSOR
+from hdl.signature import ParametricSignature
 
 __all__ = ["FrameBufferReadSignature", "FrameBufferWriteSignature", "FrameBuffer"]
 
 
 class FrameBufferReadSignature(ParametricSignature):
     """A frame buffer's read port as the reader sees it: ``addr`` out (``geometry.addr_bits``), ``data`` in
-    (``geometry.gray_bits``), valid one read-domain clock after ``addr``. A reader has ``Out(sig)``, the
+    (``geometry.grey_bits``), valid one read-domain clock after ``addr``. A reader has ``Out(sig)``, the
     buffer ``In(sig)``. Two signatures are equal when their widths are."""
 
     def __init__(self, geometry):
-        super().__init__({"addr": Out(geometry.addr_bits), "data": In(geometry.gray_bits)}, geometry=geometry)
+        super().__init__({"addr": Out(geometry.addr_bits), "data": In(geometry.grey_bits)}, geometry=geometry)
 
 
 class FrameBufferWriteSignature(ParametricSignature):
@@ -46,7 +46,7 @@ class FrameBufferWriteSignature(ParametricSignature):
     on the write-domain clock edge where ``en`` is high. A writer has ``Out(sig)``, the buffer ``In(sig)``."""
 
     def __init__(self, geometry):
-        super().__init__({"addr": Out(geometry.addr_bits), "data": Out(geometry.gray_bits), "en": Out(1)},
+        super().__init__({"addr": Out(geometry.addr_bits), "data": Out(geometry.grey_bits), "en": Out(1)},
                          geometry=geometry)
 
 
@@ -55,8 +55,8 @@ class FrameBuffer(wiring.Component):
 
     Parameters
     ----------
-    geometry : :class:`hdl.params.SensorGeometry`
-        ``buf_depth`` words of ``gray_bits`` bits.
+    geometry : :class:`spec.sensor.SensorGeometry`
+        ``buf_depth`` words of ``grey_bits`` bits.
     write_domain, read_domain : str
         Clock domains of the write and the read port.
     init : sequence of int
@@ -83,7 +83,7 @@ class FrameBuffer(wiring.Component):
         depth = self.geometry.buf_depth
         w_en = self.write.en & (self.write.addr < depth)
         bits = []
-        for i in range(self.geometry.gray_bits):
+        for i in range(self.geometry.grey_bits):
             init = [(word >> i) & 1 for word in self._init]
             m.submodules[f"bit{i}"] = memory = Memory(shape=1, depth=depth, init=init)
             write = memory.write_port(domain=self.write_domain)

@@ -1,4 +1,4 @@
-"""RGB565 -> 5-bit grey: ``gray5 = (R5 + (G6 >> 1) + B5) // 3``, exact (spec "Camera driver", thesis 4.2.1).
+"""RGB565 -> 5-bit grey: ``grey5 = (R5 + (G6 >> 1) + B5) // 3``, exact (spec "Camera driver", thesis 4.2.1).
 
 The sum ``s = R5 + (G6 >> 1) + B5`` is at most 31 + 31 + 31 = 93. The division by 3 is done as
 ``(s * 43) >> 7``, which equals ``s // 3`` for every ``s < 128``: ``43 / 128 = 1/3 + 1/384``, so

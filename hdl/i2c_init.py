@@ -32,12 +32,12 @@ from amaranth.lib import data, enum, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import Out
 
-from .forward import forward
-from .i2c_master import Cmd, I2CMaster, I2CSignature
-from .init_tables import Check, InitTable, Wait, Write
-from .params import CLOCKS
-from .signature import ParametricSignature
-from .rejecting import rejecting
+from hdl.forward import forward
+from hdl.i2c_master import Cmd, I2CMaster, I2CSignature
+from hdl.init_tables import Check, InitTable, Wait, Write
+from spec.board import CLOCKS
+from hdl.signature import ParametricSignature
+from hdl.rejecting import rejecting
 
 __all__ = ["ErrorCode", "InitStatusSignature", "InitSequencer"]
 
@@ -164,7 +164,7 @@ class _States:
         rd = rom.read_port(domain="sync")            # synchronous ROM: the word of `pc` one cycle later
         self.pc = Signal(range(n + 1), name="pc")
         # pc reaches n (the table length) when the last entry completes; the ROM is never addressed past its end
-        # (tests/formal/harness_i2c.py).
+        # (sim/formal/harnesses/i2c.py).
         m.d.comb += [rd.addr.eq(Mux(self.pc < n, self.pc, 0)), seq.status.entry.eq(self.pc)]
         self.e = e = rd.data
         # Step programs: what the master does in each step of a write / a poll read.

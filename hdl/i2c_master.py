@@ -40,8 +40,8 @@ from amaranth.lib import enum, wiring
 from amaranth.lib.cdc import FFSynchronizer
 from amaranth.lib.wiring import In, Out
 
-from .params import CLOCKS
-from .rejecting import rejecting
+from spec.board import CLOCKS
+from hdl.rejecting import rejecting
 
 __all__ = ["OpenDrainSignature", "I2CSignature", "Cmd", "I2CTiming", "I2CMaster"]
 

@@ -47,7 +47,8 @@ CH7301C (:data:`CH7301C_TABLE`, 8-bit register address, 8-bit data, 7-bit addres
 
 from dataclasses import dataclass, field
 
-from .params import I2C_ADDR, CEA_1080P60
+from spec.board import I2C_ADDR
+from spec.video import CEA_1080P60
 
 __all__ = [
     "I2CDeviceSpec", "Write", "Wait", "Poll", "Check", "InitTable", "MT9D112", "CH7301C", "MT9D112_TABLE",

@@ -4,9 +4,9 @@ from amaranth.hdl import Module, Signal, Mux, Cat, Const
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
-from .params import CEA_1080P60
-from .video_bus import TimingSignature, VideoSignature, Y_BITS
-from .rejecting import rejecting
+from spec.video import CEA_1080P60
+from hdl.video_bus import TimingSignature, VideoSignature, Y_BITS
+from hdl.rejecting import rejecting
 
 __all__ = ["PatternGenerator"]
 
@@ -47,7 +47,7 @@ class PatternGenerator(wiring.Component):
 
     Parameters
     ----------
-    timing : :class:`hdl.params.VideoTiming`
+    timing : :class:`spec.video.VideoTiming`
 
     Attributes
     ----------

@@ -4,9 +4,9 @@ from amaranth import Module, Mux
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
-from .depth.ports import SharedReadSignature
-from .frame_buffer import FrameBufferReadSignature
-from .params import SENSOR
+from hdl.depth.ports import SharedReadSignature
+from hdl.frame_buffer import FrameBufferReadSignature
+from spec.sensor import SENSOR
 
 __all__ = ["ReadArbiter"]
 
@@ -22,7 +22,7 @@ class ReadArbiter(wiring.Component):
 
     Parameters
     ----------
-    geometry : :class:`hdl.params.SensorGeometry`
+    geometry : :class:`spec.sensor.SensorGeometry`
 
     Attributes
     ----------

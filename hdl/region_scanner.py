@@ -30,7 +30,7 @@ class RegionScanner(wiring.Component):
     row_done : Out(1)
         Combinational: this pixel ends the last copy of picture row ``yb``.
     row_start, x_phase, y_phase : Out
-        The rest of the state, for the formal harness's invariant (tests/formal/harness_compositor.py): the
+        The rest of the state, for the formal harness's invariant (sim/formal/harnesses/compositor.py): the
         address of (0, ``yb``), where a repeated row rewinds to; which copy of a pixel / row this is (0 at scale 1).
 
     Clock domain: ``sync``.

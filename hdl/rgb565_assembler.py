@@ -26,8 +26,8 @@ from amaranth import Module, Signal, unsigned
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
-from .params import SENSOR
-from .rejecting import rejecting
+from spec.sensor import SENSOR
+from hdl.rejecting import rejecting
 
 __all__ = ["RGB565Assembler"]
 

@@ -4,16 +4,19 @@ from amaranth import Module, Mux, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
-from .compositor import LATENCY as COMPOSITOR_LATENCY, Compositor
-from .depth import DepthEngine, schedule
-from .disparity import SETTLE_CLOCKS
-from .forward import forward
-from .frame_buffer import FrameBufferReadSignature
-from .params import CEA_1080P60, DEPTH, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, SENSOR
-from .read_arbiter import ReadArbiter
-from .rejecting import rejecting
-from .switches import SettingsSignature
-from .video_bus import TimingSignature, VideoSignature
+from hdl.compositor import LATENCY as COMPOSITOR_LATENCY, Compositor
+from hdl.depth import DepthEngine, schedule
+from hdl.disparity import SETTLE_CLOCKS
+from hdl.forward import forward
+from hdl.frame_buffer import FrameBufferReadSignature
+from spec.depth import DEPTH
+from spec.display import DIFF_LEVEL_GREY, DIFF_THRESHOLDS
+from spec.sensor import SENSOR
+from spec.video import CEA_1080P60
+from hdl.read_arbiter import ReadArbiter
+from hdl.rejecting import rejecting
+from hdl.switches import SettingsSignature
+from hdl.video_bus import TimingSignature, VideoSignature
 
 __all__ = ["StereoDisplay", "LATENCY", "ENGINE_START_DELAY", "check_engine_keeps_up"]
 
@@ -59,7 +62,7 @@ class StereoDisplay(wiring.Component):
     ----------
     timing, geometry, layout, thresholds, level_grey
         As for :class:`hdl.compositor.Compositor`.
-    config : :class:`hdl.params.DepthConfig`
+    config : :class:`spec.depth.DepthConfig`
     out_rows : int
         Rows in the engine's result ring.
 

@@ -30,7 +30,7 @@ from amaranth import Module, Signal
 from amaranth.lib import wiring
 from amaranth.lib.cdc import FFSynchronizer
 from amaranth.lib.wiring import In, Out
-from .rejecting import rejecting
+from hdl.rejecting import rejecting
 
 __all__ = ["SWITCH_VALUE_BITS", "SettingsSignature", "SwitchControl"]
 

@@ -3,9 +3,9 @@
 from amaranth.hdl import Module, Signal, Mux
 from amaranth.lib import wiring
 
-from .params import CEA_1080P60
-from .video_bus import TimingSignature, X_BITS, Y_BITS
-from .rejecting import rejecting
+from spec.video import CEA_1080P60
+from hdl.video_bus import TimingSignature, X_BITS, Y_BITS
+from hdl.rejecting import rejecting
 
 __all__ = ["SyncGenerator"]
 
@@ -54,7 +54,7 @@ class SyncGenerator(wiring.Component):
 
     Parameters
     ----------
-    timing : :class:`hdl.params.VideoTiming`
+    timing : :class:`spec.video.VideoTiming`
     start : (int, int)
         The raster position after reset.
 

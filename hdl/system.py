@@ -13,8 +13,8 @@ Blocks (each in its own file, see docs/architecture.md):
 * the CH7301C's own :class:`~hdl.i2c_init.InitSequencer` on the board's I2C bus;
 * status LEDs and the sensor/transmitter reset and power pins.
 
-Clock domains (defined by the parent: :class:`~hdl.top.GenesysTop` with the board clocking on the board, the
-simulation harness with :class:`~hdl.clocking.SimClocking` in simulation, whose exported Verilog names the clocks
+Clock domains (defined by the parent: :class:`~board.top.GenesysTop` with the board clocking on the board, the
+simulation harness with :class:`~sim.models.clocking.SimClocking` in simulation, whose exported Verilog names the clocks
 ``clk``, ``pix_clk``, ``cam_a_clk``, ``cam_b_clk``):
 
 =========  ================================================================================================
@@ -28,7 +28,7 @@ simulation harness with :class:`~hdl.clocking.SimClocking` in simulation, whose 
 CH7301C output stage: with ``ddr="behavioural"`` (simulation, Verilog export) the system ends in
 :class:`~hdl.ch7301c_output.CH7301COutput`'s behavioural dual-edge model and has the CH7301C pins (``ch7301c``).
 With ``ddr=None`` (the board) it stops at the compositor's video stream (``video``, ``pix``) and
-:class:`hdl.top.GenesysTop` builds the pins from Virtex-5 ODDRs (through ``amaranth.lib.io.DDRBuffer``), including
+:class:`board.top.GenesysTop` builds the pins from Virtex-5 ODDRs (through ``amaranth.lib.io.DDRBuffer``), including
 the XCLK pair as two single-ended ODDR outputs in the 90-degree ``pix90`` domain: the Genesys's XCLK pins are
 LVCMOS33 (docs/board.md), so the OBUFDS of ``CH7301COutput(ddr="virtex5")`` cannot drive them.
 
@@ -53,19 +53,23 @@ from amaranth import DomainRenamer, Module, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
-from .capture import CameraSignature, CaptureStatusSignature
-from .capture_path import CapturePath
-from .ch7301c_output import CH7301COutput, CH7301CSignature
-from .stereo_display import LATENCY as COMPOSITOR_LATENCY, StereoDisplay
-from .forward import forward
-from .i2c_init import InitSequencer, InitStatusSignature
-from .i2c_master import I2CSignature
-from .init_tables import CH7301C_TABLE, MT9D112_TABLE
-from .params import CEA_1080P60, CLOCKS, DEPTH, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, SENSOR
-from .switches import SettingsSignature, SwitchControl
-from .sync_gen import SyncGenerator
-from .video_bus import VideoSignature
-from .rejecting import rejecting
+from hdl.capture import CameraSignature, CaptureStatusSignature
+from hdl.capture_path import CapturePath
+from hdl.ch7301c_output import CH7301COutput, CH7301CSignature
+from hdl.stereo_display import LATENCY as COMPOSITOR_LATENCY, StereoDisplay
+from hdl.forward import forward
+from hdl.i2c_init import InitSequencer, InitStatusSignature
+from hdl.i2c_master import I2CSignature
+from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE
+from spec.board import CLOCKS
+from spec.depth import DEPTH
+from spec.display import DIFF_LEVEL_GREY, DIFF_THRESHOLDS
+from spec.sensor import SENSOR
+from spec.video import CEA_1080P60
+from hdl.switches import SettingsSignature, SwitchControl
+from hdl.sync_gen import SyncGenerator
+from hdl.video_bus import VideoSignature
+from hdl.rejecting import rejecting
 
 __all__ = ["StereoDepthSystem", "PanelSignature", "ControlSignature", "DISPLAY_LATENCY", "CAMERAS", "I2C_BUSES"]
 
@@ -90,15 +94,15 @@ class StereoDepthSystem(wiring.Component):
 
     Parameters
     ----------
-    geometry : :class:`hdl.params.SensorGeometry`
+    geometry : :class:`spec.sensor.SensorGeometry`
         Sensors and buffers.
-    timing : :class:`hdl.params.VideoTiming`
+    timing : :class:`spec.video.VideoTiming`
         The video mode.
-    layout : :class:`hdl.params.DisplayLayout` or None
+    layout : :class:`spec.layout.DisplayLayout` or None
         Screen layout (default centred).
     thresholds, level_grey : sequence of int
         The disparity display (:class:`~hdl.compositor.Compositor`).
-    depth : :class:`hdl.params.DepthConfig`
+    depth : :class:`spec.depth.DepthConfig`
         The depth engine.
     cam_table, dvi_table : :class:`hdl.init_tables.InitTable`
         The I2C init tables.
@@ -149,7 +153,7 @@ class StereoDepthSystem(wiring.Component):
                  ddr="behavioural", heartbeat_log2=5, cam_heartbeat_log2=3):
         with rejecting(self):
             if ddr not in ("behavioural", None):
-                raise ValueError(f"ddr must be 'behavioural' or None (board: pins built by hdl.top), not {ddr!r}")
+                raise ValueError(f"ddr must be 'behavioural' or None (board: pins built by board.top), not {ddr!r}")
             self.geometry = geometry
             self.video_timing = timing
             self.heartbeat_log2 = heartbeat_log2

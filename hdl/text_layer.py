@@ -5,10 +5,11 @@ from amaranth.lib import data, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
-from .delay import delayed
-from .params import FONT, FONT_CELL, TextBox
-from .region_scanner import RegionScanner
-from .rejecting import rejecting
+from hdl.delay import delayed
+from spec.font import FONT, FONT_CELL
+from spec.layout import TextBox
+from hdl.region_scanner import RegionScanner
+from hdl.rejecting import rejecting
 
 __all__ = ["TextLayer", "FONT_ORDER", "char_codes", "LATENCY"]
 
@@ -28,9 +29,9 @@ def char_codes(text):
 
 
 class TextLayer(wiring.Component):
-    """Draws ``boxes`` (constant :class:`hdl.params.TextBox` es) and one ``dynamic`` box whose characters come
+    """Draws ``boxes`` (constant :class:`spec.layout.TextBox` es) and one ``dynamic`` box whose characters come
     from ``chars``. A box covers ``len(text)`` cells of ``FONT_CELL`` font pixels, each ``scale`` x ``scale``
-    display pixels; a font pixel is lit where its glyph (:data:`hdl.params.FONT`) has ``#`` (the cell's last
+    display pixels; a font pixel is lit where its glyph (:data:`spec.font.FONT`) has ``#`` (the cell's last
     column and row never are). The boxes must not overlap.
 
     Parameters

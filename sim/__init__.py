@@ -1,0 +1,34 @@
+"""Simulation: part models, testbenches, simulator runners, waveform tools, the formal runner, the test bed.
+
+=================  =========================================================================================
+package            what                                                   may import (of the project)
+=================  =========================================================================================
+``sim.models``     the parts around the FPGA: MT9D112, CH7301C + HDMI     ``spec``, ``hdl`` (signatures),
+                   sink, the I2C bus and its devices, the clocking model  ``sim.models``
+``sim.replay``     camera pins and display pins replayed/recorded inside  ``spec``, ``hdl``, ``sim.models``
+                   the simulator (no Python per clock)
+``sim.waves``      GTKWave save files, translate filters, the headless    ``spec``, ``hdl``, ``sim.models``
+                   GTKWave check
+``sim.runners``    Amaranth, cocotb and Verilator runners                 the above, ``board`` (export)
+``sim.harness``    testbenches: capture, display, subtractor, depth,      all of ``sim`` but ``formal``,
+                   the whole system                                       ``golden``, ``board``
+``sim.formal``     the formal runner, its engines and the harnesses       ``spec``, ``hdl``, ``sim.runners``
+``sim.testbed``    the thesis's test bed and the synthetic scenes         ``spec``, ``golden``, ``sim.analysis``
+``sim.analysis``   ground truth, bad-pixel figures, reading pictures back ``spec``, ``golden``
+=================  =========================================================================================
+
+The exceptions library code raises for the command line to report live here: :class:`UserError` for bad input
+(one-line error, exit code 2, no traceback; ``stereodepth.errors`` re-exports it) and :class:`SimulationFailed`
+for a simulation that ended without a result.
+"""
+
+__all__ = ["UserError", "SimulationFailed"]
+
+
+class UserError(Exception):
+    """Bad input from the user: a missing or unreadable file, mismatched images, an out-of-range value."""
+
+
+class SimulationFailed(RuntimeError):
+    """A simulation ended without a result (build error, crash, I2C failure): the message says why and where the
+    log is."""

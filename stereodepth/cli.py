@@ -56,7 +56,7 @@ def main(argv=None):
         parser.print_help()
         return 0
     if argv and argv[0] == "--version":
-        from sim.provenance import project_version
+        from stereodepth.provenance import project_version
         print(f"stereodepth {project_version()}")
         return 0
     if not argv or argv[0] not in COMMANDS:

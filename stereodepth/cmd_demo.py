@@ -1,24 +1,24 @@
 """``stereodepth demo`` / ``make demo``: the main job -- the whole simulated system on the bundled stereo pair.
 
 1. The switch settings: the disparity at which the bundled pair's motorcycle matches (and fades to black) and the
-   rectification, found from the pair (``sim.disparity_pictures.find_settings``, Middlebury ground truth beside).
+   rectification, found from the pair (``sim.analysis.disparity_pictures.find_settings``, Middlebury ground truth beside).
 2. The whole system end to end at the board's size -- 1600 x 1200 sensors, 400 x 300 frame buffers, one
    1920 x 1080 frame -- on Verilator (``stereodepth run`` does the same with your own pair): both MT9D112 models
    configured over I2C by the RTL, both cameras captured, the depth map computed by the engine, the four panels
    composited and driven onto the CH7301C pins, rebuilt by the HDMI sink model and compared bit for bit with the
    golden model. The depth panel the pins carried is read back (its colours inverted) and scored against the
-   motorcycle's ground truth (``sim.depth_truth``): bad > 1, bad > 2, density; the readout gives the centre
+   motorcycle's ground truth (``sim.analysis.truth``): bad > 1, bad > 2, density; the readout gives the centre
    distance. -> ``hdmi_frame.png`` (the frame from the simulated pins), ``golden_frame.png``,
    ``depth_map.png`` (the depth map alone, buffer size, with its colour bar), ``result.json``.
 3. Waveforms of the whole system at the small test size in Amaranth's simulator (I2C init, capture, one display
    frame) -> ``system.vcd`` and ``system.gtkw`` (GTKWave save file with the buses, cameras, switches, video
    stream and CH7301C pins grouped), and that run's frame as ``hdmi_frame_small.png``.
 4. The golden pictures of the disparity display at the matching and at a wrong disparity
-   (``sim.disparity_pictures.write_pictures``).
+   (``sim.analysis.disparity_pictures.write_pictures``).
 
 ``--small`` runs step 2 at the small size too. README's table gives the run times. As with ``run``, an earlier
 run's outputs are removed at the start, each output appears under its own name only when complete, and
-``result.json`` records the provenance (``stereodepth/outputs.py``, ``sim/provenance.py``).
+``result.json`` records the provenance (``stereodepth/outputs.py``, ``stereodepth/provenance.py``).
 """
 
 import sys
@@ -46,18 +46,18 @@ def add_arguments(parser):
 
 def small_disparity(disparity, setup_small):
     """The board's disparity scaled to the small buffers (same fraction of the image width, at least 1)."""
-    from hdl.params import SENSOR
+    from spec.sensor import SENSOR
     return max(1, round(disparity * setup_small.geometry.buf_width / SENSOR.buf_width))
 
 
 def run(args):
     from . import cmd_run
-    from sim.disparity_pictures import bundled_pair_settings
-    from sim.errors import SimulationFailed
-    from sim.system.run_cocotb import DEFAULT_PAIR
-    from sim.system.setup import SystemSetup
+    from sim.analysis.disparity_pictures import bundled_pair_settings
+    from sim import SimulationFailed
+    from sim.harness.system.run_cocotb import DEFAULT_PAIR
+    from sim.harness.system.setup import SystemSetup
 
-    from sim.provenance import provenance, utc_now
+    from stereodepth.provenance import provenance, utc_now
     started = utc_now()
     out = prepare_out_dir(args.out)
     outputs = RunOutputs(out, OUTPUTS, stale=STALE_PATTERNS).start()
@@ -83,8 +83,8 @@ def run(args):
         print(f"stereodepth demo: simulation failed: {exc}", file=sys.stderr)
         return 1
     record = provenance(DEFAULT_PAIR, dict(vars(args), setup=setup.to_spec()), started)
-    from sim.depth_panel import depth_outputs, summary_lines
-    from sim.depth_truth import motorcycle_truth
+    from sim.analysis.depth_panel import depth_outputs, summary_lines
+    from sim.analysis.truth import motorcycle_truth
     depth, depth_files = depth_outputs(frame, setup, motorcycle_truth("right", setup.geometry), outputs.write)
     files.update(cmd_run.write_outputs(outputs, frame, golden, status, {"simulator": args.simulator,
                                                                        "depth": depth, "provenance": record}))
@@ -107,7 +107,7 @@ def run(args):
         except SimulationFailed as exc:
             print(f"stereodepth demo: waveform run failed: {exc}", file=sys.stderr)
             return 1
-        from sim.hdmi_sink import write_png
+        from sim.models.ch7301c.hdmi_sink import write_png
         if frame_s is not None:
             files["small-size HDMI frame (the waveform run)"] = outputs.write("hdmi_frame_small.png",
                                                                               lambda p: write_png(frame_s, p))
@@ -118,7 +118,7 @@ def run(args):
         files["VCD (whole system, small size)"] = out / "system.vcd"
         files[f"GTKWave save file: gtkwave {out / 'system.gtkw'}"] = out / "system.gtkw"
 
-    from sim.disparity_pictures import write_pictures
+    from sim.analysis.disparity_pictures import write_pictures
     for path in write_pictures(out):
         files[f"golden disparity display picture ({'matched' if 'matched' in path.name else 'wrong'} disparity)"] \
             = path

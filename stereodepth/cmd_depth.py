@@ -168,7 +168,7 @@ def _check_pair(args, left, right, max_disparity, window):
 
 
 def run(args):
-    from sim.provenance import provenance, utc_now
+    from stereodepth.provenance import provenance, utc_now
     started = utc_now()
     max_disparity = _int(args.max_disparity, "--max-disparity", 1)
     window = _int(args.window, "--window", 1)

@@ -1,6 +1,6 @@
 """``stereodepth display``: simulate the display path alone (test pattern -> CH7301C bus -> HDMI sink -> PNG).
 
-The simulation is ``sim/display.py``; this module parses the arguments and prints what came out.
+The simulation is ``sim/harness/display.py``; this module parses the arguments and prints what came out.
 """
 
 import sys
@@ -17,7 +17,7 @@ DEFAULT_OUT = Path("build/display")   # not build/demo: the whole-system demo wr
 
 def modes():
     """The video modes by command-line name."""
-    from hdl.params import CEA_1080P60, SMALL_TIMING
+    from spec.video import CEA_1080P60, SMALL_TIMING
     return {"1080p": CEA_1080P60, "small": SMALL_TIMING}
 
 
@@ -35,9 +35,9 @@ def add_arguments(parser):
 
 
 def run(args):
-    from sim.display import capture_frame
-    from sim.errors import SimulationFailed
-    from sim.hdmi_sink import write_png
+    from sim.harness.display import capture_frame
+    from sim import SimulationFailed
+    from sim.models.ch7301c.hdmi_sink import write_png
     timing = modes()[args.mode]
     out = prepare_out_dir(args.out)
     lines = check_wave_lines(args.wave_lines, timing)
@@ -62,7 +62,7 @@ def run(args):
 
 def write_waves(timing, outputs, lines):
     """``display.vcd`` + ``display.gtkw`` of ``outputs`` (written under their partial names, then committed)."""
-    from sim.display import write_display_waves
+    from sim.harness.display import write_display_waves
     write_display_waves(timing, outputs.partial("display.vcd"), lines=lines)     # the .gtkw beside it
     return {"VCD": outputs.commit("display.vcd"), "GTKWave": outputs.commit_save_file("display.gtkw", "display.vcd")}
 

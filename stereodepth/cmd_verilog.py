@@ -1,7 +1,7 @@
 """``stereodepth verilog``: write the Genesys board build (Verilog, UCF, ISE scripts) -- without running ISE.
 
 Writes to ``--out`` (default build/genesys/) what Amaranth's ``XilinxPlatform`` prepares for ISE, for
-:class:`hdl.top.GenesysTop` on :class:`hdl.genesys.GenesysPlatform`:
+:class:`board.top.GenesysTop` on :class:`board.genesys.GenesysPlatform`:
 
 * ``top.v``                 the whole design as one Verilog file (XST input)
 * ``top.ucf``               pins, IO standards, clock PERIODs and the TIGs between unrelated clocks; the same text
@@ -32,7 +32,7 @@ def add_arguments(parser):
 
 
 def _read_pins(path):
-    from hdl.genesys import parse_pin_file
+    from board.genesys import parse_pin_file
     path = Path(path)
     if not path.is_file():
         raise UserError(f"no such pin file: {path}")
@@ -46,8 +46,8 @@ def _read_pins(path):
 
 def write_board_build(out, *, pins=None, allow_unconfirmed=False):
     """Write the build directory; returns ``(platform, list of written paths)``."""
-    from hdl.clocking import PLAN
-    from hdl.top import board_plan
+    from board.clocking import PLAN
+    from board.top import board_plan
     platform, plan = board_plan(pins=pins, allow_unconfirmed=allow_unconfirmed)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)

@@ -1,7 +1,7 @@
 """The one exception type the command line turns into a one-line error (no traceback, non-zero exit): defined in
-``sim/errors.py`` (library code raises it too) and re-exported here."""
+``sim/__init__.py`` (library code raises it too) and re-exported here."""
 
-from sim.errors import UserError
+from sim import UserError
 
 __all__ = ["UserError", "prepare_out_dir"]
 

@@ -1,8 +1,17 @@
 """Shared pytest set-up: both simulators must be present (a missing one fails, it is never skipped)."""
 
+import sys
+from pathlib import Path
+
 import pytest
 
-from sim.cocotb_runner import SIMULATORS, simulator_available
+from sim.runners.cocotb import SIMULATORS, simulator_available
+
+#: The tests' own cocotb test modules (``test_module="cocotb_i2c"``, ...): on the path of this process, which the
+#: cocotb runner hands to the simulator's Python. The product's cocotb modules are importable by their package name.
+COCOTB_TESTS = str(Path(__file__).resolve().parent / "cocotb")
+if COCOTB_TESTS not in sys.path:
+    sys.path.insert(0, COCOTB_TESTS)
 
 
 @pytest.fixture(params=SIMULATORS)

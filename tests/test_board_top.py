@@ -1,8 +1,8 @@
-"""The board's Verilog simulated as built (sim/board_top.py, tests/cocotb/cocotb_board.py).
+"""The board's Verilog simulated as built (board/simulation/top.py, board/simulation/top_cocotb.py).
 
-``top.v`` comes from the same path as ``stereodepth verilog`` (``hdl.top.board_plan``), at the small sizes of
+``top.v`` comes from the same path as ``stereodepth verilog`` (``board.top.board_plan``), at the small sizes of
 ``SystemSetup.small()`` with the board's own I2C table (only the output size changed, waits scaled) for the
-default run and at the board's sizes in the slow test. The primitives are the models in sim/xilinx. The
+default run and at the board's sizes in the slow test. The primitives are the models in board/simulation/xilinx. The
 mutations the issue names must fail: the two 12-bit words swapped at the CH7301C ODDRs, and the MT9D112 capture
 mode 0x00F2 -> 0x00F0 (a still capture).
 """
@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 
 from hdl.init_tables import InitTable, Write
-from hdl.genesys import UNCONFIRMED
-from sim.board_top import board_setup, board_top_kwargs, board_verilog, run_board_cocotb
-from sim.cocotb_runner import simulator_available
+from board.genesys import UNCONFIRMED
+from board.simulation.top import board_setup, board_top_kwargs, board_verilog, run_board_cocotb
+from sim.runners.cocotb import simulator_available
 
 SMALL = {"preset": "small", "quick_table": False}
 
@@ -37,7 +37,7 @@ def _skip_unless(simulator):
 def test_pin_file_changes_only_the_ucf():
     """The camera pins are placeholders; a pin file changes the UCF, not top.v: the simulated Verilog is the
     board's whichever pins are given."""
-    from hdl.top import board_plan
+    from board.top import board_plan
     pins = {name: f"A{i + 1}" for i, name in enumerate(UNCONFIRMED)}
     top_kwargs = board_top_kwargs(small_setup())
     _, placeholder = board_plan(files=(".v", ".ucf"), **top_kwargs)
@@ -62,11 +62,11 @@ def test_board_top_small(simulator, tmp_path):
 
 
 def test_board_top_oddr_word_swap_fails(tmp_path, monkeypatch):
-    """The two 12-bit words at the CH7301C data ODDRs swapped (hdl/top.py): the frame differs."""
+    """The two 12-bit words at the CH7301C data ODDRs swapped (board/top.py): the frame differs."""
     _skip_unless("verilator")
-    import hdl.top
+    import board.top
     from hdl.ch7301c_output import split_rgb
-    monkeypatch.setattr(hdl.top, "split_rgb", lambda rgb: split_rgb(rgb)[::-1])
+    monkeypatch.setattr(board.top, "split_rgb", lambda rgb: split_rgb(rgb)[::-1])
     with pytest.raises(AssertionError, match="pixels differ from the golden frame"):
         run_board_cocotb(small_verilog(), "verilator", spec=SMALL, out_dir=tmp_path)
 

@@ -1,6 +1,6 @@
 """The capture path end to end: sensor model -> CameraCapture -> FrameBuffer -> pix read port, against the
 golden model (golden/capture.py), in Amaranth's simulator and with cocotb on Verilator and Icarus; and the
-compact-memory Verilog export (hdl/export.py).
+compact-memory Verilog export (board/export.py).
 
 Default run: SMALL_SENSOR (64 x 48 -> 16 x 12). Full 1600 x 1200 runs are marked slow.
 """
@@ -13,14 +13,14 @@ import pytest
 from golden.capture import capture_frame, capture_stream
 from golden.stereo_pair import load_default_pair
 from hdl.capture_path import CapturePath
-from hdl.export import amaranth_verilog, compact_memory_init, export_verilog
+from board.export import amaranth_verilog, compact_memory_init, export_verilog
 from hdl.frame_buffer import FrameBuffer
-from hdl.memory_init import strip_zero_memory_init
-from hdl.params import SENSOR, SMALL_SENSOR, SensorGeometry
-from sim.cocotb_runner import run_cocotb
-from sim.capture_bench import playback_design, run_capture_amaranth
-from sim.mt9d112 import MT9D112, SENSOR_TIMING, SMALL_SENSOR_TIMING
-from sim.sensor_config import SensorConfig
+from board.memory_init import strip_zero_memory_init
+from spec.sensor import SENSOR, SMALL_SENSOR, SensorGeometry
+from sim.runners.cocotb import run_cocotb
+from sim.harness.capture import playback_design, run_capture_amaranth
+from sim.models.mt9d112.sensor import MT9D112, SENSOR_TIMING, SMALL_SENSOR_TIMING
+from sim.models.mt9d112.config import SensorConfig
 
 PCLK = {"a": 24e6, "b": 23.7e6}
 START = {"a": 0.0, "b": 13.7e-9}
@@ -60,7 +60,7 @@ def test_golden_capture_is_not_trivial():
 
 def pair_design(geometry, timing):
     """The cocotb design: the two-camera CapturePath (compact export) with replay modules loaded with the
-    pair streams of tests/cocotb/cocotb_capture.py (same images, timing and seeds)."""
+    pair streams of sim/harness/capture_cocotb.py (same images, timing and seeds)."""
     left, right = load_default_pair(geometry.width, geometry.height)
     config = SensorConfig(width=geometry.width, height=geometry.height)
     streams = {"a": MT9D112(config, timing=timing, seed=1).stream([left]),
@@ -71,13 +71,13 @@ def pair_design(geometry, timing):
 def test_capture_cocotb(simulator):
     """cocotb on the exported two-camera design: zeros after power-up, the concurrent stereo pair from the
     Python drivers and from the Verilog playback models, and every bad-stream case
-    (tests/cocotb/cocotb_capture.py)."""
+    (sim/harness/capture_cocotb.py)."""
     g = SMALL_SENSOR
-    run_cocotb(pair_design(g, SMALL_SENSOR_TIMING), name="capture_path", test_module="cocotb_capture",
+    run_cocotb(pair_design(g, SMALL_SENSOR_TIMING), name="capture_path", test_module="sim.harness.capture_cocotb",
                simulator=simulator, params={"width": g.width, "height": g.height})
 
 
-# --- hdl/export.py -----------------------------------------------------------------------------------------
+# --- board/export.py -----------------------------------------------------------------------------------------
 
 def _word_inits(text):
     return re.findall(r"^\s*(\S+)\[(\d+)\] = (\S+);$", text, flags=re.M)
@@ -86,9 +86,9 @@ def _word_inits(text):
 def test_export_compacts_zero_init_and_changes_nothing_else():
     original = amaranth_verilog(CapturePath(SMALL_SENSOR), "capture_path")
     compact, rewritten = compact_memory_init(original)
-    bits = [f"bit{i}" for i in range(SMALL_SENSOR.gray_bits)]
-    assert rewritten == bits * 2                    # one 1-bit memory per gray bit, two cameras
-    assert len(_word_inits(original)) == 2 * SMALL_SENSOR.gray_bits * SMALL_SENSOR.buf_depth
+    bits = [f"bit{i}" for i in range(SMALL_SENSOR.grey_bits)]
+    assert rewritten == bits * 2                    # one 1-bit memory per grey bit, two cameras
+    assert len(_word_inits(original)) == 2 * SMALL_SENSOR.grey_bits * SMALL_SENSOR.buf_depth
     assert _word_inits(compact) == []
     # Outside the replaced initial blocks the text is identical, line for line.
     strip_init = re.compile(r"\n\s*initial begin\n(?:\s*bit\d\[\d+\] = 1'h0;\n)+\s*end", re.M)
@@ -97,13 +97,13 @@ def test_export_compacts_zero_init_and_changes_nothing_else():
     assert strip_init.sub("", original) == strip_loop.sub("", compact)
     loops = re.findall(r"for \(bit\d__init_i = 0; bit\d__init_i < (\d+); bit\d__init_i = bit\d__init_i "
                        r"\+ 1\)\n\s*bit\d\[bit\d__init_i\] = 1'h0;", compact)
-    assert loops == [str(SMALL_SENSOR.buf_depth)] * 2 * SMALL_SENSOR.gray_bits
+    assert loops == [str(SMALL_SENSOR.buf_depth)] * 2 * SMALL_SENSOR.grey_bits
 
 
 def test_strip_removes_only_zero_init():
     original = amaranth_verilog(CapturePath(SMALL_SENSOR), "capture_path")
     stripped, names = strip_zero_memory_init(original)
-    assert names == [f"bit{i}" for i in range(SMALL_SENSOR.gray_bits)] * 2 and _word_inits(stripped) == []
+    assert names == [f"bit{i}" for i in range(SMALL_SENSOR.grey_bits)] * 2 and _word_inits(stripped) == []
     strip_init = re.compile(r"\n\s*initial begin\n(?:\s*bit\d\[\d+\] = 1'h0;\n)+\s*end", re.M)
     assert strip_init.sub("", original) == stripped
     g = SensorGeometry(width=16, height=8)
@@ -138,7 +138,7 @@ def test_full_resolution_capture_cocotb(simulator):
     cycles per camera), from the Python drivers (every write checked) and from the replay modules.
     bench/bench_capture.py runs it in Amaranth's simulator on the full-size design for part of the frame (or
     all of it with --amaranth-full)."""
-    run_cocotb(pair_design(SENSOR, SENSOR_TIMING), name="capture_path", test_module="cocotb_capture",
+    run_cocotb(pair_design(SENSOR, SENSOR_TIMING), name="capture_path", test_module="sim.harness.capture_cocotb",
                simulator=simulator,
                testcase="test_stereo_pair_concurrent,test_playback_pair",
                params={"width": SENSOR.width, "height": SENSOR.height, "timing": "sensor"})

@@ -2,10 +2,10 @@
 counting rules give it, and the next good frame must be captured exactly (spec "Camera driver";
 docs/capture.md "Robustness").
 
-Each named case (sim.mt9d112.fault_cases: LV without FV, short / long / odd-length lines, FV dropped
+Each named case (sim.models.mt9d112.sensor.fault_cases: LV without FV, short / long / odd-length lines, FV dropped
 mid-frame, extra lines, PCLK pauses, reset in the middle of a frame, a combination) sends a faulty frame
 then a good one through the sensor model into the RTL (Amaranth simulator; the same cases run on Verilator
-and Icarus in tests/cocotb/cocotb_capture.py). Checked on the write port: every address is inside the
+and Icarus in sim/harness/capture_cocotb.py). Checked on the write port: every address is inside the
 buffer, and the whole write sequence and every frame status equal the golden stream model
 (golden/capture.capture_stream); the buffer read back after the good frame equals the golden image-level
 capture of that frame. Hypothesis then throws random fault mixes and random garbage streams at it.
@@ -21,10 +21,10 @@ from hypothesis import strategies as st
 from golden.capture import capture_frame, capture_stream
 from golden.stereo_pair import load_default_pair
 from hdl.capture_path import CapturePath
-from hdl.params import SensorGeometry
-from sim.capture_bench import run_capture_amaranth
-from sim.mt9d112 import MT9D112, Faults, SensorStream, SensorTiming, fault_cases
-from sim.sensor_config import SensorConfig
+from spec.sensor import SensorGeometry
+from sim.harness.capture import run_capture_amaranth
+from sim.models.mt9d112.sensor import MT9D112, Faults, SensorStream, SensorTiming, fault_cases
+from sim.models.mt9d112.config import SensorConfig
 
 TINY = SensorGeometry(width=16, height=8)
 TINY_TIMING = SensorTiming(h_blank=4, v_blank_lines=1, frame_start=2, frame_end=3)

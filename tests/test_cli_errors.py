@@ -143,7 +143,7 @@ def test_bad_input_is_one_line_and_an_exit_code(files, what, args, code, message
 
 
 def test_version_names_the_release_and_the_commit(files):
-    from sim.provenance import git_commit
+    from stereodepth.provenance import git_commit
     run = stereodepth(["--version"], files)
     assert run.returncode == 0 and run.stderr == ""
     from importlib.metadata import version

@@ -8,9 +8,11 @@ import pytest
 from amaranth import Elaboratable, Module, Signal
 from amaranth.back import verilog
 
-from hdl.clocking import PLAN, ClockPlan, GenesysClocking, SimClocking
-from hdl.params import CEA_1080P60, CLOCKS
-from sim.amaranth_sim import simulate
+from board.clocking import PLAN, ClockPlan, GenesysClocking
+from sim.models.clocking import SimClocking
+from spec.board import CLOCKS
+from spec.video import CEA_1080P60
+from sim.runners.amaranth import simulate
 
 FREQS = {"sync": 100e6, "pix": 148.5e6, "cam_a": 48e6, "cam_b": 37e6}
 

@@ -5,7 +5,7 @@ from amaranth import Module
 from amaranth.lib import wiring
 from amaranth.lib.wiring import Out
 
-from sim.cocotb_runner import run_cocotb
+from sim.runners.cocotb import run_cocotb
 
 
 class Counter(wiring.Component):
@@ -56,8 +56,8 @@ def test_verilator_fast_failure_is_reported():
 
 def test_icarus_fix_is_needed():
     """Without the time-zero fix, Icarus leaves the ``always @*`` output X: the check above can fail."""
-    from hdl.export import amaranth_verilog as export_verilog
-    from sim.cocotb_runner import icarus_time_zero_fix
+    from board.export import amaranth_verilog as export_verilog
+    from sim.runners.cocotb import icarus_time_zero_fix
     verilog_text = export_verilog(Counter(), "runner_selftest")
     assert icarus_time_zero_fix(verilog_text) != verilog_text
     assert "initial #0" in icarus_time_zero_fix(verilog_text)

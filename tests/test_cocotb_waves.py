@@ -1,10 +1,10 @@
 """A cocotb run with ``STEREO_WAVES=1`` leaves, beside its dump in its own test directory, a save file that GTKWave
 opens on the whole run, listing only signals the dump holds, with the state machines and enumerations by name and
-markers at the events the run names (sim/cocotb_waves.py), on Verilator (VCD) and Icarus (FST).
+markers at the events the run names (sim/waves/cocotb.py), on Verilator (VCD) and Icarus (FST).
 
 The run: the I2C sequencer bench (tests/cocotb/cocotb_i2c.py), its short fault test (the MT9D112 NACKs a data
 byte, the CH7301C bus has no device: both sequencers end in ERROR). What the save file asks for is checked against
-the dump as GTKWave loads it and as :func:`sim.gtkw.changes` reads it.
+the dump as GTKWave loads it and as :func:`sim.waves.gtkw.changes` reads it.
 """
 
 import re
@@ -13,10 +13,10 @@ import pytest
 
 from hdl.i2c_init import InitSequencer
 from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE
-from sim import gtkwave_check
-from sim.cocotb_runner import run_cocotb, verilator_dump_names
-from sim.gtkw import I2C_FILTER, changes, read_vars
-from sim.i2c_bus import I2CBench, i2c_bench_waves
+from sim.waves import gtkwave_check
+from sim.runners.cocotb import run_cocotb, verilator_dump_names
+from sim.waves.gtkw import I2C_FILTER, changes, read_vars
+from sim.models.i2c.bus import I2CBench, i2c_bench_waves
 
 needs_gtkwave = pytest.mark.skipif(not gtkwave_check.available(), reason="gtkwave or xvfb-run not installed")
 PARAMS = dict(clk_hz=1_000_000, retries=3, retry_delay_us=200, timeout_us=2000)

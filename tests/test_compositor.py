@@ -8,7 +8,6 @@ disparity region, too): every frame must show the settings loaded at its own fra
 """
 
 import dataclasses
-import sys
 
 import numpy as np
 import pytest
@@ -21,18 +20,21 @@ from golden.disparity import composite_frame
 from golden.stereo_pair import load_default_pair
 from hdl.compositor import LATENCY, Compositor
 from hdl.stereo_display import StereoDisplay, check_engine_keeps_up
-from hdl.export import export_verilog
+from board.export import export_verilog
 from hdl.forward import forward
 from hdl.frame_buffer import FrameBuffer
-from hdl.params import (BACKGROUND_RGB, CEA_1080P60, CLOCKS, DEPTH, NO_DATA_RGB, SENSOR, SMALL_DEPTH, SMALL_SENSOR,
-                        SMALL_TIMING, Box, ColourBar, DisplayLayout, Region, TextBox, VideoTiming)
+from spec.board import CLOCKS
+from spec.depth import DEPTH, SMALL_DEPTH
+from spec.display import BACKGROUND_RGB, NO_DATA_RGB
+from spec.layout import Box, ColourBar, DisplayLayout, Region, TextBox
+from spec.sensor import SENSOR, SMALL_SENSOR
+from spec.video import CEA_1080P60, SMALL_TIMING, VideoTiming
 from hdl.switches import SWITCH_VALUE_BITS, SettingsSignature, SwitchControl
 from hdl.video_bus import TimingSignature, VideoSignature
-from sim.amaranth_sim import simulate
-from sim.cocotb_runner import COCOTB_TEST_DIR, run_cocotb
+from sim.runners.amaranth import simulate
+from sim.runners.cocotb import run_cocotb
 
-sys.path.insert(0, str(COCOTB_TEST_DIR))
-from cocotb_compositor import check_stream, reference_raster, switch_events  # noqa: E402
+from cocotb_compositor import check_stream, reference_raster, switch_events  # tests/cocotb (conftest.py)
 
 
 CLOCK_PS = round(1e12 / CLOCKS.PIXEL_HZ)
@@ -73,8 +75,8 @@ class DisplayHarness(wiring.Component):
             "timing": In(TimingSignature),
             "sw": In(SWITCH_VALUE_BITS + 1),
             "load_addr": In(geometry.addr_bits),
-            "load_left": In(geometry.gray_bits),
-            "load_right": In(geometry.gray_bits),
+            "load_left": In(geometry.grey_bits),
+            "load_right": In(geometry.grey_bits),
             "load_en": In(1),
             "video": Out(VideoSignature),
             "video_word": Out(27),
@@ -110,7 +112,7 @@ def expected_frames(left, right, settings, timing, geometry, layout=None, config
 # --- the golden compositor on its own ----------------------------------------------------------------------
 
 def test_golden_layout_1080p():
-    """Spot checks of the golden frame against the layout the spec fixes (hdl.params.DisplayLayout docstring)
+    """Spot checks of the golden frame against the layout the spec fixes (spec.layout.DisplayLayout docstring)
     and the depth display's colours worked by hand."""
     left = np.full((300, 400), 31, dtype=np.uint8)
     right = np.zeros((300, 400), dtype=np.uint8)

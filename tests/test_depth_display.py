@@ -12,12 +12,15 @@ from hypothesis import given, settings, strategies as st
 from golden.depth_display import centre_readout, depth_colours, draw_text, distance_m
 from hdl.centre_distance import CentreDistance, SETTLE_CLOCKS, readout_table
 from hdl.colour_map import colour_table
-from hdl.params import (BACKGROUND_RGB, CEA_1080P60, DEPTH, DEPTH_COLOURS, DEPTH_INVALID_RGB, FONT, FONT_CELL,
-                        SENSOR, SMALL_DEPTH, SMALL_SENSOR, SMALL_TIMING, TEXT_RGB, DepthConfig, DisplayLayout,
-                        TextBox, VideoTiming, disparity_of_distance)
+from spec.depth import DEPTH, SMALL_DEPTH, DepthConfig
+from spec.display import BACKGROUND_RGB, DEPTH_COLOURS, DEPTH_INVALID_RGB, TEXT_RGB
+from spec.font import FONT, FONT_CELL
+from spec.layout import DisplayLayout, TextBox
+from spec.sensor import SENSOR, SMALL_SENSOR, disparity_of_distance
+from spec.video import CEA_1080P60, SMALL_TIMING, VideoTiming
 from hdl.read_arbiter import ReadArbiter
 from hdl.text_layer import FONT_ORDER, LATENCY as TEXT_LATENCY, TextLayer, char_codes
-from sim.amaranth_sim import simulate
+from sim.runners.amaranth import simulate
 
 CONFIGS = [DEPTH, SMALL_DEPTH, DepthConfig(disparities=128, lanes=16)]
 
@@ -76,7 +79,7 @@ def test_centre_median_golden_by_hand():
 
 def test_font_and_layout_facts():
     """Every glyph is 5 x 7 of '#' and '.'; the label texts, the readout and the layout's numbers
-    (hdl.params.DisplayLayout docstring)."""
+    (spec.layout.DisplayLayout docstring)."""
     for char, glyph in FONT.items():
         assert len(glyph) == FONT_CELL[1] - 1 and all(len(r) == FONT_CELL[0] - 1 and set(r) <= {"#", "."}
                                                          for r in glyph), char

@@ -1,7 +1,7 @@
 """The depth engine (hdl/depth/) against the golden model (golden/depth.py), bit for bit.
 
 Amaranth simulator, small preset (16 x 12 buffers, D = 8, 4 lanes): random pairs under several read-grant
-patterns, a synthetic scene with known disparities (sim/scene.py), uniform images, a shift beyond D, texture
+patterns, a synthetic scene with known disparities (sim/testbed/scene.py), uniform images, a shift beyond D, texture
 only in the border columns, a restart in the middle of a map, a reader that falls behind. cocotb on Verilator
 and Icarus: a small random pair in the default run; at full size (400 x 300, D = 64) the bundled motorcycle
 buffers and a random pair (slow).
@@ -16,12 +16,13 @@ from amaranth.hdl import Fragment
 from golden.depth import depth_map
 from golden.depth_display import engine_left
 from hdl.depth import DepthEngine, schedule
-from hdl.params import DEPTH, SENSOR, SMALL_DEPTH, SMALL_SENSOR, DepthConfig
-from sim.amaranth_sim import simulate
-from hdl.export import export_verilog
-from sim.cocotb_runner import run_cocotb
-from sim.cocotb_waves import RunWaves
-from sim.depth_harness import DepthHarness
+from spec.depth import DEPTH, SMALL_DEPTH, DepthConfig
+from spec.sensor import SENSOR, SMALL_SENSOR
+from sim.runners.amaranth import simulate
+from board.export import export_verilog
+from sim.runners.cocotb import run_cocotb
+from sim.waves.cocotb import RunWaves
+from sim.harness.depth import DepthHarness
 
 G, CFG = SMALL_SENSOR, SMALL_DEPTH
 SHAPE = (G.buf_height, G.buf_width)
@@ -128,10 +129,10 @@ def test_edge_cases_bit_exact():
 
 
 def test_synthetic_scene_bit_exact():
-    """A textured card before a textured wall (sim/scene.py), at buffer disparities 5 and 2: the RTL equals the
+    """A textured card before a textured wall (sim/testbed/scene.py), at buffer disparities 5 and 2: the RTL equals the
     golden map, and the golden map finds the card's disparity."""
     from golden.capture import capture_frame
-    from sim.scene import PlanarObject, StereoRig, object_footprint, render_pair
+    from sim.testbed.scene import PlanarObject, StereoRig, object_footprint, render_pair
 
     rig = StereoRig(width=G.width, height=G.height)
     z = [rig.focal_px * rig.baseline_m / (G.scale * d) for d in (2, 5)]

@@ -8,7 +8,7 @@ from hypothesis import strategies as st
 from scipy.ndimage import median_filter
 
 from golden.depth import census, depth_map, matching_cost, median3x3, path_cost, path_step, winner
-from hdl.params import DEPTH, DepthConfig
+from spec.depth import DEPTH, DepthConfig
 
 SMALL = DepthConfig(disparities=4, census_width=3, census_height=3, lanes=2)
 

@@ -1,4 +1,4 @@
-"""Reading the depth display back from a frame (sim/depth_panel.py): the codes, the readout, the figures, the
+"""Reading the depth display back from a frame (sim/analysis/depth_panel.py): the codes, the readout, the figures, the
 ground-truth files of ``stereodepth run --ground-truth``."""
 
 import numpy as np
@@ -9,9 +9,12 @@ from golden.depth_display import depth_colours
 from golden.disparity import composite_frame
 from golden.stereo_pair import load_default_pair
 from golden.capture import capture_frame
-from hdl.params import CEA_1080P60, DEPTH, SENSOR, DisplayLayout
-from sim.depth_panel import depth_summary, read_depth_panel, read_text, read_truth
-from sim.errors import UserError
+from spec.depth import DEPTH
+from spec.layout import DisplayLayout
+from spec.sensor import SENSOR
+from spec.video import CEA_1080P60
+from sim.analysis.depth_panel import depth_summary, read_depth_panel, read_text, read_truth
+from sim import UserError
 
 LAYOUT = DisplayLayout.centred(CEA_1080P60, SENSOR, DEPTH)
 

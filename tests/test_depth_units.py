@@ -11,8 +11,8 @@ from golden.depth import path_cost, path_step, winner
 from hdl.depth.matching_cost import MatchingCost
 from hdl.depth.sgm_path import SgmPath
 from hdl.depth.winner import Winner
-from hdl.params import DEPTH, SMALL_DEPTH, DepthConfig
-from sim.amaranth_sim import simulate
+from spec.depth import DEPTH, SMALL_DEPTH, DepthConfig
+from sim.runners.amaranth import simulate
 
 WIDTH = 16
 CONFIGS = [SMALL_DEPTH, DepthConfig(disparities=6, lanes=2, p1=7, p2=200)]

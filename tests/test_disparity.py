@@ -9,9 +9,11 @@ from hypothesis import strategies as st
 
 from golden.disparity import difference_levels
 from hdl.disparity import LATENCY, SETTLE_CLOCKS, DisparitySubtractor
-from hdl.params import CLOCKS, DIFF_THRESHOLDS, SensorGeometry
-from sim.amaranth_sim import simulate
-from sim.subtractor_bench import set_pixel, subtractor_bench
+from spec.board import CLOCKS
+from spec.display import DIFF_THRESHOLDS
+from spec.sensor import SensorGeometry
+from sim.runners.amaranth import simulate
+from sim.harness.subtractor import set_pixel, subtractor_bench
 
 
 
@@ -110,7 +112,7 @@ def test_real_pair_raster_default_thresholds():
     """The bundled pair captured at 16 x 12, raster order at one pixel per clock, several settings."""
     from golden.capture import capture_frame
     from golden.stereo_pair import load_default_pair
-    from hdl.params import SMALL_SENSOR
+    from spec.sensor import SMALL_SENSOR
     left_rgb, right_rgb = load_default_pair(SMALL_SENSOR.width, SMALL_SENSOR.height)
     left, right = capture_frame(left_rgb, SMALL_SENSOR), capture_frame(right_rgb, SMALL_SENSOR)
     for disparity, rectification in [(0, 0), (3, 1), (15, 11), (16, 0), (0, 12), (22, 3), (127, 127)]:
@@ -161,8 +163,8 @@ def test_disparity_pictures(tmp_path):
     from golden.capture import capture_frame
     from golden.disparity import composite_frame
     from golden.stereo_pair import load_default_pair
-    from hdl.params import SENSOR
-    from sim.disparity_pictures import crop_offset, find_settings, write_pictures
+    from spec.sensor import SENSOR
+    from sim.analysis.disparity_pictures import crop_offset, find_settings, write_pictures
 
     assert crop_offset() == 37                       # golden/data/README.md: columns 37..703
     paths = write_pictures(tmp_path)

@@ -19,15 +19,15 @@ import pytest
 from golden.video import pattern_frame
 from hdl.ch7301c_output import CH7301COutput
 from hdl.display_path import DISPLAY_PATH_LATENCY, DisplayPath
-from hdl.params import CEA_1080P60, SMALL_TIMING
+from spec.video import CEA_1080P60, SMALL_TIMING
 from hdl.pattern_gen import PatternGenerator
-from sim.amaranth_sim import simulate
-from hdl.export import amaranth_verilog as export_verilog
-from sim.display import run_display_cocotb
-from sim.hdmi_sink import HdmiSink, amaranth_sink_testbench
+from sim.runners.amaranth import simulate
+from board.export import amaranth_verilog as export_verilog
+from sim.harness.display import run_display_cocotb
+from sim.models.ch7301c.hdmi_sink import HdmiSink, amaranth_sink_testbench
 
 #: CEA-861 1920x1080p60 (VIC 16) intervals as the sink and the edge timer measure them, written out here
-#: from the standard (not taken from hdl.params).
+#: from the standard (not taken from spec).
 CEA_1080P60_INTERVALS = {
     "line_clocks": 2200, "hsync_clocks": 44, "h_front": 88, "h_back": 148, "active_pixels": 1920,
     "vsync_clocks": 5 * 2200, "vsync_lines": 5, "v_front": 4, "v_back": 36, "active_lines": 1080,
@@ -197,11 +197,11 @@ endmodule
 def test_board_variant_carries_the_same_frames_on_icarus(tmp_path):
     models = tmp_path / "virtex5_models.v"
     models.write_text(VIRTEX5_MODELS)
-    from sim.cocotb_runner import run_cocotb
+    from sim.runners.cocotb import run_cocotb
     params = {"timing": dataclasses.asdict(SMALL_TIMING), "sink_clocks": 2 * SMALL_TIMING.clocks_per_frame + 8,
               "min_frames": 2}
     test_dir = run_cocotb(DisplayPath(SMALL_TIMING, ddr="virtex5"), name="display_path_board",
-                          test_module="cocotb_display", simulator="icarus", params=params, extra_sources=[models])
+                          test_module="sim.harness.display_cocotb", simulator="icarus", params=params, extra_sources=[models])
     assert_ran(test_dir, {"sink_frames"})
 
 

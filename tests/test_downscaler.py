@@ -1,7 +1,7 @@
 """Grey + Downscaler against the golden model: random images, geometries and pixel timing (hypothesis), and
 the grey conversion checked for all 2^16 RGB565 inputs against the golden ``//``.
 
-Golden side: golden.capture.downscale (keep (scale*i, scale*j)), gray5 ((R5 + (G6 >> 1) + B5) // 3) and
+Golden side: golden.capture.downscale (keep (scale*i, scale*j)), grey5 ((R5 + (G6 >> 1) + B5) // 3) and
 the address rule A = y * buf_width + x, with pixels past the configured size (reported with a saturated
 column/row, as the assembler and row counter do) discarded.
 """
@@ -16,12 +16,12 @@ from amaranth.sim import Simulator
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from golden.capture import downscale, gray5
+from golden.capture import downscale, grey5
 from hdl.downscaler import Downscaler
 from hdl.grey import Grey
 from hdl.forward import forward
 from hdl.frame_buffer import FrameBufferWriteSignature
-from hdl.params import SensorGeometry
+from spec.sensor import SensorGeometry
 
 
 class GreyDownscale(wiring.Component):
@@ -82,7 +82,7 @@ def run_downscaler(geometry, image, extra_cols, extra_rows, idle):
 
 
 def golden_writes(geometry, image):
-    kept = gray5(downscale(image, geometry))
+    kept = grey5(downscale(image, geometry))
     return [(y * geometry.buf_width + x, int(kept[y, x]))
             for y in range(geometry.buf_height) for x in range(geometry.buf_width)]
 
@@ -133,6 +133,6 @@ def test_grey_all_rgb565_inputs():
     sim = Simulator(m)
     sim.add_testbench(bench)
     sim.run()
-    expected = gray5(np.arange(1 << 16, dtype=np.uint16)).astype(np.int64)
+    expected = grey5(np.arange(1 << 16, dtype=np.uint16)).astype(np.int64)
     np.testing.assert_array_equal(got, expected)
     assert expected.max() == 31 and expected.min() == 0

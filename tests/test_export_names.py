@@ -1,4 +1,4 @@
-"""The one flattening rule (hdl.export.flat_name, Amaranth's own) against the exported Verilog: a top's ports are
+"""The one flattening rule (board.export.flat_name, Amaranth's own) against the exported Verilog: a top's ports are
 exactly ``flat_ports(top)`` (plus the clocks and resets Amaranth adds for domains it creates), and no signal of
 the top module is a ``$N`` duplicate of a port (wrappers forward their children's interfaces instead of copying
 them: hdl/forward.py). The whole-system tops have no ``$N`` name at all (forwarded signals take the top's names,
@@ -10,10 +10,10 @@ import re
 import pytest
 
 from hdl.display_path import DisplayPath
-from hdl.export import amaranth_verilog, flat_name, flat_ports
-from hdl.params import SMALL_TIMING
-from sim.system.cocotb_routes import InSimulator, PythonModels
-from sim.system.setup import SystemSetup
+from board.export import amaranth_verilog, flat_name, flat_ports
+from spec.video import SMALL_TIMING
+from sim.harness.system.cocotb_routes import InSimulator, PythonModels
+from sim.harness.system.setup import SystemSetup
 
 
 def top_ports(verilog, name):

@@ -1,4 +1,4 @@
-"""The GTKWave translate filters of the state machines (sim/fsm_filters.py) name every state the RTL can be in.
+"""The GTKWave translate filters of the state machines (sim/waves/fsm_filters.py) name every state the RTL can be in.
 
 Checked against two things the generator does not read: the state names written in the RTL's source (``m.State``
 arguments, read with ``ast``; the I2C master's ``release_scl(prefix, ...)`` and ``hold_then_release(prefix, ...)``
@@ -17,8 +17,9 @@ from hdl.depth import DepthEngine
 from hdl.i2c_init import ErrorCode, InitSequencer
 from hdl.i2c_master import Cmd, I2CMaster
 from hdl.init_tables import MT9D112_TABLE
-from hdl.params import SMALL_DEPTH, SMALL_SENSOR
-from sim.fsm_filters import enum_states, state_machines, write_filter
+from spec.depth import SMALL_DEPTH
+from spec.sensor import SMALL_SENSOR
+from sim.waves.fsm_filters import enum_states, state_machines, write_filter
 
 HDL = Path(__file__).resolve().parent.parent / "hdl"
 
@@ -96,8 +97,8 @@ def test_every_state_is_named_as_in_the_rtl(block, source, state):
 
 def test_the_system_has_seven_state_machines_with_filters(tmp_path):
     """Three init sequencers, their three I2C masters and the depth engine's pass control."""
-    from sim.system.bench import SystemBench
-    from sim.system.setup import SystemSetup
+    from sim.harness.system.bench import SystemBench
+    from sim.harness.system.setup import SystemSetup
     fsms = state_machines(SystemBench(**SystemSetup.small().system_kwargs()))
     paths = sorted(".".join(f.path[-2:]) for f in fsms)
     assert paths == sorted([f"system.init_{b}" for b in ("cam_a", "cam_b", "dvi")]

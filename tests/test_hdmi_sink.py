@@ -13,8 +13,8 @@ import pytest
 from PIL import Image
 
 from golden.video import pattern_frame
-from hdl.params import SMALL_TIMING, CEA_1080P60
-from sim.hdmi_sink import HdmiSink, SinkError
+from spec.video import SMALL_TIMING, CEA_1080P60
+from sim.models.ch7301c.hdmi_sink import HdmiSink, SinkError
 
 T = SMALL_TIMING
 

@@ -13,12 +13,15 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 from golden.part_config import ch7301c_expected, mt9d112_expected
 from hdl.i2c_init import ErrorCode, InitSequencer
 from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE, InitTable, Poll, Wait, Write, CH7301C
-from sim.amaranth_sim import simulate
-from sim.cocotb_runner import run_cocotb
-from sim.i2c_bus import I2CBench, amaranth_target_process, i2c_bench_waves
-from sim.i2c_devices import CH7301CModel, I2CBusMonitor, MT9D112Model, RegisterTarget
-from sim.i2c_table import expected_prefix, expected_reads, expected_writes
-from sim.sensor_config import expected_sensor_config
+from sim.runners.amaranth import simulate
+from sim.runners.cocotb import run_cocotb
+from sim.models.i2c.bus import I2CBench, amaranth_target_process, i2c_bench_waves
+from sim.models.ch7301c.target import CH7301CModel
+from sim.models.i2c.monitor import I2CBusMonitor
+from sim.models.i2c.target import RegisterTarget
+from sim.models.mt9d112.target import MT9D112Model
+from sim.models.i2c.table import expected_prefix, expected_reads, expected_writes
+from sim.models.mt9d112.config import expected_sensor_config
 
 CLK = 1_000_000
 FAST = dict(retries=2, retry_delay_us=50, timeout_us=500)

@@ -1,5 +1,5 @@
 """I2CMaster in the Amaranth simulator, driven command by command, against the project's register-file models
-(sim/i2c_devices.py) and a bus monitor that measures the UM10204 intervals from the two lines.
+(sim/models/{i2c,mt9d112,ch7301c}/) and a bus monitor that measures the UM10204 intervals from the two lines.
 
 The sync clock runs at 2 MHz here (the RTL derives every bus interval from ``clk_hz``; the bus still runs at
 100 kHz in real time), so a byte costs ~210 clocks; the board's 100 MHz configuration is checked for timing
@@ -8,11 +8,14 @@ on Verilator and Icarus (tests/test_i2c_init.py) and by :class:`I2CTiming` below
 
 import pytest
 
-from sim.amaranth_sim import simulate
+from sim.runners.amaranth import simulate
 
 from hdl.i2c_master import Cmd, I2CMaster, I2CTiming
-from sim.i2c_bus import I2CBench, amaranth_target_process
-from sim.i2c_devices import CH7301CModel, I2CBusMonitor, I2CTarget, MT9D112Model
+from sim.models.i2c.bus import I2CBench, amaranth_target_process
+from sim.models.ch7301c.target import CH7301CModel
+from sim.models.i2c.monitor import I2CBusMonitor
+from sim.models.i2c.target import I2CTarget
+from sim.models.mt9d112.target import MT9D112Model
 
 CLK = 2_000_000
 TIMEOUT_US = 400

@@ -1,6 +1,6 @@
-"""The I2C transaction filter GTKWave runs (sim/i2c_wave_filter.py) decodes a recorded bus as two independent
-references do: the project's bus monitor (sim.i2c_devices.I2CBusMonitor, fed by the simulation itself, not by
-the VCD) transaction by transaction, and the table's write list (sim/i2c_table.py) write by write.
+"""The I2C transaction filter GTKWave runs (sim/waves/i2c_filter.py) decodes a recorded bus as two independent
+references do: the project's bus monitor (sim.models.i2c.monitor.I2CBusMonitor, fed by the simulation itself, not by
+the VCD) transaction by transaction, and the table's write list (sim/models/i2c/table.py) write by write.
 
 Buses: the MT9D112 table (writes, and polls that read back after a repeated START) against the register-file
 model; the CH7301C table against a target that NACKs its address (the sequencer retries, then gives up). The
@@ -12,14 +12,16 @@ import pytest
 
 from hdl.i2c_init import InitSequencer
 from hdl.init_tables import CH7301C_TABLE
-from sim import gtkwave_check
-from sim.amaranth_sim import simulate
-from sim.gtkw import I2CBus, Waves, changes, read_vars
-from sim.i2c_bus import I2CBench, amaranth_target_process
-from sim.i2c_devices import I2CBusMonitor, I2CTarget, MT9D112Model
-from sim.i2c_table import expected_writes
-from sim.i2c_wave_filter import decode, transaction_text, transactions
-from sim.system.setup import SystemSetup
+from sim.waves import gtkwave_check
+from sim.runners.amaranth import simulate
+from sim.waves.gtkw import I2CBus, Waves, changes, read_vars
+from sim.models.i2c.bus import I2CBench, amaranth_target_process
+from sim.models.i2c.monitor import I2CBusMonitor
+from sim.models.i2c.target import I2CTarget
+from sim.models.mt9d112.target import MT9D112Model
+from sim.models.i2c.table import expected_writes
+from sim.waves.i2c_filter import decode, transaction_text, transactions
+from sim.harness.system.setup import SystemSetup
 
 CLK = 1_000_000
 
@@ -44,7 +46,7 @@ def bus_levels(vcd):
     """``[(time, scl, sda)]`` of the bus in the VCD, read straight from the dump."""
     variables, _ = read_vars(vcd)
     ids = {line: next(v.ident for v in variables if v.scope[-1] == "bus_bus" and v.name.split("__")[-1] == line)
-           for line in ("scl", "sda")}      # the lines of the bus resolver (sim.i2c_bus.OpenDrainBus)
+           for line in ("scl", "sda")}      # the lines of the bus resolver (sim.models.i2c.bus.OpenDrainBus)
     seen, _ = changes(vcd, set(ids.values()))
     level, out = {"scl": True, "sda": True}, []
     merged = sorted([(t, "scl", v) for t, v in seen[ids["scl"]]] + [(t, "sda", v) for t, v in seen[ids["sda"]]])

@@ -1,35 +1,54 @@
 """The layering docs/architecture.md promises, read from the source: every import of every module (module level and
-inside functions) is checked against what its package may import.
+inside functions) is checked against what its layer may import, and product code names no module under tests/.
 
-* ``hdl/`` (gateware) imports nothing from ``sim/``, ``golden/``, ``stereodepth/``, ``bench/``;
-* ``golden/`` (the specification in NumPy) imports ``hdl.params`` (constants) and nothing else of ``hdl/``, and
-  nothing from ``sim/``, ``stereodepth/``, ``bench/``;
-* ``sim/`` (models and harnesses) imports nothing from ``stereodepth/`` or ``bench/``;
-* ``bench/`` imports nothing from ``stereodepth/`` (it sits on ``sim/`` and ``golden/``).
-
-A violation is reported as ``file:line: <module> imports <name>``.
+A module's layer is the longest entry of :data:`MAY_IMPORT` its name starts with (``sim.models.i2c.bus`` is in
+``sim.models``; ``board.simulation.top`` in ``board.simulation``). An import is allowed when the imported name
+starts with one of the layer's entries, or with the layer itself. A violation is reported as
+``file:line: <module> imports <name>``.
 """
 
 import ast
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-PACKAGES = ("hdl", "sim", "golden", "stereodepth", "bench")
+PRODUCT = ("spec", "hdl", "golden", "board", "sim", "stereodepth", "bench")
+PROJECT = PRODUCT + ("tests",)
 
-#: package -> the project packages it must not import (a name or a dotted prefix).
-FORBIDDEN = {
-    "hdl": ("sim", "golden", "stereodepth", "bench"),
-    "golden": ("hdl", "sim", "stereodepth", "bench"),
-    "sim": ("stereodepth", "bench"),
-    "bench": ("stereodepth",),
+#: layer -> the project modules it may import (a name or a dotted prefix), beside its own.
+MAY_IMPORT = {
+    "spec": (),
+    "hdl": ("spec",),
+    "golden": ("spec",),
+    "board": ("spec", "hdl"),
+    "board.simulation": ("spec", "hdl", "golden", "board", "sim"),
+    "sim": ("spec", "hdl", "golden"),                       # the package itself: its exceptions
+    "sim.waves": ("spec", "hdl", "sim.__init__"),
+    "sim.models": ("spec", "hdl", "golden", "sim.__init__", "sim.waves"),
+    "sim.replay": ("spec", "hdl", "sim.__init__", "sim.models"),
+    "sim.runners": ("spec", "hdl", "board", "sim.__init__", "sim.waves"),
+    # the Verilator route's C++ testbench is the whole system's: its build makes the system bench
+    "sim.runners.verilator": ("spec", "hdl", "board", "sim.__init__", "sim.waves", "sim.runners",
+                              "sim.models", "sim.replay", "sim.harness.system"),
+    "sim.harness": ("spec", "hdl", "golden", "board", "sim.__init__", "sim.models", "sim.replay", "sim.runners",
+                    "sim.waves"),
+    "sim.formal": ("spec", "hdl", "sim.__init__", "sim.runners"),
+    "sim.analysis": ("spec", "golden", "sim.__init__", "sim.models", "sim.testbed.scene"),
+    "sim.testbed": ("spec", "hdl", "golden", "sim.__init__", "sim.runners", "sim.harness", "sim.analysis"),
+    "bench": ("spec", "hdl", "golden", "board", "sim"),
+    "stereodepth": ("spec", "hdl", "golden", "board", "sim"),
+    "tests": PRODUCT,
 }
-#: package -> imports allowed although they fall under a forbidden prefix.
-ALLOWED = {"golden": ("hdl.params",)}
 
 
 def _module_name(path, root):
     parts = path.relative_to(root).with_suffix("").parts
     return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def layer_of(module):
+    """The layer of ``module``: the longest :data:`MAY_IMPORT` key it starts with."""
+    keys = [k for k in MAY_IMPORT if module == k or module.startswith(k + ".")]
+    return max(keys, key=len) if keys else None
 
 
 def imported_names(path, root=ROOT):
@@ -53,20 +72,51 @@ def imported_names(path, root=ROOT):
 
 
 def _matches(name, prefix):
+    if prefix.endswith(".__init__"):            # the package's own names only (``from sim import UserError``)
+        package = prefix[:-len(".__init__")]
+        return name == package or (name.startswith(package + ".") and name.count(".") == package.count(".") + 1
+                                   and name.rpartition(".")[2][:1].isupper())
     return name == prefix or name.startswith(prefix + ".")
 
 
 def violations(root=ROOT):
-    """Every forbidden import under ``root``, as ``file:line: <module> imports <name>`` lines."""
+    """Every import under ``root`` its layer does not allow, as ``file:line: <module> imports <name>`` lines."""
     found = []
-    for package, forbidden in FORBIDDEN.items():
-        for path in sorted((root / package).rglob("*.py")):
+    for top in PROJECT:
+        for path in sorted((root / top).rglob("*.py")):
             module = _module_name(path, root)
+            layer = layer_of(module)
+            allowed = (layer,) + MAY_IMPORT[layer]
             for line, name in imported_names(path, root):
-                if any(_matches(name, a) for a in ALLOWED.get(package, ())):
+                if name.split(".")[0] not in PROJECT:
                     continue
-                if any(_matches(name, f) for f in forbidden):
+                if not any(_matches(name, a) for a in allowed):
                     found.append(f"{path.relative_to(root)}:{line}: {module} imports {name}")
+    return found
+
+
+def _docstring_nodes(tree):
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)):
+            body = node.body
+            if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant):
+                yield body[0].value
+
+
+def names_of_tests(root=ROOT):
+    """Product code that names a module under tests/ in a string it uses (not a docstring): ``"tests/..."``,
+    ``"tests.x"``, a ``cocotb_*`` test module of tests/cocotb, as ``file:line: "<string>"``."""
+    cocotb_tests = {p.stem for p in (root / "tests" / "cocotb").glob("*.py")}
+    found = []
+    for top in PRODUCT:
+        for path in sorted((root / top).rglob("*.py")):
+            tree = ast.parse(path.read_text(), filename=str(path))
+            docs = {id(n) for n in _docstring_nodes(tree)}
+            for node in ast.walk(tree):
+                if isinstance(node, ast.Constant) and isinstance(node.value, str) and id(node) not in docs:
+                    text = node.value
+                    if ("tests/" in text or text.startswith("tests.") or text in cocotb_tests) and "\n" not in text:
+                        found.append(f"{path.relative_to(root)}:{node.lineno}: {text!r}")
     return found
 
 
@@ -75,20 +125,43 @@ def test_every_package_imports_only_what_its_layer_may():
     assert not found, "layering violations:\n" + "\n".join(found)
 
 
+def test_product_code_names_no_module_under_tests():
+    found = names_of_tests()
+    assert not found, "product code naming tests/:\n" + "\n".join(found)
+
+
+def test_every_product_module_has_a_layer():
+    for top in PRODUCT:
+        for path in (ROOT / top).rglob("*.py"):
+            assert layer_of(_module_name(path, ROOT)) is not None, path
+
+
 def test_the_check_sees_function_local_and_relative_imports(tmp_path):
-    """The checker itself: a function-local import, a relative import and a ``from golden import x`` are found;
-    ``hdl.params`` stays allowed for golden/."""
-    (tmp_path / "hdl").mkdir()
-    (tmp_path / "golden").mkdir()
-    (tmp_path / "hdl" / "__init__.py").write_text("")
-    (tmp_path / "hdl" / "block.py").write_text("def f():\n    from sim.mt9d112 import MT9D112\n")
-    (tmp_path / "golden" / "__init__.py").write_text("")
+    """The checker itself: a function-local import, a relative import, ``from golden import x``, a model importing
+    a harness and a board module importing the simulation are found; spec stays allowed for golden/."""
+    for d in ("hdl", "golden", "sim/models", "board"):
+        (tmp_path / d).mkdir(parents=True)
+        (tmp_path / d / "__init__.py").write_text("")
+    (tmp_path / "hdl" / "block.py").write_text("def f():\n    from sim.models.mt9d112.sensor import MT9D112\n")
     (tmp_path / "golden" / "model.py").write_text(
-        "from hdl.params import SENSOR\nfrom hdl import params\nfrom hdl.capture import CameraCapture\n"
+        "from spec.sensor import SENSOR\nfrom spec import sensor\nfrom hdl.capture import CameraCapture\n"
         "from .. import sim\n")
+    (tmp_path / "sim" / "models" / "part.py").write_text("from sim.harness.display import run\nfrom sim import UserError\n")
+    (tmp_path / "board" / "flow.py").write_text("from sim.runners.cocotb import run_cocotb\nfrom hdl.system import X\n")
     found = violations(tmp_path)
     assert found == [
-        "hdl/block.py:2: hdl.block imports sim.mt9d112.MT9D112",
+        "hdl/block.py:2: hdl.block imports sim.models.mt9d112.sensor.MT9D112",
         "golden/model.py:3: golden.model imports hdl.capture.CameraCapture",
         "golden/model.py:4: golden.model imports sim",
+        "board/flow.py:1: board.flow imports sim.runners.cocotb.run_cocotb",
+        "sim/models/part.py:1: sim.models.part imports sim.harness.display.run",
     ]
+
+
+def test_the_check_sees_a_product_string_naming_tests(tmp_path):
+    (tmp_path / "tests" / "cocotb").mkdir(parents=True)
+    (tmp_path / "tests" / "cocotb" / "cocotb_i2c.py").write_text("")
+    (tmp_path / "sim").mkdir()
+    (tmp_path / "sim" / "runner.py").write_text(
+        '"""Docstrings may cite tests/test_x.py."""\nTESTS = "tests/cocotb"\nMODULE = "cocotb_i2c"\n')
+    assert names_of_tests(tmp_path) == ["sim/runner.py:2: 'tests/cocotb'", "sim/runner.py:3: 'cocotb_i2c'"]

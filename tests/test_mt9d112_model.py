@@ -1,4 +1,4 @@
-"""The MT9D112 sensor model (sim/mt9d112.py) against the spec: stream structure and blanking, RGB565 packing
+"""The MT9D112 sensor model (sim/models/mt9d112/sensor.py) against the spec: stream structure and blanking, RGB565 packing
 by truncation and byte order, configuration (nothing until RGB565 is configured, through the
 ``sensor_config()`` hook), fault injection, inputs, and the Amaranth driver's clocking.
 
@@ -15,10 +15,10 @@ from PIL import Image
 from golden.capture import capture_frame, capture_stream, rgb888_to_rgb565
 from golden.stereo_pair import load_default_pair
 from hdl.capture import CameraSignature
-from hdl.params import SMALL_SENSOR, SensorGeometry
-from sim.mt9d112 import (MT9D112, SENSOR_TIMING, SMALL_SENSOR_TIMING, Faults, SensorTiming, drive_amaranth,
+from spec.sensor import SMALL_SENSOR, SensorGeometry
+from sim.models.mt9d112.sensor import (MT9D112, SENSOR_TIMING, SMALL_SENSOR_TIMING, Faults, SensorTiming, drive_amaranth,
                          fault_cases, image_to_bytes)
-from sim.sensor_config import SensorConfig
+from sim.models.mt9d112.config import SensorConfig
 from stereodepth.errors import UserError
 
 G = SensorGeometry(width=16, height=8)

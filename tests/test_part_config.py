@@ -1,6 +1,6 @@
 """The init tables checked against the parts, not against themselves.
 
-Each table is played into its register-file model (``sim.i2c_table.play_table``: the writes, waits and reads a
+Each table is played into its register-file model (``sim.models.i2c.table.play_table``: the writes, waits and reads a
 sequencer makes, without the bus), which decodes every register and variable into the part's state; that state
 is compared field by field with the golden state (``golden.part_config``, written from the references, never
 from the tables). Then the tables are mutated -- one value at a time, each a change that alters what the part
@@ -16,12 +16,14 @@ import pytest
 
 from golden.part_config import ch7301c_expected, mt9d112_expected
 from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE, InitTable, Write, ch7301c_table
-from hdl.params import SMALL_SENSOR, VideoTiming
-from sim.ch7301c_registers import CH7301CRegisters
-from sim.i2c_devices import CH7301CModel, MT9D112Model
-from sim.i2c_table import play_table
-from sim.mt9d112_registers import KNOWN_REGISTERS, KNOWN_VARIABLES, RegisterError
-from sim.system.tables import mt9d112_table
+from spec.sensor import SMALL_SENSOR
+from spec.video import VideoTiming
+from sim.models.ch7301c.registers import CH7301CRegisters
+from sim.models.ch7301c.target import CH7301CModel
+from sim.models.mt9d112.target import MT9D112Model
+from sim.models.i2c.table import play_table
+from sim.models.mt9d112.registers import KNOWN_REGISTERS, KNOWN_VARIABLES, RegisterError
+from sim.harness.system.tables import mt9d112_table
 
 
 def differences(state, expected):

@@ -10,7 +10,8 @@ from amaranth.hdl import Fragment, UnusedElaboratable
 from hdl.capture import CameraCapture
 from hdl.capture_path import CapturePath
 from hdl.ch7301c_output import CH7301COutput
-from hdl.clocking import ClockPlan, GenesysClocking, SimClocking
+from board.clocking import ClockPlan, GenesysClocking
+from sim.models.clocking import SimClocking
 from hdl.compositor import Compositor
 from hdl.stereo_display import StereoDisplay
 from hdl.text_layer import TextLayer
@@ -20,26 +21,29 @@ from hdl.grey import Grey
 from hdl.i2c_init import InitSequencer
 from hdl.i2c_master import I2CMaster
 from hdl.init_tables import CH7301C_TABLE
-from hdl.params import SMALL_DEPTH, SMALL_SENSOR, SMALL_TIMING, SensorGeometry, TextBox, VideoTiming
+from spec.depth import SMALL_DEPTH
+from spec.layout import TextBox
+from spec.sensor import SMALL_SENSOR, SensorGeometry
+from spec.video import SMALL_TIMING, VideoTiming
 from hdl.pattern_gen import PatternGenerator
 from hdl.rgb565_assembler import RGB565Assembler
 from hdl.switches import SwitchControl
 from hdl.sync_gen import SyncGenerator
 from hdl.system import StereoDepthSystem
-from hdl.top import GenesysTop
-from sim.sensor_replay import SensorReplay
-from sim.system.bench import SystemBench
-from sim.system.rom_bench import RomReplayBench
-from sim.system.verilog_bench import VerilogReplayBench
+from board.top import GenesysTop
+from sim.replay.sensor import SensorReplay
+from sim.harness.system.bench import SystemBench
+from sim.harness.system.rom_bench import RomReplayBench
+from sim.harness.system.verilog_bench import VerilogReplayBench
 
 SMALL = dict(geometry=SMALL_SENSOR, timing=SMALL_TIMING, depth=SMALL_DEPTH)
 
 REJECTED = {
-    "CameraCapture": lambda: CameraCapture(SensorGeometry(width=64, height=48, gray_bits=6)),
+    "CameraCapture": lambda: CameraCapture(SensorGeometry(width=64, height=48, grey_bits=6)),
     "Downscaler": lambda: Downscaler(SensorGeometry(width=30, height=30, scale=3)),
     "RGB565Assembler": lambda: RGB565Assembler(0),
     "CapturePath": lambda: CapturePath(SMALL_SENSOR, cameras=("a", "a")),
-    "CapturePath, a camera's capture": lambda: CapturePath(SensorGeometry(width=64, height=48, gray_bits=6)),
+    "CapturePath, a camera's capture": lambda: CapturePath(SensorGeometry(width=64, height=48, grey_bits=6)),
     "Compositor": lambda: Compositor(SMALL_TIMING, SMALL_SENSOR, config=SMALL_DEPTH, thresholds=(2, 4),
                                      level_grey=(0, 255)),
     "StereoDisplay": lambda: StereoDisplay(SMALL_TIMING, SMALL_SENSOR, config=SMALL_DEPTH, out_rows=1),

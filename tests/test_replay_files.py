@@ -1,12 +1,12 @@
-"""The in-simulator route's file formats: the replay ROM files written from a sensor stream (sim/sensor_replay.py)
-and the pin recorder's lines read back (sim/pin_recorder.py), checked against formats written independently here."""
+"""The in-simulator route's file formats: the replay ROM files written from a sensor stream (sim/replay/sensor.py)
+and the pin recorder's lines read back (sim/replay/pins.py), checked against formats written independently here."""
 
 import numpy as np
 import pytest
 
-from sim.mt9d112 import SensorStream
-from sim.pin_recorder import read_recording
-from sim.sensor_replay import pack_stream, write_hex
+from sim.models.mt9d112.sensor import SensorStream
+from sim.replay.pins import read_recording
+from sim.replay.sensor import pack_stream, write_hex
 
 
 def _stream(n, seed=0):

@@ -1,4 +1,4 @@
-"""The test-bed renderer (sim/scene.py) against forward pinhole projection, the thesis's field-of-view
+"""The test-bed renderer (sim/testbed/scene.py) against forward pinhole projection, the thesis's field-of-view
 numbers, a finer-pitch render (anti-aliasing) and the object sizes."""
 
 import math
@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from sim.scene import (BACKGROUND_RGB, CIRCLE_DIAMETER_M, RECTANGLE_SIZE_M, TRIANGLE_SIZE_M, VMODCAM,
+from sim.testbed.scene import (BACKGROUND_RGB, CIRCLE_DIAMETER_M, RECTANGLE_SIZE_M, TRIANGLE_SIZE_M, VMODCAM,
                        PlanarObject, StereoRig, circle, make_object, object_footprint, rectangle, render_pair,
                        render_view, triangle)
 

@@ -1,7 +1,7 @@
-"""SensorReplay (sim/sensor_replay.py) and the Amaranth replay route's gated clocks (sim/system/rom_bench.py).
+"""SensorReplay (sim/replay/sensor.py) and the Amaranth replay route's gated clocks (sim/harness/system/rom_bench.py).
 
 The replay's pins are sampled at every rising edge of its PCLK domain and compared with the sensor model's stream
-(the arrays ``sim.mt9d112.MT9D112.frame`` returns, not the packed ROM words), across the wrap to sample 0.
+(the arrays ``sim.models.mt9d112.sensor.MT9D112.frame`` returns, not the packed ROM words), across the wrap to sample 0.
 """
 
 import numpy as np
@@ -12,10 +12,10 @@ from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 from amaranth.sim import Simulator
 
-from hdl.params import SMALL_SENSOR
-from sim.mt9d112 import MT9D112, SMALL_SENSOR_TIMING, SensorStream
-from sim.sensor_config import SensorConfig
-from sim.sensor_replay import SensorReplay, pack_stream
+from spec.sensor import SMALL_SENSOR
+from sim.models.mt9d112.sensor import MT9D112, SMALL_SENSOR_TIMING, SensorStream
+from sim.models.mt9d112.config import SensorConfig
+from sim.replay.sensor import SensorReplay, pack_stream
 
 
 def _small_stream(seed=0):
@@ -76,7 +76,7 @@ def test_gated_clock_runs_its_domain_only_while_enabled():
     """RomReplayBench's clock gate: a counter in the gated domain stands still while the gate is closed and
     counts one per free-clock period while it is open; enable_clock opens and closes it while the free clock is
     low, so no pulse is lost or cut short (the counts are exact)."""
-    from sim.system.rom_bench import ClockGate, enable_clock
+    from sim.harness.system.rom_bench import ClockGate, enable_clock
 
     class Bench(wiring.Component):
         count: Out(16)

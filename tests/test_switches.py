@@ -6,9 +6,9 @@ import pytest
 from amaranth import Module
 from amaranth.hdl import DomainRenamer
 
-from hdl.params import CLOCKS
+from spec.board import CLOCKS
 from hdl.switches import SWITCH_VALUE_BITS, SwitchControl
-from sim.amaranth_sim import simulate
+from sim.runners.amaranth import simulate
 
 SW7 = 1 << SWITCH_VALUE_BITS
 

@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from hdl.params import CEA_1080P60, SMALL_TIMING, VideoTiming
+from spec.video import CEA_1080P60, SMALL_TIMING, VideoTiming
 from hdl.sync_gen import SyncGenerator
-from sim.amaranth_sim import simulate
+from sim.runners.amaranth import simulate
 
 FIELDS = ("x", "y", "de", "hsync", "vsync", "frame_start")
 

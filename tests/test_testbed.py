@@ -1,4 +1,4 @@
-"""The test-bed experiment (sim/testbed.py, stereodepth testbed): found disparities against table 4.2 and
+"""The test-bed experiment (sim/testbed/experiment.py, stereodepth testbed): found disparities against table 4.2 and
 the 1/16-downscale bound, the rectification search, the near field of thesis 4.6.6, the fits of the observed
 column re-simulated, the RTL against the golden sweep, and the command line."""
 
@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from sim import testbed as tb
-from hdl.params import DIFF_THRESHOLDS
-from sim.scene import VMODCAM, StereoRig, make_object, object_footprint, rectangle
+from sim.testbed import experiment as tb
+from spec.display import DIFF_THRESHOLDS
+from sim.testbed.scene import VMODCAM, StereoRig, make_object, object_footprint, rectangle
 from stereodepth.cli import main
 
 

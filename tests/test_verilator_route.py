@@ -1,4 +1,4 @@
-"""The Verilator route with its testbench in C++ (sim/system/run_verilator.py, sim/verilator/) on the small preset:
+"""The Verilator route with its testbench in C++ (sim/harness/system/run_verilator.py, sim/runners/verilator/) on the small preset:
 the frame, the models' checks, the raw reference model replaying the run exactly, and each check shown to bite."""
 
 import numpy as np
@@ -6,14 +6,14 @@ import pytest
 
 from golden.stereo_pair import load_default_pair
 from hdl.init_tables import CH7301C_TABLE
-from sim.hdmi_sink import HdmiSink
-from sim.i2c_table import expected_writes
-from sim.system.result import SystemTimeout
-from sim.system.run_verilator import VerilatorRun, camera_pins, run_verilator
-from sim.system.setup import SystemSetup
-from sim.verilator.harness import STIMULUS
-from sim.verilator.raw import run_raw
-from sim.verilator.recording import decode, feed_sink
+from sim.models.ch7301c.hdmi_sink import HdmiSink
+from sim.models.i2c.table import expected_writes
+from sim.harness.system.result import SystemTimeout
+from sim.harness.system.run_verilator import VerilatorRun, camera_pins, run_verilator
+from sim.harness.system.setup import SystemSetup
+from sim.runners.verilator.harness import STIMULUS
+from sim.runners.verilator.raw import run_raw
+from sim.runners.verilator.recording import decode, feed_sink
 
 DISPARITY, RECTIFICATION = 2, 1
 
@@ -95,11 +95,11 @@ def test_replay_check_bites():
 def test_configuration_guard(monkeypatch):
     """The streams are made before the run for the expected configuration: an I2C init that configures a sensor
     otherwise stops the run (here the stream is made for G byte first)."""
-    import sim.system.run_verilator
-    from sim.sensor_config import SensorConfig
+    import sim.harness.system.run_verilator
+    from sim.models.mt9d112.config import SensorConfig
     setup = _setup()
     g = setup.geometry
-    monkeypatch.setattr(sim.system.run_verilator, "expected_sensor_config",
+    monkeypatch.setattr(sim.harness.system.run_verilator, "expected_sensor_config",
                         lambda geometry: SensorConfig(width=g.width, height=g.height, rgb565=True,
                                                       r_byte_first=False))
     with pytest.raises(SystemTimeout, match="camera a: the I2C init configured .*r_byte_first=True"):
@@ -139,20 +139,21 @@ def test_build_key_follows_the_design(tmp_path, monkeypatch):
     a design parameter or one changed line in a module the bench imports changes it; a module it does not import
     (the golden models, the runners) is not part of the key."""
     import shutil
-    from sim.verilator import build
+    from sim.runners.verilator import build
     key = build.cache_key(_setup())
     assert build.cache_key(SystemSetup.small(disparity=DISPARITY + 1, rectification=0)) == key
     assert build.cache_key(SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION, lock_cycles=17)) != key
-    files = [f.relative_to(build.REPO_ROOT) for f in build._design_files()]
-    names = {str(f) for f in files}
-    assert {"hdl/system.py", "hdl/i2c_master.py", "hdl/export.py", "sim/i2c_bus.py", "sim/system/bench.py"} <= names
-    assert not any(n.startswith(("golden/", "sim/system/run_", "sim/verilator/", "bench/")) for n in names)
-    for f in files:                                 # the same sources elsewhere: the same key
-        (tmp_path / f).parent.mkdir(parents=True, exist_ok=True)
-        shutil.copy(build.REPO_ROOT / f, tmp_path / f)
-    monkeypatch.setattr(build, "REPO_ROOT", tmp_path)
+    files = dict(build._design_files())
+    assert {"hdl.system", "hdl.i2c_master", "board.export", "sim.models.i2c.bus", "sim.harness.system.bench"} <= set(files)
+    assert not any(n.startswith(("golden", "sim.harness.system.run_", "sim.runners.verilator", "bench")) for n in files)
+    copies = {}
+    for name, path in files.items():                # the same sources elsewhere: the same key
+        copies[name] = tmp_path / path.name.replace(".py", f".{name}.py")
+        shutil.copy(path, copies[name])
+    found = build._module_file
+    monkeypatch.setattr(build, "_module_file", lambda n: (n, copies[n]) if n in copies else found(n))
     assert build.cache_key(_setup()) == key
-    source = tmp_path / "hdl" / "i2c_master.py"
+    source = copies["hdl.i2c_master"]
     source.write_text(source.read_text() + "\n# a change\n")
     assert build.cache_key(_setup()) != key
 
@@ -170,13 +171,13 @@ def test_harness_refuses_values_that_do_not_fit(base):
 
 
 def test_the_testbench_has_every_port_of_the_exported_top(base):
-    """The C++ testbench's ports are the exported top's (its signature flattened by hdl.export.flat_name, the
+    """The C++ testbench's ports are the exported top's (its signature flattened by board.export.flat_name, the
     design elaborated apart), with the same directions and widths: nothing in the route lists them, so a top that
     gains ports needs no change here."""
     from amaranth.hdl import Fragment, Shape
     from amaranth.lib import wiring
-    from hdl.export import flat_name
-    from sim.system.bench import SystemBench
+    from board.export import flat_name
+    from sim.harness.system.bench import SystemBench
     run = base.figures["run"]
     design = SystemBench(clock_ports=True, **_setup().system_kwargs())
     want = {flat_name(path): (member.flow == wiring.In, Shape.cast(member.shape).width)
@@ -191,7 +192,7 @@ def test_the_testbench_has_every_port_of_the_exported_top(base):
 def test_ports_inc_leaves_ports_wider_than_64_bits_alone():
     """ports.inc from a Verilated header: member, Verilog name (escapes undone), direction and width of each port;
     a port wider than 64 bits gets a WIDE line (the testbench leaves it alone) rather than failing the build."""
-    from sim.verilator.build import ports_inc, wide_ports
+    from sim.runners.verilator.build import ports_inc, wide_ports
     header = ("    VL_IN8(&clocks___05Fsync,0,0);\n    VL_OUT16(&ch7301c___05Fdata,11,0);\n"
               "    VL_IN64(&word,63,0);\n    VL_OUTW(&depth___05Frow,127,0,4);\n")
     text = ports_inc(header)

@@ -1,6 +1,6 @@
 """The automatic depth engine (docs/depth.md): census, semi-global aggregation, winner-take-all, median."""
 
-from .engine import DepthEngine, Schedule, schedule
-from .ports import ResultReadSignature, SharedReadSignature
+from hdl.depth.engine import DepthEngine, Schedule, schedule
+from hdl.depth.ports import ResultReadSignature, SharedReadSignature
 
 __all__ = ["DepthEngine", "Schedule", "schedule", "SharedReadSignature", "ResultReadSignature"]

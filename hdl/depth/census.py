@@ -4,7 +4,8 @@ from amaranth import Cat, Module, Signal
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
-from ..params import DEPTH, SENSOR
+from spec.depth import DEPTH
+from spec.sensor import SENSOR
 
 __all__ = ["CensusWindow"]
 
@@ -17,12 +18,12 @@ class CensusWindow(wiring.Component):
     ----------
     config : DepthConfig
         Window size.
-    gray_bits : int
+    grey_bits : int
         Pixel width.
 
     Ports
     -----
-    column : In(ArrayLayout(gray_bits, census_height))
+    column : In(ArrayLayout(grey_bits, census_height))
         The next column, top row first; it enters on the right of the window when ``shift`` is high.
     shift : In(1)
     census : Out(census_bits)
@@ -32,11 +33,11 @@ class CensusWindow(wiring.Component):
     Clock domain: ``sync``. Latency: ``census`` reflects a shifted column 2 clocks after ``shift``.
     """
 
-    def __init__(self, config=DEPTH, gray_bits=SENSOR.gray_bits):
+    def __init__(self, config=DEPTH, grey_bits=SENSOR.grey_bits):
         self.config = config
-        self.gray_bits = gray_bits
+        self.grey_bits = grey_bits
         super().__init__({
-            "column": In(data.ArrayLayout(gray_bits, config.census_height)),
+            "column": In(data.ArrayLayout(grey_bits, config.census_height)),
             "shift": In(1),
             "census": Out(config.census_bits),
         })
@@ -44,7 +45,7 @@ class CensusWindow(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         cfg = self.config
-        window = [Signal(data.ArrayLayout(self.gray_bits, cfg.census_height), name=f"window_col{i}")
+        window = [Signal(data.ArrayLayout(self.grey_bits, cfg.census_height), name=f"window_col{i}")
                   for i in range(cfg.census_width)]                 # window[0] = leftmost column
         with m.If(self.shift):
             for i in range(cfg.census_width - 1):

@@ -7,15 +7,16 @@ from amaranth.lib import data, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
-from ..params import DEPTH, SENSOR
-from ..rejecting import rejecting
-from .census import CensusWindow
-from .matching_cost import MatchingCost
-from .median import Median3x3
-from .ports import ResultReadSignature, SharedReadSignature, token_layout
-from .row_ring import RowRing
-from .sgm_path import SgmPath
-from .winner import Winner
+from spec.depth import DEPTH
+from spec.sensor import SENSOR
+from hdl.rejecting import rejecting
+from hdl.depth.census import CensusWindow
+from hdl.depth.matching_cost import MatchingCost
+from hdl.depth.median import Median3x3
+from hdl.depth.ports import ResultReadSignature, SharedReadSignature, token_layout
+from hdl.depth.row_ring import RowRing
+from hdl.depth.sgm_path import SgmPath
+from hdl.depth.winner import Winner
 
 __all__ = ["DepthEngine", "Schedule", "schedule"]
 
@@ -251,7 +252,7 @@ class DepthEngine(wiring.Component):
                     m.d.sync += moving.eq(1)
                 with m.If(moving & (col != w - 1)):
                     m.d.sync += col.eq(col + 1)
-            census = CensusWindow(cfg, self.geometry.gray_bits)
+            census = CensusWindow(cfg, self.geometry.grey_bits)
             m.submodules[f"{name}_census"] = census
             for j in range(cfg.census_height):
                 m.d.comb += census.column[j].eq(ring.column[ring_row[j]])
@@ -353,7 +354,7 @@ class DepthEngine(wiring.Component):
         m.submodules.results = results = Memory(shape=unsigned(cfg.code_bits), depth=self.out_rows * w, init=[])
         write, read = results.write_port(), results.read_port()
         # Pass 0 has no output row: a median output then is the last of an abandoned map, still in the pipeline
-        # after ``start``, and is dropped (tests/formal/harness_depth.py).
+        # after ``start``, and is dropped (sim/formal/harnesses/depth.py).
         m.d.comb += [
             write.addr.eq(out_base + median.out_x),
             write.data.eq(median.out_code),

@@ -4,7 +4,7 @@ from amaranth import Module, Mux, Signal
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
-from ..params import DEPTH
+from spec.depth import DEPTH
 
 __all__ = ["MatchingCost"]
 

@@ -5,7 +5,8 @@ from amaranth.lib import data, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
-from ..params import DEPTH, SENSOR
+from spec.depth import DEPTH
+from spec.sensor import SENSOR
 
 __all__ = ["Median3x3"]
 

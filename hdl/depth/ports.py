@@ -10,9 +10,9 @@ word in the next clock. ``ResultReadSignature`` is the reader's view of the engi
 from amaranth.lib import data
 from amaranth.lib.wiring import In, Out
 
-from ..frame_buffer import FrameBufferReadSignature
-from ..params import SENSOR
-from ..signature import ParametricSignature
+from hdl.frame_buffer import FrameBufferReadSignature
+from spec.sensor import SENSOR
+from hdl.signature import ParametricSignature
 
 __all__ = ["SharedReadSignature", "ResultReadSignature", "token_layout"]
 

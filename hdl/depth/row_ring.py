@@ -5,9 +5,9 @@ from amaranth.lib import data, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
-from ..params import SENSOR
-from ..rejecting import rejecting
-from .ports import SharedReadSignature
+from spec.sensor import SENSOR
+from hdl.rejecting import rejecting
+from hdl.depth.ports import SharedReadSignature
 
 __all__ = ["RowRing"]
 
@@ -44,7 +44,7 @@ class RowRing(wiring.Component):
     fetch_row, fetch_col : Out
         The ring row and column the next read requests (``buffer.port.addr`` = min(fetch_row + row_offset,
         height - 1) * width + fetch_col, counted); for the formal harness's invariant
-        (tests/formal/harness_depth.py).
+        (sim/formal/harnesses/depth.py).
 
     Clock domain: ``sync`` (the parent renames it to ``pix``).
 
@@ -60,7 +60,7 @@ class RowRing(wiring.Component):
                 raise ValueError(f"ring rows must be a power of two >= 2, not {rows}")
         self.geometry = geometry
         self.rows = rows
-        self.lane_bits = max(8, geometry.gray_bits)
+        self.lane_bits = max(8, geometry.grey_bits)
         super().__init__({
             "buffer": Out(SharedReadSignature(geometry)),
             "start": In(1),
@@ -68,7 +68,7 @@ class RowRing(wiring.Component):
             "limit": In(range(geometry.buf_height + 1)),
             "fetched": Out(range(geometry.buf_height + 1)),
             "col": In(range(geometry.buf_width)),
-            "column": Out(data.ArrayLayout(geometry.gray_bits, rows)),
+            "column": Out(data.ArrayLayout(geometry.grey_bits, rows)),
             "fetch_row": Out(range(geometry.buf_height + 1)),
             "fetch_col": Out(range(geometry.buf_width)),
         })
@@ -81,7 +81,7 @@ class RowRing(wiring.Component):
         read = ring.read_port()
         m.d.comb += read.addr.eq(self.col)
         for k in range(rows):
-            m.d.comb += self.column[k].eq(read.data[k * lane:k * lane + g.gray_bits])
+            m.d.comb += self.column[k].eq(read.data[k * lane:k * lane + g.grey_bits])
 
         issued = self.fetch_row                      # row being requested
         slot = Signal(range(rows))                   # issued mod rows
@@ -124,7 +124,7 @@ class RowRing(wiring.Component):
 
         m.d.comb += [
             write.addr.eq(pending_col),
-            write.data.eq(Cat(self.buffer.port.data, C(0, lane - g.gray_bits)).replicate(rows)),
+            write.data.eq(Cat(self.buffer.port.data, C(0, lane - g.grey_bits)).replicate(rows)),
             write.en.eq(Mux(pending, C(1, rows) << pending_slot, 0)),
         ]
         with m.If(pending & pending_last):

@@ -4,10 +4,11 @@ from amaranth import Module, Mux, Signal, signed
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
-from ..params import DEPTH, SENSOR
-from ..rejecting import rejecting
-from .ports import token_layout
-from .reduce import min_tree, tree_stages
+from spec.depth import DEPTH
+from spec.sensor import SENSOR
+from hdl.rejecting import rejecting
+from hdl.depth.ports import token_layout
+from hdl.depth.reduce import min_tree, tree_stages
 
 __all__ = ["SgmPath"]
 

@@ -4,9 +4,10 @@ from amaranth import C, Module, Mux, Signal
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
-from ..params import DEPTH, SENSOR
-from .ports import token_layout
-from .reduce import min_tree, tree_stages
+from spec.depth import DEPTH
+from spec.sensor import SENSOR
+from hdl.depth.ports import token_layout
+from hdl.depth.reduce import min_tree, tree_stages
 
 __all__ = ["Winner"]
 

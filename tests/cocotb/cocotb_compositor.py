@@ -103,8 +103,8 @@ if cocotb is not None:
     @cocotb.test()
     async def composited_frames_match_golden(dut):
         """Load the pair, run the raster with mid-frame switch changes, compare every frame bit for bit."""
-        from hdl.params import VideoTiming
-        from sim.cocotb_runner import test_params
+        from spec.video import VideoTiming
+        from sim.runners.cocotb import test_params
 
         p = test_params()
         timing = VideoTiming(**p["timing"])

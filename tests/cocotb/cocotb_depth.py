@@ -1,4 +1,4 @@
-"""cocotb test of the depth engine in its harness (sim/depth_harness.py; driven by tests/test_depth_engine.py).
+"""cocotb test of the depth engine in its harness (sim/harness/depth.py; driven by tests/test_depth_engine.py).
 
 The pair is written into the two frame buffers through the harness's load port, one word of each per clock;
 then one ``start`` pulse, and the test waits (as a simulator trigger, no Python per clock) until the harness has
@@ -24,7 +24,7 @@ if cocotb is not None:
     @cocotb.test()
     async def depth_map_matches_golden(dut):
         """Load the pair, compute one map, read it back, compare with the golden map."""
-        from sim.cocotb_runner import test_params
+        from sim.runners.cocotb import test_params
 
         p = test_params()
         data = np.load(p["data"])

@@ -11,7 +11,7 @@ sequencer on bus ``cam`` and the CH7301C sequencer on bus ``dvi``, bus at 100 kH
   the expected list, stretched low times on the bus); the MT9D112 bus has SDA held low (STUCK after the
   timeout and the nine-pulse bus clear, no write).
 
-Parameters (``sim.cocotb_runner.test_params()``): ``clk_hz`` (the clock the design was built for) and its
+Parameters (``sim.runners.cocotb.test_params()``): ``clk_hz`` (the clock the design was built for) and its
 ``timeout_us`` and ``retries``, for the checks.
 """
 
@@ -21,12 +21,14 @@ from cocotb.simtime import get_sim_time
 from cocotb.triggers import ClockCycles, Timer
 from cocotbext.i2c import I2cDevice
 
-from sim.i2c_table import expected_prefix, expected_writes
+from sim.models.i2c.table import expected_prefix, expected_writes
 from hdl.i2c_init import ErrorCode
 from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE, Wait, Write
-from sim.cocotb_runner import TopPorts, test_params
-from sim.i2c_bus import start_cocotb_monitor, start_cocotb_targets
-from sim.i2c_devices import CH7301CModel, I2CBusMonitor, MT9D112Model
+from sim.runners.cocotb import TopPorts, test_params
+from sim.models.i2c.bus import start_cocotb_monitor, start_cocotb_targets
+from sim.models.ch7301c.target import CH7301CModel
+from sim.models.i2c.monitor import I2CBusMonitor
+from sim.models.mt9d112.target import MT9D112Model
 
 PARAMS = test_params()
 CLK_PERIOD_NS = 1e9 / PARAMS.get("clk_hz", 100_000_000)

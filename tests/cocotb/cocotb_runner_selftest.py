@@ -4,13 +4,13 @@ import cocotb
 from cocotb.clock import Clock
 from cocotb.triggers import ClockCycles, ReadOnly, RisingEdge
 
-from sim.cocotb_runner import test_params
+from sim.runners.cocotb import test_params
 
 
 @cocotb.test()
 async def combinational_outputs_defined_at_time_zero(dut):
     """Before any clock edge, an output computed in an ``always @*`` block already has its value (Icarus needs
-    sim.cocotb_runner.icarus_time_zero_fix for this)."""
+    sim.runners.cocotb.icarus_time_zero_fix for this)."""
     from cocotb.triggers import Timer
     await Timer(1, unit="ns")
     assert dut.at_zero.value.is_resolvable, f"at_zero is {dut.at_zero.value} at time 0"

@@ -1,4 +1,4 @@
-// Test bench top for the primitive models in sim/xilinx (tests/test_xilinx_models.py, cocotb_xilinx.py).
+// Test bench top for the primitive models in board/simulation/xilinx (tests/test_xilinx_models.py, cocotb_xilinx.py).
 // Every primitive is instantiated with the attributes under test; cocotb drives the inputs and measures.
 module xilinx_models_tb (
   // IO buffers

@@ -1,1 +1,2 @@
-"""Formal harnesses of the blocks (``sim.formal``): ``python -m tests.formal`` (``make formal``) proves them all."""
+"""Tests of the formal harnesses (``sim.formal.harnesses``): every proof passes (``test_proofs.py``) and every
+harness catches its mutant (``test_bites.py``)."""

@@ -14,21 +14,21 @@ from hdl.frame_buffer import FrameBuffer
 from hdl.i2c_init import InitSequencer
 from hdl.i2c_master import I2CMaster
 from hdl.init_tables import InitTable
-from hdl.params import SensorGeometry
+from spec.sensor import SensorGeometry
 from hdl.read_arbiter import ReadArbiter
 from hdl.sync_gen import SyncGenerator
-from sim.formal import check
+from sim.formal.runner import check
 
-from .harness_capture import CaptureHarness
-from .harness_compositor import CompositorHarness
-from .harness_depth import DepthEngineHarness
-from .harness_depth_codes import WinnerCodesHarness
-from .harness_disparity import DisparityHarness
-from .harness_frame_buffer import FrameBufferHarness
-from .harness_i2c import BUS_HZ, CLK_HZ, TIMEOUT_US, I2CMasterHarness, InitSequencerHarness
-from .harness_read_arbiter import ReadArbiterHarness
-from .harness_switches import SwitchControlHarness
-from .harness_sync_gen import SyncGeneratorHarness
+from sim.formal.harnesses.capture import CaptureHarness
+from sim.formal.harnesses.compositor import CompositorHarness
+from sim.formal.harnesses.depth import DepthEngineHarness
+from sim.formal.harnesses.depth_codes import WinnerCodesHarness
+from sim.formal.harnesses.disparity import DisparityHarness
+from sim.formal.harnesses.frame_buffer import FrameBufferHarness
+from sim.formal.harnesses.i2c import BUS_HZ, CLK_HZ, TIMEOUT_US, I2CMasterHarness, InitSequencerHarness
+from sim.formal.harnesses.read_arbiter import ReadArbiterHarness
+from sim.formal.harnesses.switches import SwitchControlHarness
+from sim.formal.harnesses.sync_gen import SyncGeneratorHarness
 
 
 class SyncPulseTooWide(SyncGeneratorHarness):

@@ -8,10 +8,10 @@ Needs ``yosys-abc`` (Debian package ``yosys``, which ``make test`` installs thro
 
 import pytest
 
-from sim.formal import check
-from sim.formal_engines import abc_path
+from sim.formal.runner import check
+from sim.formal.engines import abc_path
 
-from .registry import DEFAULT, SLOW
+from sim.formal.registry import DEFAULT, SLOW
 
 
 def _check(factory):

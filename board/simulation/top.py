@@ -1,0 +1,135 @@
+"""The board's Verilog simulated as built: the ``top.v`` of ``stereodepth verilog`` under cocotb, with the Virtex-5
+primitive models (``board/simulation/xilinx``), the sensor models on the camera pins, the I2C models on the three buses and the
+HDMI sink on the CH7301C pins.
+
+* :func:`board_verilog`: the ``top.v`` text the board build writes (``board.top.board_plan``, the same path as
+  ``stereodepth verilog``), for the board's sizes or a :class:`sim.harness.system.setup.SystemSetup`'s small ones.
+  ``--pins`` (a pin file) changes only the UCF: the Verilog is the same with the placeholder pins
+  (tests/test_board_top.py checks it).
+* :data:`TESTBENCH`: the Verilog around ``top``: the I2C buses as wired-AND lines with pull-ups (the Genesys and
+  VmodCAM have them) that the Python models pull low, and the board's pins as ports named by the flat-name rule
+  (``board.export.flat_name``): ``cam_a__data``, ``ch7301c__xclk_p``, ``bus__dvi__scl``, ``panel__leds``, ...,
+  which the cocotb test reads through ``sim.runners.cocotb.TopPorts``. The top's pads are ``inout``, so the bus is
+  resolved here as on the board (``pullup`` plus the models' pull-downs), not by ``sim.models.i2c.bus.OpenDrainBus``,
+  which resolves a design's ``o``/``oe`` pins; the driver that runs the models on it is the same
+  (``sim.models.i2c.bus.start_cocotb_targets``).
+* :func:`run_board_cocotb`: build and run ``board/simulation/top_cocotb.py`` on Icarus or Verilator; returns the
+  status the test wrote (frame, golden frame, measured clocks, LED and part states).
+
+Clocks: the 100 MHz oscillator is the only clock the test bench drives; MCLK, the pixel clock and XCLK come out
+of the DCM/PLL models, PCLK from the sensor models. Time unit 1 ns, precision 1 ps (the models need them).
+"""
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from sim.runners.cocotb import run_cocotb
+from board.simulation.xilinx import VERILATOR_ARGS, model_sources
+
+__all__ = ["board_setup", "board_top_kwargs", "board_verilog", "TESTBENCH", "BoardResult", "run_board_cocotb"]
+
+TESTBENCH = """
+module board_tb (
+  input clk100, input btn_rst_n, input [7:0] panel__sw, output [7:0] panel__leds,
+  input cam_a__pclk, input [7:0] cam_a__data, input cam_a__lv, input cam_a__fv,
+  output cam_a__mclk, output cam_a__rst_n, output cam_a__pwdn,
+  input cam_b__pclk, input [7:0] cam_b__data, input cam_b__lv, input cam_b__fv,
+  output cam_b__mclk, output cam_b__rst_n, output cam_b__pwdn,
+  output cam_vdden,
+  output [11:0] ch7301c__data, output ch7301c__hsync, output ch7301c__vsync, output ch7301c__de,
+  output ch7301c__xclk_p, output ch7301c__xclk_n, output ch7301c__reset_n,
+  // I2C: each line is pulled up (the Genesys and the VmodCAM have the resistors); the models pull it low
+  // through bus__<b>__ext_*_low; bus__<b>__scl / __sda read the line
+  input bus__cam_a__ext_scl_low, input bus__cam_a__ext_sda_low, output bus__cam_a__scl, output bus__cam_a__sda,
+  input bus__cam_b__ext_scl_low, input bus__cam_b__ext_sda_low, output bus__cam_b__scl, output bus__cam_b__sda,
+  input bus__dvi__ext_scl_low, input bus__dvi__ext_sda_low, output bus__dvi__scl, output bus__dvi__sda
+);
+  wire cam_a_scl, cam_a_sda, cam_b_scl, cam_b_sda, dvi_scl, dvi_sda;
+  pullup (cam_a_scl); pullup (cam_a_sda); pullup (cam_b_scl); pullup (cam_b_sda); pullup (dvi_scl); pullup (dvi_sda);
+  assign cam_a_scl = bus__cam_a__ext_scl_low ? 1'b0 : 1'bz;
+  assign cam_a_sda = bus__cam_a__ext_sda_low ? 1'b0 : 1'bz;
+  assign cam_b_scl = bus__cam_b__ext_scl_low ? 1'b0 : 1'bz;
+  assign cam_b_sda = bus__cam_b__ext_sda_low ? 1'b0 : 1'bz;
+  assign dvi_scl = bus__dvi__ext_scl_low ? 1'b0 : 1'bz;
+  assign dvi_sda = bus__dvi__ext_sda_low ? 1'b0 : 1'bz;
+  assign bus__cam_a__scl = cam_a_scl; assign bus__cam_a__sda = cam_a_sda;
+  assign bus__cam_b__scl = cam_b_scl; assign bus__cam_b__sda = cam_b_sda;
+  assign bus__dvi__scl = dvi_scl; assign bus__dvi__sda = dvi_sda;
+
+  top top_i (
+    .clk100_0__io(clk100), .rst_0__io(btn_rst_n), .switches_0__io(panel__sw), .leds_0__io(panel__leds),
+    .vmodcam_0__pclk__io(cam_a__pclk), .vmodcam_0__d__io(cam_a__data), .vmodcam_0__lv__io(cam_a__lv),
+    .vmodcam_0__fv__io(cam_a__fv), .vmodcam_0__mclk__io(cam_a__mclk), .vmodcam_0__rst_n__io(cam_a__rst_n),
+    .vmodcam_0__pwdn__io(cam_a__pwdn), .vmodcam_0__scl__io(cam_a_scl), .vmodcam_0__sda__io(cam_a_sda),
+    .vmodcam_1__pclk__io(cam_b__pclk), .vmodcam_1__d__io(cam_b__data), .vmodcam_1__lv__io(cam_b__lv),
+    .vmodcam_1__fv__io(cam_b__fv), .vmodcam_1__mclk__io(cam_b__mclk), .vmodcam_1__rst_n__io(cam_b__rst_n),
+    .vmodcam_1__pwdn__io(cam_b__pwdn), .vmodcam_1__scl__io(cam_b_scl), .vmodcam_1__sda__io(cam_b_sda),
+    .vmodcam_vdden_0__io(cam_vdden),
+    .ch7301c_0__d__io(ch7301c__data), .ch7301c_0__h__io(ch7301c__hsync), .ch7301c_0__v__io(ch7301c__vsync),
+    .ch7301c_0__de__io(ch7301c__de), .ch7301c_0__xclk_p__io(ch7301c__xclk_p),
+    .ch7301c_0__xclk_n__io(ch7301c__xclk_n), .ch7301c_0__reset_n__io(ch7301c__reset_n),
+    .ch7301c_i2c_0__scl__io(dvi_scl), .ch7301c_i2c_0__sda__io(dvi_sda)
+  );
+endmodule
+"""
+
+#: Verilator switches for the board: the primitive models' (timing, time base) and Amaranth's Verilog style.
+BOARD_VERILATOR_ARGS = (*VERILATOR_ARGS, "-Wno-CASEINCOMPLETE")
+#: The Xilinx primitives the board top instantiates.
+BOARD_PRIMITIVES = ("IBUF", "OBUFT", "IOBUF", "BUFG", "FDCE", "FDPE", "ODDR", "DCM_ADV", "PLL_ADV")
+
+
+def board_setup(spec):
+    """The :class:`~sim.harness.system.setup.SystemSetup` of ``spec``: ``{"preset": "small"|"full", **fields}``, every
+    field (``quick_table`` included) overriding the preset's."""
+    from dataclasses import replace
+    from sim.harness.system.setup import SystemSetup
+    spec = dict(spec)
+    preset = spec.pop("preset", "small")
+    return replace(SystemSetup.small() if preset == "small" else SystemSetup.full(), **spec)
+
+
+def board_top_kwargs(setup, *, heartbeat_log2=1, cam_heartbeat_log2=1, **overrides):
+    """``GenesysTop`` keyword arguments for a :class:`~sim.harness.system.setup.SystemSetup` (its sizes, layout, tables,
+    I2C rate); the LED blink rates are shortened so a short simulation sees them toggle."""
+    kw = setup.system_kwargs()
+    kw.pop("lock_cycles")                     # SimSystem's lock model: the board has the DCM/PLL
+    kw.update(heartbeat_log2=heartbeat_log2, cam_heartbeat_log2=cam_heartbeat_log2, **overrides)
+    return kw
+
+
+def board_verilog(top_kwargs=None, *, pins=None):
+    """The ``top.v`` the board build writes for ``board.top.GenesysTop(**top_kwargs)`` (``None``: the board's
+    defaults, i.e. exactly ``make verilog``'s file)."""
+    from board.top import board_plan
+    _, plan = board_plan(pins=pins, files=(".v",), **(top_kwargs or {}))
+    return plan.files["top.v"]
+
+
+@dataclass
+class BoardResult:
+    status: dict
+    frame: np.ndarray
+    golden: np.ndarray
+    test_dir: Path
+
+
+def run_board_cocotb(verilog, simulator, *, spec, out_dir, left=None, right=None, waves=None, **params):
+    """Run ``board/simulation/top_cocotb.py`` on ``verilog`` (a :func:`board_verilog` text) with the models of
+    ``spec`` (``{"preset": "small"|"full", **SystemSetup fields}``, as ``sim.harness.system.run_cocotb``). Extra ``params``
+    go to the test (``dvi_version_id``: what the CH7301C model's 0x4A reads; ``measure_eye``: time every data
+    change against XCLK). Raises ``AssertionError`` when the test fails."""
+    from sim.harness.system.run_cocotb import DEFAULT_PAIR
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    p = {"setup": dict(spec), "left": str(Path(left or DEFAULT_PAIR[0]).resolve()),
+         "right": str(Path(right or DEFAULT_PAIR[1]).resolve()), "out_dir": str(out_dir.resolve()), **params}
+    test_dir = run_cocotb(verilog + TESTBENCH, name="board_tb", test_module="board.simulation.top_cocotb", simulator=simulator,
+                          params=p, waves=waves, extra_sources=model_sources(BOARD_PRIMITIVES),
+                          build_args=BOARD_VERILATOR_ARGS if simulator == "verilator" else ())
+    status = json.loads((out_dir / "result.json").read_text())
+    frame = np.load(out_dir / "frame.npy") if (out_dir / "frame.npy").exists() else None
+    return BoardResult(status=status, frame=frame, golden=np.load(out_dir / "golden.npy"), test_dir=Path(test_dir))

@@ -1,0 +1,177 @@
+"""GenesysTop: the board top level -- StereoDepthSystem + board clocking + Genesys pins and IO buffers.
+
+Pins (``board.genesys.GenesysPlatform`` resources) and what drives them:
+
+=====================  ========================================================================================
+``clk100``, ``rst``     input buffers -> :class:`~board.clocking.GenesysClocking` (oscillator, reset button)
+``switches``            input buffers -> ``sw`` (synchronised inside :class:`~hdl.switches.SwitchControl`)
+``leds``                output buffers <- ``leds`` (see :mod:`hdl.system` for the meaning of each LED)
+``vmodcam`` 0/1         D, LV, FV: IOB input flip-flops clocked by the camera's PCLK (``io.FFBuffer``; the UCF's
+                        OFFSET IN constrains them) -> ``cam_a``/``cam_b`` pins of the system (one PCLK later than
+                        the pins, the same for all three); PCLK input buffer -> BUFG -> camera
+                        domain; MCLK forwarded by an ODDR (D1 = 1, D2 = 0) clocked by the 24 MHz ``mclk``; SCL
+                        and SDA open drain; RST_N, PWDN outputs. Camera A (number 0) is the left camera.
+``vmodcam_vdden``       output <- ``cam_vdden``
+``ch7301c``             D[11:0]: one ODDR per pin (``SAME_EDGE``; D1 = the word shown while the pixel clock is
+                        high, D2 = the word while it is low, as :func:`hdl.ch7301c_output.split_rgb` splits
+                        the pixel, zero outside DE); H, V, DE: IOB flip-flops, so they leave on the same edge as
+                        the data; XCLK_P/XCLK_N: two ODDRs (1/0 and 0/1) clocked by ``pix90``, so XCLK's rising
+                        edge comes a quarter pixel period after each data change (the middle of the first
+                        word) and its falling edge the middle of the second; RESET_N <- ``dvi_reset_n``
+``ch7301c_i2c``         open drain (SCL, SDA), the CH7301C's init sequencer
+=====================  ========================================================================================
+
+The ODDR, IOB flip-flop and IO buffers come from ``amaranth.lib.io`` buffers the platform maps onto Virtex-5
+primitives (``DDRBuffer`` -> ``ODDR``, ``FFBuffer`` -> IOB flip-flop); they exist only on the board (Amaranth's
+simulator cannot run ``io.DDRBuffer``). The same bits are simulated through the behavioural model in
+:class:`~hdl.ch7301c_output.CH7301COutput` (``StereoDepthSystem(ddr="behavioural")``): same split, same
+one-clock output register, data high-phase word first. An ODDR in ``SAME_EDGE`` mode samples D1 and D2 on the
+rising edge and outputs D1 for the high phase and D2 for the low phase of the following clock (Virtex-5 user guide
+UG190, "ODDR"); the behavioural model registers both words on the rising edge and shows ``clk ? first : second``.
+
+Open drain: a line is driven low when the system's ``*_oe`` is set with ``*_o`` = 0 and released (high impedance,
+the board's pull-up makes it high) otherwise; the system never drives a line high (checked in simulation by the
+harness's bus resolver, ``sim/models/i2c/bus.py``).
+
+Clock domains: ``sync``, ``pix``, ``pix90``, ``mclk``, ``cam_a``, ``cam_b`` (all from :class:`GenesysClocking`).
+Latency: as :class:`~hdl.system.StereoDepthSystem`; the CH7301C pins follow the video stream by one ``pix`` clock.
+"""
+
+from amaranth import Module, Mux
+from amaranth.lib import io, wiring
+
+from hdl.ch7301c_output import split_rgb
+from board.clocking import PLAN, GenesysClocking
+from board.export import flat_name
+from spec.sensor import SENSOR
+from spec.video import CEA_1080P60
+from hdl.rejecting import rejecting
+from hdl.system import CAMERAS, StereoDepthSystem
+
+__all__ = ["GenesysTop", "board_plan"]
+
+
+class GenesysTop(wiring.Component):
+    """The Genesys board design: see the module docstring for the pins. Elaborate it with a
+    :class:`board.genesys.GenesysPlatform` (``platform.prepare(GenesysTop())``); it has no ports of its own.
+
+    Parameters
+    ----------
+    geometry, timing
+        For :class:`~hdl.system.StereoDepthSystem`.
+    plan : :class:`board.clocking.ClockPlan`
+    **system_kwargs
+        For :class:`~hdl.system.StereoDepthSystem` (``ddr`` is always ``None`` here: the top level builds the
+        CH7301C pins).
+
+    Raises
+    ------
+    ValueError
+        Negative sync polarities (the output stage assumes CEA-861 1080p60's), or a ``ddr``.
+    TypeError
+        Elaborated without a platform.
+    """
+
+    def __init__(self, geometry=SENSOR, timing=CEA_1080P60, *, plan=PLAN, **system_kwargs):
+        with rejecting(self):
+            if not (timing.hsync_positive and timing.vsync_positive):
+                raise ValueError("the board output stage assumes positive sync polarities (CEA-861 1080p60)")
+            if system_kwargs.pop("ddr", None) is not None:
+                raise ValueError("GenesysTop builds the CH7301C pins itself (ddr must be None)")
+        self.system = StereoDepthSystem(geometry, timing, ddr=None, **system_kwargs)
+        self.clocking = GenesysClocking(plan, cam_domains=tuple(f"cam_{c}" for c in CAMERAS))
+        super().__init__({})
+
+    def elaborate(self, platform):
+        if platform is None:
+            raise TypeError("GenesysTop is a board top level: elaborate it with board.genesys.GenesysPlatform")
+        m = Module()
+        m.domains += self.clocking.domains
+        m.submodules.clocking = clocking = self.clocking
+        m.submodules.system = sys_ = self.system
+        self._clock_inputs(m, platform)
+        self._panel(m, platform)
+        for number, c in enumerate(CAMERAS):          # resource 0 = camera A (left), 1 = camera B (right)
+            self._camera(m, platform, number, c)
+        self._output(m, ("control", "cam_vdden"), platform.request("vmodcam_vdden", dir="-"),
+                     self.system.control.cam_vdden)
+        self._ch7301c(m, platform)
+        # Timing groups of the internal clocks (UCF PERIOD per BUFG output; board/genesys.py adds the TIGs
+        # between unrelated groups).
+        if hasattr(platform, "add_clock_group"):
+            for signal, hz, family in clocking.clock_nets():
+                platform.add_clock_group(signal, hz, family)
+        return m
+
+    @staticmethod
+    def _buffer(m, path, buffer):
+        """Add an IO buffer as a submodule named after the system member it serves (``board.export.flat_name``)."""
+        m.submodules[flat_name(path) + "_buf"] = buffer
+        return buffer
+
+    def _open_drain(self, m, path, port, pin):
+        """An open-drain pad for ``pin`` (an ``OpenDrainSignature`` interface): pulled low while ``oe`` is set
+        with ``o`` = 0, released otherwise."""
+        b = self._buffer(m, path, io.Buffer("io", port))
+        m.d.comb += [b.o.eq(0), b.oe.eq(pin.oe & ~pin.o), pin.i.eq(b.i)]
+
+    def _output(self, m, path, port, value):
+        b = self._buffer(m, path, io.Buffer("o", port))
+        m.d.comb += b.o.eq(value)
+
+    def _clock_inputs(self, m, platform):
+        clk = self._buffer(m, ("clk100",), io.Buffer("i", platform.request("clk100", dir="-")))
+        rst = self._buffer(m, ("rst",), io.Buffer("i", platform.request("rst", dir="-")))
+        m.d.comb += [self.clocking.clk100.eq(clk.i), self.clocking.button.eq(rst.i)]
+
+    def _panel(self, m, platform):
+        panel = self.system.panel
+        sw = self._buffer(m, ("panel", "sw"), io.Buffer("i", platform.request("switches", dir="-")))
+        m.d.comb += panel.sw.eq(sw.i)
+        self._output(m, ("panel", "leds"), platform.request("leds", dir="-"), panel.leds)
+
+    def _camera(self, m, platform, number, c):
+        """VmodCAM resource ``number`` onto camera ``c``'s pins, I2C bus, PCLK and MCLK."""
+        sys_, name = self.system, f"cam_{c}"
+        cam = platform.request("vmodcam", number, dir="-")
+        pins = getattr(sys_, name)
+        for pin, port in (("data", cam.d), ("lv", cam.lv), ("fv", cam.fv)):   # IOB input flip-flops (OFFSET IN)
+            b = self._buffer(m, (name, pin), io.FFBuffer("i", port, i_domain=name))
+            m.d.comb += getattr(pins, pin).eq(b.i)
+        pclk = self._buffer(m, (name, "pclk"), io.Buffer("i", cam.pclk))
+        m.d.comb += getattr(self.clocking.cam_pclk, name).eq(pclk.i)
+        m.submodules[f"{name}_mclk_oddr"] = mclk = io.DDRBuffer("o", cam.mclk, o_domain="mclk")
+        m.d.comb += [mclk.o[0].eq(1), mclk.o[1].eq(0)]
+        bus = getattr(sys_.i2c, name)
+        self._open_drain(m, ("i2c", name, "scl"), cam.scl, bus.scl)
+        self._open_drain(m, ("i2c", name, "sda"), cam.sda, bus.sda)
+        self._output(m, (name, "rst_n"), cam.rst_n, sys_.control.cam_rst_n)
+        self._output(m, (name, "pwdn"), cam.pwdn, sys_.control.cam_pwdn)
+
+    def _ch7301c(self, m, platform):
+        """CH7301C: dual-edge data, IOB-registered syncs, XCLK pair from the 90-degree clock, its I2C bus."""
+        sys_, video = self.system, self.system.video
+        ch = platform.request("ch7301c", dir="-")
+        first, second = split_rgb(video.rgb)
+        m.submodules.dvi_d_oddr = d = io.DDRBuffer("o", ch.d, o_domain="pix")
+        m.d.comb += [d.o[0].eq(Mux(video.de, first, 0)), d.o[1].eq(Mux(video.de, second, 0))]
+        for name, value in (("h", video.hsync), ("v", video.vsync), ("de", video.de)):
+            m.submodules[f"dvi_{name}_ff"] = ff = io.FFBuffer("o", getattr(ch, name), o_domain="pix")
+            m.d.comb += ff.o.eq(value)
+        m.submodules.dvi_xclk_p_oddr = xp = io.DDRBuffer("o", ch.xclk_p, o_domain="pix90")
+        m.submodules.dvi_xclk_n_oddr = xn = io.DDRBuffer("o", ch.xclk_n, o_domain="pix90")
+        m.d.comb += [xp.o[0].eq(1), xp.o[1].eq(0), xn.o[0].eq(0), xn.o[1].eq(1)]
+        self._output(m, ("control", "dvi_reset_n"), ch.reset_n, sys_.control.dvi_reset_n)
+        i2c = platform.request("ch7301c_i2c", dir="-")
+        self._open_drain(m, ("i2c", "dvi", "scl"), i2c.scl, sys_.i2c.dvi.scl)
+        self._open_drain(m, ("i2c", "dvi", "sda"), i2c.sda, sys_.i2c.dvi.sda)
+
+
+def board_plan(*, pins=None, allow_unconfirmed=False, files=None, name="top", **top_kwargs):
+    """Prepare the ISE build of :class:`GenesysTop` (nothing is run): returns ``(platform, plan)``, ``plan`` an
+    ``amaranth.build.BuildPlan`` whose ``files`` are the build directory's contents. See
+    :class:`board.genesys.GenesysPlatform` for ``pins``, ``allow_unconfirmed`` and ``files``."""
+    from board.genesys import GenesysPlatform
+    platform = GenesysPlatform(pins=pins, allow_unconfirmed=allow_unconfirmed, files=files)
+    plan = platform.prepare(GenesysTop(**top_kwargs), name=name)
+    return platform, plan

@@ -1,0 +1,131 @@
+"""DepthEngine: every frame-buffer read and result-ring write in range, the row rings never overwrite a row a pass
+still reads, a pass reads only complete rows and starts only when the result ring has room for its row.
+
+The environment is free except for the reader's contract: ``start`` may come on any clock (a map in progress is
+abandoned), the arbiters grant or refuse any request on any clock, the frame buffers return any data, the
+reader reads any address. Only ``result.rows_released`` is constrained, by the contract of
+:class:`~hdl.depth.ports.ResultReadSignature` (each assumption below says which part).
+
+The engine is a tiny configuration of the same RTL (D = 2, 7 x 7 census) on a 3 x 9 buffer with a 3-row result
+ring: not a power of two wide, deep or long, so no address bound holds by its width alone (27 words behind 5
+address bits, a 9-word result ring behind 4), taller than the 8-row input rings, so ring slots are reused, and
+short enough passes (71 clocks) that a whole map (about 770 clocks) is within reach of the cover search.
+"""
+
+from amaranth import Mux
+
+from hdl.depth.engine import RING_ROWS, DepthEngine
+from spec.depth import DepthConfig
+from spec.sensor import SensorGeometry
+from sim.formal.runner import FormalHarness
+
+#: 12 x 36 sensor pixels at scale 4: a 3 x 9 buffer.
+GEOMETRY = SensorGeometry(width=12, height=36)
+CONFIG = DepthConfig(disparities=2, lanes=2)
+OUT_ROWS = 3
+
+
+#: The cover of the default run (a cover search takes a minute or more at these depths, 350-830 clocks). A whole
+#: map of 9 rows fetches every row, so reuses ring slots and reads the last address, and passes 9 rows through
+#: the 3-row result ring; the slow variant reaches each of those events on its own as well.
+DEFAULT_COVERS = ("map_completes",)
+
+
+class DepthEngineHarness(FormalHarness):
+    name = "depth"
+    block = "DepthEngine"
+    all_covers = False
+
+    def __init__(self, geometry=GEOMETRY, config=CONFIG, out_rows=OUT_ROWS):
+        super().__init__()
+        self.geometry, self.config, self.out_rows = geometry, config, out_rows
+
+    def dut(self):
+        return DepthEngine(self.geometry, self.config, out_rows=self.out_rows)
+
+    def cover(self, m, name, test):
+        if self.all_covers or name in DEFAULT_COVERS:
+            super().cover(m, name, test)
+
+    def build(self, m):
+        g, cfg = self.geometry, self.config
+        h = g.buf_height
+        self._start = start = self.free("start")
+        rows_released = self.free("rows_released", range(h + 1))
+        dut = self.dut()
+        module = self.open(m, "dut", dut)
+        # The block's ports and its submodules' (the one place to adapt when the signature changes): the pass
+        # counter is the median's ``y``, the rings' writes and the result ring's write are their memories' ports.
+        m.d.comb += [dut.start.eq(start), dut.result.rows_released.eq(rows_released), dut.left_row_offset.eq(0),
+                     dut.result.addr.eq(self.free("result_addr", len(dut.result.addr)))]
+        reads = {}
+        for side in ("left", "right"):
+            port = getattr(dut, side)
+            m.d.comb += [port.grant.eq(self.free(f"{side}_grant")),
+                         port.port.data.eq(self.free(f"{side}_data", g.grey_bits))]
+            ring = module.submodules[f"{side}_ring"]
+            reads[side] = (port, ring, self.inside(ring).submodules.ring.write_ports[0],
+                           module.submodules[f"{side}_census"].shift)
+        y = module.submodules.median.y
+        median = module.submodules.median
+        result_write = module.submodules.results.write_ports[0]
+        rows_ready, busy = dut.result.rows_ready, dut.busy
+
+        self._reader_contract(m, start, rows_released, rows_ready)
+        for side, (port, ring, ring_write, census_shift) in reads.items():
+            self._input_rows(m, side, port, ring, ring_write, census_shift, y, busy)
+        self._results(m, y, median, result_write, reads["left"][3], rows_released, rows_ready)
+
+    def _reader_contract(self, m, start, rows_released, rows_ready):
+        pv = self.past_valid(m)
+        # ResultReadSignature: rows_released counts rows of this map the reader no longer needs, so it never
+        # exceeds rows_ready; the reader restarts with the engine, so in the clock of ``start`` it may still
+        # hold the last map's count (and drop to 0 after it); otherwise it only grows.
+        self.assume(m, "reader_releases_only_ready_rows", start | (rows_released <= rows_ready))
+        self.assume(m, "reader_never_takes_a_release_back",
+                    ~pv | start | self.past(m, start, name="past_start") |
+                    (rows_released >= self.past(m, rows_released, name="past_rows_released")))
+
+    def _input_rows(self, m, side, port, ring, ring_write, census_shift, y, busy):
+        g, cfg = self.geometry, self.config
+        w, h, ry = g.buf_width, g.buf_height, cfg.census_height // 2
+        fetched = ring.fetched
+        # Helper invariant: the counted address is the row and column the ring is fetching (PDR alone does not
+        # find this product in minutes); past the last row the ring re-reads row h - 1 (the harness holds the
+        # left rows' rectification offset at 0: the source row is the ring row).
+        source_row = Mux(ring.fetch_row < h, ring.fetch_row, h - 1)
+        self.prove(m, f"{side}_read_address_is_row_and_column",
+                   (port.port.addr == source_row * w + ring.fetch_col) & (ring.fetch_col < w))
+        self.prove(m, f"{side}_requests_only_rows_of_the_image", ~port.request | (ring.fetch_row < h))
+        self.prove(m, f"{side}_read_address_in_buffer", ~port.request | (port.port.addr < g.buf_depth))
+        # The request comes from registers fed by ``busy`` through the fetch limit: two clocks.
+        busy_before = self.past_valid(m, 2) & self.past(m, busy, 2, name=f"{side}_busy_before")
+        self.prove(m, f"{side}_reads_only_for_a_map", ~port.request | busy_before)
+        writing = ring_write.en != 0
+        slot = fetched[:(RING_ROWS - 1).bit_length()]
+        # Row ``fetched`` is the one in flight: its words go to slot fetched mod 8, which held row fetched - 8;
+        # pass y reads rows y - 3 .. y + 3 (clamped), so that row must be below y - 3.
+        self.prove(m, f"{side}_ring_writes_the_slot_of_the_row_in_flight",
+                   ~writing | (ring_write.en == (1 << slot)))
+        self.prove(m, f"{side}_ring_write_spares_rows_in_use", ~writing | (fetched < y + RING_ROWS - ry))
+        self.prove(m, f"{side}_pass_reads_complete_rows",
+                   ~census_shift | (fetched >= Mux(y + ry + 1 < h, y + ry + 1, h)))
+        self.cover(m, f"{side}_ring_slot_reused", writing & (fetched >= RING_ROWS))
+        self.cover(m, f"{side}_read_at_last_address",
+                   port.request & port.grant & (port.port.addr == g.buf_depth - 1))
+
+    def _results(self, m, y, median, write, census_shift, rows_released, rows_ready):
+        g, cfg, n = self.geometry, self.config, self.out_rows
+        w, h = g.buf_width, g.buf_height
+        row = y - 1                                     # the median's output row in pass y
+        self.prove(m, "rows_ready_counts_finished_passes", rows_ready == Mux(y == 0, 0, row))
+        self.prove(m, "result_written_only_in_passes_1_to_h", ~write.en | ((y >= 1) & (y <= h)))
+        self.prove(m, "result_write_in_ring", ~write.en | (write.addr < n * w))
+        self.prove(m, "result_write_at_row_and_column",
+                   ~write.en | (write.addr == (row % n) * w + median.out_x) & (median.out_x < w))
+        # A pass starts only when the result ring has room for its output row (the reader has released the row
+        # n rows before it); its census reads mark the pass running.
+        self.prove(m, "pass_runs_only_with_room_for_its_row",
+                   ~census_shift | self._start | (y == 0) | (row < rows_released + n))
+        self.cover(m, "result_ring_wraps", write.en & (row == n) & (median.out_x == w - 1))
+        self.cover(m, "map_completes", rows_ready == h)

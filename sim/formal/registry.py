@@ -1,0 +1,55 @@
+"""The formal harnesses of the default run (``make formal``, ``make test``) and their slow full-size variants."""
+
+from spec.depth import SMALL_DEPTH
+from spec.layout import DisplayLayout
+from spec.sensor import SENSOR, SMALL_SENSOR
+from spec.video import SMALL_TIMING
+
+from sim.formal.harnesses.capture import CaptureHarness
+from sim.formal.harnesses.compositor import CompositorHarness
+from sim.formal.harnesses.depth import DepthEngineHarness
+from sim.formal.harnesses.depth_codes import MedianCodesHarness, WinnerCodesHarness
+from sim.formal.harnesses.disparity import DisparityHarness
+from sim.formal.harnesses.frame_buffer import FrameBufferHarness
+from sim.formal.harnesses.i2c import I2CMasterHarness, InitSequencerHarness
+from sim.formal.harnesses.read_arbiter import ReadArbiterHarness
+from sim.formal.harnesses.switches import SwitchControlHarness
+from sim.formal.harnesses.sync_gen import SyncGenerator1080pHarness, SyncGeneratorHarness
+
+#: name -> factory (a fresh harness per run: harnesses keep their properties between elaborations). The longest
+#: first, so that `make formal`'s two workers finish together.
+DEFAULT = {
+    "depth": DepthEngineHarness,
+    "compositor": CompositorHarness,
+    "sync_gen_small": SyncGeneratorHarness,
+    "sync_gen_1080p": SyncGenerator1080pHarness,
+    "switches": SwitchControlHarness,
+    "frame_buffer": FrameBufferHarness,
+    "capture": CaptureHarness,
+    "disparity": DisparityHarness,
+    "i2c_master": I2CMasterHarness,
+    "i2c_init": InitSequencerHarness,
+    "read_arbiter": ReadArbiterHarness,
+    "winner_codes": WinnerCodesHarness,
+    "median_codes": MedianCodesHarness,
+}
+
+
+def _named(harness, name):
+    harness.name = name
+    return harness
+
+
+def _all_covers(harness):
+    harness.all_covers = True
+    return harness
+
+
+#: The same properties at full size or with the default (centred) layout: minutes to hours each.
+SLOW = {
+    "disparity_full": lambda: _named(DisparityHarness(SENSOR), "disparity_full"),
+    "capture_full": lambda: _named(CaptureHarness(SENSOR), "capture_full"),
+    "depth_all_covers": lambda: _named(_all_covers(DepthEngineHarness()), "depth_all_covers"),
+    "compositor_centred": lambda: _named(CompositorHarness(
+        layout=DisplayLayout.centred(SMALL_TIMING, SMALL_SENSOR, SMALL_DEPTH)), "compositor_centred"),
+}

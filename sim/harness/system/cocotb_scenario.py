@@ -1,0 +1,229 @@
+"""The whole-system scenario inside a cocotb simulation (Verilator or Icarus), in phases.
+
+``sim/harness/system/system_cocotb.py`` runs :func:`end_to_end` (and, for the bench, :func:`rate_probe`) on the design
+:func:`sim.harness.system.run_cocotb.run_cocotb_system` exported; the phases are those of the Amaranth runner
+(``sim/harness/system/run_amaranth.py``): **reset** (button, clock lock), **init** (the RTL configures the register-file
+models over I2C; then the pixel clock and the switches), **capture** (both sensors stream once configured, until
+both captures complete a frame), **display** (one frame of the CH7301C pins sampled from a frame start), **check**
+(:func:`sim.harness.system.result.check_run`, then the assertions). The route (``sim/harness/system/cocotb_routes.py``) drives the
+clocks, the cameras and the display.
+
+Parameters (``sim.runners.cocotb.test_params()``): ``setup`` (``SystemSetup.to_spec()``), ``route``
+(``CocotbRoute.spec()``), ``left``/``right`` (image files, fitted to the sensor), ``out_dir`` (``frame.npy``,
+``golden.npy``, ``result.json``), ``progress_file`` (optional: ``"<done> 1000 <stage>"`` as simulated time passes).
+"""
+
+import json
+import time
+from pathlib import Path
+
+import cocotb
+import numpy as np
+from cocotb.triggers import RisingEdge, Timer
+from cocotb.utils import get_sim_time
+
+from golden.stereo_pair import load_pair
+from hdl.system import CAMERAS, DISPLAY_LATENCY, I2C_BUSES
+from sim.runners.cocotb import TopPorts
+from sim.models.i2c.bus import start_cocotb_targets
+from sim.models.i2c.monitor import I2CBusMonitor
+from sim.harness.system.cocotb_routes import period_ps, route_from_spec
+from sim.harness.system.result import check_run
+from sim.harness.system.setup import SystemSetup
+
+__all__ = ["end_to_end", "rate_probe"]
+
+
+def _now_s():
+    return get_sim_time("ns") * 1e-9
+
+
+def _write_progress(path, done, stage):
+    if path:
+        tmp = Path(f"{path}.tmp")
+        tmp.write_text(f"{done} 1000 {stage}\n")
+        tmp.replace(path)
+
+
+class _Run:
+    """One run in progress (see the module docstring for the phases)."""
+
+    def __init__(self, dut, params):
+        self.ports = TopPorts(dut)
+        self.setup = SystemSetup.from_spec(params["setup"])
+        self.route = route_from_spec(params["route"])
+        self.out_dir = Path(params["out_dir"])
+        self.progress_file = params.get("progress_file")
+        g = self.setup.geometry
+        left, right = load_pair(params["left"], params["right"], g.width, g.height)
+        self.images = {"a": left, "b": right}
+        self.deadline = self.setup.deadline_s()
+        self.status = {"route": self.route.spec()}
+        self.phase_wall, self.wall0 = {}, time.perf_counter()
+        self.stage, self.running = "I2C-init", True
+        self.models = self.setup.i2c_models()
+        self.monitors = {bus: I2CBusMonitor() for bus in I2C_BUSES}
+        self.replay_checks = {}
+
+    async def wait_for(self, cond, what, step_ns=1000):
+        start = _now_s()
+        while not cond():
+            if _now_s() - start > self.deadline:
+                raise AssertionError(f"{what} did not happen within {self.deadline * 1e3:.3f} ms of simulated time")
+            await Timer(step_ns, unit="ns")
+
+    async def progress(self):
+        """Writes the progress file every 50 us of simulated time."""
+        total = self.setup.expected_sim_time_s()
+        while self.running and self.progress_file:
+            await Timer(50, unit="us")
+            _write_progress(self.progress_file, min(999, int(1000 * _now_s() / total)), self.stage)
+
+    async def camera(self, c, seed):
+        model = self.models[f"cam_{c}"][0]
+        while not model.sensor_config().rgb565:
+            await Timer(1000, unit="ns")
+        sensor = self.setup.sensor(model, seed=seed)
+        check = await self.route.camera(self.ports, c, sensor, self.images[c], self.setup.cam_phase_s.get(c, 0.0))
+        if check is not None:
+            self.replay_checks[c] = check
+
+    def mark(self, phase, stage):
+        self.phase_wall[phase] = time.perf_counter() - self.wall0
+        self.stage = stage
+
+    # --- the phases -------------------------------------------------------------------------------------------
+
+    async def reset(self):
+        ports = self.ports
+        ports.button.value = 1
+        ports.panel.sw.value = 0
+        self.route.start(ports, self.setup)
+        if not self.setup.pix_after_init:
+            await self.route.start_pix(ports, self.setup)
+        for bus in I2C_BUSES:
+            start_cocotb_targets(getattr(ports.bus, bus), self.models[bus], self.monitors[bus])
+        for seed, c in enumerate(CAMERAS):
+            cocotb.start_soon(self.camera(c, seed))
+        cocotb.start_soon(self.progress())
+        await Timer(50, unit="ns")
+        ports.button.value = 0
+        await self.wait_for(lambda: int(ports.locked.value) == 1, "clock lock", step_ns=20)
+        if not self.setup.pix_after_init:
+            await self.set_switches()
+
+    async def set_switches(self):
+        await Timer(200, unit="ns")                 # pix out of reset: 2 synchroniser stages
+        for word in self.setup.switch_words():
+            self.ports.panel.sw.value = word
+            await Timer(30 * period_ps(self.setup.timing.pixel_hz, 4), unit="ps")
+
+    async def init(self):
+        init = {b: getattr(self.ports.init, b) for b in I2C_BUSES}
+        await self.wait_for(lambda: all(int(s.done.value) or int(s.error.value) for s in init.values()),
+                            "I2C initialisation", step_ns=2000)
+        for b, s in init.items():
+            self.status[f"{b}_init_done"] = bool(int(s.done.value))
+            self.status[f"{b}_init_error"] = bool(int(s.error.value))
+        self.status["t_init_s"] = _now_s()
+        self.mark("init", "capture")
+        assert all(self.status[f"{b}_init_done"] for b in I2C_BUSES), f"I2C initialisation failed: {self.status}"
+        if self.setup.pix_after_init:
+            await self.route.start_pix(self.ports, self.setup)
+            await self.set_switches()
+
+    async def capture(self):
+        captures = {c: getattr(self.ports.capture, f"cam_{c}") for c in CAMERAS}
+        counts0 = {c: int(s.frame_count.value) for c, s in captures.items()}
+        await self.wait_for(lambda: all(int(s.frame_count.value) != counts0[c] for c, s in captures.items()),
+                            "a complete frame from both cameras",
+                            step_ns=20_000 if self.setup.geometry.width > 100 else 1000)
+        for c, s in captures.items():
+            self.status[f"cam_{c}_frame_ok"] = bool(int(s.frame_ok.value))
+        self.status["t_captured_s"] = _now_s()
+        self.mark("capture", "display")
+
+    async def display(self):
+        ports = self.ports
+        self.route.before_display(ports)
+        await RisingEdge(ports.frame_start)
+        # Start sampling outside an hsync pulse (the pins lag the raster by DISPLAY_LATENCY clocks, which can put
+        # them inside the previous line's pulse): the sink must see whole pulses.
+        h_idle = 0 if self.setup.timing.hsync_positive else 1
+        while int(ports.ch7301c.hsync.value) != h_idle:
+            await RisingEdge(ports.clocks.pix)
+        self.status["disparity"] = int(ports.settings.disparity.value)
+        self.status["rectification"] = int(ports.settings.rectification.value)
+        clocks = self.setup.timing.clocks_per_frame + DISPLAY_LATENCY + 2
+        self.sink = await self.route.display(ports, self.setup, clocks, self.status)
+        self.status["leds"] = int(ports.panel.leds.value)
+        self.status["drive_high"] = {b: bool(int(getattr(ports.bus, b).drive_high.value)) for b in I2C_BUSES}
+        self.status["t_end_s"] = _now_s()
+        self.status["wall_s"] = time.perf_counter() - self.wall0
+        self.mark("display", "done")
+        self.status["phase_wall_s"] = self.phase_wall
+        self.status["replay_checks"] = self.replay_checks
+        self.running = False
+        _write_progress(self.progress_file, 1000, "done")
+
+    def check(self):
+        """Save the frames and the status, then assert the run's outcome."""
+        status = self.status
+        # Protocol errors after time 0 (at time 0 the monitor sees the lines resolve from their pre-evaluation value).
+        frame, golden = check_run(status, self.setup, self.images["a"], self.images["b"], self.sink, self.models,
+                                  self.monitors, after_s=0.0)
+        self.out_dir.mkdir(parents=True, exist_ok=True)
+        np.save(self.out_dir / "golden.npy", golden)
+        if frame is not None:
+            np.save(self.out_dir / "frame.npy", frame)
+        (self.out_dir / "result.json").write_text(json.dumps(status, indent=1, default=str))
+        assert frame is not None, "the sink rebuilt no frame"
+        assert not self.sink.violations, f"HDMI timing violations: {status['violations'][:5]}"
+        assert status["mismatched_pixels"] == 0, f"{status['mismatched_pixels']} pixels differ from the golden frame"
+        if "sink_vs_recorder_mismatches" in status:
+            assert status["sink_vs_recorder_mismatches"] == 0, "the recorder and the Python sink saw different pins"
+            assert not status["recorder_violations"]
+        for c, check in self.replay_checks.items():
+            assert check["mismatches"] == 0, f"camera {c}: replayed pins differ from the model's stream"
+
+
+async def end_to_end(dut, params):
+    """The whole scenario, phase by phase."""
+    run = _Run(dut, params)
+    await run.reset()
+    await run.init()
+    await run.capture()
+    await run.display()
+    run.check()
+
+
+async def rate_probe(dut, params):
+    """For the bench: run every clock of the in-simulator route's design (cameras replaying pseudo-random words,
+    I2C idle) for ``probe_us`` of simulated time and write the wall time to ``out_dir/probe.json``."""
+    from sim.replay.sensor import write_hex
+    ports = TopPorts(dut)
+    setup = SystemSetup.from_spec(params["setup"])
+    probe_us = float(params.get("probe_us", 100))
+    out_dir = Path(params["out_dir"])
+    out_dir.mkdir(parents=True, exist_ok=True)
+    words = np.random.default_rng(0).integers(0, 1024, 100_000)
+    route = route_from_spec(params["route"])
+    route.start(ports, setup)
+    for c in CAMERAS:
+        replay = getattr(ports.replay, f"cam_{c}")
+        replay.length.value = write_hex(words, Path.cwd() / f"cam_{c}.hex")
+        replay.load.value = 1
+    ports.button.value = 0
+    ports.panel.sw.value = 0
+    await Timer(1, unit="ns")
+    for c in CAMERAS:
+        getattr(ports.replay, f"cam_{c}").load.value = 0
+        getattr(ports.replay, f"cam_{c}").run.value = 1
+        getattr(ports.clock_en, f"cam_{c}").value = 1
+    await route.start_pix(ports, setup)
+    await Timer(10, unit="us")                      # out of reset
+    wall = time.perf_counter()
+    await Timer(round(probe_us * 1000), unit="ns")
+    wall = time.perf_counter() - wall
+    (out_dir / "probe.json").write_text(json.dumps({"probe_us": probe_us, "wall_s": wall,
+                                                    "pixel_hz": setup.timing.pixel_hz}))

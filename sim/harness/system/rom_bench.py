@@ -1,0 +1,126 @@
+"""RomReplayBench: the system bench with its camera loops moved out of Python, for Amaranth's simulator.
+
+The design of the Amaranth replay route, the one that makes a full-resolution run feasible there. Driving each
+camera from a Python testbench costs one await per PCLK edge (about 9 million sensor samples), and a testbench
+toggling the pixel clock almost 5 million edges per display frame; each ``ctx.set`` makes the simulator settle the
+whole design. This bench does what the fast cocotb route (``sim/harness/system/verilog_bench.py``) does for Verilator:
+
+* each camera's pins come from a :class:`sim.replay.sensor.SensorReplay` ROM holding the Python sensor model's
+  stream for one frame period (made before the run for the configuration the spec asks for; the runner checks
+  that the RTL's I2C init configured the register-file model to exactly that before starting the replay);
+* the ``pix`` and camera clocks are free-running simulator clocks (``add_clock`` on the domains ``free_pix``,
+  ``free_cam_a``, ``free_cam_b``) gated by ``clock_en``: a clock that is off costs one tiny gate evaluation per edge
+  and wakes none of the design. Change an enable only while its free clock is low (:func:`enable_clock` does) so the
+  gated clock has no runt pulse.
+
+``sync`` is clocked by the simulator directly. Clock domains: ``sync``, ``pix``, ``cam_a``, ``cam_b`` (those of the
+system) and the three free-running ones. Latency: the gates are combinational; the replay as
+:class:`~sim.replay.sensor.SensorReplay` says.
+"""
+
+from amaranth import ClockDomain, ClockSignal, Module
+from amaranth.lib import wiring
+from amaranth.lib.wiring import In, Out
+
+from hdl.forward import forward
+from hdl.system import CAMERAS
+from sim.replay.sensor import SensorReplay
+from sim.harness.system.bench import SystemBench
+from hdl.rejecting import rejecting
+
+__all__ = ["RomReplayBench", "GATED_DOMAINS", "ClockGate", "enable_clock"]
+
+#: The domains whose clocks are gated (free-running clock domain ``free_<name>`` each).
+GATED_DOMAINS = ("pix", *(f"cam_{c}" for c in CAMERAS))
+
+
+class ClockGate(wiring.Component):
+    """``clk`` = the free-running clock of ``free_domain`` while ``en`` is high. Its own module, so an edge of the
+    free clock wakes only this one assignment. Combinational."""
+
+    en: In(1)
+
+    def __init__(self, free_domain, clk):
+        self._free_domain = free_domain
+        self._clk = clk
+        super().__init__()
+
+    def elaborate(self, platform):
+        m = Module()
+        m.d.comb += self._clk.eq(ClockSignal(self._free_domain) & self.en)
+        return m
+
+
+class RomReplayBench(wiring.Component):
+    """See the module docstring.
+
+    Parameters
+    ----------
+    replay_words : dict
+        ``{camera: ROM words}`` (:func:`sim.replay.sensor.pack_stream` of each camera's stream).
+    **system_kwargs
+        For :class:`sim.harness.system.bench.SystemBench`.
+
+    Attributes
+    ----------
+    (every member of the system bench but the camera pins)
+    clock_en : ``In``, one bit per gated domain (``pix``, ``cam_a``, ``cam_b``)
+    replay_run : ``In``, one bit per camera ``cam_a``, ``cam_b``
+        Start the camera's replay (its position is ``replays[c].index``).
+    free_domains : dict
+        ``{gated domain: its free-running ClockDomain}``, for the simulator's ``add_clock``.
+    domains : list of ClockDomain
+        The system's domains (``sync``, ``pix``, ``cam_a``, ``cam_b``), defined here.
+    system : :class:`hdl.system.StereoDepthSystem`
+
+    Raises
+    ------
+    ValueError
+        ``replay_words`` without exactly one ROM per camera.
+    """
+
+    def __init__(self, *, replay_words, **system_kwargs):
+        with rejecting(self):
+            if set(replay_words) != set(CAMERAS):
+                raise ValueError(f"replay_words needs one ROM per camera {CAMERAS}, got {sorted(replay_words)}")
+            self.bench = SystemBench(define_domains=False, **system_kwargs)
+            self.system = self.bench.system
+            self.domains = self.bench.domains
+            self.replays = {c: SensorReplay(replay_words[c], domain=f"cam_{c}") for c in CAMERAS}
+            cam_pins = {f"cam_{c}" for c in CAMERAS}
+            own = [name for name in self.bench.signature.members if name not in cam_pins]
+            members = {name: self.bench.signature.members[name] for name in own}
+            members.update({
+                "clock_en": In(wiring.Signature({name: Out(1) for name in GATED_DOMAINS})),
+                "replay_run": In(wiring.Signature({f"cam_{c}": Out(1) for c in CAMERAS})),
+            })
+            super().__init__(members)
+            for name in own:
+                forward(self, name, getattr(self.bench, name))
+            for c, replay in self.replays.items():
+                # The replay drives the capture's pin signals themselves: no assignment in between to wake on every
+                # PCLK sample.
+                forward(replay, "pins", wiring.flipped(getattr(self.bench, f"cam_{c}")))
+            self.free_domains = {name: ClockDomain(f"free_{name}", reset_less=True) for name in GATED_DOMAINS}
+
+    def elaborate(self, platform):
+        m = Module()
+        m.domains += list(self.free_domains.values())
+        m.submodules.bench = bench = self.bench
+        m.domains += self.domains         # defined here: the replays use the camera domains too
+        domains = {cd.name: cd for cd in self.domains}
+        for name in GATED_DOMAINS:
+            m.submodules[f"gate_{name}"] = gate = ClockGate(f"free_{name}", domains[name].clk)
+            m.d.comb += gate.en.eq(getattr(self.clock_en, name))
+        for c, replay in self.replays.items():
+            m.submodules[f"replay_{c}"] = replay
+            m.d.comb += replay.run.eq(getattr(self.replay_run, f"cam_{c}"))
+        return m
+
+
+async def enable_clock(ctx, bench, name, on=True):
+    """Testbench helper: switch gated domain ``name``'s clock on (or off) while its free clock is low."""
+    clk = bench.free_domains[name].clk
+    if ctx.get(clk):
+        await ctx.negedge(clk)
+    ctx.set(getattr(bench.clock_en, name), int(on))

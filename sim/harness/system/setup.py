@@ -1,0 +1,209 @@
+"""One place that says how a whole-system simulation is set up: sizes, time scale, clocks, models, golden frame.
+
+:class:`SystemSetup` is shared by both simulators' runners (``sim/harness/system/run_amaranth.py``,
+``sim/harness/system/run_cocotb.py`` and the scenario it runs inside the simulator), the tests, the bench and the command
+line, so every route simulates the same configuration and compares against the same golden frame.
+
+Two presets:
+
+* :meth:`SystemSetup.small`: ``SMALL_SENSOR`` (64 x 48 -> 16 x 12 buffers) on ``SMALL_TIMING`` (112 x 52 active),
+  ``SMALL_DEPTH`` (D = 8),
+  the MT9D112 table with the small output size, only its essential entries and its waits scaled by 1/50
+  (``sim/harness/system/tables.py``), a 1 MHz I2C bus (Fast-mode Plus rate, the fastest the I2C master accepts; a simulation
+  speed-up: the register-file models do not depend on the bus rate; the 100 kHz bus is exercised by the I2C
+  block's own tests and by the full preset). For the default test run.
+* :meth:`SystemSetup.full`: the board's sizes (1600 x 1200 -> 400 x 300, 1080p60), the board's MT9D112 table
+  unchanged and the 100 kHz bus. For the slow test, the bench and the demo.
+
+The sensors' PCLK is ``spec.board.CLOCKS.CAM_PCLK_HZ``: what the MT9D112 table programs. Camera A is the left
+image, camera B the right image.
+
+Simulation shortcuts, stated:
+
+* a sensor model starts toggling PCLK only once its I2C register file says it is configured for RGB565 and
+  streaming (the real sensor's PCLK runs from MCLK earlier, but the capture ignores everything before the first
+  FV rising edge, so the frames are the same; this saves simulating idle PCLK while the I2C init runs);
+* with ``pix_after_init`` (both presets by default) the pixel clock starts only once all three I2C buses report
+  their init done, like a pixel PLL that locks late; the display domain is held in reset until then, and the
+  switches are set after it starts. The display of those first milliseconds (25 ms at full size) would only
+  show the still-empty buffers, and the display domain is where the simulators spend most of their time.
+  ``pix_after_init=False`` runs it from time 0 (tests/test_system.py does once, in cocotb).
+
+:meth:`SystemSetup.spec` / :meth:`SystemSetup.from_spec` turn a setup into JSON and back (the cocotb scenario gets
+its setup that way).
+"""
+
+from dataclasses import dataclass, field, fields
+
+import numpy as np
+
+from golden.capture import capture_frame
+from golden.disparity import composite_frame
+from golden.stereo_pair import fit_to_sensor
+from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE, Poll, Wait
+from spec.board import CLOCKS
+from spec.depth import DEPTH, SMALL_DEPTH
+from spec.display import DIFF_LEVEL_GREY, DIFF_THRESHOLDS
+from spec.layout import DisplayLayout
+from spec.sensor import SENSOR, SMALL_SENSOR
+from spec.video import CEA_1080P60, SMALL_TIMING
+from sim.models.ch7301c.target import CH7301CModel
+from sim.models.mt9d112.target import MT9D112Model
+from sim.models.mt9d112.sensor import MT9D112, SENSOR_TIMING, SMALL_SENSOR_TIMING
+from sim.harness.system.tables import model_timing, mt9d112_table
+
+__all__ = ["SystemSetup"]
+
+
+@dataclass(frozen=True)
+class SystemSetup:
+    geometry: object = SENSOR
+    timing: object = CEA_1080P60
+    layout: object = None
+    thresholds: tuple = DIFF_THRESHOLDS
+    level_grey: tuple = DIFF_LEVEL_GREY
+    depth: object = DEPTH              # the depth engine's DepthConfig
+    disparity: int = 0
+    rectification: int = 0
+    time_scale: float = 1.0            # applied to the MT9D112 table's waits and the model's boot/PLL times
+    quick_table: bool = False          # only the MT9D112 table's essential entries (sim/harness/system/tables.py)
+    i2c_hz: int = CLOCKS.I2C_HZ
+    i2c_retry_delay_us: int = 1000
+    sys_hz: int = CLOCKS.SYS_HZ
+    pclk_hz: int = CLOCKS.CAM_PCLK_HZ
+    cam_phase_s: dict = field(default_factory=lambda: {"a": 0.0, "b": 3.1e-9})   # the cameras are not in phase
+    lock_cycles: int = 16
+    pix_after_init: bool = False       # start the pixel clock only once the I2C init is done (see below)
+    sensor_timing: object = None       # sim.models.mt9d112.sensor.SensorTiming; None: SENSOR_TIMING / SMALL_SENSOR_TIMING
+
+    @classmethod
+    def small(cls, **kw):
+        kw.setdefault("sensor_timing", SMALL_SENSOR_TIMING)
+        kw.setdefault("pix_after_init", True)
+        return cls(geometry=SMALL_SENSOR, timing=SMALL_TIMING, depth=SMALL_DEPTH, time_scale=0.02, quick_table=True,
+                   i2c_hz=1_000_000, i2c_retry_delay_us=20, **kw)
+
+    @classmethod
+    def full(cls, **kw):
+        kw.setdefault("sensor_timing", SENSOR_TIMING)
+        kw.setdefault("pix_after_init", True)
+        return cls(**kw)
+
+    def to_spec(self):
+        """This setup as JSON: ``{"preset": "small"|"full", **fields that differ from the preset}``. Raises
+        ``ValueError`` if a differing field has no JSON form (a layout, sensor timing or table of its own)."""
+        base = type(self).from_spec({"preset": self.preset})
+        spec = {"preset": self.preset}
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if value != getattr(base, f.name):
+                if not isinstance(value, (int, float, bool, str, dict)):
+                    raise ValueError(f"setup field {f.name} = {value!r} differs from the {self.preset} preset "
+                                     "and has no JSON form")
+                spec[f.name] = value
+        return spec
+
+    @classmethod
+    def from_spec(cls, spec):
+        """The setup a :meth:`to_spec` dictionary describes."""
+        spec = dict(spec)
+        preset = spec.pop("preset", "small")
+        if preset not in ("small", "full"):
+            raise ValueError(f"preset must be 'small' or 'full', not {preset!r}")
+        return (cls.small if preset == "small" else cls.full)(**spec)
+
+    @property
+    def preset(self):
+        """``"small"`` or ``"full"``: which preset this setup's sizes are."""
+        return "full" if self.geometry == SENSOR else "small"
+
+    def __post_init__(self):
+        for name, value in (("disparity", self.disparity), ("rectification", self.rectification)):
+            if not 0 <= value <= 127:
+                raise ValueError(f"{name} must be 0..127 (seven switches), got {value}")
+
+    @property
+    def display_layout(self):
+        return self.layout or DisplayLayout.centred(self.timing, self.geometry, self.depth)
+
+    @property
+    def cam_table(self):
+        if self.geometry == SENSOR and self.time_scale == 1.0 and not self.quick_table:
+            return MT9D112_TABLE
+        return mt9d112_table(self.geometry, time_scale=self.time_scale, quick=self.quick_table)
+
+    def system_kwargs(self):
+        """Keyword arguments for ``sim.harness.system.bench.SystemBench`` (and from there ``hdl.system.StereoDepthSystem``)."""
+        return dict(geometry=self.geometry, timing=self.timing, layout=self.display_layout,
+                    thresholds=self.thresholds, level_grey=self.level_grey, depth=self.depth,
+                    cam_table=self.cam_table,
+                    dvi_table=CH7301C_TABLE, clk_hz=self.sys_hz, i2c_hz=self.i2c_hz,
+                    i2c_retry_delay_us=self.i2c_retry_delay_us, lock_cycles=self.lock_cycles)
+
+    def board_kwargs(self):
+        """Keyword arguments for ``board.top.GenesysTop`` with this setup's design (the board has no lock counter)."""
+        return {k: v for k, v in self.system_kwargs().items() if k != "lock_cycles"}
+
+    def i2c_models(self):
+        """Fresh register-file models: ``{bus: [target, ...]}`` for the buses ``cam_a``, ``cam_b``, ``dvi``."""
+        timing = model_timing(self.time_scale)
+        return {"cam_a": [MT9D112Model(**timing)], "cam_b": [MT9D112Model(**timing)], "dvi": [CH7301CModel()]}
+
+    def sensor(self, model, seed):
+        """The video model of one camera, configured through its I2C register-file ``model``."""
+        return MT9D112(model, timing=self.sensor_timing or SENSOR_TIMING, pclk_hz=self.pclk_hz, seed=seed)
+
+    def switch_words(self):
+        """The SW7..SW0 values to set in turn: disparity (SW7 = 1), then rectification (SW7 = 0)."""
+        return [0x80 | self.disparity, self.rectification]
+
+    def fit(self, image):
+        """An RGB image fitted to the sensor (what the sensor model will output)."""
+        image = np.asarray(image, dtype=np.uint8)
+        if image.shape[:2] != (self.geometry.height, self.geometry.width):
+            image = fit_to_sensor(image, self.geometry.width, self.geometry.height)
+        return image
+
+    def golden_frame(self, left, right, *, details=False):
+        """The golden model's displayed frame for the pair (images at any size: fitted to the sensor first).
+        ``details=True``: ``(frame, depth codes, readout text)`` (``golden.disparity.composite_frame``)."""
+        g = self.geometry
+        lb = capture_frame(self.fit(left), g)
+        rb = capture_frame(self.fit(right), g)
+        return composite_frame(lb, rb, self.disparity, self.rectification, self.timing, g, self.display_layout,
+                               self.thresholds, self.level_grey, self.depth, details=details)
+
+    def deadline_s(self):
+        """Simulated-time budget of a run: the I2C init (table waits + bus time, generously) plus a few frames."""
+        table = self.cam_table
+        waits = sum(e.us for e in table.entries if isinstance(e, Wait)) * 1e-6
+        polls = sum(e.interval_us * 4 for e in table.entries if isinstance(e, Poll)) * 1e-6
+        bus = len(table.entries) * 12 * 9 / self.i2c_hz
+        cam_frame = (self.geometry.height + 20) * (2 * self.geometry.width + 400) / self.pclk_hz
+        display_frame = self.timing.clocks_per_frame / self.timing.pixel_hz
+        return 2 * (waits + polls + bus) + 4 * cam_frame + 4 * display_frame + 1e-3
+
+    def expected_sim_time_s(self):
+        """A rough estimate of a run's simulated time (for progress bars only): the I2C init (table waits and bus
+        time), one sensor frame period, one and a half display frames."""
+        table = self.cam_table
+        init = sum(e.us for e in table.entries if isinstance(e, Wait)) * 1e-6
+        init += sum(e.interval_us for e in table.entries if isinstance(e, Poll)) * 3e-6
+        init += len(table.entries) * 50 / self.i2c_hz
+        g, t = self.geometry, self.timing
+        sensor = (g.height + 10) * (2 * g.width + 256) / self.pclk_hz
+        return init + sensor + 1.5 * t.clocks_per_frame / t.pixel_hz
+
+    def clock_edges(self, t_end_s, t_pix_start_s, t_cam_start_s):
+        """Rising edges of each clock domain in a run that ends at ``t_end_s`` (the pixel clock from
+        ``t_pix_start_s``, the PCLKs from ``t_cam_start_s``): ``{domain: edges}``."""
+        return {"sync": t_end_s * self.sys_hz,
+                "pix": max(0.0, t_end_s - t_pix_start_s) * self.timing.pixel_hz,
+                "cam_a": max(0.0, t_end_s - t_cam_start_s) * self.pclk_hz,
+                "cam_b": max(0.0, t_end_s - t_cam_start_s) * self.pclk_hz}
+
+    def frame_period_samples(self):
+        """PCLK samples of one sensor frame period (vertical blanking + frame): the replay ROMs' depth."""
+        t, g = self.sensor_timing or SENSOR_TIMING, self.geometry
+        line = t.line_time(g.width)
+        return t.v_blank_lines * line + t.frame_start + g.height * line - t.h_blank + t.frame_end

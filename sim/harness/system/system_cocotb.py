@@ -1,0 +1,21 @@
+"""cocotb end-to-end test of the whole system, on Verilator and Icarus: stereo pair in, HDMI frame out, compared
+with the golden model. The scenario and its phases are ``sim/harness/system/cocotb_scenario.py``; the design and the
+parameters come from ``sim.harness.system.run_cocotb.run_cocotb_system`` (tests/test_system.py, the bench, the ``run`` and
+``demo`` commands)."""
+
+import cocotb
+
+from sim.runners.cocotb import test_params
+from sim.harness.system import cocotb_scenario
+
+PARAMS = test_params()
+
+
+@cocotb.test()
+async def end_to_end(dut):
+    await cocotb_scenario.end_to_end(dut, PARAMS)
+
+
+@cocotb.test(skip="probe_us" not in PARAMS)   # only the bench (bench/bench_system.py) asks for the probe
+async def rate_probe(dut):
+    await cocotb_scenario.rate_probe(dut, PARAMS)

@@ -1,0 +1,155 @@
+"""The screen layout of the compositor (spec "HDMI driver": defined in one place): panels, colour bar, ticks,
+labels and readout, and the default arrangement :meth:`DisplayLayout.centred`."""
+
+from dataclasses import dataclass
+
+from .depth import DEPTH
+from .display import CROSSHAIR_ARM, DEPTH_LABELS_M, READOUT_TEXT
+from .font import FONT_CELL
+from .sensor import disparity_of_distance
+
+__all__ = ["Box", "Region", "TextBox", "ColourBar", "DisplayLayout"]
+
+
+@dataclass(frozen=True)
+class Box:
+    """A rectangle of the active area: columns [x0, x1), rows [y0, y1)."""
+    x0: int
+    y0: int
+    width: int
+    height: int
+
+    @property
+    def x1(self):
+        return self.x0 + self.width
+
+    @property
+    def y1(self):
+        return self.y0 + self.height
+
+    def overlaps(self, other):
+        return self.x0 < other.x1 and other.x0 < self.x1 and self.y0 < other.y1 and other.y0 < self.y1
+
+    def inside(self, other):
+        return other.x0 <= self.x0 and self.x1 <= other.x1 and other.y0 <= self.y0 and self.y1 <= other.y1
+
+
+@dataclass(frozen=True)
+class Region:
+    """One image on the screen: ``source`` ("left", "right", "disparity" or "depth") drawn with its top-left
+    corner at (``x0``, ``y0``) of the active area, each buffer pixel repeated ``scale`` x ``scale`` times."""
+    source: str
+    x0: int
+    y0: int
+    scale: int
+    width: int       # buffer width (pixels before scaling)
+    height: int      # buffer height
+
+    @property
+    def x1(self):
+        return self.x0 + self.width * self.scale
+
+    @property
+    def y1(self):
+        return self.y0 + self.height * self.scale
+
+    @property
+    def box(self):
+        return Box(self.x0, self.y0, self.x1 - self.x0, self.y1 - self.y0)
+
+
+@dataclass(frozen=True)
+class TextBox:
+    """``text`` in :data:`FONT` with its top-left corner at (``x0``, ``y0``), every font pixel ``scale`` x
+    ``scale``: glyph pixels in ``TEXT_RGB``, the rest of the box in ``BACKGROUND_RGB`` (opaque)."""
+    text: str
+    x0: int
+    y0: int
+    scale: int
+
+    @property
+    def box(self):
+        return Box(self.x0, self.y0, len(self.text) * FONT_CELL[0] * self.scale, FONT_CELL[1] * self.scale)
+
+
+@dataclass(frozen=True)
+class ColourBar:
+    """The depth colour map as a vertical bar: code c (0..codes-1) fills rows
+    ``y0 + (codes - 1 - c) * step`` .. ``+ step`` (near = large disparity on top) of columns [x0, x0 + width)."""
+    x0: int
+    y0: int
+    width: int
+    step: int
+    codes: int
+
+    @property
+    def box(self):
+        return Box(self.x0, self.y0, self.width, self.codes * self.step)
+
+
+@dataclass(frozen=True)
+class DisplayLayout:
+    """Where everything goes on the screen: the four panels (``regions``), the colour bar with its tick marks
+    (``ticks``, boxes in ``TEXT_RGB``) and distance labels (``labels``), the centre-distance ``readout`` and the
+    crosshair's ``crosshair_arm`` (buffer pixels).
+
+    Default (:meth:`centred`): the two camera images at 1x side by side on top, separated by ``gap``; the
+    difference map and the depth map at 2x below them, side by side, another ``gap`` lower; the colour bar right
+    of the depth map with its labels; the readout beside the crosshair (right of and below the centre) inside
+    the depth map if it fits there, else just below the depth map. For 1080p and 400 x 300 buffers: left
+    [540, 940) x [70, 370), right [980, 1380) x [70, 370), difference map [100, 900) x [410, 1010), depth map
+    [940, 1740) x [410, 1010), bar [1748, 1764) x [422, 998). :func:`hdl.compositor.check_layout` checks that
+    nothing overlaps (except the readout inside the depth map) and everything fits.
+    """
+    regions: tuple
+    bar: ColourBar = None
+    ticks: tuple = ()
+    labels: tuple = ()
+    readout: TextBox = None
+    crosshair_arm: int = CROSSHAIR_ARM
+
+    def region(self, source):
+        return next(r for r in self.regions if r.source == source)
+
+    @classmethod
+    def centred(cls, timing, geometry, depth=DEPTH, gap=None):
+        w, h, codes = geometry.buf_width, geometry.buf_height, depth.disparities
+        large = timing.h_active >= 640
+        if gap is None:
+            gap = 40 if large else 4
+        fs = 2 if large else 1                      # font scale
+        cell_w, cell_h = FONT_CELL[0] * fs, FONT_CELL[1] * fs
+        step = max(1, 2 * h // codes)
+        bar_gap, bar_w, tick_w = 4 * fs, 8 * fs, 3 * fs
+        marks = [(f"{z:g}m", disparity_of_distance(z, geometry)) for z in DEPTH_LABELS_M]
+        marks = [(text, d) for text, d in marks if 0 < d < codes]
+        label_w = max((len(text) for text, _ in marks), default=0) * cell_w
+        top_w = 2 * w + gap
+        bottom_w = 4 * w + gap + bar_gap + bar_w + tick_w + fs + label_w
+        readout_w = len(READOUT_TEXT) * cell_w
+        xc, yc = w // 2, h // 2
+        inside = (xc + 3) * 2 + readout_w <= 2 * w and (yc + 3) * 2 + cell_h <= 2 * h
+        total_h = 3 * h + gap + (0 if inside else fs + cell_h)
+        if max(top_w, bottom_w) > timing.h_active or total_h > timing.v_active:
+            raise ValueError(f"{w}x{h} buffers and the depth display do not fit the "
+                             f"{timing.h_active}x{timing.v_active} active area")
+        x_left, y_top = (timing.h_active - top_w) // 2, (timing.v_active - total_h) // 2
+        x_bottom, y_bottom = (timing.h_active - bottom_w) // 2, y_top + h + gap
+        depth_region = Region("depth", x_bottom + 2 * w + gap, y_bottom, 2, w, h)
+        bar = ColourBar(depth_region.x1 + bar_gap, y_bottom + (2 * h - codes * step) // 2, bar_w, step, codes)
+        ticks, labels = [], []
+        for text, d in marks:
+            t = bar.y0 + int((codes - 1 - d + 0.5) * step)
+            ticks.append(Box(bar.box.x1, t - fs // 2, tick_w, fs))
+            labels.append(TextBox(text, bar.box.x1 + tick_w + fs, t - cell_h // 2, fs))
+        if inside:
+            readout = TextBox(READOUT_TEXT, depth_region.x0 + (xc + 3) * 2, depth_region.y0 + (yc + 3) * 2, fs)
+        else:
+            readout = TextBox(READOUT_TEXT, depth_region.x0, depth_region.y1 + fs, fs)
+        return cls(regions=(
+            Region("left", x_left, y_top, 1, w, h),
+            Region("right", x_left + w + gap, y_top, 1, w, h),
+            Region("disparity", x_bottom, y_bottom, 2, w, h),
+            depth_region,
+        ), bar=bar, ticks=tuple(ticks), labels=tuple(labels), readout=readout,
+            crosshair_arm=min(CROSSHAIR_ARM, xc - 1, yc - 1, w - 1 - xc, h - 1 - yc))

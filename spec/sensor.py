@@ -1,0 +1,55 @@
+"""The cameras and the frame buffers: sensor size, the downscale into the buffers (thesis 4.2, 4.2.1; spec
+"Camera driver") and the stereo rig's optics (the distance of a disparity)."""
+
+from dataclasses import dataclass
+
+__all__ = ["SensorGeometry", "SENSOR", "SMALL_SENSOR", "VMODCAM_RIG", "disparity_of_distance"]
+
+
+@dataclass(frozen=True)
+class SensorGeometry:
+    """Sensor output size and the downscale into the frame buffer.
+
+    The capture keeps the pixel at (``scale``*i, ``scale``*j) of each ``scale`` x ``scale`` block (thesis
+    figure 4.4), converts it to ``grey_bits`` of grey and writes it at ``A = y * buf_width + x`` (eq. 4.1).
+    """
+    width: int = 1600
+    height: int = 1200
+    scale: int = 4
+    grey_bits: int = 5
+
+    @property
+    def buf_width(self):
+        return self.width // self.scale
+
+    @property
+    def buf_height(self):
+        return self.height // self.scale
+
+    @property
+    def buf_depth(self):
+        return self.buf_width * self.buf_height
+
+    @property
+    def addr_bits(self):
+        return max(1, (self.buf_depth - 1).bit_length())
+
+
+#: The VmodCAM's MT9D112 at full resolution -> 400 x 300 x 5-bit buffers (2 x 120,000 words).
+SENSOR = SensorGeometry()
+#: A small sensor for fast tests: 64 x 48 -> 16 x 12 buffers.
+SMALL_SENSOR = SensorGeometry(width=64, height=48)
+
+
+class VMODCAM_RIG:
+    """The stereo rig's optics, the numbers the test bed uses (sim/scene.py): baseline 6.3 cm (VmodCAM reference
+    manual: 63 mm camera spacing), focal length 3.81 mm (thesis 4.6.7), 2.2 um sensor pixels (MT9D112)."""
+    BASELINE_M = 0.063
+    FOCAL_M = 3.81e-3
+    PIXEL_M = 2.2e-6
+
+
+def disparity_of_distance(distance_m, geometry=SENSOR):
+    """The buffer-pixel disparity of a point at ``distance_m``: d = B f / (Z p s), ``s`` = the buffer's scale
+    (p s = 4 x 2.2 um for the 400 x 300 buffers). Its inverse gives the distance of a disparity."""
+    return VMODCAM_RIG.BASELINE_M * VMODCAM_RIG.FOCAL_M / (distance_m * VMODCAM_RIG.PIXEL_M * geometry.scale)
