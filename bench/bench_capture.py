@@ -34,7 +34,7 @@ from hdl.capture_path import CapturePath
 from board.export import amaranth_verilog, export_verilog
 from spec.sensor import SENSOR
 from sim.runners.cocotb import run_cocotb
-from sim.harness.capture import playback_design, run_capture_amaranth
+from sim.testbench.capture import playback_design, run_capture_amaranth
 from sim.models.mt9d112.sensor import MT9D112, SENSOR_TIMING, Faults, SensorTiming
 from sim.models.mt9d112.config import SensorConfig
 
@@ -65,7 +65,7 @@ def bench_export():
     for simulator in SIMULATORS:
         for kind, text in texts.items():
             start = time.perf_counter()
-            test_dir = run_cocotb(text, name="capture_path", test_module="sim.harness.capture_cocotb", simulator=simulator,
+            test_dir = run_cocotb(text, name="capture_path", test_module="sim.testbench.capture_cocotb", simulator=simulator,
                                   build_args=_build_args(simulator, nonce),
                                   testcase="test_buffers_read_zero_after_power_up",
                                   params={"width": SENSOR.width, "height": SENSOR.height})
@@ -86,7 +86,7 @@ def bench_cocotb_full(simulator):
     report = OUT_DIR / f"capture_full_{simulator}.json"
     report.unlink(missing_ok=True)
     start = time.perf_counter()
-    run_cocotb(playback_design(SENSOR, streams), name="capture_path", test_module="sim.harness.capture_cocotb",
+    run_cocotb(playback_design(SENSOR, streams), name="capture_path", test_module="sim.testbench.capture_cocotb",
                simulator=simulator, build_args=_build_args(simulator),
                testcase="test_stereo_pair_concurrent,test_playback_pair",
                params={"width": SENSOR.width, "height": SENSOR.height, "timing": "sensor",

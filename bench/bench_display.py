@@ -47,7 +47,7 @@ def bench_amaranth(timing, free_clocks, sink_clocks):
 
 def bench_cocotb(timing, simulator, free_clocks, sink_clocks):
     from hdl.display_path import DisplayPath
-    from sim.harness.display import run_display_cocotb
+    from sim.testbench.display import run_display_cocotb
 
     with tempfile.TemporaryDirectory() as tmp:
         run_display_cocotb(DisplayPath(timing), timing, simulator=simulator, sink_clocks=sink_clocks, min_frames=0,

@@ -6,7 +6,7 @@ A whole run is the frame of ``make demo``: the bundled pair at the switch settin
 camera, one 1080p display frame, the rebuilt frame compared bit for bit with the golden frame (the slow test of
 ``tests/test_system.py`` runs the same at other settings).
 
-* Verilator, the project's route (``sim/harness/system/run_verilator.py``: the testbench in C++, the Python models
+* Verilator, the project's route (``sim/testbench/system/run_verilator.py``: the testbench in C++, the Python models
   answering the I2C buses): the simulation, measured beside the **raw model** of the same design
   (``sim/runners/verilator/raw_main.cpp``: the same C++ testbench driven from the run's stimulus log, no Python, built the
   way Verilator builds an executable), which must record the same pins word for word; their ratio is the cost of
@@ -14,7 +14,7 @@ camera, one 1080p display frame, the rebuilt frame compared bit for bit with the
   of ``make demo`` (``stereodepth run`` on the bundled pair with a cached build: start-up, sensor streams,
   simulation, sink, golden frame, PNGs), and the build apart when there is none yet.
 * ``--cocotb``: Verilator through cocotb along the in-simulator route too (the route before the C++ testbench).
-* Icarus: the whole run along cocotb's in-simulator route (``sim/harness/system/verilog_bench.py``: clocks, sensor replay
+* Icarus: the whole run along cocotb's in-simulator route (``sim/testbench/system/verilog_testbench.py``: clocks, sensor replay
   and pin recording inside the simulator); ``--quick`` replaces it (the longest) by a probe.
 * Amaranth's simulator: a whole run takes hours even along its replay route (sensor streams replayed from ROMs in
   the simulated design, gated clocks; the HDMI sink samples every pixel clock in Python), so by default the same
@@ -51,7 +51,7 @@ def demo_fields():
 
 
 def _setup():
-    from sim.harness.system.setup import SystemSetup
+    from sim.testbench.system.setup import SystemSetup
     return SystemSetup.full(**demo_fields())
 
 
@@ -64,7 +64,7 @@ def bench_verilator(repeat=REPEAT):
     docstring); the build first, timed apart when there was none."""
     import numpy as np
     from golden.stereo_pair import load_default_pair
-    from sim.harness.system.run_verilator import run_verilator
+    from sim.testbench.system.run_verilator import run_verilator
     from sim.runners.verilator.build import build_raw
     from sim.runners.verilator.raw import run_raw
     setup = _setup()
@@ -96,7 +96,7 @@ def bench_step(tmp):
     """The whole Verilator step of ``make demo`` as ``stereodepth run`` does it on the bundled pair (the same code
     path), in a fresh process with the build cached: wall seconds."""
     import subprocess
-    from sim.harness.system.run_cocotb import DEFAULT_PAIR
+    from sim.testbench.system.run_cocotb import DEFAULT_PAIR
     cmd = [sys.executable, "-m", "stereodepth", "run", *map(str, DEFAULT_PAIR), "--simulator", "verilator",
            "--out", str(Path(tmp) / "step"), *(f"--{k}={v}" for k, v in demo_fields().items())]
     start = time.perf_counter()
@@ -131,8 +131,8 @@ def _print_verilator(v, step_s):
 
 def bench_cocotb(simulator, tmp):
     """The whole run on ``simulator`` along the in-simulator route (see the module docstring)."""
-    from sim.harness.system.cocotb_routes import InSimulator
-    from sim.harness.system.run_cocotb import run_cocotb_system
+    from sim.testbench.system.cocotb_routes import InSimulator
+    from sim.testbench.system.run_cocotb import run_cocotb_system
     wall = time.perf_counter()
     result = run_cocotb_system(_setup(), simulator, route=InSimulator(), out_dir=Path(tmp) / simulator)
     total = time.perf_counter() - wall
@@ -143,11 +143,11 @@ def bench_cocotb(simulator, tmp):
 
 
 def bench_amaranth_whole():
-    """The whole run in Amaranth's simulator (``sim.harness.system.run_amaranth.run_amaranth`` along its replay route:
+    """The whole run in Amaranth's simulator (``sim.testbench.system.run_amaranth.run_amaranth`` along its replay route:
     sensor streams replayed from ROMs in the simulated design, gated clocks; the sink samples every pixel clock in
     Python). The phase marks count from the start of the simulation (after the ROMs are built)."""
     from golden.stereo_pair import load_default_pair
-    from sim.harness.system.run_amaranth import ROUTES, run_amaranth
+    from sim.testbench.system.run_amaranth import ROUTES, run_amaranth
     setup = _setup()
     left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
     marks = {}
@@ -166,7 +166,7 @@ def bench_amaranth_whole():
 def _probe_rate_cocotb(simulator, tmp):
     """Every clock of the in-simulator route's design running for a slice of simulated time (the scenario's
     ``rate_probe``)."""
-    from sim.harness.system.run_cocotb import run_rate_probe
+    from sim.testbench.system.run_cocotb import run_rate_probe
     wall = time.perf_counter()
     probe = run_rate_probe(_setup(), simulator, PROBE_US[simulator], Path(tmp) / simulator)
     total = time.perf_counter() - wall
@@ -175,9 +175,9 @@ def _probe_rate_cocotb(simulator, tmp):
 
 def _probe_rate_amaranth():
     from amaranth.sim import Simulator
-    from sim.harness.system.bench import SystemBench
+    from sim.testbench.system.testbench import SystemTestbench
     setup = _setup()
-    bench = SystemBench(**setup.system_kwargs())
+    bench = SystemTestbench(**setup.system_kwargs())
     sim = Simulator(bench)
     for domain, hz in (("sync", setup.sys_hz), ("pix", setup.timing.pixel_hz), ("cam_a", setup.pclk_hz),
                        ("cam_b", setup.pclk_hz)):

@@ -50,7 +50,7 @@ from spec.video import CEA_1080P60
 from hdl.rejecting import rejecting
 from hdl.reset_tree import add_reset_tree
 
-__all__ = ["ClockPlan", "PLAN", "GenesysClocking", "SimClocking"]
+__all__ = ["ClockPlan", "PLAN", "GenesysClocking"]
 
 # Attribute ranges from the Xilinx unisim simulation models (DCM_ADV.v, PLL_ADV.v; see the module docstring).
 DCM_M_RANGE = (2, 32)

@@ -31,7 +31,7 @@ UG190, "ODDR"); the behavioural model registers both words on the rising edge an
 
 Open drain: a line is driven low when the system's ``*_oe`` is set with ``*_o`` = 0 and released (high impedance,
 the board's pull-up makes it high) otherwise; the system never drives a line high (checked in simulation by the
-harness's bus resolver, ``sim/models/i2c/bus.py``).
+testbench's bus resolver, ``sim/models/i2c/bus.py``).
 
 Clock domains: ``sync``, ``pix``, ``pix90``, ``mclk``, ``cam_a``, ``cam_b`` (all from :class:`GenesysClocking`).
 Latency: as :class:`~hdl.system.StereoDepthSystem`; the CH7301C pins follow the video stream by one ``pix`` clock.

@@ -23,7 +23,7 @@ __all__ = ["CapturePortSignature", "CapturePath"]
 class CapturePortSignature(ParametricSignature):
     """Everything of one camera's capture path, as the path presents it: ``pins`` (``In(CameraSignature)``, the
     sensor pins), ``write`` (``Out(FrameBufferWriteSignature)``, the write port the capture drives into its buffer,
-    for test benches to watch), ``status`` (``Out(CaptureStatusSignature)``), all in the camera's domain, and
+    for testbenches to watch), ``status`` (``Out(CaptureStatusSignature)``), all in the camera's domain, and
     ``read`` (``In(FrameBufferReadSignature)``, the buffer's read port, in the read domain)."""
 
     def __init__(self, geometry):

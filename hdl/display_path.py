@@ -34,9 +34,9 @@ class DisplayPath(wiring.Component):
     ch7301c : ``Out(CH7301CSignature)``
         The output stage's pins (:class:`~hdl.ch7301c_output.CH7301COutput` gives the dual-edge format).
     frame_start : ``Out(1)``
-        The sync generator's strobe, for test benches and triggers.
+        The sync generator's strobe, for testbenches and triggers.
     sync_gen, pattern, output
-        The three blocks, for test benches and wave dumps.
+        The three blocks, for testbenches and wave dumps.
 
     Clock domain: ``sync`` (the pixel clock; a board top level renames it to ``pix``).
     Latency: :data:`DISPLAY_PATH_LATENCY` = 2 clocks from raster position to pins (``frame_start`` is not

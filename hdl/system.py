@@ -14,7 +14,7 @@ Blocks (each in its own file, see docs/architecture.md):
 * status LEDs and the sensor/transmitter reset and power pins.
 
 Clock domains (defined by the parent: :class:`~board.top.GenesysTop` with the board clocking on the board, the
-simulation harness with :class:`~sim.models.clocking.SimClocking` in simulation, whose exported Verilog names the clocks
+simulation testbench with :class:`~sim.models.clocking.SimClocking` in simulation, whose exported Verilog names the clocks
 ``clk``, ``pix_clk``, ``cam_a_clk``, ``cam_b_clk``):
 
 =========  ================================================================================================

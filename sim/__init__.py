@@ -10,7 +10,7 @@ package            what                                                   may im
 ``sim.waves``      GTKWave save files, translate filters, the headless    ``spec``, ``hdl``, ``sim.models``
                    GTKWave check
 ``sim.runners``    Amaranth, cocotb and Verilator runners                 the above, ``board`` (export)
-``sim.harness``    testbenches: capture, display, subtractor, depth,      all of ``sim`` but ``formal``,
+``sim.testbench``    testbenches: capture, display, subtractor, depth,      all of ``sim`` but ``formal``,
                    the whole system                                       ``golden``, ``board``
 ``sim.formal``     the formal runner, its engines and the harnesses       ``spec``, ``hdl``, ``sim.runners``
 ``sim.testbed``    the thesis's test bed and the synthetic scenes         ``spec``, ``golden``, ``sim.analysis``

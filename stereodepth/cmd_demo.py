@@ -54,8 +54,8 @@ def run(args):
     from . import cmd_run
     from sim.analysis.disparity_pictures import bundled_pair_settings
     from sim import SimulationFailed
-    from sim.harness.system.run_cocotb import DEFAULT_PAIR
-    from sim.harness.system.setup import SystemSetup
+    from sim.testbench.system.run_cocotb import DEFAULT_PAIR
+    from sim.testbench.system.setup import SystemSetup
 
     from stereodepth.provenance import provenance, utc_now
     started = utc_now()

@@ -1,6 +1,6 @@
 """``stereodepth display``: simulate the display path alone (test pattern -> CH7301C bus -> HDMI sink -> PNG).
 
-The simulation is ``sim/harness/display.py``; this module parses the arguments and prints what came out.
+The simulation is ``sim/testbench/display.py``; this module parses the arguments and prints what came out.
 """
 
 import sys
@@ -35,7 +35,7 @@ def add_arguments(parser):
 
 
 def run(args):
-    from sim.harness.display import capture_frame
+    from sim.testbench.display import capture_frame
     from sim import SimulationFailed
     from sim.models.ch7301c.hdmi_sink import write_png
     timing = modes()[args.mode]
@@ -62,7 +62,7 @@ def run(args):
 
 def write_waves(timing, outputs, lines):
     """``display.vcd`` + ``display.gtkw`` of ``outputs`` (written under their partial names, then committed)."""
-    from sim.harness.display import write_display_waves
+    from sim.testbench.display import write_display_waves
     write_display_waves(timing, outputs.partial("display.vcd"), lines=lines)     # the .gtkw beside it
     return {"VCD": outputs.commit("display.vcd"), "GTKWave": outputs.commit_save_file("display.gtkw", "display.vcd")}
 

@@ -22,7 +22,7 @@ def run(args):
     print("synthesising with Yosys synth_xilinx -family xc5v ...", flush=True)
     top_kwargs = {}
     if args.small:
-        from sim.harness.system.setup import SystemSetup
+        from sim.testbench.system.setup import SystemSetup
         top_kwargs = SystemSetup.small().board_kwargs()
     report, frame_bits = estimate(args.out, **top_kwargs)
     lines = report.lines(frame_bits)

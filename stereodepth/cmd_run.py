@@ -17,11 +17,11 @@ checked writable before any work; an earlier run's outputs are removed at the st
 its own name only when complete (``stereodepth/outputs.py``).
 
 Sizes: the default is the board's (1600 x 1200 sensors, 400 x 300 buffers, 1080p60 display); ``--small`` runs
-the small test configuration (64 x 48 sensors, 112 x 52 display; ``sim/harness/system/setup.py``). Simulators:
-``verilator`` (default) runs with its testbench in C++ (``sim/harness/system/run_verilator.py``: clocks, sensor streams and
+the small test configuration (64 x 48 sensors, 112 x 52 display; ``sim/testbench/system/setup.py``). Simulators:
+``verilator`` (default) runs with its testbench in C++ (``sim/testbench/system/run_verilator.py``: clocks, sensor streams and
 the pin recorder in C++, the Python models answering the I2C buses); ``icarus`` runs through cocotb along the
 in-simulator route (the sensors replayed and the pins recorded inside the simulator;
-``sim/harness/system/cocotb_routes.py``); ``amaranth`` runs Amaranth's own simulator (``sim/harness/system/run_amaranth.py``): at
+``sim/testbench/system/cocotb_routes.py``); ``amaranth`` runs Amaranth's own simulator (``sim/testbench/system/run_amaranth.py``): at
 full size along its replay route (the sensor streams replayed from ROMs in the simulated design), with ``--small``
 with the sensor models driven from Python per PCLK.
 """
@@ -93,13 +93,13 @@ def require_simulator(simulator):
 
 
 def make_setup(small, disparity, rectification):
-    from sim.harness.system.setup import SystemSetup
+    from sim.testbench.system.setup import SystemSetup
     return (SystemSetup.small if small else SystemSetup.full)(disparity=disparity, rectification=rectification)
 
 
 def run_cocotb_route(left_path, right_path, setup, simulator, work):
     """The in-simulator cocotb route with a progress bar; returns ``(frame, golden, status)``."""
-    from sim.harness.system.run_cocotb import run_cocotb_checked
+    from sim.testbench.system.run_cocotb import run_cocotb_checked
     bar = Progress(f"{simulator}: build (first run only)")
     try:
         result = run_cocotb_checked(setup, simulator, left_path, right_path, work,
@@ -112,8 +112,8 @@ def run_cocotb_route(left_path, right_path, setup, simulator, work):
 def run_verilator_route(left, right, setup):
     """Verilator with the C++ testbench, with a progress bar; returns ``(frame, golden, status)``."""
     from sim import SimulationFailed
-    from sim.harness.system.result import SystemTimeout
-    from sim.harness.system.run_verilator import run_verilator
+    from sim.testbench.system.result import SystemTimeout
+    from sim.testbench.system.run_verilator import run_verilator
     require_simulator("verilator")
     bar = Progress("verilator: build (first run only)")
     try:
@@ -140,9 +140,9 @@ def run_amaranth_route(left, right, setup, outputs, *, vcd=False):
     progress bar; returns ``(frame, golden, status)``. With ``vcd``, ``system.vcd`` + ``system.gtkw`` of
     ``outputs`` (a :class:`RunOutputs`), committed once the simulation has ended."""
     from sim import SimulationFailed
-    from sim.harness.system.result import SystemTimeout
-    from sim.harness.system.run_amaranth import ROUTES, run_amaranth
-    from sim.harness.system.waves import system_waves
+    from sim.testbench.system.result import SystemTimeout
+    from sim.testbench.system.run_amaranth import ROUTES, run_amaranth
+    from sim.testbench.system.waves import system_waves
     bar = Progress("amaranth")
     stages = {"i2c": 0, "capture": 500, "display": 800, "done": 1000}
     kwargs = dict(vcd=outputs.partial("system.vcd"), gtkw=outputs.partial("system.gtkw"),

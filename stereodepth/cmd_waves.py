@@ -1,6 +1,6 @@
 """``stereodepth waves``: a VCD window of the display path and a GTKWave save file that opens it.
 
-Simulated in Amaranth's simulator; see :func:`sim.harness.display.write_display_waves` for the window.
+Simulated in Amaranth's simulator; see :func:`sim.testbench.display.write_display_waves` for the window.
 """
 
 from pathlib import Path
@@ -21,7 +21,7 @@ def add_arguments(parser):
 
 
 def run(args):
-    from sim.harness.display import wave_window
+    from sim.testbench.display import wave_window
     timing = cmd_display.modes()[args.mode]
     out = prepare_out_dir(args.out)
     lines = cmd_display.check_wave_lines(args.lines, timing)

@@ -18,7 +18,7 @@ from hdl.frame_buffer import FrameBuffer
 from board.memory_init import strip_zero_memory_init
 from spec.sensor import SENSOR, SMALL_SENSOR, SensorGeometry
 from sim.runners.cocotb import run_cocotb
-from sim.harness.capture import playback_design, run_capture_amaranth
+from sim.testbench.capture import playback_design, run_capture_amaranth
 from sim.models.mt9d112.sensor import MT9D112, SENSOR_TIMING, SMALL_SENSOR_TIMING
 from sim.models.mt9d112.config import SensorConfig
 
@@ -60,7 +60,7 @@ def test_golden_capture_is_not_trivial():
 
 def pair_design(geometry, timing):
     """The cocotb design: the two-camera CapturePath (compact export) with replay modules loaded with the
-    pair streams of sim/harness/capture_cocotb.py (same images, timing and seeds)."""
+    pair streams of sim/testbench/capture_cocotb.py (same images, timing and seeds)."""
     left, right = load_default_pair(geometry.width, geometry.height)
     config = SensorConfig(width=geometry.width, height=geometry.height)
     streams = {"a": MT9D112(config, timing=timing, seed=1).stream([left]),
@@ -71,9 +71,9 @@ def pair_design(geometry, timing):
 def test_capture_cocotb(simulator):
     """cocotb on the exported two-camera design: zeros after power-up, the concurrent stereo pair from the
     Python drivers and from the Verilog playback models, and every bad-stream case
-    (sim/harness/capture_cocotb.py)."""
+    (sim/testbench/capture_cocotb.py)."""
     g = SMALL_SENSOR
-    run_cocotb(pair_design(g, SMALL_SENSOR_TIMING), name="capture_path", test_module="sim.harness.capture_cocotb",
+    run_cocotb(pair_design(g, SMALL_SENSOR_TIMING), name="capture_path", test_module="sim.testbench.capture_cocotb",
                simulator=simulator, params={"width": g.width, "height": g.height})
 
 
@@ -138,7 +138,7 @@ def test_full_resolution_capture_cocotb(simulator):
     cycles per camera), from the Python drivers (every write checked) and from the replay modules.
     bench/bench_capture.py runs it in Amaranth's simulator on the full-size design for part of the frame (or
     all of it with --amaranth-full)."""
-    run_cocotb(pair_design(SENSOR, SENSOR_TIMING), name="capture_path", test_module="sim.harness.capture_cocotb",
+    run_cocotb(pair_design(SENSOR, SENSOR_TIMING), name="capture_path", test_module="sim.testbench.capture_cocotb",
                simulator=simulator,
                testcase="test_stereo_pair_concurrent,test_playback_pair",
                params={"width": SENSOR.width, "height": SENSOR.height, "timing": "sensor"})

@@ -5,7 +5,7 @@ docs/capture.md "Robustness").
 Each named case (sim.models.mt9d112.sensor.fault_cases: LV without FV, short / long / odd-length lines, FV dropped
 mid-frame, extra lines, PCLK pauses, reset in the middle of a frame, a combination) sends a faulty frame
 then a good one through the sensor model into the RTL (Amaranth simulator; the same cases run on Verilator
-and Icarus in sim/harness/capture_cocotb.py). Checked on the write port: every address is inside the
+and Icarus in sim/testbench/capture_cocotb.py). Checked on the write port: every address is inside the
 buffer, and the whole write sequence and every frame status equal the golden stream model
 (golden/capture.capture_stream); the buffer read back after the good frame equals the golden image-level
 capture of that frame. Hypothesis then throws random fault mixes and random garbage streams at it.
@@ -22,7 +22,7 @@ from golden.capture import capture_frame, capture_stream
 from golden.stereo_pair import load_default_pair
 from hdl.capture_path import CapturePath
 from spec.sensor import SensorGeometry
-from sim.harness.capture import run_capture_amaranth
+from sim.testbench.capture import run_capture_amaranth
 from sim.models.mt9d112.sensor import MT9D112, Faults, SensorStream, SensorTiming, fault_cases
 from sim.models.mt9d112.config import SensorConfig
 

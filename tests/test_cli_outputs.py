@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from sim.harness.system.run_cocotb import DEFAULT_PAIR
+from sim.testbench.system.run_cocotb import DEFAULT_PAIR
 from stereodepth.outputs import RunOutputs, partial_name
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -2,7 +2,7 @@
 opens on the whole run, listing only signals the dump holds, with the state machines and enumerations by name and
 markers at the events the run names (sim/waves/cocotb.py), on Verilator (VCD) and Icarus (FST).
 
-The run: the I2C sequencer bench (tests/cocotb/cocotb_i2c.py), its short fault test (the MT9D112 NACKs a data
+The run: the I2C sequencer testbench (tests/cocotb/cocotb_i2c.py), its short fault test (the MT9D112 NACKs a data
 byte, the CH7301C bus has no device: both sequencers end in ERROR). What the save file asks for is checked against
 the dump as GTKWave loads it and as :func:`sim.waves.gtkw.changes` reads it.
 """

@@ -60,11 +60,11 @@ def grey_buffers(geometry):
     return capture_frame(left, geometry), capture_frame(right, geometry)
 
 
-class DisplayHarness(wiring.Component):
-    """Test harness, not part of the design: SwitchControl -> StereoDisplay <- two FrameBuffers, all in ``sync``;
-    the buffers' write ports are brought out (``load_*``) so a cocotb bench can fill them, or ``init_*`` preloads
+class DisplayTestbench(wiring.Component):
+    """Test testbench, not part of the design: SwitchControl -> StereoDisplay <- two FrameBuffers, all in ``sync``;
+    the buffers' write ports are brought out (``load_*``) so a cocotb testbench can fill them, or ``init_*`` preloads
     them. ``timing``, ``sw``, ``video`` and ``settings`` (the switch registers) are the blocks' own; ``video_word``
-    is the video output packed as Cat(vsync, hsync, de, rgb) so a cocotb bench reads one signal per clock (it
+    is the video output packed as Cat(vsync, hsync, de, rgb) so a cocotb testbench reads one signal per clock (it
     checks it against the ``video`` ports themselves at intervals)."""
 
     def __init__(self, timing, geometry, *, layout=None, config=SMALL_DEPTH, init_left=(), init_right=()):
@@ -197,7 +197,7 @@ def test_compositor_argument_checks():
 
 def run_amaranth(timing, geometry, schedule, n_frames, layout=None):
     left, right = grey_buffers(geometry)
-    dut = DisplayHarness(timing, geometry, layout=layout, init_left=left.ravel().tolist(),
+    dut = DisplayTestbench(timing, geometry, layout=layout, init_left=left.ravel().tolist(),
                          init_right=right.ravel().tolist())
     raster = reference_raster(timing)
     events, settings = switch_events(schedule, timing)
@@ -265,8 +265,8 @@ def run_cocotb_display(timing, geometry, schedule, simulator, tmp_path):
     data = tmp_path / "display.npz"
     np.savez(data, left=left, right=right,
              expected=expected_frames(left, right, settings, timing, geometry, config=config))
-    verilog = export_verilog(DisplayHarness(timing, geometry, config=config), "display_harness")
-    run_cocotb(verilog, name="display_harness", test_module="cocotb_compositor",
+    verilog = export_verilog(DisplayTestbench(timing, geometry, config=config), "display_testbench")
+    run_cocotb(verilog, name="display_testbench", test_module="cocotb_compositor",
                simulator=simulator,
                params=dict(timing=dataclasses.asdict(timing), latency=LATENCY, data=str(data),
                            schedule=schedule, clock_ps=CLOCK_PS))

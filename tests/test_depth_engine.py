@@ -22,7 +22,7 @@ from sim.runners.amaranth import simulate
 from board.export import export_verilog
 from sim.runners.cocotb import run_cocotb
 from sim.waves.cocotb import RunWaves
-from sim.harness.depth import DepthHarness
+from sim.testbench.depth import DepthTestbench
 
 G, CFG = SMALL_SENSOR, SMALL_DEPTH
 SHAPE = (G.buf_height, G.buf_width)
@@ -37,9 +37,9 @@ def random_pair(seed, shape=SHAPE, top=32):
 
 def run_engine(left, right, *, geometry=G, config=CFG, grant_mask=0, restart_after=None, hold_clocks=0,
                row_offset=0, timeout=200_000):
-    """One map from the harness in Amaranth's simulator: returns (codes, clocks, reads, rows_ready seen while
+    """One map from the testbench in Amaranth's simulator: returns (codes, clocks, reads, rows_ready seen while
     the reader held back)."""
-    dut = DepthHarness(geometry, config)
+    dut = DepthTestbench(geometry, config)
     out = {}
 
     async def bench(ctx):
@@ -183,11 +183,11 @@ def run_cocotb_depth(left, right, geometry, config, simulator, tmp_path, grant_m
     data = tmp_path / "depth.npz"
     np.savez(data, left=left, right=right, expected=depth_map(left, right, config))
     result = tmp_path / "result.json"
-    name = f"depth_harness_{geometry.buf_width}x{geometry.buf_height}_d{config.disparities}"
-    verilog = export_verilog(DepthHarness(geometry, config), name)
+    name = f"depth_testbench_{geometry.buf_width}x{geometry.buf_height}_d{config.disparities}"
+    verilog = export_verilog(DepthTestbench(geometry, config), name)
     run_cocotb(verilog, name=name, test_module="cocotb_depth", simulator=simulator,
                build_args=VERILATOR_ARGS if simulator == "verilator" else (),
-               run_waves=RunWaves(design=lambda: DepthHarness(geometry, config)),   # STEREO_WAVES=1: FSM names
+               run_waves=RunWaves(design=lambda: DepthTestbench(geometry, config)),   # STEREO_WAVES=1: FSM names
                params=dict(data=str(data), result=str(result), clock_ps=CLOCK_PS, grant_mask=grant_mask,
                            timeout_clocks=3_000_000))
     return json.loads(result.read_text())

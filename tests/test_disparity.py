@@ -13,7 +13,7 @@ from spec.board import CLOCKS
 from spec.display import DIFF_THRESHOLDS
 from spec.sensor import SensorGeometry
 from sim.runners.amaranth import simulate
-from sim.harness.subtractor import set_pixel, subtractor_bench
+from sim.testbench.subtractor import set_pixel, subtractor_testbench
 
 
 
@@ -61,7 +61,7 @@ def run_subtractor(left, right, disparity, rectification, thresholds, pixels):
     documented latency, the right/left addresses and that the left address never leaves the buffer."""
     h, w = right.shape
     geometry = SensorGeometry(width=4 * w, height=4 * h)
-    m, sub = subtractor_bench(geometry, thresholds, left.ravel().tolist(), right.ravel().tolist())
+    m, sub = subtractor_testbench(geometry, thresholds, left.ravel().tolist(), right.ravel().tolist())
     stream = list(pixels) + [None] * LATENCY
     out = []
 

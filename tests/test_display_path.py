@@ -23,7 +23,7 @@ from spec.video import CEA_1080P60, SMALL_TIMING
 from hdl.pattern_gen import PatternGenerator
 from sim.runners.amaranth import simulate
 from board.export import amaranth_verilog as export_verilog
-from sim.harness.display import run_display_cocotb
+from sim.testbench.display import run_display_cocotb
 from sim.models.ch7301c.hdmi_sink import HdmiSink, amaranth_sink_testbench
 
 #: CEA-861 1920x1080p60 (VIC 16) intervals as the sink and the edge timer measure them, written out here
@@ -201,7 +201,7 @@ def test_board_variant_carries_the_same_frames_on_icarus(tmp_path):
     params = {"timing": dataclasses.asdict(SMALL_TIMING), "sink_clocks": 2 * SMALL_TIMING.clocks_per_frame + 8,
               "min_frames": 2}
     test_dir = run_cocotb(DisplayPath(SMALL_TIMING, ddr="virtex5"), name="display_path_board",
-                          test_module="sim.harness.display_cocotb", simulator="icarus", params=params, extra_sources=[models])
+                          test_module="sim.testbench.display_cocotb", simulator="icarus", params=params, extra_sources=[models])
     assert_ran(test_dir, {"sink_frames"})
 
 

@@ -25,7 +25,7 @@ from spec.sensor import SensorGeometry
 
 
 class GreyDownscale(wiring.Component):
-    """Test harness: Grey feeding Downscaler, as CameraCapture wires them."""
+    """Test testbench: Grey feeding Downscaler, as CameraCapture wires them."""
 
     def __init__(self, geometry):
         self.geometry = geometry

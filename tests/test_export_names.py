@@ -12,8 +12,8 @@ import pytest
 from hdl.display_path import DisplayPath
 from board.export import amaranth_verilog, flat_name, flat_ports
 from spec.video import SMALL_TIMING
-from sim.harness.system.cocotb_routes import InSimulator, PythonModels
-from sim.harness.system.setup import SystemSetup
+from sim.testbench.system.cocotb_routes import InSimulator, PythonModels
+from sim.testbench.system.setup import SystemSetup
 
 
 def top_ports(verilog, name):

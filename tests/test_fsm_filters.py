@@ -97,9 +97,9 @@ def test_every_state_is_named_as_in_the_rtl(block, source, state):
 
 def test_the_system_has_seven_state_machines_with_filters(tmp_path):
     """Three init sequencers, their three I2C masters and the depth engine's pass control."""
-    from sim.harness.system.bench import SystemBench
-    from sim.harness.system.setup import SystemSetup
-    fsms = state_machines(SystemBench(**SystemSetup.small().system_kwargs()))
+    from sim.testbench.system.testbench import SystemTestbench
+    from sim.testbench.system.setup import SystemSetup
+    fsms = state_machines(SystemTestbench(**SystemSetup.small().system_kwargs()))
     paths = sorted(".".join(f.path[-2:]) for f in fsms)
     assert paths == sorted([f"system.init_{b}" for b in ("cam_a", "cam_b", "dvi")]
                            + [f"init_{b}.master" for b in ("cam_a", "cam_b", "dvi")] + ["display.engine"])

@@ -20,7 +20,7 @@ needs_gtkwave = pytest.mark.skipif(not gtkwave_check.available(), reason="gtkwav
 
 @pytest.fixture(scope="module")
 def display_waves(tmp_path_factory):
-    from sim.harness.display import write_display_waves
+    from sim.testbench.display import write_display_waves
     return write_display_waves(SMALL_TIMING, tmp_path_factory.mktemp("waves") / "display.vcd")
 
 
@@ -78,10 +78,10 @@ def system_save_file(tmp_path_factory):
     """The system's save file over a short run (the names and groups do not depend on the run's length)."""
     from amaranth.sim import Simulator
     from sim.waves.gtkw import recording
-    from sim.harness.system.bench import SystemBench
-    from sim.harness.system.setup import SystemSetup
-    from sim.harness.system.waves import system_waves
-    bench = SystemBench(**SystemSetup.small().system_kwargs())
+    from sim.testbench.system.testbench import SystemTestbench
+    from sim.testbench.system.setup import SystemSetup
+    from sim.testbench.system.waves import system_waves
+    bench = SystemTestbench(**SystemSetup.small().system_kwargs())
     sim = Simulator(bench)
     for domain, hz in (("sync", 100e6), ("pix", 25e6), ("cam_a", 80e6), ("cam_b", 80e6)):
         sim.add_clock(1 / hz, domain=domain)
@@ -109,9 +109,9 @@ def test_no_saved_trace_has_a_collision_suffix(system_save_file, display_waves):
 
 def test_exported_system_ports_have_no_collision_suffix():
     from board.export import export_verilog
-    from sim.harness.system.bench import SystemBench
-    from sim.harness.system.setup import SystemSetup
-    text = export_verilog(SystemBench(clock_ports=True, **SystemSetup.small().system_kwargs()), "system")
+    from sim.testbench.system.testbench import SystemTestbench
+    from sim.testbench.system.setup import SystemSetup
+    text = export_verilog(SystemTestbench(clock_ports=True, **SystemSetup.small().system_kwargs()), "system")
     header = text[text.index("module system("):]
     ports = re.findall(r"^\s*(?:input|output|inout)\s+(?:wire\s+|reg\s+)?(?:\[\d+:0\]\s+)?(\S+);", header, re.M)
     assert len(ports) > 40

@@ -231,14 +231,14 @@ def test_random_tables_with_transient_nacks(entries, nacks, nack_byte):
 
 # --- cocotb on Verilator and Icarus ----------------------------------------------------------------------
 
-def cocotb_bench(clk_hz, **kw):
+def cocotb_testbench(clk_hz, **kw):
     return I2CBench({"cam": InitSequencer(MT9D112_TABLE, clk_hz=clk_hz, **kw),
                      "dvi": InitSequencer(CH7301C_TABLE, clk_hz=clk_hz, **kw)})
 
 
 def run_cocotb_i2c(simulator, clk_hz, testcase=None, waves=None, **kw):
     params = dict(clk_hz=clk_hz, **kw)
-    return run_cocotb(cocotb_bench(clk_hz, **kw), name="i2c_bench", test_module="cocotb_i2c", simulator=simulator,
+    return run_cocotb(cocotb_testbench(clk_hz, **kw), name="i2c_bench", test_module="cocotb_i2c", simulator=simulator,
                       params=params, testcase=testcase, waves=waves, run_waves=i2c_bench_waves(("cam", "dvi")))
 
 

@@ -21,7 +21,7 @@ from sim.models.i2c.target import I2CTarget
 from sim.models.mt9d112.target import MT9D112Model
 from sim.models.i2c.table import expected_writes
 from sim.waves.i2c_filter import decode, transaction_text, transactions
-from sim.harness.system.setup import SystemSetup
+from sim.testbench.system.setup import SystemSetup
 
 CLK = 1_000_000
 

@@ -26,14 +26,14 @@ MAY_IMPORT = {
     "sim.models": ("spec", "hdl", "golden", "sim.__init__", "sim.waves"),
     "sim.replay": ("spec", "hdl", "sim.__init__", "sim.models"),
     "sim.runners": ("spec", "hdl", "board", "sim.__init__", "sim.waves"),
-    # the Verilator route's C++ testbench is the whole system's: its build makes the system bench
+    # the Verilator route's C++ testbench is the whole system's: its build makes the system testbench
     "sim.runners.verilator": ("spec", "hdl", "board", "sim.__init__", "sim.waves", "sim.runners",
-                              "sim.models", "sim.replay", "sim.harness.system"),
-    "sim.harness": ("spec", "hdl", "golden", "board", "sim.__init__", "sim.models", "sim.replay", "sim.runners",
+                              "sim.models", "sim.replay", "sim.testbench.system"),
+    "sim.testbench": ("spec", "hdl", "golden", "board", "sim.__init__", "sim.models", "sim.replay", "sim.runners",
                     "sim.waves"),
     "sim.formal": ("spec", "hdl", "sim.__init__", "sim.runners"),
     "sim.analysis": ("spec", "golden", "sim.__init__", "sim.models", "sim.testbed.scene"),
-    "sim.testbed": ("spec", "hdl", "golden", "sim.__init__", "sim.runners", "sim.harness", "sim.analysis"),
+    "sim.testbed": ("spec", "hdl", "golden", "sim.__init__", "sim.runners", "sim.testbench", "sim.analysis"),
     "bench": ("spec", "hdl", "golden", "board", "sim"),
     "stereodepth": ("spec", "hdl", "golden", "board", "sim"),
     "tests": PRODUCT,
@@ -138,7 +138,7 @@ def test_every_product_module_has_a_layer():
 
 def test_the_check_sees_function_local_and_relative_imports(tmp_path):
     """The checker itself: a function-local import, a relative import, ``from golden import x``, a model importing
-    a harness and a board module importing the simulation are found; spec stays allowed for golden/."""
+    a testbench and a board module importing the simulation are found; spec stays allowed for golden/."""
     for d in ("hdl", "golden", "sim/models", "board"):
         (tmp_path / d).mkdir(parents=True)
         (tmp_path / d / "__init__.py").write_text("")
@@ -146,7 +146,7 @@ def test_the_check_sees_function_local_and_relative_imports(tmp_path):
     (tmp_path / "golden" / "model.py").write_text(
         "from spec.sensor import SENSOR\nfrom spec import sensor\nfrom hdl.capture import CameraCapture\n"
         "from .. import sim\n")
-    (tmp_path / "sim" / "models" / "part.py").write_text("from sim.harness.display import run\nfrom sim import UserError\n")
+    (tmp_path / "sim" / "models" / "part.py").write_text("from sim.testbench.display import run\nfrom sim import UserError\n")
     (tmp_path / "board" / "flow.py").write_text("from sim.runners.cocotb import run_cocotb\nfrom hdl.system import X\n")
     found = violations(tmp_path)
     assert found == [
@@ -154,7 +154,7 @@ def test_the_check_sees_function_local_and_relative_imports(tmp_path):
         "golden/model.py:3: golden.model imports hdl.capture.CameraCapture",
         "golden/model.py:4: golden.model imports sim",
         "board/flow.py:1: board.flow imports sim.runners.cocotb.run_cocotb",
-        "sim/models/part.py:1: sim.models.part imports sim.harness.display.run",
+        "sim/models/part.py:1: sim.models.part imports sim.testbench.display.run",
     ]
 
 

@@ -23,7 +23,7 @@ from sim.models.ch7301c.target import CH7301CModel
 from sim.models.mt9d112.target import MT9D112Model
 from sim.models.i2c.table import play_table
 from sim.models.mt9d112.registers import KNOWN_REGISTERS, KNOWN_VARIABLES, RegisterError
-from sim.harness.system.tables import mt9d112_table
+from sim.testbench.system.tables import mt9d112_table
 
 
 def differences(state, expected):

@@ -32,9 +32,9 @@ from hdl.sync_gen import SyncGenerator
 from hdl.system import StereoDepthSystem
 from board.top import GenesysTop
 from sim.replay.sensor import SensorReplay
-from sim.harness.system.bench import SystemBench
-from sim.harness.system.rom_bench import RomReplayBench
-from sim.harness.system.verilog_bench import VerilogReplayBench
+from sim.testbench.system.testbench import SystemTestbench
+from sim.testbench.system.rom_testbench import RomReplayTestbench
+from sim.testbench.system.verilog_testbench import VerilogReplayTestbench
 
 SMALL = dict(geometry=SMALL_SENSOR, timing=SMALL_TIMING, depth=SMALL_DEPTH)
 
@@ -62,9 +62,9 @@ REJECTED = {
     "StereoDepthSystem, its compositor": lambda: StereoDepthSystem(**SMALL, level_grey=(0,)),
     "GenesysTop": lambda: GenesysTop(ddr="behavioural"),
     "SensorReplay": lambda: SensorReplay([], domain="sync"),
-    "SystemBench": lambda: SystemBench(define_domains=False, clock_ports=True, **SMALL),
-    "RomReplayBench": lambda: RomReplayBench(replay_words={"a": [0]}, **SMALL),
-    "VerilogReplayBench": lambda: VerilogReplayBench(replay_depth=1, periods_ps={"sync": 3, "pix": 4, "cam": 2},
+    "SystemTestbench": lambda: SystemTestbench(define_domains=False, clock_ports=True, **SMALL),
+    "RomReplayTestbench": lambda: RomReplayTestbench(replay_words={"a": [0]}, **SMALL),
+    "VerilogReplayTestbench": lambda: VerilogReplayTestbench(replay_depth=1, periods_ps={"sync": 3, "pix": 4, "cam": 2},
                                                      **SMALL),
 }
 

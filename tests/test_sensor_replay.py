@@ -1,4 +1,4 @@
-"""SensorReplay (sim/replay/sensor.py) and the Amaranth replay route's gated clocks (sim/harness/system/rom_bench.py).
+"""SensorReplay (sim/replay/sensor.py) and the Amaranth replay route's gated clocks (sim/testbench/system/rom_testbench.py).
 
 The replay's pins are sampled at every rising edge of its PCLK domain and compared with the sensor model's stream
 (the arrays ``sim.models.mt9d112.sensor.MT9D112.frame`` returns, not the packed ROM words), across the wrap to sample 0.
@@ -73,10 +73,10 @@ def test_replay_puts_the_model_stream_on_the_pins_and_wraps():
 
 
 def test_gated_clock_runs_its_domain_only_while_enabled():
-    """RomReplayBench's clock gate: a counter in the gated domain stands still while the gate is closed and
+    """RomReplayTestbench's clock gate: a counter in the gated domain stands still while the gate is closed and
     counts one per free-clock period while it is open; enable_clock opens and closes it while the free clock is
     low, so no pulse is lost or cut short (the counts are exact)."""
-    from sim.harness.system.rom_bench import ClockGate, enable_clock
+    from sim.testbench.system.rom_testbench import ClockGate, enable_clock
 
     class Bench(wiring.Component):
         count: Out(16)

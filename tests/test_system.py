@@ -3,7 +3,7 @@ frame buffers -> compositor and depth engine -> CH7301C pins -> HDMI sink model,
 golden model's frame (golden.disparity.composite_frame of golden.capture.capture_frame of each image: the four
 panels, the depth map with its colour bar, labels, crosshair and centre distance).
 
-Default run: the small preset (64 x 48 sensor, 112 x 52 display, D = 8; sim/harness/system/setup.py) on Amaranth's
+Default run: the small preset (64 x 48 sensor, 112 x 52 display, D = 8; sim/testbench/system/setup.py) on Amaranth's
 simulator and through cocotb on Verilator and Icarus, along every route (tests/test_verilator_route.py runs the
 Verilator route with the C++ testbench). Slow: the full 1600 x 1200 -> 1080p run (tests marked ``slow``).
 """
@@ -15,13 +15,13 @@ from golden.stereo_pair import load_default_pair
 from hdl.init_tables import MT9D112_TABLE, Poll, Wait, Write
 from spec.display import NO_DATA_RGB
 from spec.sensor import SMALL_SENSOR
-from sim.harness.system.cocotb_routes import InSimulator, PythonModels
-from sim.harness.system.run_amaranth import ROUTES as AMARANTH_ROUTES, run_amaranth
-from sim.harness.system.waves import system_waves
-from sim.harness.system.run_cocotb import DEFAULT_PAIR, run_cocotb_system
-from sim.harness.system.result import SystemTimeout
-from sim.harness.system.setup import SystemSetup
-from sim.harness.system.tables import QUICK_VARIABLES, SIZE_VARIABLES, mt9d112_table
+from sim.testbench.system.cocotb_routes import InSimulator, PythonModels
+from sim.testbench.system.run_amaranth import ROUTES as AMARANTH_ROUTES, run_amaranth
+from sim.testbench.system.waves import system_waves
+from sim.testbench.system.run_cocotb import DEFAULT_PAIR, run_cocotb_system
+from sim.testbench.system.result import SystemTimeout
+from sim.testbench.system.setup import SystemSetup
+from sim.testbench.system.tables import QUICK_VARIABLES, SIZE_VARIABLES, mt9d112_table
 
 DISPARITY, RECTIFICATION = 2, 1     # small buffers are 16 x 12: a shift of 2 leaves a no-data band
 
@@ -117,7 +117,7 @@ def test_end_to_end_amaranth(tmp_path):
 
 
 def test_end_to_end_amaranth_replayed_sensors():
-    """The full-size Amaranth route (sim/harness/system/rom_bench.py: each camera's stream, made by the sensor model
+    """The full-size Amaranth route (sim/testbench/system/rom_testbench.py: each camera's stream, made by the sensor model
     before the run, replayed from a ROM; gated simulator clocks) on the small preset: the same frame as the golden
     model, and every sample of the replayed frame period was sent."""
     setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION)
@@ -135,11 +135,11 @@ def test_replayed_sensors_need_the_configuration_their_stream_was_made_for(monke
     """The replay ROM is made before the run for the spec's sensor configuration; if the RTL's I2C init leaves a
     register-file model configured otherwise (here: the ROM made for G byte first), the run stops with an error
     instead of replaying a stream the model would not send."""
-    import sim.harness.system.run_amaranth
+    import sim.testbench.system.run_amaranth
     from sim.models.mt9d112.config import SensorConfig
     setup = SystemSetup.small()
     g = setup.geometry
-    monkeypatch.setattr(sim.harness.system.run_amaranth, "expected_sensor_config",
+    monkeypatch.setattr(sim.testbench.system.run_amaranth, "expected_sensor_config",
                         lambda geometry: SensorConfig(width=g.width, height=g.height, rgb565=True,
                                                       r_byte_first=False))
     left, right = load_default_pair(g.width, g.height)
@@ -173,7 +173,7 @@ def test_end_to_end_cocotb_pixel_clock_from_time_zero(tmp_path):
 
 
 def test_in_simulator_route_is_equivalent(simulator, tmp_path):
-    """The end-to-end run along the in-simulator route (sim/harness/system/verilog_bench.py), checked against the Python
+    """The end-to-end run along the in-simulator route (sim/testbench/system/verilog_testbench.py), checked against the Python
     models in the same run: the replayed camera pins equal the sensor model's stream sample for sample, and the
     pin recorder's per-clock samples equal those of the Python sink (``CocotbSink``) sampling the same pins; the
     frame rebuilt from them equals the golden frame bit for bit."""
@@ -207,8 +207,8 @@ def _check_full_size_frame(status, result):
 @pytest.mark.slow
 def test_end_to_end_full_size_verilator():
     """1600 x 1200 sensors -> 400 x 300 buffers -> one 1080p frame, bit for bit, on Verilator with the testbench
-    in C++ (sim/harness/system/run_verilator.py): the route of make demo."""
-    from sim.harness.system.run_verilator import run_verilator
+    in C++ (sim/testbench/system/run_verilator.py): the route of make demo."""
+    from sim.testbench.system.run_verilator import run_verilator
     left, right = load_default_pair(FULL_SETUP.geometry.width, FULL_SETUP.geometry.height)
     result = run_verilator(left, right, FULL_SETUP)
     _check_full_size_status(result.status)
@@ -228,7 +228,7 @@ def test_end_to_end_full_size_icarus(tmp_path):
 @pytest.mark.hours
 def test_end_to_end_full_size_amaranth():
     """The same full-size run in Amaranth's simulator, along its replay route (each camera's stream replayed from
-    a ROM, gated clocks: sim/harness/system/rom_bench.py; the HDMI sink still samples every pixel clock in Python). Hours
+    a ROM, gated clocks: sim/testbench/system/rom_testbench.py; the HDMI sink still samples every pixel clock in Python). Hours
     long (README gives the figure); the small preset runs both Amaranth routes."""
     setup = FULL_SETUP
     left, right = load_default_pair(setup.geometry.width, setup.geometry.height)

@@ -1,4 +1,4 @@
-"""The Verilator route with its testbench in C++ (sim/harness/system/run_verilator.py, sim/runners/verilator/) on the small preset:
+"""The Verilator route with its testbench in C++ (sim/testbench/system/run_verilator.py, sim/runners/verilator/) on the small preset:
 the frame, the models' checks, the raw reference model replaying the run exactly, and each check shown to bite."""
 
 import numpy as np
@@ -8,10 +8,10 @@ from golden.stereo_pair import load_default_pair
 from hdl.init_tables import CH7301C_TABLE
 from sim.models.ch7301c.hdmi_sink import HdmiSink
 from sim.models.i2c.table import expected_writes
-from sim.harness.system.result import SystemTimeout
-from sim.harness.system.run_verilator import VerilatorRun, camera_pins, run_verilator
-from sim.harness.system.setup import SystemSetup
-from sim.runners.verilator.harness import STIMULUS
+from sim.testbench.system.result import SystemTimeout
+from sim.testbench.system.run_verilator import VerilatorRun, camera_pins, run_verilator
+from sim.testbench.system.setup import SystemSetup
+from sim.runners.verilator.ctestbench import STIMULUS
 from sim.runners.verilator.raw import run_raw
 from sim.runners.verilator.recording import decode, feed_sink
 
@@ -95,11 +95,11 @@ def test_replay_check_bites():
 def test_configuration_guard(monkeypatch):
     """The streams are made before the run for the expected configuration: an I2C init that configures a sensor
     otherwise stops the run (here the stream is made for G byte first)."""
-    import sim.harness.system.run_verilator
+    import sim.testbench.system.run_verilator
     from sim.models.mt9d112.config import SensorConfig
     setup = _setup()
     g = setup.geometry
-    monkeypatch.setattr(sim.harness.system.run_verilator, "expected_sensor_config",
+    monkeypatch.setattr(sim.testbench.system.run_verilator, "expected_sensor_config",
                         lambda geometry: SensorConfig(width=g.width, height=g.height, rgb565=True,
                                                       r_byte_first=False))
     with pytest.raises(SystemTimeout, match="camera a: the I2C init configured .*r_byte_first=True"):
@@ -144,8 +144,8 @@ def test_build_key_follows_the_design(tmp_path, monkeypatch):
     assert build.cache_key(SystemSetup.small(disparity=DISPARITY + 1, rectification=0)) == key
     assert build.cache_key(SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION, lock_cycles=17)) != key
     files = dict(build._design_files())
-    assert {"hdl.system", "hdl.i2c_master", "board.export", "sim.models.i2c.bus", "sim.harness.system.bench"} <= set(files)
-    assert not any(n.startswith(("golden", "sim.harness.system.run_", "sim.runners.verilator", "bench")) for n in files)
+    assert {"hdl.system", "hdl.i2c_master", "board.export", "sim.models.i2c.bus", "sim.testbench.system.testbench"} <= set(files)
+    assert not any(n.startswith(("golden", "sim.testbench.system.run_", "sim.runners.verilator", "bench")) for n in files)
     copies = {}
     for name, path in files.items():                # the same sources elsewhere: the same key
         copies[name] = tmp_path / path.name.replace(".py", f".{name}.py")
@@ -158,7 +158,7 @@ def test_build_key_follows_the_design(tmp_path, monkeypatch):
     assert build.cache_key(_setup()) != key
 
 
-def test_harness_refuses_values_that_do_not_fit(base):
+def test_testbench_refuses_values_that_do_not_fit(base):
     """A value wider than the port (Verilator expects the bits above a port's width clear) or a write to an output is
     refused before it reaches the model."""
     h = base.figures["run"].h
@@ -177,9 +177,9 @@ def test_the_testbench_has_every_port_of_the_exported_top(base):
     from amaranth.hdl import Fragment, Shape
     from amaranth.lib import wiring
     from board.export import flat_name
-    from sim.harness.system.bench import SystemBench
+    from sim.testbench.system.testbench import SystemTestbench
     run = base.figures["run"]
-    design = SystemBench(clock_ports=True, **_setup().system_kwargs())
+    design = SystemTestbench(clock_ports=True, **_setup().system_kwargs())
     want = {flat_name(path): (member.flow == wiring.In, Shape.cast(member.shape).width)
             for path, member, _ in design.signature.flatten(design)}
     Fragment.get(design, None)                      # elaborated, as an export would

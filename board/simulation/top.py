@@ -3,7 +3,7 @@ primitive models (``board/simulation/xilinx``), the sensor models on the camera 
 HDMI sink on the CH7301C pins.
 
 * :func:`board_verilog`: the ``top.v`` text the board build writes (``board.top.board_plan``, the same path as
-  ``stereodepth verilog``), for the board's sizes or a :class:`sim.harness.system.setup.SystemSetup`'s small ones.
+  ``stereodepth verilog``), for the board's sizes or a :class:`sim.testbench.system.setup.SystemSetup`'s small ones.
   ``--pins`` (a pin file) changes only the UCF: the Verilog is the same with the placeholder pins
   (tests/test_board_top.py checks it).
 * :data:`TESTBENCH`: the Verilog around ``top``: the I2C buses as wired-AND lines with pull-ups (the Genesys and
@@ -16,7 +16,7 @@ HDMI sink on the CH7301C pins.
 * :func:`run_board_cocotb`: build and run ``board/simulation/top_cocotb.py`` on Icarus or Verilator; returns the
   status the test wrote (frame, golden frame, measured clocks, LED and part states).
 
-Clocks: the 100 MHz oscillator is the only clock the test bench drives; MCLK, the pixel clock and XCLK come out
+Clocks: the 100 MHz oscillator is the only clock the testbench drives; MCLK, the pixel clock and XCLK come out
 of the DCM/PLL models, PCLK from the sensor models. Time unit 1 ns, precision 1 ps (the models need them).
 """
 
@@ -83,17 +83,17 @@ BOARD_PRIMITIVES = ("IBUF", "OBUFT", "IOBUF", "BUFG", "FDCE", "FDPE", "ODDR", "D
 
 
 def board_setup(spec):
-    """The :class:`~sim.harness.system.setup.SystemSetup` of ``spec``: ``{"preset": "small"|"full", **fields}``, every
+    """The :class:`~sim.testbench.system.setup.SystemSetup` of ``spec``: ``{"preset": "small"|"full", **fields}``, every
     field (``quick_table`` included) overriding the preset's."""
     from dataclasses import replace
-    from sim.harness.system.setup import SystemSetup
+    from sim.testbench.system.setup import SystemSetup
     spec = dict(spec)
     preset = spec.pop("preset", "small")
     return replace(SystemSetup.small() if preset == "small" else SystemSetup.full(), **spec)
 
 
 def board_top_kwargs(setup, *, heartbeat_log2=1, cam_heartbeat_log2=1, **overrides):
-    """``GenesysTop`` keyword arguments for a :class:`~sim.harness.system.setup.SystemSetup` (its sizes, layout, tables,
+    """``GenesysTop`` keyword arguments for a :class:`~sim.testbench.system.setup.SystemSetup` (its sizes, layout, tables,
     I2C rate); the LED blink rates are shortened so a short simulation sees them toggle."""
     kw = setup.system_kwargs()
     kw.pop("lock_cycles")                     # SimSystem's lock model: the board has the DCM/PLL
@@ -119,10 +119,10 @@ class BoardResult:
 
 def run_board_cocotb(verilog, simulator, *, spec, out_dir, left=None, right=None, waves=None, **params):
     """Run ``board/simulation/top_cocotb.py`` on ``verilog`` (a :func:`board_verilog` text) with the models of
-    ``spec`` (``{"preset": "small"|"full", **SystemSetup fields}``, as ``sim.harness.system.run_cocotb``). Extra ``params``
+    ``spec`` (``{"preset": "small"|"full", **SystemSetup fields}``, as ``sim.testbench.system.run_cocotb``). Extra ``params``
     go to the test (``dvi_version_id``: what the CH7301C model's 0x4A reads; ``measure_eye``: time every data
     change against XCLK). Raises ``AssertionError`` when the test fails."""
-    from sim.harness.system.run_cocotb import DEFAULT_PAIR
+    from sim.testbench.system.run_cocotb import DEFAULT_PAIR
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     p = {"setup": dict(spec), "left": str(Path(left or DEFAULT_PAIR[0]).resolve()),

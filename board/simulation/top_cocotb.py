@@ -44,7 +44,7 @@ from sim.models.i2c.bus import start_cocotb_targets
 from sim.models.ch7301c.target import CH7301CModel
 from sim.models.i2c.monitor import I2CBusMonitor
 from sim.models.mt9d112.sensor import drive_cocotb
-from sim.harness.system.result import check_run
+from sim.testbench.system.result import check_run
 
 PARAMS = test_params()
 OSC_PS = 10_000

@@ -198,7 +198,7 @@ def replay(harness, frames, vcd):
     wires = {f"{p.kind}_{p.name}": p.wire for p in harness._properties}
     seen = []
 
-    async def bench(ctx):
+    async def testbench(ctx):
         for frame in frames:
             for name, value in frame.items():
                 if name in ports:
@@ -208,7 +208,7 @@ def replay(harness, frames, vcd):
 
     sim = Simulator(m)
     sim.add_clock(PERIOD)
-    sim.add_testbench(bench)
+    sim.add_testbench(testbench)
     vcd = Path(vcd)
     vcd.parent.mkdir(parents=True, exist_ok=True)
     traces = [harness._domain.rst, *harness._free, *wires.values()]

@@ -15,7 +15,7 @@ class SimClocking(wiring.Component):
     """Simulation model of :class:`board.clocking.GenesysClocking`: same domains (minus the output-only ``pix90``/``mclk``),
     same reset tree, clocks from the simulator.
 
-    The test bench (or the cocotb driver of the exported Verilog: ports ``clk``, ``pix_clk``, ``<cam>_clk``) runs
+    The testbench (or the cocotb driver of the exported Verilog: ports ``clk``, ``pix_clk``, ``<cam>_clk``) runs
     each domain at its real frequency.
 
     Parameters

@@ -187,7 +187,7 @@ def run_cocotb(design, *, name, test_module, simulator, params=None, waves=None,
             stamp.write_text("ok\n")
 
     run_tag = hashlib.sha256(json.dumps(params or {}, sort_keys=True).encode()).hexdigest()[:8]
-    # one directory per run: parallel pytest workers (or a bench beside the tests) never share results.xml
+    # one directory per run: parallel pytest workers (or a benchmark beside the tests) never share results.xml
     test_dir = build_dir / f"run-{test_module}-{testcase or 'all'}-{run_tag}-{os.getpid()}-{next(_RUN_COUNTER)}"
     test_dir.mkdir(parents=True, exist_ok=True)
     env = {PARAMS_ENV: json.dumps(params or {}), "COCOTB_RANDOM_SEED": os.environ.get("COCOTB_RANDOM_SEED", "1")}

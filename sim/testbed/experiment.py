@@ -46,7 +46,7 @@ from spec.board import CLOCKS
 from spec.display import DIFF_THRESHOLDS
 from spec.sensor import SENSOR
 from sim.runners.amaranth import simulate
-from sim.harness.subtractor import set_pixel, subtractor_bench
+from sim.testbench.subtractor import set_pixel, subtractor_testbench
 from sim.testbed.scene import RECTANGLE_SIZE_M, VMODCAM, make_object, object_footprint, render_pair
 
 __all__ = [
@@ -350,7 +350,7 @@ def fitted_rig_and_distance(fit, rig=VMODCAM):
 
 # --- RTL cross-check --------------------------------------------------------------------------------------
 # It runs hdl.disparity.DisparitySubtractor with two frame buffers preloaded with the captured buffers in Amaranth's
-# simulator (sim/harness/subtractor.py) and compares its output with the golden model the sweep uses, pixel for pixel.
+# simulator (sim/testbench/subtractor.py) and compares its output with the golden model the sweep uses, pixel for pixel.
 
 @dataclass(frozen=True)
 class RtlCheck:
@@ -381,7 +381,7 @@ def rtl_difference_rows(left, right, settings, rows, geometry=SENSOR, thresholds
     rows = [int(y) for y in rows]
     last_row = min(geometry.buf_height, max(rows) + 1 + max(r for _, r in settings))
     words = last_row * w
-    m, sub = subtractor_bench(geometry, thresholds, np.asarray(left).ravel()[:words].tolist(),
+    m, sub = subtractor_testbench(geometry, thresholds, np.asarray(left).ravel()[:words].tolist(),
                               np.asarray(right).ravel()[:words].tolist())
     outputs = [[] for _ in settings]
 

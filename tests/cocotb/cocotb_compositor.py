@@ -1,5 +1,5 @@
 """cocotb test of the display path: SwitchControl + Compositor + two FrameBuffers (tests/test_compositor.py
-builds the harness ``DisplayHarness`` and runs this module on Verilator and Icarus).
+builds the testbench ``DisplayTestbench`` and runs this module on Verilator and Icarus).
 
 The test loads the two buffers through their write ports, drives the raster (``timing__*``) from the reference
 raster below (not from the RTL sync generator) and moves the switches in the middle of frames as the schedule

@@ -1,7 +1,7 @@
-"""cocotb test of the depth engine in its harness (sim/harness/depth.py; driven by tests/test_depth_engine.py).
+"""cocotb test of the depth engine in its testbench (sim/testbench/depth.py; driven by tests/test_depth_engine.py).
 
-The pair is written into the two frame buffers through the harness's load port, one word of each per clock;
-then one ``start`` pulse, and the test waits (as a simulator trigger, no Python per clock) until the harness has
+The pair is written into the two frame buffers through the testbench's load port, one word of each per clock;
+then one ``start`` pulse, and the test waits (as a simulator trigger, no Python per clock) until the testbench has
 copied every row of the map out of the engine's result ring. The whole map is read back and compared, bit for
 bit, with the golden model's (``golden.depth.depth_map``, computed in the pytest process and handed over in an
 ``.npz`` file). The clocks from ``start`` to the last row are written to ``result.json`` beside the log.

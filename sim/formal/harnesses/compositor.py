@@ -4,7 +4,7 @@ per clock, the layout's areas never overlap.
 The compositor is the small system's (SMALL_TIMING, SMALL_SENSOR's 16 x 12 buffers, SMALL_DEPTH) with the four
 panels packed on the first lines (:func:`packed_layout`), so that the covers are a few hundred clocks deep; the
 same properties hold for any layout the compositor accepts (the slow variant ``compositor_centred`` proves the
-centred one that :meth:`sim.harness.system.SystemSetup.small` shows). Its raster comes from a
+centred one that :meth:`sim.testbench.system.SystemSetup.small` shows). Its raster comes from a
 :class:`~hdl.sync_gen.SyncGenerator` of the same timing (the display path's own, and the compositor's interface
 contract: a raster in scan order). The buffers' and the result ring's read data and the engine's ``rows_ready``
 are free. The switch registers are free except that they change only in the clock after ``frame_start``, which

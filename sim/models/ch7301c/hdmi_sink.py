@@ -376,7 +376,7 @@ def amaranth_sink_testbench(sink, pins, clocks=None, progress=None, progress_eve
     """An Amaranth async testbench feeding ``sink`` from the CH7301C pins.
 
     ``pins`` is any object with ``data``, ``hsync``, ``vsync``, ``de``, ``xclk_p`` signals (e.g. a
-    :class:`hdl.display_path.DisplayPath`). The bench waits for each rising edge of ``xclk_p``, reads the syncs,
+    :class:`hdl.display_path.DisplayPath`). The testbench waits for each rising edge of ``xclk_p``, reads the syncs,
     de and the rising-edge word once the design has settled, then waits for the falling edge and reads the
     falling-edge word. It samples ``clocks`` pixel clocks (``None``: forever; then bound the simulation).
     ``progress(clocks_done)`` is called every ``progress_every`` clocks if given.

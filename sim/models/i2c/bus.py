@@ -5,7 +5,7 @@ On the board, the pads and the pull-up resistors make each I2C bus a wired AND. 
 Python device model pulls them low (``ext_scl_low`` / ``ext_sda_low``) or, with ``peer=True``, a cocotbext-i2c
 device does (``peer_scl_o`` / ``peer_sda_o`` = 0). ``drive_high`` turns sticky-high if the design ever drives a
 line actively high (``oe`` with ``o`` = 1), which an open-drain output must never do. This is the one bus
-resolver: the I2C benches (:func:`I2CBench`) and the whole-system harness (``sim/harness/system/bench.py``) both use it.
+resolver: the I2C benches (:func:`I2CBench`) and the whole-system testbench (``sim/testbench/system/testbench.py``) both use it.
 
 * :func:`amaranth_target_process` / :func:`start_cocotb_targets`: run a list of ``sim.models`` targets on a
   resolved bus in the Amaranth simulator / in cocotb (time from a ``sync`` cycle counter / from the simulator);
@@ -24,7 +24,7 @@ __all__ = ["ResolvedBusSignature", "OpenDrainBus", "I2CBench", "i2c_bench_waves"
 
 
 class ResolvedBusSignature(ParametricSignature):
-    """One resolved bus as a test bench sees it: the lines ``scl``, ``sda``; the device models' pull-downs
+    """One resolved bus as a testbench sees it: the lines ``scl``, ``sda``; the device models' pull-downs
     ``ext_scl_low``, ``ext_sda_low``; with ``peer``, a cocotbext-i2c device's outputs ``peer_scl_o``,
     ``peer_sda_o`` (1 = released); ``drive_high`` (sticky: the design drove a line high)."""
 

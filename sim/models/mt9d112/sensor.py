@@ -44,7 +44,7 @@ at the next frame boundary. Both can call ``on_sample`` once per PCLK period, ju
 (all registered outputs of the design are stable then): the tests use it to record the write port.
 
 For speed, a precomputed stream can be replayed inside the simulator instead (``sim/replay/sensor.py``); the
-capture path's harness (``sim/harness/capture.py``) and the whole-system routes (``sim/harness/system/``) use it.
+capture path's testbench (``sim/testbench/capture.py``) and the whole-system routes (``sim/testbench/system/``) use it.
 """
 
 from dataclasses import dataclass, field

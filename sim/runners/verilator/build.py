@@ -1,18 +1,18 @@
-"""Build the Verilated system once per design and keep it: the project's harness library and the raw model.
+"""Build the Verilated system once per design and keep it: the project's testbench library and the raw model.
 
-:func:`build` exports :class:`sim.harness.system.bench.SystemBench` (clock inputs) for a
-:class:`sim.harness.system.setup.SystemSetup`, Verilates it (no ``--timing``: the clocks come from C++; no VPI) and
-links ``libharness.so``: ``harness.cpp``, the testbench of ``testbench.h`` as a C library, for
-:mod:`sim.runners.verilator.harness` (the project's route). The model's objects are position-independent code built so
+:func:`build` exports :class:`sim.testbench.system.testbench.SystemTestbench` (clock inputs) for a
+:class:`sim.testbench.system.setup.SystemSetup`, Verilates it (no ``--timing``: the clocks come from C++; no VPI) and
+links ``libtestbench.so``: ``ctestbench.cpp``, the testbench of ``testbench.h`` as a C library, for
+:mod:`sim.runners.verilator.ctestbench` (the project's route). The model's objects are position-independent code built so
 that it costs what an executable's does (no PLT calls between its own functions, Verilator's thread-local state
 at a fixed offset).
 
-:func:`build_raw` adds the raw reference model the bench runs beside it: ``raw_main.cpp`` and the same Verilog,
+:func:`build_raw` adds the raw reference model the benchmark runs beside it: ``raw_main.cpp`` and the same Verilog,
 built the way Verilator builds an executable by default (``--exe --build``, no position-independent code), so
 nothing the project's build does can handicap the reference.
 
 Builds are cached under ``build/verilator/<key>/``. The key is made of what the design is made from -- the
-setup's design parameters (``SystemSetup.system_kwargs()``, their reprs), the text of the bench's module and of
+setup's design parameters (``SystemSetup.system_kwargs()``, their reprs), the text of the testbench's module and of
 every project module it imports (followed through their import statements), the C++ sources and this module, the
 Verilator version and the build options -- so a cached build is found without elaborating or exporting the
 design again (which takes seconds at full size).
@@ -44,9 +44,9 @@ CXX_OPTS = ("-O2", "-std=c++17")
 PIC_OPTS = ("-fPIC", "-fvisibility=hidden", "-fvisibility-inlines-hidden", "-ftls-model=initial-exec")
 #: The modules the exported Verilog comes from (the design, the export); they and every project module they import
 #: make the Verilog.
-DESIGN_MODULES = ("sim.harness.system.bench", "board.export")
+DESIGN_MODULES = ("sim.testbench.system.testbench", "board.export")
 #: The testbench's sources, and this module (it writes ports.inc).
-BUILD_SOURCES = ("testbench.h", "harness.cpp", "raw_main.cpp", "build.py")
+BUILD_SOURCES = ("testbench.h", "ctestbench.cpp", "raw_main.cpp", "build.py")
 
 
 @dataclass(frozen=True)
@@ -55,7 +55,7 @@ class Build:
 
     @property
     def library(self):
-        return self.directory / "libharness.so"
+        return self.directory / "libtestbench.so"
 
     @property
     def negedge(self):
@@ -191,8 +191,8 @@ def _verilate(directory, mdir, *args):
 
 def _build(setup, directory):
     from board.export import export_verilog
-    from sim.harness.system.bench import SystemBench
-    design = SystemBench(clock_ports=True, **setup.system_kwargs())
+    from sim.testbench.system.testbench import SystemTestbench
+    design = SystemTestbench(clock_ports=True, **setup.system_kwargs())
     (directory / f"{TOP}.v").write_text(export_verilog(design, TOP))
     (directory / "build.log").write_text("")
     obj = directory / "obj"
@@ -200,8 +200,8 @@ def _build(setup, directory):
     (directory / "ports.inc").write_text(ports_inc((obj / "Vsystem.h").read_text()))
     include = _verilator_root() / "include"
     _run(["c++", *CXX_OPTS, *PIC_OPTS, "-I", directory, "-I", obj, "-I", include, "-I", include / "vltstd",
-          "-I", SOURCE_DIR, "-shared", "-Wl,-Bsymbolic", SOURCE_DIR / "harness.cpp", obj / "Vsystem__ALL.a",
-          obj / "libverilated.a", "-pthread", "-o", directory / "libharness.so"], directory, directory / "build.log")
+          "-I", SOURCE_DIR, "-shared", "-Wl,-Bsymbolic", SOURCE_DIR / "ctestbench.cpp", obj / "Vsystem__ALL.a",
+          obj / "libverilated.a", "-pthread", "-o", directory / "libtestbench.so"], directory, directory / "build.log")
 
 
 def _build_raw(directory):
@@ -218,7 +218,7 @@ def ports_inc(header):
     (``Vsystem.h``): the C++ member and the Verilog name (Verilator writes a ``__`` in a name as ``___05F``:
     characters it escapes become ``__0`` and two hex digits). A port wider than 64 bits gets a ``WIDE(...)`` line
     instead: the testbench reads and writes ports as 64-bit values, so it leaves such a port alone (an input stays
-    0) and :class:`sim.runners.verilator.harness.Harness` refuses to address it."""
+    0) and :class:`sim.runners.verilator.ctestbench.CTestbench` refuses to address it."""
     ports = _PORT.findall(header)
     if not ports:
         raise RuntimeError("no ports found in the Verilated model's header")

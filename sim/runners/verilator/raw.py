@@ -1,6 +1,6 @@
 """The raw reference model: the same Verilated system and C++ testbench run from ``raw_main.cpp`` alone.
 
-:func:`run_raw` hands a finished :class:`sim.harness.system.run_verilator.VerilatorRun` (made with ``keep_stimulus=True``)
+:func:`run_raw` hands a finished :class:`sim.testbench.system.run_verilator.VerilatorRun` (made with ``keep_stimulus=True``)
 to the raw model: the same port bindings, each camera's stream as a file, and the run's stimulus log -- every input
 the phases and the Python models set, with the number of evaluations before it -- so the raw model evaluates the
 design at exactly the same points with exactly the same inputs, without Python. It returns the raw model's
@@ -37,7 +37,7 @@ def _config(run, directory, stimulus=None):
 
 
 def run_raw(run, stimulus=None):
-    """Run the raw model on ``run``'s stimulus (or on ``stimulus``, a :data:`sim.runners.verilator.harness.STIMULUS`
+    """Run the raw model on ``run``'s stimulus (or on ``stimulus``, a :data:`sim.runners.verilator.ctestbench.STIMULUS`
     array). Returns ``(figures, recording)``: ``figures`` has the raw model's
     ``wall_s`` (its simulation), ``process_s`` (the whole process: loading the model and the files too),
     ``evals``, ``t_end_ps``, ``recorded``; ``recording`` its uint32 pin words."""

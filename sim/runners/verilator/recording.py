@@ -1,4 +1,4 @@
-"""The C++ recorder's CH7301C pin samples (one uint32 word per pixel clock, ``sim.runners.verilator.harness.RECORD_BITS``)
+"""The C++ recorder's CH7301C pin samples (one uint32 word per pixel clock, ``sim.runners.verilator.ctestbench.RECORD_BITS``)
 decoded with NumPy and fed to the HDMI sink model.
 
 :func:`feed_sink` gives :class:`sim.models.ch7301c.hdmi_sink.HdmiSink` exactly what ``sim.models.ch7301c.hdmi_sink.CocotbSink`` would have
@@ -10,7 +10,7 @@ they happen.
 
 import numpy as np
 
-from sim.runners.verilator.harness import RECORD_BITS
+from sim.runners.verilator.ctestbench import RECORD_BITS
 
 __all__ = ["decode", "feed_sink"]
 

@@ -1,6 +1,6 @@
 // The C++ testbench around the Verilated system: clocks, camera replays, the CH7301C pin recorder, watches.
 //
-// Shared by the project's route (harness.cpp, driven from Python through ctypes: sim/runners/verilator/harness.py) and
+// Shared by the project's route (ctestbench.cpp, driven from Python through ctypes: sim/runners/verilator/ctestbench.py) and
 // the raw reference model (raw_main.cpp, driven from a stimulus file). Both run the same event loop, so the
 // design is evaluated at the same instants with the same inputs; the raw model only replaces Python's answers by
 // the log of them.

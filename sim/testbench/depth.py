@@ -1,7 +1,7 @@
-"""A test harness around the depth engine: two frame buffers, an arbiter stand-in and a result reader.
+"""A test testbench around the depth engine: two frame buffers, an arbiter stand-in and a result reader.
 
-:class:`DepthHarness` is what the Amaranth-simulator and cocotb tests (and the bench) run: the two images are
-written through ``load_*`` (one word of each per clock), ``start`` starts a map, and the harness
+:class:`DepthTestbench` is what the Amaranth-simulator and cocotb tests (and the benchmark) run: the two images are
+written through ``load_*`` (one word of each per clock), ``start`` starts a map, and the testbench
 
 * moves the left image up by ``row_offset`` rows for the engine (the rectification switch);
 * grants the engine's read requests in the clocks a pseudo-random pattern leaves free (``grant_mask``: grant
@@ -25,10 +25,10 @@ from hdl.frame_buffer import FrameBuffer
 from spec.depth import DEPTH
 from spec.sensor import SENSOR
 
-__all__ = ["DepthHarness"]
+__all__ = ["DepthTestbench"]
 
 
-class DepthHarness(wiring.Component):
+class DepthTestbench(wiring.Component):
     def __init__(self, geometry=SENSOR, config=DEPTH, *, out_rows=4):
         self.geometry, self.config, self.out_rows = geometry, config, out_rows
         g = geometry

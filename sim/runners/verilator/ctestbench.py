@@ -1,6 +1,6 @@
-"""The C++ testbench (``testbench.h`` through ``harness.cpp``) from Python: :class:`Harness`.
+"""The C++ testbench (``testbench.h`` through ``ctestbench.cpp``) from Python: :class:`CTestbench`.
 
-One :class:`Harness` is one Verilated system with its testbench: the clocks run, the cameras replay and the recorder
+One :class:`CTestbench` is one Verilated system with its testbench: the clocks run, the cameras replay and the recorder
 samples in C++; Python sets inputs, starts clocks and cameras, and runs the simulation until a time, until a watched
 output changes or until the recorder is full. Ports are named as the exported top names them, or by their path in
 the top's signature. The NumPy arrays handed to the testbench (camera streams, the buffers it fills) are kept alive
@@ -13,11 +13,11 @@ import numpy as np
 
 from board.export import flat_name
 
-__all__ = ["Harness", "STIMULUS", "CLOCKS", "LIMIT", "WATCH", "RECORDED", "RECORD_BITS"]
+__all__ = ["CTestbench", "STIMULUS", "CLOCKS", "LIMIT", "WATCH", "RECORDED", "RECORD_BITS"]
 
 #: The testbench's clocks, in its order.
 CLOCKS = ("sync", "pix", "cam_a", "cam_b")
-#: :meth:`Harness.run`'s reasons to stop.
+#: :meth:`CTestbench.run`'s reasons to stop.
 LIMIT, WATCH, RECORDED = 0, 1, 2
 #: A stimulus record of the log (testbench.h ``Stimulus``).
 STIMULUS = np.dtype([("evals", "<u8"), ("t", "<u8"), ("kind", "<u4"), ("a", "<u4"), ("b", "<u8")])
@@ -59,7 +59,7 @@ def _library(path):
     return _LIBRARIES[path]
 
 
-class Harness:
+class CTestbench:
     """The Verilated system of a :class:`sim.runners.verilator.build.Build` with its C++ testbench (see the module
     docstring). ``log=True`` keeps the stimulus log (:meth:`stimulus`) for the raw model."""
 

@@ -1,4 +1,4 @@
-"""The disparity subtractor with two preloaded frame buffers, for Amaranth's simulator: the harness the
+"""The disparity subtractor with two preloaded frame buffers, for Amaranth's simulator: the testbench the
 subtractor's tests and the test bed's RTL cross-check (``sim/testbed/experiment.py``) both drive."""
 
 from amaranth import Module
@@ -7,10 +7,10 @@ from amaranth.lib import wiring
 from hdl.disparity import DisparitySubtractor
 from hdl.frame_buffer import FrameBuffer
 
-__all__ = ["subtractor_bench", "set_pixel"]
+__all__ = ["subtractor_testbench", "set_pixel"]
 
 
-def subtractor_bench(geometry, thresholds, left_words, right_words):
+def subtractor_testbench(geometry, thresholds, left_words, right_words):
     """``(module, subtractor)``: a :class:`hdl.disparity.DisparitySubtractor` whose ``left``/``right`` read ports
     are connected to :class:`hdl.frame_buffer.FrameBuffer` s initialised with ``left_words``/``right_words``
     (raster order; the rest 0). Everything in ``sync``."""

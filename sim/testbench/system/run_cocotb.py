@@ -1,10 +1,10 @@
 """The whole system end to end through cocotb (Verilator or Icarus): build the route's design, run the scenario,
 collect the result.
 
-:func:`run_cocotb_system` exports the design of a route (``sim/harness/system/cocotb_routes.py``) for a
-:class:`sim.harness.system.setup.SystemSetup`, runs ``sim/harness/system/system_cocotb.py`` (the scenario of
-``sim/harness/system/cocotb_scenario.py``) on it with ``sim.runners.cocotb.run_cocotb`` (builds are cached by Verilog text)
-and returns a :class:`sim.harness.system.result.SystemResult`. The scenario asserts the comparison itself; a failed run
+:func:`run_cocotb_system` exports the design of a route (``sim/testbench/system/cocotb_routes.py``) for a
+:class:`sim.testbench.system.setup.SystemSetup`, runs ``sim/testbench/system/system_cocotb.py`` (the scenario of
+``sim/testbench/system/cocotb_scenario.py``) on it with ``sim.runners.cocotb.run_cocotb`` (builds are cached by Verilog text)
+and returns a :class:`sim.testbench.system.result.SystemResult`. The scenario asserts the comparison itself; a failed run
 raises ``AssertionError`` from the runner with the log tail, after the result files it wrote (if any) are read.
 With ``progress``, the run goes on in a thread while the scenario's progress file is polled.
 """
@@ -19,9 +19,9 @@ from board.export import export_verilog
 from golden.stereo_pair import DATA_DIR
 from sim.runners.cocotb import run_cocotb, simulator_available
 from sim import SimulationFailed, UserError
-from sim.harness.system.cocotb_routes import InSimulator
-from sim.harness.system.result import SystemResult
-from sim.harness.system.waves import cocotb_system_waves
+from sim.testbench.system.cocotb_routes import InSimulator
+from sim.testbench.system.result import SystemResult
+from sim.testbench.system.waves import cocotb_system_waves
 
 __all__ = ["DEFAULT_PAIR", "run_cocotb_system", "run_cocotb_checked", "run_rate_probe"]
 
@@ -38,8 +38,8 @@ def _design_verilog(route, setup):
 def run_cocotb_system(setup, simulator, *, route=None, left=None, right=None, out_dir, progress=None,
                       waves=None):
     """Run the end-to-end scenario of ``setup`` on ``simulator`` along ``route`` (default
-    :class:`~sim.harness.system.cocotb_routes.InSimulator`), with the pair ``left``/``right`` (image files, default the
-    bundled pair). Writes into ``out_dir``; returns a :class:`~sim.harness.system.result.SystemResult`.
+    :class:`~sim.testbench.system.cocotb_routes.InSimulator`), with the pair ``left``/``right`` (image files, default the
+    bundled pair). Writes into ``out_dir``; returns a :class:`~sim.testbench.system.result.SystemResult`.
 
     ``progress(fraction, stage)``, if given, is called about twice a second while the run goes on. Raises
     ``AssertionError`` when the scenario fails (the result files are left in ``out_dir``)."""
@@ -60,7 +60,7 @@ def run_cocotb_system(setup, simulator, *, route=None, left=None, right=None, ou
 
 
 def run_rate_probe(setup, simulator, probe_us, out_dir):
-    """For the bench: the in-simulator route's design with every clock running for ``probe_us`` of simulated time
+    """For the benchmark: the in-simulator route's design with every clock running for ``probe_us`` of simulated time
     (the scenario's ``rate_probe``). Returns ``{"probe_us", "wall_s", "pixel_hz"}``."""
     route = InSimulator()
     out_dir = Path(out_dir)
@@ -71,7 +71,7 @@ def run_rate_probe(setup, simulator, probe_us, out_dir):
 
 
 def _run(route, setup, simulator, params, *, waves=None, testcase=None):
-    return run_cocotb(_design_verilog(route, setup), name=f"system_{route.name}", test_module="sim.harness.system.system_cocotb",
+    return run_cocotb(_design_verilog(route, setup), name=f"system_{route.name}", test_module="sim.testbench.system.system_cocotb",
                       simulator=simulator, params=params, waves=waves, testcase=testcase,
                       build_args=route.build_args(simulator), extra_sources=route.extra_sources(),
                       verilator_fast=route.verilator_fast, run_waves=cocotb_system_waves(route, setup))

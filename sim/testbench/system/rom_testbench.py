@@ -1,9 +1,9 @@
-"""RomReplayBench: the system bench with its camera loops moved out of Python, for Amaranth's simulator.
+"""RomReplayTestbench: the system testbench with its camera loops moved out of Python, for Amaranth's simulator.
 
 The design of the Amaranth replay route, the one that makes a full-resolution run feasible there. Driving each
 camera from a Python testbench costs one await per PCLK edge (about 9 million sensor samples), and a testbench
 toggling the pixel clock almost 5 million edges per display frame; each ``ctx.set`` makes the simulator settle the
-whole design. This bench does what the fast cocotb route (``sim/harness/system/verilog_bench.py``) does for Verilator:
+whole design. This testbench does what the fast cocotb route (``sim/testbench/system/verilog_testbench.py``) does for Verilator:
 
 * each camera's pins come from a :class:`sim.replay.sensor.SensorReplay` ROM holding the Python sensor model's
   stream for one frame period (made before the run for the configuration the spec asks for; the runner checks
@@ -25,10 +25,10 @@ from amaranth.lib.wiring import In, Out
 from hdl.forward import forward
 from hdl.system import CAMERAS
 from sim.replay.sensor import SensorReplay
-from sim.harness.system.bench import SystemBench
+from sim.testbench.system.testbench import SystemTestbench
 from hdl.rejecting import rejecting
 
-__all__ = ["RomReplayBench", "GATED_DOMAINS", "ClockGate", "enable_clock"]
+__all__ = ["RomReplayTestbench", "GATED_DOMAINS", "ClockGate", "enable_clock"]
 
 #: The domains whose clocks are gated (free-running clock domain ``free_<name>`` each).
 GATED_DOMAINS = ("pix", *(f"cam_{c}" for c in CAMERAS))
@@ -51,7 +51,7 @@ class ClockGate(wiring.Component):
         return m
 
 
-class RomReplayBench(wiring.Component):
+class RomReplayTestbench(wiring.Component):
     """See the module docstring.
 
     Parameters
@@ -59,11 +59,11 @@ class RomReplayBench(wiring.Component):
     replay_words : dict
         ``{camera: ROM words}`` (:func:`sim.replay.sensor.pack_stream` of each camera's stream).
     **system_kwargs
-        For :class:`sim.harness.system.bench.SystemBench`.
+        For :class:`sim.testbench.system.testbench.SystemTestbench`.
 
     Attributes
     ----------
-    (every member of the system bench but the camera pins)
+    (every member of the system testbench but the camera pins)
     clock_en : ``In``, one bit per gated domain (``pix``, ``cam_a``, ``cam_b``)
     replay_run : ``In``, one bit per camera ``cam_a``, ``cam_b``
         Start the camera's replay (its position is ``replays[c].index``).
@@ -83,7 +83,7 @@ class RomReplayBench(wiring.Component):
         with rejecting(self):
             if set(replay_words) != set(CAMERAS):
                 raise ValueError(f"replay_words needs one ROM per camera {CAMERAS}, got {sorted(replay_words)}")
-            self.bench = SystemBench(define_domains=False, **system_kwargs)
+            self.bench = SystemTestbench(define_domains=False, **system_kwargs)
             self.system = self.bench.system
             self.domains = self.bench.domains
             self.replays = {c: SensorReplay(replay_words[c], domain=f"cam_{c}") for c in CAMERAS}

@@ -1,9 +1,9 @@
-"""VerilogReplayBench: the system bench with its clocks, camera pins and display pins handled inside the simulator.
+"""VerilogReplayTestbench: the system testbench with its clocks, camera pins and display pins handled inside the simulator.
 
 The design of the fast cocotb route (Verilator, Icarus). With the sensor models driven per PCLK from Python and the
 HDMI sink sampling per pixel clock in Python, a full-resolution run spends nearly all its time in Python (about 9
 million sensor samples and 2.5 million pixel clocks). This bench puts small behavioural Verilog modules next to
-:class:`sim.harness.system.bench.SystemBench` so those loops run inside the simulator:
+:class:`sim.testbench.system.testbench.SystemTestbench` so those loops run inside the simulator:
 
 * clocks: ``clock_gen`` per domain and ``pix_rec_gen`` for the pixel clock and the recorder's sample clock
   (behavioural ``#`` delays, so Verilator builds with ``--timing``), each started by its ``clock_en`` input, whose
@@ -13,7 +13,7 @@ million sensor samples and 2.5 million pixel clocks). This bench puts small beha
 * the CH7301C pins recorded by ``ch7301c_recorder`` (:mod:`sim.replay.pins`), controlled through ``recorder``.
 
 The files are ``cam_a.hex``, ``cam_b.hex`` and ``bus.txt`` in the simulator's working directory. Clock domains:
-those of the system bench, defined here. Latency: as the replay and the recorder say.
+those of the system testbench, defined here. Latency: as the replay and the recorder say.
 """
 
 from pathlib import Path
@@ -26,13 +26,13 @@ from hdl.forward import forward
 from hdl.system import CAMERAS
 from sim.replay.pins import RECORDER_VERILOG
 from sim.replay.sensor import REPLAY_VERILOG
-from sim.harness.system.bench import SystemBench
+from sim.testbench.system.testbench import SystemTestbench
 from hdl.rejecting import rejecting
 
-__all__ = ["VerilogReplayBench", "ReplayControlSignature", "RecorderSignature", "write_sources"]
+__all__ = ["VerilogReplayTestbench", "ReplayControlSignature", "RecorderSignature", "write_sources"]
 
 CLOCK_VERILOG = r"""
-// sim/harness/system/verilog_bench.py: clocks generated in the simulator (simulation only).
+// sim/testbench/system/verilog_testbench.py: clocks generated in the simulator (simulation only).
 `timescale 1ps/1ps
 
 // A free-running clock started by `en` (its phase is the time `en` rises: first rising edge HALF_PS later).
@@ -94,7 +94,7 @@ def write_sources(directory):
     return path
 
 
-class VerilogReplayBench(wiring.Component):
+class VerilogReplayTestbench(wiring.Component):
     """See the module docstring.
 
     Parameters
@@ -104,11 +104,11 @@ class VerilogReplayBench(wiring.Component):
     periods_ps : dict
         Clock periods in picoseconds: ``"sync"``, ``"pix"`` (a multiple of 4), ``"cam"`` (even).
     **system_kwargs
-        For :class:`sim.harness.system.bench.SystemBench`.
+        For :class:`sim.testbench.system.testbench.SystemTestbench`.
 
     Attributes
     ----------
-    (every member of the system bench but the camera pins)
+    (every member of the system testbench but the camera pins)
     clock_en : ``In``, per clock ``sync``, ``pix``, ``rec``, ``cam_a``, ``cam_b``
     clocks : ``Out``, the same clocks
     replay : ``Out``, per camera ``cam_a``, ``cam_b`` a :data:`ReplayControlSignature`
@@ -126,7 +126,7 @@ class VerilogReplayBench(wiring.Component):
                 raise ValueError("clock periods must be even (the pixel period a multiple of 4) in picoseconds")
             self.replay_depth = int(replay_depth)
             self.periods_ps = dict(periods_ps)
-            self.bench = SystemBench(define_domains=False, **system_kwargs)
+            self.bench = SystemTestbench(define_domains=False, **system_kwargs)
             cam_pins = {f"cam_{c}" for c in CAMERAS}
             own = [name for name in self.bench.signature.members if name not in cam_pins]
             members = {name: self.bench.signature.members[name] for name in own}

@@ -1,4 +1,4 @@
-"""SystemBench: the whole system as the simulations run it -- the design, its clocking model and its I2C buses.
+"""SystemTestbench: the whole system as the simulations run it -- the design, its clocking model and its I2C buses.
 
 :class:`hdl.system.StereoDepthSystem` (behavioural CH7301C output) with :class:`sim.models.clocking.SimClocking` (the
 board clocking's simulation model: same domains and reset tree, clocks from the simulator) and one
@@ -23,10 +23,10 @@ from hdl.system import CAMERAS, I2C_BUSES, StereoDepthSystem
 from sim.models.i2c.bus import OpenDrainBus, ResolvedBusSignature
 from hdl.rejecting import rejecting
 
-__all__ = ["SystemBench"]
+__all__ = ["SystemTestbench"]
 
 
-class SystemBench(wiring.Component):
+class SystemTestbench(wiring.Component):
     """See the module docstring.
 
     Parameters

@@ -1,7 +1,7 @@
 """cocotb tests of the display path (hdl/display_path.py) on its CH7301C pins, on Verilator and Icarus.
 
-Driven through ``sim.harness.display.run_display_cocotb`` from tests/test_display_path.py, ``sim.harness.display.capture_frame``
-(the ``display`` command) and the bench. Parameters (``sim.runners.cocotb.test_params()``):
+Driven through ``sim.testbench.display.run_display_cocotb`` from tests/test_display_path.py, ``sim.testbench.display.capture_frame``
+(the ``display`` command) and the benchmark. Parameters (``sim.runners.cocotb.test_params()``):
 
 * ``timing``: the :class:`spec.video.VideoTiming` fields of the design under test (required);
 * ``sink_clocks``: pixel clocks the HDMI sink samples from reset (0 or absent: ``sink_frames`` is skipped);
@@ -12,7 +12,7 @@ Driven through ``sim.harness.display.run_display_cocotb`` from tests/test_displa
 * ``progress_file``: where the sink writes its progress (``"<done> <total>"``);
 * ``expect_edges``: ``{interval: value}`` every interval the edge timestamps give must equal;
 * ``free_run_clocks``: ``free_run`` lets the design run that many clocks without Python per clock and writes
-  the wall time to ``out_dir/free_run.json`` (the bench's speed figure; 0 or absent: skipped).
+  the wall time to ``out_dir/free_run.json`` (the benchmark's speed figure; 0 or absent: skipped).
 
 ``sink_frames`` checks the same pins in two independent ways during one run: the per-clock sink model
 (``sim/models/ch7301c/hdmi_sink.py``) samples both words of every pixel clock, and an edge recorder timestamps the edges of

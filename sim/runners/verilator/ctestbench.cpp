@@ -1,4 +1,4 @@
-// The testbench of testbench.h as a C library, for sim/runners/verilator/harness.py (ctypes). Every function takes the
+// The testbench of testbench.h as a C library, for sim/runners/verilator/ctestbench.py (ctypes). Every function takes the
 // engine handle that tb_new returns; ports, clocks and cameras are numbered as testbench.h numbers them.
 #include "testbench.h"
 

@@ -1,12 +1,12 @@
 """cocotb end-to-end test of the whole system, on Verilator and Icarus: stereo pair in, HDMI frame out, compared
-with the golden model. The scenario and its phases are ``sim/harness/system/cocotb_scenario.py``; the design and the
-parameters come from ``sim.harness.system.run_cocotb.run_cocotb_system`` (tests/test_system.py, the bench, the ``run`` and
+with the golden model. The scenario and its phases are ``sim/testbench/system/cocotb_scenario.py``; the design and the
+parameters come from ``sim.testbench.system.run_cocotb.run_cocotb_system`` (tests/test_system.py, the bench, the ``run`` and
 ``demo`` commands)."""
 
 import cocotb
 
 from sim.runners.cocotb import test_params
-from sim.harness.system import cocotb_scenario
+from sim.testbench.system import cocotb_scenario
 
 PARAMS = test_params()
 

@@ -1,22 +1,22 @@
 """The whole system end to end on Verilator with its testbench in C++: :func:`run_verilator`.
 
 The route of the full-size runs (``make demo``, ``stereodepth run``, the slow test, the bench). The design is
-:class:`sim.harness.system.bench.SystemBench` with clock inputs, Verilated without ``--timing`` and without VPI
+:class:`sim.testbench.system.testbench.SystemTestbench` with clock inputs, Verilated without ``--timing`` and without VPI
 (:mod:`sim.runners.verilator.build`); the testbench around it is C++ (``sim/runners/verilator/testbench.h``): the four clocks at
 the edge times of the cocotb in-simulator route's generators (``sync`` from time 0, its first rising edge half a
 period in; the pixel clock rising when it starts; each PCLK half a period after its camera starts), each camera's
 frame-period stream on its pins (the next sample at every falling PCLK edge, from word 0 again after the last),
 and the CH7301C pins sampled a quarter pixel period after each pixel-clock edge.
 
-Python keeps the models and the phases of every run (``sim/harness/system/run_amaranth.py`` lists them): the simulation
+Python keeps the models and the phases of every run (``sim/testbench/system/run_amaranth.py`` lists them): the simulation
 runs in C++ until something Python must answer -- an I2C line changes (the register-file models answer at that
 instant; the bus monitors see every change of the whole run), a status output a phase waits for changes, or a
 time a phase set -- so nothing polls and no Python runs per clock. Each sensor's stream is made before the run by
 the sensor model for the configuration the I2C init must produce (:func:`sim.models.mt9d112.config.expected_sensor_config`);
 a camera starts the instant its register-file model says RGB565 and streaming, and only if that configuration is
-exactly the expected one (a :class:`~sim.harness.system.result.SystemTimeout` otherwise: the configuration guard).
+exactly the expected one (a :class:`~sim.testbench.system.result.SystemTimeout` otherwise: the configuration guard).
 
-The check phase is :func:`sim.harness.system.result.check_run` on the frame :class:`sim.models.ch7301c.hdmi_sink.HdmiSink` rebuilds from
+The check phase is :func:`sim.testbench.system.result.check_run` on the frame :class:`sim.models.ch7301c.hdmi_sink.HdmiSink` rebuilds from
 the recorded pins (with the XCLK levels checked at every sample), plus the replay check: every sample each
 camera's pins carried at its rising PCLK edges equals the model's stream.
 """
@@ -30,10 +30,10 @@ from sim.models.ch7301c.hdmi_sink import HdmiSink
 from sim.models.i2c.monitor import I2CBusMonitor
 from sim.models.mt9d112.config import expected_sensor_config
 from sim.replay.sensor import pack_stream
-from sim.harness.system.cocotb_routes import period_ps
-from sim.harness.system.result import SystemResult, SystemTimeout, check_run
+from sim.testbench.system.cocotb_routes import period_ps
+from sim.testbench.system.result import SystemResult, SystemTimeout, check_run
 from sim.runners.verilator.build import build
-from sim.runners.verilator.harness import RECORDED, Harness
+from sim.runners.verilator.ctestbench import RECORDED, CTestbench
 from sim.runners.verilator.recording import feed_sink
 
 __all__ = ["run_verilator", "VerilatorRun"]
@@ -53,15 +53,15 @@ class _Buses:
     """The three I2C buses' Python side: the register-file targets and a monitor per bus, serviced whenever the
     simulation stops (a watched line changed, or a target's deadline came)."""
 
-    def __init__(self, harness, models):
-        self.h, self.models = harness, models
+    def __init__(self, testbench, models):
+        self.h, self.models = testbench, models
         self.monitors = {b: I2CBusMonitor() for b in I2C_BUSES}
         self.levels = {b: (1, 1) for b in I2C_BUSES}
         self.pulls = {b: (False, False) for b in I2C_BUSES}
         self.lines = [("bus", b, line) for b in I2C_BUSES for line in ("scl", "sda")]
         self.wakes = 0
         for b in I2C_BUSES:
-            harness[("bus", b, "ext_scl_low")] = harness[("bus", b, "ext_sda_low")] = 0
+            testbench[("bus", b, "ext_scl_low")] = testbench[("bus", b, "ext_sda_low")] = 0
 
     def deadline_ps(self):
         """The earliest time a target asked to be woken at (clock stretching), or None."""
@@ -88,7 +88,7 @@ class _Buses:
 
 
 class VerilatorRun:
-    """One run (see the module docstring). :meth:`run` simulates and returns the status; the harness, the streams,
+    """One run (see the module docstring). :meth:`run` simulates and returns the status; the testbench, the streams,
     the recording and the models stay here for the check and for the raw model (:mod:`sim.runners.verilator.raw`)."""
 
     def __init__(self, setup, left, right, *, keep_stimulus=False, progress=None, deadline_s=None):
@@ -104,7 +104,7 @@ class VerilatorRun:
         self.deadline_ps = round((deadline_s or setup.deadline_s()) / _PS)
         self.report = progress or (lambda stage, fraction: None)
         self.total_ps = setup.expected_sim_time_s() / _PS
-        self.h = Harness(self.build, log=keep_stimulus)
+        self.h = CTestbench(self.build, log=keep_stimulus)
         self.models = setup.i2c_models()
         self.buses = _Buses(self.h, self.models)
         # Room for every sample the cameras send in a run: the replay check reads them all.
@@ -286,10 +286,10 @@ class VerilatorRun:
 
 def run_verilator(left, right, setup, *, progress=None, deadline_s=None, keep_stimulus=False):
     """Simulate the pair ``left``/``right`` (RGB arrays, any size: fitted to the sensor) through the whole system on
-    Verilator along this route (see the module docstring). Returns a :class:`~sim.harness.system.result.SystemResult`
+    Verilator along this route (see the module docstring). Returns a :class:`~sim.testbench.system.result.SystemResult`
     (with ``sink``, ``models``, ``monitors``; ``figures["run"]`` is the :class:`VerilatorRun`).
 
-    ``progress(stage, fraction)`` is called as the run goes on. Raises :class:`~sim.harness.system.result.SystemTimeout`
+    ``progress(stage, fraction)`` is called as the run goes on. Raises :class:`~sim.testbench.system.result.SystemTimeout`
     when a phase does not complete within ``deadline_s`` of simulated time (default: ``setup.deadline_s()``) or the
     I2C init configures a sensor otherwise than expected. ``keep_stimulus`` keeps the stimulus log for the raw
     model (:func:`sim.runners.verilator.raw.run_raw`)."""

@@ -1,5 +1,5 @@
 """What the whole system's GTKWave save file shows (``system.gtkw``, written by ``stereodepth demo`` and
-``stereodepth run --vcd`` through :func:`sim.harness.system.run_amaranth.run_amaranth`), and what a cocotb run's save
+``stereodepth run --vcd`` through :func:`sim.testbench.system.run_amaranth.run_amaranth`), and what a cocotb run's save
 file marks (:func:`cocotb_system_waves`; ``STEREO_WAVES=1``).
 
 Groups, in the order of the run: reset and clocking; each I2C bus (its lines decoded into bytes and
@@ -22,7 +22,7 @@ __all__ = ["system_waves", "system_events", "cocotb_system_waves"]
 
 def system_waves(top):
     """The :class:`sim.waves.gtkw.Waves` of a whole-system run (``top``: the design ``run_amaranth`` simulates, with
-    :class:`sim.harness.system.bench.SystemBench`'s members and its ``system``)."""
+    :class:`sim.testbench.system.testbench.SystemTestbench`'s members and its ``system``)."""
     groups = {"reset_and_clocking": [top.button, top.locked]}
     for b in I2C_BUSES:
         bus, init = getattr(top.bus, b), getattr(top.init, b)

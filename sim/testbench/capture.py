@@ -61,7 +61,7 @@ def _per_camera(value, cameras, default):
     return {c: (default if value is None else value) for c in cameras}
 
 
-class _Harness(Elaboratable):
+class _CaptureTestbench(Elaboratable):
     """The capture path with its domains defined (Amaranth's simulator)."""
 
     def __init__(self, path):
@@ -91,11 +91,11 @@ def run_capture_amaranth(path, streams, *, pclk_hz=CLOCKS.CAM_MCLK_HZ, start_del
     cameras = list(streams)
     pclk = _per_camera(pclk_hz, cameras, CLOCKS.CAM_MCLK_HZ)
     delay = _per_camera(start_delay, cameras, 0.0)
-    harness = _Harness(path)
+    testbench = _CaptureTestbench(path)
     records = {c: CaptureRecord() for c in cameras}
     done = {c: Signal(name=f"stream_{c}_done") for c in cameras}
     buffers = {}
-    sim = Simulator(harness)
+    sim = Simulator(testbench)
     for c in cameras:
         port = getattr(path, f"cam_{c}")
 
@@ -103,7 +103,7 @@ def run_capture_amaranth(path, streams, *, pclk_hz=CLOCKS.CAM_MCLK_HZ, start_del
             def on_sample(ctx):
                 records[c].observe(ctx.get, port.write, port.status)
             records[c].samples = await drive_amaranth(
-                ctx, streams[c], clk=harness.cam[c].clk, pins=port.pins, pclk_hz=pclk[c], start_delay=delay[c],
+                ctx, streams[c], clk=testbench.cam[c].clk, pins=port.pins, pclk_hz=pclk[c], start_delay=delay[c],
                 on_sample=on_sample)
             ctx.set(done[c], 1)
         sim.add_testbench(camera)
@@ -114,7 +114,7 @@ def run_capture_amaranth(path, streams, *, pclk_hz=CLOCKS.CAM_MCLK_HZ, start_del
                 if not ctx.get(done[c]):
                     await ctx.posedge(done[c])
             for c in path.cameras:
-                buffers[c] = await _read_buffer_amaranth(ctx, getattr(path, f"cam_{c}").read, harness.pix.clk,
+                buffers[c] = await _read_buffer_amaranth(ctx, getattr(path, f"cam_{c}").read, testbench.pix.clk,
                                                          path.geometry, pix_hz)
         sim.add_testbench(reader)
 
@@ -124,7 +124,7 @@ def run_capture_amaranth(path, streams, *, pclk_hz=CLOCKS.CAM_MCLK_HZ, start_del
         traces = {}
         for c in cameras:
             port = getattr(path, f"cam_{c}")
-            traces[f"camera_{c}"] = [harness.cam[c].clk, port.pins.fv, port.pins.lv, port.pins.data,
+            traces[f"camera_{c}"] = [testbench.cam[c].clk, port.pins.fv, port.pins.lv, port.pins.data,
                                      port.status.in_frame, port.write.en, port.write.addr, port.write.data,
                                      port.status.frame_done, port.status.frame_ok, port.status.frame_count]
         with recording(sim, vcd, Path(vcd).with_suffix(".gtkw"), traces):

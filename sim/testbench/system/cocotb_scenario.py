@@ -1,11 +1,11 @@
 """The whole-system scenario inside a cocotb simulation (Verilator or Icarus), in phases.
 
-``sim/harness/system/system_cocotb.py`` runs :func:`end_to_end` (and, for the bench, :func:`rate_probe`) on the design
-:func:`sim.harness.system.run_cocotb.run_cocotb_system` exported; the phases are those of the Amaranth runner
-(``sim/harness/system/run_amaranth.py``): **reset** (button, clock lock), **init** (the RTL configures the register-file
+``sim/testbench/system/system_cocotb.py`` runs :func:`end_to_end` (and, for the benchmark, :func:`rate_probe`) on the design
+:func:`sim.testbench.system.run_cocotb.run_cocotb_system` exported; the phases are those of the Amaranth runner
+(``sim/testbench/system/run_amaranth.py``): **reset** (button, clock lock), **init** (the RTL configures the register-file
 models over I2C; then the pixel clock and the switches), **capture** (both sensors stream once configured, until
 both captures complete a frame), **display** (one frame of the CH7301C pins sampled from a frame start), **check**
-(:func:`sim.harness.system.result.check_run`, then the assertions). The route (``sim/harness/system/cocotb_routes.py``) drives the
+(:func:`sim.testbench.system.result.check_run`, then the assertions). The route (``sim/testbench/system/cocotb_routes.py``) drives the
 clocks, the cameras and the display.
 
 Parameters (``sim.runners.cocotb.test_params()``): ``setup`` (``SystemSetup.to_spec()``), ``route``
@@ -27,9 +27,9 @@ from hdl.system import CAMERAS, DISPLAY_LATENCY, I2C_BUSES
 from sim.runners.cocotb import TopPorts
 from sim.models.i2c.bus import start_cocotb_targets
 from sim.models.i2c.monitor import I2CBusMonitor
-from sim.harness.system.cocotb_routes import period_ps, route_from_spec
-from sim.harness.system.result import check_run
-from sim.harness.system.setup import SystemSetup
+from sim.testbench.system.cocotb_routes import period_ps, route_from_spec
+from sim.testbench.system.result import check_run
+from sim.testbench.system.setup import SystemSetup
 
 __all__ = ["end_to_end", "rate_probe"]
 
@@ -198,7 +198,7 @@ async def end_to_end(dut, params):
 
 
 async def rate_probe(dut, params):
-    """For the bench: run every clock of the in-simulator route's design (cameras replaying pseudo-random words,
+    """For the benchmark: run every clock of the in-simulator route's design (cameras replaying pseudo-random words,
     I2C idle) for ``probe_us`` of simulated time and write the wall time to ``out_dir/probe.json``."""
     from sim.replay.sensor import write_hex
     ports = TopPorts(dut)

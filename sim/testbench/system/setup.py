@@ -1,7 +1,7 @@
 """One place that says how a whole-system simulation is set up: sizes, time scale, clocks, models, golden frame.
 
-:class:`SystemSetup` is shared by both simulators' runners (``sim/harness/system/run_amaranth.py``,
-``sim/harness/system/run_cocotb.py`` and the scenario it runs inside the simulator), the tests, the bench and the command
+:class:`SystemSetup` is shared by both simulators' runners (``sim/testbench/system/run_amaranth.py``,
+``sim/testbench/system/run_cocotb.py`` and the scenario it runs inside the simulator), the tests, the benchmarks and the command
 line, so every route simulates the same configuration and compares against the same golden frame.
 
 Two presets:
@@ -9,11 +9,11 @@ Two presets:
 * :meth:`SystemSetup.small`: ``SMALL_SENSOR`` (64 x 48 -> 16 x 12 buffers) on ``SMALL_TIMING`` (112 x 52 active),
   ``SMALL_DEPTH`` (D = 8),
   the MT9D112 table with the small output size, only its essential entries and its waits scaled by 1/50
-  (``sim/harness/system/tables.py``), a 1 MHz I2C bus (Fast-mode Plus rate, the fastest the I2C master accepts; a simulation
+  (``sim/testbench/system/tables.py``), a 1 MHz I2C bus (Fast-mode Plus rate, the fastest the I2C master accepts; a simulation
   speed-up: the register-file models do not depend on the bus rate; the 100 kHz bus is exercised by the I2C
   block's own tests and by the full preset). For the default test run.
 * :meth:`SystemSetup.full`: the board's sizes (1600 x 1200 -> 400 x 300, 1080p60), the board's MT9D112 table
-  unchanged and the 100 kHz bus. For the slow test, the bench and the demo.
+  unchanged and the 100 kHz bus. For the slow test, the benchmark and the demo.
 
 The sensors' PCLK is ``spec.board.CLOCKS.CAM_PCLK_HZ``: what the MT9D112 table programs. Camera A is the left
 image, camera B the right image.
@@ -50,7 +50,7 @@ from spec.video import CEA_1080P60, SMALL_TIMING
 from sim.models.ch7301c.target import CH7301CModel
 from sim.models.mt9d112.target import MT9D112Model
 from sim.models.mt9d112.sensor import MT9D112, SENSOR_TIMING, SMALL_SENSOR_TIMING
-from sim.harness.system.tables import model_timing, mt9d112_table
+from sim.testbench.system.tables import model_timing, mt9d112_table
 
 __all__ = ["SystemSetup"]
 
@@ -66,7 +66,7 @@ class SystemSetup:
     disparity: int = 0
     rectification: int = 0
     time_scale: float = 1.0            # applied to the MT9D112 table's waits and the model's boot/PLL times
-    quick_table: bool = False          # only the MT9D112 table's essential entries (sim/harness/system/tables.py)
+    quick_table: bool = False          # only the MT9D112 table's essential entries (sim/testbench/system/tables.py)
     i2c_hz: int = CLOCKS.I2C_HZ
     i2c_retry_delay_us: int = 1000
     sys_hz: int = CLOCKS.SYS_HZ
@@ -133,7 +133,7 @@ class SystemSetup:
         return mt9d112_table(self.geometry, time_scale=self.time_scale, quick=self.quick_table)
 
     def system_kwargs(self):
-        """Keyword arguments for ``sim.harness.system.bench.SystemBench`` (and from there ``hdl.system.StereoDepthSystem``)."""
+        """Keyword arguments for ``sim.testbench.system.testbench.SystemTestbench`` (and from there ``hdl.system.StereoDepthSystem``)."""
         return dict(geometry=self.geometry, timing=self.timing, layout=self.display_layout,
                     thresholds=self.thresholds, level_grey=self.level_grey, depth=self.depth,
                     cam_table=self.cam_table,

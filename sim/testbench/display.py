@@ -2,7 +2,7 @@
 and short waveform windows.
 
 * :func:`capture_frame`: from reset until frame 0 is complete, on Verilator / Icarus (cocotb,
-  ``sim/harness/display_cocotb.py`` through :func:`run_display_cocotb`) or in Amaranth's simulator; the HDMI sink
+  ``sim/testbench/display_cocotb.py`` through :func:`run_display_cocotb`) or in Amaranth's simulator; the HDMI sink
   (``sim/models/ch7301c/hdmi_sink.py``) rebuilds the frame, which is compared with the expected one (default: the golden test
   pattern, ``golden.video.pattern_frame``).
 * :func:`write_display_waves`: a short VCD window of the display path plus a GTKWave save file grouping the pins,
@@ -44,7 +44,7 @@ class Capture:
 def run_display_cocotb(design, timing, *, simulator, name="display_path", sink_clocks=0, min_frames=1,
                        compare_golden=True, expect_values=None, expect_edges=None, free_run_clocks=0, out_dir=None,
                        progress_file=None, waves=None, testcase=None):
-    """Run ``sim/harness/display_cocotb.py`` on ``design`` (a :class:`~hdl.display_path.DisplayPath`: ``clk``,
+    """Run ``sim/testbench/display_cocotb.py`` on ``design`` (a :class:`~hdl.display_path.DisplayPath`: ``clk``,
     ``rst`` and the ``ch7301c`` pins) through :func:`sim.runners.cocotb.run_cocotb`. See that module for the
     parameters. Returns the cocotb test directory; raises ``AssertionError`` when a cocotb test fails."""
     params = {"timing": dataclasses.asdict(timing), "sink_clocks": sink_clocks, "min_frames": min_frames,
@@ -56,7 +56,7 @@ def run_display_cocotb(design, timing, *, simulator, name="display_path", sink_c
     for key, path in (("out_dir", out_dir), ("progress_file", progress_file)):
         if path is not None:        # absolute: the simulator runs in its own test directory
             params[key] = str(Path(path).resolve())
-    return run_cocotb(design, name=name, test_module="sim.harness.display_cocotb", simulator=simulator, params=params,
+    return run_cocotb(design, name=name, test_module="sim.testbench.display_cocotb", simulator=simulator, params=params,
                       waves=waves, testcase=testcase, run_waves=display_run_waves(timing))
 
 
@@ -100,9 +100,9 @@ def capture_frame(timing, simulator, work_dir, *, design=None, expected=None, pr
 def _capture_amaranth(design, timing, clocks, report):
     sink = HdmiSink(timing, keep_frames=1)
     report(0, "amaranth: simulate")
-    bench = amaranth_sink_testbench(sink, design.ch7301c, clocks, progress=lambda n: report(n, "amaranth: simulate"))
+    testbench = amaranth_sink_testbench(sink, design.ch7301c, clocks, progress=lambda n: report(n, "amaranth: simulate"))
     wall = time.perf_counter()
-    simulate(design, clocks={"sync": timing.pixel_hz}, testbenches=[bench])
+    simulate(design, clocks={"sync": timing.pixel_hz}, testbenches=[testbench])
     wall = time.perf_counter() - wall
     report(clocks, "amaranth: simulate")
     return (sink.frames[0] if sink.frames else None), sink.ok, sink.report(), wall
@@ -182,9 +182,9 @@ def write_display_waves(timing, vcd_path, *, lines=None):
                Event("vsync end", sync.vsync, 1 - vsync_on, after="vsync"),
                Event("vsync on the pins", pins.vsync, value=vsync_on)])
 
-    async def bench(ctx):
+    async def testbench(ctx):
         await ctx.tick().repeat(clocks)
 
-    simulate(dut, clocks={"sync": timing.pixel_hz}, testbenches=[bench], vcd=vcd_path, gtkw=gtkw_path,
+    simulate(dut, clocks={"sync": timing.pixel_hz}, testbenches=[testbench], vcd=vcd_path, gtkw=gtkw_path,
              traces=traces)
     return {"VCD": vcd_path, "GTKWave": gtkw_path}

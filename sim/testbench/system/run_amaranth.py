@@ -1,6 +1,6 @@
 """The whole system end to end in Amaranth's simulator: stereo pair in, rebuilt HDMI frame out.
 
-:func:`run_amaranth` simulates a :class:`sim.harness.system.setup.SystemSetup` through a *route* (how the cameras and the
+:func:`run_amaranth` simulates a :class:`sim.testbench.system.setup.SystemSetup` through a *route* (how the cameras and the
 clocks are driven), every clock at its real frequency (``sync`` 100 MHz, ``pix`` from the video timing, each
 camera's PCLK from its sensor model), in the phases a reader can follow in :meth:`_Run.controller`:
 
@@ -10,15 +10,15 @@ camera's PCLK from its sensor model), in the phases a reader can follow in :meth
    ``setup.pix_after_init``) and the switches are set: SW7 = 1 with the disparity, then SW7 = 0 with the
    rectification;
 3. **capture**: each sensor streams its image once its register file says RGB565 and streaming (see
-   ``sim/harness/system/setup.py`` for this shortcut), the same image every frame, until both captures complete a frame;
+   ``sim/testbench/system/setup.py`` for this shortcut), the same image every frame, until both captures complete a frame;
 4. **display**: the HDMI sink model (``sim.models.ch7301c.hdmi_sink``) samples the CH7301C pins from the next display frame start
    for one whole frame and rebuilds it;
-5. **check** (after the simulation): :func:`sim.harness.system.result.check_run` against the golden frame.
+5. **check** (after the simulation): :func:`sim.testbench.system.result.check_run` against the golden frame.
 
 Routes (:data:`ROUTES`): :class:`PythonSensors` drives each camera's pins from the sensor model in a testbench, per
-PCLK (:class:`sim.harness.system.bench.SystemBench`); :class:`ReplayedSensors` replays each camera's frame-period stream
+PCLK (:class:`sim.testbench.system.testbench.SystemTestbench`); :class:`ReplayedSensors` replays each camera's frame-period stream
 from a ROM inside the simulated design and gates free-running simulator clocks
-(:class:`sim.harness.system.rom_bench.RomReplayBench`): the full-resolution route.
+(:class:`sim.testbench.system.rom_testbench.RomReplayTestbench`): the full-resolution route.
 """
 
 import time
@@ -33,9 +33,9 @@ from sim.models.i2c.monitor import I2CBusMonitor
 from sim.models.mt9d112.sensor import drive_amaranth
 from sim.models.mt9d112.config import expected_sensor_config
 from sim.replay.sensor import pack_stream
-from sim.harness.system.bench import SystemBench
-from sim.harness.system.result import SystemResult, SystemTimeout, check_run
-from sim.harness.system.rom_bench import GATED_DOMAINS, RomReplayBench, enable_clock
+from sim.testbench.system.testbench import SystemTestbench
+from sim.testbench.system.result import SystemResult, SystemTimeout, check_run
+from sim.testbench.system.rom_testbench import GATED_DOMAINS, RomReplayTestbench, enable_clock
 
 __all__ = ["AmaranthRoute", "PythonSensors", "ReplayedSensors", "ROUTES", "run_amaranth"]
 
@@ -47,7 +47,7 @@ class AmaranthRoute:
     name = None
 
     def design(self, run):
-        """The component to simulate; it has :class:`~sim.harness.system.bench.SystemBench`'s members."""
+        """The component to simulate; it has :class:`~sim.testbench.system.testbench.SystemTestbench`'s members."""
         raise NotImplementedError
 
     def add_clocks(self, run, sim):
@@ -69,7 +69,7 @@ class PythonSensors(AmaranthRoute):
     name = "python"
 
     def design(self, run):
-        return SystemBench(**run.setup.system_kwargs())
+        return SystemTestbench(**run.setup.system_kwargs())
 
     def add_clocks(self, run, sim):
         sim.add_clock(1 / run.setup.sys_hz, domain="sync")
@@ -96,7 +96,7 @@ class PythonSensors(AmaranthRoute):
 class ReplayedSensors(AmaranthRoute):
     """Each camera's frame-period stream, made before the run for the spec's configuration
     (:func:`sim.models.mt9d112.config.expected_sensor_config`), replayed from a ROM in the design; gated simulator clocks.
-    A :class:`~sim.harness.system.result.SystemTimeout` is raised if the I2C init configures a register-file model to
+    A :class:`~sim.testbench.system.result.SystemTimeout` is raised if the I2C init configures a register-file model to
     anything else."""
 
     name = "replay"
@@ -105,7 +105,7 @@ class ReplayedSensors(AmaranthRoute):
         run.expected_config = expected_sensor_config(run.setup.geometry)
         words = {c: pack_stream(run.setup.sensor(run.expected_config, seed=seed).frame(run.images[c])).tolist()
                  for seed, c in enumerate(CAMERAS)}
-        return RomReplayBench(replay_words=words, **run.setup.system_kwargs())
+        return RomReplayTestbench(replay_words=words, **run.setup.system_kwargs())
 
     def add_clocks(self, run, sim):
         sim.add_clock(1 / run.setup.sys_hz, domain="sync")
@@ -273,13 +273,13 @@ def run_amaranth(left, right, setup, *, route=ROUTES["python"], vcd=None, gtkw=N
                  deadline_s=None):
     """Simulate the pair ``left``/``right`` (RGB arrays, any size: fitted to the sensor) through the whole system
     along ``route`` (an :class:`AmaranthRoute`); see the module docstring. Returns a
-    :class:`~sim.harness.system.result.SystemResult` (with ``sink``, ``models``, ``monitors``).
+    :class:`~sim.testbench.system.result.SystemResult` (with ``sink``, ``models``, ``monitors``).
 
-    ``progress(stage, fraction)`` is called at each phase. Raises :class:`~sim.harness.system.result.SystemTimeout` when a
+    ``progress(stage, fraction)`` is called at each phase. Raises :class:`~sim.testbench.system.result.SystemTimeout` when a
     phase does not complete within ``deadline_s`` of simulated time (default: ``setup.deadline_s()``). With
     ``vcd``, a VCD of the whole run and a GTKWave save file (``gtkw``) showing ``traces`` (a
     :class:`sim.waves.gtkw.Waves` or a dict of groups, or a function of the simulated design returning one, e.g.
-    :func:`sim.harness.system.waves.system_waves`) are written."""
+    :func:`sim.testbench.system.waves.system_waves`) are written."""
     t_setup = time.perf_counter()
     left, right = setup.fit(left), setup.fit(right)
     run = _Run(setup, route, left, right, progress, deadline_s)

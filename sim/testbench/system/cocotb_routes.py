@@ -2,15 +2,15 @@
 display inside the simulator.
 
 A route is a small class with one interface, used on both sides of a cocotb run: in the pytest process
-(:func:`sim.harness.system.run_cocotb.run_cocotb_system` asks it for the design and the build options) and inside the
-simulator (``sim/harness/system/cocotb_scenario.py`` asks it to start the clocks, drive a camera and sample the display).
+(:func:`sim.testbench.system.run_cocotb.run_cocotb_system` asks it for the design and the build options) and inside the
+simulator (``sim/testbench/system/cocotb_scenario.py`` asks it to start the clocks, drive a camera and sample the display).
 It travels between the two as :meth:`CocotbRoute.spec` (JSON). A new route (e.g. clocks from a C++ main) is a new
 subclass registered in :data:`ROUTES`; the scenario does not change.
 
-* :class:`PythonModels`: :class:`sim.harness.system.bench.SystemBench` with clock inputs; every clock is a cocotb clock,
+* :class:`PythonModels`: :class:`sim.testbench.system.testbench.SystemTestbench` with clock inputs; every clock is a cocotb clock,
   each camera's pins come from its Python sensor model per PCLK (:func:`sim.models.mt9d112.sensor.drive_cocotb`) and the HDMI
   sink samples the pins per pixel clock (:class:`sim.models.ch7301c.hdmi_sink.CocotbSink`).
-* :class:`InSimulator`: :class:`sim.harness.system.verilog_bench.VerilogReplayBench`: clocks, the sensors' streams and the
+* :class:`InSimulator`: :class:`sim.testbench.system.verilog_testbench.VerilogReplayTestbench`: clocks, the sensors' streams and the
   pin recorder all inside the simulator; on Verilator built with ``verilator_fast``. ``cross_check=N`` also runs
   the Python sink on the same pins (its frame is then the one checked; the recorder's samples must equal its
   samples) and reads back the first N replayed samples of each camera, so the run checks that the route sees
@@ -25,8 +25,8 @@ from sim.runners import build_dir
 from sim.models.ch7301c.hdmi_sink import CocotbSink, HdmiSink
 from sim.replay.pins import read_recording, replay_recording
 from sim.replay.sensor import pack_stream, write_hex
-from sim.harness.system.bench import SystemBench
-from sim.harness.system.verilog_bench import VerilogReplayBench, write_sources
+from sim.testbench.system.testbench import SystemTestbench
+from sim.testbench.system.verilog_testbench import VerilogReplayTestbench, write_sources
 
 __all__ = ["CocotbRoute", "PythonModels", "InSimulator", "ROUTES", "route_from_spec", "period_ps"]
 
@@ -91,7 +91,7 @@ class PythonModels(CocotbRoute):
     name = "python"
 
     def design(self, setup):
-        return SystemBench(clock_ports=True, **setup.system_kwargs())
+        return SystemTestbench(clock_ports=True, **setup.system_kwargs())
 
     def start(self, ports, setup):
         from cocotb.clock import Clock
@@ -131,7 +131,7 @@ class InSimulator(CocotbRoute):
     def design(self, setup):
         periods = {"sync": period_ps(setup.sys_hz), "pix": period_ps(setup.timing.pixel_hz, 4),
                    "cam": period_ps(setup.pclk_hz)}
-        return VerilogReplayBench(replay_depth=setup.frame_period_samples(), periods_ps=periods,
+        return VerilogReplayTestbench(replay_depth=setup.frame_period_samples(), periods_ps=periods,
                                   **setup.system_kwargs())
 
     def build_args(self, simulator):

@@ -1,5 +1,5 @@
 """cocotb tests of the exported two-camera capture path (hdl.capture_path.CapturePath with the replay modules
-of sim.harness.capture.playback_design beside it, exported through board.export.export_verilog), on Verilator
+of sim.testbench.capture.playback_design beside it, exported through board.export.export_verilog), on Verilator
 and Icarus. Driven from tests/test_capture.py.
 
 Every check compares the RTL with the golden model (golden/capture.py), which is written from the spec:
@@ -28,7 +28,7 @@ from golden.capture import capture_frame, capture_stream
 from golden.stereo_pair import load_default_pair
 from spec.sensor import SensorGeometry
 from sim.runners.cocotb import test_params
-from sim.harness.capture import run_capture_cocotb, run_playback_cocotb
+from sim.testbench.capture import run_capture_cocotb, run_playback_cocotb
 from sim.models.mt9d112.sensor import MT9D112, SENSOR_TIMING, SMALL_SENSOR_TIMING, fault_cases
 from sim.models.mt9d112.config import SensorConfig
 
