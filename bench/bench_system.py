@@ -8,7 +8,7 @@ camera, one 1080p display frame, the rebuilt frame compared bit for bit with the
 
 * Verilator, the project's route (``sim/testbench/system/run_verilator.py``: the testbench in C++, the Python models
   answering the I2C buses): the simulation, measured beside the **raw model** of the same design
-  (``sim/runners/verilator/raw_main.cpp``: the same C++ testbench driven from the run's stimulus log, no Python, built the
+  (``bench/raw_main.cpp``: the same C++ testbench driven from the run's stimulus log, no Python, built the
   way Verilator builds an executable), which must record the same pins word for word; their ratio is the cost of
   the project's Python side. Both run twice (best of two: the machine is shared). Also the whole Verilator step
   of ``make demo`` (``stereodepth run`` on the bundled pair with a cached build: start-up, sensor streams,
@@ -65,8 +65,7 @@ def bench_verilator(repeat=REPEAT):
     import numpy as np
     from golden.stereo_pair import load_default_pair
     from sim.testbench.system.run_verilator import run_verilator
-    from sim.runners.verilator.build import build_raw
-    from sim.runners.verilator.raw import run_raw
+    from bench.raw_model import build_raw, run_raw
     setup = _setup()
     fresh = []
     start = time.perf_counter()

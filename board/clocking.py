@@ -47,7 +47,6 @@ from amaranth.lib.wiring import In, Out
 
 from spec.board import CLOCKS
 from spec.video import CEA_1080P60
-from hdl.rejecting import rejecting
 from hdl.reset_tree import add_reset_tree
 
 __all__ = ["ClockPlan", "PLAN", "GenesysClocking"]
@@ -181,18 +180,17 @@ class GenesysClocking(wiring.Component):
     """
 
     def __init__(self, plan=PLAN, *, cam_domains=("cam_a", "cam_b")):
-        with rejecting(self):
-            self.plan = plan.check()
-            self.cam_domains = tuple(cam_domains)
-            super().__init__({
-                "clk100": In(1), "button": In(1), "locked": Out(1),
-                "cam_pclk": In(wiring.Signature({name: Out(1) for name in self.cam_domains})),
-            })
-            self.domain_names = ("sync", "pix", "pix90", "mclk", *self.cam_domains)
-            #: The clock domains this block drives; the parent adds them: ``m.domains += clocking.domains``.
-            self.domains = [ClockDomain(name) for name in self.domain_names]
-            #: The global clock nets (BUFG outputs), one per domain.
-            self.clock_signals = {name: Signal(name=f"{name}_bufg") for name in self.domain_names}
+        self.plan = plan.check()
+        self.cam_domains = tuple(cam_domains)
+        super().__init__({
+            "clk100": In(1), "button": In(1), "locked": Out(1),
+            "cam_pclk": In(wiring.Signature({name: Out(1) for name in self.cam_domains})),
+        })
+        self.domain_names = ("sync", "pix", "pix90", "mclk", *self.cam_domains)
+        #: The clock domains this block drives; the parent adds them: ``m.domains += clocking.domains``.
+        self.domains = [ClockDomain(name) for name in self.domain_names]
+        #: The global clock nets (BUFG outputs), one per domain.
+        self.clock_signals = {name: Signal(name=f"{name}_bufg") for name in self.domain_names}
 
     def clock_nets(self):
         """``(signal, frequency_hz, family)`` per global clock net, for timing constraints: nets of the same

@@ -45,7 +45,6 @@ from board.clocking import PLAN, GenesysClocking
 from board.export import flat_name
 from spec.sensor import SENSOR
 from spec.video import CEA_1080P60
-from hdl.rejecting import rejecting
 from hdl.system import CAMERAS, StereoDepthSystem
 
 __all__ = ["GenesysTop", "board_plan"]
@@ -73,11 +72,10 @@ class GenesysTop(wiring.Component):
     """
 
     def __init__(self, geometry=SENSOR, timing=CEA_1080P60, *, plan=PLAN, **system_kwargs):
-        with rejecting(self):
-            if not (timing.hsync_positive and timing.vsync_positive):
-                raise ValueError("the board output stage assumes positive sync polarities (CEA-861 1080p60)")
-            if system_kwargs.pop("ddr", None) is not None:
-                raise ValueError("GenesysTop builds the CH7301C pins itself (ddr must be None)")
+        if not (timing.hsync_positive and timing.vsync_positive):
+            raise ValueError("the board output stage assumes positive sync polarities (CEA-861 1080p60)")
+        if system_kwargs.pop("ddr", None) is not None:
+            raise ValueError("GenesysTop builds the CH7301C pins itself (ddr must be None)")
         self.system = StereoDepthSystem(geometry, timing, ddr=None, **system_kwargs)
         self.clocking = GenesysClocking(plan, cam_domains=tuple(f"cam_{c}" for c in CAMERAS))
         super().__init__({})

@@ -38,7 +38,6 @@ from hdl.frame_buffer import FrameBufferWriteSignature
 from hdl.grey import Grey
 from spec.sensor import SENSOR
 from hdl.rgb565_assembler import RGB565Assembler
-from hdl.rejecting import rejecting
 
 __all__ = ["CameraSignature", "CaptureStatusSignature", "CameraCapture"]
 
@@ -79,21 +78,20 @@ class CameraCapture(wiring.Component):
     """
 
     def __init__(self, geometry=SENSOR, r_byte_first=True):
-        with rejecting(self):
-            if geometry.grey_bits != 5:
-                raise ValueError("the spec's grey conversion gives 5 bits; geometry.grey_bits must be 5")
-            self.geometry = geometry
-            self.r_byte_first = r_byte_first
-            # The assembler's column counts 0 .. width (saturating at width).
-            self._downscaler = Downscaler(geometry, column_bits=geometry.width.bit_length(),
-                                          row_bits=geometry.height.bit_length())
-            self._assembler = RGB565Assembler(geometry.width, r_byte_first=r_byte_first)
-            super().__init__({
-                "pins": In(CameraSignature),
-                "write": Out(FrameBufferWriteSignature(geometry)),
-                "status": Out(CaptureStatusSignature),
-            })
-            forward(self, "write", self._downscaler.write)
+        if geometry.grey_bits != 5:
+            raise ValueError("the spec's grey conversion gives 5 bits; geometry.grey_bits must be 5")
+        self.geometry = geometry
+        self.r_byte_first = r_byte_first
+        # The assembler's column counts 0 .. width (saturating at width).
+        self._downscaler = Downscaler(geometry, column_bits=geometry.width.bit_length(),
+                                      row_bits=geometry.height.bit_length())
+        self._assembler = RGB565Assembler(geometry.width, r_byte_first=r_byte_first)
+        super().__init__({
+            "pins": In(CameraSignature),
+            "write": Out(FrameBufferWriteSignature(geometry)),
+            "status": Out(CaptureStatusSignature),
+        })
+        forward(self, "write", self._downscaler.write)
 
     def elaborate(self, platform):
         m = Module()

@@ -15,7 +15,6 @@ from hdl.forward import forward
 from hdl.frame_buffer import FrameBuffer, FrameBufferReadSignature, FrameBufferWriteSignature
 from spec.sensor import SENSOR
 from hdl.signature import ParametricSignature
-from hdl.rejecting import rejecting
 
 __all__ = ["CapturePortSignature", "CapturePath"]
 
@@ -62,20 +61,19 @@ class CapturePath(wiring.Component):
     """
 
     def __init__(self, geometry=SENSOR, *, cameras=("a", "b"), r_byte_first=True, read_domain="pix", init=()):
-        with rejecting(self):
-            if not cameras or len(set(cameras)) != len(cameras):
-                raise ValueError(f"cameras must be distinct names, got {cameras!r}")
-            self.geometry = geometry
-            self.cameras = tuple(cameras)
-            self.read_domain = read_domain
-            self.captures = {c: CameraCapture(geometry, r_byte_first=r_byte_first) for c in self.cameras}
-            self.buffers = {c: FrameBuffer(geometry, write_domain=f"cam_{c}", read_domain=read_domain, init=init)
-                            for c in self.cameras}
-            super().__init__({f"cam_{c}": Out(CapturePortSignature(geometry)) for c in self.cameras})
-            for c in self.cameras:
-                for name in ("pins", "write", "status"):
-                    forward(self, (f"cam_{c}", name), getattr(self.captures[c], name))
-                forward(self, (f"cam_{c}", "read"), self.buffers[c].read)
+        if not cameras or len(set(cameras)) != len(cameras):
+            raise ValueError(f"cameras must be distinct names, got {cameras!r}")
+        self.geometry = geometry
+        self.cameras = tuple(cameras)
+        self.read_domain = read_domain
+        self.captures = {c: CameraCapture(geometry, r_byte_first=r_byte_first) for c in self.cameras}
+        self.buffers = {c: FrameBuffer(geometry, write_domain=f"cam_{c}", read_domain=read_domain, init=init)
+                        for c in self.cameras}
+        super().__init__({f"cam_{c}": Out(CapturePortSignature(geometry)) for c in self.cameras})
+        for c in self.cameras:
+            for name in ("pins", "write", "status"):
+                forward(self, (f"cam_{c}", name), getattr(self.captures[c], name))
+            forward(self, (f"cam_{c}", "read"), self.buffers[c].read)
 
     def port(self, camera):
         """The member of camera ``camera``."""

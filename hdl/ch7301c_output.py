@@ -6,7 +6,6 @@ from amaranth.lib.wiring import In, Out
 
 from spec.video import CEA_1080P60
 from hdl.video_bus import VideoSignature
-from hdl.rejecting import rejecting
 
 __all__ = ["CH7301CSignature", "CH7301COutput", "split_rgb"]
 
@@ -96,11 +95,10 @@ class CH7301COutput(wiring.Component):
     pins: Out(CH7301CSignature)
 
     def __init__(self, timing=CEA_1080P60, *, ddr="behavioural", xclk_domain=None):
-        with rejecting(self):
-            if ddr not in DDR_MODES:
-                raise ValueError(f"ddr must be one of {DDR_MODES}, not {ddr!r}")
-            if xclk_domain is not None and ddr != "virtex5":
-                raise ValueError("xclk_domain only applies to ddr='virtex5'")
+        if ddr not in DDR_MODES:
+            raise ValueError(f"ddr must be one of {DDR_MODES}, not {ddr!r}")
+        if xclk_domain is not None and ddr != "virtex5":
+            raise ValueError("xclk_domain only applies to ddr='virtex5'")
         self.mode = timing
         self.ddr = ddr
         self.xclk_domain = xclk_domain or "sync"

@@ -76,7 +76,6 @@ from spec.layout import DisplayLayout
 from spec.sensor import SENSOR
 from spec.video import CEA_1080P60
 from hdl.region_scanner import RegionScanner
-from hdl.rejecting import rejecting
 from hdl.switches import SettingsSignature
 from hdl.text_layer import LATENCY as TEXT_LATENCY, TextLayer
 from hdl.video_bus import TimingSignature, VideoSignature
@@ -189,35 +188,34 @@ class Compositor(wiring.Component):
 
     def __init__(self, timing=CEA_1080P60, geometry=SENSOR, layout=None, *, config=DEPTH, out_rows=4,
                  thresholds=DIFF_THRESHOLDS, level_grey=DIFF_LEVEL_GREY):
-        with rejecting(self):
-            if layout is None:
-                layout = DisplayLayout.centred(timing, geometry, config)
-            self.video_timing = timing          # (the ``timing`` attribute is the TimingSignature port)
-            self.geometry, self.config, self.out_rows = geometry, config, out_rows
-            self.layout = layout
-            self.regions = check_layout(layout, timing, geometry, config)
-            self.thresholds = check_thresholds(thresholds, geometry.grey_bits)
-            self.level_grey = tuple(int(v) for v in level_grey)
-            if len(self.level_grey) != len(self.thresholds) + 1 or any(not 0 <= v <= 255 for v in self.level_grey):
-                raise ValueError(f"level_grey needs {len(self.thresholds) + 1} entries in 0..255 (one per level), "
-                                 f"got {level_grey!r}")
-            if geometry.grey_bits > 8:
-                raise ValueError(f"grey_bits = {geometry.grey_bits}: the display shows at most 8 bits of grey")
-            g = geometry
-            ring_addr_bits = (out_rows * g.buf_width - 1).bit_length()
-            super().__init__({
-                "timing": In(TimingSignature),
-                "settings": In(SettingsSignature),
-                "left": Out(SharedReadSignature(g)),
-                "right": Out(SharedReadSignature(g)),
-                "depth": Out(ResultReadSignature(ring_addr_bits, config.code_bits, g.buf_height)),
-                "video": Out(VideoSignature),
-            })
-            self._subtractor = DisparitySubtractor(g, self.thresholds)
-            forward(self, "settings", self._subtractor.settings)     # the switch registers go to the subtractor only
-            self._distance = CentreDistance(g, config)
-            self._text = TextLayer(layout.labels, layout.readout, v_active=timing.v_active,
-                                   x_bits=len(self.timing.x), y_bits=len(self.timing.y))
+        if layout is None:
+            layout = DisplayLayout.centred(timing, geometry, config)
+        self.video_timing = timing          # (the ``timing`` attribute is the TimingSignature port)
+        self.geometry, self.config, self.out_rows = geometry, config, out_rows
+        self.layout = layout
+        self.regions = check_layout(layout, timing, geometry, config)
+        self.thresholds = check_thresholds(thresholds, geometry.grey_bits)
+        self.level_grey = tuple(int(v) for v in level_grey)
+        if len(self.level_grey) != len(self.thresholds) + 1 or any(not 0 <= v <= 255 for v in self.level_grey):
+            raise ValueError(f"level_grey needs {len(self.thresholds) + 1} entries in 0..255 (one per level), "
+                             f"got {level_grey!r}")
+        if geometry.grey_bits > 8:
+            raise ValueError(f"grey_bits = {geometry.grey_bits}: the display shows at most 8 bits of grey")
+        g = geometry
+        ring_addr_bits = (out_rows * g.buf_width - 1).bit_length()
+        super().__init__({
+            "timing": In(TimingSignature),
+            "settings": In(SettingsSignature),
+            "left": Out(SharedReadSignature(g)),
+            "right": Out(SharedReadSignature(g)),
+            "depth": Out(ResultReadSignature(ring_addr_bits, config.code_bits, g.buf_height)),
+            "video": Out(VideoSignature),
+        })
+        self._subtractor = DisparitySubtractor(g, self.thresholds)
+        forward(self, "settings", self._subtractor.settings)     # the switch registers go to the subtractor only
+        self._distance = CentreDistance(g, config)
+        self._text = TextLayer(layout.labels, layout.readout, v_active=timing.v_active,
+                               x_bits=len(self.timing.x), y_bits=len(self.timing.y))
 
     def elaborate(self, platform):
         m = Module()

@@ -45,7 +45,6 @@ from hdl.frame_buffer import FrameBufferReadSignature
 from spec.display import DIFF_THRESHOLDS
 from spec.sensor import SENSOR
 from hdl.switches import SettingsSignature
-from hdl.rejecting import rejecting
 
 __all__ = ["DisparitySubtractor", "check_thresholds", "LATENCY", "SETTLE_CLOCKS"]
 
@@ -96,22 +95,21 @@ class DisparitySubtractor(wiring.Component):
     """
 
     def __init__(self, geometry=SENSOR, thresholds=DIFF_THRESHOLDS):
-        with rejecting(self):
-            self.geometry = geometry
-            self.thresholds = check_thresholds(thresholds, geometry.grey_bits)
-            g = geometry
-            super().__init__({
-                "valid": In(1),
-                "x": In(range(g.buf_width)),
-                "y": In(range(g.buf_height)),
-                "addr": In(g.addr_bits),
-                "settings": In(SettingsSignature),
-                "left": Out(FrameBufferReadSignature(g)),
-                "right": Out(FrameBufferReadSignature(g)),
-                "level": Out(range(len(self.thresholds) + 1)),
-                "no_data": Out(1),
-                "out_valid": Out(1),
-            })
+        self.geometry = geometry
+        self.thresholds = check_thresholds(thresholds, geometry.grey_bits)
+        g = geometry
+        super().__init__({
+            "valid": In(1),
+            "x": In(range(g.buf_width)),
+            "y": In(range(g.buf_height)),
+            "addr": In(g.addr_bits),
+            "settings": In(SettingsSignature),
+            "left": Out(FrameBufferReadSignature(g)),
+            "right": Out(FrameBufferReadSignature(g)),
+            "level": Out(range(len(self.thresholds) + 1)),
+            "no_data": Out(1),
+            "out_valid": Out(1),
+        })
 
     def elaborate(self, platform):
         m = Module()

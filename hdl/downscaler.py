@@ -22,7 +22,6 @@ from amaranth.lib.wiring import In, Out
 
 from hdl.frame_buffer import FrameBufferWriteSignature
 from spec.sensor import SENSOR
-from hdl.rejecting import rejecting
 
 __all__ = ["Downscaler"]
 
@@ -49,23 +48,22 @@ class Downscaler(wiring.Component):
     """
 
     def __init__(self, geometry=SENSOR, *, column_bits=None, row_bits=None):
-        with rejecting(self):
-            scale = geometry.scale
-            if scale < 1 or scale & (scale - 1):
-                raise ValueError(f"scale must be a power of two, got {scale}")
-            if geometry.buf_width < 1 or geometry.buf_height < 1:
-                raise ValueError(f"sensor {geometry.width}x{geometry.height} is smaller than one {scale}x{scale} "
-                                 f"block")
-            self.geometry = geometry
-            column_bits = column_bits or geometry.width.bit_length()
-            row_bits = row_bits or geometry.height.bit_length()
-            super().__init__({
-                "valid": In(1),
-                "grey": In(geometry.grey_bits),
-                "column": In(unsigned(column_bits)),
-                "row": In(unsigned(row_bits)),
-                "write": Out(FrameBufferWriteSignature(geometry)),
-            })
+        scale = geometry.scale
+        if scale < 1 or scale & (scale - 1):
+            raise ValueError(f"scale must be a power of two, got {scale}")
+        if geometry.buf_width < 1 or geometry.buf_height < 1:
+            raise ValueError(f"sensor {geometry.width}x{geometry.height} is smaller than one {scale}x{scale} "
+                             f"block")
+        self.geometry = geometry
+        column_bits = column_bits or geometry.width.bit_length()
+        row_bits = row_bits or geometry.height.bit_length()
+        super().__init__({
+            "valid": In(1),
+            "grey": In(geometry.grey_bits),
+            "column": In(unsigned(column_bits)),
+            "row": In(unsigned(row_bits)),
+            "write": Out(FrameBufferWriteSignature(geometry)),
+        })
 
     def elaborate(self, platform):
         m = Module()

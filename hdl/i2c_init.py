@@ -37,7 +37,6 @@ from hdl.i2c_master import Cmd, I2CMaster, I2CSignature
 from hdl.init_tables import Check, InitTable, Wait, Write
 from spec.board import CLOCKS
 from hdl.signature import ParametricSignature
-from hdl.rejecting import rejecting
 
 __all__ = ["ErrorCode", "InitStatusSignature", "InitSequencer"]
 
@@ -97,19 +96,18 @@ class InitSequencer(wiring.Component):
 
     def __init__(self, table, *, clk_hz=CLOCKS.SYS_HZ, bus_hz=CLOCKS.I2C_HZ, retries=3,
                  retry_delay_us=1000, timeout_us=25_000):
-        with rejecting(self):
-            if not isinstance(table, InitTable):
-                raise TypeError("table must be an hdl.init_tables.InitTable")
-            if retries < 0:
-                raise ValueError("retries must be >= 0")
-            self.table = table
-            self.clk_hz = clk_hz
-            self.bus_hz = bus_hz
-            self.retries = retries
-            self.retry_delay = max(1, _us_to_cycles(retry_delay_us, clk_hz))
-            self.master = I2CMaster(clk_hz=clk_hz, bus_hz=bus_hz, timeout_us=timeout_us)
-            super().__init__({"i2c": Out(I2CSignature), "status": Out(InitStatusSignature(len(table)))})
-            forward(self, "i2c", self.master.i2c)
+        if not isinstance(table, InitTable):
+            raise TypeError("table must be an hdl.init_tables.InitTable")
+        if retries < 0:
+            raise ValueError("retries must be >= 0")
+        self.table = table
+        self.clk_hz = clk_hz
+        self.bus_hz = bus_hz
+        self.retries = retries
+        self.retry_delay = max(1, _us_to_cycles(retry_delay_us, clk_hz))
+        self.master = I2CMaster(clk_hz=clk_hz, bus_hz=bus_hz, timeout_us=timeout_us)
+        super().__init__({"i2c": Out(I2CSignature), "status": Out(InitStatusSignature(len(table)))})
+        forward(self, "i2c", self.master.i2c)
 
     def _rom(self):
         dev = self.table.device

@@ -41,7 +41,6 @@ from amaranth.lib.cdc import FFSynchronizer
 from amaranth.lib.wiring import In, Out
 
 from spec.board import CLOCKS
-from hdl.rejecting import rejecting
 
 __all__ = ["OpenDrainSignature", "I2CSignature", "Cmd", "I2CTiming", "I2CMaster"]
 
@@ -157,11 +156,10 @@ class I2CMaster(wiring.Component):
     i2c: Out(I2CSignature)
 
     def __init__(self, *, clk_hz=CLOCKS.SYS_HZ, bus_hz=CLOCKS.I2C_HZ, timeout_us=25_000):
-        with rejecting(self):
-            self.timing = I2CTiming(clk_hz, bus_hz)
-            self.timeout = max(1, -(-timeout_us * clk_hz // 1_000_000))
-            if self.timeout <= self.timing.buf + 4:
-                raise ValueError("timeout_us must be longer than the bus-free time")
+        self.timing = I2CTiming(clk_hz, bus_hz)
+        self.timeout = max(1, -(-timeout_us * clk_hz // 1_000_000))
+        if self.timeout <= self.timing.buf + 4:
+            raise ValueError("timeout_us must be longer than the bus-free time")
         super().__init__()
 
     def elaborate(self, platform):

@@ -6,7 +6,6 @@ from amaranth.lib.wiring import In, Out
 
 from spec.video import CEA_1080P60
 from hdl.video_bus import TimingSignature, VideoSignature, Y_BITS
-from hdl.rejecting import rejecting
 
 __all__ = ["PatternGenerator"]
 
@@ -67,15 +66,14 @@ class PatternGenerator(wiring.Component):
     """
 
     def __init__(self, timing=CEA_1080P60):
-        with rejecting(self):
-            if timing.h_active < 8 or timing.v_active < 2:
-                raise ValueError(f"the test pattern needs at least 8 x 2 active pixels, got "
-                                 f"{timing.h_active} x {timing.v_active}")
-            self.mode = timing
-            super().__init__({
-                "timing": In(TimingSignature),
-                "video": Out(VideoSignature),
-            })
+        if timing.h_active < 8 or timing.v_active < 2:
+            raise ValueError(f"the test pattern needs at least 8 x 2 active pixels, got "
+                             f"{timing.h_active} x {timing.v_active}")
+        self.mode = timing
+        super().__init__({
+            "timing": In(TimingSignature),
+            "video": Out(VideoSignature),
+        })
 
     def elaborate(self, platform):
         m = Module()

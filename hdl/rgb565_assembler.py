@@ -27,7 +27,6 @@ from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
 from spec.sensor import SENSOR
-from hdl.rejecting import rejecting
 
 __all__ = ["RGB565Assembler"]
 
@@ -49,21 +48,20 @@ class RGB565Assembler(wiring.Component):
     """
 
     def __init__(self, width=SENSOR.width, *, r_byte_first=True):
-        with rejecting(self):
-            if width < 1:
-                raise ValueError(f"width must be positive, got {width}")
-            self.width = width
-            self.r_byte_first = r_byte_first
-            column_shape = unsigned(width.bit_length())     # 0 .. width inclusive
-            super().__init__({
-                "data": In(8),
-                "lv": In(1),
-                "pixel": Out(16),
-                "valid": Out(1),
-                "column": Out(column_shape),
-                "line_end": Out(1),
-                "line_ok": Out(1),
-            })
+        if width < 1:
+            raise ValueError(f"width must be positive, got {width}")
+        self.width = width
+        self.r_byte_first = r_byte_first
+        column_shape = unsigned(width.bit_length())     # 0 .. width inclusive
+        super().__init__({
+            "data": In(8),
+            "lv": In(1),
+            "pixel": Out(16),
+            "valid": Out(1),
+            "column": Out(column_shape),
+            "line_end": Out(1),
+            "line_ok": Out(1),
+        })
 
     def elaborate(self, platform):
         m = Module()

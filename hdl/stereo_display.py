@@ -14,7 +14,6 @@ from spec.display import DIFF_LEVEL_GREY, DIFF_THRESHOLDS
 from spec.sensor import SENSOR
 from spec.video import CEA_1080P60
 from hdl.read_arbiter import ReadArbiter
-from hdl.rejecting import rejecting
 from hdl.switches import SettingsSignature
 from hdl.video_bus import TimingSignature, VideoSignature
 
@@ -85,25 +84,24 @@ class StereoDisplay(wiring.Component):
 
     def __init__(self, timing=CEA_1080P60, geometry=SENSOR, layout=None, *, config=DEPTH, out_rows=4,
                  thresholds=DIFF_THRESHOLDS, level_grey=DIFF_LEVEL_GREY):
-        with rejecting(self):
-            self.geometry = geometry
-            self.compositor = Compositor(timing, geometry, layout, config=config, out_rows=out_rows,
-                                         thresholds=thresholds, level_grey=level_grey)
-            self.engine = DepthEngine(geometry, config, out_rows=out_rows)
-            check_engine_keeps_up(timing, self.compositor.layout, geometry, config)
-            self.arbiters = {side: ReadArbiter(geometry) for side in ("left", "right")}
-            super().__init__({
-                "timing": In(TimingSignature),
-                "settings": In(SettingsSignature),
-                "left": Out(FrameBufferReadSignature(geometry)),
-                "right": Out(FrameBufferReadSignature(geometry)),
-                "video": Out(VideoSignature),
-            })
-            forward(self, "timing", self.compositor.timing)
-            forward(self, "settings", self.compositor.settings)
-            forward(self, "video", self.compositor.video)
-            for side, arbiter in self.arbiters.items():
-                forward(self, side, arbiter.buffer)
+        self.geometry = geometry
+        self.compositor = Compositor(timing, geometry, layout, config=config, out_rows=out_rows,
+                                     thresholds=thresholds, level_grey=level_grey)
+        self.engine = DepthEngine(geometry, config, out_rows=out_rows)
+        check_engine_keeps_up(timing, self.compositor.layout, geometry, config)
+        self.arbiters = {side: ReadArbiter(geometry) for side in ("left", "right")}
+        super().__init__({
+            "timing": In(TimingSignature),
+            "settings": In(SettingsSignature),
+            "left": Out(FrameBufferReadSignature(geometry)),
+            "right": Out(FrameBufferReadSignature(geometry)),
+            "video": Out(VideoSignature),
+        })
+        forward(self, "timing", self.compositor.timing)
+        forward(self, "settings", self.compositor.settings)
+        forward(self, "video", self.compositor.video)
+        for side, arbiter in self.arbiters.items():
+            forward(self, side, arbiter.buffer)
 
     def elaborate(self, platform):
         m = Module()

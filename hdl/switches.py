@@ -30,7 +30,6 @@ from amaranth import Module, Signal
 from amaranth.lib import wiring
 from amaranth.lib.cdc import FFSynchronizer
 from amaranth.lib.wiring import In, Out
-from hdl.rejecting import rejecting
 
 __all__ = ["SWITCH_VALUE_BITS", "SettingsSignature", "SwitchControl"]
 
@@ -67,12 +66,11 @@ class SwitchControl(wiring.Component):
     settings: Out(SettingsSignature)
 
     def __init__(self, *, domain="sync", stages=2):
-        with rejecting(self):
-            if stages < 2:
-                raise ValueError(f"a synchroniser needs at least 2 stages, not {stages}")
-            self.domain = domain
-            self.stages = stages
-            super().__init__()
+        if stages < 2:
+            raise ValueError(f"a synchroniser needs at least 2 stages, not {stages}")
+        self.domain = domain
+        self.stages = stages
+        super().__init__()
 
     def elaborate(self, platform):
         m = Module()

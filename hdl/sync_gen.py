@@ -5,7 +5,6 @@ from amaranth.lib import wiring
 
 from spec.video import CEA_1080P60
 from hdl.video_bus import TimingSignature, X_BITS, Y_BITS
-from hdl.rejecting import rejecting
 
 __all__ = ["SyncGenerator"]
 
@@ -66,11 +65,10 @@ class SyncGenerator(wiring.Component):
     """
 
     def __init__(self, timing=CEA_1080P60, *, start=(0, 0)):
-        with rejecting(self):
-            check_timing(timing)
-            x0, y0 = start
-            if not (0 <= x0 < timing.h_total and 0 <= y0 < timing.v_total):
-                raise ValueError(f"start {start} is outside the {timing.h_total} x {timing.v_total} raster")
+        check_timing(timing)
+        x0, y0 = start
+        if not (0 <= x0 < timing.h_total and 0 <= y0 < timing.v_total):
+            raise ValueError(f"start {start} is outside the {timing.h_total} x {timing.v_total} raster")
         self.timing = timing
         self.start = (x0, y0)
         super().__init__(TimingSignature)

@@ -69,7 +69,6 @@ from spec.video import CEA_1080P60
 from hdl.switches import SettingsSignature, SwitchControl
 from hdl.sync_gen import SyncGenerator
 from hdl.video_bus import VideoSignature
-from hdl.rejecting import rejecting
 
 __all__ = ["StereoDepthSystem", "PanelSignature", "ControlSignature", "DISPLAY_LATENCY", "CAMERAS", "I2C_BUSES"]
 
@@ -151,27 +150,26 @@ class StereoDepthSystem(wiring.Component):
                  level_grey=DIFF_LEVEL_GREY, depth=DEPTH, cam_table=MT9D112_TABLE, dvi_table=CH7301C_TABLE,
                  clk_hz=CLOCKS.SYS_HZ, i2c_hz=CLOCKS.I2C_HZ, i2c_retry_delay_us=1000, r_byte_first=True,
                  ddr="behavioural", heartbeat_log2=5, cam_heartbeat_log2=3):
-        with rejecting(self):
-            if ddr not in ("behavioural", None):
-                raise ValueError(f"ddr must be 'behavioural' or None (board: pins built by board.top), not {ddr!r}")
-            self.geometry = geometry
-            self.video_timing = timing
-            self.heartbeat_log2 = heartbeat_log2
-            self.cam_heartbeat_log2 = cam_heartbeat_log2
-            # The blocks, built now so that bad parameters fail at construction and their interfaces can be forwarded.
-            self.capture_path = CapturePath(geometry, cameras=CAMERAS, r_byte_first=r_byte_first, read_domain="pix")
-            self.display = StereoDisplay(timing, geometry, layout, config=depth, thresholds=thresholds,
-                                            level_grey=level_grey)
-            self.sync_gen = SyncGenerator(timing)
-            self.switches = SwitchControl(domain="pix")
-            self.output = CH7301COutput(timing, ddr=ddr) if ddr is not None else None
-            tables = {"cam_a": cam_table, "cam_b": cam_table, "dvi": dvi_table}
-            self.sequencers = {
-                bus: InitSequencer(table, clk_hz=clk_hz, bus_hz=i2c_hz, retry_delay_us=i2c_retry_delay_us)
-                for bus, table in tables.items()
-            }
-            super().__init__(self._members(tables))
-            self._forward_members()
+        if ddr not in ("behavioural", None):
+            raise ValueError(f"ddr must be 'behavioural' or None (board: pins built by board.top), not {ddr!r}")
+        self.geometry = geometry
+        self.video_timing = timing
+        self.heartbeat_log2 = heartbeat_log2
+        self.cam_heartbeat_log2 = cam_heartbeat_log2
+        # The blocks, built now so that bad parameters fail at construction and their interfaces can be forwarded.
+        self.capture_path = CapturePath(geometry, cameras=CAMERAS, r_byte_first=r_byte_first, read_domain="pix")
+        self.display = StereoDisplay(timing, geometry, layout, config=depth, thresholds=thresholds,
+                                        level_grey=level_grey)
+        self.sync_gen = SyncGenerator(timing)
+        self.switches = SwitchControl(domain="pix")
+        self.output = CH7301COutput(timing, ddr=ddr) if ddr is not None else None
+        tables = {"cam_a": cam_table, "cam_b": cam_table, "dvi": dvi_table}
+        self.sequencers = {
+            bus: InitSequencer(table, clk_hz=clk_hz, bus_hz=i2c_hz, retry_delay_us=i2c_retry_delay_us)
+            for bus, table in tables.items()
+        }
+        super().__init__(self._members(tables))
+        self._forward_members()
 
     def _members(self, tables):
         members = {

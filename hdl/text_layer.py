@@ -9,7 +9,6 @@ from hdl.delay import delayed
 from spec.font import FONT, FONT_CELL
 from spec.layout import TextBox
 from hdl.region_scanner import RegionScanner
-from hdl.rejecting import rejecting
 
 __all__ = ["TextLayer", "FONT_ORDER", "char_codes", "LATENCY"]
 
@@ -60,20 +59,19 @@ class TextLayer(wiring.Component):
     """
 
     def __init__(self, boxes, dynamic=None, *, v_active, x_bits=12, y_bits=11):
-        with rejecting(self):
-            self.boxes = tuple(boxes)
-            for box in self.boxes:
-                char_codes(box.text)
-            self.dynamic = dynamic
-            self.v_active = v_active
-            n = len(dynamic.text) if dynamic is not None else 1
-            super().__init__({
-                "x": In(x_bits),
-                "y": In(y_bits),
-                "chars": In(data.ArrayLayout(CHAR_BITS, n)),
-                "in_text": Out(1),
-                "lit": Out(1),
-            })
+        self.boxes = tuple(boxes)
+        for box in self.boxes:
+            char_codes(box.text)
+        self.dynamic = dynamic
+        self.v_active = v_active
+        n = len(dynamic.text) if dynamic is not None else 1
+        super().__init__({
+            "x": In(x_bits),
+            "y": In(y_bits),
+            "chars": In(data.ArrayLayout(CHAR_BITS, n)),
+            "in_text": Out(1),
+            "lit": Out(1),
+        })
 
     def elaborate(self, platform):
         m = Module()

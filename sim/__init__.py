@@ -1,21 +1,26 @@
 """Simulation: part models, testbenches, simulator runners, waveform tools, the formal runner, the test bed.
 
-=================  =========================================================================================
+=================  =====================================================  ====================================
 package            what                                                   may import (of the project)
-=================  =========================================================================================
-``sim.models``     the parts around the FPGA: MT9D112, CH7301C + HDMI     ``spec``, ``hdl`` (signatures),
-                   sink, the I2C bus and its devices, the clocking model  ``sim.models``
-``sim.replay``     camera pins and display pins replayed/recorded inside  ``spec``, ``hdl``, ``sim.models``
+=================  =====================================================  ====================================
+``sim.models``     the parts around the FPGA: MT9D112, CH7301C + HDMI     ``spec``, ``hdl``, ``golden``,
+                   sink, the I2C bus and its devices, the clocking model  ``sim.waves``
+``sim.replay``     camera pins replayed, display pins recorded inside     ``spec``, ``hdl``, ``sim.models``
                    the simulator (no Python per clock)
-``sim.waves``      GTKWave save files, translate filters, the headless    ``spec``, ``hdl``, ``sim.models``
+``sim.waves``      GTKWave save files, translate filters, the headless    ``spec``, ``hdl``
                    GTKWave check
-``sim.runners``    Amaranth, cocotb and Verilator runners                 the above, ``board`` (export)
-``sim.testbench``    testbenches: capture, display, subtractor, depth,      all of ``sim`` but ``formal``,
-                   the whole system                                       ``golden``, ``board``
+``sim.runners``    Amaranth, cocotb and Verilator runners                 ``spec``, ``hdl``, ``board``,
+                                                                          ``sim.waves``
+``sim.testbench``  testbenches: capture, display, subtractor, depth,      ``spec``, ``hdl``, ``golden``,
+                   the whole system                                       ``board``, the four above
 ``sim.formal``     the formal runner, its engines and the harnesses       ``spec``, ``hdl``, ``sim.runners``
-``sim.testbed``    the thesis's test bed and the synthetic scenes         ``spec``, ``golden``, ``sim.analysis``
-``sim.analysis``   ground truth, bad-pixel figures, reading pictures back ``spec``, ``golden``
-=================  =========================================================================================
+``sim.testbed``    the thesis's test bed and the synthetic scenes         ``spec``, ``hdl``, ``golden``,
+                                                                          ``sim.runners``, ``sim.testbench``
+``sim.analysis``   ground truth, bad-pixel figures, reading pictures      ``spec``, ``golden``, ``sim.models``,
+                   back                                                   ``sim.testbed``
+=================  =====================================================  ====================================
+
+Every package may also import the exceptions below. ``tests/test_layering.py`` holds the exact rule.
 
 The exceptions library code raises for the command line to report live here: :class:`UserError` for bad input
 (one-line error, exit code 2, no traceback; ``stereodepth.errors`` re-exports it) and :class:`SimulationFailed`

@@ -9,6 +9,7 @@ input raises :class:`stereodepth.errors.UserError`, printed as one line.
 import argparse
 import importlib
 import sys
+import warnings
 
 from .errors import UserError
 
@@ -49,6 +50,13 @@ def build_parser():
     return parser, sub
 
 
+def _quiet_unused():
+    """A command that stops on an error leaves the blocks it had built unelaborated: no Amaranth "created but never
+    used" warning after the one-line error."""
+    from amaranth.hdl import UnusedElaboratable
+    warnings.filterwarnings("ignore", category=UnusedElaboratable)
+
+
 def main(argv=None):
     argv = list(sys.argv[1:] if argv is None else argv)
     parser, _ = build_parser()
@@ -79,8 +87,10 @@ def main(argv=None):
     try:
         return int(module.run(args) or 0)
     except UserError as exc:
+        _quiet_unused()
         print(f"stereodepth {name}: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
+        _quiet_unused()
         print(f"stereodepth {name}: interrupted; files named *.partial.* are incomplete", file=sys.stderr)
         return 130

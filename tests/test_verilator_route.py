@@ -12,7 +12,7 @@ from sim.testbench.system.result import SystemTimeout
 from sim.testbench.system.run_verilator import VerilatorRun, camera_pins, run_verilator
 from sim.testbench.system.setup import SystemSetup
 from sim.runners.verilator.ctestbench import STIMULUS
-from sim.runners.verilator.raw import run_raw
+from bench.raw_model import run_raw
 from sim.runners.verilator.recording import decode, feed_sink
 
 DISPARITY, RECTIFICATION = 2, 1

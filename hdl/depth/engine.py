@@ -9,7 +9,6 @@ from amaranth.lib.wiring import In, Out
 
 from spec.depth import DEPTH
 from spec.sensor import SENSOR
-from hdl.rejecting import rejecting
 from hdl.depth.census import CensusWindow
 from hdl.depth.matching_cost import MatchingCost
 from hdl.depth.median import Median3x3
@@ -108,16 +107,15 @@ class DepthEngine(wiring.Component):
     """
 
     def __init__(self, geometry=SENSOR, config=DEPTH, *, out_rows=4):
-        with rejecting(self):
-            if config.disparities % config.lanes:
-                raise ValueError(f"lanes ({config.lanes}) must divide D ({config.disparities})")
-            if not 2 <= config.disparities <= geometry.buf_width:
-                raise ValueError(f"D = {config.disparities} must be 2..{geometry.buf_width} (the image width)")
-            if (config.census_width % 2 == 0 or config.census_height % 2 == 0
-                    or config.census_height > RING_ROWS - 1):
-                raise ValueError(f"the census window must be odd x odd and at most {RING_ROWS - 1} rows high")
-            if out_rows < 2:
-                raise ValueError(f"out_rows must be at least 2, not {out_rows}")
+        if config.disparities % config.lanes:
+            raise ValueError(f"lanes ({config.lanes}) must divide D ({config.disparities})")
+        if not 2 <= config.disparities <= geometry.buf_width:
+            raise ValueError(f"D = {config.disparities} must be 2..{geometry.buf_width} (the image width)")
+        if (config.census_width % 2 == 0 or config.census_height % 2 == 0
+                or config.census_height > RING_ROWS - 1):
+            raise ValueError(f"the census window must be odd x odd and at most {RING_ROWS - 1} rows high")
+        if out_rows < 2:
+            raise ValueError(f"out_rows must be at least 2, not {out_rows}")
         self.geometry = geometry
         self.config = config
         self.out_rows = out_rows

@@ -6,7 +6,6 @@ from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
 from spec.sensor import SENSOR
-from hdl.rejecting import rejecting
 from hdl.depth.ports import SharedReadSignature
 
 __all__ = ["RowRing"]
@@ -55,9 +54,8 @@ class RowRing(wiring.Component):
     """
 
     def __init__(self, geometry=SENSOR, rows=8):
-        with rejecting(self):
-            if rows < 2 or rows & (rows - 1):
-                raise ValueError(f"ring rows must be a power of two >= 2, not {rows}")
+        if rows < 2 or rows & (rows - 1):
+            raise ValueError(f"ring rows must be a power of two >= 2, not {rows}")
         self.geometry = geometry
         self.rows = rows
         self.lane_bits = max(8, geometry.grey_bits)

@@ -6,7 +6,6 @@ from amaranth.lib.wiring import In, Out
 
 from spec.depth import DEPTH
 from spec.sensor import SENSOR
-from hdl.rejecting import rejecting
 from hdl.depth.ports import token_layout
 from hdl.depth.reduce import min_tree, tree_stages
 
@@ -60,9 +59,8 @@ class SgmPath(wiring.Component):
     LATENCY = 3     # clocks from a group's input to its ``l``
 
     def __init__(self, config=DEPTH, *, recurrent, width=SENSOR.buf_width):
-        with rejecting(self):
-            if config.disparities % config.lanes:
-                raise ValueError(f"lanes ({config.lanes}) must divide D ({config.disparities})")
+        if config.disparities % config.lanes:
+            raise ValueError(f"lanes ({config.lanes}) must divide D ({config.disparities})")
         self.config = config
         self.recurrent = recurrent
         self.groups = config.disparities // config.lanes

@@ -5,7 +5,6 @@ from amaranth import ClockDomain, Module, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
-from hdl.rejecting import rejecting
 from hdl.reset_tree import add_reset_tree
 
 __all__ = ["SimClocking"]
@@ -47,15 +46,14 @@ class SimClocking(wiring.Component):
     locked: Out(1)
 
     def __init__(self, *, cam_domains=("cam_a", "cam_b"), lock_cycles=16):
-        with rejecting(self):
-            if lock_cycles < 1:
-                raise ValueError("lock_cycles must be at least 1")
-            self.cam_domains = tuple(cam_domains)
-            self.lock_cycles = lock_cycles
-            super().__init__()
-            self.domain_names = ("sync", "pix", *self.cam_domains)
-            #: The clock domains this block drives; the parent adds them: ``m.domains += clocking.domains``.
-            self.domains = [ClockDomain(name) for name in self.domain_names]
+        if lock_cycles < 1:
+            raise ValueError("lock_cycles must be at least 1")
+        self.cam_domains = tuple(cam_domains)
+        self.lock_cycles = lock_cycles
+        super().__init__()
+        self.domain_names = ("sync", "pix", *self.cam_domains)
+        #: The clock domains this block drives; the parent adds them: ``m.domains += clocking.domains``.
+        self.domains = [ClockDomain(name) for name in self.domain_names]
 
     def elaborate(self, platform):
         m = Module()

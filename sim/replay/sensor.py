@@ -27,7 +27,6 @@ from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
 from hdl.capture import CameraSignature
-from hdl.rejecting import rejecting
 
 __all__ = ["pack_stream", "write_hex", "REPLAY_VERILOG", "SensorReplay"]
 
@@ -111,11 +110,10 @@ class SensorReplay(wiring.Component):
 
     def __init__(self, words, *, domain):
         words = list(words)
-        with rejecting(self):
-            if not words:
-                raise ValueError("the replay ROM needs at least one sample")
-            if any(not 0 <= w < 1024 for w in words):
-                raise ValueError("replay words are 10 bits: {fv, lv, d[7:0]}")
+        if not words:
+            raise ValueError("the replay ROM needs at least one sample")
+        if any(not 0 <= w < 1024 for w in words):
+            raise ValueError("replay words are 10 bits: {fv, lv, d[7:0]}")
         self._words = words
         self._domain = domain
         super().__init__({"run": In(1), "pins": Out(CameraSignature), "index": Out(range(len(words)))})

@@ -1,4 +1,4 @@
-"""Build the Verilated system once per design and keep it: the project's testbench library and the raw model.
+"""Build the Verilated system once per design and keep it: the project's testbench library.
 
 :func:`build` exports :class:`sim.testbench.system.testbench.SystemTestbench` (clock inputs) for a
 :class:`sim.testbench.system.setup.SystemSetup`, Verilates it (no ``--timing``: the clocks come from C++; no VPI) and
@@ -7,7 +7,7 @@ links ``libtestbench.so``: ``ctestbench.cpp``, the testbench of ``testbench.h`` 
 that it costs what an executable's does (no PLT calls between its own functions, Verilator's thread-local state
 at a fixed offset).
 
-:func:`build_raw` adds the raw reference model the benchmark runs beside it: ``raw_main.cpp`` and the same Verilog,
+:mod:`bench.raw_model` adds the raw reference model the system benchmark runs beside the project's run: ``bench/raw_main.cpp`` and the same Verilog,
 built the way Verilator builds an executable by default (``--exe --build``, no position-independent code), so
 nothing the project's build does can handicap the reference.
 
@@ -30,7 +30,7 @@ from pathlib import Path
 
 from sim.runners import build_dir
 
-__all__ = ["Build", "build", "build_raw", "cache_key", "ports_inc", "wide_ports"]
+__all__ = ["Build", "build", "cache_key", "once", "verilate", "ports_inc", "wide_ports", "SOURCE_DIR", "CXX_OPTS"]
 
 SOURCE_DIR = Path(__file__).resolve().parent
 TOP = "system_bench"
@@ -46,7 +46,7 @@ PIC_OPTS = ("-fPIC", "-fvisibility=hidden", "-fvisibility-inlines-hidden", "-ftl
 #: make the Verilog.
 DESIGN_MODULES = ("sim.testbench.system.testbench", "board.export")
 #: The testbench's sources, and this module (it writes ports.inc).
-BUILD_SOURCES = ("testbench.h", "ctestbench.cpp", "raw_main.cpp", "build.py")
+BUILD_SOURCES = ("testbench.h", "ctestbench.cpp", "build.py")
 
 
 @dataclass(frozen=True)
@@ -68,10 +68,6 @@ class Build:
         """The model's ports wider than 64 bits, which the testbench leaves alone (:func:`ports_inc`)."""
         return wide_ports((self.directory / "ports.inc").read_text())
 
-    @property
-    def raw(self):
-        """The raw model's executable (made by :func:`build_raw`)."""
-        return self.directory / "raw_model" / "raw"
 
 
 def _verilator_root():
@@ -142,20 +138,13 @@ def cache_key(setup):
 def build(setup, *, log=None):
     """The cached build for ``setup`` (made now if there is none). ``log(message)`` hears about a fresh build."""
     directory = build_dir("verilator") / cache_key(setup)
-    _once(directory / "built.stamp", lambda: _build(setup, directory),
+    once(directory / "built.stamp", lambda: _build(setup, directory),
           log and (lambda: log(f"building the Verilator model in {directory}")))
     return Build(directory)
 
 
-def build_raw(setup, *, log=None):
-    """:func:`build` plus the raw reference model (see the module docstring)."""
-    done = build(setup, log=log)
-    _once(done.directory / "raw.stamp", lambda: _build_raw(done.directory),
-          log and (lambda: log(f"building the raw model in {done.raw.parent}")))
-    return done
-
-
-def _once(stamp, make, announce):
+def once(stamp, make, announce):
+    """Run ``make()`` once per ``stamp`` (a file), under a lock: parallel test workers may share a build."""
     stamp.parent.mkdir(parents=True, exist_ok=True)
     with open(stamp.parent / ".lock", "w") as lock:        # parallel test workers may share a design
         fcntl.flock(lock, fcntl.LOCK_EX)
@@ -183,7 +172,8 @@ def _run(cmd, cwd, log_file):
         raise RuntimeError(f"Verilator build failed ({cmd[0]}); log {log_file}\n{tail}")
 
 
-def _verilate(directory, mdir, *args):
+def verilate(directory, mdir, *args):
+    """Verilate the system testbench's Verilog in ``directory`` into ``mdir`` (the build's switches and ``args``)."""
     _run(["verilator", "--cc", "--build", "-j", "2", "--prefix", "Vsystem", "--top-module", TOP, "--Mdir", mdir,
           *VERILATOR_ARGS, "-MAKEFLAGS", " ".join(MAKE_OPTS), *args, directory / f"{TOP}.v"],
          directory, directory / "build.log")
@@ -196,17 +186,12 @@ def _build(setup, directory):
     (directory / f"{TOP}.v").write_text(export_verilog(design, TOP))
     (directory / "build.log").write_text("")
     obj = directory / "obj"
-    _verilate(directory, obj, "-CFLAGS", " ".join(PIC_OPTS))
+    verilate(directory, obj, "-CFLAGS", " ".join(PIC_OPTS))
     (directory / "ports.inc").write_text(ports_inc((obj / "Vsystem.h").read_text()))
     include = _verilator_root() / "include"
     _run(["c++", *CXX_OPTS, *PIC_OPTS, "-I", directory, "-I", obj, "-I", include, "-I", include / "vltstd",
           "-I", SOURCE_DIR, "-shared", "-Wl,-Bsymbolic", SOURCE_DIR / "ctestbench.cpp", obj / "Vsystem__ALL.a",
           obj / "libverilated.a", "-pthread", "-o", directory / "libtestbench.so"], directory, directory / "build.log")
-
-
-def _build_raw(directory):
-    _verilate(directory, directory / "raw_model", "--exe", "-o", "raw", "-CFLAGS",
-              f"{' '.join(CXX_OPTS)} -I{directory} -I{SOURCE_DIR}", SOURCE_DIR / "raw_main.cpp")
 
 
 _PORT = re.compile(r"^\s*VL_(IN|OUT)(8|16|64|W)?\(&(\w+),\s*(\d+),\s*(\d+)(?:,\s*\d+)?\)", re.M)

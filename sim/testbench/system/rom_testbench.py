@@ -26,7 +26,6 @@ from hdl.forward import forward
 from hdl.system import CAMERAS
 from sim.replay.sensor import SensorReplay
 from sim.testbench.system.testbench import SystemTestbench
-from hdl.rejecting import rejecting
 
 __all__ = ["RomReplayTestbench", "GATED_DOMAINS", "ClockGate", "enable_clock"]
 
@@ -80,28 +79,27 @@ class RomReplayTestbench(wiring.Component):
     """
 
     def __init__(self, *, replay_words, **system_kwargs):
-        with rejecting(self):
-            if set(replay_words) != set(CAMERAS):
-                raise ValueError(f"replay_words needs one ROM per camera {CAMERAS}, got {sorted(replay_words)}")
-            self.bench = SystemTestbench(define_domains=False, **system_kwargs)
-            self.system = self.bench.system
-            self.domains = self.bench.domains
-            self.replays = {c: SensorReplay(replay_words[c], domain=f"cam_{c}") for c in CAMERAS}
-            cam_pins = {f"cam_{c}" for c in CAMERAS}
-            own = [name for name in self.bench.signature.members if name not in cam_pins]
-            members = {name: self.bench.signature.members[name] for name in own}
-            members.update({
-                "clock_en": In(wiring.Signature({name: Out(1) for name in GATED_DOMAINS})),
-                "replay_run": In(wiring.Signature({f"cam_{c}": Out(1) for c in CAMERAS})),
-            })
-            super().__init__(members)
-            for name in own:
-                forward(self, name, getattr(self.bench, name))
-            for c, replay in self.replays.items():
-                # The replay drives the capture's pin signals themselves: no assignment in between to wake on every
-                # PCLK sample.
-                forward(replay, "pins", wiring.flipped(getattr(self.bench, f"cam_{c}")))
-            self.free_domains = {name: ClockDomain(f"free_{name}", reset_less=True) for name in GATED_DOMAINS}
+        if set(replay_words) != set(CAMERAS):
+            raise ValueError(f"replay_words needs one ROM per camera {CAMERAS}, got {sorted(replay_words)}")
+        self.bench = SystemTestbench(define_domains=False, **system_kwargs)
+        self.system = self.bench.system
+        self.domains = self.bench.domains
+        self.replays = {c: SensorReplay(replay_words[c], domain=f"cam_{c}") for c in CAMERAS}
+        cam_pins = {f"cam_{c}" for c in CAMERAS}
+        own = [name for name in self.bench.signature.members if name not in cam_pins]
+        members = {name: self.bench.signature.members[name] for name in own}
+        members.update({
+            "clock_en": In(wiring.Signature({name: Out(1) for name in GATED_DOMAINS})),
+            "replay_run": In(wiring.Signature({f"cam_{c}": Out(1) for c in CAMERAS})),
+        })
+        super().__init__(members)
+        for name in own:
+            forward(self, name, getattr(self.bench, name))
+        for c, replay in self.replays.items():
+            # The replay drives the capture's pin signals themselves: no assignment in between to wake on every
+            # PCLK sample.
+            forward(replay, "pins", wiring.flipped(getattr(self.bench, f"cam_{c}")))
+        self.free_domains = {name: ClockDomain(f"free_{name}", reset_less=True) for name in GATED_DOMAINS}
 
     def elaborate(self, platform):
         m = Module()

@@ -89,7 +89,7 @@ class _Buses:
 
 class VerilatorRun:
     """One run (see the module docstring). :meth:`run` simulates and returns the status; the testbench, the streams,
-    the recording and the models stay here for the check and for the raw model (:mod:`sim.runners.verilator.raw`)."""
+    the recording and the models stay here for the check and for the raw model (:mod:`bench.raw_model`)."""
 
     def __init__(self, setup, left, right, *, keep_stimulus=False, progress=None, deadline_s=None):
         self.setup = setup
@@ -292,7 +292,7 @@ def run_verilator(left, right, setup, *, progress=None, deadline_s=None, keep_st
     ``progress(stage, fraction)`` is called as the run goes on. Raises :class:`~sim.testbench.system.result.SystemTimeout`
     when a phase does not complete within ``deadline_s`` of simulated time (default: ``setup.deadline_s()``) or the
     I2C init configures a sensor otherwise than expected. ``keep_stimulus`` keeps the stimulus log for the raw
-    model (:func:`sim.runners.verilator.raw.run_raw`)."""
+    model (:func:`bench.raw_model.run_raw`)."""
     t0 = time.perf_counter()
     run = VerilatorRun(setup, left, right, keep_stimulus=keep_stimulus, progress=progress, deadline_s=deadline_s)
     t_run = time.perf_counter()

@@ -21,7 +21,6 @@ from sim.models.clocking import SimClocking
 from hdl.forward import forward
 from hdl.system import CAMERAS, I2C_BUSES, StereoDepthSystem
 from sim.models.i2c.bus import OpenDrainBus, ResolvedBusSignature
-from hdl.rejecting import rejecting
 
 __all__ = ["SystemTestbench"]
 
@@ -58,31 +57,30 @@ class SystemTestbench(wiring.Component):
     """
 
     def __init__(self, *, lock_cycles=16, cycle_bits=40, define_domains=True, clock_ports=False, **system_kwargs):
-        with rejecting(self):
-            if clock_ports and not define_domains:
-                raise ValueError("clock_ports needs define_domains: the clocks of domains defined elsewhere are "
-                                 "driven there")
-            self.define_domains = define_domains
-            self.clock_ports = clock_ports
-            self.system = StereoDepthSystem(ddr="behavioural", **system_kwargs)
-            self.clocking = SimClocking(cam_domains=tuple(f"cam_{c}" for c in CAMERAS), lock_cycles=lock_cycles)
-            self.buses = {b: OpenDrainBus(getattr(self.system.i2c, b)) for b in I2C_BUSES}
-            own = [name for name in self.system.signature.members if name != "i2c"]
-            members = {name: self.system.signature.members[name] for name in own}
-            members.update({
-                "button": In(1), "locked": Out(1),
-                "bus": Out(wiring.Signature({b: Out(ResolvedBusSignature()) for b in I2C_BUSES})),
-                "cycles": Out(cycle_bits),
-            })
-            if clock_ports:
-                members["clocks"] = In(wiring.Signature({cd.name: Out(1) for cd in self.clocking.domains}))
-            super().__init__(members)
-            for name in own:
-                forward(self, name, getattr(self.system, name))
-            forward(self, "button", self.clocking.button)
-            forward(self, "locked", self.clocking.locked)
-            for b in I2C_BUSES:
-                forward(self, ("bus", b), self.buses[b])
+        if clock_ports and not define_domains:
+            raise ValueError("clock_ports needs define_domains: the clocks of domains defined elsewhere are "
+                             "driven there")
+        self.define_domains = define_domains
+        self.clock_ports = clock_ports
+        self.system = StereoDepthSystem(ddr="behavioural", **system_kwargs)
+        self.clocking = SimClocking(cam_domains=tuple(f"cam_{c}" for c in CAMERAS), lock_cycles=lock_cycles)
+        self.buses = {b: OpenDrainBus(getattr(self.system.i2c, b)) for b in I2C_BUSES}
+        own = [name for name in self.system.signature.members if name != "i2c"]
+        members = {name: self.system.signature.members[name] for name in own}
+        members.update({
+            "button": In(1), "locked": Out(1),
+            "bus": Out(wiring.Signature({b: Out(ResolvedBusSignature()) for b in I2C_BUSES})),
+            "cycles": Out(cycle_bits),
+        })
+        if clock_ports:
+            members["clocks"] = In(wiring.Signature({cd.name: Out(1) for cd in self.clocking.domains}))
+        super().__init__(members)
+        for name in own:
+            forward(self, name, getattr(self.system, name))
+        forward(self, "button", self.clocking.button)
+        forward(self, "locked", self.clocking.locked)
+        for b in I2C_BUSES:
+            forward(self, ("bus", b), self.buses[b])
 
     @property
     def domains(self):

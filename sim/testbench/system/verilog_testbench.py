@@ -27,7 +27,6 @@ from hdl.system import CAMERAS
 from sim.replay.pins import RECORDER_VERILOG
 from sim.replay.sensor import REPLAY_VERILOG
 from sim.testbench.system.testbench import SystemTestbench
-from hdl.rejecting import rejecting
 
 __all__ = ["VerilogReplayTestbench", "ReplayControlSignature", "RecorderSignature", "write_sources"]
 
@@ -121,24 +120,23 @@ class VerilogReplayTestbench(wiring.Component):
     """
 
     def __init__(self, *, replay_depth, periods_ps, **system_kwargs):
-        with rejecting(self):
-            if periods_ps["pix"] % 4 or periods_ps["sync"] % 2 or periods_ps["cam"] % 2:
-                raise ValueError("clock periods must be even (the pixel period a multiple of 4) in picoseconds")
-            self.replay_depth = int(replay_depth)
-            self.periods_ps = dict(periods_ps)
-            self.bench = SystemTestbench(define_domains=False, **system_kwargs)
-            cam_pins = {f"cam_{c}" for c in CAMERAS}
-            own = [name for name in self.bench.signature.members if name not in cam_pins]
-            members = {name: self.bench.signature.members[name] for name in own}
-            clocks = wiring.Signature({name: Out(1) for name in _CLOCKS})
-            members.update({
-                "clock_en": In(clocks), "clocks": Out(clocks),
-                "replay": Out(wiring.Signature({f"cam_{c}": Out(ReplayControlSignature) for c in CAMERAS})),
-                "recorder": Out(RecorderSignature),
-            })
-            super().__init__(members)
-            for name in own:
-                forward(self, name, getattr(self.bench, name))
+        if periods_ps["pix"] % 4 or periods_ps["sync"] % 2 or periods_ps["cam"] % 2:
+            raise ValueError("clock periods must be even (the pixel period a multiple of 4) in picoseconds")
+        self.replay_depth = int(replay_depth)
+        self.periods_ps = dict(periods_ps)
+        self.bench = SystemTestbench(define_domains=False, **system_kwargs)
+        cam_pins = {f"cam_{c}" for c in CAMERAS}
+        own = [name for name in self.bench.signature.members if name not in cam_pins]
+        members = {name: self.bench.signature.members[name] for name in own}
+        clocks = wiring.Signature({name: Out(1) for name in _CLOCKS})
+        members.update({
+            "clock_en": In(clocks), "clocks": Out(clocks),
+            "replay": Out(wiring.Signature({f"cam_{c}": Out(ReplayControlSignature) for c in CAMERAS})),
+            "recorder": Out(RecorderSignature),
+        })
+        super().__init__(members)
+        for name in own:
+            forward(self, name, getattr(self.bench, name))
 
     def elaborate(self, platform):
         m = Module()

@@ -1,4 +1,5 @@
-"""The raw reference model: the same Verilated system and C++ testbench run from ``raw_main.cpp`` alone.
+"""The raw reference model, for the system benchmark: the same Verilated system and C++ testbench run from
+``bench/raw_main.cpp`` alone, to measure what the project's Python adds to the Verilator route.
 
 :func:`run_raw` hands a finished :class:`sim.testbench.system.run_verilator.VerilatorRun` (made with ``keep_stimulus=True``)
 to the raw model: the same port bindings, each camera's stream as a file, and the run's stimulus log -- every input
@@ -7,6 +8,7 @@ design at exactly the same points with exactly the same inputs, without Python. 
 figures and its recorded CH7301C pins, which must equal the project run's word for word.
 """
 
+import hashlib
 import json
 import subprocess
 import tempfile
@@ -15,9 +17,26 @@ from pathlib import Path
 
 import numpy as np
 
-from sim.runners.verilator.build import build_raw
+from sim.runners.verilator.build import CXX_OPTS, SOURCE_DIR, build, once, verilate
 
-__all__ = ["run_raw"]
+__all__ = ["build_raw", "raw_executable", "run_raw"]
+
+RAW_MAIN = Path(__file__).resolve().parent / "raw_main.cpp"
+
+
+def raw_executable(done):
+    """The raw model's executable beside the build ``done`` (a :class:`sim.runners.verilator.build.Build`)."""
+    return done.directory / "raw_model" / "raw"
+
+
+def build_raw(setup, *, log=None):
+    """The Verilator route's build for ``setup`` plus the raw model made from the same Verilog."""
+    done = build(setup, log=log)
+    stamp = done.directory / f"raw-{hashlib.sha256(RAW_MAIN.read_bytes()).hexdigest()[:12]}.stamp"
+    once(stamp, lambda: verilate(done.directory, done.directory / "raw_model", "--exe", "-o", "raw", "-CFLAGS",
+                                 f"{' '.join(CXX_OPTS)} -I{done.directory} -I{SOURCE_DIR}", RAW_MAIN),
+         log and (lambda: log(f"building the raw model in {raw_executable(done).parent}")))
+    return done
 
 
 def _config(run, directory, stimulus=None):
@@ -41,7 +60,7 @@ def run_raw(run, stimulus=None):
     array). Returns ``(figures, recording)``: ``figures`` has the raw model's
     ``wall_s`` (its simulation), ``process_s`` (the whole process: loading the model and the files too),
     ``evals``, ``t_end_ps``, ``recorded``; ``recording`` its uint32 pin words."""
-    raw = build_raw(run.setup).raw
+    raw = raw_executable(build_raw(run.setup))
     with tempfile.TemporaryDirectory(prefix="raw_") as tmp:
         config = _config(run, Path(tmp), stimulus)
         start = time.perf_counter()

@@ -2,7 +2,7 @@
 //
 //   raw <config file>
 //
-// The config file (written by sim/runners/verilator/raw.py) binds the clocks, cameras and recorder to the model's ports
+// The config file (written by bench/raw_model.py) binds the clocks, cameras and recorder to the model's ports
 // (indices into ports.inc) and names the files: each camera's frame-period stream (uint16 words {fv, lv, d}),
 // the stimulus log of a project run (what Python's models answered, and when: testbench.h's Stimulus records)
 // and the output file for the recorded CH7301C pins (uint32 words, as testbench.h's Recorder packs them).

@@ -1,0 +1,57 @@
+"""The project as a user installs it: ``pip install .`` (not editable) and run from a folder outside the checkout.
+
+The wheel is installed into a folder of its own (``pip install --no-deps --target``) that comes first on the path,
+beside this environment's third-party packages, so nothing of the checkout is importable: every file a command
+needs (the C++ testbench, the Xilinx models, the bundled pair) must be in the package, and no path may lead back
+to the source tree or to tests/.
+"""
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(scope="module")
+def installed(tmp_path_factory):
+    target = tmp_path_factory.mktemp("site")
+    subprocess.run([sys.executable, "-m", "pip", "install", "--quiet", "--no-deps", "--no-build-isolation",
+                    "--target", str(target), str(ROOT)], check=True, capture_output=True, text=True,
+                   cwd=tmp_path_factory.mktemp("build"))
+    return target
+
+
+def _stereodepth(installed, cwd, *args):
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "STEREO_BUILD_DIR")}
+    env["PYTHONPATH"] = str(installed)
+    return subprocess.run([sys.executable, "-m", "stereodepth", *args], cwd=cwd, env=env, capture_output=True,
+                          text=True, timeout=1200)
+
+
+def test_the_installed_package_is_not_the_checkout(installed, tmp_path):
+    run = _stereodepth(installed, tmp_path, "--version")
+    assert run.returncode == 0, run.stderr
+    probe = subprocess.run([sys.executable, "-c", "import sim, hdl, board, spec; print(sim.__file__)"], cwd=tmp_path,
+                           env={**os.environ, "PYTHONPATH": str(installed)}, capture_output=True, text=True)
+    assert probe.stdout.strip().startswith(str(installed)), probe.stdout + probe.stderr
+    assert not (installed / "tests").exists()
+
+
+def test_verilog_from_outside_the_checkout(installed, tmp_path):
+    out = tmp_path / "genesys"
+    run = _stereodepth(installed, tmp_path, "verilog", "--allow-unconfirmed", "--out", str(out))
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert (out / "top.v").stat().st_size > 0 and (out / "top.ucf").exists()
+
+
+def test_small_demo_from_outside_the_checkout(installed, tmp_path):
+    out = tmp_path / "demo"
+    run = _stereodepth(installed, tmp_path, "demo", "--small", "--out", str(out))
+    assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
+    assert (out / "hdmi_frame.png").exists() and (out / "result.json").exists()
+    assert (tmp_path / "build").is_dir()             # the build directory's default: the working directory
+    assert not (ROOT / "build" / "verilator").exists() or run.stdout.count(str(ROOT)) == 0
