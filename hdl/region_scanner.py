@@ -29,9 +29,12 @@ class RegionScanner(wiring.Component):
         Valid while ``active``: ``addr`` = ``yb * width + xb`` (modulo ``wrap``), ``xb``, ``yb``; all registers.
     row_done : Out(1)
         Combinational: this pixel ends the last copy of picture row ``yb``.
-    row_start, x_phase, y_phase : Out
-        The rest of the state, for the formal harness's invariant (sim/formal/harnesses/compositor.py): the
-        address of (0, ``yb``), where a repeated row rewinds to; which copy of a pixel / row this is (0 at scale 1).
+
+    Other attributes (state, not ports: what the formal harness's invariant reads,
+    sim/formal/harnesses/compositor.py)
+    row_start, x_phase, y_phase : Signal
+        The address of (0, ``yb``), where a repeated row rewinds to; which copy of a pixel / row this is (0 at
+        scale 1).
 
     Clock domain: ``sync``.
     """
@@ -48,10 +51,10 @@ class RegionScanner(wiring.Component):
             "xb": Out(range(max(2, width))),           # (at least one bit: no zero-width vectors in Verilog)
             "yb": Out(range(max(2, height))),
             "row_done": Out(1),
-            "row_start": Out(range(max(2, wrap if wrap is not None else width * height))),
-            "x_phase": Out(range(max(2, self.scale_x))),
-            "y_phase": Out(range(max(2, self.scale_y))),
         })
+        self.row_start = Signal(range(max(2, wrap if wrap is not None else width * height)))
+        self.x_phase = Signal(range(max(2, self.scale_x)))
+        self.y_phase = Signal(range(max(2, self.scale_y)))
 
     @staticmethod
     def _phase(phase, scale):

@@ -40,10 +40,13 @@ class RowRing(wiring.Component):
         Rows completely in the ring.
     col : In(range(width))
         Ring read address; ``column`` holds that column of every slot one clock later.
-    fetch_row, fetch_col : Out
+
+    Other attributes (state, not ports: what the formal harness's invariant reads, sim/formal/harnesses/depth.py)
+    fetch_row, fetch_col : Signal
         The ring row and column the next read requests (``buffer.port.addr`` = min(fetch_row + row_offset,
-        height - 1) * width + fetch_col, counted); for the formal harness's invariant
-        (sim/formal/harnesses/depth.py).
+        height - 1) * width + fetch_col, counted).
+    memory : amaranth.lib.memory.Memory
+        The ring: one word per column, a ``lane``-bit lane per slot (its one write port writes a slot's lane).
 
     Clock domain: ``sync`` (the parent renames it to ``pix``).
 
@@ -67,16 +70,18 @@ class RowRing(wiring.Component):
             "fetched": Out(range(geometry.buf_height + 1)),
             "col": In(range(geometry.buf_width)),
             "column": Out(data.ArrayLayout(geometry.grey_bits, rows)),
-            "fetch_row": Out(range(geometry.buf_height + 1)),
-            "fetch_col": Out(range(geometry.buf_width)),
         })
+        self.fetch_row = Signal(range(geometry.buf_height + 1))
+        self.fetch_col = Signal(range(geometry.buf_width))
+        self.memory = Memory(shape=unsigned(self.lane_bits * rows), depth=geometry.buf_width, init=[])
+        self._write = self.memory.write_port(granularity=self.lane_bits)
+        self._read = self.memory.read_port()
 
     def elaborate(self, platform):
         m = Module()
         g, rows, lane = self.geometry, self.rows, self.lane_bits
-        m.submodules.ring = ring = Memory(shape=unsigned(lane * rows), depth=g.buf_width, init=[])
-        write = ring.write_port(granularity=lane)
-        read = ring.read_port()
+        m.submodules.ring = self.memory
+        write, read = self._write, self._read
         m.d.comb += read.addr.eq(self.col)
         for k in range(rows):
             m.d.comb += self.column[k].eq(read.data[k * lane:k * lane + g.grey_bits])

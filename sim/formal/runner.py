@@ -103,18 +103,11 @@ class FormalHarness:
         return self._property(m, "cover", name, test, None)
 
     def open(self, m, name, dut):
-        """Add ``dut`` as submodule ``name`` and return its elaborated ``Module``, so that properties can use
-        the ports of its submodules (``module.submodules.<name>``), not only its own."""
-        module = self.inside(dut)
-        m.submodules[name] = dut
-        return module
-
-    @staticmethod
-    def inside(component):
-        """Elaborate ``component`` now (it may already be a submodule of an opened block) and return its
-        ``Module``; elaborating it later gives this very ``Module``, so its submodules' ports can be used."""
-        module = component.elaborate(None)
-        component.elaborate = lambda platform: module
+        """Elaborate ``dut`` now and add its ``Module`` as submodule ``name`` (in place of ``dut``, which is then
+        not elaborated again); returns the ``Module``, so that properties can use the ports of its submodules
+        (``module.submodules.<name>``), not only its own."""
+        module = dut.elaborate(None)
+        m.submodules[name] = module
         return module
 
     def past(self, m, value, clocks=1, *, name=None, reset_less=False):

@@ -64,7 +64,7 @@ class DepthEngineHarness(FormalHarness):
             m.d.comb += [port.grant.eq(self.free(f"{side}_grant")),
                          port.port.data.eq(self.free(f"{side}_data", g.grey_bits))]
             ring = module.submodules[f"{side}_ring"]
-            reads[side] = (port, ring, self.inside(ring).submodules.ring.write_ports[0],
+            reads[side] = (port, ring, ring.memory.write_ports[0],
                            module.submodules[f"{side}_census"].shift)
         y = module.submodules.median.y
         median = module.submodules.median
