@@ -105,7 +105,9 @@ class FormalHarness:
     def open(self, m, name, dut):
         """Elaborate ``dut`` now and add its ``Module`` as submodule ``name`` (in place of ``dut``, which is then
         not elaborated again); returns the ``Module``, so that properties can use the ports of its submodules
-        (``module.submodules.<name>``), not only its own."""
+        (``module.submodules.<name>``), not only its own. ``dut`` itself is then never elaborated by Amaranth: a
+        harness file carries Amaranth's ``# amaranth: UnusedElaboratable=no`` linter comment for the blocks it
+        creates."""
         module = dut.elaborate(None)
         m.submodules[name] = module
         return module

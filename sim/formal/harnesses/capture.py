@@ -1,3 +1,4 @@
+# amaranth: UnusedElaboratable=no
 """CameraCapture: for any stream of FV/LV/data bytes, only kept pixels are written, at their address, in the buffer.
 
 The sensor pins are free on every clock: no assumption, so malformed streams (lines too long or too short, LV

@@ -1,3 +1,4 @@
+# amaranth: UnusedElaboratable=no
 """Compositor: every frame-buffer and result-ring read stays inside its memory, each read port serves one reader
 per clock, the layout's areas never overlap.
 

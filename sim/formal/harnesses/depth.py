@@ -1,3 +1,4 @@
+# amaranth: UnusedElaboratable=no
 """DepthEngine: every frame-buffer read and result-ring write in range, the row rings never overwrite a row a pass
 still reads, a pass reads only complete rows and starts only when the result ring has room for its row.
 

@@ -1,3 +1,4 @@
+# amaranth: UnusedElaboratable=no
 """The depth engine's code-producing blocks: every code is a disparity < D or the invalid code D.
 
 The whole engine's datapath in one proof did not finish (docs/formal.md, "Not covered"), so the two blocks that

@@ -1,3 +1,4 @@
+# amaranth: UnusedElaboratable=no
 """DisparitySubtractor: both reads stay in the buffer, ``no_data`` exactly when the shifted read leaves the image.
 
 Inputs are free within the subtractor's interface contract (its docstring), which the compositor meets:

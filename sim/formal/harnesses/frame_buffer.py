@@ -1,3 +1,4 @@
+# amaranth: UnusedElaboratable=no
 """FrameBuffer: a write at an address >= depth is dropped, and every word reads back its last in-range write.
 
 The buffer is a deliberately awkward size (3 x 3 = 9 words behind a 4-bit address, so 7 addresses are out of

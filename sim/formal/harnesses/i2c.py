@@ -1,3 +1,4 @@
+# amaranth: UnusedElaboratable=no
 """I2CMaster and InitSequencer: open-drain pins, START/STOP the only SDA changes while SCL is high, a stuck bus
 ends in the stuck-bus error in time, the init ROM index stays in range, ``done`` and ``error`` never together.
 

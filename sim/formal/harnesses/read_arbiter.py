@@ -1,3 +1,4 @@
+# amaranth: UnusedElaboratable=no
 """ReadArbiter: the buffer's one read port serves one reader per clock, the display (priority) is never refused.
 
 Every input is free on every clock: both readers' requests and addresses, and the buffer's read data. The

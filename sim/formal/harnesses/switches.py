@@ -1,3 +1,4 @@
+# amaranth: UnusedElaboratable=no
 """SwitchControl: the disparity and rectification registers change only in the clock after ``frame_start``.
 
 The switches and ``frame_start`` are free: any value on any clock (the switches are asynchronous; whatever

@@ -1,3 +1,4 @@
+# amaranth: UnusedElaboratable=no
 """SyncGenerator: raster counters, data enable and the CEA-861 sync pulses.
 
 The generator has no input but its reset, so no assumption: every property holds from any pattern of resets.
