@@ -9,8 +9,8 @@ clock (slice flip-flops, IOB flip-flops, block RAM ports, DSP48E registers, ODDR
     slack = period - delay (half a period for an ODDR D2 in OPPOSITE_EDGE mode),
 
 a fixed routing figure per net (``net_ns``) except on the slice's dedicated connections (see the delay model).
-The period of each domain is the clock plan's (``hdl.clocking.GenesysClocking.clock_nets``: the figures the
-UCF's PERIOD constraints carry). Paths from one domain to another are not timed (they end in synchronisers or
+The period of each domain is the clock plan's (:func:`clock_periods`: the figures the UCF's PERIOD
+constraints carry). Paths from one domain to another are not timed (they end in synchronisers or
 the dual-clock RAMs, and the UCF declares them TIG); neither are pad-to-register or register-to-pad paths (the
 UCF's OFFSET constraints), clock skew, jitter, or hold.
 
@@ -44,9 +44,14 @@ class ModelError(ValueError):
 
 
 def clock_periods():
-    """``{domain: period in ns}`` from the board's clock plan (the figures the UCF's PERIOD constraints carry)."""
-    from hdl.clocking import GenesysClocking
-    return {signal.name.removesuffix("_bufg"): 1e9 / hz for signal, hz, _ in GenesysClocking().clock_nets()}
+    """``{domain: period in ns}`` from the board's clock plan (``hdl.clocking.PLAN``; the camera domains at the PCLK
+    frequency the UCF constrains, ``hdl.genesys.CAM_PCLK_MAX_HZ``): the figures the PERIOD constraints carry."""
+    from hdl.clocking import PLAN
+    from hdl.genesys import CAM_PCLK_MAX_HZ
+    from hdl.system import CAMERAS
+    periods = {domain: 1e9 / float(hz) for domain, _, hz, _, _ in PLAN.table()}
+    periods.update({f"cam_{c}": 1e9 / CAM_PCLK_MAX_HZ for c in CAMERAS})
+    return periods
 
 
 def _param(cell, name, default=0):
@@ -270,11 +275,15 @@ class _Netlist:
         return self._label.get(bit)
 
     def cell_label(self, name, port=None):
-        """``TYPE name.PORT``: a flip-flop by the register its Q drives, any other cell by its instance name."""
+        """``TYPE name.PORT``: a flip-flop by the register its Q drives (or the port its output buffer drives), any
+        other cell by its instance name."""
         cell = self.cells[name]
         label = None
         if cell["type"] in FLIP_FLOPS:
-            label = self.net_label((_bits(cell, "Q") or [None])[0])
+            q = (_bits(cell, "Q") or [None])[0]
+            pads = [_bits(self.cells[s], "O") for s, _ in self.sinks.get(q, ())
+                    if self.cells[s]["type"] in OUTPUT_BUFFERS]
+            label = self.net_label(q) or next((self.net_label(o[0]) for o in pads if o), None)
         label = label or _clean(name)
         return f"{cell['type']} {label}" + (f".{port}" if port else "")
 
@@ -476,9 +485,11 @@ class TimingReport:
 
     def domain_lines(self, domain):
         t = self.domains[domain]
-        out = [f"== {domain}: {len(t.paths)} worst register-to-register paths (period {t.period_ns:.3f} ns) =="]
+        what = f"{len(t.paths)} worst register-to-register paths" if t.paths else "no register-to-register paths"
+        out = [f"== {domain}: {what} (period {t.period_ns:.3f} ns) =="]
         if t.paths:
-            out.append(f"  {'slack':>7} {'delay':>7} {'logic':>6} {'route':>6} {'levels':>6} {'carry4':>6}  start -> end")
+            out.append(f"  {'slack':>7} {'delay':>7} {'logic':>6} {'route':>6} {'levels':>6} {'carry4':>6}  "
+                       "start -> end")
         for p in t.paths:
             out.append(f"  {p.slack_ns:>7.3f} {p.delay_ns:>7.3f} {p.logic_ns:>6.2f} {p.route_ns:>6.2f} "
                        f"{p.levels:>6} {p.carry4:>6}  {p.start} -> {p.end}")
@@ -514,3 +525,15 @@ class TimingReport:
                         for d, t in sorted(self.domains.items())},
             "unclocked": self.unclocked, "loops": self.loops, "failing": self.failing(),
         }
+
+
+def estimate(out, *, small=False, net_ns=NET_NS, paths=10, fanout=5, keep_netlist=False):
+    """Synthesise the board design (``small``: the small test configuration on the same board) with Yosys in
+    ``out`` and time it; returns ``(TimingReport, yosys_seconds)``. ``net.json`` (tens of MB) is removed unless
+    ``keep_netlist``."""
+    from pathlib import Path
+    from sim.synthesis import board_rtlil, run_yosys
+    _, netlist, seconds = run_yosys(board_rtlil(small), out)
+    if not keep_netlist:
+        (Path(out) / "net.json").unlink()
+    return analyse(netlist, clock_periods(), net_ns=net_ns, paths=paths, fanout=fanout), seconds
