@@ -36,7 +36,6 @@ RAMS = {"RAMB36", "RAMB18", "RAMB36SDP", "RAMB18SDP"}
 UNTIMED = {"IBUF", "IBUFG", "OBUF", "OBUFT", "IOBUF", "BUFG", "BUFGCE", "BUFGMUX", "BUFGCTRL", "BUFR", "BUFIO",
            "DCM_ADV", "PLL_ADV", "GND", "VCC", "$scopeinfo"}
 OUTPUT_BUFFERS = {"OBUF", "OBUFT", "IOBUF"}
-_CLOCK_BUFFERS = {"BUFG", "BUFGCE", "BUFGMUX", "BUFGCTRL", "BUFR", "BUFIO"}
 
 
 class ModelError(ValueError):
@@ -412,16 +411,12 @@ def _path(nl, arrival, end):
 
 
 def _fanouts(nl, arrival, domain, count):
-    """The ``count`` data nets of ``domain`` (nets its registers' paths reach) with the most loads; clock nets
-    (driven by a clock buffer or feeding a clock pin) are left out."""
+    """The ``count`` nets of ``domain`` with the most loads: the nets its registers' paths reach (a clock net,
+    driven by a clock buffer, carries no such path and is not counted)."""
     rows = []
     for b, loads in nl.sinks.items():
-        if domain not in arrival.get(b, {}):
-            continue
         d = nl.driver.get(b)
-        if d is None or nl.cells[d[0]]["type"] in _CLOCK_BUFFERS:
-            continue
-        if any(p in ("C", "CLK") or "CLK" in p for _, p in loads):
+        if d is None or domain not in arrival.get(b, {}):
             continue
         rows.append((len(loads), nl.net_label(b) or f"{_clean(d[0])}.{d[1]}", nl.cell_label(*d)))
     return sorted(rows, key=lambda r: (-r[0], r[1]))[:count]

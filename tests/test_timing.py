@@ -158,7 +158,7 @@ def test_fanout_counts_the_loads_of_data_nets_and_leaves_clock_nets_out():
     for i in range(3):
         nl.ff(f"use{i}", "pix", o)
     report = analyse(nl.json(), PERIODS, fanout=5)
-    # rst: 7 R pins + 2 LUT inputs; decoded: 3 D pins; the pix clock net (12 C pins) is not listed.
+    # rst: 7 R pins + 2 LUT inputs; decoded: 3 D pins; the pix clock net (12 C pins, no data path) is not listed.
     assert report.domains["pix"].fanout == [(9, "rst", "FDRE rst.Q"), (3, "decoded", "LUT3 dec.O")]
 
 
