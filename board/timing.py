@@ -511,7 +511,8 @@ class TimingReport:
     def to_json(self):
         return {
             "net_ns": self.net_ns,
-            "model": {k: {"ns": c.ns, "symbol": c.symbol, "what": c.what, "table": c.table, "source": c.source}
+            "model": {k: {"ns": c.ns, "symbol": c.symbol, "what": c.what, "table": c.table, "named_in": c.named_in,
+                          "source": c.source}
                       for k, c in self.model.items()},
             "domains": {d: {"period_ns": round(t.period_ns, 4), "endpoints": t.endpoints,
                             "worst_slack_ns": None if t.worst_slack_ns is None else round(t.worst_slack_ns, 3),

@@ -18,7 +18,7 @@ carry-in): those cost nothing beyond the cell delay.
 
 from dataclasses import dataclass
 
-__all__ = ["Constant", "MODEL", "NET_NS", "ASSUMED"]
+__all__ = ["Constant", "MODEL", "NET_NS", "ASSUMED", "UG190_BRAM", "UG190_CLB", "NOT_READ"]
 
 #: How each value below is sourced.
 ASSUMED = "assumption: DS202 -1 figure not readable here"
@@ -27,14 +27,22 @@ ASSUMED = "assumption: DS202 -1 figure not readable here"
 NET_NS = 0.5
 
 
+#: Where a symbol's name and meaning were read (stored copies of UG190 v5.0, found with the search tool).
+UG190_BRAM = "read: UG190 v5.0 table 4-11"
+UG190_CLB = "read: UG190 v5.0 ch. 5 (LUT and distributed RAM timing)"
+NOT_READ = "not read here: DS202's name, from memory"
+
+
 @dataclass(frozen=True)
 class Constant:
     """One delay of the model: ``ns`` for the -1 speed grade; ``symbol`` the DS202 parameter it stands for,
-    ``table`` where that symbol is defined, ``source`` where the value comes from."""
+    ``table`` where that symbol is defined, ``named_in`` whether that name was read in a source here,
+    ``source`` where the value comes from."""
     ns: float
     symbol: str
     what: str
     table: str
+    named_in: str = NOT_READ
     source: str = ASSUMED
 
 
@@ -46,7 +54,7 @@ _IOB = "DS202 input/output logic switching characteristics (ILOGIC/OLOGIC); UG19
 #: key -> :class:`Constant`. The keys are what ``board/timing.py`` looks up.
 MODEL = {
     # CLB: LUTs, flip-flops, wide multiplexers, carry logic
-    "lut": Constant(0.10, "TILO", "LUT1..LUT6 / INV, any input to its output", _CLB),
+    "lut": Constant(0.10, "TILO", "LUT1..LUT6 / INV, any input to its output", _CLB, UG190_CLB),
     "ff_cko": Constant(0.47, "TCKO", "slice flip-flop, clock to Q", _CLB),
     "ff_d": Constant(0.40, "TDICK", "slice flip-flop D setup (AX..DX bypass input)", _CLB),
     "ff_ce": Constant(0.30, "TCECK", "slice flip-flop CE setup", _CLB),
@@ -61,17 +69,18 @@ MODEL = {
     "muxcy_ci": Constant(0.03, "MUXCY CI->O", "MUXCY, CI to O (one bit of the carry chain)", _CLB),
     "xorcy": Constant(0.30, "XORCY LI/CI->O", "XORCY, LI or CI to O", _CLB),
     # block RAM
-    "bram_cko": Constant(2.45, "TRCKO_DO", "block RAM clock to DO/DOP, no output register (DO_REG = 0)", _BRAM),
+    "bram_cko": Constant(2.45, "TRCKO_DO", "block RAM clock to DO/DOP, no output register (DO_REG = 0)", _BRAM,
+                         UG190_BRAM),
     "bram_cko_reg": Constant(0.90, "TRCKO_DO (DO_REG = 1)", "block RAM clock to DO/DOP with the output register",
                              _BRAM),
     "bram_cascade": Constant(0.30, "cascade (CASCADEINLAT -> DO)",
                              "extra clock-to-out of the upper block of a cascaded 64K x 1 pair", _BRAM),
-    "bram_addr": Constant(0.55, "TRCCK_ADDR", "block RAM ADDR setup", _BRAM),
-    "bram_di": Constant(0.45, "TRDCK_DI", "block RAM DI/DIP setup", _BRAM),
-    "bram_en": Constant(0.60, "TRCCK_EN", "block RAM EN (RDEN/WREN) setup", _BRAM),
-    "bram_we": Constant(0.70, "TRCCK_WE", "block RAM WE setup", _BRAM),
-    "bram_ssr": Constant(0.45, "TRCCK_SSR", "block RAM SSR setup", _BRAM),
-    "bram_regce": Constant(0.35, "TRCCK_REGCE", "block RAM REGCE setup", _BRAM),
+    "bram_addr": Constant(0.55, "TRCCK_ADDR", "block RAM ADDR setup", _BRAM, UG190_BRAM),
+    "bram_di": Constant(0.45, "TRDCK_DI", "block RAM DI/DIP setup", _BRAM, UG190_BRAM),
+    "bram_en": Constant(0.60, "TRCCK_EN", "block RAM EN (RDEN/WREN) setup", _BRAM, UG190_BRAM),
+    "bram_we": Constant(0.70, "TRCCK_WE", "block RAM WE setup", _BRAM, UG190_BRAM),
+    "bram_ssr": Constant(0.45, "TRCCK_SSR", "block RAM SSR setup", _BRAM, UG190_BRAM),
+    "bram_regce": Constant(0.35, "TRCCK_REGCE", "block RAM REGCE setup", _BRAM, UG190_BRAM),
     # DSP48E
     "dsp_ab_p": Constant(4.30, "TDSPDO_{A,B}_P", "DSP48E A/B (ACIN/BCIN) to P through the multiplier, no registers",
                          _DSP),

@@ -319,3 +319,16 @@ def test_a_small_amaranth_design_through_yosys(tmp_path):
     assert worst.levels == longest_paths(netlist, ("sync", "pix"))["pix"][0] and worst.levels in (2, 3)
     assert not any(p.start.startswith("FDRE counter") for p in paths.values())
     assert sorted(p.end for p in report.domains["sync"].paths) == [f"FDRE counter[{i}].D" for i in range(4)]
+
+
+def test_docs_board_md_lists_every_constant_of_the_model_with_its_value():
+    from pathlib import Path
+    text = Path(__file__).resolve().parent.parent.joinpath("docs", "board.md").read_text()
+    section = text[text.index("## Timing estimate"):]
+    rows = {}
+    for line in section.splitlines():
+        cells = [c.strip() for c in line.strip("|").split("|")]
+        if line.startswith("| `") and len(cells) == 6:
+            rows[cells[0].strip("`")] = (cells[1], float(cells[3]), cells[5])
+    assert rows == {k: (c.symbol, c.ns, "assumption") for k, c in MODEL.items()}
+    assert all(c.source.startswith("assumption") for c in MODEL.values())
