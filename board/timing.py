@@ -286,6 +286,19 @@ class _Netlist:
         label = label or _clean(name)
         return f"{cell['type']} {label}" + (f".{port}" if port else "")
 
+    def describe(self, bit):
+        """The net's name; an unnamed net by its driver: a LUT (or other combinational cell) by its inputs."""
+        label = self.net_label(bit)
+        if label:
+            return label
+        name, port = self.driver[bit]
+        cell = self.cells[name]
+        if cell["type"] not in LEVELS:
+            return f"{_clean(name)}.{port}"
+        ins = [self.net_label(b) or self.driver_type(b)[0] if b in self.driver else "?"
+               for p in _inputs(cell) for b in _bits(cell, p)]
+        return f"{cell['type']} of ({', '.join(ins)})"
+
     def drives_pad(self, name):
         cell = self.cells[name]
         return any(self.cells[s]["type"] in OUTPUT_BUFFERS
@@ -379,7 +392,7 @@ class DomainTiming:
     period_ns: float
     endpoints: int = 0                              # timed endpoint pins
     paths: list = field(default_factory=list)       # the worst, one per endpoint, worst first
-    fanout: list = field(default_factory=list)      # (loads, net, driver), largest first
+    fanout: list = field(default_factory=list)      # (loads, net, driver, {pin: loads}), largest first
 
     @property
     def worst_slack_ns(self):
@@ -411,14 +424,17 @@ def _path(nl, arrival, end):
 
 
 def _fanouts(nl, arrival, domain, count):
-    """The ``count`` nets of ``domain`` with the most loads: the nets its registers' paths reach (a clock net,
-    driven by a clock buffer, carries no such path and is not counted)."""
+    """The ``count`` nets of ``domain`` with the most loads, as ``(loads, net, driver, {load pin: count})``: the
+    nets its registers' paths reach (a clock net, driven by a clock buffer, carries no such path)."""
     rows = []
     for b, loads in nl.sinks.items():
         d = nl.driver.get(b)
         if d is None or domain not in arrival.get(b, {}):
             continue
-        rows.append((len(loads), nl.net_label(b) or f"{_clean(d[0])}.{d[1]}", nl.cell_label(*d)))
+        pins = {}
+        for _, port in loads:
+            pins[port] = pins.get(port, 0) + 1
+        rows.append((len(loads), nl.describe(b), nl.cell_label(*d), dict(sorted(pins.items(), key=lambda x: -x[1]))))
     return sorted(rows, key=lambda r: (-r[0], r[1]))[:count]
 
 
@@ -490,7 +506,9 @@ class TimingReport:
                        f"{p.levels:>6} {p.carry4:>6}  {p.start} -> {p.end}")
         if t.fanout:
             out.append(f"  largest fanout nets ({domain}):")
-            out += [f"  {loads:>7} loads  {net}  (driven by {driver})" for loads, net, driver in t.fanout]
+            for loads, net, driver, pins in t.fanout:
+                kinds = ", ".join(f"{p} {n}" for p, n in list(pins.items())[:3]) + (", ..." if len(pins) > 3 else "")
+                out.append(f"  {loads:>7} loads ({kinds})  {net}  (driven by {driver})")
         return out
 
     def lines(self):
@@ -517,7 +535,8 @@ class TimingReport:
             "domains": {d: {"period_ns": round(t.period_ns, 4), "endpoints": t.endpoints,
                             "worst_slack_ns": None if t.worst_slack_ns is None else round(t.worst_slack_ns, 3),
                             "paths": [p.to_json() for p in t.paths],
-                            "fanout": [{"loads": n, "net": net, "driver": drv} for n, net, drv in t.fanout]}
+                            "fanout": [{"loads": n, "net": net, "driver": drv, "pins": pins}
+                                       for n, net, drv, pins in t.fanout]}
                         for d, t in sorted(self.domains.items())},
             "unclocked": self.unclocked, "loops": self.loops, "failing": self.failing(),
         }

@@ -159,7 +159,10 @@ def test_fanout_counts_the_loads_of_data_nets_and_leaves_clock_nets_out():
         nl.ff(f"use{i}", "pix", o)
     report = analyse(nl.json(), PERIODS, fanout=5)
     # rst: 7 R pins + 2 LUT inputs; decoded: 3 D pins; the pix clock net (12 C pins, no data path) is not listed.
-    assert report.domains["pix"].fanout == [(9, "rst", "FDRE rst.Q"), (3, "decoded", "LUT3 dec.O")]
+    assert report.domains["pix"].fanout == [(9, "rst", "FDRE rst.Q", {"R": 7, "I0": 1, "I1": 1}),
+                                            (3, "decoded", "LUT3 dec.O", {"D": 3})]
+    del nl.netnames["decoded"]                         # an unnamed LUT output is described by its inputs
+    assert analyse(nl.json(), PERIODS, fanout=5).domains["pix"].fanout[1][1] == "LUT3 of (rst, rst)"
 
 
 def test_block_ram_clock_to_out_with_and_without_the_output_register_and_its_setups():
