@@ -21,12 +21,14 @@ could not be read): an estimate that shows where the margin is, not a sign-off -
 
 import re
 from dataclasses import dataclass, field
+from pathlib import Path as _FilePath
 
 from sim.synthesis import _bit_names, _domain_of_clock, top_module
 
 from .virtex5_delays import MODEL, NET_NS
 
-__all__ = ["analyse", "clock_periods", "TimingReport", "Path", "ModelError"]
+__all__ = ["analyse", "estimate", "clock_periods", "cell_timing", "TimingReport", "DomainTiming", "Path",
+           "ModelError"]
 
 LUTS = {f"LUT{i}" for i in range(1, 7)} | {"INV"}
 LEVELS = LUTS | {"MUXF7", "MUXF8"}
@@ -546,9 +548,8 @@ def estimate(out, *, small=False, net_ns=NET_NS, paths=10, fanout=5, keep_netlis
     """Synthesise the board design (``small``: the small test configuration on the same board) with Yosys in
     ``out`` and time it; returns ``(TimingReport, yosys_seconds)``. ``net.json`` (tens of MB) is removed unless
     ``keep_netlist``."""
-    from pathlib import Path
     from sim.synthesis import board_rtlil, run_yosys
     _, netlist, seconds = run_yosys(board_rtlil(small), out)
     if not keep_netlist:
-        (Path(out) / "net.json").unlink()
+        (_FilePath(out) / "net.json").unlink()
     return analyse(netlist, clock_periods(), net_ns=net_ns, paths=paths, fanout=fanout), seconds
