@@ -45,6 +45,11 @@ def _load_netlist(path):
         raise UserError(f"{path} is not a JSON file (a Yosys write_json netlist is expected)") from None
     if not isinstance(netlist, dict) or not isinstance(netlist.get("modules"), dict) or not netlist["modules"]:
         raise UserError(f"{path} holds no Yosys netlist (no modules)")
+    for name, module in netlist["modules"].items():
+        cells = module.get("cells") if isinstance(module, dict) else None
+        if not isinstance(cells, dict) or not isinstance(module.get("netnames"), dict) or not all(
+                isinstance(c, dict) and isinstance(c.get("connections"), dict) and "type" in c for c in cells.values()):
+            raise UserError(f"{path}: module {name} is not a Yosys write_json module (cells, netnames, connections)")
     return netlist
 
 

@@ -284,8 +284,14 @@ def test_the_command_exits_0_when_every_domain_meets_its_period(tmp_path, capsys
 @pytest.mark.parametrize("args, message", [
     (["--net-ns", "-0.1"], "--net-ns must be"), (["--paths", "0"], "--paths must be"),
     (["--netlist", "/no/such/net.json"], "cannot read the netlist"),
+    (["--netlist", "{not json"], "is not a JSON file"), (["--netlist", '{"modules": {}}'], "holds no Yosys netlist"),
+    (["--netlist", '{"modules": {"top": {"cells": {"c": {"type": "LUT1"}}, "netnames": {}}}}'],
+     "module top is not a Yosys write_json module"),
 ])
 def test_bad_options_give_one_line_and_exit_2(args, message, capsys, tmp_path):
+    if args[0] == "--netlist" and not args[1].startswith("/"):
+        (tmp_path / "bad.json").write_text(args[1])
+        args = ["--netlist", str(tmp_path / "bad.json")]
     assert main(["timing", "--out", str(tmp_path), *args]) == 2
     err = capsys.readouterr().err
     assert message in err and len(err.strip().splitlines()) == 1
