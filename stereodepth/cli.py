@@ -23,6 +23,7 @@ COMMANDS = {
     "testbed": ("cmd_testbed", "reproduce the thesis's test bed (table 4.2, figure 4.35) in simulation"),
     "verilog": ("cmd_verilog", "write the Genesys board build (Verilog, UCF, ISE scripts) to build/genesys/"),
     "resources": ("cmd_resources", "Yosys synth_xilinx resource estimate of the top level"),
+    "timing": ("cmd_timing", "static timing estimate of the board design (Yosys netlist, Virtex-5 -1 delays)"),
 }
 
 
