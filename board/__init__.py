@@ -1,1 +1,18 @@
-"""The board flow: what turns the gateware into a Genesys (Virtex-5) build and what checks it (timing estimate)."""
+"""The Digilent Genesys board and its build flow: everything that turns the board-independent gateware (``hdl/``)
+into a Virtex-5 build for Xilinx ISE, and what checks that build here.
+
+=========================  ===================================================================================
+module                     what
+=========================  ===================================================================================
+``board.genesys``          the platform (pins, UCF rendering, the ISE scripts, the pin-file parser)
+``board.top``              ``GenesysTop``: the system on the board's pins; ``board_plan`` (the build)
+``board.clocking``         the clock plan (DCM_ADV + PLL_ADV), ``GenesysClocking`` and its reset tree
+``board.export``           Verilog export: flat port names, Amaranth's Verilog and its post-processing
+``board.memory_init``      memory initial values in the Verilog text
+``board.resources``        the Yosys ``synth_xilinx -family xc5v`` resource estimate
+``board.timing``           the static timing estimate on that netlist (``board.virtex5_delays``: its delays)
+``board.simulation``       the board's ``top.v`` simulated as built, with the Virtex-5 primitive models
+=========================  ===================================================================================
+
+May import: ``spec``, ``hdl`` (``board.simulation`` also ``golden`` and ``sim``).
+"""

@@ -111,7 +111,7 @@ class Report:
         return out
 
 
-def _bit_names(netnames):
+def bit_names(netnames):
     names = {}
     for name, info in netnames.items():
         for bit in info["bits"]:
@@ -123,7 +123,7 @@ def _bit_names(netnames):
 _CLOCK_BUFFERS = {"BUFG", "BUFGCE", "BUFGMUX", "BUFGCTRL", "IBUF", "IBUFG", "BUFR", "BUFIO"}
 
 
-def _domain_of_clock(bit, bit_names, domains, driver, cells):
+def domain_of_clock(bit, bit_names, domains, driver, cells):
     """The domain whose clock net ``bit`` is, following clock buffers back towards the pad: a net named
     ``<domain>_bufg`` (board clocking), ``<domain>_clk`` or ``clk`` (the ``sync`` port of an export)."""
     for _ in range(6):
@@ -164,7 +164,7 @@ def longest_paths(netlist, domains):
     """``{domain: (levels, carry4, endpoint cell)}`` over the flattened top module of a Yosys JSON netlist."""
     module = top_module(netlist)
     cells = module["cells"]
-    bit_names = _bit_names(module["netnames"])
+    names = bit_names(module["netnames"])
     driver = {}
     for name, cell in cells.items():
         dirs = cell.get("port_directions", {})
@@ -215,7 +215,7 @@ def longest_paths(netlist, domains):
             clk_port = next((p for p in clocks if p[-1:] == port[-1:] and p[-1:] in "AB"), None) \
                 or next(iter(clocks))
             clk_bit = clocks[clk_port][0]
-            domain = (_domain_of_clock(clk_bit, bit_names, domains, driver, cells)
+            domain = (domain_of_clock(clk_bit, names, domains, driver, cells)
                       if isinstance(clk_bit, int) else None)
             if domain is None:
                 continue
@@ -223,7 +223,7 @@ def longest_paths(netlist, domains):
                 if isinstance(b, int):
                     d = depth(b)
                     if d > out.get(domain, ((0, 0), ""))[0]:
-                        out[domain] = (d, f"{t} {_cell_label(name, cell, bit_names)}.{port}")
+                        out[domain] = (d, f"{t} {_cell_label(name, cell, names)}.{port}")
     return {dom: (d[0], d[1], end) for dom, (d, end) in out.items()}
 
 

