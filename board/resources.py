@@ -123,11 +123,11 @@ def bit_names(netnames):
 _CLOCK_BUFFERS = {"BUFG", "BUFGCE", "BUFGMUX", "BUFGCTRL", "IBUF", "IBUFG", "BUFR", "BUFIO"}
 
 
-def domain_of_clock(bit, bit_names, domains, driver, cells):
+def domain_of_clock(bit, names, domains, driver, cells):
     """The domain whose clock net ``bit`` is, following clock buffers back towards the pad: a net named
     ``<domain>_bufg`` (board clocking), ``<domain>_clk`` or ``clk`` (the ``sync`` port of an export)."""
     for _ in range(6):
-        for name in sorted(bit_names.get(bit, ()), key=len):
+        for name in sorted(names.get(bit, ()), key=len):
             base = name.lstrip("\\").split(".")[-1]
             for d in sorted(domains, key=len, reverse=True):
                 if base in (f"{d}_bufg", f"{d}_clk") or (d == "sync" and base == "clk"):
@@ -143,12 +143,12 @@ def domain_of_clock(bit, bit_names, domains, driver, cells):
     return None
 
 
-def _cell_label(name, cell, bit_names):
+def _cell_label(name, cell, names):
     """A readable name for a cell: the public net its output drives (a register's name), else the cell name."""
     dirs = cell.get("port_directions", {})
     for port, bits in cell["connections"].items():
         if dirs.get(port) == "output" and bits and isinstance(bits[0], int):
-            public = [n for n in bit_names.get(bits[0], ()) if not n.startswith("$")]
+            public = [n for n in names.get(bits[0], ()) if not n.startswith("$")]
             if public:
                 return min(public, key=len).lstrip("\\")
     return name.lstrip("\\")
