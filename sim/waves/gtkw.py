@@ -40,7 +40,7 @@ __all__ = ["Show", "I2CBus", "Event", "Waves", "DumpVar", "read_vars", "changes"
            "I2C_FILTER", "common_prefix"]
 
 #: The transaction filter program GTKWave runs for an :class:`I2CBus`.
-I2C_FILTER = Path(__file__).resolve().parent / "i2c_wave_filter.py"
+I2C_FILTER = Path(__file__).resolve().parent / "i2c_filter.py"
 _COLLISION = re.compile(r"\$\d+")
 _FLAGS = {"hex": 0x22, "dec": 0x24, "bin": 0x28, "transaction": 0x10000028, "translated": 0x2000}
 _GROUP_BEGIN, _GROUP_END, _BLANK, _CLOSED, _COLLAPSED = 0x800200, 0x1000200, 0x200, 0x400000, 0x1000

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """GTKWave transaction filter: an I2C bus (SCL, SDA) decoded into START, address + R/W, data bytes, ACK/NACK, STOP.
 
-GTKWave runs this program when a save file attaches it to a trace (``^<1 /path/to/sim/i2c_wave_filter.py``
+GTKWave runs this program when a save file attaches it to a trace (``^<1 /path/to/sim/waves/i2c_filter.py``
 before a combined vector ``#{name} scl sda``, flag ``TR_TTRANSLATED``; see :mod:`sim.waves.gtkw`). For each such trace
 GTKWave writes the trace's signals to the program's stdin as a small VCD (``$comment seqn N name $end`` before
 each ``$var``, value changes, ``$comment data_end ... $end``) and reads back trace data: ``$name``, ``#time
