@@ -17,7 +17,7 @@ without source locations, ``hdl/genesys.py``) goes through one Yosys script (:fu
 the Yosys the resource estimate uses, as Amaranth's own bundled Yosys lacks ``setattr``, ``rename`` and
 ``chtype``), the same passes as Amaranth's ``emit_verilog()`` plus, each for a reason given in docs/board.md:
 
-* ``setattr -set SHREG_EXTRACT "NO"`` on every synchroniser register (the ``ASYNC_REG`` ones): a two-flip-flop
+* ``setattr -set SHREG_EXTRACT "no"`` on every synchroniser register (the ``ASYNC_REG`` ones): a two-flip-flop
   chain without reset is a shift-register candidate for XST, and an SRL has no metastability resolution time;
 * ``attrmap -remove init -remove ASYNC_REG`` on wires no flip-flop drives (aliases of registers: the attributes
   mean nothing there; registers keep their initial value, which ``write_verilog`` writes as ``reg x = ...``);
@@ -34,6 +34,10 @@ Then two text rewrites on Yosys's output, because no Yosys pass or option does t
   output on the ``output`` declaration; XST's documented form has them on the ``reg`` declaration itself.
 
 Tested in tests/test_xst_verilog.py, each step by a test that fails without it.
+
+Simulator fixes (applied by ``sim.cocotb_runner`` to the Verilog it simulates, never to the board's ``top.v``):
+:func:`icarus_time_zero_fix` and :func:`verilator_dump_names`, tested in tests/test_cocotb_runner.py and
+tests/test_cocotb_waves.py.
 """
 
 import re
@@ -46,7 +50,8 @@ from pathlib import Path
 from .memory_init import compact_memory_init, strip_zero_memory_init
 
 __all__ = ["flat_name", "flat_ports", "amaranth_verilog", "export_verilog", "compact_memory_init",
-           "XST_ATTRIBUTES", "xst_module_name", "xst_yosys_script", "xst_verilog", "attributes_onto_registers"]
+           "XST_ATTRIBUTES", "xst_module_name", "xst_yosys_script", "xst_verilog", "attributes_onto_registers",
+           "icarus_time_zero_fix", "verilator_dump_names"]
 
 
 def flat_name(path):
@@ -116,7 +121,7 @@ def xst_yosys_script(rtlil_text, *, rtlil_file="top.il", verilog_file="top.v"):
              "select -set registers t:$*dff* %co:+[Q] w:* %i",
              "attrmap -remove init -remove ASYNC_REG w:* @registers %d",
              # synchroniser chains (ASYNC_REG registers) must stay flip-flops, never an SRL
-             'setattr -set SHREG_EXTRACT "NO" w:* a:ASYNC_REG %i']
+             'setattr -set SHREG_EXTRACT "no" w:* a:ASYNC_REG %i']
     if removed:
         remove = " ".join(f"-remove {_yosys_string(a)}" for a in removed)
         lines += [f"attrmap {remove}", f"attrmap -modattr {remove}"]
@@ -170,3 +175,37 @@ def xst_verilog(rtlil_text):
     text, _ = strip_zero_memory_init(text)
     text, _ = attributes_onto_registers(text)
     return text
+
+
+# --- simulator fixes ------------------------------------------------------------------------------------------
+
+_YOSYS_INIT_TRIGGER = re.compile(r"^(\s*)reg (\\\$auto\$verilog_backend\.cc:\d+:dump_module\$\d+ ) = 0;$", re.M)
+
+
+def icarus_time_zero_fix(verilog_text):
+    """Make Icarus evaluate Yosys's ``always @*`` blocks at time 0.
+
+    Yosys's Verilog backend makes every combinational ``always @*`` block read a dummy register declared
+    ``reg \\$auto$verilog_backend... = 0;``, counting on that initialisation to wake the blocks at time 0. Icarus
+    in SystemVerilog mode (``-g2012``, which cocotb uses) applies declaration initialisers without an event, so
+    such blocks keep X outputs until an input changes, which can hide start-up bugs or invent them. Toggling
+    the dummy register once at ``#0`` (after every ``always`` block is waiting) restores the intended
+    evaluation. The register is read nowhere else, so the design's behaviour is otherwise unchanged.
+    """
+    return _YOSYS_INIT_TRIGGER.sub(lambda m: f"{m[1]}reg {m[2]} = 0;\n{m[1]}initial #0 {m[2]} = 1'h1;",
+                                   verilog_text)
+
+
+_UNREADABLE_NAME = re.compile(r"(?<![\w\\\"])\\(\S*[.:]\S*)(?=\s)")
+
+
+def verilator_dump_names(verilog_text):
+    """Make every name Verilator writes into a VCD one that GTKWave reads.
+
+    Yosys escapes names that are not Verilog identifiers (``\\$auto$verilog_backend.cc:2355:dump_module$1``, the
+    register :func:`icarus_time_zero_fix` toggles; ``\\rd__data.attempts``, a field of a struct-shaped signal).
+    Verilator's VCD writer puts such a name in the dump as it is; GTKWave fails to parse a declaration whose name
+    holds a ``.`` or ``:`` (a scope separator, a bit range) and refuses the whole dump. Both become ``_`` inside
+    escaped names; nothing else changes (a name that then equals another in its module is a duplicate
+    declaration Verilator reports)."""
+    return _UNREADABLE_NAME.sub(lambda m: "\\" + re.sub(r"[.:]", "_", m[1]), verilog_text)

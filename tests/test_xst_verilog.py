@@ -198,7 +198,7 @@ def test_plain_module_names(build):
 
 def test_synchroniser_registers_carry_async_reg_and_shreg_extract(build):
     verilog = build["top.v"]
-    regs = re.findall(r'\(\* ASYNC_REG = "TRUE" \*\)\n\s*\(\* SHREG_EXTRACT = "NO" \*\)\n\s*reg (?:\[\d+:0\] )?(\w+)',
+    regs = re.findall(r'\(\* ASYNC_REG = "TRUE" \*\)\n\s*\(\* SHREG_EXTRACT = "no" \*\)\n\s*reg (?:\[\d+:0\] )?(\w+)',
                       verilog)
     # 6 I2C line synchronisers (scl, sda per bus) and the switch synchroniser, 2 stages each
     assert sorted(regs) == sorted(["stage0", "stage1"] * 7)
@@ -238,11 +238,11 @@ def test_the_yosys_script_removes_what_the_rtlil_has(build):
 def test_attributes_move_from_the_output_declaration_onto_the_reg():
     """Yosys writes a register's attributes on its ``output`` declaration when it is a port; the rewrite moves
     them onto the ``reg`` and touches nothing else."""
-    text = ('  (* ASYNC_REG = "TRUE" *)\n  (* SHREG_EXTRACT = "NO" *)\n  output [7:0] stage1;\n'
+    text = ('  (* ASYNC_REG = "TRUE" *)\n  (* SHREG_EXTRACT = "no" *)\n  output [7:0] stage1;\n'
             "  reg [7:0] stage1 = 8'h00;\n  output q;\n  reg q;\n  (* IOB = \"TRUE\" *)\n  output z;\n  wire z;\n")
     moved, names = attributes_onto_registers(text)
     assert names == ["stage1"]
-    assert moved.startswith('  output [7:0] stage1;\n  (* ASYNC_REG = "TRUE" *)\n  (* SHREG_EXTRACT = "NO" *)\n'
+    assert moved.startswith('  output [7:0] stage1;\n  (* ASYNC_REG = "TRUE" *)\n  (* SHREG_EXTRACT = "no" *)\n'
                             "  reg [7:0] stage1 = 8'h00;")
     assert moved.endswith('  (* IOB = "TRUE" *)\n  output z;\n  wire z;\n')    # not a register: unchanged
 
