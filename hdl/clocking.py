@@ -197,7 +197,10 @@ class GenesysClocking(wiring.Component):
             #: The clock domains this block drives; the parent adds them: ``m.domains += clocking.domains``.
             self.domains = [ClockDomain(name) for name in self.domain_names]
             #: The global clock nets (BUFG outputs), one per domain.
-            self.clock_signals = {name: Signal(name=f"{name}_bufg") for name in self.domain_names}
+            #: (``keep``: the Yosys resource estimate, sim/synthesis.py, finds each domain's clock by this name;
+            #: the board's top.v drops the attribute, hdl/export.py.)
+            self.clock_signals = {name: Signal(name=f"{name}_bufg", attrs={"keep": "TRUE"})
+                                  for name in self.domain_names}
             #: The PLL output nets (before their BUFGs), by domain; named, as the UCF's TIG groups sit on them
             #: (hdl/genesys.py) and a net needs one name for that.
             self.pll_outputs = {"mclk": Signal(name="pll_cam_clkout0"), "pix": Signal(name="pll_pix_clkout0"),
