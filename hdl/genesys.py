@@ -122,11 +122,11 @@ DVI_OFFSET_OUT_NS = 1e9 / CEA_1080P60.pixel_hz
 #: AR 33038), and top.v is written for both parsers (docs/board.md).
 XST_OPTIONS = ("-hierarchy_separator /", "-bus_delimiter <>", "-keep_hierarchy no")
 
-#: Options of the implementation steps (docs/board.md): ``map`` timing-driven with high placer effort,
-#: ``par`` high effort, ``trce`` a verbose report of the 10 worst paths per constraint plus 10 unconstrained ones.
 #: What trce writes into its report when every constraint is met (the build stops before bitgen otherwise).
 TIMING_MET = "All constraints were met."
 
+#: Options of the implementation steps (docs/board.md): ``map`` timing-driven with high placer effort,
+#: ``par`` high effort, ``trce`` a verbose report of the 10 worst paths per constraint plus 10 unconstrained ones.
 MAP_OPTIONS = ("-w", "-ol high", "-timing")
 PAR_OPTIONS = ("-w", "-ol high")
 TRCE_OPTIONS = ("-v 10", "-u 10")
