@@ -45,9 +45,9 @@ from amaranth import ClockDomain, ClockSignal, Const, Instance, Module, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
+from hdl.reset_tree import add_reset_tree
 from spec.board import CLOCKS
 from spec.video import CEA_1080P60
-from hdl.reset_tree import add_reset_tree
 
 __all__ = ["ClockPlan", "PLAN", "GenesysClocking"]
 
@@ -171,7 +171,7 @@ class GenesysClocking(wiring.Component):
         ``sync``, ``pix``, ``pix90``, ``mclk`` and the camera domains, which this block drives and the parent adds
         to its module.
 
-    Not simulatable (vendor primitives): :class:`SimClocking` is its simulation model.
+    Not simulatable (vendor primitives): :class:`sim.models.clocking.SimClocking` is its simulation model.
 
     Raises
     ------
@@ -190,18 +190,25 @@ class GenesysClocking(wiring.Component):
         #: The clock domains this block drives; the parent adds them: ``m.domains += clocking.domains``.
         self.domains = [ClockDomain(name) for name in self.domain_names]
         #: The global clock nets (BUFG outputs), one per domain.
-        self.clock_signals = {name: Signal(name=f"{name}_bufg") for name in self.domain_names}
+        #: (``keep``: the Yosys resource estimate, board/resources.py, finds each domain's clock by this name;
+        #: the board's top.v drops the attribute, board/export.py.)
+        self.clock_signals = {name: Signal(name=f"{name}_bufg", attrs={"keep": "TRUE"})
+                              for name in self.domain_names}
+        #: The PLL output nets (before their BUFGs), by domain; named, as the UCF's TIG groups sit on them
+        #: (board/genesys.py) and a net needs one name for that.
+        self.pll_outputs = {"mclk": Signal(name="pll_cam_clkout0"), "pix": Signal(name="pll_pix_clkout0"),
+                            "pix90": Signal(name="pll_pix_clkout1")}
 
-    def clock_nets(self):
-        """``(signal, frequency_hz, family)`` per global clock net, for timing constraints: nets of the same
-        family are related (``pix`` and ``pix90`` come from one PLL), different families are asynchronous."""
-        from board.genesys import CAM_PCLK_MAX_HZ
-        p = self.plan
-        out = [(self.clock_signals["sync"], float(p.osc_hz), "osc"),
-               (self.clock_signals["pix"], float(p.pix_hz), "pix"),
-               (self.clock_signals["pix90"], float(p.pix_hz), "pix"),
-               (self.clock_signals["mclk"], float(p.mclk_hz), "mclk")]
-        out += [(self.clock_signals[name], float(CAM_PCLK_MAX_HZ), name) for name in self.cam_domains]
+    def tig_groups(self):
+        """``(name, net, family)`` per clock for the UCF's TIG groups: ``net`` is the DCM/PLL output net (a signal,
+        valid once elaborated) for the derived clocks, or the camera's name for the PCLK-driven domains (the top
+        level puts those on the PCLK pad). Clocks of the same family are related (``pix`` and ``pix90`` come
+        from one PLL); clocks of different families get a TIG between them. ``sync`` has no group: its only
+        clock net also feeds the DCM/PLL inputs, and a TNM used in a FROM-TO there stops ngdbuild deriving the
+        DCM/PLL clocks (docs/board.md)."""
+        out = [("mclk", self.pll_outputs["mclk"], "mclk"), ("pix", self.pll_outputs["pix"], "pix"),
+               ("pix90", self.pll_outputs["pix90"], "pix")]
+        out += [(name, name, name) for name in self.cam_domains]
         return out
 
     def elaborate(self, platform):
@@ -217,7 +224,7 @@ class GenesysClocking(wiring.Component):
         m.d.comb += ClockSignal("sync").eq(osc)
 
         # Camera MCLK: PLL_ADV, internal feedback (no phase relation to anything is needed).
-        cam_fb, cam_out, cam_locked = Signal(), Signal(), Signal()
+        cam_fb, cam_out, cam_locked = Signal(name="pll_cam_fb"), self.pll_outputs["mclk"], Signal(name="cam_locked")
         m.submodules.pll_cam = Instance(
             "PLL_ADV",
             p_SIM_DEVICE="VIRTEX5", p_BANDWIDTH="OPTIMIZED", p_COMPENSATION="INTERNAL",
@@ -234,7 +241,7 @@ class GenesysClocking(wiring.Component):
         m.d.comb += ClockSignal("mclk").eq(mclk)
 
         # Pixel clock: DCM_ADV CLKFX -> PLL_ADV (DCM2PLL), CLKOUT0 at 0 degrees, CLKOUT1 at 90 degrees.
-        dcm_fx, dcm_locked = Signal(), Signal()
+        dcm_fx, dcm_locked = Signal(name="dcm_pix_clkfx"), Signal(name="dcm_locked")
         m.submodules.dcm_pix = Instance(
             "DCM_ADV",
             p_SIM_DEVICE="VIRTEX5", p_CLKIN_PERIOD=1e9 / p.osc_hz,
@@ -246,7 +253,8 @@ class GenesysClocking(wiring.Component):
             i_DCLK=Const(0, 1), i_DEN=Const(0, 1), i_DWE=Const(0, 1), i_DADDR=Const(0, 7), i_DI=Const(0, 16),
             o_CLKFX=dcm_fx, o_LOCKED=dcm_locked,
         )
-        pix_fb, pix_out, pix90_out, pix_locked = Signal(), Signal(), Signal(), Signal()
+        pix_fb, pix_out, pix90_out = Signal(name="pll_pix_fb"), self.pll_outputs["pix"], self.pll_outputs["pix90"]
+        pix_locked = Signal(name="pix_locked")
         m.submodules.pll_pix = Instance(
             "PLL_ADV",
             p_SIM_DEVICE="VIRTEX5", p_BANDWIDTH="OPTIMIZED", p_COMPENSATION="DCM2PLL",

@@ -28,10 +28,11 @@ from amaranth.build import Attrs, Clock, Pins, PinsN, Resource, Subsignal
 from amaranth.vendor import XilinxPlatform
 
 from spec.board import CLOCKS
+from spec.video import CEA_1080P60
 
 __all__ = [
     "GenesysPlatform", "PIN_SOURCES", "UNCONFIRMED", "VMODCAM_PINS", "CAM_PCLK_MAX_HZ", "CAM_OFFSET_IN_NS",
-    "CAM_VALID_NS", "XST_OPTIONS", "parse_pin_file", "ucf_net_line",
+    "CAM_VALID_NS", "XST_OPTIONS", "MAP_OPTIONS", "PAR_OPTIONS", "TRCE_OPTIONS", "parse_pin_file", "ucf_net_line",
 ]
 
 # --- Sources ------------------------------------------------------------------------------------------------
@@ -108,9 +109,28 @@ _DVI_DATA = Attrs(DRIVE="12", SLEW="FAST")
 CAM_OFFSET_IN_NS = 1.25
 CAM_VALID_NS = 7.5
 
+#: UCF group of the CH7301C data, H, V and DE pads, and their OFFSET OUT bound against the oscillator pad: one
+#: pixel clock period (a stated bound, not a CH7301C figure: its setup/hold table could not be read here; what
+#: matters is the skew to XCLK, which trce reports through REFERENCE_PIN).
+DVI_OUT_GROUP = "DVI_OUT"
+DVI_OFFSET_OUT_NS = 1e9 / CEA_1080P60.pixel_hz
+
 #: XST options of the command-line script (Amaranth's ``top.xst`` template) that the Project Navigator TCL
 #: must carry too (``Other XST Command Line Options``): the same synthesis whichever flow is used.
-XST_OPTIONS = ("-use_new_parser yes",)
+#: ``-hierarchy_separator /`` and ``-bus_delimiter <>``: the UCF names hierarchical nets with ``/`` and bus bits
+#: as ``port<3>`` (both XST's defaults, stated so the UCF does not depend on them). No ``-use_new_parser``: no
+#: source confirms XST 14.7 takes it for Virtex-5 (the new parser was introduced for Virtex-6/Spartan-6, Xilinx
+#: AR 33038), and top.v is written for both parsers (docs/board.md).
+XST_OPTIONS = ("-hierarchy_separator /", "-bus_delimiter <>", "-keep_hierarchy no")
+
+#: What trce writes into its report when every constraint is met (the build stops before bitgen otherwise).
+TIMING_MET = "All constraints were met."
+
+#: Options of the implementation steps (docs/board.md): ``map`` timing-driven with high placer effort,
+#: ``par`` high effort, ``trce`` a verbose report of the 10 worst paths per constraint plus 10 unconstrained ones.
+MAP_OPTIONS = ("-w", "-ol high", "-timing")
+PAR_OPTIONS = ("-w", "-ol high")
+TRCE_OPTIONS = ("-v 10", "-u 10")
 
 
 def _vmodcam_resource(number, cam, pins):
@@ -146,6 +166,10 @@ class GenesysPlatform(XilinxPlatform):
 
     device = "xc5vlx50t"
     xst_options = XST_OPTIONS
+    timing_met = TIMING_MET
+    map_options = MAP_OPTIONS
+    par_options = PAR_OPTIONS
+    trce_options = TRCE_OPTIONS
     package = "ff1136"
     speed = "1"
     default_clk = "clk100"
@@ -159,7 +183,7 @@ class GenesysPlatform(XilinxPlatform):
             raise ValueError(f"pin override for unknown placeholder(s): {', '.join(unknown)}")
         self.allow_unconfirmed = allow_unconfirmed
         self.resources = self._make_resources()   # read by Platform.__init__
-        self._clock_families = {}
+        self._tig_groups = {}
         super().__init__(toolchain=toolchain)
 
     resources = []
@@ -212,9 +236,11 @@ class GenesysPlatform(XilinxPlatform):
             templates["{{name}}.xst"] = _XST_TEMPLATE
             templates["{{name}}_ise_project.tcl"] = _ISE_PROJECT_TEMPLATE
             templates["{{name}}.il"] = "{{emit_rtlil()}}"
+            templates["build_{{name}}.sh"] = _BUILD_SH_TEMPLATE
+            templates["build_{{name}}.bat"] = _BUILD_BAT_TEMPLATE
         if self._files is not None:
             return {k: v for k, v in templates.items() if k.endswith(self._files)}
-        default = (".v", ".prj", ".xst", ".ucf", ".sh", ".bat", ".json", ".tcl")
+        default = (".v", ".prj", ".xst", ".ucf", ".sh", ".bat", ".tcl")
         return {k: v for k, v in templates.items() if k.endswith(default) and not k.endswith(".debug.v")}
 
     def ucf_port_lines(self):
@@ -237,23 +263,43 @@ class GenesysPlatform(XilinxPlatform):
         return "\n".join(lines)
 
     @staticmethod
-    def board_verilog_text(verilog):
-        """The board's Verilog without the memory initial blocks that only write zeros (see board/memory_init.py:
-        the block RAMs configure to zero anyway)."""
-        from board.memory_init import strip_zero_memory_init
-        return strip_zero_memory_init(verilog)[0]
+    def board_verilog_text(rtlil_text):
+        """The board's ``top.v`` (the XST input) from the design's RTLIL: :func:`board.export.xst_verilog`."""
+        from board.export import xst_verilog
+        return xst_verilog(rtlil_text)
 
-    def add_clock_group(self, signal, frequency, family):
-        """Constrain an internal clock net (PERIOD) and put it in ``family``: nets of different families are
-        asynchronous to each other and get ``TIG`` specs between their groups in the UCF."""
-        self.add_clock_constraint(signal, frequency)
-        self._clock_families[id(signal)] = family
+    def toolchain_prepare(self, fragment, name, **kwargs):
+        # No source locations in the netlist: they would be absolute paths of the machine that built it.
+        kwargs.setdefault("emit_src", False)
+        return super().toolchain_prepare(fragment, name, **kwargs)
+
+    def add_tig_group(self, name, net, family):
+        """A timing group ``TIG_<name>`` for the UCF's TIGs: a ``TNM_NET`` on ``net`` (a signal: a DCM/PLL output
+        net, or a port name: a clock pad). Groups of different families are asynchronous to each other and get a
+        ``TIG`` in both directions. These are second groups, apart from the PERIOD groups on the pads: a PERIOD
+        group used in a FROM-TO is not traced through a DCM/PLL (Xilinx AR 6905, migen#43)."""
+        self._tig_groups[name] = (net, family)
+
+    def ucf_tig_groups(self):
+        """``(group, net)`` per TIG group (call inside a build): ``net`` a signal or a port name."""
+        return [(f"TIG_{name}", net) for name, (net, _) in self._tig_groups.items()]
 
     def ucf_tig_pairs(self):
-        """Pairs of constrained internal clock nets in different families (call inside a build)."""
-        fam = self._clock_families
-        nets = [s for s, _ in self.iter_signal_clock_constraints() if id(s) in fam]
-        return [(a, b) for a in nets for b in nets if a is not b and fam[id(a)] != fam[id(b)]]
+        """Ordered pairs of TIG group names in different families (call inside a build)."""
+        groups = self._tig_groups
+        return [(f"TIG_{a}", f"TIG_{b}") for a in groups for b in groups if groups[a][1] != groups[b][1]]
+
+    def ucf_dvi_offset_lines(self):
+        """OFFSET OUT of the CH7301C data and syncs (both pixel clock edges) against the oscillator pad, with
+        the forwarded XCLK_P as the reference pin (trce reports each pin's skew to it; call inside a build)."""
+        ports = [port for port, _, _ in self.iter_port_constraints_bits()]
+        lines = [f'NET "{_ucf_port_name(port)}" TNM = "{DVI_OUT_GROUP}";' for port in ports
+                 if port.startswith(("ch7301c_0__d__io", "ch7301c_0__h__io", "ch7301c_0__v__io",
+                                     "ch7301c_0__de__io"))]
+        for edge in ("RISING", "FALLING"):
+            lines.append(f'TIMEGRP "{DVI_OUT_GROUP}" OFFSET = OUT {DVI_OFFSET_OUT_NS:.3f} ns AFTER "clk100_0__io" '
+                         f'REFERENCE_PIN "ch7301c_0__xclk_p__io" {edge};')
+        return "\n".join(lines)
 
     @property
     def unconfirmed_in_use(self):
@@ -266,27 +312,32 @@ _UCF_TEMPLATE = r"""
     # Digilent Genesys (xc5vlx50t-ff1136-1). Pin sources: board/genesys.py PIN_SOURCES, docs/board.md.
     # Locations named UNCONFIRMED_* are placeholders: ngdbuild rejects them until the real VHDC pins are given.
     {{platform.ucf_port_lines()}}
-    {% for signal, frequency in platform.iter_signal_clock_constraints() -%}
-    NET "{{signal|hierarchy("/")}}" TNM_NET = "PRD{{signal|hierarchy("/")}}";
-    TIMESPEC "TS{{signal|hierarchy("__")}}" = PERIOD "PRD{{signal|hierarchy("/")}}" {{"%.4f"|format(1000000000/frequency)}} ns HIGH 50%;
-    {% endfor %}
+    # Clocks: a PERIOD on each clock pad only. ngdbuild derives the DCM/PLL outputs' PERIODs from the
+    # oscillator's (a PERIOD group used in nothing else is traced through a DCM/PLL: Xilinx AR 6905).
     {% for port, frequency in platform.iter_port_clock_constraints() -%}
     NET "{{port|hierarchy("/")}}" TNM_NET = "PRD{{port|hierarchy("/")}}";
     TIMESPEC "TS{{port|hierarchy("__")}}" = PERIOD "PRD{{port|hierarchy("/")}}" {{"%.4f"|format(1000000000/frequency)}} ns HIGH 50%;
     {% endfor %}
-    # Asynchronous clock groups (different sources; all crossings go through synchronisers or dual-clock RAM).
+    # Asynchronous clocks: second groups on the PLL output nets and the PCLK pads, a TIG between groups of
+    # different sources (all crossings go through synchronisers or dual-clock block RAM).
+    {% for group, net in platform.ucf_tig_groups() -%}
+    NET "{{net if net is string else net|hierarchy("/")}}" TNM_NET = "{{group}}";
+    {% endfor %}
     {% for a, b in platform.ucf_tig_pairs() -%}
-    TIMESPEC "TS_TIG{{a|hierarchy("__")}}_TO{{b|hierarchy("__")}}" = FROM "PRD{{a|hierarchy("/")}}" TO "PRD{{b|hierarchy("/")}}" TIG;
+    TIMESPEC "TS_{{a}}_TO_{{b}}" = FROM "{{a}}" TO "{{b}}" TIG;
     {% endfor %}
     # Camera inputs: D, LV, FV valid 1.25 ns before PCLK rises, for 7.5 ns (Digilent's VmodCAM design; the input
     # registers are IOB flip-flops, board/top.py).
     {{platform.ucf_camera_offset_lines()}}
+    # CH7301C outputs: data, H, V, DE leave IOB registers / ODDRs on both pixel clock edges; XCLK_P is the
+    # reference pin, so trce reports each pin's skew to the forwarded clock (docs/board.md).
+    {{platform.ucf_dvi_offset_lines()}}
     {{get_override("add_constraints")|default("# (no additional constraints)")}}
 """
 
 _VERILOG_TEMPLATE = r"""
     /* {{autogenerated}} */
-    {{platform.board_verilog_text(emit_verilog())}}
+    {{platform.board_verilog_text(emit_rtlil())}}
 """
 
 _XST_TEMPLATE = r"""
@@ -303,11 +354,62 @@ _XST_TEMPLATE = r"""
 """
 
 
+# The command-line flow (replacing Amaranth's: trce after par, and bitgen only when timing is met). Every step
+# overwrites its outputs (xst, ngdbuild and trce rewrite theirs; map and par with -w), so a second run in the same
+# folder works.
+_BUILD_SH_TEMPLATE = r"""
+    #!/bin/sh
+    # {{autogenerated}}
+    # ISE 14.7 command-line flow: xst, ngdbuild, map, par, trce; bitgen only if trce reports every constraint met.
+    set -e
+    if [ -z "$BASH" ] ; then exec /bin/bash "$0" "$@"; fi
+    [ -n "$AMARANTH_ENV_ISE" ] && . "$AMARANTH_ENV_ISE"
+    : ${XST:=xst}
+    : ${NGDBUILD:=ngdbuild}
+    : ${MAP:=map}
+    : ${PAR:=par}
+    : ${TRCE:=trce}
+    : ${BITGEN:=bitgen}
+    "$XST" -ifn {{name}}.xst
+    "$NGDBUILD" -quiet -uc {{name}}.ucf -p {{platform.device}}{{platform.package}}-{{platform.speed}} {{name}}.ngc {{name}}.ngd
+    "$MAP" {{platform.map_options|join(" ")}} -o {{name}}_map.ncd {{name}}.ngd {{name}}.pcf
+    "$PAR" {{platform.par_options|join(" ")}} {{name}}_map.ncd {{name}}_par.ncd {{name}}.pcf
+    "$TRCE" {{platform.trce_options|join(" ")}} -o {{name}}.twr {{name}}_par.ncd {{name}}.pcf
+    if ! grep -q "{{platform.timing_met}}" {{name}}.twr ; then
+      echo "timing not met: see {{name}}.twr; no bitstream written" >&2
+      exit 1
+    fi
+    "$BITGEN" -g Compress -w -g Binary:Yes {{name}}_par.ncd {{name}}.bit
+"""
+
+_BUILD_BAT_TEMPLATE = r"""
+    @rem {{autogenerated}}
+    @rem ISE 14.7 command-line flow: xst, ngdbuild, map, par, trce; bitgen only if trce reports every constraint met.
+    @echo off
+    SetLocal EnableDelayedExpansion
+    if defined AMARANTH_ENV_ISE call "%AMARANTH_ENV_ISE%"
+    if [!XST!] equ [] set XST=xst
+    if [!NGDBUILD!] equ [] set NGDBUILD=ngdbuild
+    if [!MAP!] equ [] set MAP=map
+    if [!PAR!] equ [] set PAR=par
+    if [!TRCE!] equ [] set TRCE=trce
+    if [!BITGEN!] equ [] set BITGEN=bitgen
+    "%XST%" -ifn {{name}}.xst || exit /b
+    "%NGDBUILD%" -quiet -uc {{name}}.ucf -p {{platform.device}}{{platform.package}}-{{platform.speed}} {{name}}.ngc {{name}}.ngd || exit /b
+    "%MAP%" {{platform.map_options|join(" ")}} -o {{name}}_map.ncd {{name}}.ngd {{name}}.pcf || exit /b
+    "%PAR%" {{platform.par_options|join(" ")}} {{name}}_map.ncd {{name}}_par.ncd {{name}}.pcf || exit /b
+    "%TRCE%" {{platform.trce_options|join(" ")}} -o {{name}}.twr {{name}}_par.ncd {{name}}.pcf || exit /b
+    findstr /C:"{{platform.timing_met}}" {{name}}.twr >nul || (echo timing not met: see {{name}}.twr; no bitstream written & exit /b 1)
+    "%BITGEN%" -g Compress -w -g Binary:Yes {{name}}_par.ncd {{name}}.bit || exit /b
+"""
+
 _ISE_PROJECT_TEMPLATE = r"""
     # {{autogenerated}}
     # Creates an ISE 14.7 project for the generated design: `xtclsh {{name}}_ise_project.tcl`, then open
     # {{name}}.xise in Project Navigator (or run build_{{name}}.sh for the command-line flow instead).
     # Commands as in the project scripts ISE itself writes (project new / project set / xfile add).
+    # A second run starts from a new project: `project new` fails when the project file exists.
+    if {[file exists {{name}}.xise]} { file delete -force {{name}}.xise {{name}}.gise }
     project new {{name}}.xise
     project set family "Virtex5"
     project set device "{{platform.device}}"

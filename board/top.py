@@ -94,11 +94,14 @@ class GenesysTop(wiring.Component):
         self._output(m, ("control", "cam_vdden"), platform.request("vmodcam_vdden", dir="-"),
                      self.system.control.cam_vdden)
         self._ch7301c(m, platform)
-        # Timing groups of the internal clocks (UCF PERIOD per BUFG output; board/genesys.py adds the TIGs
-        # between unrelated groups).
-        if hasattr(platform, "add_clock_group"):
-            for signal, hz, family in clocking.clock_nets():
-                platform.add_clock_group(signal, hz, family)
+        # TIG groups of the clocks (board/genesys.py: PERIODs sit on the clock pads only, ngdbuild derives the
+        # DCM/PLL outputs; the TIG groups are second groups on the PLL output nets and the PCLK pads).
+        if hasattr(platform, "add_tig_group"):
+            for name, net, family in clocking.tig_groups():
+                if isinstance(net, str):
+                    number = CAMERAS.index(net.removeprefix("cam_"))
+                    net = f"vmodcam_{number}__pclk__io"
+                platform.add_tig_group(name, net, family)
         return m
 
     @staticmethod

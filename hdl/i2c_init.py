@@ -158,7 +158,8 @@ class _States:
         dev, n = seq.table.device, len(seq.table)
         self.n = n
         layout, words, max_count, max_attempts = seq._rom()
-        m.submodules.rom = rom = Memory(shape=layout, depth=n, init=words)
+        # ROM_STYLE: a few dozen words; XST would otherwise spend block RAM on it (XST User Guide, ROM_STYLE)
+        m.submodules.rom = rom = Memory(shape=layout, depth=n, init=words, attrs={"ROM_STYLE": "distributed"})
         rd = rom.read_port(domain="sync")            # synchronous ROM: the word of `pc` one cycle later
         self.pc = Signal(range(n + 1), name="pc")
         # pc reaches n (the table length) when the last entry completes; the ROM is never addressed past its end

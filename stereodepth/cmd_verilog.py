@@ -3,11 +3,12 @@
 Writes to ``--out`` (default build/genesys/) what Amaranth's ``XilinxPlatform`` prepares for ISE, for
 :class:`board.top.GenesysTop` on :class:`board.genesys.GenesysPlatform`:
 
-* ``top.v``                 the whole design as one Verilog file (XST input)
-* ``top.ucf``               pins, IO standards, clock PERIODs and the TIGs between unrelated clocks; the same text
-                            as the checked-in ``constraints/genesys.ucf`` (checked by tests/test_genesys.py)
+* ``top.v``                 the whole design as one Verilog file (XST input, ``board.export.xst_verilog``)
+* ``top.ucf``               pins, IO standards, PERIODs on the clock pads, the TIGs between unrelated clocks,
+                            OFFSET IN/OUT; the same text as the checked-in ``constraints/genesys.ucf`` (checked by
+                            tests/test_genesys.py)
 * ``top.prj``, ``top.xst``  the XST project and script
-* ``build_top.sh``/``.bat`` the command-line flow: xst, ngdbuild, map, par, bitgen
+* ``build_top.sh``/``.bat`` the command-line flow: xst, ngdbuild, map, par, trce, and bitgen only when timing is met
 * ``top_ise_project.tcl``   ``xtclsh`` script that creates an ISE project (``top.xise``) for Project Navigator
 * ``clocks.txt``            the clock plan (M/D values, frequencies, error)
 

@@ -86,28 +86,23 @@ def test_ucf_pins_match_the_sources():
     assert len(cams) == len(UNCONFIRMED) == 2 * (8 + 8) + 1
     assert sorted(a["LOC"] for a in cams.values()) == sorted(UNCONFIRMED)
     assert all(n.startswith("vmodcam") for n in cams)
-    # Clocks: the oscillator at 10 ns, the camera PCLK pins at 12.5 ns, TIGs between unrelated groups only.
+    # Clocks: the oscillator at 10 ns, the camera PCLK pins at 12.5 ns (the TIGs: tests/test_xst_verilog.py).
     text = "\n".join(others)
     assert re.search(r'PERIOD "PRDclk100_0__io" 10\.0000 ns', text)
     assert len(re.findall(r'PERIOD "PRDvmodcam_[01]__pclk__io" 12\.5000 ns', text)) == 2
-    tigs = re.findall(r'FROM "PRD([^"]+)" TO "PRD([^"]+)" TIG', text)
-    groups = {g for pair in tigs for g in pair}
-    assert {"clocking/sync_bufg", "clocking/pix_bufg", "clocking/cam_a_bufg", "clocking/cam_b_bufg"} <= groups
-    assert ("clocking/pix_bufg", "clocking/pix90_bufg") not in tigs          # same PLL: related
-    # 6 global clock nets in 5 families (pix and pix90 share one): every ordered pair but pix<->pix90.
-    assert len(tigs) == len(set(tigs)) == 6 * 5 - 2
+    assert len(re.findall(r"PERIOD", text)) == 3
 
 
 def test_every_port_is_constrained_and_the_part_is_right(build):
     _, files = build
-    header = re.search(r"module top\((.*?)\);", files["top.v"], re.S).group(1)
+    header = re.search(r"^module top\((.*?)\);", files["top.v"], re.S | re.M).group(1)
     ports = {p.strip() for p in header.replace("\n", " ").split(",")}
     nets, _ = parse_ucf(files["top.ucf"])
     located = {re.sub(r"<\d+>$", "", n) for n, a in nets.items() if "LOC" in a}
     assert ports == located
     assert "-p xc5vlx50tff1136-1" in files["top.xst"]
     script = files["build_top.sh"]
-    for tool in ("XST", "NGDBUILD", "MAP", "PAR", "BITGEN"):
+    for tool in ("XST", "NGDBUILD", "MAP", "PAR", "TRCE", "BITGEN"):
         assert f'"${tool}"' in script
     assert "-uc top.ucf" in script
     tcl = files["top_ise_project.tcl"]
@@ -116,7 +111,7 @@ def test_every_port_is_constrained_and_the_part_is_right(build):
 
 
 def _modules(verilog):
-    return {m.group(1): m.group(0) for m in re.finditer(r"module (\S+) ?\((.*?)endmodule", verilog, re.S)}
+    return {m.group(1): m.group(0) for m in re.finditer(r"^module (\S+?) ?\((.*?)^endmodule", verilog, re.S | re.M)}
 
 
 def test_board_output_stage_structure(build):
@@ -124,22 +119,22 @@ def test_board_output_stage_structure(build):
     mods = _modules(files["top.v"])
 
     def oddr_module(name):
-        body = mods[f"\\top.{name}"]
+        body = mods[f"top__{name}"]
         assert "OBUFDS" not in body
         return body
 
     # CH7301C data: 12 ODDRs in the pixel domain, SAME_EDGE (D1 -> high phase, D2 -> low phase).
-    data = "".join(body for name, body in mods.items() if name.startswith("\\top.dvi_d_oddr"))
+    data = "".join(body for name, body in mods.items() if name.startswith("top__dvi_d_oddr"))
     assert data.count("ODDR #(") == 12 and data.count('.DDR_CLK_EDGE("SAME_EDGE")') == 12
     assert "input pix_clk;" in oddr_module("dvi_d_oddr")
     for pin in ("p", "n"):
-        body = "".join(b for n, b in mods.items() if n.startswith(f"\\top.dvi_xclk_{pin}_oddr"))
+        body = "".join(b for n, b in mods.items() if n.startswith(f"top__dvi_xclk_{pin}_oddr"))
         assert body.count("ODDR #(") == 1 and "input pix90_clk;" in body
     for cam in ("a", "b"):
-        body = "".join(b for n, b in mods.items() if n.startswith(f"\\top.cam_{cam}_mclk_oddr"))
+        body = "".join(b for n, b in mods.items() if n.startswith(f"top__cam_{cam}_mclk_oddr"))
         assert body.count("ODDR #(") == 1 and "input mclk_clk;" in body
     for sync in ("h", "v", "de"):
-        body = "".join(b for n, b in mods.items() if n.startswith(f"\\top.dvi_{sync}_ff"))
+        body = "".join(b for n, b in mods.items() if n.startswith(f"top__dvi_{sync}_ff"))
         assert re.search(r'\(\* IOB = "TRUE" \*\)\s*FDCE o_ff0 \(\s*\.C\(pix_clk\)', body), sync
     assert "OBUFDS" not in files["top.v"]
     assert files["top.v"].count("DCM_ADV #(") == 1 and files["top.v"].count("PLL_ADV #(") == 2
@@ -275,7 +270,7 @@ def test_camera_inputs_are_iob_registers_constrained_by_offset_in(build):
     mods = _modules(files["top.v"])
     for cam, number in (("a", 0), ("b", 1)):
         for pin in ("data", "lv", "fv"):
-            body = "".join(b for n, b in mods.items() if n.startswith(f"\\top.cam_{cam}__{pin}_buf"))
+            body = "".join(b for n, b in mods.items() if n.startswith(f"top__cam_{cam}__{pin}_buf"))
             width = 8 if pin == "data" else 1
             assert len(re.findall(rf'\(\* IOB = "TRUE" \*\)\s*FDCE i_ff\d+ \(\s*\.C\(cam_{cam}_clk\)', body)) == width
     nets, others = parse_ucf(UCF_PATH.read_text())
@@ -300,7 +295,7 @@ def test_project_navigator_tcl_uses_the_xst_script_options(build):
     _, files = build
     xst_options = [line for line in files["top.xst"].splitlines()
                    if line.startswith("-") and not line.startswith(("-ifn", "-ofn", "-top", "-p "))]
-    assert xst_options == ["-use_new_parser yes"]
+    assert xst_options == ["-hierarchy_separator /", "-bus_delimiter <>", "-keep_hierarchy no"]
     m = re.search(r'project set "Other XST Command Line Options" "([^"]*)" -process "Synthesize - XST"',
                   files["top_ise_project.tcl"])
     assert m and m.group(1).split(" -") == " ".join(xst_options).split(" -")

@@ -30,13 +30,13 @@ import hashlib
 import itertools
 import json
 import os
-import re
 import shutil
 import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-from board.export import amaranth_verilog, flat_name
+# The simulator fixes of the exported Verilog live with every other rewrite of exported Verilog in board/export.py.
+from board.export import amaranth_verilog, flat_name, icarus_time_zero_fix, verilator_dump_names
 from sim.runners import build_dir as build_root
 from sim.waves.cocotb import dump_file, dump_plusargs, write_run_save_file
 
@@ -80,38 +80,6 @@ def simulator_available(simulator):
         except ImportError:
             return False
     return False
-
-
-_YOSYS_INIT_TRIGGER = re.compile(r"^(\s*)reg (\\\$auto\$verilog_backend\.cc:\d+:dump_module\$\d+ ) = 0;$", re.M)
-
-
-def icarus_time_zero_fix(verilog_text):
-    """Make Icarus evaluate Yosys's ``always @*`` blocks at time 0.
-
-    Yosys's Verilog backend makes every combinational ``always @*`` block read a dummy register declared
-    ``reg \\$auto$verilog_backend... = 0;``, counting on that initialisation to wake the blocks at time 0. Icarus
-    in SystemVerilog mode (``-g2012``, which cocotb uses) applies declaration initialisers without an event, so
-    such blocks keep X outputs until an input changes, which can hide start-up bugs or invent them. Toggling
-    the dummy register once at ``#0`` (after every ``always`` block is waiting) restores the intended
-    evaluation. The register is read nowhere else, so the design's behaviour is otherwise unchanged.
-    """
-    return _YOSYS_INIT_TRIGGER.sub(lambda m: f"{m[1]}reg {m[2]} = 0;\n{m[1]}initial #0 {m[2]} = 1'h1;",
-                                   verilog_text)
-
-
-_UNREADABLE_NAME = re.compile(r"(?<![\w\\\"])\\(\S*[.:]\S*)(?=\s)")
-
-
-def verilator_dump_names(verilog_text):
-    """Make every name Verilator writes into a VCD one that GTKWave reads.
-
-    Yosys escapes names that are not Verilog identifiers (``\\$auto$verilog_backend.cc:2355:dump_module$1``, the
-    register :func:`icarus_time_zero_fix` toggles; ``\\rd__data.attempts``, a field of a struct-shaped signal).
-    Verilator's VCD writer puts such a name in the dump as it is; GTKWave fails to parse a declaration whose name
-    holds a ``.`` or ``:`` (a scope separator, a bit range) and refuses the whole dump. Both become ``_`` inside
-    escaped names; nothing else changes (a name that then equals another in its module is a duplicate
-    declaration Verilator reports)."""
-    return _UNREADABLE_NAME.sub(lambda m: "\\" + re.sub(r"[.:]", "_", m[1]), verilog_text)
 
 
 _RUN_COUNTER = itertools.count()
