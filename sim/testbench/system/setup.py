@@ -72,6 +72,7 @@ class SystemSetup:
     sys_hz: int = CLOCKS.SYS_HZ
     pclk_hz: int = CLOCKS.CAM_PCLK_HZ
     cam_phase_s: dict = field(default_factory=lambda: {"a": 0.0, "b": 3.1e-9})   # the cameras are not in phase
+    cam_clock_ppm: dict = field(default_factory=dict)   # per camera: its PCLK off pclk_hz by this many ppm
     lock_cycles: int = 16
     pix_after_init: bool = False       # start the pixel clock only once the I2C init is done (see below)
     sensor_timing: object = None       # sim.models.mt9d112.sensor.SensorTiming; None: SENSOR_TIMING / SMALL_SENSOR_TIMING
@@ -152,6 +153,11 @@ class SystemSetup:
     def sensor(self, model, seed):
         """The video model of one camera, configured through its I2C register-file ``model``."""
         return MT9D112(model, timing=self.sensor_timing or SENSOR_TIMING, pclk_hz=self.pclk_hz, seed=seed)
+
+    def camera_pclk_hz(self, camera):
+        """Camera ``camera``'s (``"a"``/``"b"``) PCLK: ``pclk_hz`` off by its ``cam_clock_ppm`` (a sensor on an
+        oscillator of its own; with the board's common MCLK both are exactly ``pclk_hz``)."""
+        return self.pclk_hz * (1 + self.cam_clock_ppm.get(camera, 0.0) * 1e-6)
 
     def switch_words(self):
         """The SW7..SW0 values to set in turn: disparity (SW7 = 1), then rectification (SW7 = 0)."""
