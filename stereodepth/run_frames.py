@@ -1,6 +1,6 @@
 """``stereodepth run --frames N``: the whole simulated system on a moving scene, camera frame after camera frame.
 
-Inputs (:mod:`sim.testbench.system.sequence`): LEFT and RIGHT two folders of images (paired in file-name order),
+Inputs (:mod:`sim.testbed.sequence`): LEFT and RIGHT two folders of images (paired in file-name order),
 or two image files (the same pair every frame), or ``--scene card`` (the synthetic test bed, a textured card
 moving from ``--far`` to ``--near`` metres over the run). The two sensor models send N camera frames, one image
 each, and every display frame from the first after the I2C init to the first one that starts after both captures
@@ -47,8 +47,8 @@ COLUMNS = ("display_frame", "t_start_ms", "cam_a_frames_done", "cam_b_frames_don
 
 
 def build_sequence(args, setup):
-    """The run's :class:`~sim.testbench.system.sequence.FrameSequence` from the command line."""
-    from sim.testbench.system.sequence import moving_card, repeated_pair, sequence_from_folders
+    """The run's :class:`~sim.testbed.sequence.FrameSequence` from the command line."""
+    from sim.testbed.sequence import moving_card, repeated_pair, sequence_from_folders
     if args.frames < 1:
         raise UserError(f"--frames must be at least 1, got {args.frames}")
     if args.scene is not None:
@@ -136,17 +136,22 @@ class FrameWriter:
         return files
 
 
-def skew_figures(events, setup):
-    """The frame-start skew camera B - camera A per camera frame (from the captures' ``in_frame``), in
-    microseconds and sensor line times."""
+def skew_figures(status, setup):
+    """The frame-start skew camera B - camera A per camera frame: in simulation from the captures' ``in_frame``
+    (microseconds and sensor line times) and as the design's skew meter measured it (``sync`` clocks)."""
+    events = status["capture_events_s"]
     starts = {c: events[c]["frame_start"] for c in ("a", "b")}
     n = min(len(starts["a"]), len(starts["b"]))
     line_s = (setup.sensor_timing.line_time(setup.geometry.width)) / setup.pclk_hz
     skew = [starts["b"][k] - starts["a"][k] for k in range(n)]
+    hardware = status.get("hardware_skew", [])
     return {"frame_start_skew_us": [round(s * 1e6, 4) for s in skew],
             "frame_start_skew_lines": [round(s / line_s, 4) for s in skew],
             "max_abs_skew_lines": round(max((abs(s) / line_s for s in skew), default=0.0), 4),
-            "sensor_line_us": round(line_s * 1e6, 4)}
+            "sensor_line_us": round(line_s * 1e6, 4),
+            "hardware_skew_sync_clocks": [m["skew_sync_clocks"] for m in hardware],
+            "hardware_aligned": [m["aligned"] for m in hardware],
+            "hardware_skew_lines": [round(m["skew_sync_clocks"] / setup.sys_hz / line_s, 4) for m in hardware]}
 
 
 def simulate_frames(args, setup, sequence, writer):
@@ -204,7 +209,7 @@ def run_frames(args, setup, started):
                   frames_in=len(sequence), inputs=sequence.names, frames=writer.rows,
                   settled_equals_last_pair=settled_ok, image_rows_from_camera_frames=image_rows_ok)
     if "capture_events_s" in status:
-        result["skew"] = skew_figures(status["capture_events_s"], setup)
+        result["skew"] = skew_figures(status, setup)
     from stereodepth.provenance import provenance
     result["provenance"] = provenance(list(sequence.sources), dict(vars(args), setup=setup.to_spec()), started)
     files["result"] = outputs.write("result.json",
@@ -225,8 +230,10 @@ def print_summary(result, setup, ok):
     print(f"whole system, {result['frames_in']} camera frames of {g.width}x{g.height} -> {len(rows)} display "
           f"frames of {t.h_active}x{t.v_active}, on {result['simulator']}: {result['total_wall_s']:.1f} s wall time")
     if "skew" in result:
-        print(f"  frame-start skew B - A: max {result['skew']['max_abs_skew_lines']} sensor lines over "
-              f"{len(result['skew']['frame_start_skew_us'])} frames")
+        skew = result["skew"]
+        print(f"  frame-start skew B - A in simulation: max {skew['max_abs_skew_lines']} sensor lines over "
+              f"{len(skew['frame_start_skew_us'])} frames; the design's meter: "
+              f"{skew['hardware_skew_sync_clocks']} sync clocks, aligned {skew['hardware_aligned']}")
     consistent = sum(1 for r in rows if r["consistent"])
     print(f"  display frames with no mixed depth row: {consistent}/{len(rows)}")
     for r in rows:

@@ -1,6 +1,6 @@
 """Many camera frames through the whole system on Verilator (the C++ testbench): :func:`run_verilator_frames`.
 
-The one-frame route (``sim/testbench/system/run_verilator.py``) with a :class:`~sim.testbench.system.sequence.
+The one-frame route (``sim/testbench/system/run_verilator.py``) with a :class:`~sim.testbed.sequence.
 FrameSequence` in place of one pair: each camera's replayed stream is the sensor model's frame periods of the
 sequence's images one after the other (the sensor model takes a new image every frame), then FV low for the rest
 of the run (the sensors stop: a simulation choice, so the last display frame shows the last pair on buffers that no
@@ -55,6 +55,7 @@ class VerilatorFramesRun(VerilatorRun):
         self.events = {c: {"frame_start": [], "frame_done": []} for c in CAMERAS}
         self.frames_shown = 0
         self.last = {c: (0, 0) for c in CAMERAS}
+        self.skew_count, self.hardware_skew = 0, []
 
     @staticmethod
     def _recorder_pins():
@@ -86,7 +87,8 @@ class VerilatorFramesRun(VerilatorRun):
             self._note(self.last)
 
     def _status_ports(self):
-        return [("capture", f"cam_{c}", k) for c in CAMERAS for k in ("in_frame", "frame_count")]
+        return [("capture", f"cam_{c}", k) for c in CAMERAS for k in ("in_frame", "frame_count")] + \
+            [("skew", "count")]
 
     def _note(self, last):
         """Record the capture status changes since ``last`` (updated in place)."""
@@ -98,6 +100,11 @@ class VerilatorFramesRun(VerilatorRun):
             if count != last[c][1]:
                 self.events[c]["frame_done"].append(now)
             last[c] = (in_frame, count)
+        count = h[("skew", "count")]
+        if count != self.skew_count:
+            self.skew_count = count
+            self.hardware_skew.append({"t_s": now, "skew_sync_clocks": h.signed(("skew", "skew")),
+                                       "aligned": bool(h[("skew", "aligned")])})
 
     def frames(self):
         """Record display frames until the settled frame (see the module docstring)."""
@@ -158,6 +165,7 @@ class VerilatorFramesRun(VerilatorRun):
         status["violations"] = [str(v) for v in sink.violations]
         status["t_end_s"] = h.now_ps * _PS
         status["capture_events_s"] = self.events
+        status["hardware_skew"] = self.hardware_skew
         self.report("done", 1.0)
 
     def run(self):
@@ -172,7 +180,7 @@ class VerilatorFramesRun(VerilatorRun):
 
 
 def run_verilator_frames(sequence, setup, *, on_frame=None, progress=None, deadline_s=None):
-    """Simulate ``sequence`` (a :class:`~sim.testbench.system.sequence.FrameSequence`) through the whole system on
+    """Simulate ``sequence`` (a :class:`~sim.testbed.sequence.FrameSequence`) through the whole system on
     Verilator (see the module docstring); ``on_frame(DisplayFrame)`` for each display frame as it completes.
     Returns the run's status (``display_frames``, ``settled_frame``, ``capture_events_s``, the I2C outcome,
     ``violations``, ``wall_s``). Raises :class:`~sim.testbench.system.result.SystemTimeout` as the one-frame
