@@ -78,7 +78,9 @@ def test_start_delay_and_clock_offset_are_measured():
     assert abs((skews[0] - skews[1]) - 2000e-6 * period_clocks) <= 4
 
 
+@pytest.mark.slow
 def test_moving_card_frames_on_amaranth():
+    """About a minute: the Python sensor drivers run per PCLK for two camera frames and five display frames."""
     from sim.testbench.system.frames_amaranth import run_amaranth_frames
     setup = SystemSetup.small()
     sequence = moving_card(setup, 2)
