@@ -222,6 +222,9 @@ class StereoDepthSystem(wiring.Component):
         # --- I2C init: one sequencer per bus (sync) -----------------------------------------------------------
         for bus, seq in self.sequencers.items():
             m.submodules[f"init_{bus}"] = seq
+        # The cameras' tables meet at their Barrier and go on together (docs/hardware-facts.md, "in step").
+        cam_a, cam_b = self.sequencers["cam_a"], self.sequencers["cam_b"]
+        m.d.comb += [seq.release.eq(cam_a.barrier & cam_b.barrier) for seq in (cam_a, cam_b)]
 
         # Sensor / transmitter reset and power: low in reset, high from the first sync clock after it.
         out_of_reset = Signal()

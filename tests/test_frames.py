@@ -78,6 +78,43 @@ def test_start_delay_and_clock_offset_are_measured():
     assert abs((skews[0] - skews[1]) - 2000e-6 * period_clocks) <= 4
 
 
+def test_the_barrier_keeps_the_cameras_in_step_after_a_retry():
+    """Camera B's sensor NACKs one write of its table: its sequencer waits the retry delay (20 us in the small
+    preset, 11 sensor lines) and repeats it; the barrier before the start of streaming brings the two tables
+    back in step, so the frame starts stay within a line (without it, B would start a retry delay late)."""
+    setup = SystemSetup.small(i2c_faults={"cam_b": {"nack_write_byte": 2, "nack_times": 1}})
+    _, _, status = _run_verilator(setup, frames=2)
+    hardware = status["hardware_skew"]
+    assert len(hardware) == 2 and all(m["aligned"] for m in hardware), hardware
+    assert all(abs(m["skew_sync_clocks"]) <= 3 for m in hardware)
+
+
+def test_faults_mid_stream_recover_within_a_frame():
+    """Frame to frame faults in one run of five camera frames: camera A's frame 1 is cut short (FV falls mid-frame),
+    camera B drops frame 2 (FV low for a frame period), the disparity switches change from 0 to 3 after the second
+    display frame. The system recovers within one camera frame: the settled display frame (after pair 4, one good
+    frame after the last fault) is the golden frame of pair 4 at the new disparity, bit for bit, and every other
+    display frame still has whole image rows from the camera frames (at most the one row being written torn)."""
+    from sim.models.mt9d112.sensor import Faults
+    from sim.testbed.sequence import DROP
+    from sim.testbench.system.frames_verilator import run_verilator_frames
+    setup = SystemSetup.small()
+    g = setup.geometry
+    sequence = moving_card(setup, 5)
+    sequence.faults = {"a": [None, Faults(fv_drop=(g.height // 2, 5)), None, None, None],
+                       "b": [None, None, DROP, None, None]}
+    shown = []
+    status, _ = run_verilator_frames(sequence, setup, on_frame=shown.append,
+                                     switch_changes={2: [0x80 | 3, 0]})
+    assert status["violations"] == []
+    events = status["capture_events_s"]
+    assert len(events["a"]["frame_done"]) == 5 and len(events["b"]["frame_done"]) == 4
+    after = SystemSetup.small(disparity=3)
+    assert np.array_equal(shown[-1].frame, after.golden_frame(*sequence.pairs[-1]))
+    summaries = _summaries(after, sequence, shown[3:])
+    assert all(s["left_rows_mixed"] <= 1 and s["right_rows_mixed"] <= 1 for s in summaries)
+
+
 @pytest.mark.slow
 def test_moving_card_frames_on_amaranth():
     """About a minute: the Python sensor drivers run per PCLK for two camera frames and five display frames."""

@@ -25,10 +25,12 @@ from golden.image_file import ImageFileError, image_size
 from sim import UserError
 
 __all__ = ["FrameSequence", "sequence_from_folders", "repeated_pair", "moving_card", "IMAGE_SUFFIXES",
-           "CARD_RANGE_M"]
+           "CARD_RANGE_M", "DROP"]
 
 #: The file names a sequence folder's images may have.
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".ppm", ".pgm", ".tif", ".tiff")
+#: A ``faults`` entry: the sensor drops that frame (its frame period has FV low; the image is never sent).
+DROP = "drop"
 #: Default (far, near) card distances in metres per preset: inside the depth engine's range at each size.
 CARD_RANGE_M = {"full": (3.0, 0.5), "small": (8.0, 4.0)}
 
@@ -38,12 +40,14 @@ class FrameSequence:
     """``pairs``: ``[(left, right), ...]`` RGB uint8 at the sensor's size, one per camera frame; ``truth``:
     per frame the right view's disparity in buffer pixels (NaN = unknown) or None; ``centre_m``: per frame the
     true distance at the centre of the right image or None; ``names``: per frame a label (file names, the card's
-    distance); ``sources``: the input files (for provenance)."""
+    distance); ``sources``: the input files (for provenance); ``faults``: per camera ``"a"``/``"b"`` a list with
+    one entry per frame: None, a :class:`sim.models.mt9d112.sensor.Faults` for that frame, or :data:`DROP`."""
     pairs: list
     truth: list = None
     centre_m: list = None
     names: list = None
     sources: list = field(default_factory=list)
+    faults: dict = field(default_factory=dict)
 
     def __post_init__(self):
         n = len(self.pairs)
@@ -52,9 +56,19 @@ class FrameSequence:
         self.names = self.names if self.names is not None else [f"frame {k}" for k in range(n)]
         if not n or not len(self.truth) == len(self.centre_m) == len(self.names) == n:
             raise ValueError("a sequence has at least one pair and one truth, centre distance and name per pair")
+        if any(c not in "ab" or len(f) != n for c, f in self.faults.items()):
+            raise ValueError("faults: one list per camera 'a'/'b' with an entry per frame")
 
     def __len__(self):
         return len(self.pairs)
+
+    def camera_faults(self, camera):
+        """Camera ``camera``'s entry per frame (None, Faults or :data:`DROP`)."""
+        return list(self.faults.get(camera, [None] * len(self)))
+
+    def frames_sent(self, camera):
+        """How many frames camera ``camera`` sends (those it does not drop)."""
+        return sum(1 for f in self.camera_faults(camera) if f != DROP)
 
     def images(self, camera):
         """The images of camera ``"a"`` (left) or ``"b"`` (right), in order."""

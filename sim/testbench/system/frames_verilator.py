@@ -42,8 +42,10 @@ class DisplayFrame:
 class VerilatorFramesRun(VerilatorRun):
     """See the module docstring. ``on_frame(DisplayFrame)`` is called for each display frame."""
 
-    def __init__(self, setup, sequence, *, on_frame=None, progress=None, deadline_s=None):
+    def __init__(self, setup, sequence, *, on_frame=None, progress=None, deadline_s=None, switch_changes=None):
         self.sequence = sequence
+        self.switch_changes = switch_changes or {}
+        self.pending_switches = []
         self.on_frame = on_frame or (lambda frame: None)
         left, right = sequence.pairs[0]
         super().__init__(setup, left, right, progress=progress, deadline_s=deadline_s)
@@ -69,11 +71,12 @@ class VerilatorFramesRun(VerilatorRun):
         tail_s = 4 * self.setup.timing.clocks_per_frame / self.setup.timing.pixel_hz
         for seed, c in enumerate(CAMERAS):
             sensor = self.setup.sensor(self.expected_config, seed=seed)
-            chunks = [sensor.frame(image) for image in self.sequence.images(c)]
+            chunks = [sensor.blank(sensor.timing.v_blank_lines + self.setup.geometry.height) if fault == "drop"
+                      else sensor.frame(image, fault)
+                      for image, fault in zip(self.sequence.images(c), self.sequence.camera_faults(c))]
             line = sensor.timing.line_time(self.setup.geometry.width)
             chunks.append(sensor.blank(max(1, round(tail_s * self.setup.pclk_hz / line))))
             words[c] = pack_stream(SensorStream.concat(chunks)).astype(np.uint16)
-            assert n == len(chunks) - 1
         return words
 
     def _until(self, what, done, watch=(), timeout_ps=None, limit_ps=None):
@@ -136,7 +139,7 @@ class VerilatorFramesRun(VerilatorRun):
             h.record(self.frame_clocks)
             h.watch(watch)
             while True:
-                stops = (self.buses.deadline_ps(), h.now_ps + 1_000_000_000)
+                stops = (self.buses.deadline_ps(), self._switch_events(), h.now_ps + 1_000_000_000)
                 reason = h.run(min(t for t in stops if t is not None))
                 self._wake()
                 if reason == RECORDED:
@@ -151,11 +154,13 @@ class VerilatorFramesRun(VerilatorRun):
                 captured = {c: sum(1 for t in self.events[c]["frame_done"] if t <= start) for c in CAMERAS}
                 self.on_frame(DisplayFrame(k, sink.frames[-1], start, captured))
                 self.frames_shown += 1
-            done = all(len(self.events[c]["frame_done"]) >= n for c in CAMERAS)
+            sent = {c: self.sequence.frames_sent(c) for c in CAMERAS}
+            done = all(len(self.events[c]["frame_done"]) >= sent[c] for c in CAMERAS)
             if done and settled_at is None:
                 # the next display frame to start is the first one with every capture finished
-                settled_at = int(np.ceil((max(self.events[c]["frame_done"][n - 1] for c in CAMERAS) - t0)
+                settled_at = int(np.ceil((max(self.events[c]["frame_done"][sent[c] - 1] for c in CAMERAS) - t0)
                                          / period_s))
+            self.switch_plan(chunk)
             if settled_at is not None and self.frames_shown > settled_at:
                 break
             if self.frames_shown == 0 and chunk > 3:
@@ -168,6 +173,20 @@ class VerilatorFramesRun(VerilatorRun):
         status["hardware_skew"] = self.hardware_skew
         self.report("done", 1.0)
 
+    def switch_plan(self, chunk):
+        """Schedule the switch words the plan gives after ``chunk`` recorded display frames (a mode change
+        mid-stream: ``switch_changes`` ``{chunk: [SW words]}``), one every 30 pixel clocks from now; they are set
+        while the next display frame is recorded (:meth:`_switch_events`)."""
+        now, step = self.h.now_ps, 30 * self.periods["pix"]
+        for i, word in enumerate(self.switch_changes.get(chunk, ())):
+            self.pending_switches.append((now + i * step, word))
+
+    def _switch_events(self):
+        """Set the scheduled switch words that are due; returns the time of the next one (or None)."""
+        while self.pending_switches and self.pending_switches[0][0] <= self.h.now_ps:
+            self.h[("panel", "sw")] = self.pending_switches.pop(0)[1]
+        return self.pending_switches[0][0] if self.pending_switches else None
+
     def run(self):
         wall0 = time.perf_counter()
         self.phase_wall = {}
@@ -179,13 +198,15 @@ class VerilatorFramesRun(VerilatorRun):
         return self.status
 
 
-def run_verilator_frames(sequence, setup, *, on_frame=None, progress=None, deadline_s=None):
+def run_verilator_frames(sequence, setup, *, on_frame=None, progress=None, deadline_s=None, switch_changes=None):
     """Simulate ``sequence`` (a :class:`~sim.testbed.sequence.FrameSequence`) through the whole system on
     Verilator (see the module docstring); ``on_frame(DisplayFrame)`` for each display frame as it completes.
     Returns the run's status (``display_frames``, ``settled_frame``, ``capture_events_s``, the I2C outcome,
     ``violations``, ``wall_s``). Raises :class:`~sim.testbench.system.result.SystemTimeout` as the one-frame
-    route does."""
-    run = VerilatorFramesRun(setup, sequence, on_frame=on_frame, progress=progress, deadline_s=deadline_s)
+    route does. ``switch_changes``: ``{display frames recorded: [SW words]}`` set mid-stream (see
+    :meth:`VerilatorFramesRun.switch_plan`); the sequence's ``faults`` shape each camera's frames."""
+    run = VerilatorFramesRun(setup, sequence, on_frame=on_frame, progress=progress, deadline_s=deadline_s,
+                             switch_changes=switch_changes)
     status = run.run()
     status["frames_in"] = len(sequence)
     return status, run

@@ -73,6 +73,7 @@ class SystemSetup:
     pclk_hz: int = CLOCKS.CAM_PCLK_HZ
     cam_phase_s: dict = field(default_factory=lambda: {"a": 0.0, "b": 3.1e-9})   # the cameras are not in phase
     cam_clock_ppm: dict = field(default_factory=dict)   # per camera: its PCLK off pclk_hz by this many ppm
+    i2c_faults: dict = field(default_factory=dict)      # per bus: fault options of its model (sim.models.i2c.target)
     lock_cycles: int = 16
     pix_after_init: bool = False       # start the pixel clock only once the I2C init is done (see below)
     sensor_timing: object = None       # sim.models.mt9d112.sensor.SensorTiming; None: SENSOR_TIMING / SMALL_SENSOR_TIMING
@@ -148,7 +149,10 @@ class SystemSetup:
     def i2c_models(self):
         """Fresh register-file models: ``{bus: [target, ...]}`` for the buses ``cam_a``, ``cam_b``, ``dvi``."""
         timing = model_timing(self.time_scale)
-        return {"cam_a": [MT9D112Model(**timing)], "cam_b": [MT9D112Model(**timing)], "dvi": [CH7301CModel()]}
+        faults = self.i2c_faults
+        return {"cam_a": [MT9D112Model(**timing, **faults.get("cam_a", {}))],
+                "cam_b": [MT9D112Model(**timing, **faults.get("cam_b", {}))],
+                "dvi": [CH7301CModel(**faults.get("dvi", {}))]}
 
     def sensor(self, model, seed):
         """The video model of one camera, configured through its I2C register-file ``model``."""
