@@ -11,7 +11,7 @@ from sim.testbench.system import cocotb_scenario
 PARAMS = test_params()
 
 
-@cocotb.test()
+@cocotb.test(skip="sequence" in PARAMS)
 async def end_to_end(dut):
     await cocotb_scenario.end_to_end(dut, PARAMS)
 
@@ -19,3 +19,9 @@ async def end_to_end(dut):
 @cocotb.test(skip="probe_us" not in PARAMS)   # only the bench (bench/bench_system.py) asks for the probe
 async def rate_probe(dut):
     await cocotb_scenario.rate_probe(dut, PARAMS)
+
+
+@cocotb.test(skip="sequence" not in PARAMS)    # the multi-frame scenario (sim/testbench/system/frames_cocotb.py)
+async def frames_end_to_end(dut):
+    from sim.testbench.system import cocotb_frames
+    await cocotb_frames.frames_end_to_end(dut, PARAMS)
