@@ -4,7 +4,8 @@ Inputs (:mod:`sim.testbed.sequence`): LEFT and RIGHT two folders of images (pair
 or two image files (the same pair every frame), or ``--scene card`` (the synthetic test bed, a textured card
 moving from ``--far`` to ``--near`` metres over the run). The two sensor models send N camera frames, one image
 each, and every display frame from the first after the I2C init to the first one that starts after both captures
-have finished frame N is rebuilt from the simulated pins.
+have finished frame N is rebuilt from the simulated pins: on Verilator (the C++ testbench; full size or small), on
+Amaranth's simulator (small) or on Icarus through cocotb (small; the frames arrive when the simulation ends).
 
 Written into ``--out`` as the run goes (so Ctrl-C leaves every finished display frame readable):
 
@@ -15,7 +16,8 @@ Written into ``--out`` as the run goes (so Ctrl-C leaves every finished display 
   mixed depth rows, consistent, equal to a pair's golden frame), the centre distance shown against the truth and,
   with a truth, bad > 1 / bad > 2 / density of the depth panel;
 
-and at the end (or on Ctrl-C, from the frames so far): ``hdmi_video.png`` (animated PNG of the display frames,
+and at the end (on Ctrl-C from the frames so far, under their partial names: ``frames.partial.csv``, ...):
+``hdmi_video.png`` (animated PNG of the display frames,
 lossless), ``depth_video.gif`` (the depth panels), ``result.json`` (the run's status, the per-frame table under
 ``frames``, the frame-start skew between the cameras, provenance).
 
@@ -115,21 +117,22 @@ class FrameWriter:
         self.depth.append(self.out / "frames" / f"depth_{name}.png")
         self.last_frame = frame
 
-    def finish(self, outputs):
-        """Close the table and write the animations; returns ``{what: path}``."""
+    def finish(self, outputs, complete=True):
+        """Close the table and write the animations; returns ``{what: path}``. An interrupted run's (not
+        ``complete``) stay under their partial names: readable, and not taken for a whole run's."""
         from PIL import Image
         self.csv_file.close()
-        files = {"per-frame table": outputs.commit("frames.csv")}
+        files = {"per-frame table": outputs.commit("frames.csv") if complete else outputs.partial("frames.csv")}
         if not self.hdmi:
             return files
         duration = max(20, round(1000 / 15))      # ms a frame: about the cameras' rate
 
-        def animation(paths, name, **kw):
+        def animation(paths, name):
             images = [Image.open(p) for p in paths]
-            outputs.write(name, lambda p: images[0].save(p, format="PNG" if name.endswith(".png") else "GIF",
-                                                         save_all=True, append_images=images[1:],
-                                                         duration=duration, loop=0, **kw))
-            return outputs.dir / name
+            path = outputs.partial(name)
+            images[0].save(path, format="PNG" if name.endswith(".png") else "GIF", save_all=True,
+                           append_images=images[1:], duration=duration, loop=0)
+            return outputs.commit(name) if complete else path
         files["display frames from the pins, animated PNG"] = animation(self.hdmi, "hdmi_video.png")
         files["depth panels, animated GIF"] = animation(self.depth, "depth_video.gif")
         files["display frames, one PNG each"] = self.out / "frames" / "hdmi_NNN.png"
@@ -171,9 +174,14 @@ def simulate_frames(args, setup, sequence, writer):
                 raise UserError("multi-frame runs on the Amaranth simulator are small only: add --small")
             from sim.testbench.system.frames_amaranth import run_amaranth_frames
             status = run_amaranth_frames(sequence, setup, on_frame=writer, progress=progress)
-        else:
-            raise UserError(f"multi-frame runs are on verilator or amaranth, not {args.simulator}")
-    except (SystemTimeout, RuntimeError, OSError) as exc:
+        else:                           # icarus: the cocotb scenario, small only (Python drivers per PCLK)
+            if setup.preset != "small":
+                raise UserError("multi-frame runs on icarus are small only: add --small")
+            from sim.testbench.system.frames_cocotb import run_cocotb_frames
+            status, shown = run_cocotb_frames(sequence, setup, args.simulator, Path(args.out) / ".icarus")
+            for frame in shown:
+                writer(frame)
+    except (SystemTimeout, RuntimeError, OSError, AssertionError) as exc:
         raise SimulationFailed(str(exc).splitlines()[0]) from None
     finally:
         bar.close()
@@ -200,7 +208,7 @@ def run_frames(args, setup, started):
         print(f"stereodepth run: simulation failed: {exc}", file=sys.stderr)
         status = {"failed": str(exc)}
     wall = time.perf_counter() - wall
-    files = writer.finish(outputs)
+    files = writer.finish(outputs, complete=not interrupted)
     last = writer.rows[-1] if writer.rows else None
     # a capture writing a row while the display shows it: at most that one row of each image panel is mixed
     image_rows_ok = all(r["left_rows_mixed"] <= 1 and r["right_rows_mixed"] <= 1 for r in writer.rows)
@@ -212,8 +220,8 @@ def run_frames(args, setup, started):
         result["skew"] = skew_figures(status, setup)
     from stereodepth.provenance import provenance
     result["provenance"] = provenance(list(sequence.sources), dict(vars(args), setup=setup.to_spec()), started)
-    files["result"] = outputs.write("result.json",
-                                    lambda p: p.write_text(json.dumps(result, indent=1, default=str) + "\n"))
+    outputs.partial("result.json").write_text(json.dumps(result, indent=1, default=str) + "\n")
+    files["result"] = outputs.partial("result.json") if interrupted else outputs.commit("result.json")
     ok = settled_ok and image_rows_ok and not status.get("violations") and "failed" not in status
     print_summary(result, setup, ok)
     print("wrote:")

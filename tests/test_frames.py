@@ -180,3 +180,36 @@ def test_scene_needs_no_images_and_frames(tmp_path, capsys):
     assert "--scene card needs --frames N" in capsys.readouterr().err
     assert main(["run", "a.png", "b.png", "--small", "--scene", "card", "--frames", "2", "--out", str(tmp_path)]) == 2
     assert "give no LEFT/RIGHT" in capsys.readouterr().err
+
+
+def test_ctrl_c_keeps_the_finished_frames(tmp_path):
+    """SIGINT in the middle of a multi-frame run: exit 130, every display frame finished so far readable under its
+    own name, the table, the animations and result.json of those frames under their partial names."""
+    import json
+    import signal
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+    from PIL import Image
+    out = tmp_path / "out"
+    run = subprocess.Popen([sys.executable, "-m", "stereodepth", "run", "--small", "--scene", "card", "--frames",
+                            "60", "--out", str(out)], cwd=Path(__file__).resolve().parents[1],
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                           preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    deadline = time.monotonic() + 300
+    while not (out / "frames" / "hdmi_003.png").exists():
+        assert run.poll() is None and time.monotonic() < deadline, run.communicate()
+        time.sleep(0.05)
+    run.send_signal(signal.SIGINT)
+    _, stderr = run.communicate(timeout=120)
+    assert run.returncode == 130 and "Traceback" not in stderr, stderr
+    frames = sorted((out / "frames").glob("hdmi_*.png"))
+    assert len(frames) >= 4 and not list((out / "frames").glob("*.partial.*"))
+    for path in frames:
+        assert Image.open(path).size == (112, 52)
+    result = json.loads((out / "result.partial.json").read_text())
+    assert result["interrupted"] and len(result["frames"]) == len(frames)
+    assert (out / "frames.partial.csv").read_text().count("\n") == len(frames) + 1
+    assert Image.open(out / "hdmi_video.partial.png").n_frames == len(frames)
+    assert not (out / "result.json").exists() and not (out / "hdmi_video.png").exists()
