@@ -36,7 +36,8 @@ Status LEDs (``panel.leds``): 0 camera A bus init done, 1 camera A bus error, 2 
 bus error, 4 CH7301C init done, 5 CH7301C: steady on = I2C error (bring-up stopped), blinking with LED 6 = its
 version or device ID byte (0x4A / 0x4B) read another value than the table's (``init.dvi.mismatch``, bring-up
 went on), 6 display heartbeat (toggles every ``2**heartbeat_log2`` display frames: 32 frames = 0.53 s at
-60 Hz), 7 camera A heartbeat (toggles every ``2**cam_heartbeat_log2`` captured frames, about 0.5 s at 15 fps).
+60 Hz), 7 camera A heartbeat (toggles every ``2**cam_heartbeat_log2`` captured frames, about 0.5 s at 15 fps),
+steady on while the last frame-start skew measurement was more than one sensor line (``skew.aligned`` low).
 
 Sensor and transmitter control pins (``control``, ``sync``): ``cam_rst_n`` and ``dvi_reset_n`` are low while
 ``sync`` is in reset (so until the clocks are locked) and high from the first clock after; ``cam_vdden``
@@ -266,6 +267,7 @@ class StereoDepthSystem(wiring.Component):
             self.panel.leds[4].eq(init.dvi.done),
             self.panel.leds[5].eq(init.dvi.error | (init.dvi.mismatch & frames[-1])),
             self.panel.leds[6].eq(frames[-1]),
-            self.panel.leds[7].eq(self.capture.cam_a.frame_count[self.cam_heartbeat_log2]),
+            self.panel.leds[7].eq(self.capture.cam_a.frame_count[self.cam_heartbeat_log2]
+                                  | (self.skew.valid & ~self.skew.aligned)),
         ]
         return m

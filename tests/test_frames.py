@@ -63,6 +63,7 @@ def test_the_design_measures_the_skew_the_simulation_shows(card_run):
     for k, measured in enumerate(hardware):
         simulated = (events["b"]["frame_start"][k] - events["a"]["frame_start"][k]) * setup.sys_hz
         assert abs(measured["skew_sync_clocks"] - simulated) <= 3 and measured["aligned"]
+    assert not status["leds"] >> 7          # LD7: the heartbeat (off after 3 frames), not the misalignment
 
 
 def test_start_delay_and_clock_offset_are_measured():
@@ -76,6 +77,7 @@ def test_start_delay_and_clock_offset_are_measured():
     assert abs(skews[0] - 1200) < 60                              # 12 us, less the drift up to the first start
     period_clocks = (events["a"]["frame_start"][1] - events["a"]["frame_start"][0]) * setup.sys_hz
     assert abs((skews[0] - skews[1]) - 2000e-6 * period_clocks) <= 4
+    assert status["leds"] >> 7 == 1          # LD7 steady on: the frame starts are more than a line apart
 
 
 def test_the_barrier_keeps_the_cameras_in_step_after_a_retry():

@@ -171,6 +171,7 @@ class VerilatorFramesRun(VerilatorRun):
         status["t_end_s"] = h.now_ps * _PS
         status["capture_events_s"] = self.events
         status["hardware_skew"] = self.hardware_skew
+        status["leds"] = h[("panel", "leds")]
         self.report("done", 1.0)
 
     def switch_plan(self, chunk):
