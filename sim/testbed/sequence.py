@@ -139,8 +139,7 @@ def card_distances(frames, far_m, near_m):
 def moving_card(setup, frames, far_m=None, near_m=None):
     """The synthetic test bed with the card moving from ``far_m`` to ``near_m`` over ``frames`` camera frames (see
     the module docstring; defaults :data:`CARD_RANGE_M`)."""
-    from sim.analysis.truth import scene_truth
-    from sim.testbed.scene import rectangle, render_pair, small_rectangle
+    from sim.testbed.scene import object_footprint, rectangle, render_pair, small_rectangle
     default_far, default_near = CARD_RANGE_M[setup.preset]
     far_m = default_far if far_m is None else far_m
     near_m = default_near if near_m is None else near_m
@@ -152,7 +151,9 @@ def moving_card(setup, frames, far_m=None, near_m=None):
         card = make(z, centre_x_m=rig.baseline_m / 2, finish="textured",
                     texel_m=0.01 if setup.preset == "full" else 0.004)
         pairs.append(render_pair(card, rig))
-        t = scene_truth(card, rig, g, side="right")
+        # the card's disparity where the right camera's kept pixels see it (the background has no distance)
+        t = np.full((g.buf_height, g.buf_width), np.nan)
+        t[object_footprint(card, rig, side="right", scale=g.scale)] = rig.disparity_px(z) / g.scale
         truth.append(t)
         centre.append(z if np.isfinite(t[g.buf_height // 2, g.buf_width // 2]) else None)
         names.append(f"card at {z:.3f} m")
