@@ -29,7 +29,7 @@ def run_cocotb_frames(sequence, setup, simulator, out_dir):
     route = PythonModels()
     params = {"setup": setup.to_spec(), "route": route.spec(), "sequence": str(out_dir / "sequence.npz"),
               "out_dir": str(out_dir)}
-    run_scenario(route, setup, simulator, params, testcase="frames_end_to_end")
+    run_scenario(route, setup, simulator, params, testcase="multi_frame")
     status = json.loads((out_dir / "result.json").read_text())
     with np.load(out_dir / "frames.npz") as npz:
         frames, starts = npz["frames"], npz["t_start_s"]

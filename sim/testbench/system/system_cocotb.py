@@ -11,7 +11,7 @@ from sim.testbench.system import cocotb_scenario
 PARAMS = test_params()
 
 
-@cocotb.test(skip="sequence" in PARAMS)
+@cocotb.test()
 async def end_to_end(dut):
     await cocotb_scenario.end_to_end(dut, PARAMS)
 
@@ -22,6 +22,6 @@ async def rate_probe(dut):
 
 
 @cocotb.test(skip="sequence" not in PARAMS)    # the multi-frame scenario (sim/testbench/system/frames_cocotb.py)
-async def frames_end_to_end(dut):
+async def multi_frame(dut):
     from sim.testbench.system import cocotb_frames
     await cocotb_frames.frames_end_to_end(dut, PARAMS)
