@@ -10,6 +10,8 @@ ROM (synchronous read), one word per entry. Out of reset the sequencer runs the 
   ``interval_us`` apart. A one-attempt poll is an ID check that stops the table on a mismatch.
 * ``Check``: one read as for a poll; ``data & mask != value`` sets the sticky ``mismatch`` status and the table
   goes on (identification bytes that are shown, not enforced).
+* ``Barrier``: ``barrier`` is high while the sequencer holds there; it goes on at the clock ``release`` is high
+  (the parent releases the sequencers that share the barrier together once all of them hold).
 
 Faults: a NACK (address or data byte) or a lost arbitration ends the transaction with a STOP; the sequencer
 waits ``retry_delay_us`` and repeats the whole transaction, at most ``retries`` more times, then stops with
@@ -30,11 +32,11 @@ about 0.46 ms per MT9D112 write and 0.30 ms per CH7301C write at 100 kHz.
 from amaranth import Module, Mux, Signal, unsigned
 from amaranth.lib import data, enum, wiring
 from amaranth.lib.memory import Memory
-from amaranth.lib.wiring import Out
+from amaranth.lib.wiring import In, Out
 
 from hdl.forward import forward
 from hdl.i2c_master import Cmd, I2CMaster, I2CSignature
-from hdl.init_tables import Check, InitTable, Wait, Write
+from hdl.init_tables import Barrier, Check, InitTable, Wait, Write
 from spec.board import CLOCKS
 from hdl.signature import ParametricSignature
 
@@ -85,6 +87,9 @@ class InitSequencer(wiring.Component):
     i2c : ``Out(I2CSignature)``
         The master's pins.
     status : ``Out(InitStatusSignature(len(table)))``
+    barrier : ``Out(1)``, release : ``In(1)``
+        Held at a ``Barrier`` entry; released (see the module docstring). ``release`` is high unless driven: a
+        sequencer that shares its barrier with none goes straight through it.
 
     Raises
     ------
@@ -106,7 +111,8 @@ class InitSequencer(wiring.Component):
         self.retries = retries
         self.retry_delay = max(1, _us_to_cycles(retry_delay_us, clk_hz))
         self.master = I2CMaster(clk_hz=clk_hz, bus_hz=bus_hz, timeout_us=timeout_us)
-        super().__init__({"i2c": Out(I2CSignature), "status": Out(InitStatusSignature(len(table)))})
+        super().__init__({"i2c": Out(I2CSignature), "status": Out(InitStatusSignature(len(table))),
+                          "barrier": Out(1), "release": In(1, init=1)})
         forward(self, "i2c", self.master.i2c)
 
     def _rom(self):
@@ -119,6 +125,8 @@ class InitSequencer(wiring.Component):
             elif isinstance(e, Wait):
                 words.append(dict(op=_OP_WAIT, reg=0, value=0, mask=0,
                                   count=_us_to_cycles(e.us, self.clk_hz), attempts=0))
+            elif isinstance(e, Barrier):         # a wait that ends on release: marked by attempts = 1
+                words.append(dict(op=_OP_WAIT, reg=0, value=0, mask=0, count=0, attempts=1))
             elif isinstance(e, Check):
                 words.append(dict(op=_OP_CHECK, reg=e.reg, value=e.value & ((1 << db) - 1),
                                   mask=e.mask & ((1 << db) - 1), count=0, attempts=1))
@@ -220,9 +228,14 @@ class _States:
             with m.Else():
                 m.next = "ISSUE"
         with m.State("WAIT"):
-            m.d.sync += timer.eq(timer + 1)
-            with m.If(timer + 1 >= e.count):
-                self.finish_entry()
+            with m.If(e.attempts != 0):                # a Barrier
+                m.d.comb += self.seq.barrier.eq(1)
+                with m.If(self.seq.release):
+                    self.finish_entry()
+            with m.Else():
+                m.d.sync += timer.eq(timer + 1)
+                with m.If(timer + 1 >= e.count):
+                    self.finish_entry()
 
     def transaction(self):
         """Issue the steps of a write or a poll read one by one; a NACK, a lost arbitration or a stuck bus ends it."""

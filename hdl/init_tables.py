@@ -103,9 +103,16 @@ class Check:
 
 
 @dataclass(frozen=True)
+class Barrier:
+    """Hold until every sequencer that shares the barrier has reached it; they all go on at the same clock (the
+    two cameras' tables: the start of streaming written to both sensors at the same instant)."""
+    comment: str = ""
+
+
+@dataclass(frozen=True)
 class InitTable:
-    """An ordered list of :class:`Write` / :class:`Wait` / :class:`Poll` / :class:`Check` entries for one
-    device."""
+    """An ordered list of :class:`Write` / :class:`Wait` / :class:`Poll` / :class:`Check` / :class:`Barrier`
+    entries for one device."""
     device: I2CDeviceSpec
     entries: tuple = field(default_factory=tuple)
 
@@ -129,8 +136,8 @@ class InitTable:
             elif isinstance(e, Wait):
                 if e.us < 0:
                     raise ValueError(f"{where}: negative wait")
-            elif not isinstance(e, (Write, Check)):
-                raise TypeError(f"{where}: {e!r} is not a Write, Wait, Poll or Check")
+            elif not isinstance(e, (Write, Check, Barrier)):
+                raise TypeError(f"{where}: {e!r} is not a Write, Wait, Poll, Check or Barrier")
 
     def __len__(self):
         return len(self.entries)
@@ -188,6 +195,7 @@ MT9D112_TABLE = InitTable(MT9D112, (
     Wait(1000, "before polling: give the MCU time to take the command"),
     Poll(_VAR_DATA, 0x0000, attempts=1000, interval_us=1000,
          comment="sequencer command variable reads 0 once the command is done (<= 1 s)"),
+    Barrier("both cameras' tables meet here: the start of streaming goes to both sensors at the same clock"),
     Write(0x301A, 0x02CC, "reset/output control: parallel interface on, drive pins, start streaming"),
 ))
 

@@ -36,12 +36,18 @@ Status LEDs (``panel.leds``): 0 camera A bus init done, 1 camera A bus error, 2 
 bus error, 4 CH7301C init done, 5 CH7301C: steady on = I2C error (bring-up stopped), blinking with LED 6 = its
 version or device ID byte (0x4A / 0x4B) read another value than the table's (``init.dvi.mismatch``, bring-up
 went on), 6 display heartbeat (toggles every ``2**heartbeat_log2`` display frames: 32 frames = 0.53 s at
-60 Hz), 7 camera A heartbeat (toggles every ``2**cam_heartbeat_log2`` captured frames, about 0.5 s at 15 fps).
+60 Hz), 7 camera A heartbeat (toggles every ``2**cam_heartbeat_log2`` captured frames, about 0.5 s at 15 fps),
+steady on while the last frame-start skew measurement was more than one sensor line (``skew.aligned`` low).
 
 Sensor and transmitter control pins (``control``, ``sync``): ``cam_rst_n`` and ``dvi_reset_n`` are low while
 ``sync`` is in reset (so until the clocks are locked) and high from the first clock after; ``cam_vdden``
 (VmodCAM supply enable) is high once out of reset; ``cam_pwdn`` is low. The MT9D112 table starts with a wait
 longer than the sensor's 7000-MCLK boot time, so the first I2C access follows the reset release correctly.
+
+Frame-start skew (``skew``, ``sync``): :class:`~hdl.frame_skew.FrameSkewMeter` measures camera B's frame start
+minus camera A's in ``sync`` clocks at every frame; ``skew.aligned`` is the goal of at most one sensor line
+(``skew_line_clocks``: by default a line of ``2 * width + 256`` PCLKs at ``CLOCKS.CAM_PCLK_HZ``, the sensor model's
+horizontal blanking; the real sensor's is not known, docs/hardware-facts.md).
 
 Latency: from a raster position of the sync generator to the CH7301C pins, :data:`DISPLAY_LATENCY` pixel clocks
 (compositor 6 + output 1). The display runs from reset; each frame buffer shows whatever its camera last wrote
@@ -58,6 +64,7 @@ from hdl.capture_path import CapturePath
 from hdl.ch7301c_output import CH7301COutput, CH7301CSignature
 from hdl.stereo_display import LATENCY as COMPOSITOR_LATENCY, StereoDisplay
 from hdl.forward import forward
+from hdl.frame_skew import FrameSkewMeter, FrameSkewSignature
 from hdl.i2c_init import InitSequencer, InitStatusSignature
 from hdl.i2c_master import I2CSignature
 from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE
@@ -133,6 +140,8 @@ class StereoDepthSystem(wiring.Component):
         The compositor's stream (``pix``): what the output stage takes.
     ch7301c : ``Out(CH7301CSignature)``
         The CH7301C pins (``pix``), with ``ddr="behavioural"`` only.
+    skew : ``Out(FrameSkewSignature)``
+        The cameras' frame-start skew (see above).
     frame_start : ``Out(1)``
         The sync generator's strobe (``pix``), :data:`DISPLAY_LATENCY` clocks before pixel (0, 0) reaches the pins.
     settings : ``Out(SettingsSignature)``
@@ -149,7 +158,7 @@ class StereoDepthSystem(wiring.Component):
     def __init__(self, geometry=SENSOR, timing=CEA_1080P60, layout=None, *, thresholds=DIFF_THRESHOLDS,
                  level_grey=DIFF_LEVEL_GREY, depth=DEPTH, cam_table=MT9D112_TABLE, dvi_table=CH7301C_TABLE,
                  clk_hz=CLOCKS.SYS_HZ, i2c_hz=CLOCKS.I2C_HZ, i2c_retry_delay_us=1000, r_byte_first=True,
-                 ddr="behavioural", heartbeat_log2=5, cam_heartbeat_log2=3):
+                 ddr="behavioural", heartbeat_log2=5, cam_heartbeat_log2=3, skew_line_clocks=None):
         if ddr not in ("behavioural", None):
             raise ValueError(f"ddr must be 'behavioural' or None (board: pins built by board.top), not {ddr!r}")
         self.geometry = geometry
@@ -163,6 +172,10 @@ class StereoDepthSystem(wiring.Component):
         self.sync_gen = SyncGenerator(timing)
         self.switches = SwitchControl(domain="pix")
         self.output = CH7301COutput(timing, ddr=ddr) if ddr is not None else None
+        line = skew_line_clocks or -(-(2 * geometry.width + 256) * clk_hz // CLOCKS.CAM_PCLK_HZ)
+        self.skew_meter = FrameSkewMeter(
+            line_clocks=line, max_clocks=max(line, line * (geometry.height + 8) // 2),
+            cam_domains=tuple(f"cam_{c}" for c in CAMERAS))
         tables = {"cam_a": cam_table, "cam_b": cam_table, "dvi": dvi_table}
         self.sequencers = {
             bus: InitSequencer(table, clk_hz=clk_hz, bus_hz=i2c_hz, retry_delay_us=i2c_retry_delay_us)
@@ -182,6 +195,7 @@ class StereoDepthSystem(wiring.Component):
             "video": Out(VideoSignature),
             "frame_start": Out(1),
             "settings": Out(SettingsSignature),
+            "skew": Out(FrameSkewSignature(self.skew_meter.bits)),
         }
         if self.output is not None:
             members["ch7301c"] = Out(CH7301CSignature)
@@ -199,6 +213,7 @@ class StereoDepthSystem(wiring.Component):
         forward(self, "video", self.display.video)
         forward(self, "frame_start", self.sync_gen.frame_start)
         forward(self, "settings", self.switches.settings)
+        forward(self, "skew", self.skew_meter.status)
         if self.output is not None:
             forward(self, "ch7301c", self.output.pins)
 
@@ -208,6 +223,9 @@ class StereoDepthSystem(wiring.Component):
         # --- I2C init: one sequencer per bus (sync) -----------------------------------------------------------
         for bus, seq in self.sequencers.items():
             m.submodules[f"init_{bus}"] = seq
+        # The cameras' tables meet at their Barrier and go on together (docs/hardware-facts.md, "in step").
+        cam_a, cam_b = self.sequencers["cam_a"], self.sequencers["cam_b"]
+        m.d.comb += [seq.release.eq(cam_a.barrier & cam_b.barrier) for seq in (cam_a, cam_b)]
 
         # Sensor / transmitter reset and power: low in reset, high from the first sync clock after it.
         out_of_reset = Signal()
@@ -220,6 +238,9 @@ class StereoDepthSystem(wiring.Component):
 
         # --- cameras: capture + frame buffers (cam_a / cam_b write, pix read) ----------------------------------
         m.submodules.capture = capture = self.capture_path
+        m.submodules.skew_meter = meter = self.skew_meter
+        m.d.comb += [meter.start_a.eq(capture.cam_a.status.frame_start),
+                     meter.start_b.eq(capture.cam_b.status.frame_start)]
 
         # --- display (pix) -------------------------------------------------------------------------------------
         pix = DomainRenamer("pix")
@@ -246,6 +267,7 @@ class StereoDepthSystem(wiring.Component):
             self.panel.leds[4].eq(init.dvi.done),
             self.panel.leds[5].eq(init.dvi.error | (init.dvi.mismatch & frames[-1])),
             self.panel.leds[6].eq(frames[-1]),
-            self.panel.leds[7].eq(self.capture.cam_a.frame_count[self.cam_heartbeat_log2]),
+            self.panel.leds[7].eq(self.capture.cam_a.frame_count[self.cam_heartbeat_log2]
+                                  | (self.skew.valid & ~self.skew.aligned)),
         ]
         return m

@@ -42,8 +42,19 @@ OUTPUTS = ("hdmi_frame.png", "golden_frame.png", "difference.png", "depth_map.pn
 
 
 def add_arguments(parser):
-    parser.add_argument("left", metavar="LEFT", help="left image file (camera A)")
-    parser.add_argument("right", metavar="RIGHT", help="right image file (camera B), same size as LEFT")
+    parser.add_argument("left", metavar="LEFT", nargs="?",
+                        help="left image file (camera A); with --frames also a folder of images")
+    parser.add_argument("right", metavar="RIGHT", nargs="?",
+                        help="right image file (camera B), same size as LEFT; with --frames also a folder")
+    parser.add_argument("--frames", type=int, default=None, metavar="N",
+                        help="N camera frames of a moving scene (LEFT/RIGHT folders, or one pair repeated, or "
+                             "--scene card) and every display frame they overlap: stereodepth/run_frames.py")
+    parser.add_argument("--scene", choices=("card",), default=None,
+                        help="with --frames: the synthetic test bed, a textured card moving from --far to --near")
+    parser.add_argument("--far", type=float, default=None, metavar="M",
+                        help="--scene card: first distance in metres (3 m; 8 m with --small)")
+    parser.add_argument("--near", type=float, default=None, metavar="M",
+                        help="--scene card: last distance in metres (0.5 m; 4 m with --small)")
     parser.add_argument("--disparity", default="0", metavar="D",
                         help="disparity switch value 0..127 (SW7 = 1, SW6..SW0 = D); default 0")
     parser.add_argument("--rectification", default="0", metavar="R",
@@ -226,6 +237,15 @@ def run(args):
     disparity = switch_value("disparity", args.disparity)
     rectification = switch_value("rectification", args.rectification)
     setup = make_setup(args.small, disparity, rectification)
+    if args.frames is not None or args.scene is not None:
+        if args.vcd or args.ground_truth is not None:
+            raise UserError("--vcd and --ground-truth are for one frame; with --frames, --scene card has a truth")
+        from .run_frames import run_frames
+        if args.frames is None:
+            raise UserError("--scene card needs --frames N")
+        return run_frames(args, setup, started)
+    if args.left is None or args.right is None:
+        raise UserError("give LEFT and RIGHT image files (or --frames N with folders or --scene card)")
     if args.vcd and (args.simulator != "amaranth" or not args.small):
         raise UserError("--vcd is written by the Amaranth route at the small size: use --simulator amaranth --small")
     out = prepare_out_dir(args.out)                             # writable, before any work

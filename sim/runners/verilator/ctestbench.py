@@ -99,6 +99,15 @@ class CTestbench:
             index = self._index[name] = self.ports[flat]
         return index
 
+    def width(self, name):
+        """The width in bits of a port."""
+        return self._lib.tb_port_width(self._h, self.port(name))
+
+    def signed(self, name):
+        """A port's value read as a two's-complement signed number."""
+        value, bits = self[name], self.width(name)
+        return value - (1 << bits) if value >> (bits - 1) else value
+
     def __getitem__(self, name):
         return self._lib.tb_get(self._h, self.port(name))
 

@@ -88,7 +88,8 @@ class PythonSensors(AmaranthRoute):
             await run.until_configured(ctx, model)
             run.samples[c] = await drive_amaranth(
                 ctx, sensor.frames([run.images[c]] * 1_000_000, tail=False, max_idle=10),
-                clk=run.domains[f"cam_{c}"].clk, pins=getattr(run.top, f"cam_{c}"), pclk_hz=run.setup.pclk_hz,
+                clk=run.domains[f"cam_{c}"].clk, pins=getattr(run.top, f"cam_{c}"),
+                pclk_hz=run.setup.camera_pclk_hz(c),
                 start_delay=run.setup.cam_phase_s.get(c, 0.0))
         return testbench
 

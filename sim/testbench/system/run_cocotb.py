@@ -53,7 +53,7 @@ def run_cocotb_system(setup, simulator, *, route=None, left=None, right=None, ou
               "progress_file": str(progress_file.resolve())}
 
     def run():
-        return _run(route, setup, simulator, params, waves=waves, testcase="end_to_end")
+        return run_scenario(route, setup, simulator, params, waves=waves, testcase="end_to_end")
 
     test_dir = run() if progress is None else _with_progress(run, progress_file, progress)
     return _result(out_dir, test_dir)
@@ -66,11 +66,12 @@ def run_rate_probe(setup, simulator, probe_us, out_dir):
     out_dir = Path(out_dir)
     params = {"setup": setup.to_spec(), "route": route.spec(), "out_dir": str(out_dir.resolve()),
               "probe_us": probe_us}
-    _run(route, setup, simulator, params, testcase="rate_probe")
+    run_scenario(route, setup, simulator, params, testcase="rate_probe")
     return json.loads((out_dir / "probe.json").read_text())
 
 
-def _run(route, setup, simulator, params, *, waves=None, testcase=None):
+def run_scenario(route, setup, simulator, params, *, waves=None, testcase=None):
+    """Export ``route``'s design of ``setup`` and run ``testcase`` of the system cocotb module with ``params``."""
     return run_cocotb(_design_verilog(route, setup), name=f"system_{route.name}", test_module="sim.testbench.system.system_cocotb",
                       simulator=simulator, params=params, waves=waves, testcase=testcase,
                       build_args=route.build_args(simulator), extra_sources=route.extra_sources(),

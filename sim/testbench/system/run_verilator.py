@@ -96,10 +96,9 @@ class VerilatorRun:
         self.images = {"a": setup.fit(left), "b": setup.fit(right)}
         self.build = build(setup)
         self.expected_config = expected_sensor_config(setup.geometry)
-        self.words = {c: pack_stream(setup.sensor(self.expected_config, seed=seed).frame(self.images[c]))
-                      .astype(np.uint16) for seed, c in enumerate(CAMERAS)}
+        self.words = self.streams()
         self.periods = {"sync": period_ps(setup.sys_hz), "pix": period_ps(setup.timing.pixel_hz, 4),
-                        "cam_a": period_ps(setup.pclk_hz), "cam_b": period_ps(setup.pclk_hz)}
+                        **{f"cam_{c}": period_ps(setup.camera_pclk_hz(c)) for c in CAMERAS}}
         self.clocks = setup.timing.clocks_per_frame + DISPLAY_LATENCY + 2
         self.deadline_ps = round((deadline_s or setup.deadline_s()) / _PS)
         self.report = progress or (lambda stage, fraction: None)
@@ -117,6 +116,11 @@ class VerilatorRun:
         for i, c in enumerate(CAMERAS):
             self.h.bind_camera(i, camera_pins(c), self.words[c], self.seen[c])
         self.h.bind_recorder(CH7301C_PINS, self.recording)
+
+    def streams(self):
+        """Each camera's replayed words (uint16 ``{fv, lv, d}``): one frame period of its image, repeated."""
+        return {c: pack_stream(self.setup.sensor(self.expected_config, seed=seed).frame(self.images[c]))
+                .astype(np.uint16) for seed, c in enumerate(CAMERAS)}
 
     # --- waiting without polling ------------------------------------------------------------------------------
 

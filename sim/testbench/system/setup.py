@@ -72,6 +72,8 @@ class SystemSetup:
     sys_hz: int = CLOCKS.SYS_HZ
     pclk_hz: int = CLOCKS.CAM_PCLK_HZ
     cam_phase_s: dict = field(default_factory=lambda: {"a": 0.0, "b": 3.1e-9})   # the cameras are not in phase
+    cam_clock_ppm: dict = field(default_factory=dict)   # per camera: its PCLK off pclk_hz by this many ppm
+    i2c_faults: dict = field(default_factory=dict)      # per bus: fault options of its model (sim.models.i2c.target)
     lock_cycles: int = 16
     pix_after_init: bool = False       # start the pixel clock only once the I2C init is done (see below)
     sensor_timing: object = None       # sim.models.mt9d112.sensor.SensorTiming; None: SENSOR_TIMING / SMALL_SENSOR_TIMING
@@ -147,11 +149,19 @@ class SystemSetup:
     def i2c_models(self):
         """Fresh register-file models: ``{bus: [target, ...]}`` for the buses ``cam_a``, ``cam_b``, ``dvi``."""
         timing = model_timing(self.time_scale)
-        return {"cam_a": [MT9D112Model(**timing)], "cam_b": [MT9D112Model(**timing)], "dvi": [CH7301CModel()]}
+        faults = self.i2c_faults
+        return {"cam_a": [MT9D112Model(**timing, **faults.get("cam_a", {}))],
+                "cam_b": [MT9D112Model(**timing, **faults.get("cam_b", {}))],
+                "dvi": [CH7301CModel(**faults.get("dvi", {}))]}
 
     def sensor(self, model, seed):
         """The video model of one camera, configured through its I2C register-file ``model``."""
         return MT9D112(model, timing=self.sensor_timing or SENSOR_TIMING, pclk_hz=self.pclk_hz, seed=seed)
+
+    def camera_pclk_hz(self, camera):
+        """Camera ``camera``'s (``"a"``/``"b"``) PCLK: ``pclk_hz`` off by its ``cam_clock_ppm`` (a sensor on an
+        oscillator of its own; with the board's common MCLK both are exactly ``pclk_hz``)."""
+        return self.pclk_hz * (1 + self.cam_clock_ppm.get(camera, 0.0) * 1e-6)
 
     def switch_words(self):
         """The SW7..SW0 values to set in turn: disparity (SW7 = 1), then rectification (SW7 = 0)."""

@@ -19,3 +19,9 @@ async def end_to_end(dut):
 @cocotb.test(skip="probe_us" not in PARAMS)   # only the bench (bench/bench_system.py) asks for the probe
 async def rate_probe(dut):
     await cocotb_scenario.rate_probe(dut, PARAMS)
+
+
+@cocotb.test(skip="sequence" not in PARAMS)    # the multi-frame scenario (sim/testbench/system/frames_cocotb.py)
+async def multi_frame(dut):
+    from sim.testbench.system import cocotb_frames
+    await cocotb_frames.frames_end_to_end(dut, PARAMS)

@@ -21,7 +21,7 @@ The sensor models must then be given matching timing (``MT9D112Model(boot_s=...,
 
 from dataclasses import replace
 
-from hdl.init_tables import MT9D112_TABLE, InitTable, Poll, Wait, Write
+from hdl.init_tables import MT9D112_TABLE, Barrier, InitTable, Poll, Wait, Write
 from spec.board import CLOCKS
 
 __all__ = ["mt9d112_table", "model_timing", "SIZE_VARIABLES", "QUICK_VARIABLES"]
@@ -66,6 +66,8 @@ def mt9d112_table(geometry, *, time_scale=1.0, quick=False, base=MT9D112_TABLE):
             waits_seen += 1
             keep = waits_seen == 1 or entries_after_command(entries)
             e = replace(e, us=_scaled(e.us, time_scale))
+        elif isinstance(e, Barrier):
+            keep = True
         elif isinstance(e, Poll):
             keep = e.reg in _QUICK_REGISTERS or e.reg == _VAR_DATA
             if e.interval_us:

@@ -1,0 +1,233 @@
+"""Multi-frame whole-system runs (issue 28) at the small size: a moving card, frame after frame, on Verilator (the
+C++ testbench) and Amaranth's simulator; the per-row frame sources, the settled frame against the golden model of
+the last pair, the frame-start skew the design measures against the simulation's; the command line's input errors.
+"""
+
+import numpy as np
+import pytest
+
+from sim.analysis.frame_sources import EMPTY, frame_sources, source_summary
+from sim.testbed.sequence import card_distances, moving_card
+from sim.testbench.system.setup import SystemSetup
+
+FRAMES = 3
+
+
+def _run_verilator(setup, frames=FRAMES):
+    from sim.testbench.system.frames_verilator import run_verilator_frames
+    sequence = moving_card(setup, frames)
+    shown = []
+    status, _ = run_verilator_frames(sequence, setup, on_frame=shown.append)
+    return sequence, shown, status
+
+
+def _goldens(setup, sequence):
+    black = np.zeros_like(sequence.pairs[0][0])
+    return {EMPTY: setup.golden_frame(black, black),
+            **{k: setup.golden_frame(*pair) for k, pair in enumerate(sequence.pairs)}}
+
+
+def _summaries(setup, sequence, shown):
+    goldens = _goldens(setup, sequence)
+    return [source_summary(frame_sources(s.frame, goldens, setup.display_layout, setup.geometry)) for s in shown]
+
+
+@pytest.fixture(scope="module")
+def card_run():
+    setup = SystemSetup.small()
+    return (setup, *_run_verilator(setup))
+
+
+def test_moving_card_frames_on_verilator(card_run):
+    setup, sequence, shown, status = card_run
+    assert status["violations"] == []
+    assert [s.index for s in shown] == list(range(len(shown)))
+    assert len(shown) == status["settled_frame"] + 1 >= FRAMES
+    summaries = _summaries(setup, sequence, shown)
+    # the settled frame (no capture writes any more) is the golden frame of the last pair, bit for bit
+    assert summaries[-1]["equals_pair"] == FRAMES - 1
+    # every pair reached the screen: each camera frame is the source of some depth rows of some display frame
+    sources = {k for s in summaries for key in s["depth_rows_by_frame"] for k in map(int, key.split(".."))}
+    assert set(range(FRAMES)) <= sources
+    for s in summaries:     # an image row is at most torn where the capture writes it while it is shown
+        assert s["left_rows_mixed"] <= 1 and s["right_rows_mixed"] <= 1
+    # the captures counted every frame, and the display frames came in order of time
+    assert all(len(status["capture_events_s"][c]["frame_done"]) == FRAMES for c in "ab")
+    assert all(b.t_start_s > a.t_start_s for a, b in zip(shown, shown[1:]))
+
+
+def test_the_design_measures_the_skew_the_simulation_shows(card_run):
+    setup, _, _, status = card_run
+    events, hardware = status["capture_events_s"], status["hardware_skew"]
+    assert len(hardware) == FRAMES
+    for k, measured in enumerate(hardware):
+        simulated = (events["b"]["frame_start"][k] - events["a"]["frame_start"][k]) * setup.sys_hz
+        assert abs(measured["skew_sync_clocks"] - simulated) <= 3 and measured["aligned"]
+    assert not status["leds"] >> 7          # LD7: the heartbeat (off after 3 frames), not the misalignment
+
+
+def test_start_delay_and_clock_offset_are_measured():
+    """Camera B 12 us late (about 7 sensor lines) with a PCLK 2000 ppm fast: the meter sees the delay, not
+    aligned, shrinking by 2000 ppm of a frame period every frame."""
+    setup = SystemSetup.small(cam_phase_s={"a": 0.0, "b": 12e-6}, cam_clock_ppm={"b": 2000.0})
+    _, _, status = _run_verilator(setup, frames=2)
+    events, hardware = status["capture_events_s"], status["hardware_skew"]
+    skews = [m["skew_sync_clocks"] for m in hardware]
+    assert len(skews) == 2 and not any(m["aligned"] for m in hardware)
+    assert abs(skews[0] - 1200) < 60                              # 12 us, less the drift up to the first start
+    period_clocks = (events["a"]["frame_start"][1] - events["a"]["frame_start"][0]) * setup.sys_hz
+    assert abs((skews[0] - skews[1]) - 2000e-6 * period_clocks) <= 4
+    assert status["leds"] >> 7 == 1          # LD7 steady on: the frame starts are more than a line apart
+
+
+def test_the_barrier_keeps_the_cameras_in_step_after_a_retry():
+    """Camera B's sensor NACKs one write of its table: its sequencer waits the retry delay (20 us in the small
+    preset, 11 sensor lines) and repeats it; the barrier before the start of streaming brings the two tables
+    back in step, so the frame starts stay within a line (without it, B would start a retry delay late)."""
+    setup = SystemSetup.small(i2c_faults={"cam_b": {"nack_write_byte": 2, "nack_times": 1}})
+    _, _, status = _run_verilator(setup, frames=2)
+    hardware = status["hardware_skew"]
+    assert len(hardware) == 2 and all(m["aligned"] for m in hardware), hardware
+    assert all(abs(m["skew_sync_clocks"]) <= 3 for m in hardware)
+
+
+def test_faults_mid_stream_recover_within_a_frame():
+    """Frame to frame faults in one run of five camera frames: camera A's frame 1 is cut short (FV falls mid-frame),
+    camera B drops frame 2 (FV low for a frame period), the disparity switches change from 0 to 3 after the second
+    display frame. The system recovers within one camera frame: the settled display frame (after pair 4, one good
+    frame after the last fault) is the golden frame of pair 4 at the new disparity, bit for bit, and every other
+    display frame still has whole image rows from the camera frames (at most the one row being written torn)."""
+    from sim.models.mt9d112.sensor import Faults
+    from sim.testbed.sequence import DROP
+    from sim.testbench.system.frames_verilator import run_verilator_frames
+    setup = SystemSetup.small()
+    g = setup.geometry
+    sequence = moving_card(setup, 5)
+    sequence.faults = {"a": [None, Faults(fv_drop=(g.height // 2, 5)), None, None, None],
+                       "b": [None, None, DROP, None, None]}
+    shown = []
+    status, _ = run_verilator_frames(sequence, setup, on_frame=shown.append,
+                                     switch_changes={2: [0x80 | 3, 0]})
+    assert status["violations"] == []
+    events = status["capture_events_s"]
+    assert len(events["a"]["frame_done"]) == 5 and len(events["b"]["frame_done"]) == 4
+    after = SystemSetup.small(disparity=3)
+    assert np.array_equal(shown[-1].frame, after.golden_frame(*sequence.pairs[-1]))
+    summaries = _summaries(after, sequence, shown[3:])
+    assert all(s["left_rows_mixed"] <= 1 and s["right_rows_mixed"] <= 1 for s in summaries)
+
+
+@pytest.mark.slow
+def test_moving_card_frames_on_amaranth():
+    """About a minute: the Python sensor drivers run per PCLK for two camera frames and five display frames."""
+    from sim.testbench.system.frames_amaranth import run_amaranth_frames
+    setup = SystemSetup.small()
+    sequence = moving_card(setup, 2)
+    shown = []
+    status = run_amaranth_frames(sequence, setup, on_frame=shown.append)
+    assert status["violations"] == [] and len(shown) == status["settled_frame"] + 1
+    summaries = _summaries(setup, sequence, shown)
+    assert summaries[-1]["equals_pair"] == 1
+    assert len(status["hardware_skew"]) == 2 and all(m["aligned"] for m in status["hardware_skew"])
+
+
+@pytest.mark.slow
+def test_moving_card_frames_on_cocotb(simulator, tmp_path):
+    """The same scenario in cocotb (Python sensor drivers and sink inside the simulator), on Verilator and Icarus
+    (40 s on Icarus; Verilator's build about 90 s more)."""
+    from sim.testbench.system.frames_cocotb import run_cocotb_frames
+    setup = SystemSetup.small()
+    sequence = moving_card(setup, 2)
+    status, shown = run_cocotb_frames(sequence, setup, simulator, tmp_path)
+    assert status["violations"] == [] and len(shown) == status["settled_frame"] + 1
+    summaries = _summaries(setup, sequence, shown)
+    assert summaries[-1]["equals_pair"] == 1
+    assert all(s["left_rows_mixed"] <= 1 and s["right_rows_mixed"] <= 1 for s in summaries)
+    assert len(status["hardware_skew"]) == 2 and all(m["aligned"] for m in status["hardware_skew"])
+
+
+def test_card_distances_even_in_inverse_distance():
+    z = card_distances(4, 3.0, 0.5)
+    assert z[0] == 3.0 and abs(z[-1] - 0.5) < 1e-12
+    steps = np.diff(1 / np.array(z))
+    assert np.allclose(steps, steps[0])
+
+
+@pytest.mark.parametrize("case, message", [
+    ("count", "the left folder has 2 images, the right folder 1"),
+    ("size", "all frames must have one size"),
+    ("empty", "no image files"),
+    ("too_many", "--frames 5, but the folders hold 2 pairs"),
+])
+def test_sequence_folder_errors(tmp_path, capsys, case, message):
+    from PIL import Image
+    from stereodepth.cli import main
+    left, right = tmp_path / "L", tmp_path / "R"
+    left.mkdir(), right.mkdir()
+    sizes = [(160, 120), (200, 150) if case == "size" else (160, 120)]
+    if case != "empty":
+        for i, size in enumerate(sizes):
+            Image.new("RGB", size, (i * 40, 90, 10)).save(left / f"{i:02d}.png")
+            if case != "count" or i == 0:
+                Image.new("RGB", size, (i * 40, 90, 10)).save(right / f"{i:02d}.png")
+    frames = "5" if case == "too_many" else "2"
+    code = main(["run", str(left), str(right), "--small", "--frames", frames, "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert code == 2 and message in err and len(err.strip().splitlines()) == 1 and "Traceback" not in err
+
+
+def test_scene_needs_no_images_and_frames(tmp_path, capsys):
+    from stereodepth.cli import main
+    assert main(["run", "--small", "--scene", "card", "--out", str(tmp_path)]) == 2
+    assert "--scene card needs --frames N" in capsys.readouterr().err
+    assert main(["run", "a.png", "b.png", "--small", "--scene", "card", "--frames", "2", "--out", str(tmp_path)]) == 2
+    assert "give no LEFT/RIGHT" in capsys.readouterr().err
+
+
+def test_ctrl_c_keeps_the_finished_frames(tmp_path):
+    """SIGINT in the middle of a multi-frame run: exit 130, every display frame finished so far readable under its
+    own name, the table, the animations and result.json of those frames under their partial names."""
+    import json
+    import signal
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+    from PIL import Image
+    out = tmp_path / "out"
+    run = subprocess.Popen([sys.executable, "-m", "stereodepth", "run", "--small", "--scene", "card", "--frames",
+                            "60", "--out", str(out)], cwd=Path(__file__).resolve().parents[1],
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                           preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    deadline = time.monotonic() + 300
+    while not (out / "frames" / "hdmi_003.png").exists():
+        assert run.poll() is None and time.monotonic() < deadline, run.communicate()
+        time.sleep(0.05)
+    run.send_signal(signal.SIGINT)
+    _, stderr = run.communicate(timeout=120)
+    assert run.returncode == 130 and "Traceback" not in stderr, stderr
+    frames = sorted((out / "frames").glob("hdmi_*.png"))
+    assert len(frames) >= 4 and not list((out / "frames").glob("*.partial.*"))
+    for path in frames:
+        assert Image.open(path).size == (112, 52)
+    result = json.loads((out / "result.partial.json").read_text())
+    assert result["interrupted"] and len(result["frames"]) == len(frames)
+    assert (out / "frames.partial.csv").read_text().count("\n") == len(frames) + 1
+    assert Image.open(out / "hdmi_video.partial.png").n_frames == len(frames)
+    assert not (out / "result.json").exists() and not (out / "hdmi_video.png").exists()
+
+
+@pytest.mark.slow
+def test_moving_card_full_size_on_verilator():
+    """Full size (1600 x 1200 sensors, 1080p): the card 3 m -> 0.5 m over 3 camera frames; every display frame
+    rebuilt, the settled one bit-exact with the last pair's golden frame, the frame starts in step; the centre
+    distance shown on the last frame is the card's (50 cm). Minutes: ``python -m bench frames`` prints the same."""
+    from sim.analysis.depth_panel import depth_summary
+    setup = SystemSetup.full(disparity=20)
+    sequence, shown, status = _run_verilator(setup, frames=3)
+    assert status["violations"] == [] and len(shown) == status["settled_frame"] + 1 >= 9
+    summaries = _summaries(setup, sequence, shown)
+    assert summaries[-1]["equals_pair"] == 2
+    assert all(m["aligned"] and m["skew_sync_clocks"] == 0 for m in status["hardware_skew"])
+    centre = depth_summary(shown[-1].frame, setup.display_layout, setup.geometry, setup.depth)
+    assert centre["centre_distance_cm"] == 50
