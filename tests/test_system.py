@@ -266,4 +266,7 @@ def test_setup_rejects_out_of_range_switch_values():
     with pytest.raises(ValueError, match="disparity"):
         SystemSetup.small(disparity=128)
     with pytest.raises(ValueError, match="rectification"):
-        SystemSetup.small(rectification=-1)
+        SystemSetup.small(rectification=64)
+    with pytest.raises(ValueError, match="rectification"):
+        SystemSetup.small(rectification=-65)
+    assert SystemSetup.small(rectification=-1).switch_words()[1] == 0b1111111

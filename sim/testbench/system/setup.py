@@ -118,9 +118,11 @@ class SystemSetup:
         return "full" if self.geometry == SENSOR else "small"
 
     def __post_init__(self):
-        for name, value in (("disparity", self.disparity), ("rectification", self.rectification)):
-            if not 0 <= value <= 127:
-                raise ValueError(f"{name} must be 0..127 (seven switches), got {value}")
+        if not 0 <= self.disparity <= 127:
+            raise ValueError(f"disparity must be 0..127 (seven switches), got {self.disparity}")
+        if not -64 <= self.rectification <= 63:
+            raise ValueError(f"rectification must be -64..63 (seven switches, two's complement), "
+                             f"got {self.rectification}")
 
     @property
     def display_layout(self):
@@ -154,8 +156,9 @@ class SystemSetup:
         return MT9D112(model, timing=self.sensor_timing or SENSOR_TIMING, pclk_hz=self.pclk_hz, seed=seed)
 
     def switch_words(self):
-        """The SW7..SW0 values to set in turn: disparity (SW7 = 1), then rectification (SW7 = 0)."""
-        return [0x80 | self.disparity, self.rectification]
+        """The SW7..SW0 values to set in turn: disparity (SW7 = 1), then rectification (SW7 = 0, SW6..SW0 its
+        two's complement, hdl/switches.py)."""
+        return [0x80 | self.disparity, self.rectification & 0x7F]
 
     def fit(self, image):
         """An RGB image fitted to the sensor (what the sensor model will output)."""
