@@ -14,7 +14,7 @@ class RectificationConfig:
     """
     search_rows: int = 16       # R: offsets -R..R buffer rows (the issue asks for at least +-16)
     margin_shift: int = 2       # clear minimum: c2 - c1 > c2 >> margin_shift (the best 25 % below the rest)
-    texture_shift: int = 3      # texture: T >= (width * window rows) >> texture_shift (1/8 grey per pixel per row)
+    texture_shift: int = 5      # texture: T >= (width * window rows) >> texture_shift (1/32 grey per pixel per row)
     switch_shift: int = 3       # a new offset must beat the one in use: C(in use) - c1 > C(in use) >> switch_shift
     stable_frames: int = 2      # frames in a row that must agree on a new offset before it is taken
 

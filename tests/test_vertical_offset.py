@@ -31,14 +31,14 @@ def test_costs_by_hand():
     assert s.costs.tolist() == [10, 10, 10, 20, 20, 0, 20]
     assert (s.best, s.c1, s.texture) == (2, 0, 10)
     assert s.c2 == 10                     # the best among o = -3..0 (|o - 2| >= 2)
-    # T = 10 < (16 * 5) >> 3 = 10? equal: texture is enough; c2 - c1 = 10 > 10 >> 2: confident.
+    # T = 10 >= (16 * 5) >> 5 = 2: texture enough; c2 - c1 = 10 > 10 >> 2: confident.
     assert s.confident
 
 
 def test_blank_wall_and_two_minima_are_not_confident():
     flat = np.full(12, 16 * 20)
     assert not search(flat, flat, 16, CFG).confident                       # T = 0: a blank wall
-    weak = np.array([0] * 6 + [9] * 6)                                     # T = 9 < 10: too little texture
+    weak = np.array([0] * 6 + [1] * 6)                                     # T = 1 < 2: too little texture
     assert not search(weak, weak, 16, CFG).confident
     # A period of 2 rows: o = 0 and o = +-2 match equally: c2 = c1, no clear minimum.
     stripes = np.array([0, 100] * 6)
