@@ -2,6 +2,7 @@
 golden model bit for bit at the small size (16 x 12 buffers, R = 3), over sequences of frames."""
 
 import dataclasses
+import json
 
 import numpy as np
 import pytest
@@ -155,9 +156,9 @@ def shifted_pair(rng, offset, shape=(H, W)):
     return left, right
 
 
-def test_rtl_equals_golden_over_frames():
-    """A sequence of frames: offsets 0, +-1, +-R and one past (+-(R + 1): the best lies outside the search),
-    blank walls, a row-periodic pattern, the move and re-lock; every output bit for bit, every frame."""
+def frame_sequence():
+    """Offsets 2 (three frames: lock), blank walls, -R, a row-periodic pattern, 0, +-1, +-R and one past
+    (+-(R + 1): the best lies outside the search), -1 twice (re-lock)."""
     rng = np.random.default_rng(27)
     r = CFG.search_rows
     blank = (np.full((H, W), 20), np.full((H, W), 20))
@@ -165,6 +166,13 @@ def test_rtl_equals_golden_over_frames():
     frames = ([shifted_pair(rng, 2) for _ in range(3)] + [blank] * 2 + [shifted_pair(rng, -r) for _ in range(3)]
               + [(stripes, stripes)] + [shifted_pair(rng, o) for o in (0, 1, -1, r, r, r + 1, -r - 1)]
               + [shifted_pair(rng, -1) for _ in range(2)])
+    return frames
+
+
+def test_rtl_equals_golden_over_frames():
+    """The frame sequence (blank walls, stripes, offsets at the boundaries, moves and re-lock): every output bit
+    for bit, every frame."""
+    frames = frame_sequence()
     want = golden_outputs(frames)
     assert [w["offset"] for w in want][:3] == [0, 2, 2] and want[3]["held"]          # the golden model's story
     assert run_estimator(frames, gaps=7) == want
@@ -180,3 +188,25 @@ def test_rtl_equals_golden_other_geometry():
         left, right = shifted_pair(rng, o, (14, 20))
         frames.append((left * 2 + 1, right * 2 + 1))
     assert run_estimator(frames, geometry, config) == golden_outputs(frames, config)
+
+
+# --- cocotb (Verilator and Icarus) -------------------------------------------------------------------------
+
+def test_estimator_cocotb_small(simulator, tmp_path):
+    """The frame sequence of test_rtl_equals_golden_over_frames on the exported Verilog, both simulators."""
+    from board.export import export_verilog
+    from sim.runners.cocotb import run_cocotb
+    from tests.cocotb.cocotb_vertical_offset import OUTPUTS
+
+    frames = frame_sequence()
+    want = golden_outputs(frames)
+    data, result = tmp_path / "frames.npz", tmp_path / "result.json"
+    np.savez(data, frames=np.array(frames), expected=np.array([[w[n] for n in OUTPUTS] for w in want]))
+    name = f"vertical_offset_{W}x{H}_r{CFG.search_rows}"
+    dut = VerticalOffsetEstimator(G, CFG)
+    run_cocotb(export_verilog(dut, name), name=name,
+               test_module="cocotb_vertical_offset", simulator=simulator,
+               params=dict(data=str(data), result=str(result), clock_ps=10_000, timeout_clocks=10_000))
+    outcome = json.loads(result.read_text())
+    assert outcome["mismatches"] == 0
+    assert outcome["clocks"] == [dut.search_clocks] * len(frames)
