@@ -3,27 +3,30 @@
 
 from amaranth import Module, Mux, Signal, signed, unsigned
 from amaranth.lib import wiring
+from amaranth.lib.cdc import PulseSynchronizer
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
-from hdl.rejecting import rejecting
 from hdl.signature import ParametricSignature
 from spec.rectification import RECTIFICATION
 from spec.sensor import SENSOR
 
-__all__ = ["PixelStreamSignature", "VerticalOffsetEstimator"]
+__all__ = ["CaptureWatchSignature", "VerticalOffsetEstimator", "FRAME_DONE_CLOCKS"]
+
+#: Clocks of the estimator's domain from the later camera's ``frame_done`` to the search's start.
+FRAME_DONE_CLOCKS = 4
 
 
-class PixelStreamSignature(ParametricSignature):
-    """One camera's pixels as they are written into its frame buffer: ``valid``, buffer coordinates ``x``,
-    ``y`` and the ``grey`` value, as the source drives them."""
+class CaptureWatchSignature(ParametricSignature):
+    """What the estimator watches of one camera, as the capture drives it: its frame-buffer write port (``addr``,
+    ``data``, ``en``; pixels in raster order, address 0 starts a frame) and its ``frame_done`` strobe."""
 
     def __init__(self, geometry):
         super().__init__({
-            "valid": Out(1),
-            "x": Out(range(geometry.buf_width)),
-            "y": Out(range(geometry.buf_height)),
-            "grey": Out(geometry.grey_bits),
+            "addr": Out(geometry.addr_bits),
+            "data": Out(geometry.grey_bits),
+            "en": Out(1),
+            "frame_done": Out(1),
         }, geometry=geometry)
 
 
@@ -37,15 +40,18 @@ class VerticalOffsetEstimator(wiring.Component):
         Buffer size and grey width.
     config : RectificationConfig
         R, the confidence and hysteresis constants, ``stable_frames``.
+    left_domain, right_domain : str
+        The domains of the two cameras' write ports (``cam_a``, ``cam_b`` in the system).
 
     Ports
     -----
-    left, right : In(PixelStreamSignature)
-        The pixels written into the two buffers; each row's sum is stored when ``x = W - 1`` (a row's pixels
-        arrive in order from x = 0).
-    search : In(1)
-        Start a search on the stored profiles (ignored while ``busy``). The profiles must not be written
-        until ``busy`` falls.
+    left, right : In(CaptureWatchSignature)
+        The two captures' writes, in ``left_domain`` / ``right_domain``: each write adds its grey value to its
+        row's sum (row and column counted from address 0, W writes a row); the sum is stored at the row's last
+        column. ``frame_done`` of each camera is brought into ``sync`` (a pulse synchroniser); when both have
+        come (and no search runs) a search starts, :data:`FRAME_DONE_CLOCKS` after the later one. A camera that
+        writes the first rows of its next frame during the search changes those rows' sums under it (the cameras
+        are not synchronised; on a still scene the sums are the same).
     busy : Out(1)
         A search is running.
     done : Out(1)
@@ -59,7 +65,9 @@ class VerticalOffsetEstimator(wiring.Component):
     profile_addr_left, profile_addr_right, cost_addr : Out
         The read addresses of the profile and cost memories (for the formal harness).
 
-    Clock domain: ``sync``. Latency: ``done`` rises ``search_clocks`` clocks after ``search``.
+    Clock domains: ``sync`` (the search; the system renames it to ``pix``), ``left_domain`` and ``right_domain``
+    (the row sums and the profile memories' write ports). Latency: ``done`` rises ``search_clocks`` clocks after
+    the search starts.
 
     Raises
     ------
@@ -67,10 +75,10 @@ class VerticalOffsetEstimator(wiring.Component):
         The configuration does not fit the buffers (``RectificationConfig.check``).
     """
 
-    def __init__(self, geometry=SENSOR, config=RECTIFICATION):
-        with rejecting(self):
-            config.check(geometry.buf_height)
+    def __init__(self, geometry=SENSOR, config=RECTIFICATION, *, left_domain="sync", right_domain="sync"):
+        config.check(geometry.buf_height)
         self.geometry, self.config = geometry, config
+        self.domains = {"left": left_domain, "right": right_domain}
         w, h, r = geometry.buf_width, geometry.buf_height, config.search_rows
         self.rows = len(config.window(h))
         self.profile_max = w * (2 ** geometry.grey_bits - 1)
@@ -80,9 +88,8 @@ class VerticalOffsetEstimator(wiring.Component):
         #: read, the decision.
         self.search_clocks = 1 + (2 * r + 1) * (self.rows + 1) + 1 + (2 * r + 1) + 1 + 1
         super().__init__({
-            "left": In(PixelStreamSignature(geometry)),
-            "right": In(PixelStreamSignature(geometry)),
-            "search": In(1),
+            "left": In(CaptureWatchSignature(geometry)),
+            "right": In(CaptureWatchSignature(geometry)),
             "busy": Out(1),
             "done": Out(1),
             "offset": Out(range(-r, r + 1)),
@@ -103,11 +110,20 @@ class VerticalOffsetEstimator(wiring.Component):
         g, cfg = self.geometry, self.config
         h, r = g.buf_height, cfg.search_rows
         profile_shape = unsigned(self.profile_max.bit_length())
-        reads = {}
+        reads, frame_seen = {}, []
         for side in ("left", "right"):
             m.submodules[f"{side}_profile"] = mem = Memory(shape=profile_shape, depth=h, init=[])
-            self._accumulate(m, getattr(self, side), mem.write_port(), profile_shape)
+            domain = self.domains[side]
+            self._accumulate(m, getattr(self, side), mem.write_port(domain=domain), profile_shape, domain)
             reads[side] = mem.read_port()
+            frame_seen.append(self._frame_done(m, side, domain))
+        search = Signal()
+        m.d.comb += search.eq(frame_seen[0][0] & frame_seen[1][0] & ~self.busy)
+        for seen, pulse in frame_seen:                  # a frame_done in the clock of the search is kept
+            with m.If(search):
+                m.d.sync += seen.eq(0)
+            with m.If(pulse):
+                m.d.sync += seen.eq(1)
         m.submodules.costs = costs = Memory(shape=unsigned(self.cost_max.bit_length()), depth=2 * r + 1, init=[])
         cost_write, cost_read = costs.write_port(), costs.read_port()
         m.d.comb += [reads["left"].addr.eq(self.profile_addr_left), reads["right"].addr.eq(self.profile_addr_right),
@@ -126,13 +142,13 @@ class VerticalOffsetEstimator(wiring.Component):
         valid_2, j_2, last_2 = Signal(), Signal.like(j), Signal()
         m.d.sync += [valid_1.eq(issue), first_1.eq(y == r), last_1.eq(y == h - r - 1), k_1.eq(o + r),
                      valid_2.eq(issue_pass2), j_2.eq(j), last_2.eq(issue_pass2 & (j == 2 * r))]
-        self._sweep(m, reads, cost_write, valid_1, first_1, last_1, k_1, best_k)
+        self._sweep(m, reads, cost_write, valid_1, first_1, last_1, k_1, best_k, search)
         self._second(m, cost_read, valid_2, j_2, best_k, c_in_use)
 
         m.d.sync += self.done.eq(0)
         with m.FSM():
             with m.State("IDLE"):
-                with m.If(self.search):
+                with m.If(search):
                     m.d.sync += [o.eq(-r), y.eq(r), self.busy.eq(1)]
                     m.next = "SWEEP"
             with m.State("SWEEP"):
@@ -162,17 +178,29 @@ class VerticalOffsetEstimator(wiring.Component):
                 m.next = "IDLE"
         return m
 
-    def _accumulate(self, m, stream, write, shape):
-        """Add up each row of ``stream``; store the sum at address y when x = W - 1."""
-        acc = Signal(shape)
-        total = Signal(shape)
-        m.d.comb += [total.eq(Mux(stream.x == 0, 0, acc) + stream.grey),
-                     write.addr.eq(stream.y), write.data.eq(total),
-                     write.en.eq(stream.valid & (stream.x == self.geometry.buf_width - 1))]
-        with m.If(stream.valid):
-            m.d.sync += acc.eq(total)
+    def _accumulate(self, m, watch, write, shape, domain):
+        """Add up each row of the writes in ``watch``; store the sum at the row's address when its last column
+        is written. Column and row are counted from address 0 (W writes a row)."""
+        g = self.geometry
+        x, y = Signal(range(g.buf_width), name=f"{domain}_column"), Signal(range(g.buf_height), name=f"{domain}_row")
+        at_x = Mux(watch.addr == 0, 0, x)
+        at_y = Mux(watch.addr == 0, 0, y)
+        acc, total = Signal(shape, name=f"{domain}_row_sum"), Signal(shape, name=f"{domain}_row_total")
+        last = at_x == g.buf_width - 1
+        m.d.comb += [total.eq(Mux(at_x == 0, 0, acc) + watch.data),
+                     write.addr.eq(at_y), write.data.eq(total), write.en.eq(watch.en & last)]
+        with m.If(watch.en):
+            m.d[domain] += [acc.eq(total), x.eq(Mux(last, 0, at_x + 1)),
+                            y.eq(Mux(last, Mux(at_y == g.buf_height - 1, 0, at_y + 1), at_y))]
 
-    def _sweep(self, m, reads, cost_write, valid_1, first_1, last_1, k_1, best_k):
+    def _frame_done(self, m, side, domain):
+        """(flag, pulse): the camera's ``frame_done`` brought into ``sync`` by a pulse synchroniser, and the flag
+        it sets (the search clears it)."""
+        m.submodules[f"{side}_frame_done"] = sync = PulseSynchronizer(i_domain=domain, o_domain="sync")
+        m.d.comb += sync.i.eq(getattr(self, side).frame_done)
+        return Signal(name=f"{side}_frame_seen"), sync.o
+
+    def _sweep(self, m, reads, cost_write, valid_1, first_1, last_1, k_1, best_k, search):
         """The clock after each row read: D_L, D_R against the previous row, |D_L - D_R| summed into C(o)."""
         width = len(reads["left"].data) + 1
         prev = {side: Signal(len(reads[side].data), name=f"prev_{side}") for side in reads}
@@ -187,7 +215,7 @@ class VerticalOffsetEstimator(wiring.Component):
         total = Signal.like(self.cost_best)
         m.d.comb += [total.eq(acc + term), cost_write.addr.eq(k_1), cost_write.data.eq(total),
                      cost_write.en.eq(valid_1 & ~first_1 & last_1)]
-        with m.If(self.search & ~self.busy):
+        with m.If(search):
             m.d.sync += [acc.eq(0), self.texture.eq(0)]
         with m.If(valid_1):
             m.d.sync += [prev["left"].eq(reads["left"].data), prev["right"].eq(reads["right"].data)]

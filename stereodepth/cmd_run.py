@@ -47,8 +47,9 @@ def add_arguments(parser):
     parser.add_argument("--disparity", default="0", metavar="D",
                         help="disparity switch value 0..127 (SW7 = 1, SW6..SW0 = D); default 0")
     parser.add_argument("--rectification", default="0", metavar="R",
-                        help="rectification switch value -64..63 buffer rows (SW7 = 0, SW6..SW0 = R in two's "
-                             "complement; negative reads the left image higher); default 0")
+                        help="rectification switch value -63..63 buffer rows (SW7 = 0, SW6..SW0 = R in two's "
+                             "complement; negative reads the left image higher), or 'auto' (SW6..SW0 = 1000000: "
+                             "the offset the FPGA finds, docs/rectification.md); default 0")
     parser.add_argument("--simulator", choices=SIMULATORS, default="verilator",
                         help="verilator (default), icarus, or amaranth (hours at full size; quick with --small)")
     parser.add_argument("--out", type=Path, default=Path("build/run"), help="output directory (build/run)")
@@ -225,7 +226,8 @@ def run(args):
     from stereodepth.provenance import utc_now
     started = utc_now()
     disparity = switch_value("disparity", args.disparity)
-    rectification = switch_value("rectification", args.rectification, -64, 63)
+    rectification = "auto" if args.rectification == "auto" else switch_value("rectification", args.rectification,
+                                                                              -63, 63)
     setup = make_setup(args.small, disparity, rectification)
     if args.vcd and (args.simulator != "amaranth" or not args.small):
         raise UserError("--vcd is written by the Amaranth route at the small size: use --simulator amaranth --small")

@@ -268,5 +268,6 @@ def test_setup_rejects_out_of_range_switch_values():
     with pytest.raises(ValueError, match="rectification"):
         SystemSetup.small(rectification=64)
     with pytest.raises(ValueError, match="rectification"):
-        SystemSetup.small(rectification=-65)
+        SystemSetup.small(rectification=-64)            # 1000000 selects the automatic mode
     assert SystemSetup.small(rectification=-1).switch_words()[1] == 0b1111111
+    assert SystemSetup.small(rectification="auto").switch_words()[1] == 0b1000000

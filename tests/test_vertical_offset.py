@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from golden.vertical_offset import OffsetTracker, Search, row_profiles, search
-from hdl.vertical_offset import VerticalOffsetEstimator
+from hdl.vertical_offset import FRAME_DONE_CLOCKS, VerticalOffsetEstimator
 from sim.runners.amaranth import simulate
 from spec.rectification import RECTIFICATION, SMALL_RECTIFICATION, RectificationConfig
 from spec.sensor import SMALL_SENSOR, SensorGeometry
@@ -93,40 +93,44 @@ def test_profiles_ignore_horizontal_shifts_and_follow_vertical_ones():
 # --- the RTL against the golden model ----------------------------------------------------------------------
 
 def run_estimator(frames, geometry=G, config=CFG, gaps=0):
-    """Feed each (left, right) pair's pixels in raster order (both cameras together, an idle clock every
-    ``gaps`` pixels), pulse ``search``, and read the outputs at ``done``; check the documented latency."""
+    """Write each (left, right) pair into the block's watch ports in raster order (both cameras together, an idle
+    clock every ``gaps`` pixels), then ``frame_done`` of the right camera and, 3 clocks later, of the left one;
+    read the outputs at ``done``; check the documented latency from the later ``frame_done``."""
     dut = VerticalOffsetEstimator(geometry, config)
+    w = geometry.buf_width
     got = []
 
     async def bench(ctx):
         for left, right in frames:
             n = 0
-            for y in range(geometry.buf_height):
-                for x in range(geometry.buf_width):
-                    for side, image in (("left", left), ("right", right)):
-                        port = getattr(dut, side)
-                        ctx.set(port.valid, 1)
-                        ctx.set(port.x, x)
-                        ctx.set(port.y, y)
-                        ctx.set(port.grey, int(image[y, x]))
+            for a in range(geometry.buf_depth):
+                for side, image in (("left", left), ("right", right)):
+                    port = getattr(dut, side)
+                    ctx.set(port.en, 1)
+                    ctx.set(port.addr, a)
+                    ctx.set(port.data, int(image[a // w, a % w]))
+                await ctx.tick()
+                n += 1
+                if gaps and n % gaps == 0:
+                    ctx.set(dut.left.en, 0)
+                    ctx.set(dut.right.en, 0)
                     await ctx.tick()
-                    n += 1
-                    if gaps and n % gaps == 0:
-                        ctx.set(dut.left.valid, 0)
-                        ctx.set(dut.right.valid, 0)
-                        await ctx.tick()
-            ctx.set(dut.left.valid, 0)
-            ctx.set(dut.right.valid, 0)
-            ctx.set(dut.search, 1)
+            ctx.set(dut.left.en, 0)
+            ctx.set(dut.right.en, 0)
+            ctx.set(dut.right.frame_done, 1)
             await ctx.tick()
-            ctx.set(dut.search, 0)
+            ctx.set(dut.right.frame_done, 0)
+            await ctx.tick().repeat(2)
+            assert not ctx.get(dut.busy), "a search before both frames were done"
+            ctx.set(dut.left.frame_done, 1)
+            await ctx.tick()
+            ctx.set(dut.left.frame_done, 0)
             clocks = 1
             while not ctx.get(dut.done):
-                assert ctx.get(dut.busy)
                 await ctx.tick()
                 clocks += 1
                 assert clocks < 10_000
-            assert clocks == dut.search_clocks
+            assert clocks == FRAME_DONE_CLOCKS + dut.search_clocks
             got.append({name: ctx.get(getattr(dut, name)) for name in (
                 "offset", "confident", "held", "locked", "best", "cost_best", "cost_second", "texture")})
             await ctx.tick()
@@ -209,7 +213,7 @@ def test_estimator_cocotb_small(simulator, tmp_path):
                params=dict(data=str(data), result=str(result), clock_ps=10_000, timeout_clocks=10_000))
     outcome = json.loads(result.read_text())
     assert outcome["mismatches"] == 0
-    assert outcome["clocks"] == [dut.search_clocks] * len(frames)
+    assert outcome["clocks"] == [FRAME_DONE_CLOCKS + dut.search_clocks] * len(frames)
 
 
 @pytest.mark.slow
@@ -233,4 +237,5 @@ def test_estimator_cocotb_full_size(tmp_path):
     run_cocotb(export_verilog(dut, name), name=name, test_module="cocotb_vertical_offset", simulator="verilator",
                params=dict(data=str(data), result=str(result), clock_ps=6734, timeout_clocks=20_000))
     outcome = json.loads(result.read_text())
-    assert outcome["mismatches"] == 0 and outcome["clocks"] == [dut.search_clocks] * len(frames)
+    assert outcome["mismatches"] == 0
+    assert outcome["clocks"] == [FRAME_DONE_CLOCKS + dut.search_clocks] * len(frames)

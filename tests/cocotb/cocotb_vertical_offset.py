@@ -1,9 +1,10 @@
 """cocotb test of the vertical-offset estimator (hdl/vertical_offset.py; driven by tests/test_vertical_offset.py).
 
-Each frame's two images are streamed into the block one pixel of each per clock in raster order, then one
-``search`` pulse; the test waits for ``done`` (a simulator trigger) and reads the outputs. They are compared,
+Each frame's two images are written into the block's watch ports one pixel of each per clock in raster order,
+then the right camera's ``frame_done``, two clocks later the left one's; the test waits for ``done`` (a simulator trigger) and reads the outputs. They are compared,
 frame by frame, with the golden model's (``golden.vertical_offset``, computed in the pytest process and handed
-over in an ``.npz`` file); the mismatches and the clocks from ``search`` to ``done`` go to ``result.json``.
+over in an ``.npz`` file); the mismatches and the clocks from the later ``frame_done`` to ``done`` go to
+``result.json``.
 """
 
 import json
@@ -35,27 +36,30 @@ if cocotb is not None:
         clk = dut.clk
         Clock(clk, p["clock_ps"], unit="ps").start()
         dut.rst.value = 1
-        dut.search.value = 0
         for side in ("left", "right"):
-            getattr(dut, f"{side}__valid").value = 0
+            getattr(dut, f"{side}__en").value = 0
+            getattr(dut, f"{side}__frame_done").value = 0
         for _ in range(3):
             await FallingEdge(clk)
         dut.rst.value = 0
         got, clocks = [], []
         for left, right in frames:
-            for y in range(h):
-                for x in range(w):
-                    for side, image in (("left", left), ("right", right)):
-                        getattr(dut, f"{side}__valid").value = 1
-                        getattr(dut, f"{side}__x").value = x
-                        getattr(dut, f"{side}__y").value = y
-                        getattr(dut, f"{side}__grey").value = int(image[y, x])
-                    await FallingEdge(clk)
+            for a in range(h * w):
+                for side, image in (("left", left), ("right", right)):
+                    getattr(dut, f"{side}__en").value = 1
+                    getattr(dut, f"{side}__addr").value = a
+                    getattr(dut, f"{side}__data").value = int(image[a // w, a % w])
+                await FallingEdge(clk)
             for side in ("left", "right"):
-                getattr(dut, f"{side}__valid").value = 0
-            dut.search.value = 1
+                getattr(dut, f"{side}__en").value = 0
+            dut.right__frame_done.value = 1
             await FallingEdge(clk)
-            dut.search.value = 0
+            dut.right__frame_done.value = 0
+            await FallingEdge(clk)
+            await FallingEdge(clk)
+            dut.left__frame_done.value = 1
+            await FallingEdge(clk)
+            dut.left__frame_done.value = 0
             start = cocotb.utils.get_sim_time("ps")
             timeout = Timer(p["timeout_clocks"] * p["clock_ps"], unit="ps")
             fired = await First(RisingEdge(dut.done), timeout)
