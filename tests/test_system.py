@@ -83,6 +83,7 @@ def _check_status(status):
         assert not status["drive_high"][bus]
     assert status["cam_a_frame_ok"] and status["cam_b_frame_ok"]
     assert (status["disparity"], status["rectification"]) == (DISPARITY, RECTIFICATION)
+    assert status["auto_rectification"]["auto"] == 0                 # a manual value
     assert status["leds"] & 0b111111 == 0b010101          # init done on all three buses, no error
 
 
