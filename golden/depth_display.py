@@ -2,8 +2,8 @@
 
 * :func:`depth_colours`: the colour of every code 0..D (D = invalid): the viridis anchors of
   ``spec.display.DEPTH_COLOURS`` interpolated linearly at u = (n - 1) d / (D - 1), rounded to nearest.
-* :func:`engine_left`: the left image as the engine reads it with the rectification switch value r: row y is
-  row min(y + r, H - 1).
+* :func:`engine_left`: the left image as the engine reads it with the signed rectification r: row y is
+  row min(max(y + r, 0), H - 1) (the first row repeats above the image, the last below it).
 * :func:`centre_readout`: the median of the 3 x 3 codes around (W // 2, H // 2) and its readout text: the
   distance B f / (d p s) in whole centimetres (half up), right-aligned in 4 characters, then "cm"; "----cm"
   for d = 0 or invalid.
@@ -37,9 +37,10 @@ def depth_colours(config=DEPTH):
 
 
 def engine_left(left, rectification):
-    """The left buffer with its rows moved up by ``rectification`` (the last row repeats below the image)."""
+    """The left buffer with its rows moved up by ``rectification`` rows (signed; the first row repeats above the
+    image, the last below it)."""
     left = np.asarray(left)
-    rows = np.minimum(np.arange(left.shape[0]) + int(rectification), left.shape[0] - 1)
+    rows = np.clip(np.arange(left.shape[0]) + int(rectification), 0, left.shape[0] - 1)
     return left[rows]
 
 

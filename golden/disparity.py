@@ -1,8 +1,8 @@
 """Golden model of the disparity map generator and the display compositor, written from ../shared/spec.md.
 
 * :func:`difference_levels`: for every right-image pixel (x, y) of the buffer, ``|L(x + d, y + r) - R(x, y)|``
-  quantised to ``level`` = number of thresholds ``t`` with ``|L - R| >= t``; where ``x + d >= width`` or
-  ``y + r >= height`` there is no left pixel: ``no_data`` is True and ``level`` is 0 (no wrapping).
+  quantised to ``level`` = number of thresholds ``t`` with ``|L - R| >= t``; ``r`` is signed (negative: the
+  left image read higher); where ``x + d >= width``, ``y + r >= height`` or ``y + r < 0`` there is no left pixel: ``no_data`` is True and ``level`` is 0 (no wrapping).
 * :func:`composite_frame`: the displayed active area: the left and right images (grey replicated to 8 bits
   by :func:`spec.display.grey_to_rgb24`), the disparity map (``level_grey[level]`` on all channels, or
   ``NO_DATA_RGB``), the depth map of the pair (``golden.depth.depth_map`` of the rectification-shifted left
@@ -45,9 +45,9 @@ def _check_images(left, right, geometry=None):
     return left.astype(np.int32), right.astype(np.int32)
 
 
-def _check_shift(name, value):
-    if int(value) != value or value < 0:
-        raise ValueError(f"{name} must be a non-negative integer, not {value!r}")
+def _check_shift(name, value, signed=False):
+    if int(value) != value or (value < 0 and not signed):
+        raise ValueError(f"{name} must be a{'n' if signed else ' non-negative'} integer, not {value!r}")
     return int(value)
 
 
@@ -55,14 +55,15 @@ def difference_levels(left, right, disparity, rectification, thresholds=DIFF_THR
     """``(levels uint8, no_data bool)``, both shaped like the images (buffer resolution)."""
     left, right = _check_images(left, right)
     d = _check_shift("disparity", disparity)
-    r = _check_shift("rectification", rectification)
+    r = _check_shift("rectification", rectification, signed=True)
     h, w = right.shape
     no_data = np.ones((h, w), dtype=bool)
     shifted = np.zeros((h, w), dtype=np.int32)
-    if d < w and r < h:
-        # Left pixel (x + d, y + r) for the right pixel (x, y) with x < w - d, y < h - r.
-        shifted[:h - r, :w - d] = left[r:, d:]
-        no_data[:h - r, :w - d] = False
+    if d < w and -h < r < h:
+        # Left pixel (x + d, y + r) for the right pixel (x, y) with x < w - d and 0 <= y + r < h.
+        y0, y1 = max(-r, 0), min(h - r, h)
+        shifted[y0:y1, :w - d] = left[y0 + r:y1 + r, d:]
+        no_data[y0:y1, :w - d] = False
     diff = np.abs(shifted - right)
     table = np.asarray(list(thresholds), dtype=np.int32)
     levels = (diff[..., None] >= table).sum(axis=-1)
@@ -99,7 +100,7 @@ def composite_frame(left, right, disparity, rectification, timing=CEA_1080P60, g
             s = region.scale
             frame[region.y0:region.y1, region.x0:region.x1] = np.repeat(
                 np.repeat(pictures[region.source], s, axis=0), s, axis=1)
-    codes = depth_map(engine_left(left, _check_shift("rectification", rectification)), right, depth)
+    codes = depth_map(engine_left(left, _check_shift("rectification", rectification, signed=True)), right, depth)
     text = draw_depth_display(frame, codes, layout, geometry, depth)
     if details:
         return rgb24_to_bytes(frame), codes, text

@@ -7,15 +7,18 @@ takes the absolute difference of the two grey values and quantises it through a 
 2/4/8/16 -> levels 0..4; the order of the table does not matter, a repeated threshold makes a level
 unreachable).
 
-No data, never wrapping: where ``x + disparity >= buf_width`` or ``y + rectification >= buf_height`` the
-shifted pixel is outside the left image. The thesis's address arithmetic (figure 4.7) would wrap into the next
+``rectification`` is signed (hdl/switches.py): a negative value reads the left image higher.
+
+No data, never wrapping: where ``x + disparity >= buf_width``, ``y + rectification >= buf_height`` or
+``y + rectification < 0`` the shifted pixel is outside the left image. The thesis's address arithmetic (figure 4.7) would wrap into the next
 row or past the end of the buffer there; this block instead raises ``no_data`` (``level`` is then 0) and drives
 ``left.addr`` to 0, so the left port is never given an address outside the image. On clocks without a valid
 pixel both ``left.addr`` and ``right.addr`` are 0, so neither port ever reads outside its buffer.
 
 No multiplier per pixel: the caller supplies the right pixel's address ``addr`` (= ``y * buf_width + x``) from
 a running counter along with ``x`` and ``y``; the left address is ``addr + offset`` with the per-frame constant
-``offset = rectification * buf_width + disparity``, computed in two registered steps from the (quasi-static)
+``offset = rectification * buf_width + disparity`` (modulo ``2**addr_bits``: the sum is the true address
+whenever the shifted pixel is inside the image), computed in two registered steps from the (quasi-static)
 ``disparity`` and ``rectification`` inputs.
 
 Clock domain: ``sync`` (single domain; the parent places it in ``pix``).
@@ -120,21 +123,25 @@ class DisparitySubtractor(wiring.Component):
         row_offset = Signal(g.addr_bits)            # rectification * buf_width (mod 2**addr_bits)
         disparity_q = Signal(len(self.settings.disparity))
         offset = Signal(g.addr_bits)                # rectification * buf_width + disparity (mod 2**addr_bits)
-        # x + disparity >= w  <=>  x >= x_limit, with x_limit = max(w - disparity, 0); the same for y.
+        # x + disparity >= w  <=>  x >= x_limit, with x_limit = max(w - disparity, 0); the same for y below;
+        # y + rectification < 0  <=>  y < y_first, with y_first = min(max(-rectification, 0), h).
+        r = self.settings.rectification
         x_limit = Signal(range(w + 1))
         y_limit = Signal(range(h + 1))
+        y_first = Signal(range(h + 1))
         m.d.sync += [
-            row_offset.eq(self.settings.rectification * w),
+            row_offset.eq(r * w),
             disparity_q.eq(self.settings.disparity),
             offset.eq(row_offset + disparity_q),
             x_limit.eq(Mux(self.settings.disparity >= w, 0, w - self.settings.disparity)),
-            y_limit.eq(Mux(self.settings.rectification >= h, 0, h - self.settings.rectification)),
+            y_limit.eq(Mux(r >= h, 0, Mux(r > 0, h - r, h))),
+            y_first.eq(Mux(r <= -h, h, Mux(r < 0, -r, 0))),
         ]
 
         # Clock n -> n + 1: addresses and the no-data flag.
         no_data_1 = Signal()
         valid_1 = Signal()
-        outside = (self.x >= x_limit) | (self.y >= y_limit)
+        outside = (self.x >= x_limit) | (self.y >= y_limit) | (self.y < y_first)
         m.d.sync += [
             valid_1.eq(self.valid),
             no_data_1.eq(outside),

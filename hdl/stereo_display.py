@@ -54,7 +54,7 @@ class StereoDisplay(wiring.Component):
     one read port through a :class:`hdl.read_arbiter.ReadArbiter` (the compositor has priority).
 
     The engine starts a map :data:`ENGINE_START_DELAY` clocks after every ``timing.frame_start`` and reads the
-    left image moved up by the rectification register (clamped to the image: row y is row min(y + r, H - 1));
+    left image moved up by the rectification register (signed, clamped to the image: row y is row min(max(y + r, 0), H - 1));
     the compositor shows the finished rows from the engine's result ring and releases them.
 
     Parameters
@@ -122,6 +122,6 @@ class StereoDisplay(wiring.Component):
         rect = self.settings.rectification
         m.d.comb += [
             engine.start.eq(start),
-            engine.left_row_offset.eq(Mux(rect >= h, h - 1, rect)),
+            engine.left_row_offset.eq(Mux(rect >= h, h - 1, Mux(rect <= -h, -(h - 1), rect))),
         ]
         return m

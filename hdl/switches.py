@@ -5,6 +5,11 @@ The eight slide switches SW7..SW0 set two 7-bit registers: with SW7 = 1 the valu
 Each register keeps its value while the other one is selected, so the user sets one, flips SW7 and sets the
 other. Both start at 0 after reset (the thesis's figure 4.13).
 
+Signed rectification (issue 27): SW6..SW0 are the rectification in two's complement, -64..63 buffer rows.
+0..63 (SW6 = 0) mean what they mean in the thesis (the left image read that many rows lower: its figures use
+3, 4 and 5); SW6 = 1 gives -64..-1 (the left image read rows higher: a left camera mounted lower than the
+right one), e.g. 1111111 = -1, 1110000 = -16, 1000000 = -64. The disparity stays unsigned, 0..127.
+
 Clock domain: ``domain`` (default ``sync``; the top level passes ``domain="pix"`` or uses ``DomainRenamer``).
 ``sw`` is asynchronous (mechanical switches): every bit goes through an :class:`amaranth.lib.cdc.FFSynchronizer`
 of ``stages`` flip-flops before any logic looks at it.
@@ -26,21 +31,25 @@ the pending register; only the value present at the frame_start edge is shown, a
 overwrites any transient ``stages + 1`` clocks later, so at worst one frame shows an intermediate value.
 """
 
-from amaranth import Module, Signal
+from amaranth import Module, Signal, signed
 from amaranth.lib import wiring
 from amaranth.lib.cdc import FFSynchronizer
 from amaranth.lib.wiring import In, Out
 
-__all__ = ["SWITCH_VALUE_BITS", "SettingsSignature", "SwitchControl"]
+__all__ = ["SWITCH_VALUE_BITS", "RECTIFICATION_RANGE", "SettingsSignature", "SwitchControl"]
 
 #: Width of the disparity and rectification registers: the value switches SW6..SW0.
 SWITCH_VALUE_BITS = 7
 
+#: The rectification values the switches give: ``SWITCH_VALUE_BITS`` bits of two's complement.
+RECTIFICATION_RANGE = range(-2 ** (SWITCH_VALUE_BITS - 1), 2 ** (SWITCH_VALUE_BITS - 1))
+
 #: The two registers the switches set, as their source drives them: ``disparity`` (horizontal shift of the left
-#: image) and ``rectification`` (vertical shift), each ``SWITCH_VALUE_BITS`` wide.
+#: image, unsigned) and ``rectification`` (vertical shift, signed: the left row read is y + rectification), each
+#: ``SWITCH_VALUE_BITS`` wide.
 SettingsSignature = wiring.Signature({
     "disparity": Out(SWITCH_VALUE_BITS),
-    "rectification": Out(SWITCH_VALUE_BITS),
+    "rectification": Out(signed(SWITCH_VALUE_BITS)),
 })
 
 

@@ -9,7 +9,10 @@ Blocks (each in its own file, see docs/architecture.md):
   :class:`~hdl.depth.DepthEngine`, sharing each frame buffer's one read port through a
   :class:`~hdl.read_arbiter.ReadArbiter`) -> :class:`~hdl.ch7301c_output.CH7301COutput`;
   :class:`~hdl.switches.SwitchControl` turns SW7..SW0 into the disparity and rectification registers (the
-  rectification also moves the left rows the depth engine reads);
+  rectification also moves the left rows the depth engine reads); the
+  :class:`~hdl.vertical_offset.VerticalOffsetEstimator` watches both captures' writes and finds the vertical
+  offset between the cameras; :class:`~hdl.rectification_select.RectificationSelect` uses it in place of the
+  manual rectification when the switches hold ``AUTO_CODE`` (SW7 = 0, SW6..SW0 = 1000000, docs/rectification.md);
 * the CH7301C's own :class:`~hdl.i2c_init.InitSequencer` on the board's I2C bus;
 * status LEDs and the sensor/transmitter reset and power pins.
 
@@ -20,9 +23,9 @@ simulation testbench with :class:`~sim.models.clocking.SimClocking` in simulatio
 =========  ================================================================================================
 ``sync``   100 MHz: the three I2C init sequencers, the sensor/transmitter reset pins, LEDs 0..5
 ``pix``    148.5 MHz: sync generator, switches, compositor, depth engine, frame-buffer read ports, CH7301C output,
-           LED 6
-``cam_a``  camera A's PCLK: its capture and frame-buffer write port, LED 7
-``cam_b``  camera B's PCLK: its capture and frame-buffer write port
+           the vertical-offset search and the rectification select, LED 6
+``cam_a``  camera A's PCLK: its capture and frame-buffer write port, its row sums, LED 7
+``cam_b``  camera B's PCLK: its capture and frame-buffer write port, its row sums
 =========  ================================================================================================
 
 CH7301C output stage: with ``ddr="behavioural"`` (simulation, Verilog export) the system ends in
@@ -73,7 +76,10 @@ from spec.depth import DEPTH
 from spec.display import DIFF_LEVEL_GREY, DIFF_THRESHOLDS
 from spec.sensor import SENSOR
 from spec.video import CEA_1080P60
+from hdl.rectification_select import RectificationSelect
 from hdl.switches import SettingsSignature, SwitchControl
+from hdl.vertical_offset import VerticalOffsetEstimator
+from spec.rectification import RECTIFICATION
 from hdl.sync_gen import SyncGenerator
 from hdl.video_bus import VideoSignature
 
@@ -110,6 +116,9 @@ class StereoDepthSystem(wiring.Component):
         The disparity display (:class:`~hdl.compositor.Compositor`).
     depth : :class:`spec.depth.DepthConfig`
         The depth engine.
+    auto_rectification : :class:`spec.rectification.RectificationConfig`
+        The vertical-offset estimator (its search must fit the buffers: ``SMALL_RECTIFICATION`` for
+        ``SMALL_SENSOR``).
     cam_table, dvi_table : :class:`hdl.init_tables.InitTable`
         The I2C init tables.
     clk_hz, i2c_hz : int
@@ -145,7 +154,9 @@ class StereoDepthSystem(wiring.Component):
     frame_start : ``Out(1)``
         The sync generator's strobe (``pix``), :data:`DISPLAY_LATENCY` clocks before pixel (0, 0) reaches the pins.
     settings : ``Out(SettingsSignature)``
-        The switch registers (``pix``).
+        The settings in use (``pix``): the switch registers, or in automatic mode the estimator's rectification.
+    rectification : ``Out``: ``auto``, ``confident``, ``held``, ``locked``
+        The automatic rectification's mode and the estimator's last verdict (``pix``).
 
     Every member is the forwarded interface of the block that owns it (:func:`hdl.forward.forward`).
 
@@ -156,9 +167,9 @@ class StereoDepthSystem(wiring.Component):
     """
 
     def __init__(self, geometry=SENSOR, timing=CEA_1080P60, layout=None, *, thresholds=DIFF_THRESHOLDS,
-                 level_grey=DIFF_LEVEL_GREY, depth=DEPTH, cam_table=MT9D112_TABLE, dvi_table=CH7301C_TABLE,
-                 clk_hz=CLOCKS.SYS_HZ, i2c_hz=CLOCKS.I2C_HZ, i2c_retry_delay_us=1000, r_byte_first=True,
-                 ddr="behavioural", heartbeat_log2=5, cam_heartbeat_log2=3, skew_line_clocks=None):
+                 level_grey=DIFF_LEVEL_GREY, depth=DEPTH, auto_rectification=RECTIFICATION, cam_table=MT9D112_TABLE,
+                 dvi_table=CH7301C_TABLE, clk_hz=CLOCKS.SYS_HZ, i2c_hz=CLOCKS.I2C_HZ, i2c_retry_delay_us=1000,
+                 r_byte_first=True, ddr="behavioural", heartbeat_log2=5, cam_heartbeat_log2=3, skew_line_clocks=None):
         if ddr not in ("behavioural", None):
             raise ValueError(f"ddr must be 'behavioural' or None (board: pins built by board.top), not {ddr!r}")
         self.geometry = geometry
@@ -171,6 +182,9 @@ class StereoDepthSystem(wiring.Component):
                                         level_grey=level_grey)
         self.sync_gen = SyncGenerator(timing)
         self.switches = SwitchControl(domain="pix")
+        self.estimator = VerticalOffsetEstimator(geometry, auto_rectification, left_domain="cam_a",
+                                                 right_domain="cam_b")
+        self.select = RectificationSelect(auto_rectification)
         self.output = CH7301COutput(timing, ddr=ddr) if ddr is not None else None
         line = skew_line_clocks or -(-(2 * geometry.width + 256) * clk_hz // CLOCKS.CAM_PCLK_HZ)
         self.skew_meter = FrameSkewMeter(
@@ -196,6 +210,7 @@ class StereoDepthSystem(wiring.Component):
             "frame_start": Out(1),
             "settings": Out(SettingsSignature),
             "skew": Out(FrameSkewSignature(self.skew_meter.bits)),
+            "rectification": Out(wiring.Signature({n: Out(1) for n in ("auto", "confident", "held", "locked")})),
         }
         if self.output is not None:
             members["ch7301c"] = Out(CH7301CSignature)
@@ -212,8 +227,11 @@ class StereoDepthSystem(wiring.Component):
         forward(self, ("panel", "sw"), self.switches.sw)
         forward(self, "video", self.display.video)
         forward(self, "frame_start", self.sync_gen.frame_start)
-        forward(self, "settings", self.switches.settings)
+        forward(self, "settings", self.select.settings)
         forward(self, "skew", self.skew_meter.status)
+        forward(self, ("rectification", "auto"), self.select.auto)
+        for name in ("confident", "held", "locked"):
+            forward(self, ("rectification", name), getattr(self.estimator, name))
         if self.output is not None:
             forward(self, "ch7301c", self.output.pins)
 
@@ -248,7 +266,8 @@ class StereoDepthSystem(wiring.Component):
         m.submodules.switches = switches = self.switches
         m.submodules.display = pix(self.display)
         wiring.connect(m, self.sync_gen, self.display.timing)
-        wiring.connect(m, switches.settings, self.display.settings)
+        self._rectification(m, capture, pix)
+        wiring.connect(m, self.select.settings, self.display.settings)
         wiring.connect(m, self.display.left, capture.cam_a.read)       # camera A = left
         wiring.connect(m, self.display.right, capture.cam_b.read)      # camera B = right
         m.d.comb += switches.frame_start.eq(self.sync_gen.frame_start)
@@ -271,3 +290,15 @@ class StereoDepthSystem(wiring.Component):
                                   | (self.skew.valid & ~self.skew.aligned)),
         ]
         return m
+
+    def _rectification(self, m, capture, pix):
+        """The estimator watches both captures' writes (camera A = left); the select picks manual or automatic."""
+        est, select = self.estimator, self.select
+        m.submodules.vertical_offset = pix(est)
+        m.submodules.rectification_select = pix(select)
+        for side, port in (("left", capture.cam_a), ("right", capture.cam_b)):
+            watch = getattr(est, side)
+            m.d.comb += [watch.addr.eq(port.write.addr), watch.data.eq(port.write.data),
+                         watch.en.eq(port.write.en), watch.frame_done.eq(port.status.frame_done)]
+        wiring.connect(m, self.switches.settings, select.manual)
+        m.d.comb += [select.estimate.eq(est.offset), select.frame_start.eq(self.sync_gen.frame_start)]

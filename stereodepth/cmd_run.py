@@ -58,7 +58,9 @@ def add_arguments(parser):
     parser.add_argument("--disparity", default="0", metavar="D",
                         help="disparity switch value 0..127 (SW7 = 1, SW6..SW0 = D); default 0")
     parser.add_argument("--rectification", default="0", metavar="R",
-                        help="rectification switch value 0..127 (SW7 = 0, SW6..SW0 = R); default 0")
+                        help="rectification switch value -63..63 buffer rows (SW7 = 0, SW6..SW0 = R in two's "
+                             "complement; negative reads the left image higher), or 'auto' (SW6..SW0 = 1000000: "
+                             "the offset the FPGA finds, docs/rectification.md); default 0")
     parser.add_argument("--simulator", choices=SIMULATORS, default="verilator",
                         help="verilator (default), icarus, or amaranth (hours at full size; quick with --small)")
     parser.add_argument("--out", type=Path, default=Path("build/run"), help="output directory (build/run)")
@@ -72,13 +74,13 @@ def add_arguments(parser):
                         help="write system.vcd + system.gtkw (Amaranth simulator, --small only)")
 
 
-def switch_value(name, text):
+def switch_value(name, text, low=0, high=127):
     try:
         value = int(text, 0)
     except ValueError:
-        raise UserError(f"--{name} must be an integer 0..127, got {text!r}") from None
-    if not 0 <= value <= 127:
-        raise UserError(f"--{name} must be 0..127 (seven switches), got {value}")
+        raise UserError(f"--{name} must be an integer {low}..{high}, got {text!r}") from None
+    if not low <= value <= high:
+        raise UserError(f"--{name} must be {low}..{high} (seven switches), got {value}")
     return value
 
 
@@ -235,7 +237,8 @@ def run(args):
     from stereodepth.provenance import utc_now
     started = utc_now()
     disparity = switch_value("disparity", args.disparity)
-    rectification = switch_value("rectification", args.rectification)
+    rectification = "auto" if args.rectification == "auto" else switch_value("rectification", args.rectification,
+                                                                              -63, 63)
     setup = make_setup(args.small, disparity, rectification)
     if args.frames is not None or args.scene is not None:
         if args.vcd or args.ground_truth is not None:

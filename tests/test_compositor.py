@@ -45,7 +45,9 @@ CLOCK_PS = round(1e12 / CLOCKS.PIXEL_HZ)
 #: middle of both maps.
 SMALL_SCHEDULE = [
     dict(line=25, column=30, disparity=22, rectification=3),    # the thesis's setting (all no-data at 16 x 12)
-    dict(line=30, column=50, disparity=127, rectification=127),  # the maximum
+    dict(line=30, column=50, disparity=127, rectification=63),   # the maxima
+    dict(line=30, column=50, disparity=2, rectification=-64),    # the negative end (switches 1000000)
+    dict(line=30, column=50, disparity=1, rectification=-3),     # the left image read 3 rows higher
     dict(line=20, column=24, disparity=3, rectification=1),
     dict(line=40, column=55, disparity=15),                      # rectification must stay 1
     dict(line=50, column=2, rectification=11),                   # disparity must stay 15
@@ -279,7 +281,7 @@ def test_display_path_cocotb(simulator, tmp_path):
 @pytest.mark.slow
 def test_display_path_1080p_cocotb(tmp_path):
     """The full 1920 x 1080 frame from 400 x 300 buffers (the board's engine, D = 64) on Verilator: (0, 0) from reset, then the thesis's
-    (22, 3) set in the middle of the disparity map of frame 0, then the maximum (127, 127)."""
+    (22, 3) set in the middle of the disparity map of frame 0, then the maximum (127, 63)."""
     schedule = [dict(line=500, column=700, disparity=22, rectification=3),
-                dict(line=900, column=1000, disparity=127, rectification=127)]
+                dict(line=900, column=1000, disparity=127, rectification=63)]
     run_cocotb_display(CEA_1080P60, SENSOR, schedule, "verilator", tmp_path)

@@ -100,12 +100,17 @@ def test_random_pair_bit_exact(seed, grant_mask):
     assert reads == (G.buf_depth, G.buf_depth)
 
 
-@pytest.mark.parametrize("offset", [3, SHAPE[0] - 1])
+@pytest.mark.parametrize("offset", [3, SHAPE[0] - 1, -1, -3, -(SHAPE[0] - 1)])
 def test_left_row_offset_bit_exact(offset):
-    """The rectification switch moves the left image up for the engine: row y of the map is matched against
-    left row min(y + offset, H - 1) (golden.depth_display.engine_left); still each pixel read once."""
+    """The signed rectification moves the left image up (or down) for the engine: row y of the map is matched
+    against left row min(max(y + offset, 0), H - 1) (golden.depth_display.engine_left); the boundary values
+    +-(H - 1) included (every row the last or the first); H reads per map as without an offset."""
     left, right = random_pair(11)
-    left[offset:] = right[:SHAPE[0] - offset]           # a vertical misalignment the offset undoes
+    h = SHAPE[0]
+    if offset >= 0:
+        left[offset:] = right[:h - offset]               # a vertical misalignment the offset undoes
+    else:
+        left[:h + offset] = right[-offset:]
     codes, _, reads, _ = run_engine(left, right, grant_mask=0b11, row_offset=offset)
     assert_same(codes, depth_map(engine_left(left, offset), right, CFG))
     assert reads == (G.buf_depth, G.buf_depth)

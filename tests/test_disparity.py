@@ -87,7 +87,7 @@ def run_subtractor(left, right, disparity, rectification, thresholds, pixels):
         x, y = pixel
         _, _, _, left_addr, right_addr = out[i]                    # addresses one clock after the inputs
         assert right_addr == y * w + x
-        if x + disparity < w and y + rectification < h:
+        if x + disparity < w and 0 <= y + rectification < h:
             assert left_addr == (y + rectification) * w + x + disparity
         else:
             assert left_addr == 0
@@ -115,8 +115,28 @@ def test_real_pair_raster_default_thresholds():
     from spec.sensor import SMALL_SENSOR
     left_rgb, right_rgb = load_default_pair(SMALL_SENSOR.width, SMALL_SENSOR.height)
     left, right = capture_frame(left_rgb, SMALL_SENSOR), capture_frame(right_rgb, SMALL_SENSOR)
-    for disparity, rectification in [(0, 0), (3, 1), (15, 11), (16, 0), (0, 12), (22, 3), (127, 127)]:
+    for disparity, rectification in [(0, 0), (3, 1), (15, 11), (16, 0), (0, 12), (22, 3), (127, 63)]:
         check_against_golden(left, right, disparity, rectification, DIFF_THRESHOLDS, raster(16, 12))
+
+
+@pytest.mark.parametrize("rectification", [0, 1, -1, 11, -11, 12, -12, 63, -64])
+def test_signed_rectification_boundaries(rectification):
+    """Signed offsets at the boundaries of the 16 x 12 buffers: 0, +-1, +-(h - 1) (the last row with data),
+    +-h (one past: every pixel no data) and the switch range's ends; the RTL equals the golden model and no
+    read leaves the buffer (run_subtractor)."""
+    rng = np.random.default_rng(27)
+    left, right = rng.integers(0, 32, (12, 16)), rng.integers(0, 32, (12, 16))
+    check_against_golden(left, right, 2, rectification, DIFF_THRESHOLDS, raster(16, 12))
+
+
+def test_golden_negative_rectification_reads_higher_rows():
+    """The golden model by hand: with r = -2 right row y meets left row y - 2; rows 0 and 1 have no data."""
+    left = np.arange(5 * 4).reshape(5, 4) % 32
+    levels, no_data = difference_levels(left, left, 0, -2, (1,))
+    assert no_data[:2].all() and not no_data[2:].any()
+    assert (levels[2:] == (left[:3] != left[2:]).astype(np.uint8)).all()
+    levels, no_data = difference_levels(np.roll(left, -2, axis=0), left, 0, -2, (1,))
+    assert (levels[2:] == 0).all()
 
 
 @st.composite
@@ -127,7 +147,7 @@ def subtractor_cases(draw):
     left = np.array(draw(images)).reshape(h, w)
     right = np.array(draw(images)).reshape(h, w)
     disparity = draw(st.one_of(st.integers(0, w + 1), st.integers(0, 127)))
-    rectification = draw(st.one_of(st.integers(0, h + 1), st.integers(0, 127)))
+    rectification = draw(st.one_of(st.integers(-h - 1, h + 1), st.integers(-64, 63)))
     thresholds = tuple(draw(st.lists(st.integers(0, 32), min_size=1, max_size=6)))
     coords = st.tuples(st.integers(0, w - 1), st.integers(0, h - 1))
     order = draw(st.sampled_from(["raster", "random"]))

@@ -29,6 +29,7 @@ from hdl.i2c_master import I2CMaster
 from hdl.init_tables import CH7301C_TABLE
 from spec.depth import SMALL_DEPTH
 from spec.layout import TextBox
+from spec.rectification import SMALL_RECTIFICATION
 from spec.sensor import SMALL_SENSOR, SensorGeometry
 from spec.video import SMALL_TIMING, VideoTiming
 from hdl.pattern_gen import PatternGenerator
@@ -42,7 +43,7 @@ from sim.testbench.system.testbench import SystemTestbench
 from sim.testbench.system.rom_testbench import RomReplayTestbench
 from sim.testbench.system.verilog_testbench import VerilogReplayTestbench
 
-SMALL = dict(geometry=SMALL_SENSOR, timing=SMALL_TIMING, depth=SMALL_DEPTH)
+SMALL = dict(geometry=SMALL_SENSOR, timing=SMALL_TIMING, depth=SMALL_DEPTH, auto_rectification=SMALL_RECTIFICATION)
 
 REJECTED = {
     "CameraCapture": lambda: CameraCapture(SensorGeometry(width=64, height=48, grey_bits=6)),

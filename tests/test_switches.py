@@ -22,7 +22,8 @@ def expected_registers(sw_by_cycle, frame_start_cycles, stages, n_cycles):
 
     A switch value set in cycle ``s`` (before edge ``s``) is loaded by a frame_start in cycle ``k`` when
     ``k >= s + stages + 1``; the disparity register takes the last such value with SW7 = 1, the
-    rectification register the last with SW7 = 0. Both start at 0.
+    rectification register the last with SW7 = 0, read as seven bits of two's complement (hdl/switches.py:
+    SW6 = 1 is negative). Both start at 0.
     """
     disp, rect = 0, 0
     out = []
@@ -34,6 +35,7 @@ def expected_registers(sw_by_cycle, frame_start_cycles, stages, n_cycles):
             # Values visible earlier were loaded into the pending registers; the latest of each kind counts.
             disp = d_values[-1] if d_values else 0
             rect = r_values[-1] if r_values else 0
+            rect = rect - SW7 if rect & (SW7 >> 1) else rect
         out.append((disp, rect))
     return out
 
@@ -135,6 +137,24 @@ def test_random_switching_matches_documented_behaviour(use_renamer):
             assert c in frame_starts, f"registers changed at clock {c} without frame_start"
     assert got == expected
     assert len(set(got)) > 10
+
+
+@pytest.mark.parametrize("switches, offset", [
+    (0b0000000, 0), (0b0000011, 3), (0b0000101, 5), (0b0111111, 63),          # the thesis's meaning, 0..63
+    (0b1111111, -1), (0b1110000, -16), (0b1000000, -64)])                      # SW6 = 1: negative
+def test_signed_rectification_encoding(switches, offset):
+    """SW7 = 0, SW6..SW0 = two's complement: the documented encoding, boundary values included."""
+    dut = SwitchControl()
+
+    async def bench(ctx):
+        ctx.set(dut.sw, switches)
+        await ctx.tick().repeat(4)
+        ctx.set(dut.frame_start, 1)
+        await ctx.tick()
+        assert ctx.get(dut.settings.rectification) == offset
+        assert ctx.get(dut.settings.disparity) == 0
+
+    _run(dut, bench)
 
 
 def test_bad_stages():

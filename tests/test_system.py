@@ -83,6 +83,7 @@ def _check_status(status):
         assert not status["drive_high"][bus]
     assert status["cam_a_frame_ok"] and status["cam_b_frame_ok"]
     assert (status["disparity"], status["rectification"]) == (DISPARITY, RECTIFICATION)
+    assert status["auto_rectification"]["auto"] == 0                 # a manual value
     assert status["leds"] & 0b111111 == 0b010101          # init done on all three buses, no error
 
 
@@ -266,4 +267,8 @@ def test_setup_rejects_out_of_range_switch_values():
     with pytest.raises(ValueError, match="disparity"):
         SystemSetup.small(disparity=128)
     with pytest.raises(ValueError, match="rectification"):
-        SystemSetup.small(rectification=-1)
+        SystemSetup.small(rectification=64)
+    with pytest.raises(ValueError, match="rectification"):
+        SystemSetup.small(rectification=-64)            # 1000000 selects the automatic mode
+    assert SystemSetup.small(rectification=-1).switch_words()[1] == 0b1111111
+    assert SystemSetup.small(rectification="auto").switch_words()[1] == 0b1000000

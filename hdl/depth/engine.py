@@ -69,9 +69,9 @@ class DepthEngine(wiring.Component):
     -----
     start : In(1)
         Start a map (one pulse per frame); a map in progress is abandoned.
-    left_row_offset : In(range(height))
-        The map is of the left image moved up by this many rows (row y is buffer row min(y + offset, H - 1)):
-        the rectification switch. Held from two clocks before ``start`` to the end of the map.
+    left_row_offset : In(range(-(height - 1), height))
+        The map is of the left image moved up by this many rows, signed (row y is buffer row
+        min(max(y + offset, 0), H - 1)): the rectification. Held from two clocks before ``start`` to the end of the map.
     left, right : Out(SharedReadSignature)
         The frame buffers' read ports, each shared through request/grant (see ``SharedReadSignature``);
         every pixel is read once per map, rows in order.
@@ -126,7 +126,7 @@ class DepthEngine(wiring.Component):
         self.lead = plan.steps - w
         super().__init__({
             "start": In(1),
-            "left_row_offset": In(range(h)),
+            "left_row_offset": In(range(-(h - 1), h)),
             "left": Out(SharedReadSignature(geometry)),
             "right": Out(SharedReadSignature(geometry)),
             "result": In(ResultReadSignature((out_rows * w - 1).bit_length(), config.code_bits, h)),

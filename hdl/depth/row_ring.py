@@ -16,8 +16,9 @@ class RowRing(wiring.Component):
 
     Rows 0, 1, 2, ... are read through ``buffer`` (a shared read port: one read in each clock with
     ``request`` and ``grant`` high, data one clock later), every pixel once, and row r is written into ring
-    slot ``r mod rows``. Ring row r holds buffer row min(r + ``row_offset``, height - 1) (the rectification
-    switch moving the left image up; ``row_offset`` is sampled at ``start``). One block RAM word per column
+    slot ``r mod rows``. Ring row r holds buffer row min(max(r + ``row_offset``, 0), height - 1) (the signed
+    rectification moving the left image up or down: above the image the first row is read again, below it the
+    last one; ``row_offset`` is sampled at ``start``). One block RAM word per column
     holds that column's pixel of every slot, in lanes of 8 bits (byte write enables), so one read gives a whole
     column of the ring.
 
@@ -32,8 +33,9 @@ class RowRing(wiring.Component):
     -----
     start : In(1)
         Restart at row 0 (a fetch in flight is dropped).
-    row_offset : In(range(height))
-        Buffer rows to skip (held from two clocks before ``start``).
+    row_offset : In(range(-(height - 1), height))
+        Signed: buffer rows to skip (positive) or ring rows that repeat buffer row 0 before row 1 (negative),
+        held from two clocks before ``start``.
     limit : In(range(height + 1))
         Rows below ``limit`` may be fetched; the reader raises it as slots become free.
     fetched : Out(range(height + 1))
@@ -43,8 +45,8 @@ class RowRing(wiring.Component):
 
     Other attributes (state, not ports: what the formal harness's invariant reads, sim/formal/harnesses/depth.py)
     fetch_row, fetch_col : Signal
-        The ring row and column the next read requests (``buffer.port.addr`` = min(fetch_row + row_offset,
-        height - 1) * width + fetch_col, counted).
+        The ring row and column the next read requests (``buffer.port.addr`` = min(max(fetch_row +
+        row_offset, 0), height - 1) * width + fetch_col, counted).
     memory : amaranth.lib.memory.Memory
         The ring: one word per column, a ``lane``-bit lane per slot (its one write port writes a slot's lane).
 
@@ -65,7 +67,7 @@ class RowRing(wiring.Component):
         super().__init__({
             "buffer": Out(SharedReadSignature(geometry)),
             "start": In(1),
-            "row_offset": In(range(geometry.buf_height)),
+            "row_offset": In(range(-(geometry.buf_height - 1), geometry.buf_height)),
             "limit": In(range(geometry.buf_height + 1)),
             "fetched": Out(range(geometry.buf_height + 1)),
             "col": In(range(geometry.buf_width)),
@@ -90,10 +92,15 @@ class RowRing(wiring.Component):
         slot = Signal(range(rows))                   # issued mod rows
         col = self.fetch_col
         addr = Signal(g.addr_bits)                   # source row * width + col, counted
-        source = Signal(range(g.buf_height))         # the buffer row being fetched: min(issued + offset, h - 1)
+        source = Signal(range(g.buf_height))         # the buffer row being fetched: clamp(issued + offset, 0, h - 1)
         row_start = Signal(g.addr_bits)              # source * width
-        offset_addr = Signal(g.addr_bits)            # row_offset * width, registered (a quasi-static input)
-        m.d.sync += offset_addr.eq(self.row_offset * g.buf_width)
+        above = Signal(range(g.buf_height))          # rows still to fetch again at the top: -(issued + offset)
+        first_source = Signal(range(g.buf_height))   # max(row_offset, 0), registered (a quasi-static input)
+        first_above = Signal(range(g.buf_height))    # max(-row_offset, 0), registered
+        offset_addr = Signal(g.addr_bits)            # first_source * width, registered
+        below = Mux(self.row_offset > 0, self.row_offset, 0)
+        m.d.sync += [first_source.eq(below), first_above.eq(Mux(self.row_offset < 0, -self.row_offset, 0)),
+                     offset_addr.eq(below * g.buf_width)]
         pending = Signal()                           # a granted read's data arrives this clock
         pending_col = Signal.like(col)
         pending_slot = Signal.like(slot)
@@ -118,7 +125,9 @@ class RowRing(wiring.Component):
             ]
             with m.If(col == g.buf_width - 1):
                 m.d.sync += [col.eq(0), issued.eq(issued + 1), slot.eq(slot + 1)]
-                with m.If(source == g.buf_height - 1):          # below the image: the last row again
+                with m.If(above != 0):                          # above the image: the first row again
+                    m.d.sync += [addr.eq(row_start), above.eq(above - 1)]
+                with m.Elif(source == g.buf_height - 1):        # below the image: the last row again
                     m.d.sync += addr.eq(row_start)
                 with m.Else():
                     m.d.sync += [source.eq(source + 1), row_start.eq(addr + 1)]
@@ -135,5 +144,6 @@ class RowRing(wiring.Component):
 
         with m.If(self.start):
             m.d.sync += [issued.eq(0), slot.eq(0), col.eq(0), addr.eq(offset_addr), row_start.eq(offset_addr),
-                         source.eq(self.row_offset), pending.eq(0), self.fetched.eq(0), allowed.eq(0)]
+                         source.eq(first_source), above.eq(first_above), pending.eq(0), self.fetched.eq(0),
+                         allowed.eq(0)]
         return m

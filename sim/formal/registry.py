@@ -15,6 +15,7 @@ from sim.formal.harnesses.i2c import I2CMasterHarness, InitSequencerHarness
 from sim.formal.harnesses.read_arbiter import ReadArbiterHarness
 from sim.formal.harnesses.switches import SwitchControlHarness
 from sim.formal.harnesses.sync_gen import SyncGenerator1080pHarness, SyncGeneratorHarness
+from sim.formal.harnesses.vertical_offset import VerticalOffsetHarness
 
 #: name -> factory (a fresh harness per run: harnesses keep their properties between elaborations). The longest
 #: first, so that `make formal`'s two workers finish together.
@@ -32,6 +33,7 @@ DEFAULT = {
     "read_arbiter": ReadArbiterHarness,
     "winner_codes": WinnerCodesHarness,
     "median_codes": MedianCodesHarness,
+    "vertical_offset": VerticalOffsetHarness,
 }
 
 

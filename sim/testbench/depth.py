@@ -39,7 +39,7 @@ class DepthTestbench(wiring.Component):
             "load_right": In(g.grey_bits),
             "grant_mask": In(8),
             "start": In(1),
-            "row_offset": In(range(g.buf_height)),
+            "row_offset": In(range(-(g.buf_height - 1), g.buf_height)),
             "hold": In(1),
             "done": Out(1),
             "clocks": Out(32),

@@ -40,7 +40,7 @@ def switch_events(schedule, timing, hold=8):
 
     ``schedule`` lists, for frames 1, 2, ..., a dict with ``line`` (and optionally ``column``, default 1) of the
     *previous* frame where the user moves the switches, and ``disparity`` and/or ``rectification`` (either may
-    be missing: that register must keep its value). The disparity is set first (SW7 = 1), the rectification
+    be missing: that register must keep its value; the rectification is signed). The disparity is set first (SW7 = 1), the rectification
     ``hold`` clocks later (SW7 = 0). Frame 0 shows the reset values (0, 0).
     """
     events = {}
@@ -55,7 +55,7 @@ def switch_events(schedule, timing, hold=8):
             t += hold
         if entry.get("rectification") is not None:
             r = entry["rectification"]
-            events[t] = r
+            events[t] = r & (SW7 - 1)            # SW6..SW0: two's complement (hdl/switches.py)
         if t >= k * cpf - 4:
             raise ValueError("switch change too close to the next frame_start for a deterministic test")
         settings.append((d, r))

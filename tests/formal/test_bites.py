@@ -29,6 +29,8 @@ from sim.formal.harnesses.i2c import BUS_HZ, CLK_HZ, TIMEOUT_US, I2CMasterHarnes
 from sim.formal.harnesses.read_arbiter import ReadArbiterHarness
 from sim.formal.harnesses.switches import SwitchControlHarness
 from sim.formal.harnesses.sync_gen import SyncGeneratorHarness
+from sim.formal.harnesses.vertical_offset import VerticalOffsetHarness
+from hdl.vertical_offset import VerticalOffsetEstimator
 
 
 class SyncPulseTooWide(SyncGeneratorHarness):
@@ -118,6 +120,20 @@ class WinnerMoreDisparities(WinnerCodesHarness):
         return Winner(dataclasses.replace(self.config, disparities=8), self.width)
 
 
+class EstimatorTallerImage(VerticalOffsetHarness):
+    """The estimator built for buffers one row taller than the profile memories it is checked against: the sweep
+    reads one row past the last."""
+    def dut(self):
+        g = self.geometry
+        return VerticalOffsetEstimator(dataclasses.replace(g, height=g.height + g.scale), self.config)
+
+
+class EstimatorWiderSearch(VerticalOffsetHarness):
+    """The estimator searching +-(R + 1) behind a +-R contract: its costs (and offsets) leave the 2R + 1 words."""
+    def dut(self):
+        return VerticalOffsetEstimator(self.geometry, dataclasses.replace(self.config, search_rows=3))
+
+
 BITES = {
     "sync_gen": (SyncPulseTooWide, "hsync_window_and_polarity"),
     "switches": (SwitchesLoadAnyTime, "_changes_only_after_frame_start"),
@@ -130,6 +146,8 @@ BITES = {
     "read_arbiter": (ArbiterEngineFirst, "display_never_refused"),
     "winner_codes": (WinnerMoreDisparities, "code_is_disparity_or_invalid"),
     "compositor": (CompositorLeftMovedDown, "left_request_exactly_for_its_image_or_the_difference_map"),
+    "vertical_offset": (EstimatorTallerImage, "profile_read_in_memory"),
+    "vertical_offset_range": (EstimatorWiderSearch, "cost_read_in_memory"),
 }
 
 

@@ -59,8 +59,8 @@ class DisparityHarness(FormalHarness):
         px, py = self.past(m, i["x"], name="past_x"), self.past(m, i["y"], name="past_y")
         pd, pr = self.past(m, i["disparity"], name="past_disparity"), self.past(m, i["rectification"],
                                                                                name="past_rectification")
-        shifted_x, shifted_y = px + pd, py + pr
-        outside = (shifted_x >= w) | (shifted_y >= h)
+        shifted_x, shifted_y = px + pd, py + pr.as_signed()       # the rectification is signed
+        outside = (shifted_x >= w) | (shifted_y >= h) | (shifted_y < 0)
         self.prove(m, "reads_idle_at_zero_between_pixels", ~pv | was_valid | ((left_addr == 0) & (right_addr == 0)))
         self.prove(m, "left_read_in_buffer", ~was_valid | (left_addr < g.buf_depth))
         self.prove(m, "right_read_in_buffer", ~was_valid | (right_addr < g.buf_depth))
@@ -71,7 +71,8 @@ class DisparityHarness(FormalHarness):
         self._result(m, i, pv, outside, level, no_data, out_valid)
         self.cover(m, "read_at_last_address", was_valid & (left_addr == g.buf_depth - 1) & ~outside)
         self.cover(m, "no_data_from_horizontal_shift", was_valid & (px + pd >= w) & (py + pr < h))
-        self.cover(m, "no_data_from_vertical_shift", was_valid & (px + pd < w) & (py + pr >= h))
+        self.cover(m, "no_data_from_vertical_shift", was_valid & (px + pd < w) & (shifted_y >= h))
+        self.cover(m, "no_data_from_negative_vertical_shift", was_valid & (px + pd < w) & (shifted_y < 0))
 
     def _contract(self, m, i):
         g = self.geometry

@@ -7,7 +7,7 @@ selects the register, a ``stages``-flop synchroniser, pending registers loaded i
 ``frame_start``) gives the value each register must hold.
 """
 
-from amaranth import Signal
+from amaranth import Signal, signed
 
 from hdl.switches import SWITCH_VALUE_BITS, SwitchControl
 from sim.formal.runner import FormalHarness
@@ -36,10 +36,10 @@ class SwitchControlHarness(FormalHarness):
         disparity, rectification = self.connect(m, dut, sw, frame_start)
 
         # Reference: the switches seen `stages` clocks later (a synchroniser is not reset), SW7 picks the pending
-        # register.
+        # register; the rectification's seven bits are two's complement (hdl/switches.py).
         seen = self.past(m, sw, self.stages, name="sw_synchronised", reset_less=True)
         pending = {"disparity": Signal(SWITCH_VALUE_BITS, name="ref_disparity_pending"),
-                   "rectification": Signal(SWITCH_VALUE_BITS, name="ref_rectification_pending")}
+                   "rectification": Signal(signed(SWITCH_VALUE_BITS), name="ref_rectification_pending")}
         with m.If(seen[SWITCH_VALUE_BITS]):
             m.d.sync += pending["disparity"].eq(seen[:SWITCH_VALUE_BITS])
         with m.Else():

@@ -153,7 +153,9 @@ class _Run:
         while int(ports.ch7301c.hsync.value) != h_idle:
             await RisingEdge(ports.clocks.pix)
         self.status["disparity"] = int(ports.settings.disparity.value)
-        self.status["rectification"] = int(ports.settings.rectification.value)
+        self.status["rectification"] = ports.settings.rectification.value.to_signed()      # two's complement
+        self.status["auto_rectification"] = {n: int(getattr(ports.rectification, n).value)
+                                             for n in ("auto", "confident", "held", "locked")}
         clocks = self.setup.timing.clocks_per_frame + DISPLAY_LATENCY + 2
         self.sink = await self.route.display(ports, self.setup, clocks, self.status)
         self.status["leds"] = int(ports.panel.leds.value)

@@ -243,6 +243,8 @@ class _Run:
             await ctx.tick("pix")
         self.status["disparity"] = ctx.get(top.settings.disparity)
         self.status["rectification"] = ctx.get(top.settings.rectification)
+        self.status["auto_rectification"] = {n: ctx.get(getattr(top.rectification, n))
+                                             for n in ("auto", "confident", "held", "locked")}
         clocks = self.setup.timing.clocks_per_frame + DISPLAY_LATENCY + 2
         await amaranth_sink_testbench(self.sink, top.ch7301c, clocks)(ctx)
         self.status["leds"] = ctx.get(top.panel.leds)

@@ -254,7 +254,9 @@ class VerilatorRun:
         self._until("hsync idle", lambda: h[("ch7301c", "hsync")] == idle, [("ch7301c", "hsync")],
                     timeout_ps=self.deadline_ps)
         status["disparity"] = h[("settings", "disparity")]
-        status["rectification"] = h[("settings", "rectification")]
+        bits = h[("settings", "rectification")] & 0x7F
+        status["rectification"] = bits - 0x80 if bits & 0x40 else bits          # two's complement
+        status["auto_rectification"] = {n: h[("rectification", n)] for n in ("auto", "confident", "held", "locked")}
         h.record(self.clocks)
         if self._until("the display frame", lambda: False, timeout_ps=self.deadline_ps) != RECORDED:
             raise SystemTimeout("the recorder did not fill")

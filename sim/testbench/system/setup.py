@@ -41,10 +41,12 @@ from golden.capture import capture_frame
 from golden.disparity import composite_frame
 from golden.stereo_pair import fit_to_sensor
 from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE, Poll, Wait
+from hdl.rectification_select import AUTO_CODE
 from spec.board import CLOCKS
 from spec.depth import DEPTH, SMALL_DEPTH
 from spec.display import DIFF_LEVEL_GREY, DIFF_THRESHOLDS
 from spec.layout import DisplayLayout
+from spec.rectification import RECTIFICATION, SMALL_RECTIFICATION
 from spec.sensor import SENSOR, SMALL_SENSOR
 from spec.video import CEA_1080P60, SMALL_TIMING
 from sim.models.ch7301c.target import CH7301CModel
@@ -63,6 +65,7 @@ class SystemSetup:
     thresholds: tuple = DIFF_THRESHOLDS
     level_grey: tuple = DIFF_LEVEL_GREY
     depth: object = DEPTH              # the depth engine's DepthConfig
+    auto_rectification: object = RECTIFICATION     # the vertical-offset estimator's RectificationConfig
     disparity: int = 0
     rectification: int = 0
     time_scale: float = 1.0            # applied to the MT9D112 table's waits and the model's boot/PLL times
@@ -82,7 +85,8 @@ class SystemSetup:
     def small(cls, **kw):
         kw.setdefault("sensor_timing", SMALL_SENSOR_TIMING)
         kw.setdefault("pix_after_init", True)
-        return cls(geometry=SMALL_SENSOR, timing=SMALL_TIMING, depth=SMALL_DEPTH, time_scale=0.02, quick_table=True,
+        return cls(geometry=SMALL_SENSOR, timing=SMALL_TIMING, depth=SMALL_DEPTH,
+                   auto_rectification=SMALL_RECTIFICATION, time_scale=0.02, quick_table=True,
                    i2c_hz=1_000_000, i2c_retry_delay_us=20, **kw)
 
     @classmethod
@@ -120,9 +124,12 @@ class SystemSetup:
         return "full" if self.geometry == SENSOR else "small"
 
     def __post_init__(self):
-        for name, value in (("disparity", self.disparity), ("rectification", self.rectification)):
-            if not 0 <= value <= 127:
-                raise ValueError(f"{name} must be 0..127 (seven switches), got {value}")
+        if not 0 <= self.disparity <= 127:
+            raise ValueError(f"disparity must be 0..127 (seven switches), got {self.disparity}")
+        if self.rectification != "auto" and not (isinstance(self.rectification, int)
+                                                 and -63 <= self.rectification <= 63):
+            raise ValueError(f"rectification must be -63..63 (seven switches, two's complement) or 'auto', "
+                             f"got {self.rectification!r}")
 
     @property
     def display_layout(self):
@@ -138,7 +145,7 @@ class SystemSetup:
         """Keyword arguments for ``sim.testbench.system.testbench.SystemTestbench`` (and from there ``hdl.system.StereoDepthSystem``)."""
         return dict(geometry=self.geometry, timing=self.timing, layout=self.display_layout,
                     thresholds=self.thresholds, level_grey=self.level_grey, depth=self.depth,
-                    cam_table=self.cam_table,
+                    auto_rectification=self.auto_rectification, cam_table=self.cam_table,
                     dvi_table=CH7301C_TABLE, clk_hz=self.sys_hz, i2c_hz=self.i2c_hz,
                     i2c_retry_delay_us=self.i2c_retry_delay_us, lock_cycles=self.lock_cycles)
 
@@ -164,8 +171,10 @@ class SystemSetup:
         return self.pclk_hz * (1 + self.cam_clock_ppm.get(camera, 0.0) * 1e-6)
 
     def switch_words(self):
-        """The SW7..SW0 values to set in turn: disparity (SW7 = 1), then rectification (SW7 = 0)."""
-        return [0x80 | self.disparity, self.rectification]
+        """The SW7..SW0 values to set in turn: disparity (SW7 = 1), then rectification (SW7 = 0, SW6..SW0 its
+        two's complement, hdl/switches.py; ``"auto"``: 1000000, hdl/rectification_select.py)."""
+        rectification = AUTO_CODE if self.rectification == "auto" else self.rectification
+        return [0x80 | self.disparity, rectification & 0x7F]
 
     def fit(self, image):
         """An RGB image fitted to the sensor (what the sensor model will output)."""
@@ -174,13 +183,19 @@ class SystemSetup:
             image = fit_to_sensor(image, self.geometry.width, self.geometry.height)
         return image
 
-    def golden_frame(self, left, right, *, details=False):
+    def golden_frame(self, left, right, *, details=False, in_use=None):
         """The golden model's displayed frame for the pair (images at any size: fitted to the sensor first).
-        ``details=True``: ``(frame, depth codes, readout text)`` (``golden.disparity.composite_frame``)."""
+        ``details=True``: ``(frame, depth codes, readout text)`` (``golden.disparity.composite_frame``). In
+        automatic mode the rectification is the one the design reports in use (``in_use``)."""
         g = self.geometry
         lb = capture_frame(self.fit(left), g)
         rb = capture_frame(self.fit(right), g)
-        return composite_frame(lb, rb, self.disparity, self.rectification, self.timing, g, self.display_layout,
+        rectification = self.rectification
+        if rectification == "auto":
+            if in_use is None:
+                raise ValueError("the golden frame of an automatic-rectification run needs the offset in use")
+            rectification = in_use
+        return composite_frame(lb, rb, self.disparity, rectification, self.timing, g, self.display_layout,
                                self.thresholds, self.level_grey, self.depth, details=details)
 
     def deadline_s(self):
