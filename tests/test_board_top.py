@@ -52,7 +52,7 @@ def test_pin_file_changes_only_the_ucf():
 VERSION_ID = {"verilator": 0x4A, "icarus": 0x95}
 
 
-@pytest.mark.parametrize("simulator", ["verilator", "icarus"])
+@pytest.mark.parametrize("simulator", ["verilator", pytest.param("icarus", marks=pytest.mark.slow)])
 def test_board_top_small(simulator, tmp_path):
     _skip_unless(simulator)
     r = run_board_cocotb(small_verilog(), simulator, spec=SMALL, out_dir=tmp_path,
@@ -61,6 +61,7 @@ def test_board_top_small(simulator, tmp_path):
     assert not any(r.status["state_diff"].values())
 
 
+@pytest.mark.slow
 def test_board_top_oddr_word_swap_fails(tmp_path, monkeypatch):
     """The two 12-bit words at the CH7301C data ODDRs swapped (board/top.py): the frame differs."""
     _skip_unless("verilator")

@@ -23,7 +23,11 @@ def _check(factory):
     return report
 
 
-@pytest.mark.parametrize("name", sorted(DEFAULT))
+#: Proofs that take minutes (the depth engine's): ``make formal`` and ``make test-slow`` run them, not ``make test``.
+LONG = {"depth"}
+
+
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n in LONG else n for n in sorted(DEFAULT)])
 def test_proof(name):
     _check(DEFAULT[name])
 
