@@ -185,6 +185,9 @@ class StereoDepthSystem(wiring.Component):
         self.estimator = VerticalOffsetEstimator(geometry, auto_rectification, left_domain="cam_a",
                                                  right_domain="cam_b")
         self.select = RectificationSelect(auto_rectification)
+        # The select's manual input is the switches' own settings (one set of signals, named after the select's
+        # member: the system's ``settings`` are the select's output).
+        forward(self.select, "manual", wiring.flipped(self.switches.settings))
         self.output = CH7301COutput(timing, ddr=ddr) if ddr is not None else None
         line = skew_line_clocks or -(-(2 * geometry.width + 256) * clk_hz // CLOCKS.CAM_PCLK_HZ)
         self.skew_meter = FrameSkewMeter(
@@ -300,5 +303,4 @@ class StereoDepthSystem(wiring.Component):
             watch = getattr(est, side)
             m.d.comb += [watch.addr.eq(port.write.addr), watch.data.eq(port.write.data),
                          watch.en.eq(port.write.en), watch.frame_done.eq(port.status.frame_done)]
-        wiring.connect(m, self.switches.settings, select.manual)
         m.d.comb += [select.estimate.eq(est.offset), select.frame_start.eq(self.sync_gen.frame_start)]
