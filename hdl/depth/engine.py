@@ -2,7 +2,7 @@
 
 from typing import NamedTuple
 
-from amaranth import C, Module, Mux, Signal, unsigned
+from amaranth import Cat, Module, Mux, Signal, unsigned
 from amaranth.lib import data, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
@@ -294,7 +294,7 @@ class DepthEngine(wiring.Component):
     def _paths(self, m, token, right_cen, left_sel, inside, step, clock, in_run, y):
         """Cost (3 clocks), then both paths; the vertical path's line buffer (read at clock 4)."""
         cfg, w = self.config, self.geometry.buf_width
-        G, P, D = self.groups, cfg.lanes, cfg.disparities
+        G, P = self.groups, cfg.lanes
         m.submodules.cost = cost = MatchingCost(cfg)
         m.d.comb += [cost.right.eq(right_cen), cost.left.eq(left_sel), cost.inside.eq(inside)]
         tok = token
@@ -308,23 +308,25 @@ class DepthEngine(wiring.Component):
             m.d.comb += [path.token.eq(tok), path.cost.eq(cost.cost)]
 
         pbits = cfg.path_bits
-        m.submodules.vertical_rows = rows = Memory(shape=unsigned(pbits * D), depth=w, init=[])
+        # The line buffer: one plain memory per group of P disparities (each a simple dual-port block RAM,
+        # docs/board.md), all read at the same column.
+        rows = [Memory(shape=unsigned(pbits * P), depth=w, init=[]) for _ in range(G)]
+        for gi, memory in enumerate(rows):
+            m.submodules[f"vertical_rows{gi}"] = memory
         m.submodules.vertical_minimums = minimums = Memory(shape=unsigned(pbits), depth=w, init=[])
-        rows_read, rows_write = rows.read_port(), rows.write_port(granularity=pbits * P)
+        rows_reads, rows_writes = [r.read_port() for r in rows], [r.write_port() for r in rows]
         min_read, min_write = minimums.read_port(), minimums.write_port()
         x = step - self.lead
         read_x = Mux((x >= 0) & (x < w), x, 0)
-        m.d.comb += [rows_read.addr.eq(read_x), min_read.addr.eq(read_x),
-                     rows_read.en.eq(clock == VREAD_CLOCK), min_read.en.eq(clock == VREAD_CLOCK)]
+        for port in rows_reads + [min_read]:
+            m.d.comb += [port.addr.eq(read_x), port.en.eq(clock == VREAD_CLOCK)]
         with m.If(clock == VREAD_CLOCK + 1):
-            m.d.sync += [vertical.prev.eq(Mux(y == 0, 0, rows_read.data)),
+            m.d.sync += [vertical.prev.eq(Mux(y == 0, 0, Cat(*(r.data for r in rows_reads)))),
                          vertical.prev_min.eq(Mux(y == 0, 0, min_read.data))]
         lt = vertical.l_token
-        m.d.comb += [
-            rows_write.addr.eq(lt.x),
-            rows_write.data.eq(vertical.l.as_value().replicate(G)),
-            rows_write.en.eq(Mux(lt.go, C(1, G) << lt.group, 0)),
-        ]
+        for gi, write in enumerate(rows_writes):
+            m.d.comb += [write.addr.eq(lt.x), write.data.eq(vertical.l.as_value()),
+                         write.en.eq(lt.go & (lt.group == gi))]
         min_x = Signal(range(w))
         with m.If(lt.go & lt.last):
             m.d.sync += min_x.eq(lt.x)

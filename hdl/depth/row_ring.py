@@ -1,6 +1,6 @@
 """RowRing: fetches a frame buffer's rows, in order, into a ring of line buffers (docs/depth.md, "Input rows")."""
 
-from amaranth import C, Cat, Module, Mux, Signal, unsigned
+from amaranth import C, Module, Mux, Signal, unsigned
 from amaranth.lib import data, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
@@ -18,9 +18,9 @@ class RowRing(wiring.Component):
     ``request`` and ``grant`` high, data one clock later), every pixel once, and row r is written into ring
     slot ``r mod rows``. Ring row r holds buffer row min(max(r + ``row_offset``, 0), height - 1) (the signed
     rectification moving the left image up or down: above the image the first row is read again, below it the
-    last one; ``row_offset`` is sampled at ``start``). One block RAM word per column
-    holds that column's pixel of every slot, in lanes of 8 bits (byte write enables), so one read gives a whole
-    column of the ring.
+    last one; ``row_offset`` is sampled at ``start``). Each slot is its own memory of one ``grey_bits`` word per
+    column (a simple dual-port block RAM: one write port, one synchronous read port, one clock; docs/board.md),
+    all read at the same column, so one read gives a whole column of the ring.
 
     Parameters
     ----------
@@ -47,8 +47,10 @@ class RowRing(wiring.Component):
     fetch_row, fetch_col : Signal
         The ring row and column the next read requests (``buffer.port.addr`` = min(max(fetch_row +
         row_offset, 0), height - 1) * width + fetch_col, counted).
-    memory : amaranth.lib.memory.Memory
-        The ring: one word per column, a ``lane``-bit lane per slot (its one write port writes a slot's lane).
+    memories : list of amaranth.lib.memory.Memory
+        The ring: one memory per slot, one word per column.
+    write_en : Signal(rows)
+        One bit per slot: the slot whose memory is written this clock (at most one bit is set).
 
     Clock domain: ``sync`` (the parent renames it to ``pix``).
 
@@ -63,7 +65,6 @@ class RowRing(wiring.Component):
             raise ValueError(f"ring rows must be a power of two >= 2, not {rows}")
         self.geometry = geometry
         self.rows = rows
-        self.lane_bits = max(8, geometry.grey_bits)
         super().__init__({
             "buffer": Out(SharedReadSignature(geometry)),
             "start": In(1),
@@ -75,18 +76,18 @@ class RowRing(wiring.Component):
         })
         self.fetch_row = Signal(range(geometry.buf_height + 1))
         self.fetch_col = Signal(range(geometry.buf_width))
-        self.memory = Memory(shape=unsigned(self.lane_bits * rows), depth=geometry.buf_width, init=[])
-        self._write = self.memory.write_port(granularity=self.lane_bits)
-        self._read = self.memory.read_port()
+        self.memories = [Memory(shape=unsigned(geometry.grey_bits), depth=geometry.buf_width, init=[])
+                         for _ in range(rows)]
+        self.write_en = Signal(rows)
+        self._writes = [memory.write_port() for memory in self.memories]
+        self._reads = [memory.read_port() for memory in self.memories]
 
     def elaborate(self, platform):
         m = Module()
-        g, rows, lane = self.geometry, self.rows, self.lane_bits
-        m.submodules.ring = self.memory
-        write, read = self._write, self._read
-        m.d.comb += read.addr.eq(self.col)
-        for k in range(rows):
-            m.d.comb += self.column[k].eq(read.data[k * lane:k * lane + g.grey_bits])
+        g, rows = self.geometry, self.rows
+        for k, memory in enumerate(self.memories):
+            m.submodules[f"ring{k}"] = memory
+            m.d.comb += [self._reads[k].addr.eq(self.col), self.column[k].eq(self._reads[k].data)]
 
         issued = self.fetch_row                      # row being requested
         slot = Signal(range(rows))                   # issued mod rows
@@ -134,11 +135,10 @@ class RowRing(wiring.Component):
             with m.Else():
                 m.d.sync += col.eq(col + 1)
 
-        m.d.comb += [
-            write.addr.eq(pending_col),
-            write.data.eq(Cat(self.buffer.port.data, C(0, lane - g.grey_bits)).replicate(rows)),
-            write.en.eq(Mux(pending, C(1, rows) << pending_slot, 0)),
-        ]
+        m.d.comb += self.write_en.eq(Mux(pending, C(1, rows) << pending_slot, 0))
+        for k, write in enumerate(self._writes):
+            m.d.comb += [write.addr.eq(pending_col), write.data.eq(self.buffer.port.data),
+                         write.en.eq(self.write_en[k])]
         with m.If(pending & pending_last):
             m.d.sync += self.fetched.eq(self.fetched + 1)
 
