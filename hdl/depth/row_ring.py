@@ -7,6 +7,7 @@ from amaranth.lib.wiring import In, Out
 
 from spec.sensor import SENSOR
 from hdl.depth.ports import SharedReadSignature
+from hdl.shift_add import times
 
 __all__ = ["RowRing"]
 
@@ -101,7 +102,7 @@ class RowRing(wiring.Component):
         offset_addr = Signal(g.addr_bits)            # first_source * width, registered
         below = Mux(self.row_offset > 0, self.row_offset, 0)
         m.d.sync += [first_source.eq(below), first_above.eq(Mux(self.row_offset < 0, -self.row_offset, 0)),
-                     offset_addr.eq(below * g.buf_width)]
+                     offset_addr.eq(times(below, g.buf_width))]
         pending = Signal()                           # a granted read's data arrives this clock
         pending_col = Signal.like(col)
         pending_slot = Signal.like(slot)
