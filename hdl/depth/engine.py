@@ -257,7 +257,7 @@ class DepthEngine(wiring.Component):
             m.d.comb += census.shift.eq(in_run & (clock == CENSUS_SHIFT))
             signatures.append(census.census)
         entry = data.StructLayout({"census": cfg.census_bits, "inside": 1})
-        shift_reg = [Signal(entry, name=f"left_census{j}") for j in range(cfg.disparities)]
+        shift_reg = [Signal(entry, name=f"left_census{j}", reset_less=True) for j in range(cfg.disparities)]
         with m.If(in_run & (clock == SHIFT_CLOCK)):
             m.d.sync += [shift_reg[0].census.eq(signatures[0]), shift_reg[0].inside.eq(step < w + 2 * rx)]
             for j in range(1, cfg.disparities):
@@ -271,8 +271,8 @@ class DepthEngine(wiring.Component):
         x = step - self.lead
         group = clock - ISSUE_CLOCK
         token = Signal(token_layout(G, w))
-        right_cen = Signal(cfg.census_bits)
-        left_sel = Signal(data.ArrayLayout(cfg.census_bits, P))
+        right_cen = Signal(cfg.census_bits, reset_less=True)
+        left_sel = Signal(data.ArrayLayout(cfg.census_bits, P), reset_less=True)
         inside = Signal(P)
         issuing = in_run & (clock >= ISSUE_CLOCK) & (clock < ISSUE_CLOCK + G) & (step >= self.lead)
         m.d.sync += [
