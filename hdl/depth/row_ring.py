@@ -1,6 +1,6 @@
 """RowRing: fetches a frame buffer's rows, in order, into a ring of line buffers (docs/depth.md, "Input rows")."""
 
-from amaranth import C, Module, Mux, Signal, unsigned
+from amaranth import C, Cat, Module, Mux, Signal, unsigned
 from amaranth.lib import data, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
@@ -19,9 +19,11 @@ class RowRing(wiring.Component):
     ``request`` and ``grant`` high, data one clock later), every pixel once, and row r is written into ring
     slot ``r mod rows``. Ring row r holds buffer row min(max(r + ``row_offset``, 0), height - 1) (the signed
     rectification moving the left image up or down: above the image the first row is read again, below it the
-    last one; ``row_offset`` is sampled at ``start``). Each slot is its own memory of one ``grey_bits`` word per
-    column (a simple dual-port block RAM: one write port, one synchronous read port, one clock; docs/board.md),
-    all read at the same column, so one read gives a whole column of the ring.
+    last one; ``row_offset`` is sampled at ``start``). One memory word per column holds that column's pixel of
+    every slot, so one read gives a whole column of the ring. A fetched pixel is merged into its column's word
+    (read, replace one slot, write back) from an identical copy of the ring, so both copies are plain simple
+    dual-port memories -- one whole-word write port, one synchronous read port, one clock, no lane write
+    enables (docs/board.md): the census reads one, the merge reads the other.
 
     Parameters
     ----------
@@ -48,8 +50,9 @@ class RowRing(wiring.Component):
     fetch_row, fetch_col : Signal
         The ring row and column the next read requests (``buffer.port.addr`` = min(max(fetch_row +
         row_offset, 0), height - 1) * width + fetch_col, counted).
-    memories : list of amaranth.lib.memory.Memory
-        The ring: one memory per slot, one word per column.
+    memory, shadow : amaranth.lib.memory.Memory
+        The ring and its copy: one word per column, ``grey_bits`` per slot (slot ``k`` in bits
+        ``k * grey_bits`` up).
     write_en : Signal(rows)
         One bit per slot: the slot whose memory is written this clock (at most one bit is set).
 
@@ -77,18 +80,22 @@ class RowRing(wiring.Component):
         })
         self.fetch_row = Signal(range(geometry.buf_height + 1))
         self.fetch_col = Signal(range(geometry.buf_width))
-        self.memories = [Memory(shape=unsigned(geometry.grey_bits), depth=geometry.buf_width, init=[])
-                         for _ in range(rows)]
+        word = unsigned(geometry.grey_bits * rows)
+        self.memory = Memory(shape=word, depth=geometry.buf_width, init=[])
+        self.shadow = Memory(shape=word, depth=geometry.buf_width, init=[])
         self.write_en = Signal(rows)
-        self._writes = [memory.write_port() for memory in self.memories]
-        self._reads = [memory.read_port() for memory in self.memories]
+        self._writes = [self.memory.write_port(), self.shadow.write_port()]
+        self._read, self._merge_read = self.memory.read_port(), self.shadow.read_port()
 
     def elaborate(self, platform):
         m = Module()
         g, rows = self.geometry, self.rows
-        for k, memory in enumerate(self.memories):
-            m.submodules[f"ring{k}"] = memory
-            m.d.comb += [self._reads[k].addr.eq(self.col), self.column[k].eq(self._reads[k].data)]
+        gb = g.grey_bits
+        m.submodules.ring = self.memory
+        m.submodules.ring_shadow = self.shadow
+        m.d.comb += self._read.addr.eq(self.col)
+        for k in range(rows):
+            m.d.comb += self.column[k].eq(self._read.data[k * gb:(k + 1) * gb])
 
         issued = self.fetch_row                      # row being requested
         slot = Signal(range(rows))                   # issued mod rows
@@ -136,10 +143,13 @@ class RowRing(wiring.Component):
             with m.Else():
                 m.d.sync += col.eq(col + 1)
 
-        m.d.comb += self.write_en.eq(Mux(pending, C(1, rows) << pending_slot, 0))
-        for k, write in enumerate(self._writes):
-            m.d.comb += [write.addr.eq(pending_col), write.data.eq(self.buffer.port.data),
-                         write.en.eq(self.write_en[k])]
+        # The merge: the copy is read at the granted column (``col``, before it advances), so its word is
+        # there when the pixel arrives; consecutive writes go to different columns (width >= 2).
+        m.d.comb += [self._merge_read.addr.eq(col), self.write_en.eq(Mux(pending, C(1, rows) << pending_slot, 0))]
+        old = self._merge_read.data
+        merged = Cat(*(Mux(self.write_en[k], self.buffer.port.data, old[k * gb:(k + 1) * gb]) for k in range(rows)))
+        for write in self._writes:
+            m.d.comb += [write.addr.eq(pending_col), write.data.eq(merged), write.en.eq(pending)]
         with m.If(pending & pending_last):
             m.d.sync += self.fetched.eq(self.fetched + 1)
 
