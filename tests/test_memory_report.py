@@ -1,0 +1,101 @@
+"""board.memory_report: each memory's template and block RAM cost, read from RTLIL Amaranth writes, against
+memories whose form the test builds on purpose (and the Virtex-5 aspect ratios of UG190 worked by hand)."""
+
+import pytest
+from amaranth import Cat, ClockDomain, Module, Signal
+from amaranth.back import rtlil
+from amaranth.lib.memory import Memory
+
+from board.memory_report import PROBLEMS, block_cost, lines, mapped_blocks, memories
+from board.resources import reset_fanout
+
+
+def _rtlil(build):
+    m = Module()
+    m.domains.other = ClockDomain()
+    ports = build(m)
+    return rtlil.convert(m, ports=ports)
+
+
+def _one(depth, width, *, granularity=None, write_domain="sync", read_domain="sync", rom=False):
+    def build(m):
+        mem = Memory(shape=width, depth=depth, init=[1] if rom else [])
+        m.submodules.mem = mem
+        addr, out = Signal(range(depth)), Signal(width)
+        ports = [addr, out]
+        if not rom:
+            w = mem.write_port(domain=write_domain, granularity=granularity)
+            lanes = Signal(len(w.en))
+            data = Signal(width)
+            m.d.comb += [w.addr.eq(addr), w.data.eq(data), w.en.eq(lanes)]
+            ports += [lanes, data]
+        r = mem.read_port(domain=read_domain)
+        m.d.comb += [r.addr.eq(addr), out.eq(r.data)]
+        return ports
+    (info,) = memories(_rtlil(build))
+    return info
+
+
+def test_simple_dual_port():
+    info = _one(400, 40)
+    assert (info.name, info.depth, info.width, info.template) == ("mem", 400, 40, "simple dual-port")
+    assert info.blocks36 == 1                     # 512 x 72 simple dual-port (two 512 x 36 RAMB18 also 1)
+
+
+def test_two_clocks():
+    assert _one(4096, 1, write_domain="other").template == "dual-port, two clocks"
+
+
+def test_lane_write_enables_are_a_problem():
+    info = _one(400, 64, granularity=8)
+    assert info.lanes == 8 and info.template == "lane write enables" and info.template in PROBLEMS
+
+
+def test_one_enable_for_a_wide_word_is_not_lanes():
+    assert _one(400, 64, granularity=64).template == "simple dual-port"
+
+
+def test_asynchronous_read():
+    assert _one(400, 8, read_domain="comb").template == "asynchronous read"
+    assert _one(128, 24, read_domain="comb", rom=True).template == "ROM, asynchronous read"
+    assert _one(128, 24, rom=True).template == "ROM, synchronous read"
+
+
+def test_small_memory():
+    info = _one(16, 8)
+    assert info.template == "small" and info.blocks36 == 0
+
+
+@pytest.mark.parametrize("depth, width, blocks", [
+    (120000, 1, 4),          # 32K x 1 RAMB36, four deep
+    (400, 5, 0.5),           # one RAMB18 (2K x 9 or 512 x 36)
+    (400, 128, 2),           # 512 x 72 twice
+    (1600, 7, 0.5),          # 2K x 9 RAMB18
+    (400, 512, 7.5),         # 512 x 72 seven times + one 512 x 36 RAMB18
+    (42, 77, 1.5),           # 512 x 36 RAMB18 three times
+])
+def test_block_cost(depth, width, blocks):
+    assert block_cost(depth, width) == blocks
+
+
+def test_listing_and_mapped_counts():
+    info = _one(400, 40)
+    netlist = {"modules": {"top": {"cells": {
+        "mem.ram0": {"type": "RAMB36_EXP"}, "mem.ram1": {"type": "RAMB18"}, "memory.x": {"type": "RAMB36"}}}}}
+    mapped = mapped_blocks(netlist, [info])
+    assert mapped == {"mem": 1.5}
+    text = "\n".join(lines([info], mapped))
+    assert "simple dual-port" in text and "not block RAM by construction: none" in text
+
+
+def test_reset_fanout_counts_inputs_on_the_reset_net():
+    netlist = {"modules": {"top": {"attributes": {"top": 1}, "netnames": {
+        "pix_rst": {"bits": [5]}, "system.pix_rst": {"bits": [5]}, "rst": {"bits": [7]}, "other": {"bits": [9]}},
+        "cells": {
+            "a": {"type": "FDRE", "port_directions": {"R": "input", "Q": "output"},
+                  "connections": {"R": [5], "Q": [9]}},
+            "b": {"type": "FDRE", "port_directions": {"R": "input", "D": "input", "Q": "output"},
+                  "connections": {"R": [5], "D": [7], "Q": [10]}},
+            "c": {"type": "FDRE", "port_directions": {"R": "input", "Q": "output"},
+                  "connections": {"R": [7], "Q": [5]}}}}}}
+    assert reset_fanout(netlist, ("sync", "pix")) == {"pix": 2, "sync": 2}
