@@ -2,7 +2,7 @@
 
 from typing import NamedTuple
 
-from amaranth import Cat, Module, Mux, Signal, unsigned
+from amaranth import Cat, Module, Mux, Signal, signed, unsigned
 from amaranth.lib import data, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
@@ -161,8 +161,11 @@ class DepthEngine(wiring.Component):
         can_start = Signal()
         m.d.sync += can_start.eq((left_ring.fetched >= need) & (right_ring.fetched >= need)
                                  & (first | (before < room_limit)))
+        # The census rows' ring slots, in two registered stages (y + j - ry, then clamped): y changes only in
+        # DRAIN and the slots are read only in RUN, at least three clocks later.
         for j in range(cfg.census_height):
-            row = y + j - ry
+            row = Signal(signed(len(y) + 1), name=f"census_row{j}")
+            m.d.sync += row.eq(y + j - ry)
             clamped = Mux(row < 0, 0, Mux(row > h - 1, h - 1, row))
             m.d.sync += ring_row[j].eq(clamped[:(RING_ROWS - 1).bit_length()])
         limit = Signal(range(h + 1))            # rows that may be fetched: none while idle; late is safe
