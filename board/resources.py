@@ -243,27 +243,32 @@ def longest_paths(netlist, domains):
 
 
 def reset_fanout(netlist, domains):
-    """``{domain: loads}``: the cell inputs connected to each domain's reset net (``<domain>_rst``, ``rst`` for
-    ``sync``) in the flattened top module of a Yosys JSON netlist."""
+    """``{domain: loads}``: the cell inputs on each domain's reset net in the flattened top module of a Yosys JSON
+    netlist -- the output of the domain's reset synchroniser (``hdl.reset_tree``: the cells named
+    ``...rst_sync_<domain>...``; Yosys does not keep the ``<domain>_rst`` net name), the flip-flop of those
+    with the most loads."""
     module = next(iter(m for n, m in netlist["modules"].items() if m.get("attributes", {}).get("top")),
                   None) or next(iter(netlist["modules"].values()))
-    reset_bits = {}
-    for name, info in sorted(module["netnames"].items(), key=lambda kv: len(kv[0])):
-        base = name.lstrip("\\").split(".")[-1]
-        for d in domains:
-            if d not in reset_bits and base == (f"{d}_rst" if d != "sync" else "rst") and \
-                    len(info["bits"]) == 1 and isinstance(info["bits"][0], int):
-                reset_bits[d] = info["bits"][0]
-    loads = {d: 0 for d in reset_bits}
-    by_bit = {b: d for d, b in reset_bits.items()}
+    loads = {}
     for cell in module["cells"].values():
         dirs = cell.get("port_directions", {})
         for port, bits in cell["connections"].items():
             if dirs.get(port) == "input":
                 for b in bits:
-                    if b in by_bit:
-                        loads[by_bit[b]] += 1
-    return loads
+                    loads[b] = loads.get(b, 0) + 1
+    out = {}
+    for name, cell in module["cells"].items():
+        if not cell["type"].startswith("FD"):
+            continue
+        base = name.lstrip("\\")
+        domain = next((d for d in sorted(domains, key=len, reverse=True)
+                       if re.search(rf"(?:^|\.)rst_sync_{re.escape(d)}\.", base)), None)
+        if domain is None:
+            continue
+        q = [b for p, bits in cell["connections"].items() if cell.get("port_directions", {}).get(p) == "output"
+             for b in bits]
+        out[domain] = max(out.get(domain, 0), max((loads.get(b, 0) for b in q), default=0))
+    return out
 
 
 _FRAME_BUFFER_BRAM = re.compile(r"(?:^|\.)(?:(buffer_\w+)\.)?(bit\d+)\.")

@@ -88,14 +88,14 @@ def test_listing_and_mapped_counts():
     assert "simple dual-port" in text and "not block RAM by construction: none" in text
 
 
-def test_reset_fanout_counts_inputs_on_the_reset_net():
-    netlist = {"modules": {"top": {"attributes": {"top": 1}, "netnames": {
-        "pix_rst": {"bits": [5]}, "system.pix_rst": {"bits": [5]}, "rst": {"bits": [7]}, "other": {"bits": [9]}},
-        "cells": {
-            "a": {"type": "FDRE", "port_directions": {"R": "input", "Q": "output"},
-                  "connections": {"R": [5], "Q": [9]}},
-            "b": {"type": "FDRE", "port_directions": {"R": "input", "D": "input", "Q": "output"},
-                  "connections": {"R": [5], "D": [7], "Q": [10]}},
-            "c": {"type": "FDRE", "port_directions": {"R": "input", "Q": "output"},
-                  "connections": {"R": [7], "Q": [5]}}}}}}
-    assert reset_fanout(netlist, ("sync", "pix")) == {"pix": 2, "sync": 2}
+def test_reset_fanout_counts_inputs_on_the_reset_synchronisers_output():
+    def ff(d, q, r=None):
+        conn = {"D": [d], "Q": [q]} | ({"R": [r]} if r is not None else {})
+        return {"type": "FDRE", "port_directions": {"D": "input", "Q": "output", "R": "input"},
+                "connections": conn}
+    netlist = {"modules": {"top": {"attributes": {"top": 1}, "netnames": {}, "cells": {
+        "clocking.rst_sync_pix.stage1": ff(3, 5),
+        "clocking.rst_sync_pix.stage0": ff(2, 3),
+        "clocking.rst_sync_pix90.stage1": ff(2, 6),
+        "a": ff(9, 10, r=5), "b": ff(10, 11, r=5), "c": ff(11, 12, r=5), "d": ff(12, 13, r=6)}}}}
+    assert reset_fanout(netlist, ("pix", "pix90")) == {"pix": 3, "pix90": 1}
