@@ -287,14 +287,18 @@ class _States:
     def complete(self):
         """A finished write, or a poll read that matched, did not match yet, or ran out of attempts."""
         m, e, timer, polls = self.m, self.e, self.timer, self.polls
+        # Registered every clock: rx last changes in BUSY two steps before COMPLETE (the STOP step follows the
+        # last read), so in COMPLETE ``matched`` is the comparison of the final rx.
+        matched = Signal(name="matched")
+        m.d.sync += matched.eq((self.rx & e.mask) == e.value)
         with m.State("COMPLETE"):
             with m.If(e.op == _OP_WRITE):
                 self.finish_entry()
             with m.Elif(e.op == _OP_CHECK):
-                with m.If((self.rx & e.mask) != e.value):
+                with m.If(~matched):
                     m.d.sync += self.seq.status.mismatch.eq(1)
                 self.finish_entry()
-            with m.Elif((self.rx & e.mask) == e.value):
+            with m.Elif(matched):
                 self.finish_entry()
             with m.Elif(polls + 1 >= e.attempts):
                 m.d.sync += self.fail_code.eq(ErrorCode.POLL)

@@ -323,8 +323,10 @@ class DepthEngine(wiring.Component):
         read_x = Mux((x >= 0) & (x < w), x, 0)
         for port in rows_reads + [min_read]:
             m.d.comb += [port.addr.eq(read_x), port.en.eq(clock == VREAD_CLOCK)]
+        prev = Signal.like(vertical.prev, reset_less=True)     # datapath: written before it is read
+        m.d.comb += vertical.prev.eq(prev)
         with m.If(clock == VREAD_CLOCK + 1):
-            m.d.sync += [vertical.prev.eq(Mux(y == 0, 0, Cat(*(r.data for r in rows_reads)))),
+            m.d.sync += [prev.eq(Mux(y == 0, 0, Cat(*(r.data for r in rows_reads)))),
                          vertical.prev_min.eq(Mux(y == 0, 0, min_read.data))]
         lt = vertical.l_token
         for gi, write in enumerate(rows_writes):
