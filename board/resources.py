@@ -247,8 +247,7 @@ def reset_fanout(netlist, domains):
     netlist -- the output of the domain's reset synchroniser (``hdl.reset_tree``: the cells named
     ``...rst_sync_<domain>...``; Yosys does not keep the ``<domain>_rst`` net name), the flip-flop of those
     with the most loads."""
-    module = next(iter(m for n, m in netlist["modules"].items() if m.get("attributes", {}).get("top")),
-                  None) or next(iter(netlist["modules"].values()))
+    module = top_module(netlist)
     loads = {}
     for cell in module["cells"].values():
         dirs = cell.get("port_directions", {})
