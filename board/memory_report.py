@@ -15,7 +15,9 @@ section of each):
 * ``ROM, asynchronous read``: no write port, a read without a clock -- a distributed (LUT) ROM, never block
   RAM; listed so that what is not block RAM is visible;
 * ``asynchronous read``: a RAM with a read port without a clock -- distributed RAM, never block RAM;
-* ``small``: below :data:`SMALL_BITS`, wherever XST puts it.
+* ``small``: below :data:`SMALL_BITS`, wherever XST puts it;
+* ``distributed (ROM_STYLE/RAM_STYLE)``: the memory carries the XST attribute asking for LUTs.
+
 
 Block RAM cost: the fewest RAMB36 equivalents (a RAMB18 is half) over the Virtex-5 port aspect ratios (UG190,
 "Block RAM": RAMB18 16K x 1 .. 1K x 18 and 512 x 36 in simple dual-port mode; RAMB36 32K x 1 .. 1K x 36 and
@@ -54,6 +56,7 @@ class MemoryInfo:
     lanes: int = 1                  # distinct write-enable signals of the widest write port
     clocks: tuple = ()              # (write clocks, read clocks) as RTLIL signal names
     one_clock: bool = True
+    style: str = ""                 # the memory's RAM_STYLE/ROM_STYLE attribute, if any
 
     @property
     def bits(self):
@@ -63,6 +66,8 @@ class MemoryInfo:
     def template(self):
         if self.bits < SMALL_BITS:
             return "small"
+        if self.style == "distributed":
+            return "distributed (ROM_STYLE/RAM_STYLE)"
         if self.async_reads:
             return "asynchronous read" if self.write_ports else "ROM, asynchronous read"
         if self.lanes > 1:
@@ -73,7 +78,8 @@ class MemoryInfo:
 
     @property
     def blocks36(self):
-        if self.template in ("small", "asynchronous read", "ROM, asynchronous read"):
+        if self.template in ("small", "asynchronous read", "ROM, asynchronous read",
+                             "distributed (ROM_STYLE/RAM_STYLE)"):
             return 0
         return block_cost(self.depth, self.width) * max(1, self.read_ports)
 
@@ -89,6 +95,7 @@ class MemoryInfo:
 _MODULE = re.compile(r"^module \\(\S+)")
 _MEMORY = re.compile(r"^\s*memory width (\d+) size (\d+) \\(\S+)")
 _WIRE = re.compile(r"^\s*wire width (\d+) (?:.*? )?([\\$]\S+)\s*$")
+_STYLE = re.compile(r'^\s*attribute \\(?:ROM_STYLE|RAM_STYLE|rom_style|ram_style) "(\w+)"')
 _CELL = re.compile(r"^\s*cell \$(memwr_v2|memrd_v2) ")
 _PARAM = re.compile(r"^\s*parameter \\(\w+) (.*)$")
 _CONNECT = re.compile(r"^\s*connect \\(\w+) (.*)$")
@@ -112,8 +119,13 @@ def _bits(spec, wires):
 
 def memories(rtlil_text, top="top"):
     """Every memory in ``rtlil_text``, a list of :class:`MemoryInfo` named by hierarchy below ``top``."""
-    found, wires, module, cell = {}, {}, "", None
+    found, wires, module, cell, style = {}, {}, "", None, ""
     for line in rtlil_text.splitlines():
+        if m := _STYLE.match(line):
+            style = m.group(1).lower()
+            continue
+        if not line.lstrip().startswith(("attribute", "memory")):
+            style = ""                      # the attribute was another object's
         if m := _MODULE.match(line):
             module, wires = m.group(1), {}
             continue
@@ -123,7 +135,9 @@ def memories(rtlil_text, top="top"):
         if m := _MEMORY.match(line):
             path = module.split(".", 1)[1] if module.startswith(top + ".") else ("" if module == top else module)
             name = f"{path}.{m.group(3)}" if path else m.group(3)
-            found[(module, m.group(3))] = MemoryInfo(name, depth=int(m.group(2)), width=int(m.group(1)))
+            found[(module, m.group(3))] = MemoryInfo(name, depth=int(m.group(2)), width=int(m.group(1)),
+                                                     style=style)
+            style = ""
             continue
         if m := _CELL.match(line):
             cell = {"kind": m.group(1), "params": {}, "connect": {}}
@@ -195,6 +209,9 @@ def lines(infos, mapped=None):
                + (f" {sum(mapped.values()):>6g}" if mapped is not None else ""))
     bad = [i.name for i in infos if i.template in PROBLEMS]
     out.append("not block RAM by construction: " + (", ".join(bad) if bad else "none"))
+    styled = [i.name for i in infos if i.template.startswith("distributed")]
+    if styled:
+        out.append("distributed by attribute: " + ", ".join(styled))
     roms = [i.name for i in infos if i.template == "ROM, asynchronous read"]
     if roms:
         out.append("distributed (LUT) ROMs, asynchronous read: " + ", ".join(roms))

@@ -99,3 +99,17 @@ def test_reset_fanout_counts_inputs_on_the_reset_synchronisers_output():
         "clocking.rst_sync_pix90.stage1": ff(2, 6),
         "a": ff(9, 10, r=5), "b": ff(10, 11, r=5), "c": ff(11, 12, r=5), "d": ff(12, 13, r=6)}}}}
     assert reset_fanout(netlist, ("pix", "pix90")) == {"pix": 3, "pix90": 1}
+
+
+def test_style_attribute_marks_a_memory_distributed():
+    def build(m):
+        rom = Memory(shape=8, depth=128, init=[1], attrs={"ROM_STYLE": "distributed"})
+        other = Memory(shape=8, depth=128, init=[1])
+        m.submodules.rom, m.submodules.other = rom, other
+        addr, out = Signal(7), Signal(8)
+        r1, r2 = rom.read_port(), other.read_port()
+        m.d.comb += [r1.addr.eq(addr), r2.addr.eq(addr), out.eq(r1.data ^ r2.data)]
+        return [addr, out]
+    infos = {i.name: i for i in memories(_rtlil(build))}
+    assert infos["rom"].template == "distributed (ROM_STYLE/RAM_STYLE)" and infos["rom"].blocks36 == 0
+    assert infos["other"].template == "ROM, synchronous read"
