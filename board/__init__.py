@@ -10,6 +10,7 @@ module                     what
 ``board.export``           Verilog export: flat port names, Amaranth's Verilog and its post-processing
 ``board.memory_init``      memory initial values in the Verilog text
 ``board.resources``        the Yosys ``synth_xilinx -family xc5v`` resource estimate
+``board.memory_report``    each memory of the design, its XST coding form and its block RAM cost
 ``board.timing``           the static timing estimate on that netlist (``board.virtex5_delays``: its delays)
 ``board.simulation``       the board's ``top.v`` simulated as built, with the Virtex-5 primitive models
 =========================  ===================================================================================

@@ -27,8 +27,10 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from board.memory_report import lines as memory_lines, mapped_blocks, memories
+
 __all__ = ["Report", "estimate", "synthesize", "run_yosys", "top_module", "longest_paths", "frame_buffer_blocks",
-           "yosys_available", "BUDGET"]
+           "reset_fanout", "yosys_available", "BUDGET"]
 
 #: XC5VLX50T capacity (spec: 28,800 LUTs and flip-flops, 60 RAMB36 = 2160 Kb; Digilent reference manual: 12
 #: DCMs, 6 PLLs; the Virtex-5 family has 32 global clock buffers; 48 DSP48E slices).
@@ -56,6 +58,9 @@ class Report:
     levels: dict = field(default_factory=dict)      # domain -> (levels, carry4, endpoint)
     seconds: float = 0.0
     frame_buffers: dict = field(default_factory=dict)   # frame buffer -> {bit memory: RAMB36 equivalents}
+    memories: list = field(default_factory=list)        # board.memory_report.MemoryInfo, from the RTLIL
+    memory_blocks: dict = field(default_factory=dict)   # memory name -> RAMB36 equivalents Yosys mapped
+    reset_fanout: dict = field(default_factory=dict)    # domain -> loads of its reset net
 
     @property
     def bram_blocks36(self):
@@ -70,6 +75,8 @@ class Report:
             "lut_percent": round(lut_percent, 2),
             "logic_depth": {d: {"levels": lv, "carry4": c, "endpoint": end}
                             for d, (lv, c, end) in sorted(self.levels.items())},
+            "memories": [i.row(self.memory_blocks.get(i.name)) for i in self.memories],
+            "reset_fanout": dict(sorted(self.reset_fanout.items())),
             "budget": dict(BUDGET),
             "within_budget": self.bram_blocks36 <= BUDGET["ramb36"] and lut_percent <= BUDGET["lut_percent"],
         }
@@ -101,6 +108,14 @@ class Report:
         for name, bits in sorted(self.frame_buffers.items()):
             per_bit = ", ".join(f"{b} {n:g}" for b, n in sorted(bits.items()))
             out.append(f"  {name}: {sum(bits.values()):g} RAMB36 ({per_bit})")
+        if self.memories:
+            out.append("")
+            out.append("memories (template: docs/board.md; RAMB36: Virtex-5 aspect-ratio estimate; Yosys: mapped):")
+            out += ["  " + line for line in memory_lines(self.memories, self.memory_blocks)]
+        if self.reset_fanout:
+            out.append("")
+            out.append("reset loads per clock domain (cell inputs on the domain's reset net): " +
+                       ", ".join(f"{d} {n}" for d, n in sorted(self.reset_fanout.items())))
         if self.levels:
             out.append("")
             out.append("longest register-to-register logic chain per clock domain (LUT/MUXF levels; CARRY4 cells "
@@ -227,6 +242,34 @@ def longest_paths(netlist, domains):
     return {dom: (d[0], d[1], end) for dom, (d, end) in out.items()}
 
 
+def reset_fanout(netlist, domains):
+    """``{domain: loads}``: the cell inputs on each domain's reset net in the flattened top module of a Yosys JSON
+    netlist -- the output of the domain's reset synchroniser (``hdl.reset_tree``: the cells named
+    ``...rst_sync_<domain>...``; Yosys does not keep the ``<domain>_rst`` net name), the flip-flop of those
+    with the most loads."""
+    module = top_module(netlist)
+    loads = {}
+    for cell in module["cells"].values():
+        dirs = cell.get("port_directions", {})
+        for port, bits in cell["connections"].items():
+            if dirs.get(port) == "input":
+                for b in bits:
+                    loads[b] = loads.get(b, 0) + 1
+    out = {}
+    for name, cell in module["cells"].items():
+        if not cell["type"].startswith("FD"):
+            continue
+        base = name.lstrip("\\")
+        domain = next((d for d in sorted(domains, key=len, reverse=True)
+                       if re.search(rf"(?:^|\.)rst_sync_{re.escape(d)}\.", base)), None)
+        if domain is None:
+            continue
+        q = [b for p, bits in cell["connections"].items() if cell.get("port_directions", {}).get(p) == "output"
+             for b in bits]
+        out[domain] = max(out.get(domain, 0), max((loads.get(b, 0) for b in q), default=0))
+    return out
+
+
 _FRAME_BUFFER_BRAM = re.compile(r"(?:^|\.)(?:(buffer_\w+)\.)?(bit\d+)\.")
 
 
@@ -285,7 +328,10 @@ def synthesize(rtlil_text, workdir, *, domains=("sync", "pix", "pix90", "mclk", 
         levels=longest_paths(netlist, domains),
         seconds=seconds,
         frame_buffers=frame_buffer_blocks(netlist),
+        reset_fanout=reset_fanout(netlist, domains),
     )
+    report.memories = memories(rtlil_text)
+    report.memory_blocks = mapped_blocks(netlist, report.memories)
     (workdir / "net.json").unlink()                     # tens of MB; the stat and the log stay
     return report
 

@@ -16,7 +16,7 @@ __all__ = ["CentreDistance", "readout_table", "SETTLE_CLOCKS"]
 
 WINDOW = 9
 #: Clocks after the last window capture until ``chars`` holds its readout.
-SETTLE_CLOCKS = WINDOW + 4
+SETTLE_CLOCKS = WINDOW + 5
 
 
 def readout_table(geometry=SENSOR, config=DEPTH):
@@ -81,14 +81,14 @@ class CentreDistance(wiring.Component):
         for k in range(WINDOW):
             with m.If(self.capture[k]):
                 m.d.sync += window[k].eq(self.code)
-        # The search: candidate i; its comparisons registered; the counts decide.
+        # The search: candidate i, registered; its comparisons registered; the counts decide.
         i = Signal(range(WINDOW))
         m.d.sync += i.eq(Mux(i == WINDOW - 1, 0, i + 1))
-        candidate = Signal(bits)
+        candidate = Signal(bits)                # registered: the selection and the comparisons in two clocks
         with m.Switch(i):
             for k in range(WINDOW):
                 with m.Case(k):
-                    m.d.comb += candidate.eq(window[k])
+                    m.d.sync += candidate.eq(window[k])
         less, not_more = Signal(WINDOW), Signal(WINDOW)
         value = Signal(bits)
         m.d.sync += [less[k].eq(window[k] < candidate) for k in range(WINDOW)]

@@ -255,8 +255,16 @@ class Compositor(wiring.Component):
             inside[source] = Signal(name=f"in_{source}_1")
             eol[source] = Signal(name=f"eol_{source}_1")
             m.d.sync += [inside[source].eq(within(b)), eol[source].eq(raster.x == b.x1 - 1)]
-        inside["tick"] = Signal(name="in_tick_1")
-        m.d.sync += inside["tick"].eq(_or(within(t) for t in layout.ticks))
+        # The ticks in two registered stages (each tick's x and y ranges, then their OR): in_tick_2 is one clock
+        # later than the other region flags; its delay line is one register shorter.
+        spans = []
+        for k, t in enumerate(layout.ticks):
+            across, down = Signal(name=f"tick{k}_x_1"), Signal(name=f"tick{k}_y_1")
+            m.d.sync += [across.eq((raster.x >= t.x0) & (raster.x < t.x1)),
+                         down.eq((raster.y >= t.y0) & (raster.y < t.y1))]
+            spans.append(across & down)
+        inside["tick"] = Signal(name="in_tick_2")
+        m.d.sync += inside["tick"].eq(_or(spans))
         vblank_1 = Signal(name="vblank_1")
         m.d.sync += vblank_1.eq(raster.y >= self.video_timing.v_active)
         return inside, eol, vblank_1
@@ -367,7 +375,7 @@ class Compositor(wiring.Component):
         m.d.sync += colour_5.eq(colour.data)
         return dict(colour=colour_5, depth=delayed(m, in_depth_3, 2, "in_depth_3"),
                     ready=delayed(m, ready_2, 3, "ready"), cross=delayed(m, cross_2, 3, "cross"),
-                    bar=delayed(m, inside["bar"], 4, "in_bar"), tick=delayed(m, inside["tick"], 4, "in_tick"),
+                    bar=delayed(m, inside["bar"], 4, "in_bar"), tick=delayed(m, inside["tick"], 3, "in_tick"),
                     in_text=delayed(m, self._text.in_text, 5 - TEXT_LATENCY, "in_text"),
                     lit=delayed(m, self._text.lit, 5 - TEXT_LATENCY, "lit"))
 

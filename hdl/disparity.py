@@ -48,6 +48,7 @@ from hdl.frame_buffer import FrameBufferReadSignature
 from spec.display import DIFF_THRESHOLDS
 from spec.sensor import SENSOR
 from hdl.switches import SettingsSignature
+from hdl.shift_add import times
 
 __all__ = ["DisparitySubtractor", "check_thresholds", "LATENCY", "SETTLE_CLOCKS"]
 
@@ -130,7 +131,7 @@ class DisparitySubtractor(wiring.Component):
         y_limit = Signal(range(h + 1))
         y_first = Signal(range(h + 1))
         m.d.sync += [
-            row_offset.eq(r * w),
+            row_offset.eq(times(r, w)),
             disparity_q.eq(self.settings.disparity),
             offset.eq(row_offset + disparity_q),
             x_limit.eq(Mux(self.settings.disparity >= w, 0, w - self.settings.disparity)),

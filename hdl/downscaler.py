@@ -10,7 +10,7 @@ Inputs: ``valid``, ``grey`` (the pixel's grey value), ``column`` and ``row`` (it
 Output: the frame-buffer write port ``write``.
 
 ``scale`` must be a power of two (the default 4 is), so the block needs no divider. ``y * buf_width`` is a
-constant multiplication.
+constant multiplication, written as shift-adds (:func:`hdl.shift_add.times`), no DSP48E.
 
 Clock domain: one (``sync``; placed in a camera's PCLK domain by the parent). Latency: one clock (the write
 port is registered).
@@ -21,6 +21,7 @@ from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
 from hdl.frame_buffer import FrameBufferWriteSignature
+from hdl.shift_add import times
 from spec.sensor import SENSOR
 
 __all__ = ["Downscaler"]
@@ -77,7 +78,7 @@ class Downscaler(wiring.Component):
         m.d.sync += self.write.en.eq(keep)
         with m.If(keep):
             m.d.sync += [
-                self.write.addr.eq(y * g.buf_width + x),
+                self.write.addr.eq(times(y, g.buf_width) + x),
                 self.write.data.eq(self.grey),
             ]
         return m

@@ -13,6 +13,8 @@ from amaranth import Module, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
+from hdl.shift_add import times
+
 __all__ = ["Grey"]
 
 
@@ -36,6 +38,6 @@ class Grey(wiring.Component):
         total = Signal(7)
         m.d.comb += [
             total.eq(r5 + g6[1:] + b5),
-            self.grey.eq((total * 43) >> 7),
+            self.grey.eq(times(total, 43) >> 7),
         ]
         return m

@@ -287,14 +287,18 @@ class _States:
     def complete(self):
         """A finished write, or a poll read that matched, did not match yet, or ran out of attempts."""
         m, e, timer, polls = self.m, self.e, self.timer, self.polls
+        # Registered every clock: rx last changes in BUSY two steps before COMPLETE (the STOP step follows the
+        # last read), so in COMPLETE ``matched`` is the comparison of the final rx.
+        matched = Signal(name="matched")
+        m.d.sync += matched.eq((self.rx & e.mask) == e.value)
         with m.State("COMPLETE"):
             with m.If(e.op == _OP_WRITE):
                 self.finish_entry()
             with m.Elif(e.op == _OP_CHECK):
-                with m.If((self.rx & e.mask) != e.value):
+                with m.If(~matched):
                     m.d.sync += self.seq.status.mismatch.eq(1)
                 self.finish_entry()
-            with m.Elif((self.rx & e.mask) == e.value):
+            with m.Elif(matched):
                 self.finish_entry()
             with m.Elif(polls + 1 >= e.attempts):
                 m.d.sync += self.fail_code.eq(ErrorCode.POLL)
@@ -319,6 +323,11 @@ class _States:
         """What the master does in each step. Kept out of the FSM and gated by the FSM state so that the exported
         Verilog re-evaluates it when the state changes (Icarus -g2012 does not run `always @*` at time 0)."""
         m, master, e = self.m, self.master, self.e
+        # The step's flags the BUSY state tests are registered copies of the decode (one clock later: the step
+        # changes on the way into ISSUE, which lasts at least one clock), so BUSY's next-state logic starts at
+        # registers.
+        is_addr, is_write, last_step = Signal(), Signal(), Signal()
+        m.d.sync += [self.is_addr.eq(is_addr), self.is_write.eq(is_write), self.last_step.eq(last_step)]
         aborting = fsm.ongoing("ABORT")
         m.d.comb += master.cmd_valid.eq(fsm.ongoing("ISSUE") | aborting)
         with m.If(aborting):
@@ -331,6 +340,6 @@ class _States:
                             with m.Case(i):
                                 m.d.comb += [
                                     master.cmd.eq(cmd), master.wdata.eq(wdata), master.rd_ack.eq(rd_ack),
-                                    self.is_addr.eq(addr_step), self.is_write.eq(cmd == Cmd.WRITE),
-                                    self.last_step.eq(i == len(steps) - 1),
+                                    is_addr.eq(addr_step), is_write.eq(cmd == Cmd.WRITE),
+                                    last_step.eq(i == len(steps) - 1),
                                 ]

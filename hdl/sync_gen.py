@@ -89,18 +89,16 @@ class SyncGenerator(wiring.Component):
         m.d.comb += [self.x.eq(x), self.y.eq(y), self.de.eq(de), self.hsync.eq(hsync), self.vsync.eq(vsync),
                      self.frame_start.eq(frame_start)]
 
-        last_x = x == t.h_total - 1
-        last_y = y == t.v_total - 1
+        # The raster position one clock ahead, a register too (reset: the position after `start`), so the
+        # outputs are registered compares of registered state: the counter's increment and wrap feed only
+        # `nx`/`ny`, never a compare in the same clock.
+        x1, y1 = _advance(t, x0, y0)
+        nx = Signal(X_BITS, init=x1)
+        ny = Signal(Y_BITS, init=y1)
+        last_x = nx == t.h_total - 1
+        last_y = ny == t.v_total - 1
 
-        # Next raster position.
-        nx = Signal(X_BITS)
-        ny = Signal(Y_BITS)
-        m.d.comb += [
-            nx.eq(Mux(last_x, 0, x + 1)),
-            ny.eq(Mux(last_x, Mux(last_y, 0, y + 1), y)),
-        ]
-
-        # Every output is a function of the *next* position, registered, so all of them change together.
+        # Every output is a function of the next position, registered, so all of them change together.
         h_pulse = (nx >= t.h_sync_start) & (nx < t.h_sync_start + t.h_sync)
         # vsync: from (x = h_sync_start, y = v_first) up to, not including, (x = h_sync_start, y = v_last).
         v_first = t.v_sync_start - 1
@@ -110,6 +108,8 @@ class SyncGenerator(wiring.Component):
                    ((ny == v_last) & (nx < t.h_sync_start)))
 
         m.d.sync += [
+            nx.eq(Mux(last_x, 0, nx + 1)),
+            ny.eq(Mux(last_x, Mux(last_y, 0, ny + 1), ny)),
             x.eq(nx),
             y.eq(ny),
             de.eq((nx < t.h_active) & (ny < t.v_active)),
@@ -118,6 +118,13 @@ class SyncGenerator(wiring.Component):
             frame_start.eq((nx == 0) & (ny == 0)),
         ]
         return m
+
+
+def _advance(t, x, y):
+    """The raster position one clock after (x, y)."""
+    if x < t.h_total - 1:
+        return x + 1, y
+    return 0, (y + 1) % t.v_total
 
 
 def _levels(t, x, y):

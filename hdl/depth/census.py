@@ -45,7 +45,8 @@ class CensusWindow(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         cfg = self.config
-        window = [Signal(data.ArrayLayout(self.grey_bits, cfg.census_height), name=f"window_col{i}")
+        window = [Signal(data.ArrayLayout(self.grey_bits, cfg.census_height), name=f"window_col{i}",
+                         reset_less=True)
                   for i in range(cfg.census_width)]                 # window[0] = leftmost column
         with m.If(self.shift):
             for i in range(cfg.census_width - 1):

@@ -2,7 +2,7 @@
 
 from typing import NamedTuple
 
-from amaranth import C, Module, Mux, Signal, unsigned
+from amaranth import Cat, Module, Mux, Signal, signed, unsigned
 from amaranth.lib import data, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
@@ -161,8 +161,11 @@ class DepthEngine(wiring.Component):
         can_start = Signal()
         m.d.sync += can_start.eq((left_ring.fetched >= need) & (right_ring.fetched >= need)
                                  & (first | (before < room_limit)))
+        # The census rows' ring slots, in two registered stages (y + j - ry, then clamped): y changes only in
+        # DRAIN and the slots are read only in RUN, at least three clocks later.
         for j in range(cfg.census_height):
-            row = y + j - ry
+            row = Signal(signed(len(y) + 1), name=f"census_row{j}")
+            m.d.sync += row.eq(y + j - ry)
             clamped = Mux(row < 0, 0, Mux(row > h - 1, h - 1, row))
             m.d.sync += ring_row[j].eq(clamped[:(RING_ROWS - 1).bit_length()])
         limit = Signal(range(h + 1))            # rows that may be fetched: none while idle; late is safe
@@ -257,7 +260,7 @@ class DepthEngine(wiring.Component):
             m.d.comb += census.shift.eq(in_run & (clock == CENSUS_SHIFT))
             signatures.append(census.census)
         entry = data.StructLayout({"census": cfg.census_bits, "inside": 1})
-        shift_reg = [Signal(entry, name=f"left_census{j}") for j in range(cfg.disparities)]
+        shift_reg = [Signal(entry, name=f"left_census{j}", reset_less=True) for j in range(cfg.disparities)]
         with m.If(in_run & (clock == SHIFT_CLOCK)):
             m.d.sync += [shift_reg[0].census.eq(signatures[0]), shift_reg[0].inside.eq(step < w + 2 * rx)]
             for j in range(1, cfg.disparities):
@@ -271,8 +274,8 @@ class DepthEngine(wiring.Component):
         x = step - self.lead
         group = clock - ISSUE_CLOCK
         token = Signal(token_layout(G, w))
-        right_cen = Signal(cfg.census_bits)
-        left_sel = Signal(data.ArrayLayout(cfg.census_bits, P))
+        right_cen = Signal(cfg.census_bits, reset_less=True)
+        left_sel = Signal(data.ArrayLayout(cfg.census_bits, P), reset_less=True)
         inside = Signal(P)
         issuing = in_run & (clock >= ISSUE_CLOCK) & (clock < ISSUE_CLOCK + G) & (step >= self.lead)
         m.d.sync += [
@@ -294,7 +297,7 @@ class DepthEngine(wiring.Component):
     def _paths(self, m, token, right_cen, left_sel, inside, step, clock, in_run, y):
         """Cost (3 clocks), then both paths; the vertical path's line buffer (read at clock 4)."""
         cfg, w = self.config, self.geometry.buf_width
-        G, P, D = self.groups, cfg.lanes, cfg.disparities
+        G, P = self.groups, cfg.lanes
         m.submodules.cost = cost = MatchingCost(cfg)
         m.d.comb += [cost.right.eq(right_cen), cost.left.eq(left_sel), cost.inside.eq(inside)]
         tok = token
@@ -308,23 +311,27 @@ class DepthEngine(wiring.Component):
             m.d.comb += [path.token.eq(tok), path.cost.eq(cost.cost)]
 
         pbits = cfg.path_bits
-        m.submodules.vertical_rows = rows = Memory(shape=unsigned(pbits * D), depth=w, init=[])
+        # The line buffer: one plain memory per group of P disparities (each a simple dual-port block RAM,
+        # docs/board.md), all read at the same column.
+        rows = [Memory(shape=unsigned(pbits * P), depth=w, init=[]) for _ in range(G)]
+        for gi, memory in enumerate(rows):
+            m.submodules[f"vertical_rows{gi}"] = memory
         m.submodules.vertical_minimums = minimums = Memory(shape=unsigned(pbits), depth=w, init=[])
-        rows_read, rows_write = rows.read_port(), rows.write_port(granularity=pbits * P)
+        rows_reads, rows_writes = [r.read_port() for r in rows], [r.write_port() for r in rows]
         min_read, min_write = minimums.read_port(), minimums.write_port()
         x = step - self.lead
         read_x = Mux((x >= 0) & (x < w), x, 0)
-        m.d.comb += [rows_read.addr.eq(read_x), min_read.addr.eq(read_x),
-                     rows_read.en.eq(clock == VREAD_CLOCK), min_read.en.eq(clock == VREAD_CLOCK)]
+        for port in rows_reads + [min_read]:
+            m.d.comb += [port.addr.eq(read_x), port.en.eq(clock == VREAD_CLOCK)]
+        prev = Signal.like(vertical.prev, reset_less=True)     # datapath: written before it is read
+        m.d.comb += vertical.prev.eq(prev)
         with m.If(clock == VREAD_CLOCK + 1):
-            m.d.sync += [vertical.prev.eq(Mux(y == 0, 0, rows_read.data)),
+            m.d.sync += [prev.eq(Mux(y == 0, 0, Cat(*(r.data for r in rows_reads)))),
                          vertical.prev_min.eq(Mux(y == 0, 0, min_read.data))]
         lt = vertical.l_token
-        m.d.comb += [
-            rows_write.addr.eq(lt.x),
-            rows_write.data.eq(vertical.l.as_value().replicate(G)),
-            rows_write.en.eq(Mux(lt.go, C(1, G) << lt.group, 0)),
-        ]
+        for gi, write in enumerate(rows_writes):
+            m.d.comb += [write.addr.eq(lt.x), write.data.eq(vertical.l.as_value()),
+                         write.en.eq(lt.go & (lt.group == gi))]
         min_x = Signal(range(w))
         with m.If(lt.go & lt.last):
             m.d.sync += min_x.eq(lt.x)

@@ -65,12 +65,12 @@ class MatchingCost(wiring.Component):
             chunks = []
             for c in range(0, n, CHUNK):
                 part = diff[c:min(c + CHUNK, n)]
-                count = Signal(range(len(part) + 1), name=f"count_{k}_{c // CHUNK}")
+                count = Signal(range(len(part) + 1), name=f"count_{k}_{c // CHUNK}", reset_less=True)
                 m.d.sync += count.eq(_tree_sum([part[i] for i in range(len(part))]))
                 chunks.append(count)
             pairs = []
             for c in range(0, len(chunks), 2):
-                pair = Signal(range(n + 1), name=f"pair_{k}_{c // 2}")
+                pair = Signal(range(n + 1), name=f"pair_{k}_{c // 2}", reset_less=True)
                 m.d.sync += pair.eq(_tree_sum(chunks[c:c + 2]))
                 pairs.append(pair)
             total = _tree_sum(pairs)

@@ -7,6 +7,7 @@ from amaranth.lib.wiring import In, Out
 
 from spec.sensor import SENSOR
 from hdl.depth.ports import SharedReadSignature
+from hdl.shift_add import times
 
 __all__ = ["RowRing"]
 
@@ -18,9 +19,11 @@ class RowRing(wiring.Component):
     ``request`` and ``grant`` high, data one clock later), every pixel once, and row r is written into ring
     slot ``r mod rows``. Ring row r holds buffer row min(max(r + ``row_offset``, 0), height - 1) (the signed
     rectification moving the left image up or down: above the image the first row is read again, below it the
-    last one; ``row_offset`` is sampled at ``start``). One block RAM word per column
-    holds that column's pixel of every slot, in lanes of 8 bits (byte write enables), so one read gives a whole
-    column of the ring.
+    last one; ``row_offset`` is sampled at ``start``). One memory word per column holds that column's pixel of
+    every slot, so one read gives a whole column of the ring. A fetched pixel is merged into its column's word
+    (read, replace one slot, write back) from an identical copy of the ring, so both copies are plain simple
+    dual-port memories -- one whole-word write port, one synchronous read port, one clock, no lane write
+    enables (docs/board.md): the census reads one, the merge reads the other.
 
     Parameters
     ----------
@@ -47,8 +50,11 @@ class RowRing(wiring.Component):
     fetch_row, fetch_col : Signal
         The ring row and column the next read requests (``buffer.port.addr`` = min(max(fetch_row +
         row_offset, 0), height - 1) * width + fetch_col, counted).
-    memory : amaranth.lib.memory.Memory
-        The ring: one word per column, a ``lane``-bit lane per slot (its one write port writes a slot's lane).
+    memory, shadow : amaranth.lib.memory.Memory
+        The ring and its copy: one word per column, ``grey_bits`` per slot (slot ``k`` in bits
+        ``k * grey_bits`` up).
+    write_en : Signal(rows)
+        One bit per slot: the slot whose memory is written this clock (at most one bit is set).
 
     Clock domain: ``sync`` (the parent renames it to ``pix``).
 
@@ -63,7 +69,6 @@ class RowRing(wiring.Component):
             raise ValueError(f"ring rows must be a power of two >= 2, not {rows}")
         self.geometry = geometry
         self.rows = rows
-        self.lane_bits = max(8, geometry.grey_bits)
         super().__init__({
             "buffer": Out(SharedReadSignature(geometry)),
             "start": In(1),
@@ -75,18 +80,22 @@ class RowRing(wiring.Component):
         })
         self.fetch_row = Signal(range(geometry.buf_height + 1))
         self.fetch_col = Signal(range(geometry.buf_width))
-        self.memory = Memory(shape=unsigned(self.lane_bits * rows), depth=geometry.buf_width, init=[])
-        self._write = self.memory.write_port(granularity=self.lane_bits)
-        self._read = self.memory.read_port()
+        word = unsigned(geometry.grey_bits * rows)
+        self.memory = Memory(shape=word, depth=geometry.buf_width, init=[])
+        self.shadow = Memory(shape=word, depth=geometry.buf_width, init=[])
+        self.write_en = Signal(rows)
+        self._writes = [self.memory.write_port(), self.shadow.write_port()]
+        self._read, self._merge_read = self.memory.read_port(), self.shadow.read_port()
 
     def elaborate(self, platform):
         m = Module()
-        g, rows, lane = self.geometry, self.rows, self.lane_bits
+        g, rows = self.geometry, self.rows
+        gb = g.grey_bits
         m.submodules.ring = self.memory
-        write, read = self._write, self._read
-        m.d.comb += read.addr.eq(self.col)
+        m.submodules.ring_shadow = self.shadow
+        m.d.comb += self._read.addr.eq(self.col)
         for k in range(rows):
-            m.d.comb += self.column[k].eq(read.data[k * lane:k * lane + g.grey_bits])
+            m.d.comb += self.column[k].eq(self._read.data[k * gb:(k + 1) * gb])
 
         issued = self.fetch_row                      # row being requested
         slot = Signal(range(rows))                   # issued mod rows
@@ -100,7 +109,7 @@ class RowRing(wiring.Component):
         offset_addr = Signal(g.addr_bits)            # first_source * width, registered
         below = Mux(self.row_offset > 0, self.row_offset, 0)
         m.d.sync += [first_source.eq(below), first_above.eq(Mux(self.row_offset < 0, -self.row_offset, 0)),
-                     offset_addr.eq(below * g.buf_width)]
+                     offset_addr.eq(times(below, g.buf_width))]
         pending = Signal()                           # a granted read's data arrives this clock
         pending_col = Signal.like(col)
         pending_slot = Signal.like(slot)
@@ -134,11 +143,13 @@ class RowRing(wiring.Component):
             with m.Else():
                 m.d.sync += col.eq(col + 1)
 
-        m.d.comb += [
-            write.addr.eq(pending_col),
-            write.data.eq(Cat(self.buffer.port.data, C(0, lane - g.grey_bits)).replicate(rows)),
-            write.en.eq(Mux(pending, C(1, rows) << pending_slot, 0)),
-        ]
+        # The merge: the copy is read at the granted column (``col``, before it advances), so its word is
+        # there when the pixel arrives; consecutive writes go to different columns (width >= 2).
+        m.d.comb += [self._merge_read.addr.eq(col), self.write_en.eq(Mux(pending, C(1, rows) << pending_slot, 0))]
+        old = self._merge_read.data
+        merged = Cat(*(Mux(self.write_en[k], self.buffer.port.data, old[k * gb:(k + 1) * gb]) for k in range(rows)))
+        for write in self._writes:
+            m.d.comb += [write.addr.eq(pending_col), write.data.eq(merged), write.en.eq(pending)]
         with m.If(pending & pending_last):
             m.d.sync += self.fetched.eq(self.fetched + 1)
 

@@ -96,8 +96,8 @@ class SgmPath(wiring.Component):
         layout = token_layout(groups, self.width)
 
         if self.recurrent:
-            current = Signal(data.ArrayLayout(pbits, cfg.disparities))
-            following = Signal(data.ArrayLayout(pbits, cfg.disparities))
+            current = Signal(data.ArrayLayout(pbits, cfg.disparities), reset_less=True)
+            following = Signal(data.ArrayLayout(pbits, cfg.disparities), reset_less=True)
             prev, prev_min = current, self.m
         else:
             prev, prev_min = self.prev, self.prev_min
@@ -105,10 +105,10 @@ class SgmPath(wiring.Component):
 
         # i: select the group's inputs.
         tok1 = Signal(layout)
-        cost1 = Signal.like(self.cost)
-        mid = Signal(data.ArrayLayout(pbits, lanes))
-        below = Signal(data.ArrayLayout(pbits, lanes))      # L'(d - 1)
-        above = Signal(data.ArrayLayout(pbits, lanes))      # L'(d + 1)
+        cost1 = Signal.like(self.cost, reset_less=True)
+        mid = Signal(data.ArrayLayout(pbits, lanes), reset_less=True)
+        below = Signal(data.ArrayLayout(pbits, lanes), reset_less=True)      # L'(d - 1)
+        above = Signal(data.ArrayLayout(pbits, lanes), reset_less=True)      # L'(d + 1)
         has_below = Signal(lanes)
         has_above = Signal(lanes)
         m.d.sync += [tok1.eq(self.token), cost1.eq(self.cost)]
@@ -127,9 +127,9 @@ class SgmPath(wiring.Component):
 
         # i + 1: the two partial minimums and C - M'.
         tok2 = Signal(layout)
-        low = Signal(data.ArrayLayout(pbits + 1, lanes))
-        high = Signal(data.ArrayLayout(pbits + 1, lanes))
-        offset2 = Signal(data.ArrayLayout(signed(pbits + 1), lanes))
+        low = Signal(data.ArrayLayout(pbits + 1, lanes), reset_less=True)
+        high = Signal(data.ArrayLayout(pbits + 1, lanes), reset_less=True)
+        offset2 = Signal(data.ArrayLayout(signed(pbits + 1), lanes), reset_less=True)
         mprev1 = Mux(tok1.first, 0, prev_min) if self.recurrent else prev_min     # M', read here
         big = mprev1 + cfg.p2
         m.d.sync += tok2.eq(tok1)

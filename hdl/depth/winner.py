@@ -57,7 +57,7 @@ class Winner(wiring.Component):
         cfg, lanes = self.config, self.config.lanes
         layout = token_layout(self.groups, self.width)
         tok = Signal(layout)
-        total = Signal(data.ArrayLayout(cfg.sum_bits, lanes))
+        total = Signal(data.ArrayLayout(cfg.sum_bits, lanes), reset_less=True)
         m.d.sync += tok.eq(self.token)
         for k in range(lanes):
             m.d.sync += total[k].eq(self.horizontal[k] + self.vertical[k])

@@ -65,7 +65,7 @@ class DepthEngineHarness(FormalHarness):
             m.d.comb += [port.grant.eq(self.free(f"{side}_grant")),
                          port.port.data.eq(self.free(f"{side}_data", g.grey_bits))]
             ring = module.submodules[f"{side}_ring"]
-            reads[side] = (port, ring, ring.memory.write_ports[0],
+            reads[side] = (port, ring, ring.write_en,
                            module.submodules[f"{side}_census"].shift)
         y = module.submodules.median.y
         median = module.submodules.median
@@ -102,12 +102,12 @@ class DepthEngineHarness(FormalHarness):
         # The request comes from registers fed by ``busy`` through the fetch limit: two clocks.
         busy_before = self.past_valid(m, 2) & self.past(m, busy, 2, name=f"{side}_busy_before")
         self.prove(m, f"{side}_reads_only_for_a_map", ~port.request | busy_before)
-        writing = ring_write.en != 0
+        writing = ring_write != 0
         slot = fetched[:(RING_ROWS - 1).bit_length()]
         # Row ``fetched`` is the one in flight: its words go to slot fetched mod 8, which held row fetched - 8;
         # pass y reads rows y - 3 .. y + 3 (clamped), so that row must be below y - 3.
         self.prove(m, f"{side}_ring_writes_the_slot_of_the_row_in_flight",
-                   ~writing | (ring_write.en == (1 << slot)))
+                   ~writing | (ring_write == (1 << slot)))
         self.prove(m, f"{side}_ring_write_spares_rows_in_use", ~writing | (fetched < y + RING_ROWS - ry))
         self.prove(m, f"{side}_pass_reads_complete_rows",
                    ~census_shift | (fetched >= Mux(y + ry + 1 < h, y + ry + 1, h)))
