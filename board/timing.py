@@ -34,6 +34,9 @@ LUTS = {f"LUT{i}" for i in range(1, 7)} | {"INV"}
 LEVELS = LUTS | {"MUXF7", "MUXF8"}
 FLIP_FLOPS = {"FDRE": "R", "FDSE": "S", "FDCE": "CLR", "FDPE": "PRE"}
 RAMS = {"RAMB36", "RAMB18", "RAMB36SDP", "RAMB18SDP"}
+#: Distributed (LUT) RAM primitives: read combinational from the address, written on WCLK.
+LUT_RAMS = {"RAM32M", "RAM64M", "RAM32X1D", "RAM64X1D", "RAM128X1D", "RAM32X1S", "RAM64X1S", "RAM128X1S",
+            "RAM256X1S"}
 #: Cells with no register-to-register timing: pads, clock buffers and clock generators, constants.
 UNTIMED = {"IBUF", "IBUFG", "OBUF", "OBUFT", "IOBUF", "BUFG", "BUFGCE", "BUFGMUX", "BUFGCTRL", "BUFR", "BUFIO",
            "DCM_ADV", "PLL_ADV", "GND", "VCC", "$scopeinfo"}
@@ -182,6 +185,22 @@ def _dsp(cell, t, m):
         t.launches += [("P", o, clk, cko) for o in outs]
 
 
+def _lut_ram(cell, t, m):
+    """Distributed RAM: address to data like a LUT; data, address and WE captured, the outputs launched by WCLK
+    (a write shows on the read port of the same address)."""
+    clocks = _bits(cell, "WCLK")
+    outs = [b for port in _outputs(cell) for b in _bits(cell, port)]
+    for port in _inputs(cell):
+        if port == "WCLK":
+            continue
+        if port.startswith(("ADDR", "A", "DPRA")):
+            t.arcs += [(port, b, o, m["lutram_read"].ns) for b in _bits(cell, port) for o in outs]
+        if clocks:
+            t.captures += [(port, b, clocks[0], m["lutram_setup"].ns, 1.0) for b in _bits(cell, port)]
+    if clocks:
+        t.launches += [(port, b, clocks[0], m["lutram_cko"].ns) for port in _outputs(cell) for b in _bits(cell, port)]
+
+
 def _oddr(cell, t, m):
     clk = _bits(cell, "C")[0]
     opposite = str(_param(cell, "DDR_CLK_EDGE", "OPPOSITE_EDGE")) == "OPPOSITE_EDGE"
@@ -211,6 +230,8 @@ def cell_timing(cell, m=MODEL, *, drives_pad=False):
         _flip_flop(cell, t, m, drives_pad)
     elif kind in RAMS:
         _ram(cell, t, m)
+    elif kind in LUT_RAMS:
+        _lut_ram(cell, t, m)
     elif kind == "DSP48E":
         _dsp(cell, t, m)
     elif kind == "ODDR":

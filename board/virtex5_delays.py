@@ -96,6 +96,11 @@ MODEL = {
                                   _DSP),
     "dsp_setup_preg_c": Constant(2.10, "TDSPDCK_{C,OPMODE,...}_PREG", "DSP48E C/control setup into the P register",
                                  _DSP),
+    # distributed (LUT) RAM: Yosys maps small memories to RAM64M / RAM32M / RAMnnX1D
+    "lutram_read": Constant(0.10, "TILO (as a LUT)", "distributed RAM read address to DO, as a LUT", _CLB, UG190_CLB),
+    "lutram_cko": Constant(1.20, "TSHCKO", "distributed RAM write clock to DO (the written word appearing)", _CLB),
+    "lutram_setup": Constant(0.50, "TDS / TAS / TWS", "distributed RAM data, address and WE setup before WCLK",
+                             _CLB),
     # IOB flip-flops and ODDR
     "iob_in_cko": Constant(0.55, "TICKQ", "input flip-flop in the IOB (IOB = TRUE), clock to Q into the fabric",
                            _IOB),

@@ -341,3 +341,19 @@ def test_docs_board_md_lists_every_constant_of_the_model_with_its_value():
             rows[cells[0].strip("`")] = (cells[1], float(cells[3]), cells[5])
     assert rows == {k: (c.symbol, c.ns, "assumption") for k, c in MODEL.items()}
     assert all(c.source.startswith("assumption") for c in MODEL.values())
+
+
+def test_distributed_ram_reads_like_a_lut_and_writes_on_its_clock():
+    """A RAM64M (Yosys's LUT RAM): read address to data is a LUT delay; data, address and WE are captured and the
+    outputs launched by WCLK; an unknown primitive still stops the estimate."""
+    from board.timing import ModelError, cell_timing
+    cell = {"type": "RAM64M",
+            "port_directions": {"ADDRA": "input", "DIA": "input", "WE": "input", "WCLK": "input", "DOA": "output"},
+            "connections": {"ADDRA": [10, 11], "DIA": [12], "WE": [13], "WCLK": [14], "DOA": [20]}}
+    t = cell_timing(cell)
+    assert sorted(t.arcs) == [("ADDRA", 10, 20, MODEL["lutram_read"].ns), ("ADDRA", 11, 20, MODEL["lutram_read"].ns)]
+    assert {(port, bit) for port, bit, clk, *_ in t.captures if clk == 14} == {("ADDRA", 10), ("ADDRA", 11),
+                                                                               ("DIA", 12), ("WE", 13)}
+    assert t.launches == [("DOA", 20, 14, MODEL["lutram_cko"].ns)]
+    with pytest.raises(ModelError, match="SRLC32E"):
+        cell_timing(dict(cell, type="SRLC32E"))
