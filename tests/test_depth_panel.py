@@ -31,7 +31,7 @@ def test_panel_and_readout_read_back(golden):
     frame, codes, text = golden
     got, known = read_depth_panel(frame, LAYOUT, DEPTH)
     assert (~known).sum() == 4 * (LAYOUT.crosshair_arm - 1) + 36 * 8
-    assert (got[known] == codes[known]).all()
+    assert (got[known] == (codes >> DEPTH.fraction_bits)[known]).all()       # the whole disparities
     assert read_text(frame, LAYOUT.readout) == text and text.strip()[0].isdigit()
     broken = frame.copy()
     box = LAYOUT.readout
@@ -43,7 +43,7 @@ def test_summary_against_a_truth(golden):
     """A truth equal to the shown disparities: no bad pixel among the valid ones; every invalid pixel with a
     truth counts bad; one pixel off by 1.5 is bad > 1 but not bad > 2."""
     frame, codes, _ = golden
-    truth = codes.astype(float)
+    truth = (codes >> DEPTH.fraction_bits).astype(float)          # the panel shows whole disparities
     invalid = codes == DEPTH.invalid
     truth[invalid] = 5.0
     s = depth_summary(frame, LAYOUT, SENSOR, DEPTH, truth)

@@ -34,15 +34,16 @@ def _to_rgb24(frame):
 
 
 def read_depth_panel(frame, layout, config):
-    """``(codes, known)`` (H x W) from the depth panel of ``frame`` (uint8 v_active x h_active x 3). A pixel
-    whose colour is no code's (crosshair, readout, a broken panel) is unknown."""
+    """``(codes, known)`` (H x W) from the depth panel of ``frame`` (uint8 v_active x h_active x 3): the whole
+    disparities the colours show (0..D - 1; D = invalid or unknown; the panel shows a code's whole part). A
+    pixel whose colour is no code's (crosshair, readout, a broken panel) is unknown."""
     panel = panel_picture(frame, layout)
     colours = depth_colours(config)
     lookup = {int(c): code for code, c in reversed(list(enumerate(colours)))}
     if len(lookup) != len(colours):
         raise ValueError("the colour map has repeated colours: the panel cannot be read back")
     codes = np.vectorize(lambda c: lookup.get(int(c), -1), otypes=[np.int64])(panel)
-    return np.where(codes < 0, config.invalid, codes), codes >= 0
+    return np.where(codes < 0, config.disparities, codes), codes >= 0
 
 
 def read_text(frame, box):
@@ -74,7 +75,7 @@ def depth_summary(frame, layout, geometry, config, truth=None):
                "panel_pixels_unreadable": int((~known).sum())}
     if truth is not None:
         truth = np.where(known, truth, np.nan)
-        bad1, bad2, density = bad_pixel_rates(codes, codes != config.invalid, truth)
+        bad1, bad2, density = bad_pixel_rates(codes, codes != config.disparities, truth)
         summary.update(bad1=bad1, bad2=bad2, density=density,
                        pixels_with_truth=int(np.isfinite(truth).sum()))
     return summary

@@ -12,13 +12,15 @@
 * :func:`scene_truth`: the disparity of a synthetic scene (sim/testbed/scene.py) at the buffer pixels of one camera.
 * :func:`bad_pixel_rates`: bad > 1 and bad > 2 over every pixel with a truth (an invalid pixel counts bad),
   and the density (valid share of those pixels).
+* :func:`error_figures`: bad > 0.5, bad > 1, bad > 2 (invalid counts bad), the mean absolute error of the valid
+  pixels with a truth, and the density.
 """
 
 import numpy as np
 
 from spec.sensor import SENSOR
 
-__all__ = ["motorcycle_truth", "scene_truth", "bad_pixel_rates"]
+__all__ = ["motorcycle_truth", "scene_truth", "bad_pixel_rates", "error_figures"]
 
 SAME_SURFACE = 2.0      # original pixels: neighbours closer than this in disparity lie on one surface
 
@@ -90,3 +92,15 @@ def bad_pixel_rates(disparity, valid, truth):
     err = np.where(valid, np.abs(np.asarray(disparity, dtype=np.float64) - np.where(known, truth, 0)), np.inf)
     err = err[known]
     return float(np.mean(err > 1)), float(np.mean(err > 2)), float(np.mean(np.asarray(valid)[known]))
+
+
+def error_figures(disparity, valid, truth):
+    """(bad > 0.5, bad > 1, bad > 2, mean absolute error of the valid pixels, density) over the pixels where
+    ``truth`` is known; invalid pixels count bad."""
+    known = np.isfinite(truth)
+    valid = np.asarray(valid)
+    err = np.where(valid, np.abs(np.asarray(disparity, dtype=np.float64) - np.where(known, truth, 0)), np.inf)[known]
+    finite = err[np.isfinite(err)]
+    mae = float(finite.mean()) if finite.size else float("nan")
+    return (float(np.mean(err > 0.5)), float(np.mean(err > 1)), float(np.mean(err > 2)), mae,
+            float(np.mean(valid[known])))

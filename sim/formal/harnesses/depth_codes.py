@@ -1,5 +1,6 @@
 # amaranth: UnusedElaboratable=no
-"""The depth engine's code-producing blocks: every code is a disparity < D or the invalid code D.
+"""The depth engine's code-producing blocks: every code is a sub-pixel disparity below D - 1 (at most
+2**F (D - 2) + 2**(F - 1)) or the invalid code D 2**F.
 
 The whole engine's datapath in one proof did not finish (docs/formal.md, "Not covered"), so the two blocks that
 produce codes are proven on their own, with free inputs inside their interface contracts:
@@ -46,10 +47,10 @@ class WinnerCodesHarness(FormalHarness):
         m.d.comb += [dut.token.eq(token), dut.horizontal.eq(horizontal), dut.vertical.eq(vertical)]
         # token_layout: group counts 0 .. groups - 1.
         self.assume(m, "token_group_in_range", ~dut.token.go | (dut.token.group < cfg.disparities // cfg.lanes))
+        top = cfg.fraction * (cfg.disparities - 2) + cfg.fraction // 2      # d* = D - 2, fraction + 1/2
         self.prove(m, "code_is_disparity_or_invalid", dut.code <= cfg.invalid)
-        self.prove(m, "code_below_last_disparity_or_invalid", (dut.code < cfg.disparities - 1) |
-                   (dut.code == cfg.invalid))
-        self.cover(m, "largest_valid_code", dut.valid & (dut.code == cfg.disparities - 2))
+        self.prove(m, "code_below_last_disparity_or_invalid", (dut.code <= top) | (dut.code == cfg.invalid))
+        self.cover(m, "largest_valid_code", dut.valid & (dut.code == top))
         self.cover(m, "invalid_code", dut.valid & (dut.code == cfg.invalid))
 
 
@@ -77,4 +78,4 @@ class MedianCodesHarness(FormalHarness):
         self.assume(m, "valid_code_is_disparity_or_invalid", ~valid | (code <= cfg.invalid))
         self.prove(m, "median_is_disparity_or_invalid", ~dut.out_valid | (dut.out_code <= cfg.invalid))
         self.cover(m, "median_invalid", dut.out_valid & (dut.out_code == cfg.invalid))
-        self.cover(m, "median_largest_disparity", dut.out_valid & (dut.out_code == cfg.disparities - 1))
+        self.cover(m, "median_largest_code", dut.out_valid & (dut.out_code == cfg.invalid - 1))
