@@ -14,8 +14,9 @@ disparity in 1 / 2**F pixel (F = ``fraction_bits``), or ``config.invalid`` = D 2
    0 <= L <= census_bits + P2.
 4. :func:`winner`: S = L_horizontal + L_vertical; d* = the smallest d with the smallest S; the code
    2**F d* + q in 1 / 2**F pixel, q the equiangular fit through S(d* - 1), S(d*), S(d* + 1)
-   (:func:`subpixel`); invalid (code D 2**F) when that S is above ``max_cost`` or d* = D - 1 (the match may
-   lie beyond the search range).
+   (:func:`subpixel`); invalid (code D 2**F) when that S is above ``max_cost``, d* = D - 1 (the match may
+   lie beyond the search range), or 64 S* > ``uniqueness`` S2, S2 the best sum 2 or more disparities away
+   (:func:`second_best`: the confidence).
 5. :func:`median3x3`: the 5th smallest of the 3 x 3 codes around each pixel, coordinates clamped; invalid sorts
    above every disparity, so a pixel is invalid only where most of its neighbourhood is.
 
@@ -26,7 +27,8 @@ import numpy as np
 
 from spec.depth import DEPTH
 
-__all__ = ["census", "matching_cost", "path_step", "path_cost", "subpixel", "winner", "median3x3", "depth_map", "DepthResult"]
+__all__ = ["census", "matching_cost", "path_step", "path_cost", "subpixel", "second_best", "winner", "median3x3",
+           "depth_map", "DepthResult"]
 
 
 def _check_pair(left, right, config):
@@ -116,13 +118,23 @@ def subpixel(total, d, config=DEPTH):
     return np.where(inner, (config.fraction * (a - c) + e) // (2 * e), 0)
 
 
+def second_best(total, d, config=DEPTH):
+    """S2: the smallest summed cost at a disparity 2 or more away from ``d`` (2**sum_bits - 1 where there is
+    none)."""
+    total = np.asarray(total).astype(np.int64)
+    far = np.abs(np.arange(total.shape[0]).reshape(-1, *[1] * (total.ndim - 1)) - np.asarray(d)[None]) >= 2
+    return np.where(far, total, (1 << config.sum_bits) - 1).min(axis=0)
+
+
 def winner(total, config=DEPTH):
     """(codes, best cost) from the summed path costs (D x H x W): d* = the smallest d with the smallest sum,
-    code = 2**F d* + :func:`subpixel`, or the invalid code where that sum is above ``max_cost`` or d* = D - 1."""
+    code = 2**F d* + :func:`subpixel`, or the invalid code where that sum S* is above ``max_cost``, d* = D - 1,
+    or the match is not unique enough: 64 S* > ``uniqueness`` x :func:`second_best`."""
     total = np.asarray(total)
     d = np.argmin(total, axis=0)                    # first minimum = smallest disparity on ties
     best = np.take_along_axis(total, d[None], axis=0)[0]
-    invalid = (best > config.max_cost) | (d == config.disparities - 1)
+    ambiguous = 64 * best.astype(np.int64) > config.uniqueness * second_best(total, d, config)
+    invalid = (best > config.max_cost) | (d == config.disparities - 1) | ambiguous
     code = d.astype(np.int64) * config.fraction + subpixel(total, d, config)
     return np.where(invalid, config.invalid, code).astype(np.uint16), best
 

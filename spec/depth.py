@@ -20,6 +20,7 @@ class DepthConfig:
     p2: int = 96                # penalty for a larger change
     max_cost: int = 120         # a winner whose summed cost is above this is invalid
     fraction_bits: int = 4      # sub-pixel: codes in 1 / 2**fraction_bits pixel (equiangular fit); 0 = whole pixels
+    uniqueness: int = 64        # confidence: invalid when 64 S* > uniqueness x S2 (S2: best at |d - d*| >= 2); 64 = off
     lanes: int = 16             # disparities per clock in the RTL (divides D)
 
     @property
@@ -62,4 +63,4 @@ class DepthConfig:
 #: The board's engine: D = 64, 7 x 7 census, P1 = 16, P2 = 96, 16 disparities per clock.
 DEPTH = DepthConfig()
 #: A reduced engine for fast tests of the same RTL on SMALL_SENSOR's 16 x 12 buffers.
-SMALL_DEPTH = DepthConfig(disparities=8, lanes=4)
+SMALL_DEPTH = DepthConfig(disparities=8, lanes=4, uniqueness=60)

@@ -9,7 +9,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.ndimage import median_filter
 
-from golden.depth import census, depth_map, matching_cost, median3x3, path_cost, path_step, subpixel, winner
+from golden.depth import (census, depth_map, matching_cost, median3x3, path_cost, path_step, second_best, subpixel,
+                          winner)
 from spec.depth import DEPTH, DepthConfig
 
 SMALL = DepthConfig(disparities=4, census_width=3, census_height=3, lanes=2)
@@ -177,3 +178,24 @@ def test_bad_input_is_rejected():
         depth_map(np.zeros((4, 3), int), np.zeros((4, 3), int), SMALL)
     with pytest.raises(ValueError, match="axis"):
         path_cost(np.zeros((2, 2, 2)), "diagonal", SMALL)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.integers(0, 2 * DEPTH.path_max), min_size=3, max_size=8), st.integers(1, 64))
+def test_uniqueness_rule_equals_a_loop(sums, k):
+    """Invalid by the confidence iff 64 S* > k S2, S2 = min S over |d - d*| >= 2 (a Python loop; 511 = none)."""
+    cfg = DepthConfig(disparities=len(sums), lanes=1, uniqueness=k, max_cost=2 * DEPTH.path_max)
+    total = np.array(sums)[:, None, None]
+    d = min(range(len(sums)), key=lambda i: (sums[i], i))
+    s2 = min([sums[i] for i in range(len(sums)) if abs(i - d) >= 2], default=511)
+    assert int(second_best(total, np.array([[d]]), cfg)[0, 0]) == s2
+    code = int(winner(total, cfg)[0][0, 0])
+    assert (code == cfg.invalid) == (64 * sums[d] > k * s2 or d == len(sums) - 1)
+
+
+def test_uniqueness_boundary_by_hand():
+    """k = 60: S* = 15, S2 = 16 is exactly at the threshold (960 = 960): valid; S* = 16: invalid."""
+    cfg = DepthConfig(disparities=6, lanes=2, uniqueness=60)
+    total = np.array([[[99, 99]], [[20, 21]], [[15, 16]], [[20, 21]], [[16, 16]], [[99, 99]]])
+    codes, _ = winner(total, cfg)
+    assert codes.tolist() == [[32, cfg.invalid]]

@@ -211,3 +211,26 @@ def test_winner_boundaries(name, at, max_cost, expected):
     lh, lv = _sums(cfg, at)
     assert golden_code(cfg, lh, lv) == expected
     assert run_winner(cfg, lh, lv) == (expected, 7)
+
+
+# Uniqueness k = 60: valid iff 64 S* <= 60 S2, S2 = the best sum 2 or more disparities from d*.
+UNIQUENESS_CASES = [
+    ("64 S* = k S2 (15 vs 16): valid", {2: 15, 1: 20, 3: 20, 5: 16}, 32),
+    ("S* one past (16 vs 16): invalid", {2: 16, 1: 21, 3: 21, 5: 16}, 128),
+    ("d* + 1 is no second best", {2: 15, 1: 20, 3: 15, 5: 16}, 32 + 8),
+    ("d* - 1 is no second best", {2: 15, 1: 16, 3: 24, 6: 16}, 32 - 7),
+    ("d* - 2 is one", {2: 15, 0: 15, 1: 20, 3: 20}, 128),
+    ("across groups: d* = 3, d = 4 excluded, d = 5 counted", {3: 15, 4: 15, 2: 30, 5: 16}, 48 + 8),
+    ("across groups: d = 5 one past", {3: 15, 4: 15, 2: 30, 5: 15}, 128),
+    ("across groups: d* = 4, d = 3 excluded, d = 2 counted", {4: 15, 3: 16, 5: 30, 2: 15}, 128),
+]
+
+
+@pytest.mark.parametrize("name, at, expected", UNIQUENESS_CASES, ids=[c[0] for c in UNIQUENESS_CASES])
+def test_uniqueness_boundaries(name, at, expected):
+    """The confidence rule exactly at its threshold and one past, and which disparities count as S2, RTL and
+    golden model alike."""
+    cfg = DepthConfig(disparities=8, lanes=4, uniqueness=60)
+    lh, lv = _sums(cfg, at)
+    assert golden_code(cfg, lh, lv) == expected
+    assert run_winner(cfg, lh, lv) == (expected, 7)

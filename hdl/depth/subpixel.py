@@ -14,8 +14,8 @@ __all__ = ["Subpixel"]
 class Subpixel(wiring.Component):
     """The code of one pixel from its winner d* and the summed costs a = S(d* - 1), b = S(d*), c = S(d* + 1):
     2**F d* + q with q = floor((2**F (a - c) + e) / (2 e)), e = max(a, c) - b (the equiangular fit rounded half
-    up, -2**(F - 1) <= q <= 2**(F - 1)); q = 0 for d* = 0; the invalid code D 2**F when b > ``max_cost`` or
-    d* = D - 1. The quotient is found by restoring division, one quotient bit per clock (no long
+    up, -2**(F - 1) <= q <= 2**(F - 1)); q = 0 for d* = 0; the invalid code D 2**F when b > ``max_cost``,
+    d* = D - 1 or ``ambiguous``. The quotient is found by restoring division, one quotient bit per clock (no long
     combinational divider): Q = q + 2**(F - 1) = floor((2**F (n + e) + e) / (2 e)), n = a - c, bits F..0.
 
     Parameters
@@ -30,6 +30,8 @@ class Subpixel(wiring.Component):
     valid, x, d, below, best, above : In
         One pixel: its column, d*, S(d* - 1) (ignored for d* = 0), S(d*), S(d* + 1) (ignored for d* = D - 1).
         The fit needs b < a (ties go to the smaller d) and b <= c, as the winner guarantees.
+    ambiguous : In(1)
+        The confidence rule failed (64 S* > ``uniqueness`` S2): the code is invalid.
     out_valid, out_x, code : Out
         The pixel's column and code, :meth:`latency` clocks after ``valid``.
 
@@ -46,6 +48,7 @@ class Subpixel(wiring.Component):
             "below": In(config.sum_bits),
             "best": In(config.sum_bits),
             "above": In(config.sum_bits),
+            "ambiguous": In(1),
             "out_valid": Out(1),
             "out_x": Out(range(width)),
             "code": Out(config.code_bits),
@@ -58,7 +61,7 @@ class Subpixel(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         cfg, F = self.config, self.config.fraction_bits
-        invalid = (self.best > cfg.max_cost) | (self.d == cfg.disparities - 1)
+        invalid = (self.best > cfg.max_cost) | (self.d == cfg.disparities - 1) | self.ambiguous
         if F == 0:
             m.d.sync += [self.out_valid.eq(self.valid), self.out_x.eq(self.x),
                          self.code.eq(Mux(invalid, cfg.invalid, self.d))]
