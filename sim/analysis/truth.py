@@ -9,6 +9,7 @@
   a column that no surface reaches but lies in the gap a disparity drop opens (seen by the right camera only,
   hidden from the left one) gets the farther surface's disparity. Where the left map has no value, nothing is
   made. Original disparities are scaled to buffer pixels by the fit's horizontal factor (1600 / 667 / 4).
+* :func:`right_view`: the same conversion for any left-view map at its own resolution (every original column).
 * :func:`scene_truth`: the disparity of a synthetic scene (sim/testbed/scene.py) at the buffer pixels of one camera.
 * :func:`bad_pixel_rates`: bad > 1 and bad > 2 over every pixel with a truth (an invalid pixel counts bad),
   and the density (valid share of those pixels).
@@ -20,7 +21,7 @@ import numpy as np
 
 from spec.sensor import SENSOR
 
-__all__ = ["motorcycle_truth", "scene_truth", "bad_pixel_rates", "error_figures"]
+__all__ = ["motorcycle_truth", "scene_truth", "bad_pixel_rates", "error_figures", "right_view"]
 
 SAME_SURFACE = 2.0      # original pixels: neighbours closer than this in disparity lie on one surface
 
@@ -72,6 +73,15 @@ def motorcycle_truth(view="right", geometry=SENSOR):
     rows, cols = _sample_grid(geometry, crop_w, crop_h)
     truth = np.stack([_right_row(disparity[r], cols + x0) for r in rows])
     return truth * geometry.width / crop_w / geometry.scale
+
+
+def right_view(left_disparity):
+    """The right view's disparity (H x W, original pixels, NaN = none) made from a left-view map of the same
+    size, row by row as for the motorcycle (surfaces interpolated, the nearest wins, disocclusions take the
+    farther surface), sampled at every original column."""
+    left_disparity = np.asarray(left_disparity, dtype=np.float64)
+    cols = np.arange(left_disparity.shape[1], dtype=np.float64)
+    return np.stack([_right_row(row, cols) for row in left_disparity])
 
 
 def scene_truth(scene, rig, geometry=SENSOR, side="right"):
