@@ -16,7 +16,9 @@ __all__ = ["CentreDistance", "readout_table", "SETTLE_CLOCKS"]
 
 WINDOW = 9
 #: Clocks after the last window capture until ``chars`` holds its readout.
-SETTLE_CLOCKS = WINDOW + 4
+SETTLE_CLOCKS = WINDOW + 5
+#: Address bits of one part of the readout ROM (a 256-word ROM is LUT6 + MUXF7 + MUXF8).
+ROM_PART_BITS = 8
 
 
 def readout_table(geometry=SENSOR, config=DEPTH):
@@ -96,12 +98,24 @@ class CentreDistance(wiring.Component):
         half = WINDOW // 2
         with m.If((sum(less) <= half) & (sum(not_more) > half)):
             m.d.sync += self.median.eq(value)
-        # The readout of the median (a window code, so at most the invalid code): a ROM of invalid + 1 entries,
-        # registered.
+        # The readout of the median (a window code, so at most the invalid code): invalid + 1 entries, looked up
+        # in two registered clocks so that no path is deeper than a 256-entry ROM (LUT6 + MUXF7 + MUXF8): the
+        # ROM split into 256-word parts read by the low 8 address bits, then the part the high bits select.
         words = [sum(c << (CHAR_BITS * pos) for pos, c in enumerate(char_codes(text))) for text in self.table]
-        m.submodules.readout_rom = rom = Memory(shape=unsigned(len(self.chars.as_value())), depth=len(words),
-                                                init=words)
-        port = rom.read_port(domain="comb")
-        m.d.comb += port.addr.eq(self.median)
-        m.d.sync += self.chars.eq(port.data)
+        shape = unsigned(len(self.chars.as_value()))
+        low_bits = min(bits, ROM_PART_BITS)
+        parts, high = [], Signal(max(1, bits - low_bits))
+        m.d.sync += high.eq(self.median[low_bits:] if bits > low_bits else 0)
+        for i in range(0, len(words), 1 << low_bits):
+            rom = Memory(shape=shape, depth=min(1 << low_bits, len(words) - i), init=words[i:i + (1 << low_bits)])
+            m.submodules[f"readout_rom{i >> low_bits}"] = rom
+            port = rom.read_port(domain="comb")
+            part = Signal(shape, name=f"readout_part{i >> low_bits}")
+            m.d.comb += port.addr.eq(self.median[:low_bits])
+            m.d.sync += part.eq(port.data)
+            parts.append(part)
+        with m.Switch(high):
+            for i, part in enumerate(parts):
+                with m.Case(i):
+                    m.d.sync += self.chars.eq(part)
         return m
