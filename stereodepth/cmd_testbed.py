@@ -142,13 +142,7 @@ def run(args):
         f" {'engine':>7} {'shown':>7} {'error':>7}")
 
     def show(p):
-        thesis = dict(zip(tb.THESIS_DISTANCES_M, zip(tb.THESIS_CALCULATED_PX, tb.THESIS_OBSERVED_PX)))
-        calc, obs = thesis.get(round(p.distance_m, 6), ("", ""))
-        e = p.engine
-        say(f"{p.distance_m:6.2f} {p.object_name:>16} {p.exact_px:7.2f} {calc:>6} {obs:>5} {p.found:5d} "
-            f"{str(p.plateau[0]) + '..' + str(p.plateau[1]):>9} {p.alignment.rectification:4d} "
-            f"{'-' if e.disparity_px is None else f'{e.disparity_px:.2f}':>7} {e.readout:>7} "
-            f"{'-' if e.error is None else f'{100 * e.error:+.1f}%':>7}")
+        say(_show_line(p, tb))
 
     table = tb.run_table(distances, rig, progress=show, **kw)
     say("near field (thesis 4.6.6):")
@@ -206,6 +200,17 @@ def run(args):
     print(f"  wrote {out}/table.csv, near_field.csv, fits.csv, rtl_check.csv, figure_4_35.png, "
           f"disparity_maps.png, near_field.png")
     return 0 if rtl_ok else 1
+
+
+def _show_line(p, tb):
+    """One printed row: the sweep's columns and the depth engine's (sub-pixel disparity, readout, error)."""
+    thesis = dict(zip(tb.THESIS_DISTANCES_M, zip(tb.THESIS_CALCULATED_PX, tb.THESIS_OBSERVED_PX)))
+    calc, obs = thesis.get(round(p.distance_m, 6), ("", ""))
+    e = p.engine
+    return (f"{p.distance_m:6.2f} {p.object_name:>16} {p.exact_px:7.2f} {calc:>6} {obs:>5} {p.found:5d} "
+            f"{str(p.plateau[0]) + '..' + str(p.plateau[1]):>9} {p.alignment.rectification:4d} "
+            f"{'-' if e.disparity_px is None else f'{e.disparity_px:.2f}':>7} {e.readout:>7} "
+            f"{'-' if e.error is None else f'{100 * e.error:+.1f}%':>7}")
 
 
 def _point_row(p):
