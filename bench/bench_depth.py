@@ -6,8 +6,10 @@ sim/testbed/scene.py rendered for the VmodCAM (textured planes; the thesis's tes
 than D allows). No other real stereo pair with ground truth is available offline (scikit-image ships only the
 motorcycle; opencv-python-headless ships no sample images).
 
-Figures: bad > 1 and bad > 2 px over every pixel with a ground truth (an invalid pixel counts bad) and the
-density, for the engine, the thesis's SAD 15 x 15 + WTA, OpenCV StereoBM (best block size) and StereoSGBM on
+Figures: bad > 0.5, bad > 1 and bad > 2 px over every pixel with a ground truth (an invalid pixel counts bad),
+the mean absolute error of the valid pixels and the density, for the engine (sub-pixel codes / 16), the
+whole-pixel engine of issue 14, and under it the engine's confidence trade (bad > 2 among the valid pixels
+against density for a few uniqueness thresholds); for the thesis's SAD 15 x 15 + WTA, OpenCV StereoBM (best block size) and StereoSGBM on
 the same buffers shifted to 8 bits, all with the right image as reference (OpenCV runs on the mirrored pair).
 Motorcycle ground truth: the right view made from Middlebury's left map (sim/analysis/truth.py), and, to compare
 with the issue's probe, the mirrored pair against Middlebury's own left map ("left view").
@@ -16,6 +18,7 @@ Writes build/bench/depth.md and build/bench/depth_motorcycle.png (right image, g
 one colour scale with a legend; invalid / unknown in grey). Run: ``python -m bench depth``.
 """
 
+import dataclasses
 import time
 from pathlib import Path
 
@@ -30,15 +33,21 @@ from golden.stereo_pair import load_default_pair
 from hdl.depth import schedule
 from spec.depth import DEPTH
 from spec.sensor import SENSOR
-from sim.analysis.truth import bad_pixel_rates, motorcycle_truth, scene_truth
+from sim.analysis.truth import bad_pixel_rates, error_figures, motorcycle_truth, scene_truth
 
 OUT_DIR = build_dir("bench")
 BM_BLOCKS = tuple(range(5, 33, 4))
 
 
-def engine(left, right):
-    codes = depth_map(left, right, DEPTH)
-    return codes.astype(np.float64), codes != DEPTH.invalid
+def engine(left, right, config=DEPTH):
+    """The engine's map in pixels (sub-pixel codes / 2**F) and its validity."""
+    codes = depth_map(left, right, config)
+    return codes.astype(np.float64) / config.fraction, codes != config.invalid
+
+
+def whole_pixels(left, right):
+    """The issue 14 engine (whole pixels, no confidence) for comparison."""
+    return engine(left, right, dataclasses.replace(DEPTH, fraction_bits=0, uniqueness=64))
 
 
 def _opencv(matcher, left, right):
@@ -75,21 +84,41 @@ def mirrored(method):
 
 
 def evaluate(left, right, truth, *, mirror=False):
-    """[(name, bad1, bad2, density, map, valid)] for the engine, SAD, best BM, SGBM."""
+    """[(name, bad1, bad2, density, map, valid, (bad0.5, bad1, bad2, mae, density))] for the engine, the
+    whole-pixel engine of issue 14, SAD, best BM, SGBM."""
     wrap = mirrored if mirror else (lambda f: f)
     rows = []
-    for name, method in (("depth engine (golden = RTL)", engine), ("thesis SAD 15x15 + WTA", sad15),
+    for name, method in (("depth engine, 1/16 pixel (golden = RTL)", engine),
+                         ("depth engine, whole pixels (issue 14)", whole_pixels), ("thesis SAD 15x15 + WTA", sad15),
                          ("OpenCV StereoSGBM 5x5", sgbm)):
         d, v = wrap(method)(left, right)
-        rows.append((name, *bad_pixel_rates(d, v, truth), d, v))
+        rows.append((name, *bad_pixel_rates(d, v, truth), d, v, error_figures(d, v, truth)))
     best = None
     for block in BM_BLOCKS:
         d, v = wrap(bm(block))(left, right)
-        r = (f"OpenCV StereoBM {block}x{block} (best block)", *bad_pixel_rates(d, v, truth), d, v)
+        r = (f"OpenCV StereoBM {block}x{block} (best block)", *bad_pixel_rates(d, v, truth), d, v,
+             error_figures(d, v, truth))
         if best is None or r[2] < best[2]:
             best = r
-    rows.insert(2, best)
+    rows.insert(3, best)
     return rows
+
+
+UNIQUENESS = (64, 62, 60, 58, 56)
+
+
+def confidence(title, left, right, truth):
+    """bad > 2 among the valid pixels and density of the engine for a few ``uniqueness`` thresholds."""
+    lines = [f"#### {title}: confidence (uniqueness 64 S* <= k S2)", "",
+             "| k | bad > 2 among valid | density | bad > 2 (invalid counted bad) |", "|---|---|---|---|"]
+    known = np.isfinite(truth)
+    for k in UNIQUENESS:
+        d, v = engine(left, right, dataclasses.replace(DEPTH, uniqueness=k))
+        among = float(np.mean(np.abs(d - truth)[known & v] > 2))
+        b2, density = error_figures(d, v, truth)[2], error_figures(d, v, truth)[4]
+        board = " (board)" if k == DEPTH.uniqueness else ""
+        lines.append(f"| {k}{board} | {100 * among:.1f} % | {100 * density:.1f} % | {100 * b2:.1f} % |")
+    return lines + [""]
 
 
 def motorcycle_buffers():
@@ -116,8 +145,10 @@ def synthetic_scenes():
 
 
 def table(title, rows):
-    lines = [f"### {title}", "", "| method | bad > 1 px | bad > 2 px | density |", "|---|---|---|---|"]
-    lines += [f"| {r[0]} | {100 * r[1]:.1f} % | {100 * r[2]:.1f} % | {100 * r[3]:.1f} % |" for r in rows]
+    lines = [f"### {title}", "", "| method | bad > 0.5 px | bad > 1 px | bad > 2 px | MAE (valid) | density |",
+             "|---|---|---|---|---|---|"]
+    lines += [f"| {r[0]} | {100 * r[6][0]:.1f} % | {100 * r[6][1]:.1f} % | {100 * r[6][2]:.1f} % | "
+              f"{r[6][3]:.2f} px | {100 * r[6][4]:.1f} % |" for r in rows]
     return lines + [""]
 
 
@@ -129,7 +160,7 @@ def picture(right, truth, rows, path):
     cmap.set_bad((0.45, 0.45, 0.45))
     panels = [("right image (reference)", right, "grey", None), ("ground truth (right view)", truth, cmap, True)]
     panels += [(f"{r[0]}\nbad>2 {100 * r[2]:.1f} %, density {100 * r[3]:.1f} %",
-                np.where(r[5], r[4], np.nan), cmap, True) for r in rows]
+                np.where(r[5], r[4], np.nan), cmap, True) for r in rows if "issue 14" not in r[0]]
     fig, axes = plt.subplots(2, 3, figsize=(15, 8.4), constrained_layout=True)
     image = None
     for ax, (title, img, cm, scaled) in zip(axes.flat, panels):
@@ -153,7 +184,8 @@ def main():
     t = min(_timed(lambda: depth_map(left, right, DEPTH)) for _ in range(3))
     plan = schedule(SENSOR, DEPTH)
     per_map = 4 * SENSOR.buf_width + (SENSOR.buf_height + 1) * (plan.pass_clocks + 3)
-    lines = ["## Depth engine (census 7x7, SGM horizontal + vertical, P1 16, P2 96, WTA, 3x3 median)", "",
+    lines = ["## Depth engine (census 7x7, SGM horizontal + vertical, P1 16, P2 96, WTA, equiangular 1/16 pixel, "
+             f"uniqueness {DEPTH.uniqueness}, 3x3 median)", "",
              f"golden model, full 400 x 300 map: {t:.2f} s (best of 3)",
              f"RTL schedule: {plan.steps} steps x {plan.step_clocks} clocks + {plan.drain_clocks} per row pass = "
              f"{plan.pass_clocks + 3} clocks (1080p: 4,400 clocks per buffer row at 2x); whole map with every read "
@@ -161,13 +193,16 @@ def main():
     truth_right = motorcycle_truth("right")
     rows = evaluate(left, right, truth_right)
     lines += table("Motorcycle, right view (ground truth made from Middlebury's left map)", rows)
+    lines += confidence("Motorcycle", left, right, truth_right)
     lines += table("Motorcycle, mirrored pair, left view (Middlebury's own map; the issue's probe)",
                    evaluate(left, right, motorcycle_truth("left"), mirror=True))
     scenes, rig = synthetic_scenes()
     for name, scene in scenes.items():
         l_rgb, r_rgb = render_pair(scene, rig)
         sl, sr = capture(l_rgb, SENSOR).astype(np.int64), capture(r_rgb, SENSOR).astype(np.int64)
-        lines += table(f"Synthetic: {name}", evaluate(sl, sr, scene_truth(scene, rig)))
+        truth = scene_truth(scene, rig)
+        lines += table(f"Synthetic: {name}", evaluate(sl, sr, truth))
+        lines += confidence(name.split(" (")[0], sl, sr, truth)
     png = OUT_DIR / "depth_motorcycle.png"
     picture(right, truth_right, rows, png)
     lines.append(f"picture: {png}")

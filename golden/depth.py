@@ -1,8 +1,8 @@
 """Golden model of the automatic depth engine, written from docs/depth.md (never from the RTL).
 
 The right image is the reference; the match of right pixel (x, y) at disparity d is left pixel (x + d, y), as
-for the disparity subtractor (docs/disparity.md). For every right-image pixel the engine gives a disparity
-0..D-1 or the code D ("invalid"):
+for the disparity subtractor (docs/disparity.md). For every right-image pixel the engine gives a code: the
+disparity in 1 / 2**F pixel (F = ``fraction_bits``), or ``config.invalid`` = D 2**F:
 
 1. :func:`census`: a signature of ``census_bits`` bits per pixel, bit k set iff window pixel k is darker than
    the centre; window positions outside the image take the nearest image pixel (coordinates clamped).
@@ -12,9 +12,12 @@ for the disparity subtractor (docs/disparity.md). For every right-image pixel th
    along a column): L = C + min(L'[d], L'[d - 1] + P1, L'[d + 1] + P1, M' + P2) - M', where L' is the previous
    pixel's vector on the path and M' its minimum; before the first pixel L' = 0, M' = 0 (so L = C there).
    0 <= L <= census_bits + P2.
-4. :func:`winner`: S = L_horizontal + L_vertical; the smallest d with the smallest S; invalid (code D) when
-   that S is above ``max_cost`` or d = D - 1 (the match may lie beyond the search range).
-5. :func:`median3x3`: the 5th smallest of the 3 x 3 codes around each pixel, coordinates clamped; D sorts
+4. :func:`winner`: S = L_horizontal + L_vertical; d* = the smallest d with the smallest S; the code
+   2**F d* + q in 1 / 2**F pixel, q the equiangular fit through S(d* - 1), S(d*), S(d* + 1)
+   (:func:`subpixel`); invalid (code D 2**F) when that S is above ``max_cost``, d* = D - 1 (the match may
+   lie beyond the search range), or 64 S* > ``uniqueness`` S2, S2 the best sum 2 or more disparities away
+   (:func:`second_best`: the confidence).
+5. :func:`median3x3`: the 5th smallest of the 3 x 3 codes around each pixel, coordinates clamped; invalid sorts
    above every disparity, so a pixel is invalid only where most of its neighbourhood is.
 
 :func:`depth_map` runs the whole chain. Only constants come from ``spec``.
@@ -24,7 +27,8 @@ import numpy as np
 
 from spec.depth import DEPTH
 
-__all__ = ["census", "matching_cost", "path_step", "path_cost", "winner", "median3x3", "depth_map", "DepthResult"]
+__all__ = ["census", "matching_cost", "path_step", "path_cost", "subpixel", "second_best", "winner", "median3x3",
+           "depth_map", "DepthResult"]
 
 
 def _check_pair(left, right, config):
@@ -98,14 +102,41 @@ def path_cost(cost, axis, config=DEPTH):
     return out
 
 
+def subpixel(total, d, config=DEPTH):
+    """The fraction q of the winner ``d`` (int64, same shape as ``d``) in 1 / 2**F pixel (F = fraction_bits):
+    with a, b, c = S(d - 1), S(d), S(d + 1), e = max(a, c) - b and n = a - c, q = floor((2**F n + e) / (2 e))
+    (the equiangular fit n / (2 e) rounded half up), -2**(F - 1) <= q <= 2**(F - 1); q = 0 for d = 0,
+    d = D - 1 or F = 0."""
+    total = np.asarray(total).astype(np.int64)
+    d = np.asarray(d)
+    top = total.shape[0] - 1
+    a = np.take_along_axis(total, np.clip(d - 1, 0, top)[None], axis=0)[0]
+    b = np.take_along_axis(total, d[None], axis=0)[0]
+    c = np.take_along_axis(total, np.clip(d + 1, 0, top)[None], axis=0)[0]
+    inner = (d > 0) & (d < top) & (config.fraction_bits > 0)
+    e = np.where(inner, np.maximum(a, c) - b, 1)        # a > b (ties go to the smaller d), so e >= 1
+    return np.where(inner, (config.fraction * (a - c) + e) // (2 * e), 0)
+
+
+def second_best(total, d, config=DEPTH):
+    """S2: the smallest summed cost at a disparity 2 or more away from ``d`` (2**sum_bits - 1 where there is
+    none)."""
+    total = np.asarray(total).astype(np.int64)
+    far = np.abs(np.arange(total.shape[0]).reshape(-1, *[1] * (total.ndim - 1)) - np.asarray(d)[None]) >= 2
+    return np.where(far, total, (1 << config.sum_bits) - 1).min(axis=0)
+
+
 def winner(total, config=DEPTH):
-    """(codes, best cost) from the summed path costs (D x H x W): the smallest d with the smallest sum, or the
-    invalid code D where that sum is above ``max_cost`` or d = D - 1."""
+    """(codes, best cost) from the summed path costs (D x H x W): d* = the smallest d with the smallest sum,
+    code = 2**F d* + :func:`subpixel`, or the invalid code where that sum S* is above ``max_cost``, d* = D - 1,
+    or the match is not unique enough: 64 S* > ``uniqueness`` x :func:`second_best`."""
     total = np.asarray(total)
     d = np.argmin(total, axis=0)                    # first minimum = smallest disparity on ties
     best = np.take_along_axis(total, d[None], axis=0)[0]
-    invalid = (best > config.max_cost) | (d == config.disparities - 1)
-    return np.where(invalid, config.invalid, d).astype(np.uint8), best
+    ambiguous = 64 * best.astype(np.int64) > config.uniqueness * second_best(total, d, config)
+    invalid = (best > config.max_cost) | (d == config.disparities - 1) | ambiguous
+    code = d.astype(np.int64) * config.fraction + subpixel(total, d, config)
+    return np.where(invalid, config.invalid, code).astype(np.uint16), best
 
 
 def median3x3(codes):
@@ -130,7 +161,7 @@ class DepthResult:
 
 
 def depth_map(left, right, config=DEPTH, *, details=False):
-    """The engine's output for two grey buffers: (H, W) uint8 codes, 0..D-1 = disparity, D = invalid.
+    """The engine's output for two grey buffers: (H, W) uint16 codes, disparity x 2**F, or the invalid code.
     ``details=True`` returns a :class:`DepthResult` with the intermediates instead."""
     cost = matching_cost(left, right, config)
     horizontal = path_cost(cost, "horizontal", config)

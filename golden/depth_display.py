@@ -1,12 +1,13 @@
 """Golden model of the depth panel and its overlays (docs/display.md, "Four panels"), written from the spec.
 
-* :func:`depth_colours`: the colour of every code 0..D (D = invalid): the viridis anchors of
-  ``spec.display.DEPTH_COLOURS`` interpolated linearly at u = (n - 1) d / (D - 1), rounded to nearest.
+* :func:`depth_colours`: the colour of every whole disparity 0..D (D = invalid): the viridis anchors of
+  ``spec.display.DEPTH_COLOURS`` interpolated linearly at u = (n - 1) d / (D - 1), rounded to nearest; a
+  sub-pixel code c is shown in the colour of its whole part c // 2**F (the invalid code's whole part is D).
 * :func:`engine_left`: the left image as the engine reads it with the signed rectification r: row y is
   row min(max(y + r, 0), H - 1) (the first row repeats above the image, the last below it).
 * :func:`centre_readout`: the median of the 3 x 3 codes around (W // 2, H // 2) and its readout text: the
-  distance B f / (d p s) in whole centimetres (half up), right-aligned in 4 characters, then "cm"; "----cm"
-  for d = 0 or invalid.
+  distance B f / (d p s) of the sub-pixel disparity d = code / 2**F in whole centimetres (half up),
+  right-aligned in 4 characters, then "cm"; "----cm" for code 0, the invalid code, or a distance above 9999 cm.
 * :func:`depth_picture`: the map in colour at buffer size with the crosshair (centre row and column, 2 ..
   ``arm`` pixels from the centre, ``CROSSHAIR_RGB``).
 * :func:`draw_text`: a text box in the 5 x 7 font (glyph pixels ``TEXT_RGB``, the rest ``BACKGROUND_RGB``).
@@ -56,16 +57,18 @@ def centre_readout(codes, geometry=SENSOR, config=DEPTH):
     h, w = codes.shape
     yc, xc = h // 2, w // 2
     median = int(np.sort(codes[yc - 1:yc + 2, xc - 1:xc + 2], axis=None)[4])
-    if median == 0 or median >= config.disparities:
+    if median == 0 or median >= config.invalid:
         return median, "----cm"
-    cm = int(np.floor(distance_m(median, geometry) * 100 + 0.5))
+    cm = int(np.floor(distance_m(median / config.fraction, geometry) * 100 + 0.5))
+    if cm > 9999:
+        return median, "----cm"
     return median, f"{cm:4d}cm"
 
 
 def depth_picture(codes, config=DEPTH, arm=0):
     """(H, W) int64 0xRRGGBB: the codes' colours with the crosshair drawn over them."""
     codes = np.asarray(codes)
-    picture = depth_colours(config)[codes]
+    picture = depth_colours(config)[codes >> config.fraction_bits]
     h, w = codes.shape
     yc, xc = h // 2, w // 2
     for offset in range(2, arm + 1):

@@ -16,32 +16,33 @@ __all__ = ["CentreDistance", "readout_table", "SETTLE_CLOCKS"]
 
 WINDOW = 9
 #: Clocks after the last window capture until ``chars`` holds its readout.
-SETTLE_CLOCKS = WINDOW + 5
+SETTLE_CLOCKS = WINDOW + 6
+#: Address bits of one part of the readout ROM (a 256-word ROM is LUT6 + MUXF7 + MUXF8).
+ROM_PART_BITS = 8
 
 
 def readout_table(geometry=SENSOR, config=DEPTH):
-    """The readout text of every code 0..D: the distance B f / (d p s) in whole centimetres (rounded half up),
-    right-aligned in four characters, then "cm"; "----cm" for d = 0 (infinitely far) and the invalid code D.
+    """The readout text of every code 0..invalid: the distance B f / (d p s) of the sub-pixel disparity
+    d = code / 2**F in whole centimetres (rounded half up), right-aligned in four characters, then "cm";
+    "----cm" for code 0 (infinitely far), the invalid code, and a distance that does not fit the four digits.
     Exact rational arithmetic (the rig's decimal constants as fractions)."""
-    numerator = Fraction(str(VMODCAM_RIG.BASELINE_M)) * Fraction(str(VMODCAM_RIG.FOCAL_M)) * 100
+    numerator = Fraction(str(VMODCAM_RIG.BASELINE_M)) * Fraction(str(VMODCAM_RIG.FOCAL_M)) * 100 * config.fraction
     denominator = Fraction(str(VMODCAM_RIG.PIXEL_M)) * geometry.scale
     digits = len(READOUT_TEXT) - 2
     table = []
-    for d in range(config.disparities + 1):
-        if d == 0 or d == config.invalid:
-            text = "-" * digits
-        else:
-            cm = int(numerator / (denominator * d) + Fraction(1, 2))
-            text = str(cm).rjust(digits)
-            if len(text) > digits:
-                raise ValueError(f"{cm} cm does not fit {digits} digits")
+    for code in range(config.invalid + 1):
+        text = "-" * digits
+        if code not in (0, config.invalid):
+            cm = int(numerator / (denominator * code) + Fraction(1, 2))
+            if cm < 10 ** digits:
+                text = str(cm).rjust(digits)
         table.append(text + READOUT_TEXT[digits:])
     return table
 
 
 class CentreDistance(wiring.Component):
     """Keeps the nine codes of the 3 x 3 window at the depth map's centre, takes their median (the fifth
-    smallest; the invalid code D sorts above every disparity) and gives the readout of that code
+    smallest; the invalid code sorts above every disparity) and gives the readout of that sub-pixel code
     (:func:`readout_table`) as font codes.
 
     The median is found by a free-running search: every clock one of the nine codes is the candidate; it is
@@ -97,12 +98,24 @@ class CentreDistance(wiring.Component):
         half = WINDOW // 2
         with m.If((sum(less) <= half) & (sum(not_more) > half)):
             m.d.sync += self.median.eq(value)
-        # The readout of the median: a ROM of D + 1 entries (the rest as invalid), registered.
+        # The readout of the median (a window code, so at most the invalid code): invalid + 1 entries, looked up
+        # in two registered clocks so that no path is deeper than a 256-entry ROM (LUT6 + MUXF7 + MUXF8): the
+        # ROM split into 256-word parts read by the low 8 address bits, then the part the high bits select.
         words = [sum(c << (CHAR_BITS * pos) for pos, c in enumerate(char_codes(text))) for text in self.table]
-        words += [words[-1]] * (2 ** bits - len(words))
-        m.submodules.readout_rom = rom = Memory(shape=unsigned(len(self.chars.as_value())), depth=len(words),
-                                                init=words)
-        port = rom.read_port(domain="comb")
-        m.d.comb += port.addr.eq(self.median)
-        m.d.sync += self.chars.eq(port.data)
+        shape = unsigned(len(self.chars.as_value()))
+        low_bits = min(bits, ROM_PART_BITS)
+        parts, high = [], Signal(max(1, bits - low_bits))
+        m.d.sync += high.eq(self.median[low_bits:] if bits > low_bits else 0)
+        for i in range(0, len(words), 1 << low_bits):
+            rom = Memory(shape=shape, depth=min(1 << low_bits, len(words) - i), init=words[i:i + (1 << low_bits)])
+            m.submodules[f"readout_rom{i >> low_bits}"] = rom
+            port = rom.read_port(domain="comb")
+            part = Signal(shape, name=f"readout_part{i >> low_bits}")
+            m.d.comb += port.addr.eq(self.median[:low_bits])
+            m.d.sync += part.eq(port.data)
+            parts.append(part)
+        with m.Switch(high):
+            for i, part in enumerate(parts):
+                with m.Case(i):
+                    m.d.sync += self.chars.eq(part)
         return m

@@ -12,7 +12,8 @@ pixel repeated ``scale`` x ``scale`` times (docs/display.md, "Four panels").
 
 * ``left`` / ``right``: the camera image, grey by bit replication (:func:`spec.display.grey_to_rgb24`).
 * ``disparity``: the :class:`hdl.disparity.DisparitySubtractor` output, ``level_grey[level]`` or ``NO_DATA_RGB``.
-* ``depth``: the engine's code through the colour map ROM (:func:`hdl.colour_map.colour_table`); the crosshair
+* ``depth``: the engine's code's whole disparity (code >> ``fraction_bits``) through the colour map ROM
+  (:func:`hdl.colour_map.colour_table`); the crosshair
   (``CROSSHAIR_RGB``) on the centre row and column, 2 .. ``crosshair_arm`` buffer pixels from the centre; a row
   the engine has not finished (``rows_ready``) shows ``DEPTH_NOT_READY_RGB``. A finished depth row is released
   to the engine after its last display line.
@@ -364,8 +365,9 @@ class Compositor(wiring.Component):
         in_depth_3, window_3 = delayed(m, in_depth_2, 1, "in_depth"), delayed(m, window_2, 1, "window")
         m.submodules.distance = distance = self._distance
         m.d.comb += [distance.capture.eq(Mux(in_depth_3, window_3, 0)), distance.code.eq(result.data)]
-        code_4 = Signal(cfg.code_bits, name="code_4")
-        m.d.sync += code_4.eq(Mux(in_depth_3, result.data, delayed(m, bar_code_2, 1, "bar_code")))
+        code_4 = Signal(range(cfg.disparities + 1), name="code_4")      # the whole disparity: its colour
+        m.d.sync += code_4.eq(Mux(in_depth_3, result.data[cfg.fraction_bits:],
+                                  delayed(m, bar_code_2, 1, "bar_code")))
         colour_5 = Signal(24, name="colour_5")
         table = colour_table(cfg)
         m.submodules.colour_rom = rom = Memory(shape=unsigned(24), depth=2 ** len(code_4),

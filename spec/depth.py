@@ -8,7 +8,8 @@ __all__ = ["DepthConfig", "DEPTH", "SMALL_DEPTH"]
 @dataclass(frozen=True)
 class DepthConfig:
     """The dense matcher's constants: census transform, semi-global aggregation on two paths, winner-take-all,
-    validity rule and 3 x 3 median (docs/depth.md). The widths follow from them: no stage can overflow.
+    sub-pixel fit, validity rule and 3 x 3 median (docs/depth.md). The widths follow from them: no stage can
+    overflow. Codes count 1 / 2**fraction_bits pixel; ``invalid`` is D in those steps.
 
     ``lanes`` disparities are computed per clock (the RTL's parallelism); it does not change the result.
     """
@@ -18,6 +19,8 @@ class DepthConfig:
     p1: int = 16                # penalty for a disparity change of 1 between path neighbours
     p2: int = 96                # penalty for a larger change
     max_cost: int = 120         # a winner whose summed cost is above this is invalid
+    fraction_bits: int = 4      # sub-pixel: codes in 1 / 2**fraction_bits pixel (equiangular fit); 0 = whole pixels
+    uniqueness: int = 64        # confidence: invalid when 64 S* > uniqueness x S2 (S2: best at |d - d*| >= 2); 64 = off
     lanes: int = 16             # disparities per clock in the RTL (divides D)
 
     @property
@@ -43,16 +46,21 @@ class DepthConfig:
         return (2 * self.path_max).bit_length()
 
     @property
+    def fraction(self):
+        """Code steps per pixel: code = 2**fraction_bits x disparity."""
+        return 1 << self.fraction_bits
+
+    @property
     def invalid(self):
-        """Output code of an invalid pixel (one above the largest disparity)."""
-        return self.disparities
+        """Output code of an invalid pixel: D in code steps (above every disparity code)."""
+        return self.disparities * self.fraction
 
     @property
     def code_bits(self):
-        return self.disparities.bit_length()
+        return self.invalid.bit_length()
 
 
 #: The board's engine: D = 64, 7 x 7 census, P1 = 16, P2 = 96, 16 disparities per clock.
 DEPTH = DepthConfig()
 #: A reduced engine for fast tests of the same RTL on SMALL_SENSOR's 16 x 12 buffers.
-SMALL_DEPTH = DepthConfig(disparities=8, lanes=4)
+SMALL_DEPTH = DepthConfig(disparities=8, lanes=4, uniqueness=60)

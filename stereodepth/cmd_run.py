@@ -67,9 +67,13 @@ def add_arguments(parser):
     parser.add_argument("--small", action="store_true",
                         help="small configuration: 64x48 sensors, 112x52 display (fast; for a quick look)")
     parser.add_argument("--ground-truth", type=Path, default=None, metavar="FILE",
-                        help="the right image's disparity map at the input's size (PFM, inf = unknown; or 16-bit "
-                             "PNG in 1/256 pixel, 0 = unknown, e.g. Middlebury disp1.pfm): report bad > 1 / "
-                             "bad > 2 of the depth panel")
+                        help="a disparity map at the input's size (PFM, inf = unknown; or 16-bit PNG in 1/256 "
+                             "pixel, 0 = unknown), of the view --truth-view names: report bad > 1 / bad > 2 of "
+                             "the depth panel")
+    parser.add_argument("--truth-view", choices=("right", "left"), default="right",
+                        help="which image --ground-truth describes: right (default, the engine's reference, e.g. "
+                             "Middlebury disp1.pfm) or left (e.g. Middlebury disp0.pfm: converted to the right "
+                             "view as sim/analysis/truth.py does for the motorcycle)")
     parser.add_argument("--vcd", action="store_true",
                         help="write system.vcd + system.gtkw (Amaranth simulator, --small only)")
 
@@ -257,7 +261,7 @@ def run(args):
     if args.ground_truth is not None:
         from golden.image_file import image_size
         from sim.analysis.depth_panel import read_truth
-        truth = read_truth(args.ground_truth, image_size(args.left), setup.geometry)
+        truth = read_truth(args.ground_truth, image_size(args.left), setup.geometry, view=args.truth_view)
     require_simulator(args.simulator)
     outputs = RunOutputs(out, OUTPUTS).start()
     wall = time.perf_counter()

@@ -6,7 +6,9 @@ in the difference image is smallest (sim/testbed/experiment.py); then the near-f
 explain the thesis's observed column (re-simulated with the fitted rig), and a sample of points run through
 the RTL DisparitySubtractor in Amaranth's simulator, compared bit for bit. Writes into ``--out``:
 
-* ``table.csv``: one row per distance (calculated, thesis, found, plateau, bound, fits, re-simulated fits);
+* ``table.csv``: one row per distance (calculated, thesis, found, plateau, bound, fits, re-simulated fits, and
+  the automatic depth engine on the same pair: the median of its sub-pixel disparities over the object, the
+  centre readout it shows, that distance and its error against the true distance);
 * ``near_field.csv``: every test object at 0.25 m;
 * ``fits.csv``: each model's parameters, rms and per-distance residuals;
 * ``rtl_check.csv``: the RTL sample;
@@ -136,13 +138,11 @@ def run(args):
 
     say(f"test bed: {len(distances)} distances, rig offsets: principal {args.principal_offset} px, vertical "
         f"{args.vertical_offset} rows, toe-in {args.convergence} deg")
-    say(f"{'Z (m)':>6} {'object':>16} {'eq.2.1':>7} {'thesis':>6} {'obs.':>5} {'found':>5} {'plateau':>9} {'rect':>4}")
+    say(f"{'Z (m)':>6} {'object':>16} {'eq.2.1':>7} {'thesis':>6} {'obs.':>5} {'found':>5} {'plateau':>9} {'rect':>4}"
+        f" {'engine':>7} {'shown':>7} {'error':>7}")
 
     def show(p):
-        thesis = dict(zip(tb.THESIS_DISTANCES_M, zip(tb.THESIS_CALCULATED_PX, tb.THESIS_OBSERVED_PX)))
-        calc, obs = thesis.get(round(p.distance_m, 6), ("", ""))
-        say(f"{p.distance_m:6.2f} {p.object_name:>16} {p.exact_px:7.2f} {calc:>6} {obs:>5} {p.found:5d} "
-            f"{str(p.plateau[0]) + '..' + str(p.plateau[1]):>9} {p.alignment.rectification:4d}")
+        say(_show_line(p, tb))
 
     table = tb.run_table(distances, rig, progress=show, **kw)
     say("near field (thesis 4.6.6):")
@@ -202,16 +202,30 @@ def run(args):
     return 0 if rtl_ok else 1
 
 
+def _show_line(p, tb):
+    """One printed row: the sweep's columns and the depth engine's (sub-pixel disparity, readout, error)."""
+    thesis = dict(zip(tb.THESIS_DISTANCES_M, zip(tb.THESIS_CALCULATED_PX, tb.THESIS_OBSERVED_PX)))
+    calc, obs = thesis.get(round(p.distance_m, 6), ("", ""))
+    e = p.engine
+    return (f"{p.distance_m:6.2f} {p.object_name:>16} {p.exact_px:7.2f} {calc:>6} {obs:>5} {p.found:5d} "
+            f"{str(p.plateau[0]) + '..' + str(p.plateau[1]):>9} {p.alignment.rectification:4d} "
+            f"{'-' if e.disparity_px is None else f'{e.disparity_px:.2f}':>7} {e.readout:>7} "
+            f"{'-' if e.error is None else f'{100 * e.error:+.1f}%':>7}")
+
+
 def _point_row(p):
     lo, hi = p.plateau
     return [f"{p.distance_m:.2f}", p.object_name, _fmt(p.exact_px), _fmt(p.expected_px), p.found, lo, hi,
             _fmt(p.found - p.expected_px), "yes" if p.within_bound else "no", p.alignment.rectification,
-            p.alignment.disparity_sweep.minimum, p.alignment.disparity_sweep.region_pixels]
+            p.alignment.disparity_sweep.minimum, p.alignment.disparity_sweep.region_pixels,
+            "" if p.engine.disparity_px is None else f"{p.engine.disparity_px:.4f}", p.engine.readout.strip(),
+            "" if p.engine.shown_m is None else f"{p.engine.shown_m:.2f}",
+            "" if p.engine.error is None else f"{100 * p.engine.error:.2f}"]
 
 
 _POINT_HEADER = ["distance_m", "object", "calculated_exact_px", "expected_px", "found_px", "plateau_lo_px",
                  "plateau_hi_px", "found_minus_expected_px", "within_bound", "rectification", "residual_min",
-                 "region_pixels"]
+                 "region_pixels", "engine_disparity_px", "engine_readout", "engine_shown_m", "engine_error_pct"]
 
 
 def _write_outputs(out, table, near, fits, resim, rtl_rows, rig):

@@ -59,11 +59,15 @@ def test_readout_rom_equals_golden(config, geometry):
 
 
 def test_readout_by_hand():
-    """Z = 0.063 x 3.81e-3 / (d x 4 x 2.2e-6) m = 27.2761 / d m: d = 1 -> 2728 cm, d = 27 -> 101.02 -> 101 cm,
-    d = 62 -> 43.99 -> 44 cm; d = 0 (infinitely far) and the invalid code show dashes."""
+    """Z = 0.063 x 3.81e-3 / (d x 4 x 2.2e-6) m = 27.2761 / d m, d = code / 16: d = 1 -> 2728 cm, d = 27 ->
+    101.02 -> 101 cm, d = 62 -> 43.99 -> 44 cm; d = 9 + 1/16 -> 301.0 cm, d = 9 -> 303.07 cm; d = 0.3125
+    (code 5) -> 8728 cm, d = 0.25 (code 4) -> 10910 cm: five digits, dashes; d = 0 (infinitely far) and the
+    invalid code show dashes."""
     table = readout_table()
-    assert table[1] == "2728cm" and table[27] == " 101cm" and table[62] == "  44cm"
-    assert table[0] == table[64] == "----cm"
+    assert table[16] == "2728cm" and table[27 * 16] == " 101cm" and table[62 * 16] == "  44cm"
+    assert table[9 * 16 + 1] == " 301cm" and table[9 * 16] == " 303cm"
+    assert table[5] == "8728cm" and table[4] == "----cm"
+    assert table[0] == table[1024] == "----cm" and len(table) == 1025
     assert abs(disparity_of_distance(1.0) - 27.2761) < 1e-3 and abs(distance_m(27.2761) - 1.0) < 1e-4
 
 
@@ -71,10 +75,10 @@ def test_centre_median_golden_by_hand():
     """The fifth smallest of the 3 x 3 window at (W // 2, H // 2); the invalid code sorts above every
     disparity: 4 invalid codes leave the median valid, 5 make it invalid."""
     codes = np.zeros((12, 16), dtype=int)
-    codes[5:8, 7:10] = [[64, 64, 30], [64, 64, 28], [27, 27, 29]]
-    assert centre_readout(codes) == (30, f"{int(27.2761 / 30 * 100 + 0.5):4d}cm")
-    codes[7, 7] = 64
-    assert centre_readout(codes)[0] == 64
+    codes[5:8, 7:10] = [[1024, 1024, 480], [1024, 1024, 448], [432, 432, 465]]
+    assert centre_readout(codes) == (480, f"{int(27.2761 / 30 * 100 + 0.5):4d}cm")
+    codes[7, 7] = 1024
+    assert centre_readout(codes)[0] == 1024
 
 
 def test_font_and_layout_facts():
@@ -161,7 +165,8 @@ def run_centre_distance(windows, config=DEPTH):
 
 
 @settings(max_examples=5, deadline=None)
-@given(st.lists(st.lists(st.sampled_from([0, 1, 2, 27, 30, 31, 62, 63, 64]), min_size=9, max_size=9),
+@given(st.lists(st.lists(st.sampled_from([0, 1, 4, 5, 16, 27, 30, 31, 145, 992, 1000, 1023, 1024]),
+                        min_size=9, max_size=9),
                 min_size=6, max_size=6))
 def test_centre_distance_equals_golden(windows):
     """Windows of codes with many ties and invalid codes: the RTL's median and readout equal the golden's, each

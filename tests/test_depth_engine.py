@@ -149,7 +149,7 @@ def test_synthetic_scene_bit_exact():
     codes, *_ = run_engine(left, right, grant_mask=0b11)
     assert_same(codes, expected)
     card = object_footprint(scene, rig, index=1)
-    assert card.sum() >= 12 and np.median(expected[card]) == 5
+    assert card.sum() >= 12 and abs(np.median(expected[card]) / CFG.fraction - 5) <= 1 / 8
 
 
 def test_restart_and_slow_reader():

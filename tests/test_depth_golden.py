@@ -1,13 +1,16 @@
 """The depth golden model (golden/depth.py) against hand-worked cases and independent formulations of
 docs/depth.md, and its arithmetic bounds (hypothesis)."""
 
+from fractions import Fraction
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.ndimage import median_filter
 
-from golden.depth import census, depth_map, matching_cost, median3x3, path_cost, path_step, winner
+from golden.depth import (census, depth_map, matching_cost, median3x3, path_cost, path_step, second_best, subpixel,
+                          winner)
 from spec.depth import DEPTH, DepthConfig
 
 SMALL = DepthConfig(disparities=4, census_width=3, census_height=3, lanes=2)
@@ -65,11 +68,61 @@ def test_paths_equal_a_loop_formulation():
 
 
 def test_winner_ties_and_validity():
-    cfg = DepthConfig(disparities=4, lanes=2, max_cost=10)
+    """Whole pixels (F = 0): the code is d*."""
+    cfg = DepthConfig(disparities=4, lanes=2, max_cost=10, fraction_bits=0)
     total = np.array([[[5, 5, 11, 3]], [[5, 4, 12, 3]], [[7, 4, 11, 3]], [[6, 9, 11, 2]]])   # D x 1 x 4
     codes, best = winner(total, cfg)
     assert codes.tolist() == [[0, 1, 4, 4]]            # tie -> smaller d; 11 > 10 invalid; d = D-1 invalid
     assert best.tolist() == [[5, 4, 11, 2]]
+
+
+def _fit(a, b, c, d=1, config=DepthConfig(disparities=4, lanes=2, max_cost=200)):
+    """The fraction q of a winner at ``d`` with S(d - 1), S(d), S(d + 1) = a, b, c (the rest large)."""
+    total = np.full((config.disparities, 1, 1), 250)
+    total[d - 1, 0, 0], total[d, 0, 0], total[d + 1, 0, 0] = a, b, c
+    return int(subpixel(total, np.array([[d]]), config)[0, 0]), int(winner(total, config)[0][0, 0])
+
+
+def test_subpixel_by_hand():
+    """q = floor((16 (a - c) + e) / (2 e)), e = max(a, c) - b: the equiangular fit n / (2 e) in 1/16 pixel,
+    rounded half up; the code is 16 d* + q."""
+    assert _fit(10, 4, 6) == (5, 16 + 5)                # n = 4, e = 6: 4/12 = 5.33/16 -> 5
+    assert _fit(10, 4, 4) == (8, 16 + 8)                # flat to the right: +1/2, the largest
+    assert _fit(4 + 7, 4, 4 + 7) == (0, 16)             # symmetric: 0
+    assert _fit(5, 4, 12) == (-7, 16 - 7)               # n = -7, e = 8: -7/16 exactly
+    assert _fit(5, 4, 250) == (-8, 16 - 8)              # steep to the right: -1/2 (n = -245, e = 246 -> -7.97)
+    assert _fit(20, 4, 19) == (1, 17)                   # n = 1, e = 16: +0.5/16 rounds up to 1
+    assert _fit(19, 4, 20) == (0, 16)                   # n = -1, e = 16: -0.5/16 rounds up to 0
+    assert _fit(19, 4, 21) == (-1, 15)                  # n = -2, e = 17: -0.94/16 -> -1
+
+
+def test_subpixel_ends_and_validity_boundary():
+    """d* = 0: no fraction; d* = D - 1: invalid; S* = max_cost valid, max_cost + 1 invalid."""
+    cfg = DepthConfig(disparities=4, lanes=2, max_cost=30)
+    total = np.array([[[3, 9, 40, 40, 40]], [[9, 9, 30, 31, 40]], [[9, 3, 35, 36, 40]], [[9, 1, 40, 40, 2]]])
+    codes, best = winner(total, cfg)
+    # x = 0: d* = 0 -> 0; x = 1: d* = 3 = D - 1 -> invalid; x = 2: S* = 30 = max_cost -> valid, d* = 1:
+    # a = 40, b = 30, c = 35: e = 10, n = 5 -> floor(90 / 20) = 4; x = 3: S* = 31 -> invalid.
+    assert codes.tolist() == [[0, cfg.invalid, 16 + 4, cfg.invalid, cfg.invalid]]
+    assert cfg.invalid == 64 and codes.dtype == np.uint16
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.integers(0, 2 * DEPTH.path_max), min_size=DEPTH.disparities, max_size=DEPTH.disparities))
+def test_subpixel_matches_the_rounded_fit(sums):
+    """q is the real equiangular offset n / (2 e) rounded half up to 1/16, in -8..8; a valid code's whole part
+    (code + 8) // 16 is d*."""
+    total = np.array(sums)[:, None, None]
+    d = np.argmin(total, axis=0)
+    q = int(subpixel(total, d, DEPTH)[0, 0])
+    k = int(d[0, 0])
+    if 0 < k < DEPTH.disparities - 1:
+        a, b, c = sums[k - 1], sums[k], sums[k + 1]
+        exact = Fraction(a - c, 2 * (max(a, c) - b))
+        assert q == int(np.floor(exact * 16 + Fraction(1, 2)))
+        assert -8 <= q <= 8
+    else:
+        assert q == 0
 
 
 def test_median_equals_scipy_nearest():
@@ -78,10 +131,13 @@ def test_median_equals_scipy_nearest():
 
 
 def test_shifted_texture_gives_the_shift():
-    """right(x) = left(x + 5) on a random texture: disparity 5 everywhere away from the borders."""
+    """right(x) = left(x + 5) on a random texture: disparity 5 (code 80) everywhere away from the borders, the
+    fraction within 1/8 pixel; whole pixels (F = 0): exactly 5."""
     texture = np.random.default_rng(5).integers(0, 32, (40, 80))
     left, right = texture[:, :75], texture[:, 5:]
-    codes = depth_map(left, right, DepthConfig(disparities=16, lanes=4))
+    codes = depth_map(left, right, DepthConfig(disparities=16, lanes=4)).astype(int)
+    assert (np.abs(codes[3:-3, 3:60] - 80) <= 2).mean() > 0.98
+    codes = depth_map(left, right, DepthConfig(disparities=16, lanes=4, fraction_bits=0))
     assert (codes[3:-3, 3:60] == 5).mean() > 0.98
 
 
@@ -122,3 +178,24 @@ def test_bad_input_is_rejected():
         depth_map(np.zeros((4, 3), int), np.zeros((4, 3), int), SMALL)
     with pytest.raises(ValueError, match="axis"):
         path_cost(np.zeros((2, 2, 2)), "diagonal", SMALL)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.integers(0, 2 * DEPTH.path_max), min_size=3, max_size=8), st.integers(1, 64))
+def test_uniqueness_rule_equals_a_loop(sums, k):
+    """Invalid by the confidence iff 64 S* > k S2, S2 = min S over |d - d*| >= 2 (a Python loop; 511 = none)."""
+    cfg = DepthConfig(disparities=len(sums), lanes=1, uniqueness=k, max_cost=2 * DEPTH.path_max)
+    total = np.array(sums)[:, None, None]
+    d = min(range(len(sums)), key=lambda i: (sums[i], i))
+    s2 = min([sums[i] for i in range(len(sums)) if abs(i - d) >= 2], default=511)
+    assert int(second_best(total, np.array([[d]]), cfg)[0, 0]) == s2
+    code = int(winner(total, cfg)[0][0, 0])
+    assert (code == cfg.invalid) == (64 * sums[d] > k * s2 or d == len(sums) - 1)
+
+
+def test_uniqueness_boundary_by_hand():
+    """k = 60: S* = 15, S2 = 16 is exactly at the threshold (960 = 960): valid; S* = 16: invalid."""
+    cfg = DepthConfig(disparities=6, lanes=2, uniqueness=60)
+    total = np.array([[[99, 99]], [[20, 21]], [[15, 16]], [[20, 21]], [[16, 16]], [[99, 99]]])
+    codes, _ = winner(total, cfg)
+    assert codes.tolist() == [[32, cfg.invalid]]

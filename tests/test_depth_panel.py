@@ -31,7 +31,7 @@ def test_panel_and_readout_read_back(golden):
     frame, codes, text = golden
     got, known = read_depth_panel(frame, LAYOUT, DEPTH)
     assert (~known).sum() == 4 * (LAYOUT.crosshair_arm - 1) + 36 * 8
-    assert (got[known] == codes[known]).all()
+    assert (got[known] == (codes >> DEPTH.fraction_bits)[known]).all()       # the whole disparities
     assert read_text(frame, LAYOUT.readout) == text and text.strip()[0].isdigit()
     broken = frame.copy()
     box = LAYOUT.readout
@@ -43,7 +43,7 @@ def test_summary_against_a_truth(golden):
     """A truth equal to the shown disparities: no bad pixel among the valid ones; every invalid pixel with a
     truth counts bad; one pixel off by 1.5 is bad > 1 but not bad > 2."""
     frame, codes, _ = golden
-    truth = codes.astype(float)
+    truth = (codes >> DEPTH.fraction_bits).astype(float)          # the panel shows whole disparities
     invalid = codes == DEPTH.invalid
     truth[invalid] = 5.0
     s = depth_summary(frame, LAYOUT, SENSOR, DEPTH, truth)
@@ -84,6 +84,23 @@ def test_ground_truth_files(tmp_path):
         with pytest.raises(UserError):
             read_truth(tmp_path / args[0], args[1], SENSOR)
     assert len(set(depth_colours(DEPTH).tolist())) == DEPTH.disparities + 1     # the colours are invertible
+
+
+def test_left_view_ground_truth_is_converted_to_the_right_view(tmp_path):
+    """A left-view map (Middlebury's disp0 side), 1600 x 1200: a far half at 40 original pixels, a near right
+    half at 80. Seen from the right camera left pixel x lands at x - d: the far half covers right columns
+    -40..759, the near one 720..1519 (the nearer wins where both land), and nothing reaches 1520..1599. In
+    buffer pixels (1:4): 10 left of column 180, 20 from 180 to 379, unknown from 380 on; read as a right view
+    the same file splits at 200 and is known everywhere."""
+    truth = np.full((1200, 1600), 40.0)
+    truth[:, 800:] = 80.0
+    _write_pfm(tmp_path / "disp0.pfm", truth)
+    got = read_truth(tmp_path / "disp0.pfm", (1600, 1200), SENSOR, view="left")
+    assert (got[:, :179] == 10).all() and (got[:, 181:379] == 20).all() and np.isnan(got[:, 381:]).all()
+    as_right = read_truth(tmp_path / "disp0.pfm", (1600, 1200), SENSOR)
+    assert (as_right[:, :200] == 10).all() and (as_right[:, 200:] == 20).all()
+    with pytest.raises(UserError, match="view"):
+        read_truth(tmp_path / "disp0.pfm", (1600, 1200), SENSOR, view="top")
 
 
 def test_run_rejects_a_bad_ground_truth_in_one_line(tmp_path):

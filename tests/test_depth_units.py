@@ -4,6 +4,7 @@ Values at the ends of their ranges are drawn on purpose: nothing may wrap (docs/
 needed because every width holds its largest value)."""
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -132,16 +133,8 @@ def test_horizontal_path_line(data):
     assert (got == expected).all()
 
 
-@settings(max_examples=15, deadline=None)
-@given(st.data())
-def test_winner(data):
-    """Smallest sum, smallest d on ties, invalid above max_cost or at D - 1; sums up to 2 (N + P2)."""
-    cfg = data.draw(st.sampled_from(CONFIGS + [DepthConfig(disparities=8, lanes=4, max_cost=0)]))
-    top = cfg.path_max
-    lh = data.draw(st.lists(st.sampled_from([0, 1, 2, top]) | st.integers(0, top), min_size=cfg.disparities,
-                            max_size=cfg.disparities))
-    lv = data.draw(st.lists(st.sampled_from([0, 1, top]) | st.integers(0, top), min_size=cfg.disparities,
-                            max_size=cfg.disparities))
+def run_winner(cfg, lh, lv, x=7):
+    """One pixel's groups through the Winner: (code, x)."""
     dut = Winner(cfg, WIDTH)
     groups = cfg.disparities // cfg.lanes
     out = {}
@@ -149,7 +142,7 @@ def test_winner(data):
     async def bench(ctx):
         for i in range(groups + Winner.latency(cfg) + 2):
             if i < groups:
-                ctx.set(dut.token, token(i, i == groups - 1, x=7))
+                ctx.set(dut.token, token(i, i == groups - 1, x=x))
                 for k in range(cfg.lanes):
                     ctx.set(dut.horizontal[k], lh[i * cfg.lanes + k])
                     ctx.set(dut.vertical[k], lv[i * cfg.lanes + k])
@@ -157,8 +150,87 @@ def test_winner(data):
                 ctx.set(dut.token, token(0, 0, go=0))
             await ctx.tick()
             if ctx.get(dut.valid):
+                assert "code" not in out, "one valid pulse per pixel"
                 out["code"], out["x"] = ctx.get(dut.code), ctx.get(dut.x)
+                out["clock"] = i
 
     simulate(dut, clocks={"sync": 1e8}, testbenches=[bench])
+    assert out["clock"] == groups - 1 + Winner.latency(cfg) - 1
+    return out["code"], out["x"]
+
+
+def golden_code(cfg, lh, lv):
     codes, _ = winner((np.array(lh) + np.array(lv))[:, None, None], cfg)
-    assert (out["code"], out["x"]) == (int(codes[0, 0]), 7)
+    return int(codes[0, 0])
+
+
+@settings(max_examples=15, deadline=None)
+@given(st.data())
+def test_winner(data):
+    """Smallest sum, smallest d on ties, the sub-pixel fit, invalid above max_cost or at D - 1; sums up to
+    2 (N + P2)."""
+    cfg = data.draw(st.sampled_from(CONFIGS + [DepthConfig(disparities=8, lanes=4, max_cost=0),
+                                               DepthConfig(disparities=8, lanes=4, fraction_bits=0)]))
+    top = cfg.path_max
+    lh = data.draw(st.lists(st.sampled_from([0, 1, 2, top]) | st.integers(0, top), min_size=cfg.disparities,
+                            max_size=cfg.disparities))
+    lv = data.draw(st.lists(st.sampled_from([0, 1, top]) | st.integers(0, top), min_size=cfg.disparities,
+                            max_size=cfg.disparities))
+    assert run_winner(cfg, lh, lv) == (golden_code(cfg, lh, lv), 7)
+
+
+def _sums(cfg, at, fill=None):
+    """Per-disparity sums: ``fill`` (the largest sum) except {d: S} in ``at``; split into the two paths."""
+    fill = 2 * cfg.path_max if fill is None else fill
+    total = [at.get(d, fill) for d in range(cfg.disparities)]
+    lh = [min(t, cfg.path_max) for t in total]
+    return lh, [t - h for t, h in zip(total, lh)]
+
+
+# D = 8, 4 lanes (SMALL_DEPTH): groups 0..3 and 4..7. (name, winner's sums {d: S}, max_cost, expected code)
+WINNER_CASES = [
+    ("last lane of a group: S(d + 1) from the next group", {3: 10, 2: 30, 4: 20}, 120, 16 * 3 + 4),
+    ("first lane of a group: S(d - 1) from the previous one", {4: 10, 3: 20, 5: 30}, 120, 16 * 4 - 4),
+    ("next group's lane 0 is not a better winner", {3: 10, 4: 10, 2: 30}, 120, 16 * 3 + 8),
+    ("d = 0: no fraction", {0: 5, 1: 6}, 120, 0),
+    ("d = D - 1: invalid", {7: 5, 6: 9}, 120, 128),
+    ("d = D - 2, flat to the right: + 1/2", {6: 5, 7: 5, 5: 9}, 120, 16 * 6 + 8),
+    ("steep right: -1/2", {2: 5, 1: 6}, 120, 16 * 2 - 8),
+    ("half up: +0.5/16 -> 1", {2: 4, 1: 20, 3: 19}, 120, 16 * 2 + 1),
+    ("half up: -0.5/16 -> 0", {2: 4, 1: 19, 3: 20}, 120, 16 * 2),
+    ("S* = max_cost: valid", {2: 40, 1: 60, 3: 50}, 40, 16 * 2 + 4),
+    ("S* = max_cost + 1: invalid", {2: 41, 1: 61, 3: 51}, 40, 128),
+    ("the largest sums", {2: 0, 1: 288, 3: 287}, 120, 16 * 2),
+]
+
+
+@pytest.mark.parametrize("name, at, max_cost, expected", WINNER_CASES, ids=[c[0] for c in WINNER_CASES])
+def test_winner_boundaries(name, at, max_cost, expected):
+    """Deterministic cases at the ends of the fit and of the validity rule, RTL and golden model alike."""
+    cfg = DepthConfig(disparities=8, lanes=4, max_cost=max_cost)
+    lh, lv = _sums(cfg, at)
+    assert golden_code(cfg, lh, lv) == expected
+    assert run_winner(cfg, lh, lv) == (expected, 7)
+
+
+# Uniqueness k = 60: valid iff 64 S* <= 60 S2, S2 = the best sum 2 or more disparities from d*.
+UNIQUENESS_CASES = [
+    ("64 S* = k S2 (15 vs 16): valid", {2: 15, 1: 20, 3: 20, 5: 16}, 32),
+    ("S* one past (16 vs 16): invalid", {2: 16, 1: 21, 3: 21, 5: 16}, 128),
+    ("d* + 1 is no second best", {2: 15, 1: 20, 3: 15, 5: 16}, 32 + 8),
+    ("d* - 1 is no second best", {2: 15, 1: 16, 3: 24, 6: 16}, 32 - 7),
+    ("d* - 2 is one", {2: 15, 0: 15, 1: 20, 3: 20}, 128),
+    ("across groups: d* = 3, d = 4 excluded, d = 5 counted", {3: 15, 4: 15, 2: 30, 5: 16}, 48 + 8),
+    ("across groups: d = 5 one past", {3: 15, 4: 15, 2: 30, 5: 15}, 128),
+    ("across groups: d* = 4, d = 3 excluded, d = 2 counted", {4: 15, 3: 16, 5: 30, 2: 15}, 128),
+]
+
+
+@pytest.mark.parametrize("name, at, expected", UNIQUENESS_CASES, ids=[c[0] for c in UNIQUENESS_CASES])
+def test_uniqueness_boundaries(name, at, expected):
+    """The confidence rule exactly at its threshold and one past, and which disparities count as S2, RTL and
+    golden model alike."""
+    cfg = DepthConfig(disparities=8, lanes=4, uniqueness=60)
+    lh, lv = _sums(cfg, at)
+    assert golden_code(cfg, lh, lv) == expected
+    assert run_winner(cfg, lh, lv) == (expected, 7)

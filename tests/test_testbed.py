@@ -242,6 +242,12 @@ def test_cli_small_run(tmp_path):
         p = tb.run_point(float(r["distance_m"]), "rectangle", max_rectification=0)
         assert int(r["found_px"]) == p.found and r["within_bound"] == "yes"
         assert int(r["thesis_calculated_px"]) in (p.found - 1, p.found, p.found + 1)
+        # The engine on the same pair: its readout, the distance it shows and the error against the truth.
+        assert r["engine_readout"] == p.engine.readout.strip() and r["engine_readout"].endswith("cm")
+        shown = int(r["engine_readout"][:-2]) / 100
+        assert float(r["engine_shown_m"]) == shown
+        assert abs(float(r["engine_error_pct"]) - 100 * (shown / p.engine.true_m - 1)) < 0.01
+        assert abs(float(r["engine_disparity_px"]) - p.expected_px) < 1
     with open(out / "rtl_check.csv") as f:
         rtl = list(csv.DictReader(f))
     assert len(rtl) == 1 and rtl[0]["bit_exact"] == "yes" and rtl[0]["mismatches"] == "0"

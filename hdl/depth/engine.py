@@ -53,8 +53,8 @@ class DepthEngine(wiring.Component):
     """Census + semi-global matching on two paths + winner-take-all + 3 x 3 median (docs/depth.md), computed
     row by row from the two frame buffers into a small ring of result rows.
 
-    Right image = reference: the code of right pixel (x, y) is its disparity d (match left(x + d, y)), or D
-    for invalid. ``golden.depth.depth_map`` is the same map.
+    Right image = reference: the code of right pixel (x, y) is its disparity d (match left(x + d, y)) in
+    1 / 2**F pixel (F = ``fraction_bits``), or ``config.invalid`` = D 2**F. ``golden.depth.depth_map`` is the same map.
 
     Parameters
     ----------
@@ -97,7 +97,8 @@ class DepthEngine(wiring.Component):
     5 + g      cost: XOR, count 6-bit chunks (3 clocks)
     8 + g      paths: select L'; 9 + g: partial minimums; 10 + g: L
     11 + g     line buffer write (vertical L), winner sum, path minimum trees
-    G + 13 + t code (t = minimum-tree clocks), then 2 clocks to the median's end token, 12 in the median
+    G + 12 + t winner folded (t = minimum-tree clocks), then F + 6 clocks of ``Subpixel`` to the code,
+    2 clocks to the median's end token, 12 in the median
     ========== ==============================================================
 
     Raises

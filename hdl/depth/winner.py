@@ -1,6 +1,7 @@
-"""Winner: winner-take-all over the summed path costs, and the validity rule (docs/depth.md, "winner")."""
+"""Winner: winner-take-all over the summed path costs, the sub-pixel fit and the validity rule (docs/depth.md,
+"winner")."""
 
-from amaranth import C, Module, Mux, Signal
+from amaranth import Module, Mux, Signal
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
@@ -8,30 +9,39 @@ from spec.depth import DEPTH
 from spec.sensor import SENSOR
 from hdl.depth.ports import token_layout
 from hdl.depth.reduce import min_tree, tree_stages
+from hdl.depth.subpixel import Subpixel
 
 __all__ = ["Winner"]
 
 
 class Winner(wiring.Component):
-    """S(d) = L_h(d) + L_v(d) a group at a time; the smallest d with the smallest S; the code d, or D when that
-    S is above ``max_cost`` or d = D - 1.
+    """S(d) = L_h(d) + L_v(d) a group at a time; d* = the smallest d with the smallest S, tracked with its
+    neighbours S(d* - 1) and S(d* + 1); the confidence S2 = the smallest S at |d - d*| >= 2; then
+    :class:`hdl.depth.subpixel.Subpixel`: the code 2**F d* + q, or the invalid code when S(d*) is above
+    ``max_cost``, d* = D - 1 or 64 S* > ``uniqueness`` x S2.
 
     Parameters
     ----------
     config : DepthConfig
-        D, lanes, ``max_cost``.
+        D, lanes, ``max_cost``, ``fraction_bits``.
     width : int
         Image width (the token's column range).
 
     Ports
     -----
     token, horizontal, vertical : In
-        A group's token and its two path costs (the same group of the same pixel).
+        A group's token and its two path costs (the same group of the same pixel; a pixel's groups in
+        consecutive clocks; pixels at least G + 2 + ``tree_stages(lanes)`` clocks apart, as the engine's
+        step is).
     code, x, valid : Out
-        The pixel's code and column; ``valid`` pulses with them, ``LATENCY`` clocks after its last group.
+        The pixel's code and column; ``valid`` pulses with them, :meth:`latency` clocks after its last group.
 
-    Clock domain: ``sync``. Pipeline: sum; the group's minimum (``tree_stages(lanes)`` clocks); fold into the
-    pixel's running winner (a later group must be strictly smaller); validity.
+    Clock domain: ``sync``. Pipeline: sum; the group's minimum with each lane's neighbours
+    (``tree_stages(lanes)`` clocks); fold into the pixel's running winner (a later group must be strictly
+    smaller; S(d* + 1) of a winner in a group's last lane comes from the next group's first lane); the winner
+    held; its sums replayed G + t clocks later (t = ``tree_stages(lanes)``), masked at d* - 1 .. d* + 1, a
+    second tree into S2 (t clocks), folded; k S2; then the sub-pixel stage (``Subpixel.latency``): latency
+    4 + G + 2 t + ``Subpixel.latency``.
     """
 
     def __init__(self, config=DEPTH, width=SENSOR.buf_width):
@@ -50,38 +60,99 @@ class Winner(wiring.Component):
     @classmethod
     def latency(cls, config=DEPTH):
         """Clocks from a pixel's last group at the input to ``valid``."""
-        return 3 + tree_stages(config.lanes)
+        return 4 + config.disparities // config.lanes + 2 * tree_stages(config.lanes) + Subpixel.latency(config)
 
     def elaborate(self, platform):
         m = Module()
-        cfg, lanes = self.config, self.config.lanes
+        cfg, lanes, sb = self.config, self.config.lanes, self.config.sum_bits
         layout = token_layout(self.groups, self.width)
         tok = Signal(layout)
-        total = Signal(data.ArrayLayout(cfg.sum_bits, lanes), reset_less=True)
+        total = Signal(data.ArrayLayout(sb, lanes), reset_less=True)
         m.d.sync += tok.eq(self.token)
         for k in range(lanes):
             m.d.sync += total[k].eq(self.horizontal[k] + self.vertical[k])
+        # The previous group's last lane: S(d - 1) of this group's lane 0 (the pixel's groups are consecutive).
+        prev_last = Signal(sb)
+        m.d.sync += prev_last.eq(total[lanes - 1])
         lane_bits = max(1, (lanes - 1).bit_length())
-        value, lane = min_tree(m, [(total[k], C(k, lane_bits)) for k in range(lanes)], "winner")
+        payload = data.StructLayout({"lane": lane_bits, "below": sb, "above": sb})
+        items = []
+        for k in range(lanes):
+            leaf = Signal(payload, name=f"winner_leaf{k}")
+            m.d.comb += [leaf.lane.eq(k), leaf.below.eq(total[k - 1] if k else prev_last),
+                         leaf.above.eq(total[k + 1] if k + 1 < lanes else 0)]
+            items.append((total[k], leaf.as_value()))
+        value, packed = min_tree(m, items, "winner")
+        found = payload(packed)
+        first_lane = total[0]
         for s in range(tree_stages(lanes)):
             delayed = Signal(layout, name=f"winner_token{s}")
-            m.d.sync += delayed.eq(tok)
-            tok = delayed
+            lane0 = Signal(sb, name=f"winner_lane0_{s}")
+            m.d.sync += [delayed.eq(tok), lane0.eq(first_lane)]
+            tok, first_lane = delayed, lane0
 
-        best = Signal(cfg.sum_bits)
+        best, below, above = Signal(sb), Signal(sb), Signal(sb)
         best_d = Signal(range(cfg.disparities))
+        pending = Signal()          # the winner sits in a group's last lane: S(d* + 1) is the next group's lane 0
         final = Signal()
         final_x = Signal(range(self.width))
-        d = tok.group * lanes + lane
         take = (tok.group == 0) | (value < best)
         m.d.sync += [final.eq(tok.go & tok.last), final_x.eq(tok.x)]
         with m.If(tok.go & take):
-            m.d.sync += [best.eq(value), best_d.eq(d)]
+            m.d.sync += [best.eq(value), best_d.eq(tok.group * lanes + found.lane), below.eq(found.below),
+                         above.eq(found.above), pending.eq(found.lane == lanes - 1)]
+        with m.Elif(tok.go & pending):
+            m.d.sync += [above.eq(first_lane), pending.eq(0)]
+        # Hold the winner while the second best is found (the next pixel's fold starts T clocks later).
+        held = {name: Signal.like(sig, name=f"held_{name}") for name, sig in
+                (("best", best), ("d", best_d), ("below", below), ("above", above), ("x", final_x))}
+        with m.If(final):
+            m.d.sync += [held["best"].eq(best), held["d"].eq(best_d), held["below"].eq(below),
+                         held["above"].eq(above), held["x"].eq(final_x)]
+        ambiguous, ready = self._uniqueness(m, total, tok, best_d, held["best"])
 
-        invalid = (best > cfg.max_cost) | (best_d == cfg.disparities - 1)
-        m.d.sync += [
-            self.valid.eq(final),
-            self.x.eq(final_x),
-            self.code.eq(Mux(invalid, cfg.invalid, best_d)),
+        m.submodules.subpixel = subpixel = Subpixel(cfg, self.width)
+        m.d.comb += [
+            subpixel.valid.eq(ready), subpixel.x.eq(held["x"]), subpixel.d.eq(held["d"]),
+            subpixel.below.eq(held["below"]), subpixel.best.eq(held["best"]), subpixel.above.eq(held["above"]),
+            subpixel.ambiguous.eq(ambiguous),
+            self.valid.eq(subpixel.out_valid), self.x.eq(subpixel.out_x), self.code.eq(subpixel.code),
         ]
         return m
+
+    def _uniqueness(self, m, total, tok, best_d, held_best):
+        """The confidence: the pixel's sums replayed once d* is known (delayed G + t clocks), the lanes 2 or
+        more from d* through a second minimum tree into S2; then k S2 (k = ``uniqueness``) registered and
+        compared with 64 S*. Returns (ambiguous, ready): ``ready`` pulses G + t + 2 clocks after the fold's
+        ``final``, with ``ambiguous`` = 64 S* > k S2 in the same clock."""
+        cfg, lanes, sb = self.config, self.config.lanes, self.config.sum_bits
+        layout = token_layout(self.groups, self.width)
+        replay, rtok = total, tok
+        for s in range(self.groups + tree_stages(lanes)):
+            delayed = Signal.like(replay, name=f"replay_total{s}")
+            m.d.sync += delayed.eq(replay)
+            replay = delayed
+        for s in range(self.groups):
+            delayed = Signal(layout, name=f"replay_token{s}")
+            m.d.sync += delayed.eq(rtok)
+            rtok = delayed
+        none = (1 << sb) - 1                    # above every sum: "no such disparity"
+        masked = Signal(data.ArrayLayout(sb, lanes))
+        mtok = Signal(layout)
+        m.d.sync += mtok.eq(rtok)
+        for k in range(lanes):
+            d = rtok.group * lanes + k
+            far = (d + 1 < best_d) | (d > best_d + 1)
+            m.d.sync += masked[k].eq(Mux(far, replay[k], none))
+        value, _ = min_tree(m, [(masked[k], None) for k in range(lanes)], "second")
+        for s in range(tree_stages(lanes)):
+            delayed = Signal(layout, name=f"second_token{s}")
+            m.d.sync += delayed.eq(mtok)
+            mtok = delayed
+        second, done = Signal(sb), Signal()
+        with m.If(mtok.go):
+            m.d.sync += second.eq(Mux((mtok.group == 0) | (value < second), value, second))
+        m.d.sync += done.eq(mtok.go & mtok.last)
+        scaled, ready = Signal(range(64 * none + 1)), Signal()
+        m.d.sync += [scaled.eq(second * cfg.uniqueness), ready.eq(done)]
+        return (held_best << 6) > scaled, ready

@@ -21,7 +21,7 @@ from spec.display import BACKGROUND_RGB, TEXT_RGB
 from spec.font import FONT, FONT_CELL
 from spec.layout import TextBox
 from spec.sensor import SENSOR, disparity_of_distance
-from sim.analysis.truth import bad_pixel_rates
+from sim.analysis.truth import bad_pixel_rates, right_view
 from sim import UserError
 
 __all__ = ["read_depth_panel", "read_text", "depth_summary", "panel_picture", "depth_picture_png", "read_truth",
@@ -34,15 +34,16 @@ def _to_rgb24(frame):
 
 
 def read_depth_panel(frame, layout, config):
-    """``(codes, known)`` (H x W) from the depth panel of ``frame`` (uint8 v_active x h_active x 3). A pixel
-    whose colour is no code's (crosshair, readout, a broken panel) is unknown."""
+    """``(codes, known)`` (H x W) from the depth panel of ``frame`` (uint8 v_active x h_active x 3): the whole
+    disparities the colours show (0..D - 1; D = invalid or unknown; the panel shows a code's whole part). A
+    pixel whose colour is no code's (crosshair, readout, a broken panel) is unknown."""
     panel = panel_picture(frame, layout)
     colours = depth_colours(config)
     lookup = {int(c): code for code, c in reversed(list(enumerate(colours)))}
     if len(lookup) != len(colours):
         raise ValueError("the colour map has repeated colours: the panel cannot be read back")
     codes = np.vectorize(lambda c: lookup.get(int(c), -1), otypes=[np.int64])(panel)
-    return np.where(codes < 0, config.invalid, codes), codes >= 0
+    return np.where(codes < 0, config.disparities, codes), codes >= 0
 
 
 def read_text(frame, box):
@@ -74,7 +75,7 @@ def depth_summary(frame, layout, geometry, config, truth=None):
                "panel_pixels_unreadable": int((~known).sum())}
     if truth is not None:
         truth = np.where(known, truth, np.nan)
-        bad1, bad2, density = bad_pixel_rates(codes, codes != config.invalid, truth)
+        bad1, bad2, density = bad_pixel_rates(codes, codes != config.disparities, truth)
         summary.update(bad1=bad1, bad2=bad2, density=density,
                        pixels_with_truth=int(np.isfinite(truth).sum()))
     return summary
@@ -131,10 +132,14 @@ def _read_pfm(path):
     return np.flipud(data).astype(np.float64)              # PFM rows run bottom to top
 
 
-def read_truth(path, image_size, geometry=SENSOR):
+def read_truth(path, image_size, geometry=SENSOR, view="right"):
     """The ground-truth disparity (original pixels; PFM: inf = unknown; 16-bit PNG: value / 256, 0 = unknown)
     of the reference (right) image at each buffer pixel, in buffer pixels (NaN = unknown). ``image_size`` is
-    (width, height) of the input images. One-line :class:`UserError` for a bad file."""
+    (width, height) of the input images. ``view="left"``: the file is the left image's map (Middlebury's disp0),
+    converted to the right view first (``sim.analysis.truth.right_view``). One-line :class:`UserError` for a
+    bad file."""
+    if view not in ("right", "left"):
+        raise UserError(f"the ground truth's view must be 'right' or 'left', not {view!r}")
     path = Path(path)
     if not path.is_file():
         raise UserError(f"no such ground-truth file: {path}")
@@ -155,6 +160,8 @@ def read_truth(path, image_size, geometry=SENSOR):
     w, h = image_size
     if truth.shape != (h, w):
         raise UserError(f"ground truth {path} is {truth.shape[1]}x{truth.shape[0]}, the images {w}x{h}")
+    if view == "left":
+        truth = right_view(truth)
     return _fit_truth(truth, geometry)
 
 

@@ -9,16 +9,19 @@
   a column that no surface reaches but lies in the gap a disparity drop opens (seen by the right camera only,
   hidden from the left one) gets the farther surface's disparity. Where the left map has no value, nothing is
   made. Original disparities are scaled to buffer pixels by the fit's horizontal factor (1600 / 667 / 4).
+* :func:`right_view`: the same conversion for any left-view map at its own resolution (every original column).
 * :func:`scene_truth`: the disparity of a synthetic scene (sim/testbed/scene.py) at the buffer pixels of one camera.
 * :func:`bad_pixel_rates`: bad > 1 and bad > 2 over every pixel with a truth (an invalid pixel counts bad),
   and the density (valid share of those pixels).
+* :func:`error_figures`: bad > 0.5, bad > 1, bad > 2 (invalid counts bad), the mean absolute error of the valid
+  pixels with a truth, and the density.
 """
 
 import numpy as np
 
 from spec.sensor import SENSOR
 
-__all__ = ["motorcycle_truth", "scene_truth", "bad_pixel_rates"]
+__all__ = ["motorcycle_truth", "scene_truth", "bad_pixel_rates", "error_figures", "right_view"]
 
 SAME_SURFACE = 2.0      # original pixels: neighbours closer than this in disparity lie on one surface
 
@@ -72,6 +75,15 @@ def motorcycle_truth(view="right", geometry=SENSOR):
     return truth * geometry.width / crop_w / geometry.scale
 
 
+def right_view(left_disparity):
+    """The right view's disparity (H x W, original pixels, NaN = none) made from a left-view map of the same
+    size, row by row as for the motorcycle (surfaces interpolated, the nearest wins, disocclusions take the
+    farther surface), sampled at every original column."""
+    left_disparity = np.asarray(left_disparity, dtype=np.float64)
+    cols = np.arange(left_disparity.shape[1], dtype=np.float64)
+    return np.stack([_right_row(row, cols) for row in left_disparity])
+
+
 def scene_truth(scene, rig, geometry=SENSOR, side="right"):
     """Disparity (buffer pixels) of the object seen at each buffer pixel of camera ``side`` (NaN: the empty
     white background, which has no distance). Exact for fronto-parallel objects and aligned cameras."""
@@ -90,3 +102,15 @@ def bad_pixel_rates(disparity, valid, truth):
     err = np.where(valid, np.abs(np.asarray(disparity, dtype=np.float64) - np.where(known, truth, 0)), np.inf)
     err = err[known]
     return float(np.mean(err > 1)), float(np.mean(err > 2)), float(np.mean(np.asarray(valid)[known]))
+
+
+def error_figures(disparity, valid, truth):
+    """(bad > 0.5, bad > 1, bad > 2, mean absolute error of the valid pixels, density) over the pixels where
+    ``truth`` is known; invalid pixels count bad."""
+    known = np.isfinite(truth)
+    valid = np.asarray(valid)
+    err = np.where(valid, np.abs(np.asarray(disparity, dtype=np.float64) - np.where(known, truth, 0)), np.inf)[known]
+    finite = err[np.isfinite(err)]
+    mae = float(finite.mean()) if finite.size else float("nan")
+    return (float(np.mean(err > 0.5)), float(np.mean(err > 1)), float(np.mean(err > 2)), mae,
+            float(np.mean(valid[known])))

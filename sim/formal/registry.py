@@ -8,7 +8,7 @@ from spec.video import SMALL_TIMING
 from sim.formal.harnesses.capture import CaptureHarness
 from sim.formal.harnesses.compositor import CompositorHarness
 from sim.formal.harnesses.depth import DepthEngineHarness
-from sim.formal.harnesses.depth_codes import MedianCodesHarness, WinnerCodesHarness
+from sim.formal.harnesses.depth_codes import MedianCodesHarness, SubpixelCodesHarness, WinnerCodesHarness
 from sim.formal.harnesses.disparity import DisparityHarness
 from sim.formal.harnesses.frame_buffer import FrameBufferHarness
 from sim.formal.harnesses.i2c import I2CMasterHarness, InitSequencerHarness
@@ -34,6 +34,7 @@ DEFAULT = {
     "winner_codes": WinnerCodesHarness,
     "median_codes": MedianCodesHarness,
     "vertical_offset": VerticalOffsetHarness,
+    "subpixel_codes": SubpixelCodesHarness,
 }
 
 

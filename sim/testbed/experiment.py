@@ -54,7 +54,7 @@ __all__ = [
     "exact_disparity", "table_object_name", "SweepCurve", "Alignment", "TestbedPoint", "FitResult", "FIT_MODELS",
     "sweep_region", "disparity_curve", "rectification_curve", "find_alignment", "capture_pair", "run_point",
     "run_table", "run_near_field", "NEAR_FIELD_DISTANCE_M", "fit_observed", "fitted_rig_and_distance",
-    "RtlCheck", "rtl_difference_rows", "rtl_crosscheck"
+    "RtlCheck", "rtl_difference_rows", "rtl_crosscheck", "EngineReading", "engine_reading"
 ]
 
 # --- Thesis table 4.2 (../shared/spec.md) -----------------------------------------------------------------
@@ -220,6 +220,7 @@ class TestbedPoint:
     expected_px: float            # centre disparity for the rig used (with its misalignments)
     alignment: Alignment
     footprint_pixels: int
+    engine: "EngineReading | None" = None      # the automatic depth engine on the same pair (issue 26)
 
     @property
     def found(self):
@@ -236,6 +237,37 @@ class TestbedPoint:
         return math.floor(self.expected_px) <= lo and hi <= math.ceil(self.expected_px)
 
 
+@dataclass
+class EngineReading:
+    """The depth engine (golden model = RTL) on a test-bed pair: the median of its valid sub-pixel codes over
+    the object's footprint in pixels (None: no valid code there), the centre readout it shows and that
+    distance in metres (None for dashes), against the object's true distance."""
+    disparity_px: float | None
+    readout: str
+    shown_m: float | None
+    true_m: float
+
+    @property
+    def error(self):
+        """Relative error of the shown distance (shown / true - 1), None when nothing is shown."""
+        return None if self.shown_m is None else self.shown_m / self.true_m - 1
+
+
+def engine_reading(left, right, footprint, rectification, true_m, geometry=SENSOR, config=None):
+    """:class:`EngineReading` of the engine's map of the pair with the left image moved up by
+    ``rectification`` (the switch the engine reads, ``golden.depth_display.engine_left``)."""
+    from golden.depth import depth_map
+    from golden.depth_display import centre_readout, engine_left
+    from spec.depth import DEPTH
+    config = config or DEPTH
+    codes = depth_map(engine_left(left, rectification), right, config)
+    valid = footprint & (codes != config.invalid)
+    disparity = float(np.median(codes[valid])) / config.fraction if valid.any() else None
+    _, text = centre_readout(codes, geometry, config)
+    digits = text[:-2].strip()
+    return EngineReading(disparity, text, int(digits) / 100 if digits.isdigit() else None, true_m)
+
+
 def run_point(distance_m, object_name="rectangle", rig=VMODCAM, geometry=SENSOR, supersample=1,
               max_disparity=MAX_DISPARITY, max_rectification=MAX_RECTIFICATION, thresholds=DIFF_THRESHOLDS,
               object_distance_m=None, **object_kw):
@@ -247,8 +279,9 @@ def run_point(distance_m, object_name="rectangle", rig=VMODCAM, geometry=SENSOR,
     footprint = object_footprint(scene, rig, "right", geometry.scale)
     alignment = find_alignment(left, right, footprint, max_disparity, max_rectification, thresholds)
     true_z = scene.distance_m
+    engine = engine_reading(left, right, footprint, alignment.rectification, true_z, geometry)
     return TestbedPoint(distance_m, object_name, exact_disparity(distance_m, VMODCAM, geometry),
-                        centre_disparity(true_z, rig, geometry), alignment, int(footprint.sum()))
+                        centre_disparity(true_z, rig, geometry), alignment, int(footprint.sum()), engine)
 
 
 def run_table(distances=THESIS_DISTANCES_M, rig=VMODCAM, geometry=SENSOR, progress=None, **kw):
