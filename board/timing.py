@@ -34,6 +34,8 @@ LUTS = {f"LUT{i}" for i in range(1, 7)} | {"INV"}
 LEVELS = LUTS | {"MUXF7", "MUXF8"}
 FLIP_FLOPS = {"FDRE": "R", "FDSE": "S", "FDCE": "CLR", "FDPE": "PRE"}
 RAMS = {"RAMB36", "RAMB18", "RAMB36SDP", "RAMB18SDP"}
+#: Shift registers in LUTs: D/CE captured and Q launched by CLK; the tap address (A) to Q like a LUT.
+SHIFT_REGISTERS = {"SRL16E", "SRLC16E", "SRLC32E"}
 #: Distributed (LUT) RAM primitives: read combinational from the address, written on WCLK.
 LUT_RAMS = {"RAM32M", "RAM64M", "RAM32X1D", "RAM64X1D", "RAM128X1D", "RAM32X1S", "RAM64X1S", "RAM128X1S",
             "RAM256X1S"}
@@ -201,6 +203,20 @@ def _lut_ram(cell, t, m):
         t.launches += [(port, b, clocks[0], m["lutram_cko"].ns) for port in _outputs(cell) for b in _bits(cell, port)]
 
 
+def _shift_register(cell, t, m):
+    clocks = _bits(cell, "CLK")
+    outs = [b for port in _outputs(cell) for b in _bits(cell, port)]
+    for port in _inputs(cell):
+        if port == "CLK":
+            continue
+        if port.startswith("A"):
+            t.arcs += [(port, b, o, m["lut"].ns) for b in _bits(cell, port) for o in outs]
+        elif clocks:
+            t.captures += [(port, b, clocks[0], m["srl_setup"].ns, 1.0) for b in _bits(cell, port)]
+    if clocks:
+        t.launches += [(port, b, clocks[0], m["srl_cko"].ns) for port in _outputs(cell) for b in _bits(cell, port)]
+
+
 def _oddr(cell, t, m):
     clk = _bits(cell, "C")[0]
     opposite = str(_param(cell, "DDR_CLK_EDGE", "OPPOSITE_EDGE")) == "OPPOSITE_EDGE"
@@ -230,6 +246,8 @@ def cell_timing(cell, m=MODEL, *, drives_pad=False):
         _flip_flop(cell, t, m, drives_pad)
     elif kind in RAMS:
         _ram(cell, t, m)
+    elif kind in SHIFT_REGISTERS:
+        _shift_register(cell, t, m)
     elif kind in LUT_RAMS:
         _lut_ram(cell, t, m)
     elif kind == "DSP48E":

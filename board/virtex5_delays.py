@@ -101,6 +101,9 @@ MODEL = {
     "lutram_cko": Constant(1.20, "TSHCKO", "distributed RAM write clock to DO (the written word appearing)", _CLB),
     "lutram_setup": Constant(0.50, "TDS / TAS / TWS", "distributed RAM data, address and WE setup before WCLK",
                              _CLB),
+    # shift registers in LUTs: Yosys maps reset-less delay lines to SRL16E / SRLC32E
+    "srl_cko": Constant(1.50, "TREG", "SRL16E / SRLC32E clock to Q (the addressed tap)", _CLB),
+    "srl_setup": Constant(0.50, "TDS / TCECK (SRL)", "SRL16E / SRLC32E D and CE setup before CLK", _CLB),
     # IOB flip-flops and ODDR
     "iob_in_cko": Constant(0.55, "TICKQ", "input flip-flop in the IOB (IOB = TRUE), clock to Q into the fabric",
                            _IOB),

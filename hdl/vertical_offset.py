@@ -11,6 +11,9 @@ from hdl.signature import ParametricSignature
 from spec.rectification import RECTIFICATION
 from spec.sensor import SENSOR
 
+#: Registered stages between a row read and its cost (the read data, the terms, the sum).
+SWEEP_STAGES = 2
+
 __all__ = ["CaptureWatchSignature", "VerticalOffsetEstimator", "FRAME_DONE_CLOCKS"]
 
 #: Clocks of the estimator's domain from the later camera's ``frame_done`` to the search's start.
@@ -86,7 +89,7 @@ class VerticalOffsetEstimator(wiring.Component):
         self.texture_min = (w * self.rows) >> config.texture_shift
         #: Clocks from ``search`` to ``done``: the start, the sweep, its last result, the second pass and its last
         #: read, the decision.
-        self.search_clocks = 1 + (2 * r + 1) * (self.rows + 1) + 1 + (2 * r + 1) + 1 + 1
+        self.search_clocks = 1 + (2 * r + 1) * (self.rows + 1) + 1 + SWEEP_STAGES + (2 * r + 1) + 1 + 1
         super().__init__({
             "left": In(CaptureWatchSignature(geometry)),
             "right": In(CaptureWatchSignature(geometry)),
@@ -161,9 +164,12 @@ class VerticalOffsetEstimator(wiring.Component):
                         m.d.sync += o.eq(o + 1)
                 with m.Else():
                     m.d.sync += y.eq(y + 1)
-            with m.State("LAST"):                       # the last row's cost is written this clock
+            with m.State("LAST"):                       # the last row's read has been issued
                 m.d.sync += [j.eq(0), self.cost_second.eq(self.cost_max)]
-                m.next = "SECOND"
+                m.next = "DRAIN_0"
+            for stage in range(SWEEP_STAGES):          # the sweep's pipeline writes the last cost
+                with m.State(f"DRAIN_{stage}"):
+                    m.next = f"DRAIN_{stage + 1}" if stage + 1 < SWEEP_STAGES else "SECOND"
             with m.State("SECOND"):
                 m.d.comb += issue_pass2.eq(1)
                 m.d.sync += j.eq(j + 1)
@@ -201,16 +207,25 @@ class VerticalOffsetEstimator(wiring.Component):
         return Signal(name=f"{side}_frame_seen"), sync.o
 
     def _sweep(self, m, reads, cost_write, valid_1, first_1, last_1, k_1, best_k, search):
-        """The clock after each row read: D_L, D_R against the previous row, |D_L - D_R| summed into C(o)."""
+        """After each row read, in three registered stages (the block RAM's data, the terms, the sum): D_L, D_R
+        against the previous row, |D_L - D_R| summed into C(o)."""
         width = len(reads["left"].data) + 1
+        data = {side: Signal(len(reads[side].data), name=f"row_{side}", reset_less=True) for side in reads}
         prev = {side: Signal(len(reads[side].data), name=f"prev_{side}") for side in reads}
         d_left, d_right = Signal(signed(width + 1)), Signal(signed(width + 1))
-        term, texture_term = Signal(width + 1), Signal(width + 1)
+        term, texture_term = Signal(width + 1, reset_less=True), Signal(width + 1, reset_less=True)
         difference = Signal(signed(width + 2))
-        m.d.comb += [d_left.eq(reads["left"].data - prev["left"]), d_right.eq(reads["right"].data - prev["right"]),
-                     difference.eq(d_left - d_right),
-                     term.eq(Mux(difference < 0, -difference, difference)),
-                     texture_term.eq(Mux(d_right < 0, -d_right, d_right))]
+        valid_a, first_a, last_a, k_a = Signal(), Signal(), Signal(), Signal.like(k_1)
+        m.d.sync += [valid_a.eq(valid_1), first_a.eq(first_1), last_a.eq(last_1), k_a.eq(k_1)]
+        m.d.sync += [data[side].eq(reads[side].data) for side in reads]
+        m.d.comb += [d_left.eq(data["left"] - prev["left"]), d_right.eq(data["right"] - prev["right"]),
+                     difference.eq(d_left - d_right)]
+        with m.If(valid_a):
+            m.d.sync += [prev["left"].eq(data["left"]), prev["right"].eq(data["right"]),
+                         term.eq(Mux(difference < 0, -difference, difference)),
+                         texture_term.eq(Mux(d_right < 0, -d_right, d_right))]
+        valid_1, first_1, last_1, k_1 = Signal(), Signal(), Signal(), Signal.like(k_1)
+        m.d.sync += [valid_1.eq(valid_a), first_1.eq(first_a), last_1.eq(last_a), k_1.eq(k_a)]
         acc = Signal.like(self.cost_best)
         total = Signal.like(self.cost_best)
         m.d.comb += [total.eq(acc + term), cost_write.addr.eq(k_1), cost_write.data.eq(total),
@@ -218,7 +233,6 @@ class VerticalOffsetEstimator(wiring.Component):
         with m.If(search):
             m.d.sync += [acc.eq(0), self.texture.eq(0)]
         with m.If(valid_1):
-            m.d.sync += [prev["left"].eq(reads["left"].data), prev["right"].eq(reads["right"].data)]
             with m.If(~first_1):
                 m.d.sync += acc.eq(Mux(last_1, 0, total))
                 with m.If(k_1 == 0):

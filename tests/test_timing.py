@@ -355,5 +355,16 @@ def test_distributed_ram_reads_like_a_lut_and_writes_on_its_clock():
     assert {(port, bit) for port, bit, clk, *_ in t.captures if clk == 14} == {("ADDRA", 10), ("ADDRA", 11),
                                                                                ("DIA", 12), ("WE", 13)}
     assert t.launches == [("DOA", 20, 14, MODEL["lutram_cko"].ns)]
-    with pytest.raises(ModelError, match="SRLC32E"):
-        cell_timing(dict(cell, type="SRLC32E"))
+    with pytest.raises(ModelError, match="RAM512X1"):
+        cell_timing(dict(cell, type="RAM512X1"))
+
+
+def test_a_shift_register_is_clocked_and_its_tap_address_is_a_lut():
+    from board.timing import cell_timing
+    cell = {"type": "SRL16E",
+            "port_directions": {"A0": "input", "D": "input", "CE": "input", "CLK": "input", "Q": "output"},
+            "connections": {"A0": [1], "D": [2], "CE": [3], "CLK": [4], "Q": [5]}}
+    t = cell_timing(cell)
+    assert t.arcs == [("A0", 1, 5, MODEL["lut"].ns)]
+    assert sorted((p, b) for p, b, clk, *_ in t.captures if clk == 4) == [("CE", 3), ("D", 2)]
+    assert t.launches == [("Q", 5, 4, MODEL["srl_cko"].ns)]
