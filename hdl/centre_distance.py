@@ -107,7 +107,9 @@ class CentreDistance(wiring.Component):
         parts, high = [], Signal(max(1, bits - low_bits))
         m.d.sync += high.eq(self.median[low_bits:] if bits > low_bits else 0)
         for i in range(0, len(words), 1 << low_bits):
-            rom = Memory(shape=shape, depth=min(1 << low_bits, len(words) - i), init=words[i:i + (1 << low_bits)])
+            part_words = words[i:i + (1 << low_bits)]
+            part_words += part_words[-1:] * (2 - len(part_words))      # at least 2 words: no zero-width address
+            rom = Memory(shape=shape, depth=len(part_words), init=part_words)
             m.submodules[f"readout_rom{i >> low_bits}"] = rom
             port = rom.read_port(domain="comb")
             part = Signal(shape, name=f"readout_part{i >> low_bits}")
