@@ -187,34 +187,22 @@ def _dsp(cell, t, m):
         t.launches += [("P", o, clk, cko) for o in outs]
 
 
-def _lut_ram(cell, t, m):
-    """Distributed RAM: address to data like a LUT; data, address and WE captured, the outputs launched by WCLK
-    (a write shows on the read port of the same address)."""
-    clocks = _bits(cell, "WCLK")
+def _lut_clocked(cell, t, clock, read_ns, setup_ns, cko_ns, *, capture_address):
+    """A clocked primitive built from LUTs (distributed RAM, shift register): its address inputs reach the outputs
+    as through a LUT (``read_ns``); the other inputs -- and the address too where it is also the write address
+    (``capture_address``) -- are captured by ``clock`` (``setup_ns``), and the outputs launched by it (``cko_ns``)."""
+    clocks = _bits(cell, clock)
     outs = [b for port in _outputs(cell) for b in _bits(cell, port)]
     for port in _inputs(cell):
-        if port == "WCLK":
+        if port == clock:
             continue
-        if port.startswith(("ADDR", "A", "DPRA")):
-            t.arcs += [(port, b, o, m["lutram_read"].ns) for b in _bits(cell, port) for o in outs]
-        if clocks:
-            t.captures += [(port, b, clocks[0], m["lutram_setup"].ns, 1.0) for b in _bits(cell, port)]
+        address = port.startswith(("ADDR", "A", "DPRA"))
+        if address:
+            t.arcs += [(port, b, o, read_ns) for b in _bits(cell, port) for o in outs]
+        if clocks and (capture_address or not address):
+            t.captures += [(port, b, clocks[0], setup_ns, 1.0) for b in _bits(cell, port)]
     if clocks:
-        t.launches += [(port, b, clocks[0], m["lutram_cko"].ns) for port in _outputs(cell) for b in _bits(cell, port)]
-
-
-def _shift_register(cell, t, m):
-    clocks = _bits(cell, "CLK")
-    outs = [b for port in _outputs(cell) for b in _bits(cell, port)]
-    for port in _inputs(cell):
-        if port == "CLK":
-            continue
-        if port.startswith("A"):
-            t.arcs += [(port, b, o, m["lut"].ns) for b in _bits(cell, port) for o in outs]
-        elif clocks:
-            t.captures += [(port, b, clocks[0], m["srl_setup"].ns, 1.0) for b in _bits(cell, port)]
-    if clocks:
-        t.launches += [(port, b, clocks[0], m["srl_cko"].ns) for port in _outputs(cell) for b in _bits(cell, port)]
+        t.launches += [(port, b, clocks[0], cko_ns) for port in _outputs(cell) for b in _bits(cell, port)]
 
 
 def _oddr(cell, t, m):
@@ -246,10 +234,11 @@ def cell_timing(cell, m=MODEL, *, drives_pad=False):
         _flip_flop(cell, t, m, drives_pad)
     elif kind in RAMS:
         _ram(cell, t, m)
-    elif kind in SHIFT_REGISTERS:
-        _shift_register(cell, t, m)
-    elif kind in LUT_RAMS:
-        _lut_ram(cell, t, m)
+    elif kind in SHIFT_REGISTERS:                   # the tap address is not captured: it only selects
+        _lut_clocked(cell, t, "CLK", m["lut"].ns, m["srl_setup"].ns, m["srl_cko"].ns, capture_address=False)
+    elif kind in LUT_RAMS:                          # the address is also the write address
+        _lut_clocked(cell, t, "WCLK", m["lutram_read"].ns, m["lutram_setup"].ns, m["lutram_cko"].ns,
+                     capture_address=True)
     elif kind == "DSP48E":
         _dsp(cell, t, m)
     elif kind == "ODDR":
