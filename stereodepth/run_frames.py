@@ -36,6 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import UserError, prepare_out_dir
+from .interrupts import whole_step
 from .outputs import RunOutputs, write_atomic
 from .progress import Progress
 
@@ -106,16 +107,17 @@ class FrameWriter:
                "centre_truth_cm": None if centre_m is None else round(100 * centre_m, 1),
                "bad1": depth.get("bad1"), "bad2": depth.get("bad2"), "density": depth.get("density")}
         name = f"{shown.index:03d}"
-        write_atomic(self.out / "frames" / f"hdmi_{name}.png", lambda p: write_png(frame, p))
         picture = panel_picture(frame, layout)
-        write_atomic(self.out / "frames" / f"depth_{name}.png",
-                     lambda p: depth_picture_png(picture, p, g, setup.depth))
-        self.csv.writerow({c: (_rows_text(row[c]) if c.endswith("_by_frame") else row[c]) for c in COLUMNS})
-        self.csv_file.flush()
-        self.rows.append(row)
-        self.hdmi.append(self.out / "frames" / f"hdmi_{name}.png")
-        self.depth.append(self.out / "frames" / f"depth_{name}.png")
-        self.last_frame = frame
+        with whole_step():                              # a Ctrl-C now leaves this frame's files and row whole
+            write_atomic(self.out / "frames" / f"hdmi_{name}.png", lambda p: write_png(frame, p))
+            write_atomic(self.out / "frames" / f"depth_{name}.png",
+                         lambda p: depth_picture_png(picture, p, g, setup.depth))
+            self.csv.writerow({c: (_rows_text(row[c]) if c.endswith("_by_frame") else row[c]) for c in COLUMNS})
+            self.csv_file.flush()
+            self.rows.append(row)
+            self.hdmi.append(self.out / "frames" / f"hdmi_{name}.png")
+            self.depth.append(self.out / "frames" / f"depth_{name}.png")
+            self.last_frame = frame
 
     def finish(self, outputs, complete=True):
         """Close the table and write the animations; returns ``{what: path}``. An interrupted run's (not

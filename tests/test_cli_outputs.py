@@ -108,3 +108,21 @@ def test_outputs_are_renamed_only_when_complete_and_stale_ones_removed(tmp_path)
     assert not (tmp_path / "result.json").exists() and (tmp_path / "result.partial.json").exists()
     with pytest.raises(ValueError, match="not one of this command's outputs"):
         outputs.partial("other.png")
+
+
+def test_ctrl_c_waits_for_the_whole_step():
+    """A SIGINT inside :func:`whole_step` lets the block finish and raises KeyboardInterrupt after it; outside,
+    Ctrl-C works as before."""
+    import os
+    import signal
+    from stereodepth.interrupts import whole_step
+    done = []
+    with pytest.raises(KeyboardInterrupt):
+        with whole_step():
+            os.kill(os.getpid(), signal.SIGINT)
+            done.append("after the signal")
+    assert done == ["after the signal"]
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    with whole_step():
+        done.append("no signal")
+    assert done[-1] == "no signal"
