@@ -6,6 +6,7 @@ import dataclasses
 import pytest
 
 from hdl.depth.engine import DepthEngine
+from hdl.depth.subpixel import Subpixel
 from hdl.depth.winner import Winner
 from hdl.capture import CameraCapture
 from hdl.compositor import Compositor
@@ -22,7 +23,7 @@ from sim.formal.runner import check
 from sim.formal.harnesses.capture import CaptureHarness
 from sim.formal.harnesses.compositor import CompositorHarness
 from sim.formal.harnesses.depth import DepthEngineHarness
-from sim.formal.harnesses.depth_codes import WinnerCodesHarness
+from sim.formal.harnesses.depth_codes import SubpixelCodesHarness, WinnerCodesHarness
 from sim.formal.harnesses.disparity import DisparityHarness
 from sim.formal.harnesses.frame_buffer import FrameBufferHarness
 from sim.formal.harnesses.i2c import BUS_HZ, CLK_HZ, TIMEOUT_US, I2CMasterHarness, InitSequencerHarness
@@ -120,6 +121,13 @@ class WinnerMoreDisparities(WinnerCodesHarness):
         return Winner(dataclasses.replace(self.config, disparities=8), self.width)
 
 
+class SubpixelThresholdOneHigher(SubpixelCodesHarness):
+    """The sub-pixel stage built with max_cost one higher than the rule it is checked against: a winner whose
+    summed cost is exactly one past the threshold comes out valid."""
+    def dut(self):
+        return Subpixel(dataclasses.replace(self.config, max_cost=self.config.max_cost + 1), self.width)
+
+
 class EstimatorTallerImage(VerticalOffsetHarness):
     """The estimator built for buffers one row taller than the profile memories it is checked against: the sweep
     reads one row past the last."""
@@ -145,6 +153,7 @@ BITES = {
     "depth": (DepthEngineWiderImage, "read_address_is_row_and_column"),
     "read_arbiter": (ArbiterEngineFirst, "display_never_refused"),
     "winner_codes": (WinnerMoreDisparities, "code_is_disparity_or_invalid"),
+    "subpixel_codes": (SubpixelThresholdOneHigher, "invalid_by_the_rule"),
     "compositor": (CompositorLeftMovedDown, "left_request_exactly_for_its_image_or_the_difference_map"),
     "vertical_offset": (EstimatorTallerImage, "profile_read_in_memory"),
     "vertical_offset_range": (EstimatorWiderSearch, "cost_read_in_memory"),
