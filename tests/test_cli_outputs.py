@@ -4,6 +4,7 @@ complete, only files named ``*.partial.*``. And stereodepth/outputs.py's own rul
 
 import hashlib
 import json
+import os
 import re
 import signal
 import subprocess
@@ -113,8 +114,6 @@ def test_outputs_are_renamed_only_when_complete_and_stale_ones_removed(tmp_path)
 def test_ctrl_c_waits_for_the_whole_step():
     """A SIGINT inside :func:`whole_step` lets the block finish and raises KeyboardInterrupt after it; outside,
     Ctrl-C works as before."""
-    import os
-    import signal
     from stereodepth.interrupts import whole_step
     done = []
     with pytest.raises(KeyboardInterrupt):
