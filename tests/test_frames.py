@@ -117,6 +117,33 @@ def test_faults_mid_stream_recover_within_a_frame():
     assert all(s["left_rows_mixed"] <= 1 and s["right_rows_mixed"] <= 1 for s in summaries)
 
 
+def test_a_sensor_restarted_mid_run_is_seen_and_written_whole():
+    """Camera B restarts during its frame 1 (FV falls in its last line, then 10 silent line times: a reset or a
+    standby and wake-up that keeps its registers), so its frames 2 and 3 start about 9 sensor lines after camera
+    A's. The design does not re-align a running pair (only a reset runs the init barrier again, docs/capture.md):
+    it writes every later frame whole, never outside the buffers, and shows the new skew: the meter measures what
+    the simulation shows, frame starts 0 and 1 aligned, 2 and 3 not, LD7 on; the settled display frame is the
+    golden frame of the last pair bit for bit."""
+    from sim.models.mt9d112.sensor import Faults
+    from sim.testbench.system.frames_verilator import run_verilator_frames
+    setup = SystemSetup.small()
+    sequence = moving_card(setup, 4)
+    sequence.faults = {"b": [None, Faults(fv_drop=(setup.geometry.height - 1, 0), silence_lines=10), None, None]}
+    shown = []
+    status, _ = run_verilator_frames(sequence, setup, on_frame=shown.append)
+    assert status["violations"] == []
+    events, hardware = status["capture_events_s"], status["hardware_skew"]
+    assert len(events["a"]["frame_done"]) == 4 and len(events["b"]["frame_done"]) == 4
+    assert len(hardware) == 4
+    for k, measured in enumerate(hardware):
+        simulated = (events["b"]["frame_start"][k] - events["a"]["frame_start"][k]) * setup.sys_hz
+        assert abs(measured["skew_sync_clocks"] - simulated) <= 3
+    assert [m["aligned"] for m in hardware] == [True, True, False, False]
+    assert hardware[-1]["skew_sync_clocks"] > 0                     # camera B late
+    assert status["leds"] >> 7 == 1
+    assert np.array_equal(shown[-1].frame, setup.golden_frame(*sequence.pairs[-1]))
+
+
 @pytest.mark.slow
 def test_moving_card_frames_on_amaranth():
     """About a minute: the Python sensor drivers run per PCLK for two camera frames and five display frames."""

@@ -163,6 +163,14 @@ def test_faults_shape_the_stream():
     assert s.duration(24e6) == pytest.approx(len(s) / 24e6 + 3e-6)
     s = sensor.frame(image, Faults(cut_before=(2, 3)))
     assert s.fv[0] == 1 and s.lv[0] == 1 and high(s)[0] == n - 3
+    cut = sensor.frame(image, Faults(fv_drop=(3, 7)))
+    s = sensor.frame(image, Faults(fv_drop=(3, 7), silence_lines=5))       # restarted: silent 5 lines after the drop
+    line = T.line_time(G.width)
+    assert len(s) == len(cut) + 5 * line and not s.fv[len(cut):].any() and not s.lv[len(cut):].any()
+    assert high(s) == [n, n, n, 7]
+    whole = sensor.frame(image)
+    s = sensor.frame(image, Faults(silence_lines=2))
+    assert len(s) == len(whole) + 2 * line and not s.fv[len(whole):].any() and high(s) == [n] * G.height
 
 
 def test_fault_cases_are_all_distinct_and_valid():

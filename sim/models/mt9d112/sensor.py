@@ -101,6 +101,9 @@ class Faults:
       byte of that line (``byte`` may equal the line's byte count: a pause in the horizontal blanking).
     * ``cut_before``: ``(line, byte)``: the chunk starts at that byte of that line, FV already high: what a
       capture block sees when it comes out of reset in the middle of a frame.
+    * ``silence_lines``: after the frame (or where ``fv_drop`` ends it), FV and LV stay low for that many more
+      line times, PCLK running: with ``fv_drop``, a sensor restarted mid-frame (a reset or a standby and wake-up
+      with its registers kept), whose later frames then start that much later against the other camera's.
     """
     line_bytes: dict = field(default_factory=dict)
     extra_lines: int = 0
@@ -108,6 +111,7 @@ class Faults:
     lv_without_fv: int = 0
     pauses: tuple = ()
     cut_before: tuple = None
+    silence_lines: int = 0
 
 
 @dataclass
@@ -266,9 +270,10 @@ class MT9D112:
                 cut = b.n + faults.cut_before[1]
             if drop is not None and drop[0] == line:
                 b.add(min(drop[1], nbytes), 1, 1, content[:drop[1]])
-                return self._cut(b.stream(), cut)
+                break
             b.add(nbytes, 1, 1, content)
             b.add(t.h_blank if line < total_lines - 1 else t.frame_end, 1, 0)
+        b.add(faults.silence_lines * line_time, 0, 0)
         return self._cut(b.stream(), cut)
 
     @staticmethod
