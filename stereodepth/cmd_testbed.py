@@ -8,7 +8,8 @@ the RTL DisparitySubtractor in Amaranth's simulator, compared bit for bit. Write
 
 * ``table.csv``: one row per distance (calculated, thesis, found, plateau, bound, fits, re-simulated fits, and
   the automatic depth engine on the same pair: the median of its sub-pixel disparities over the object, the
-  centre readout it shows, that distance and its error against the true distance);
+  centre readout it shows, that distance and its error against the true distance; and the vertical-offset
+  estimator on the same pair: the offset in use after a still scene from reset, its lock frames, held);
 * ``near_field.csv``: every test object at 0.25 m;
 * ``fits.csv``: each model's parameters, rms and per-distance residuals;
 * ``rtl_check.csv``: the RTL sample;
@@ -139,7 +140,7 @@ def run(args):
     say(f"test bed: {len(distances)} distances, rig offsets: principal {args.principal_offset} px, vertical "
         f"{args.vertical_offset} rows, toe-in {args.convergence} deg")
     say(f"{'Z (m)':>6} {'object':>16} {'eq.2.1':>7} {'thesis':>6} {'obs.':>5} {'found':>5} {'plateau':>9} {'rect':>4}"
-        f" {'engine':>7} {'shown':>7} {'error':>7}")
+        f" {'engine':>7} {'shown':>7} {'error':>7} {'auto':>4}")
 
     def show(p):
         say(_show_line(p, tb))
@@ -187,6 +188,7 @@ def run(args):
     bound = [p for p in table if not p.within_bound]
     print(f"stereodepth testbed: {len(table)} distance(s); found within [floor, ceil] of the expected disparity: "
           f"{len(table) - len(bound)}/{len(table)}" + ("" if not misaligned else " (misaligned rig)"))
+    _auto_summary(table, rig)
     for fit in fits:
         extra = ", ".join(f"{k}={v:.4g}" for k, v in fit.params.items())
         sim = resim.get(fit.model)
@@ -202,6 +204,18 @@ def run(args):
     return 0 if rtl_ok else 1
 
 
+def _auto_summary(table, rig):
+    """How often the automatic rectification found the rig's vertical offset (in buffer rows, rounded)."""
+    from spec.sensor import SENSOR
+    truth = round(rig.vertical_offset_px / SENSOR.scale)
+    right = [p for p in table if p.auto.offset == truth]
+    held = sum(p.auto.held and p.auto.offset != truth for p in table)
+    lock = max((p.auto.lock_frames for p in right), default=0)
+    print(f"  automatic rectification: offset {truth:+d} buffer rows in use at {len(right)}/{len(table)} distances "
+          f"(each within {lock} frames of a still scene from reset); no clear minimum, the reset's 0 kept: {held}; "
+          f"wrong: {len(table) - len(right) - held}")
+
+
 def _show_line(p, tb):
     """One printed row: the sweep's columns and the depth engine's (sub-pixel disparity, readout, error)."""
     thesis = dict(zip(tb.THESIS_DISTANCES_M, zip(tb.THESIS_CALCULATED_PX, tb.THESIS_OBSERVED_PX)))
@@ -210,7 +224,12 @@ def _show_line(p, tb):
     return (f"{p.distance_m:6.2f} {p.object_name:>16} {p.exact_px:7.2f} {calc:>6} {obs:>5} {p.found:5d} "
             f"{str(p.plateau[0]) + '..' + str(p.plateau[1]):>9} {p.alignment.rectification:4d} "
             f"{'-' if e.disparity_px is None else f'{e.disparity_px:.2f}':>7} {e.readout:>7} "
-            f"{'-' if e.error is None else f'{100 * e.error:+.1f}%':>7}")
+            f"{'-' if e.error is None else f'{100 * e.error:+.1f}%':>7} {_auto_text(p.auto):>4}")
+
+
+def _auto_text(auto):
+    """The estimator's offset in use, with ``h`` when the last frame had no clear minimum (offset held)."""
+    return f"{auto.offset:+d}{'h' if auto.held else ''}"
 
 
 def _point_row(p):
@@ -220,12 +239,14 @@ def _point_row(p):
             p.alignment.disparity_sweep.minimum, p.alignment.disparity_sweep.region_pixels,
             "" if p.engine.disparity_px is None else f"{p.engine.disparity_px:.4f}", p.engine.readout.strip(),
             "" if p.engine.shown_m is None else f"{p.engine.shown_m:.2f}",
-            "" if p.engine.error is None else f"{100 * p.engine.error:.2f}"]
+            "" if p.engine.error is None else f"{100 * p.engine.error:.2f}", p.auto.offset, p.auto.lock_frames,
+            "yes" if p.auto.held else "no"]
 
 
 _POINT_HEADER = ["distance_m", "object", "calculated_exact_px", "expected_px", "found_px", "plateau_lo_px",
                  "plateau_hi_px", "found_minus_expected_px", "within_bound", "rectification", "residual_min",
-                 "region_pixels", "engine_disparity_px", "engine_readout", "engine_shown_m", "engine_error_pct"]
+                 "region_pixels", "engine_disparity_px", "engine_readout", "engine_shown_m", "engine_error_pct",
+                 "auto_rectification", "auto_lock_frames", "auto_held"]
 
 
 def _write_outputs(out, table, near, fits, resim, rtl_rows, rig):

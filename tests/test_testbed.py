@@ -63,6 +63,17 @@ def test_rectification_and_offsets_are_found(distance, vertical, principal):
     assert p.alignment.rectification_sweep.minimum < p.alignment.rectification_sweep.residual[0]
 
 
+@pytest.mark.parametrize("vertical", [-20, 12])
+def test_the_automatic_rectification_finds_an_offset_of_either_sign(vertical):
+    """The vertical-offset estimator (golden model = RTL) on the edged card at 1 m: the rig's offset in buffer rows
+    is in use after ``stable_frames`` (2) frames of the still scene; a blank pair keeps the reset's 0, held."""
+    rig = StereoRig(vertical_offset_px=vertical)
+    p = tb.run_point(1.0, "rectangle", rig, finish="edged")
+    assert (p.auto.offset, p.auto.held, p.auto.lock_frames) == (vertical // 4, False, 2)
+    blank = np.full((300, 400), 12, np.uint8)
+    assert tb.auto_offset(blank, blank) == tb.AutoOffset(0, 0, True, 4)
+
+
 def test_toe_in_lowers_the_disparity_like_an_offset():
     rig = StereoRig(convergence_deg=1.0)
     p = tb.run_point(2.0, "rectangle", rig, max_rectification=0)
@@ -238,6 +249,7 @@ def test_cli_small_run(tmp_path):
     with open(out / "table.csv") as f:
         rows = list(csv.DictReader(f))
     assert [r["distance_m"] for r in rows] == ["1.50", "3.00"]
+    assert "automatic rectification: offset +0 buffer rows in use at 2/2 distances" in result.stdout
     for r in rows:
         p = tb.run_point(float(r["distance_m"]), "rectangle", max_rectification=0)
         assert int(r["found_px"]) == p.found and r["within_bound"] == "yes"
@@ -248,6 +260,8 @@ def test_cli_small_run(tmp_path):
         assert float(r["engine_shown_m"]) == shown
         assert abs(float(r["engine_error_pct"]) - 100 * (shown / p.engine.true_m - 1)) < 0.01
         assert abs(float(r["engine_disparity_px"]) - p.expected_px) < 1
+        assert (int(r["auto_rectification"]), int(r["auto_lock_frames"]), r["auto_held"]) == \
+            (p.auto.offset, p.auto.lock_frames, "yes" if p.auto.held else "no")
     with open(out / "rtl_check.csv") as f:
         rtl = list(csv.DictReader(f))
     assert len(rtl) == 1 and rtl[0]["bit_exact"] == "yes" and rtl[0]["mismatches"] == "0"

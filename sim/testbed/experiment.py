@@ -53,7 +53,7 @@ __all__ = [
     "THESIS_DISTANCES_M", "THESIS_CALCULATED_PX", "THESIS_OBSERVED_PX", "MAX_DISPARITY", "MAX_RECTIFICATION",
     "exact_disparity", "table_object_name", "SweepCurve", "Alignment", "TestbedPoint", "FitResult", "FIT_MODELS",
     "sweep_region", "disparity_curve", "rectification_curve", "find_alignment", "capture_pair", "run_point",
-    "run_table", "run_near_field", "NEAR_FIELD_DISTANCE_M", "fit_observed", "fitted_rig_and_distance",
+    "run_table", "auto_offset", "AutoOffset", "run_near_field", "NEAR_FIELD_DISTANCE_M", "fit_observed", "fitted_rig_and_distance",
     "RtlCheck", "rtl_difference_rows", "rtl_crosscheck", "EngineReading", "engine_reading"
 ]
 
@@ -221,6 +221,7 @@ class TestbedPoint:
     alignment: Alignment
     footprint_pixels: int
     engine: "EngineReading | None" = None      # the automatic depth engine on the same pair (issue 26)
+    auto: "AutoOffset | None" = None           # the vertical-offset estimator on the same pair (issue 27)
 
     @property
     def found(self):
@@ -268,6 +269,32 @@ def engine_reading(left, right, footprint, rectification, true_m, geometry=SENSO
     return EngineReading(disparity, text, int(digits) / 100 if digits.isdigit() else None, true_m)
 
 
+@dataclass(frozen=True)
+class AutoOffset:
+    """The vertical-offset estimator (automatic rectification, golden model = RTL) on a still pair from reset:
+    ``offset`` in use after ``frames`` camera frames of it (buffer rows, signed), ``lock_frames`` (frames until it
+    was in use: 0 when the reset's 0 is already right), ``held`` (no clear minimum in the last frame: the last
+    offset kept, docs/rectification.md)."""
+    offset: int
+    lock_frames: int
+    held: bool
+    frames: int
+
+
+def auto_offset(left, right, frames=None, config=None):
+    """:class:`AutoOffset` of the grey buffers ``left``/``right`` shown ``frames`` times (default: the tracker's
+    ``stable_frames`` + 2, enough to take any offset once)."""
+    from golden.vertical_offset import estimate_offsets
+    from spec.rectification import RECTIFICATION
+    config = config or RECTIFICATION
+    frames = frames or config.stable_frames + 2
+    decisions = estimate_offsets([(left, right)] * frames, config)
+    in_use = [0] + [d.offset for d in decisions]                    # from reset, then after each frame
+    final = in_use[-1]
+    lock = next(k for k in range(frames + 1) if all(o == final for o in in_use[k:]))
+    return AutoOffset(final, lock, decisions[-1].held, frames)
+
+
 def run_point(distance_m, object_name="rectangle", rig=VMODCAM, geometry=SENSOR, supersample=1,
               max_disparity=MAX_DISPARITY, max_rectification=MAX_RECTIFICATION, thresholds=DIFF_THRESHOLDS,
               object_distance_m=None, **object_kw):
@@ -281,7 +308,8 @@ def run_point(distance_m, object_name="rectangle", rig=VMODCAM, geometry=SENSOR,
     true_z = scene.distance_m
     engine = engine_reading(left, right, footprint, alignment.rectification, true_z, geometry)
     return TestbedPoint(distance_m, object_name, exact_disparity(distance_m, VMODCAM, geometry),
-                        centre_disparity(true_z, rig, geometry), alignment, int(footprint.sum()), engine)
+                        centre_disparity(true_z, rig, geometry), alignment, int(footprint.sum()), engine,
+                        auto_offset(left, right))
 
 
 def run_table(distances=THESIS_DISTANCES_M, rig=VMODCAM, geometry=SENSOR, progress=None, **kw):
