@@ -72,8 +72,8 @@ class CapturePath(wiring.Component):
         super().__init__({f"cam_{c}": Out(CapturePortSignature(geometry)) for c in self.cameras})
         for c in self.cameras:
             for name in ("pins", "write", "status"):
-                forward(self, (f"cam_{c}", name), getattr(self.captures[c], name))
-            forward(self, (f"cam_{c}", "read"), self.buffers[c].read)
+                forward(self, (f"cam_{c}", name), self.captures[c])
+            forward(self, (f"cam_{c}", "read"), self.buffers[c])
 
     def port(self, camera):
         """The member of camera ``camera``."""

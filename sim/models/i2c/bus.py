@@ -77,9 +77,9 @@ def I2CBench(duts, *, counter_bits=40):
                     {b: Out(dut.signature.members["status"].signature) for b, dut in with_status.items()}))
             super().__init__(members)
             for b in duts:
-                forward(self, ("bus", b), self.buses[b])
+                forward(self, ("bus", b), self.buses[b], ())
             for b, dut in with_status.items():
-                forward(self, ("status", b), dut.status)
+                forward(self, ("status", b), dut, "status")
 
         def elaborate(self, platform):
             m = Module()

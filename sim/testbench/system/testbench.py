@@ -76,11 +76,11 @@ class SystemTestbench(wiring.Component):
             members["clocks"] = In(wiring.Signature({cd.name: Out(1) for cd in self.clocking.domains}))
         super().__init__(members)
         for name in own:
-            forward(self, name, getattr(self.system, name))
-        forward(self, "button", self.clocking.button)
-        forward(self, "locked", self.clocking.locked)
+            forward(self, name, self.system)
+        forward(self, "button", self.clocking)
+        forward(self, "locked", self.clocking)
         for b in I2C_BUSES:
-            forward(self, ("bus", b), self.buses[b])
+            forward(self, ("bus", b), self.buses[b], ())
 
     @property
     def domains(self):
