@@ -99,7 +99,8 @@ def _check(component, path, obj, source):
             value = None
         model = Value.cast(Signal(member.shape, init=member.init, name="model"))
         ok = isinstance(value, Signal) and value.shape() == model.shape() and value.init == model.init
-        reasons.append(f"{source} is {obj!r}, the member is {member!r}")
+        found = f"{value.shape()}, init={value.init}" if isinstance(value, Signal) else type(obj).__name__
+        reasons.append(f"{source} is {obj!r} ({found}), the member is {member!r}")
     if not ok:
         raise TypeError(f"cannot forward {source} to {where}: " + "; ".join(reasons))
 
