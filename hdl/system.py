@@ -158,7 +158,7 @@ class StereoDepthSystem(wiring.Component):
     rectification : ``Out``: ``auto``, ``confident``, ``held``, ``locked``
         The automatic rectification's mode and the estimator's last verdict (``pix``).
 
-    Every member is the forwarded interface of the block that owns it (:func:`hdl.forward.forward`).
+    Every member is handed down to the block that drives or reads it (:func:`hdl.forward.forward`).
 
     Raises
     ------
@@ -176,7 +176,7 @@ class StereoDepthSystem(wiring.Component):
         self.video_timing = timing
         self.heartbeat_log2 = heartbeat_log2
         self.cam_heartbeat_log2 = cam_heartbeat_log2
-        # The blocks, built now so that bad parameters fail at construction and their interfaces can be forwarded.
+        # The blocks, built now so that bad parameters fail at construction and the members can be forwarded.
         self.capture_path = CapturePath(geometry, cameras=CAMERAS, r_byte_first=r_byte_first, read_domain="pix")
         self.display = StereoDisplay(timing, geometry, layout, config=depth, thresholds=thresholds,
                                         level_grey=level_grey)

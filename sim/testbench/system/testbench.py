@@ -3,8 +3,8 @@
 :class:`hdl.system.StereoDepthSystem` (behavioural CH7301C output) with :class:`sim.models.clocking.SimClocking` (the
 board clocking's simulation model: same domains and reset tree, clocks from the simulator) and one
 :class:`sim.models.i2c.bus.OpenDrainBus` per I2C bus, where the board has pads and pull-ups. Every other member of the
-system is the bench's own (forwarded, not copied: :func:`hdl.forward.forward`), so the exported Verilog's ports
-are the design's signals under the design's names.
+system is the bench's own, handed down to the system (forwarded, not copied: :func:`hdl.forward.forward`), so the
+exported Verilog's ports are the design's signals under the bench's flat names.
 
 Clock domains: ``sync``, ``pix``, ``cam_a``, ``cam_b``, defined here (unless ``define_domains=False``: then the
 parent adds ``bench.domains`` and drives their clocks). A domain's clock comes from the simulator: in Amaranth's
