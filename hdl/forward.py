@@ -39,7 +39,7 @@ def forward(owner, path, child, child_path=None):
     path : str or tuple of str
         The member of ``owner``: a name, or names into nested interfaces (``("capture", "cam_a")``).
     child : wiring.Component
-        Whose member is replaced.
+        Whose member is replaced: by the owner's object, or by it flipped where the two members' flows differ.
     child_path : str or tuple of str, optional
         The member of ``child``; by default the last name of ``path``. ``()`` stands for all of ``child``'s
         members (``owner``'s member then has ``child``'s signature).
