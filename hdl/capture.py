@@ -91,7 +91,7 @@ class CameraCapture(wiring.Component):
             "write": Out(FrameBufferWriteSignature(geometry)),
             "status": Out(CaptureStatusSignature),
         })
-        forward(self, "write", self._downscaler.write)
+        forward(self, "write", self._downscaler)
 
     def elaborate(self, platform):
         m = Module()

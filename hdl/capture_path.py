@@ -52,8 +52,8 @@ class CapturePath(wiring.Component):
     Attributes
     ----------
     cam_<c> : ``Out(CapturePortSignature(geometry))``, one per camera
-        The capture's own ``pins``, ``write`` and ``status`` and the buffer's own ``read`` port (forwarded, not
-        copied: :func:`hdl.forward.forward`).
+        The capture's ``pins``, ``write`` and ``status`` and the buffer's ``read`` port: these members are
+        handed down to the capture and the buffer (forwarded, not copied: :func:`hdl.forward.forward`).
 
     Clock domains: ``cam_<c>`` per camera and ``read_domain``, all defined by the parent (for a top-level export,
     Amaranth makes their clocks the ports ``cam_a_clk``, ``pix_clk``, ...). Latency: as
@@ -72,8 +72,8 @@ class CapturePath(wiring.Component):
         super().__init__({f"cam_{c}": Out(CapturePortSignature(geometry)) for c in self.cameras})
         for c in self.cameras:
             for name in ("pins", "write", "status"):
-                forward(self, (f"cam_{c}", name), getattr(self.captures[c], name))
-            forward(self, (f"cam_{c}", "read"), self.buffers[c].read)
+                forward(self, (f"cam_{c}", name), self.captures[c])
+            forward(self, (f"cam_{c}", "read"), self.buffers[c])
 
     def port(self, camera):
         """The member of camera ``camera``."""

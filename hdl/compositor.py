@@ -213,7 +213,7 @@ class Compositor(wiring.Component):
             "video": Out(VideoSignature),
         })
         self._subtractor = DisparitySubtractor(g, self.thresholds)
-        forward(self, "settings", self._subtractor.settings)     # the switch registers go to the subtractor only
+        forward(self, "settings", self._subtractor)     # the switch registers go to the subtractor only
         self._distance = CentreDistance(g, config)
         self._text = TextLayer(layout.labels, layout.readout, v_active=timing.v_active,
                                x_bits=len(self.timing.x), y_bits=len(self.timing.y))

@@ -56,8 +56,8 @@ class DisplayPath(wiring.Component):
         self.pattern = PatternGenerator(timing)
         self.output = CH7301COutput(timing, ddr=ddr)
         super().__init__()
-        forward(self, "ch7301c", self.output.pins)
-        forward(self, "frame_start", self.sync_gen.frame_start)
+        forward(self, "ch7301c", self.output, "pins")
+        forward(self, "frame_start", self.sync_gen)
 
     def elaborate(self, platform):
         m = Module()

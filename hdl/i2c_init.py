@@ -113,7 +113,7 @@ class InitSequencer(wiring.Component):
         self.master = I2CMaster(clk_hz=clk_hz, bus_hz=bus_hz, timeout_us=timeout_us)
         super().__init__({"i2c": Out(I2CSignature), "status": Out(InitStatusSignature(len(table))),
                           "barrier": Out(1), "release": In(1, init=1)})
-        forward(self, "i2c", self.master.i2c)
+        forward(self, "i2c", self.master)
 
     def _rom(self):
         dev = self.table.device

@@ -97,11 +97,11 @@ class StereoDisplay(wiring.Component):
             "right": Out(FrameBufferReadSignature(geometry)),
             "video": Out(VideoSignature),
         })
-        forward(self, "timing", self.compositor.timing)
-        forward(self, "settings", self.compositor.settings)
-        forward(self, "video", self.compositor.video)
+        forward(self, "timing", self.compositor)
+        forward(self, "settings", self.compositor)
+        forward(self, "video", self.compositor)
         for side, arbiter in self.arbiters.items():
-            forward(self, side, arbiter.buffer)
+            forward(self, side, arbiter, "buffer")
 
     def elaborate(self, platform):
         m = Module()

@@ -158,7 +158,7 @@ class StereoDepthSystem(wiring.Component):
     rectification : ``Out``: ``auto``, ``confident``, ``held``, ``locked``
         The automatic rectification's mode and the estimator's last verdict (``pix``).
 
-    Every member is the forwarded interface of the block that owns it (:func:`hdl.forward.forward`).
+    Every member is handed down to the block that drives or reads it (:func:`hdl.forward.forward`).
 
     Raises
     ------
@@ -176,7 +176,7 @@ class StereoDepthSystem(wiring.Component):
         self.video_timing = timing
         self.heartbeat_log2 = heartbeat_log2
         self.cam_heartbeat_log2 = cam_heartbeat_log2
-        # The blocks, built now so that bad parameters fail at construction and their interfaces can be forwarded.
+        # The blocks, built now so that bad parameters fail at construction and the members can be forwarded.
         self.capture_path = CapturePath(geometry, cameras=CAMERAS, r_byte_first=r_byte_first, read_domain="pix")
         self.display = StereoDisplay(timing, geometry, layout, config=depth, thresholds=thresholds,
                                         level_grey=level_grey)
@@ -185,9 +185,6 @@ class StereoDepthSystem(wiring.Component):
         self.estimator = VerticalOffsetEstimator(geometry, auto_rectification, left_domain="cam_a",
                                                  right_domain="cam_b")
         self.select = RectificationSelect(auto_rectification)
-        # The select's manual input is the switches' own settings (one set of signals, named after the select's
-        # member: the system's ``settings`` are the select's output).
-        forward(self.select, "manual", wiring.flipped(self.switches.settings))
         self.output = CH7301COutput(timing, ddr=ddr) if ddr is not None else None
         line = skew_line_clocks or -(-(2 * geometry.width + 256) * clk_hz // CLOCKS.CAM_PCLK_HZ)
         self.skew_meter = FrameSkewMeter(
@@ -199,6 +196,9 @@ class StereoDepthSystem(wiring.Component):
             for bus, table in tables.items()
         }
         super().__init__(self._members(tables))
+        # The switches' settings output is the select's own manual input (one set of signals, named after the
+        # select's member: the system's ``settings`` are the select's output).
+        forward(self.select, "manual", self.switches, "settings")
         self._forward_members()
 
     def _members(self, tables):
@@ -221,22 +221,21 @@ class StereoDepthSystem(wiring.Component):
 
     def _forward_members(self):
         for c in CAMERAS:
-            port = getattr(self.capture_path, f"cam_{c}")
-            forward(self, f"cam_{c}", port.pins)
-            forward(self, ("capture", f"cam_{c}"), port.status)
+            forward(self, f"cam_{c}", self.capture_path, (f"cam_{c}", "pins"))
+            forward(self, ("capture", f"cam_{c}"), self.capture_path, (f"cam_{c}", "status"))
         for bus, seq in self.sequencers.items():
-            forward(self, ("i2c", bus), seq.i2c)
-            forward(self, ("init", bus), seq.status)
-        forward(self, ("panel", "sw"), self.switches.sw)
-        forward(self, "video", self.display.video)
-        forward(self, "frame_start", self.sync_gen.frame_start)
-        forward(self, "settings", self.select.settings)
-        forward(self, "skew", self.skew_meter.status)
-        forward(self, ("rectification", "auto"), self.select.auto)
+            forward(self, ("i2c", bus), seq, "i2c")
+            forward(self, ("init", bus), seq, "status")
+        forward(self, ("panel", "sw"), self.switches)
+        forward(self, "video", self.display)
+        forward(self, "frame_start", self.sync_gen)
+        forward(self, "settings", self.select)
+        forward(self, "skew", self.skew_meter, "status")
+        forward(self, ("rectification", "auto"), self.select)
         for name in ("confident", "held", "locked"):
-            forward(self, ("rectification", name), getattr(self.estimator, name))
+            forward(self, ("rectification", name), self.estimator)
         if self.output is not None:
-            forward(self, "ch7301c", self.output.pins)
+            forward(self, "ch7301c", self.output, "pins")
 
     def elaborate(self, platform):
         m = Module()

@@ -84,9 +84,9 @@ class DisplayTestbench(wiring.Component):
             "video_word": Out(27),
             "settings": Out(SettingsSignature),
         })
-        for name, obj in (("timing", self.compositor.timing), ("video", self.compositor.video),
-                          ("sw", self.switches.sw), ("settings", self.switches.settings)):
-            forward(self, name, obj)
+        for name, child in (("timing", self.compositor), ("video", self.compositor), ("sw", self.switches),
+                            ("settings", self.switches)):
+            forward(self, name, child)
 
     def elaborate(self, platform):
         m = Module()

@@ -35,7 +35,7 @@ class GreyDownscale(wiring.Component):
             "column": In(len(self.downscaler.column)), "row": In(len(self.downscaler.row)),
             "write": Out(FrameBufferWriteSignature(geometry)),
         })
-        forward(self, "write", self.downscaler.write)
+        forward(self, "write", self.downscaler)
 
     def elaborate(self, platform):
         m = Module()

@@ -1,7 +1,7 @@
 """The one flattening rule (board.export.flat_name, Amaranth's own) against the exported Verilog: a top's ports are
 exactly ``flat_ports(top)`` (plus the clocks and resets Amaranth adds for domains it creates), and no signal of
-the top module is a ``$N`` duplicate of a port (wrappers forward their children's interfaces instead of copying
-them: hdl/forward.py). The whole-system tops have no ``$N`` name at all (forwarded signals take the top's names,
+the top module is a ``$N`` duplicate of a port (wrappers hand their members down to their children instead of copying
+them: hdl/forward.py). The whole-system tops have no ``$N`` name at all (forwarded signals are the top's own,
 so identically named children do not collide); what remains elsewhere comes from connecting two siblings with
 interfaces of the same name."""
 

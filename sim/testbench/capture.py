@@ -247,7 +247,7 @@ class _CapturePlayback(wiring.Component):
         })
         for c in files:
             for name in ("write", "status", "read"):
-                forward(self, (f"cam_{c}", name), getattr(getattr(self.path, f"cam_{c}"), name))
+                forward(self, (f"cam_{c}", name), self.path, (f"cam_{c}", name))
 
     def elaborate(self, platform):
         m = Module()

@@ -63,7 +63,7 @@ class OpenDrainBus(wiring.Component):
 def I2CBench(duts, *, counter_bits=40):
     """A component wiring each DUT of ``duts`` (``{bus name: component}``, each with an ``i2c``
     ``I2CSignature`` member) to its own :class:`OpenDrainBus` (with a cocotbext-i2c peer). Members: ``bus.<b>``
-    (the resolved bus), ``status.<b>`` (the DUT's ``status`` interface, forwarded, for DUTs that have one) and
+    (the resolved bus), ``status.<b>`` (the DUT's ``status`` interface, forwarded to it, for DUTs that have one) and
     ``cycles`` (``sync`` clocks: the time base of the Python models)."""
     with_status = {b: dut for b, dut in duts.items() if "status" in dut.signature.members}
 
@@ -77,9 +77,9 @@ def I2CBench(duts, *, counter_bits=40):
                     {b: Out(dut.signature.members["status"].signature) for b, dut in with_status.items()}))
             super().__init__(members)
             for b in duts:
-                forward(self, ("bus", b), self.buses[b])
+                forward(self, ("bus", b), self.buses[b], ())
             for b, dut in with_status.items():
-                forward(self, ("status", b), dut.status)
+                forward(self, ("status", b), dut, "status")
 
         def elaborate(self, platform):
             m = Module()

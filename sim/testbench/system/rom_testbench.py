@@ -94,11 +94,11 @@ class RomReplayTestbench(wiring.Component):
         })
         super().__init__(members)
         for name in own:
-            forward(self, name, getattr(self.bench, name))
+            forward(self, name, self.bench)
         for c, replay in self.replays.items():
             # The replay drives the capture's pin signals themselves: no assignment in between to wake on every
             # PCLK sample.
-            forward(replay, "pins", wiring.flipped(getattr(self.bench, f"cam_{c}")))
+            forward(self.bench, f"cam_{c}", replay, "pins")
         self.free_domains = {name: ClockDomain(f"free_{name}", reset_less=True) for name in GATED_DOMAINS}
 
     def elaborate(self, platform):

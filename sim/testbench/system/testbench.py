@@ -3,8 +3,8 @@
 :class:`hdl.system.StereoDepthSystem` (behavioural CH7301C output) with :class:`sim.models.clocking.SimClocking` (the
 board clocking's simulation model: same domains and reset tree, clocks from the simulator) and one
 :class:`sim.models.i2c.bus.OpenDrainBus` per I2C bus, where the board has pads and pull-ups. Every other member of the
-system is the bench's own (forwarded, not copied: :func:`hdl.forward.forward`), so the exported Verilog's ports
-are the design's signals under the design's names.
+system is the bench's own, handed down to the system (forwarded, not copied: :func:`hdl.forward.forward`), so the
+exported Verilog's ports are the design's signals under the bench's flat names.
 
 Clock domains: ``sync``, ``pix``, ``cam_a``, ``cam_b``, defined here (unless ``define_domains=False``: then the
 parent adds ``bench.domains`` and drives their clocks). A domain's clock comes from the simulator: in Amaranth's
@@ -76,11 +76,11 @@ class SystemTestbench(wiring.Component):
             members["clocks"] = In(wiring.Signature({cd.name: Out(1) for cd in self.clocking.domains}))
         super().__init__(members)
         for name in own:
-            forward(self, name, getattr(self.system, name))
-        forward(self, "button", self.clocking.button)
-        forward(self, "locked", self.clocking.locked)
+            forward(self, name, self.system)
+        forward(self, "button", self.clocking)
+        forward(self, "locked", self.clocking)
         for b in I2C_BUSES:
-            forward(self, ("bus", b), self.buses[b])
+            forward(self, ("bus", b), self.buses[b], ())
 
     @property
     def domains(self):

@@ -136,7 +136,7 @@ class VerilogReplayTestbench(wiring.Component):
         })
         super().__init__(members)
         for name in own:
-            forward(self, name, getattr(self.bench, name))
+            forward(self, name, self.bench)
 
     def elaborate(self, platform):
         m = Module()
