@@ -17,8 +17,8 @@ __all__ = ["CentreDistance", "readout_table", "SETTLE_CLOCKS"]
 WINDOW = 9
 #: Clocks after the last window capture until ``chars`` holds its readout.
 SETTLE_CLOCKS = WINDOW + 6
-#: Address bits of one part of the readout ROM (a 256-word ROM is LUT6 + MUXF7 + MUXF8).
-ROM_PART_BITS = 8
+#: Address bits of one part of the readout ROM (a 64-word ROM is one LUT6 per bit).
+ROM_PART_BITS = 6
 
 
 def readout_table(geometry=SENSOR, config=DEPTH):
@@ -99,8 +99,8 @@ class CentreDistance(wiring.Component):
         with m.If((sum(less) <= half) & (sum(not_more) > half)):
             m.d.sync += self.median.eq(value)
         # The readout of the median (a window code, so at most the invalid code): invalid + 1 entries, looked up
-        # in two registered clocks so that no path is deeper than a 256-entry ROM (LUT6 + MUXF7 + MUXF8): the
-        # ROM split into 256-word parts read by the low 8 address bits, then the part the high bits select.
+        # in two registered clocks so that no path is deeper than a 64-entry ROM (one LUT6 per bit): the ROM split
+        # into 64-word parts read by the low 6 address bits, then the part the high bits select.
         words = [sum(c << (CHAR_BITS * pos) for pos, c in enumerate(char_codes(text))) for text in self.table]
         shape = unsigned(len(self.chars.as_value()))
         low_bits = min(bits, ROM_PART_BITS)

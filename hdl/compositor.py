@@ -246,8 +246,16 @@ class Compositor(wiring.Component):
         """Clock n -> n + 1: region flags, end-of-region-line flags, vertical blanking."""
         raster, layout = self.timing, self.layout
 
-        def within(b):
-            return (raster.x >= b.x0) & (raster.x < b.x1) & (raster.y >= b.y0) & (raster.y < b.y1)
+        def within(b, name):
+            # A box that starts right of column 0 takes its row range from the previous clock's y, registered:
+            # the raster is in scan order, so y changes only where x returns to 0, outside such a box. The
+            # comparisons of x and of y are then in different clocks (no deep shared compare tree).
+            across = (raster.x >= b.x0) & (raster.x < b.x1)
+            if b.x0 == 0:
+                return across & (raster.y >= b.y0) & (raster.y < b.y1)
+            down = Signal(name=f"{name}_rows_0")
+            m.d.sync += down.eq((raster.y >= b.y0) & (raster.y < b.y1))
+            return across & down
 
         inside, eol = {}, {}
         areas = {source: r.box for source, r in self.regions.items()}
@@ -255,7 +263,7 @@ class Compositor(wiring.Component):
         for source, b in areas.items():
             inside[source] = Signal(name=f"in_{source}_1")
             eol[source] = Signal(name=f"eol_{source}_1")
-            m.d.sync += [inside[source].eq(within(b)), eol[source].eq(raster.x == b.x1 - 1)]
+            m.d.sync += [inside[source].eq(within(b, source)), eol[source].eq(raster.x == b.x1 - 1)]
         # The ticks in two registered stages (each tick's x and y ranges, then their OR): in_tick_2 is one clock
         # later than the other region flags; its delay line is one register shorter.
         spans = []

@@ -40,7 +40,7 @@ input pixel that uses them (the compositor guarantees this: the switch registers
 least a line before the first disparity pixel).
 """
 
-from amaranth import Module, Mux, Signal
+from amaranth import Module, Mux, Signal, signed
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
@@ -169,11 +169,17 @@ class DisparitySubtractor(wiring.Component):
             valid_3.eq(valid_2),
         ]
 
-        # Clock n + 3 -> n + 4: absolute difference (thesis: subtract the smaller from the larger) and the
-        # threshold table as a bank of constant comparators whose true outputs are counted.
-        diff = Signal(g.grey_bits)
-        m.d.comb += diff.eq(Mux(left_q >= right_q, left_q - right_q, right_q - left_q))
-        count = sum((diff >= t) for t in self.thresholds)
+        # Clock n + 3 -> n + 4: the level of |L - R| (thesis: subtract the smaller from the larger, then compare
+        # with each threshold) as a table indexed by the signed difference L - R: one carry chain, then one
+        # 2**(grey_bits + 1)-entry table per level bit, instead of a subtractor, a multiplexer, a comparator bank
+        # and an adder in one clock.
+        diff = Signal(signed(g.grey_bits + 1))
+        count = Signal.like(self.level)
+        m.d.comb += diff.eq(left_q - right_q)
+        with m.Switch(diff):
+            for d in range(-(2 ** g.grey_bits - 1), 2 ** g.grey_bits):
+                with m.Case(d):
+                    m.d.comb += count.eq(sum(abs(d) >= t for t in self.thresholds))
         m.d.sync += [
             self.level.eq(Mux(no_data_3, 0, count)),
             self.no_data.eq(no_data_3),

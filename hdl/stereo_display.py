@@ -22,8 +22,9 @@ __all__ = ["StereoDisplay", "LATENCY", "ENGINE_START_DELAY", "check_engine_keeps
 #: Clocks from ``timing`` in to ``video`` out (the compositor's).
 LATENCY = COMPOSITOR_LATENCY
 #: Clocks from ``timing.frame_start`` to the engine's ``start``: the switch registers (loaded at the frame
-#: start) have settled, so the map uses this frame's rectification.
-ENGINE_START_DELAY = SETTLE_CLOCKS
+#: start) have settled, and so has the engine's row offset (the clamped rectification, registered: one clock
+#: more), so the map uses this frame's rectification.
+ENGINE_START_DELAY = SETTLE_CLOCKS + 1
 
 
 def check_engine_keeps_up(timing, layout, geometry, config):
@@ -120,8 +121,8 @@ class StereoDisplay(wiring.Component):
             start = delayed
         h = self.geometry.buf_height
         rect = self.settings.rectification
-        m.d.comb += [
-            engine.start.eq(start),
-            engine.left_row_offset.eq(Mux(rect >= h, h - 1, Mux(rect <= -h, -(h - 1), rect))),
-        ]
+        # The clamp registered: not in one clock with the row ring's offset multiply (ENGINE_START_DELAY).
+        row_offset = Signal(range(-(h - 1), h), name="engine_row_offset")
+        m.d.sync += row_offset.eq(Mux(rect >= h, h - 1, Mux(rect <= -h, -(h - 1), rect)))
+        m.d.comb += [engine.start.eq(start), engine.left_row_offset.eq(row_offset)]
         return m

@@ -106,12 +106,21 @@ class TextLayer(wiring.Component):
         code = Signal(CHAR_BITS, name=f"char{i}_2")
         row, column = Signal(range(ch), name=f"glyph_row{i}_2"), Signal(range(cw), name=f"cell_column{i}_2")
         m.d.sync += row.eq(scan.yb)
+        # The dynamic box in two steps within the clock: the cell from the column (a table), then the cell's
+        # character (a multiplexer of the characters), rather than one table of the column and every character.
+        cell, in_cell = Signal(range(len(box.text)), name=f"cell{i}_1"), Signal(name=f"in_cell{i}_1")
         with m.Switch(scan.xb):
             for u in range(len(box.text) * cw):
                 with m.Case(u):
-                    cell, col = divmod(u, cw)
-                    m.d.sync += [column.eq(col),
-                                 code.eq(chars[cell] if chars is not None else char_codes(box.text[cell])[0])]
+                    k, col = divmod(u, cw)
+                    m.d.sync += column.eq(col)
+                    if chars is None:
+                        m.d.sync += code.eq(char_codes(box.text[k])[0])
+                    else:
+                        m.d.comb += [cell.eq(k), in_cell.eq(1)]
+        if chars is not None:
+            with m.If(in_cell):
+                m.d.sync += code.eq(chars[cell])
         # n + 2 -> n + 3: the glyph row's bits from the font ROM.
         row_bits = Signal(cw - 1, name=f"glyph_bits{i}_3")
         m.d.sync += row_bits.eq(self._glyph_row(m, code, row, str(i)))

@@ -11,8 +11,8 @@ from hdl.signature import ParametricSignature
 from spec.rectification import RECTIFICATION
 from spec.sensor import SENSOR
 
-#: Registered stages between a row read and its cost (the read data, the terms, the sum).
-SWEEP_STAGES = 2
+#: Registered stages between a row read and its cost (the read data, the row differences, the terms, the sum).
+SWEEP_STAGES = 3
 
 __all__ = ["CaptureWatchSignature", "VerticalOffsetEstimator", "FRAME_DONE_CLOCKS"]
 
@@ -207,25 +207,31 @@ class VerticalOffsetEstimator(wiring.Component):
         return Signal(name=f"{side}_frame_seen"), sync.o
 
     def _sweep(self, m, reads, cost_write, valid_1, first_1, last_1, k_1, best_k, search):
-        """After each row read, in three registered stages (the block RAM's data, the terms, the sum): D_L, D_R
-        against the previous row, |D_L - D_R| summed into C(o)."""
+        """After each row read, in four registered stages (the block RAM's data, the row differences, the terms,
+        the sum): D_L, D_R against the previous row, |D_L - D_R| summed into C(o)."""
         width = len(reads["left"].data) + 1
         data = {side: Signal(len(reads[side].data), name=f"row_{side}", reset_less=True) for side in reads}
         prev = {side: Signal(len(reads[side].data), name=f"prev_{side}") for side in reads}
-        d_left, d_right = Signal(signed(width + 1)), Signal(signed(width + 1))
+        d_left = Signal(signed(width + 1), reset_less=True)
+        d_right = Signal(signed(width + 1), reset_less=True)
         term, texture_term = Signal(width + 1, reset_less=True), Signal(width + 1, reset_less=True)
         difference = Signal(signed(width + 2))
-        valid_a, first_a, last_a, k_a = Signal(), Signal(), Signal(), Signal.like(k_1)
-        m.d.sync += [valid_a.eq(valid_1), first_a.eq(first_1), last_a.eq(last_1), k_a.eq(k_1)]
+        flags = (valid_1, first_1, last_1, k_1)
+        stage_a = (Signal(name="valid_a"), Signal(name="first_a"), Signal(name="last_a"), Signal.like(k_1))
+        stage_b = (Signal(name="valid_b"), Signal(name="first_b"), Signal(name="last_b"), Signal.like(k_1))
+        m.d.sync += [a.eq(f) for a, f in zip(stage_a, flags)]
+        m.d.sync += [b.eq(a) for b, a in zip(stage_b, stage_a)]
+        valid_a, valid_b = stage_a[0], stage_b[0]
         m.d.sync += [data[side].eq(reads[side].data) for side in reads]
-        m.d.comb += [d_left.eq(data["left"] - prev["left"]), d_right.eq(data["right"] - prev["right"]),
-                     difference.eq(d_left - d_right)]
+        m.d.comb += difference.eq(d_left - d_right)
         with m.If(valid_a):
             m.d.sync += [prev["left"].eq(data["left"]), prev["right"].eq(data["right"]),
-                         term.eq(Mux(difference < 0, -difference, difference)),
+                         d_left.eq(data["left"] - prev["left"]), d_right.eq(data["right"] - prev["right"])]
+        with m.If(valid_b):
+            m.d.sync += [term.eq(Mux(difference < 0, -difference, difference)),
                          texture_term.eq(Mux(d_right < 0, -d_right, d_right))]
         valid_1, first_1, last_1, k_1 = Signal(), Signal(), Signal(), Signal.like(k_1)
-        m.d.sync += [valid_1.eq(valid_a), first_1.eq(first_a), last_1.eq(last_a), k_1.eq(k_a)]
+        m.d.sync += [f.eq(b) for f, b in zip((valid_1, first_1, last_1, k_1), stage_b)]
         acc = Signal.like(self.cost_best)
         total = Signal.like(self.cost_best)
         m.d.comb += [total.eq(acc + term), cost_write.addr.eq(k_1), cost_write.data.eq(total),

@@ -262,7 +262,12 @@ class DepthEngine(wiring.Component):
             signatures.append(census.census)
         entry = data.StructLayout({"census": cfg.census_bits, "inside": 1})
         shift_reg = [Signal(entry, name=f"left_census{j}", reset_less=True) for j in range(cfg.disparities)]
-        with m.If(in_run & (clock == SHIFT_CLOCK)):
+        # The shift register's enable (D entries wide: the largest clock-enable net) from a register, decoded a
+        # clock early: RUN at clock SHIFT_CLOCK is always RUN at clock SHIFT_CLOCK - 1 the clock before without a
+        # start (a step starts at clock 0 and is longer than ISSUE_CLOCK > SHIFT_CLOCK clocks).
+        shift_now = Signal(name="census_shift_now")
+        m.d.sync += shift_now.eq(in_run & (clock == SHIFT_CLOCK - 1) & ~self.start)
+        with m.If(shift_now):
             m.d.sync += [shift_reg[0].census.eq(signatures[0]), shift_reg[0].inside.eq(step < w + 2 * rx)]
             for j in range(1, cfg.disparities):
                 m.d.sync += shift_reg[j].eq(shift_reg[j - 1])

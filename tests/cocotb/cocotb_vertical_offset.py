@@ -8,6 +8,7 @@ over in an ``.npz`` file); the mismatches and the clocks from the later ``frame_
 """
 
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -64,7 +65,9 @@ if cocotb is not None:
             timeout = Timer(p["timeout_clocks"] * p["clock_ps"], unit="ps")
             fired = await First(RisingEdge(dut.done), timeout)
             assert fired is not timeout, f"no result within {p['timeout_clocks']} clocks"
-            clocks.append(round((cocotb.utils.get_sim_time("ps") - start) / p["clock_ps"]) + 1)
+            # done rises on a rising edge, half a clock after a falling edge: ceil, since round() rounds a
+            # half to even and so miscounted every other search length by one.
+            clocks.append(math.ceil((cocotb.utils.get_sim_time("ps") - start) / p["clock_ps"]) + 1)
             await FallingEdge(clk)
             got.append([getattr(dut, n).value.to_signed() if n in SIGNED else int(getattr(dut, n).value)
                         for n in OUTPUTS])
