@@ -4,7 +4,7 @@ panel's colours, labels, crosshair and readout (docs/display.md, "Four panels").
 __all__ = [
     "DIFF_THRESHOLDS", "DIFF_LEVEL_GREY", "NO_DATA_RGB", "BACKGROUND_RGB", "grey_to_rgb24",
     "DEPTH_COLOURS", "DEPTH_INVALID_RGB", "DEPTH_NOT_READY_RGB", "CROSSHAIR_RGB", "TEXT_RGB", "DEPTH_LABELS_M",
-    "CROSSHAIR_ARM", "READOUT_TEXT",
+    "CROSSHAIR_ARM", "READOUT_TEXT", "RECTIFICATION_MODES", "RECTIFICATION_TEXT",
 ]
 
 
@@ -44,3 +44,10 @@ DEPTH_LABELS_M = (0.5, 1, 2, 3, 5)
 CROSSHAIR_ARM = 8
 #: The centre distance readout: four digits (centimetres, leading zeros blank; "----" when invalid) and "cm".
 READOUT_TEXT = "0000cm"
+
+#: The rectification in use on screen (docs/display.md, "Rectification text"): "rect", the signed offset in
+#: buffer rows as Python's ``f"{r:+3d}"`` ("+3", "-12", "+0", sign next to the digits), then the mode word.
+RECTIFICATION_TEXT = "rect +00 auto"
+#: The mode words, in this order: by hand (the switches' value), automatic (the estimator's offset; its last search
+#: had a clear minimum), held (automatic, the last search had none: the offset before it is kept).
+RECTIFICATION_MODES = ("hand", "auto", "held")
