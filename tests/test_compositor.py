@@ -83,9 +83,11 @@ class DisplayTestbench(wiring.Component):
             "video": Out(VideoSignature),
             "video_word": Out(27),
             "settings": Out(SettingsSignature),
+            "segment": In(1),
         })
         for name, obj in (("timing", self.compositor.timing), ("video", self.compositor.video),
-                          ("sw", self.switches.sw), ("settings", self.switches.settings)):
+                          ("sw", self.switches.sw), ("settings", self.switches.settings),
+                          ("segment", self.compositor.segment)):
             forward(self, name, obj)
 
     def elaborate(self, platform):
@@ -106,8 +108,8 @@ class DisplayTestbench(wiring.Component):
         return m
 
 
-def expected_frames(left, right, settings, timing, geometry, layout=None, config=SMALL_DEPTH):
-    return np.stack([composite_frame(left, right, d, r, timing, geometry, layout, depth=config)
+def expected_frames(left, right, settings, timing, geometry, layout=None, config=SMALL_DEPTH, segment=False):
+    return np.stack([composite_frame(left, right, d, r, timing, geometry, layout, depth=config, segment=segment)
                      for d, r in settings])
 
 
@@ -197,7 +199,7 @@ def test_compositor_argument_checks():
 
 # --- the RTL against the golden model ----------------------------------------------------------------------
 
-def run_amaranth(timing, geometry, schedule, n_frames, layout=None):
+def run_amaranth(timing, geometry, schedule, n_frames, layout=None, segment=False):
     left, right = grey_buffers(geometry)
     dut = DisplayTestbench(timing, geometry, layout=layout, init_left=left.ravel().tolist(),
                          init_right=right.ravel().tolist())
@@ -212,6 +214,7 @@ def run_amaranth(timing, geometry, schedule, n_frames, layout=None):
     registers = []
 
     async def bench(ctx):
+        ctx.set(dut.segment, segment)
         for port, column in zip(ports, columns):      # the end of a previous frame's blanking
             ctx.set(port, column[-1])
         await ctx.tick().repeat(LATENCY + 2)
@@ -235,7 +238,7 @@ def run_amaranth(timing, geometry, schedule, n_frames, layout=None):
     simulate(dut, clocks={"sync": CLOCKS.PIXEL_HZ}, testbenches=[bench])
     assert registers == settings[:n_frames]
     check_stream(timing, LATENCY, n_frames, out,
-                 expected_frames(left, right, settings[:n_frames], timing, geometry, layout))
+                 expected_frames(left, right, settings[:n_frames], timing, geometry, layout, segment=segment))
 
 
 def test_display_path_amaranth():
@@ -258,6 +261,36 @@ def test_display_path_other_layout_amaranth():
     schedule = [dict(line=30, column=60, disparity=3, rectification=2),
                 dict(line=10, column=20, disparity=1, rectification=0)]
     run_amaranth(timing, SMALL_SENSOR, schedule, 3, layout)
+
+
+#: A small mode with room for the band text above the difference map (a 9-line gap).
+SEGMENT_TIMING = VideoTiming(h_active=112, h_front=4, h_sync=3, h_back=5, v_active=60, v_front=2, v_sync=2,
+                             v_back=3, hsync_positive=True, vsync_positive=True)
+SEGMENT_SCHEDULE = [dict(line=30, column=50, disparity=3, rectification=0),
+                    dict(line=20, column=24, disparity=6, rectification=1),
+                    dict(line=40, column=10, disparity=127, rectification=-2)]
+
+
+def test_segmentation_amaranth():
+    """The segmentation view in the difference map's place and the band text above it, RTL = golden bit for bit,
+    over frames whose disparity register (the band's centre) changes in the middle of the previous frame."""
+    layout = DisplayLayout.centred(SEGMENT_TIMING, SMALL_SENSOR, SMALL_DEPTH, gap=9)
+    assert layout.band is not None
+    run_amaranth(SEGMENT_TIMING, SMALL_SENSOR, SEGMENT_SCHEDULE, len(SEGMENT_SCHEDULE) + 1, layout, segment=True)
+
+
+def test_segmentation_off_is_the_old_frame():
+    """With the segmentation off the band box is all background: the default frame is the frame without it."""
+    left, right = grey_buffers(SMALL_SENSOR)
+    layout = DisplayLayout.centred(SEGMENT_TIMING, SMALL_SENSOR, SMALL_DEPTH, gap=9)
+    old = dataclasses.replace(layout, band=None)
+    on, off, without = (composite_frame(left, right, 3, 0, SEGMENT_TIMING, SMALL_SENSOR, lay, depth=SMALL_DEPTH,
+                                        segment=seg) for lay, seg in ((layout, True), (layout, False), (old, False)))
+    assert (off == without).all() and not (on == off).all()
+    with pytest.raises(ValueError, match="segmentation view needs"):
+        other = DisplayLayout(regions=tuple(dataclasses.replace(r, y0=r.y0 + 1) if r.source == "disparity" else r
+                                            for r in layout.regions), bar=layout.bar, readout=layout.readout)
+        composite_frame(left, right, 3, 0, SEGMENT_TIMING, SMALL_SENSOR, other, depth=SMALL_DEPTH, segment=True)
 
 
 def run_cocotb_display(timing, geometry, schedule, simulator, tmp_path):
