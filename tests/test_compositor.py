@@ -293,18 +293,24 @@ def test_segmentation_off_is_the_old_frame():
         composite_frame(left, right, 3, 0, SEGMENT_TIMING, SMALL_SENSOR, other, depth=SMALL_DEPTH, segment=True)
 
 
-def run_cocotb_display(timing, geometry, schedule, simulator, tmp_path):
+def run_cocotb_display(timing, geometry, schedule, simulator, tmp_path, layout=None, segment=False):
     left, right = grey_buffers(geometry)
     events, settings = switch_events(schedule, timing)
     config = DEPTH if geometry == SENSOR else SMALL_DEPTH
     data = tmp_path / "display.npz"
     np.savez(data, left=left, right=right,
-             expected=expected_frames(left, right, settings, timing, geometry, config=config))
-    verilog = export_verilog(DisplayTestbench(timing, geometry, config=config), "display_testbench")
+             expected=expected_frames(left, right, settings, timing, geometry, layout, config, segment))
+    verilog = export_verilog(DisplayTestbench(timing, geometry, layout=layout, config=config), "display_testbench")
     run_cocotb(verilog, name="display_testbench", test_module="cocotb_compositor",
                simulator=simulator,
                params=dict(timing=dataclasses.asdict(timing), latency=LATENCY, data=str(data),
-                           schedule=schedule, clock_ps=CLOCK_PS))
+                           schedule=schedule, clock_ps=CLOCK_PS, segment=segment))
+
+
+def test_segmentation_cocotb(simulator, tmp_path):
+    """The segmentation view and its band text on the exported Verilog (Verilator and Icarus)."""
+    layout = DisplayLayout.centred(SEGMENT_TIMING, SMALL_SENSOR, SMALL_DEPTH, gap=9)
+    run_cocotb_display(SEGMENT_TIMING, SMALL_SENSOR, SEGMENT_SCHEDULE, simulator, tmp_path, layout, segment=True)
 
 
 def test_display_path_cocotb(simulator, tmp_path):
