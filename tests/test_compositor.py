@@ -156,6 +156,30 @@ def test_golden_layout_1080p():
     assert (frame[749, 1764:1770] == bg).all()
 
 
+def test_segmentation_golden_1080p():
+    """The segmentation view at the board's size, by hand: two flat images (grey 31) match at disparity 0 (code 0
+    everywhere): with the band around d = 1 (codes 0..48) the view is 0xFFFFFF, around d = 10 (codes 128..192) it
+    is dimmed to 0xFF >> 2 = 0x3F; the band text " 2.27- 3.41m" (Z(12) = 2.273 m, Z(8) = 3.410 m) fills
+    [100, 244) x [382, 398), its first cell a space; with the segmentation off that box is background."""
+    flat = np.full((300, 400), 31, dtype=np.uint8)
+    near, codes, _ = composite_frame(flat, flat, 1, 0, details=True, segment=True)
+    far = composite_frame(flat, flat, 10, 0, segment=True)
+    off = composite_frame(flat, flat, 10, 0)
+    bg = [(BACKGROUND_RGB >> s) & 0xFF for s in (16, 8, 0)]
+    assert (codes == 0).all()
+    assert (near[410:1010, 100:900] == 255).all() and (far[410:1010, 100:900] == 0x3F).all()
+    assert (off[410:1010, 100:880] == 0).all()                  # the difference map: |31 - 31| = 0 -> level 0
+    assert (off[370:410, 100:900] == bg).all() and (far[382:398, 100:112] == bg).all()
+    assert (far[381, 100:244] == bg).all() and (far[398, 100:244] == bg).all()
+    lit = (far[382:398, 112:244] == 255).all(axis=-1)
+    assert lit.any() and ((far[382:398, 112:244] == bg).all(axis=-1) | lit).all()
+    assert (near[382:398, 112:244] != far[382:398, 112:244]).any()      # another band, another text
+    outside = far.copy()
+    outside[410:1010, 100:900] = off[410:1010, 100:900]
+    outside[382:398, 100:244] = off[382:398, 100:244]
+    assert (outside == off).all()
+
+
 def test_engine_keeps_up_check():
     """The depth map may not start before the engine's first row can be ready, nor be shown faster than the
     engine computes rows; the default layouts pass."""
