@@ -251,6 +251,10 @@ def summarise(setup, simulator, frame, golden, status, wall):
              f"{t.h_active}x{t.v_active} display, disparity {setup.disparity}, rectification "
              f"{setup.rectification}{', segmentation on' if setup.segment else ''}, on {simulator}: {wall:.1f} s wall time"
              + (f" (the simulation {status['wall_s']:.1f} s)" if status.get("wall_s") else "")]
+    if setup.segment:
+        band = segmentation_record(setup)
+        low, high = band["band_disparity_px"]
+        lines.append(f"  segmentation view: band {band['band_text'].strip()} (disparities {low}..{high} px)")
     for bus in ("cam_a", "cam_b", "dvi"):
         if f"{bus}_init_done" in status:
             lines.append(f"  I2C {bus}: {'configured' if status[f'{bus}_init_done'] else 'FAILED'}")
