@@ -383,8 +383,9 @@ class Compositor(wiring.Component):
         in_depth_2, ready_2, cross_2 = Signal(name="in_depth_2"), Signal(name="ready_2"), Signal(name="cross_2")
         window_2, bar_code_2 = Signal(9, name="window_2"), Signal(cfg.code_bits, name="bar_code_2")
         ring_addr_2 = Signal.like(result.addr, name="ring_addr_2")
-        ring_scan_addr = scanners["segment"].addr if self.segmentation else scan.addr
-        ring_scan_addr = Mux(inside["disparity"], ring_scan_addr, scan.addr)
+        ring_scan_addr = scan.addr          # the segmentation view reads the ring in the difference map's region
+        if self.segmentation:
+            ring_scan_addr = Mux(inside["disparity"], scanners["segment"].addr, scan.addr)
         arm_x = ((xb + 2 <= xc) & (xb + arm >= xc)) | ((xb >= xc + 2) & (xb <= xc + arm))
         arm_y = ((yb + 2 <= yc) & (yb + arm >= yc)) | ((yb >= yc + 2) & (yb <= yc + arm))
         m.d.sync += [
