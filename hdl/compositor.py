@@ -44,7 +44,7 @@ n + 1    region flags registered; running counters give the buffer/ring address 
 n + 2    read addresses and requests registered; crosshair, window and row-ready flags
 n + 3    frame-buffer and result-ring read data (into the segmentation block too)
 n + 4    read data registered (BRAM output register); the colour-map code (depth map or bar); the text
-         layer's font pixel; the segmentation block's band class
+         layer's font pixel; the segmentation block's code and grey registered
 n + 5    disparity level / no-data, the image grey, the code's colour, the segmentation colour registered
 n + 6    ``video`` registered: the colour chosen by region
 =======  ================================================================================================

@@ -63,7 +63,9 @@ class SegmentBand(wiring.Component):
     chars : Out(ArrayLayout(CHAR_BITS, len(SEGMENT_TEXT)))
         The band text's font codes, registered (one clock after ``disparity`` / ``enable``).
 
-    Clock domain: ``sync``. The band's edges are registered from ``disparity`` (one clock).
+    Clock domain: ``sync``. The band's edges are registered from ``disparity`` (one clock); ``code`` and ``grey``
+    are registered before any logic (they may come straight from block-RAM outputs), the colour in the second
+    clock.
 
     Raises
     ------
@@ -91,13 +93,13 @@ class SegmentBand(wiring.Component):
         d = self.disparity
         low, high = Signal(SWITCH_VALUE_BITS + f + 1), Signal(SWITCH_VALUE_BITS + f + 1)
         m.d.sync += [low.eq(Mux(d >= hw, (d - hw) << f, 0)), high.eq((d + hw) << f)]
-        # Stage 1: the code's class and the grey, registered.
-        inside, invalid = Signal(), Signal()
+        # Stage 1: the code and the grey registered, nothing else (they come straight from block RAM outputs).
+        code_1 = Signal.like(self.code, name="code_1")
         grey_1 = Signal.like(self.grey, name="grey_1")
-        code = self.code
-        m.d.sync += [inside.eq((code >= low) & (code <= high) & (code != cfg.invalid)),
-                     invalid.eq(code == cfg.invalid), grey_1.eq(self.grey)]
-        # Stage 2: the colour.
+        m.d.sync += [code_1.eq(self.code), grey_1.eq(self.grey)]
+        # Stage 2: the code's class and the colour, registered.
+        invalid = code_1 == cfg.invalid
+        inside = (code_1 >= low) & (code_1 <= high) & ~invalid
         grey8 = _replicate_to_8_bits(grey_1)
         dim = Signal(8)
         m.d.comb += dim.eq(grey8 >> SEGMENT_DIM_SHIFT)

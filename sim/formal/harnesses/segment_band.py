@@ -2,9 +2,9 @@
 """SegmentBand: every pixel of the segmentation view is the grey, the dimmed grey or the tinted dimmed grey that the
 rule of docs/display.md ("Segmentation") gives for its code, two clocks after the code and the grey.
 
-Every input is free on every clock (the disparity register too: the band's edges follow it one clock later). A
-reference written from the docs (|code - 2**F d| <= 2**F half width, computed signed and wide; the grey bit-replicated
-to 8 bits) gives the colour.
+Every input is free on every clock (the disparity register too: the colour at t uses the register at t - 2, like the
+code). A reference written from the docs (|code - 2**F d| <= 2**F half width, computed signed and wide; the grey
+bit-replicated to 8 bits) gives the colour.
 """
 
 from amaranth import Cat
@@ -41,10 +41,10 @@ class SegmentBandHarness(FormalHarness):
         m.submodules.dut = dut = self.dut()
         rgb, chars = self.connect(m, dut, disparity, enable, code, grey)
 
-        pv = self.past_valid(m, 3)
+        pv = self.past_valid(m, 2)
         code_2, grey_2 = self.past(m, code, 2, name="code_2"), self.past(m, grey, 2, name="grey_2")
-        d_3 = self.past(m, disparity, 3, name="disparity_3")
-        distance = code_2 - (d_3 << cfg.fraction_bits)            # signed, wide enough for both operands
+        d_2 = self.past(m, disparity, 2, name="disparity_2")
+        distance = code_2 - (d_2 << cfg.fraction_bits)            # signed, wide enough for both operands
         half = cfg.fraction * SEGMENT_HALF_WIDTH
         inside = (distance >= -half) & (distance <= half)
         invalid = code_2 == cfg.invalid
