@@ -420,7 +420,7 @@ class Compositor(wiring.Component):
         n + 3) and whether it is shown (``segment``, the ring row ready); None without segmentation."""
         if not self.segmentation:
             return None
-        m.submodules.segment = seg = self._segment
+        m.submodules.segment_band = seg = self._segment
         ready_2 = Signal(name="segment_ready_2")
         m.d.sync += ready_2.eq(scanners["segment"].yb < self.depth.rows_ready)
         m.d.comb += [seg.disparity.eq(self.settings.disparity), seg.enable.eq(self.segment),
