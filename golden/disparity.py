@@ -8,7 +8,9 @@
   ``NO_DATA_RGB``), the depth map of the pair (``golden.depth.depth_map`` of the rectification-shifted left
   image and the right one) with its colour bar, labels and readout (``golden.depth_display``),
   ``BACKGROUND_RGB`` elsewhere, placed by :class:`spec.layout.DisplayLayout` with every buffer pixel repeated
-  ``scale`` x ``scale`` times.
+  ``scale`` x ``scale`` times; with ``segment`` the difference map's place shows the segmentation view
+  (``golden.segmentation``, the band around the disparity register) and the band's text box its band (spaces,
+  so all background, without ``segment``).
 
 Only constants and the layout definition come from ``spec`` (the spec's single source of truth); nothing
 here is derived from the RTL.
@@ -17,7 +19,8 @@ here is derived from the RTL.
 import numpy as np
 
 from golden.depth import depth_map
-from golden.depth_display import draw_depth_display, engine_left
+from golden.depth_display import draw_depth_display, draw_text, engine_left
+from golden.segmentation import band_text, blank_band_text, segment_picture
 from spec.depth import DEPTH
 from spec.display import BACKGROUND_RGB, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, NO_DATA_RGB, grey_to_rgb24
 from spec.layout import DisplayLayout
@@ -71,6 +74,14 @@ def difference_levels(left, right, disparity, rectification, thresholds=DIFF_THR
     return levels.astype(np.uint8), no_data
 
 
+def _check_segment_layout(layout):
+    """The segmentation view reads the depth map's rows as the depth panel shows them: same rows and scale."""
+    diff, dep = layout.region("disparity"), layout.region("depth")
+    if (diff.y0, diff.scale) != (dep.y0, dep.scale) or diff.x1 > dep.x0:
+        raise ValueError("the segmentation view needs the difference map on the depth map's rows, at its scale, "
+                         "left of it")
+
+
 def rgb24_to_bytes(rgb):
     """(..., ) int array of 0xRRGGBB -> (..., 3) uint8."""
     rgb = np.asarray(rgb, dtype=np.int64)
@@ -78,9 +89,12 @@ def rgb24_to_bytes(rgb):
 
 
 def composite_frame(left, right, disparity, rectification, timing=CEA_1080P60, geometry=SENSOR, layout=None,
-                    thresholds=DIFF_THRESHOLDS, level_grey=DIFF_LEVEL_GREY, depth=DEPTH, *, details=False):
+                    thresholds=DIFF_THRESHOLDS, level_grey=DIFF_LEVEL_GREY, depth=DEPTH, *, details=False,
+                    segment=False):
     """The displayed frame, uint8 (v_active, h_active, 3), for the two grey buffers and the switch settings.
-    ``details=True`` returns ``(frame, codes, readout text)``: also the depth map shown and its readout."""
+    ``details=True`` returns ``(frame, codes, readout text)``: also the depth map shown and its readout.
+    ``segment``: the segmentation view in the difference map's place (``ValueError`` if the layout's difference
+    map is not on the depth map's rows at its scale, left of it)."""
     left, right = _check_images(left, right, geometry)
     if layout is None:
         layout = DisplayLayout.centred(timing, geometry, depth)
@@ -90,18 +104,23 @@ def composite_frame(left, right, disparity, rectification, timing=CEA_1080P60, g
     frame[:] = BACKGROUND_RGB
     levels, no_data = difference_levels(left, right, disparity, rectification, thresholds)
     grey_rgb = np.array([(v << 16) | (v << 8) | v for v in level_grey], dtype=np.int64)
+    codes = depth_map(engine_left(left, _check_shift("rectification", rectification, signed=True)), right, depth)
     pictures = {
         "left": grey_to_rgb24(left, geometry.grey_bits),
         "right": grey_to_rgb24(right, geometry.grey_bits),
         "disparity": np.where(no_data, NO_DATA_RGB, grey_rgb[levels]),
     }
+    if segment:
+        _check_segment_layout(layout)
+        pictures["disparity"] = segment_picture(right, codes, disparity, geometry.grey_bits, depth)
     for region in layout.regions:
         if region.source in pictures:
             s = region.scale
             frame[region.y0:region.y1, region.x0:region.x1] = np.repeat(
                 np.repeat(pictures[region.source], s, axis=0), s, axis=1)
-    codes = depth_map(engine_left(left, _check_shift("rectification", rectification, signed=True)), right, depth)
     text = draw_depth_display(frame, codes, layout, geometry, depth)
+    if layout.band is not None:
+        draw_text(frame, layout.band, band_text(disparity, geometry) if segment else blank_band_text())
     if details:
         return rgb24_to_bytes(frame), codes, text
     return rgb24_to_bytes(frame)

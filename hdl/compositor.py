@@ -17,6 +17,10 @@ pixel repeated ``scale`` x ``scale`` times (docs/display.md, "Four panels").
   (``CROSSHAIR_RGB``) on the centre row and column, 2 .. ``crosshair_arm`` buffer pixels from the centre; a row
   the engine has not finished (``rows_ready``) shows ``DEPTH_NOT_READY_RGB``. A finished depth row is released
   to the engine after its last display line.
+* ``segment`` (when the layout allows it, :attr:`Compositor.segmentation`): the difference map's place shows the
+  segmentation view instead (:class:`hdl.segment_band.SegmentBand`: the right image, dimmed outside the depth band
+  around the disparity register, the engine's codes read from the result ring on the depth map's rows) and the
+  layout's ``band`` text box the band in metres (spaces, so background, while ``segment`` is low).
 * the colour bar (every code's colour, near on top), the tick marks (``TEXT_RGB``), the distance labels and the
   centre-distance readout (:class:`hdl.text_layer.TextLayer`: glyph pixels ``TEXT_RGB``, the rest of a text box
   ``BACKGROUND_RGB``); the readout shows :class:`hdl.centre_distance.CentreDistance` of this frame's map.
@@ -38,10 +42,10 @@ clock    what happens
 n        ``timing`` in; compare ``x``/``y`` with the region bounds
 n + 1    region flags registered; running counters give the buffer/ring address and coordinates
 n + 2    read addresses and requests registered; crosshair, window and row-ready flags
-n + 3    frame-buffer and result-ring read data
+n + 3    frame-buffer and result-ring read data (into the segmentation block too)
 n + 4    read data registered (BRAM output register); the colour-map code (depth map or bar); the text
-         layer's font pixel
-n + 5    disparity level / no-data, the image grey, the code's colour registered
+         layer's font pixel; the segmentation block's code and grey registered
+n + 5    disparity level / no-data, the image grey, the code's colour, the segmentation colour registered
 n + 6    ``video`` registered: the colour chosen by region
 =======  ================================================================================================
 
@@ -77,11 +81,12 @@ from spec.layout import DisplayLayout
 from spec.sensor import SENSOR
 from spec.video import CEA_1080P60
 from hdl.region_scanner import RegionScanner
+from hdl.segment_band import LATENCY as SEGMENT_LATENCY, SegmentBand
 from hdl.switches import SettingsSignature
 from hdl.text_layer import LATENCY as TEXT_LATENCY, TextLayer
 from hdl.video_bus import TimingSignature, VideoSignature
 
-__all__ = ["Compositor", "LATENCY", "check_layout"]
+__all__ = ["Compositor", "LATENCY", "check_layout", "segmentation_fits"]
 
 #: Clocks from ``timing`` in to ``video`` out.
 LATENCY = 6
@@ -120,6 +125,8 @@ def check_layout(layout, timing, geometry, config=DEPTH):
     named = [(f"region {r.source}", r.box) for r in regions.values()] + [("colour bar", layout.bar.box)]
     named += [(f"tick {i}", t) for i, t in enumerate(layout.ticks)]
     named += [(f"label {t.text!r}", t.box) for t in layout.labels]
+    if layout.band is not None:
+        named.append(("band text", layout.band.box))
     readout, depth = layout.readout.box, regions["depth"]
     for name, b in named + [("readout", readout)]:
         if b.x0 < 0 or b.y0 < 0 or b.x1 > timing.h_active or b.y1 > timing.v_active:
@@ -149,6 +156,13 @@ def check_layout(layout, timing, geometry, config=DEPTH):
     return regions
 
 
+def segmentation_fits(layout):
+    """The segmentation view can take the difference map's place: the difference map is on the depth map's rows
+    at its scale and left of it (so it reads each result-ring row before the depth map releases it)."""
+    diff, depth = layout.region("disparity"), layout.region("depth")
+    return (diff.y0, diff.scale) == (depth.y0, depth.scale) and diff.x1 <= depth.x0
+
+
 class Compositor(wiring.Component):
     """Lays out the camera images, the difference map and the depth map on the video frame; latency 6 clocks.
 
@@ -174,6 +188,10 @@ class Compositor(wiring.Component):
     timing : ``In(TimingSignature)``
         The raster (the video mode is ``video_timing``).
     settings : ``In(SettingsSignature)``
+    segment : ``In(1)``
+        Show the segmentation view (static through a frame; no effect unless :attr:`segmentation`).
+    segmentation : bool
+        The layout allows the segmentation view (:func:`segmentation_fits`).
     left, right : ``Out(SharedReadSignature(geometry))``
         ``grant`` is not used (the arbiter gives the compositor priority).
     depth : ``Out(ResultReadSignature(...))``
@@ -207,6 +225,7 @@ class Compositor(wiring.Component):
         super().__init__({
             "timing": In(TimingSignature),
             "settings": In(SettingsSignature),
+            "segment": In(1),
             "left": Out(SharedReadSignature(g)),
             "right": Out(SharedReadSignature(g)),
             "depth": Out(ResultReadSignature(ring_addr_bits, config.code_bits, g.buf_height)),
@@ -215,7 +234,12 @@ class Compositor(wiring.Component):
         self._subtractor = DisparitySubtractor(g, self.thresholds)
         forward(self, "settings", self._subtractor)     # the switch registers go to the subtractor only
         self._distance = CentreDistance(g, config)
-        self._text = TextLayer(layout.labels, layout.readout, v_active=timing.v_active,
+        self.segmentation = segmentation_fits(layout)
+        self._segment = SegmentBand(g, config) if self.segmentation else None
+        dynamic = {"readout": layout.readout}
+        if self.segmentation and layout.band is not None:
+            dynamic["band"] = layout.band
+        self._text = TextLayer(layout.labels, dynamic, v_active=timing.v_active,
                                x_bits=len(self.timing.x), y_bits=len(self.timing.y))
 
     def elaborate(self, platform):
@@ -231,9 +255,11 @@ class Compositor(wiring.Component):
             sub.addr.eq(scanners["disparity"].addr),
         ]
         m.submodules.text = text = self._text
-        m.d.comb += [text.x.eq(self.timing.x), text.y.eq(self.timing.y), text.chars.eq(self._distance.chars)]
+        m.d.comb += [text.x.eq(self.timing.x), text.y.eq(self.timing.y),
+                     text.chars.readout.eq(self._distance.chars)]
         grey_5, show_image_5 = self._image_reads(m, inside, scanners)
         depth_5 = self._depth_reads(m, inside, scanners, vblank_1)
+        depth_5["segment"] = self._segment_view(m, scanners)
         self._colour(m, grey_5, show_image_5, depth_5, de_d[5])
         m.d.comb += [
             self.video.de.eq(de_d[LATENCY]),
@@ -303,10 +329,15 @@ class Compositor(wiring.Component):
             wrap = self.out_rows * g.buf_width if source == "depth" else None
             scanners[source] = RegionScanner(g.buf_width, g.buf_height, r.scale, wrap=wrap)
         scanners["bar"] = RegionScanner(1, bar.codes, bar.width, bar.step)
+        flags = {source: source for source in scanners}
+        if self.segmentation:       # the segmentation view's ring addresses over the difference map's region
+            r = self.regions["disparity"]
+            scanners["segment"] = RegionScanner(g.buf_width, g.buf_height, r.scale, wrap=self.out_rows * g.buf_width)
+            flags["segment"] = "disparity"
         for source, sc in scanners.items():
             m.submodules[f"scan_{source}"] = sc
-            m.d.comb += [sc.active.eq(inside[source]), sc.eol.eq(eol[source] & inside[source]),
-                         sc.clear.eq(vblank_1)]
+            flag = flags[source]
+            m.d.comb += [sc.active.eq(inside[flag]), sc.eol.eq(eol[flag] & inside[flag]), sc.clear.eq(vblank_1)]
         return scanners
 
     def _image_reads(self, m, inside, scanners):
@@ -360,10 +391,13 @@ class Compositor(wiring.Component):
         in_depth_2, ready_2, cross_2 = Signal(name="in_depth_2"), Signal(name="ready_2"), Signal(name="cross_2")
         window_2, bar_code_2 = Signal(9, name="window_2"), Signal(cfg.code_bits, name="bar_code_2")
         ring_addr_2 = Signal.like(result.addr, name="ring_addr_2")
+        ring_scan_addr = scan.addr          # the segmentation view reads the ring in the difference map's region
+        if self.segmentation:
+            ring_scan_addr = Mux(inside["disparity"], scanners["segment"].addr, scan.addr)
         arm_x = ((xb + 2 <= xc) & (xb + arm >= xc)) | ((xb >= xc + 2) & (xb <= xc + arm))
         arm_y = ((yb + 2 <= yc) & (yb + arm >= yc)) | ((yb >= yc + 2) & (yb <= yc + arm))
         m.d.sync += [
-            in_depth_2.eq(inside["depth"]), ready_2.eq(yb < result.rows_ready), ring_addr_2.eq(scan.addr),
+            in_depth_2.eq(inside["depth"]), ready_2.eq(yb < result.rows_ready), ring_addr_2.eq(ring_scan_addr),
             cross_2.eq(((yb == yc) & arm_x) | ((xb == xc) & arm_y)),
             window_2.eq(Cat(((xb == xc + dx) & (yb == yc + dy)) for dy in (-1, 0, 1) for dx in (-1, 0, 1))),
             bar_code_2.eq(cfg.disparities - 1 - scanners["bar"].yb),
@@ -389,6 +423,21 @@ class Compositor(wiring.Component):
                     in_text=delayed(m, self._text.in_text, 5 - TEXT_LATENCY, "in_text"),
                     lit=delayed(m, self._text.lit, 5 - TEXT_LATENCY, "lit"))
 
+    def _segment_view(self, m, scanners):
+        """Clocks n + 2 .. n + 5: the segmentation view's colour (from the ring's code and the right port's grey at
+        n + 3) and whether it is shown (``segment``, the ring row ready); None without segmentation."""
+        if not self.segmentation:
+            return None
+        m.submodules.segment_band = seg = self._segment
+        ready_2 = Signal(name="segment_ready_2")
+        m.d.sync += ready_2.eq(scanners["segment"].yb < self.depth.rows_ready)
+        m.d.comb += [seg.disparity.eq(self.settings.disparity), seg.enable.eq(self.segment),
+                     seg.code.eq(self.depth.data), seg.grey.eq(self.right.port.data)]
+        if "band" in self._text.dynamic:
+            m.d.comb += self._text.chars.band.eq(seg.chars)
+        assert SEGMENT_LATENCY == 2, "the stage numbering assumes the segmentation block's 2-clock latency"
+        return dict(rgb=seg.rgb, ready=delayed(m, ready_2, 3, "segment_ready"), on=self.segment)
+
     def _colour(self, m, grey_5, show_image_5, depth_5, de_5):
         """Clock n + 5 -> n + 6: the colour chosen by region."""
         sub = self._subtractor
@@ -407,7 +456,11 @@ class Compositor(wiring.Component):
         with m.Elif(depth_5["in_text"]):
             m.d.sync += rgb.eq(Mux(depth_5["lit"], TEXT_RGB, BACKGROUND_RGB))
         with m.Elif(sub.out_valid):
-            m.d.sync += rgb.eq(Mux(sub.no_data, NO_DATA_RGB, level_rgb))
+            diff_rgb = Mux(sub.no_data, NO_DATA_RGB, level_rgb)
+            seg = depth_5["segment"]
+            if seg is not None:
+                diff_rgb = Mux(seg["on"], Mux(seg["ready"], seg["rgb"], DEPTH_NOT_READY_RGB), diff_rgb)
+            m.d.sync += rgb.eq(diff_rgb)
         with m.Elif(show_image_5):
             m.d.sync += rgb.eq(Cat(grey8, grey8, grey8))
         with m.Elif(depth_5["depth"]):

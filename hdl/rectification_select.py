@@ -8,16 +8,22 @@ from amaranth.lib.wiring import In, Out
 from hdl.switches import RECTIFICATION_RANGE, SettingsSignature
 from spec.rectification import RECTIFICATION
 
-__all__ = ["RectificationSelect", "AUTO_CODE"]
+__all__ = ["RectificationSelect", "AUTO_CODE", "SEGMENT_CODE", "MANUAL_RANGE"]
 
 #: The switch value that selects the automatic mode: SW7 = 0, SW6..SW0 = 1000000 (-64 in two's complement, the
 #: one rectification the switches give up: a misalignment of 64 buffer rows leaves no common image).
 AUTO_CODE = RECTIFICATION_RANGE.start
+#: The switch value that selects the automatic mode with the segmentation view (docs/display.md, "Segmentation"):
+#: SW7 = 0, SW6..SW0 = 1000001 (-63: the next rectification given up, a misalignment of 63 buffer rows).
+SEGMENT_CODE = AUTO_CODE + 1
+#: The rectifications the switches set by hand: -62..63.
+MANUAL_RANGE = range(SEGMENT_CODE + 1, RECTIFICATION_RANGE.stop)
 
 
 class RectificationSelect(wiring.Component):
     """``settings`` = the switches' ``manual`` settings, except that in automatic mode (the manual rectification
-    is :data:`AUTO_CODE`) the rectification is the estimator's offset, sampled at ``frame_start``.
+    is :data:`AUTO_CODE` or :data:`SEGMENT_CODE`) the rectification is the estimator's offset, sampled at
+    ``frame_start``; :data:`SEGMENT_CODE` also turns the segmentation view on (``segment``).
 
     Parameters
     ----------
@@ -36,6 +42,8 @@ class RectificationSelect(wiring.Component):
         manual registers load at that edge and the sampled estimate too.
     auto : Out(1)
         The automatic mode is selected.
+    segment : Out(1)
+        The segmentation view is selected (changes with the switch registers).
 
     Clock domain: ``sync`` (the system places it in ``pix``). Latency: the estimate is in use from the frame
     after the frame start that sampled it; a mode change takes effect with the switch registers.
@@ -50,6 +58,7 @@ class RectificationSelect(wiring.Component):
             "frame_start": In(1),
             "settings": Out(SettingsSignature),
             "auto": Out(1),
+            "segment": Out(1),
         })
 
     def elaborate(self, platform):
@@ -58,7 +67,8 @@ class RectificationSelect(wiring.Component):
         with m.If(self.frame_start):
             m.d.sync += sampled.eq(self.estimate)
         m.d.comb += [
-            self.auto.eq(self.manual.rectification == AUTO_CODE),
+            self.segment.eq(self.manual.rectification == SEGMENT_CODE),
+            self.auto.eq((self.manual.rectification == AUTO_CODE) | self.segment),
             self.settings.disparity.eq(self.manual.disparity),
             self.settings.rectification.eq(Mux(self.auto, sampled, self.manual.rectification)),
         ]

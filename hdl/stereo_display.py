@@ -27,14 +27,15 @@ LATENCY = COMPOSITOR_LATENCY
 ENGINE_START_DELAY = SETTLE_CLOCKS + 1
 
 
-def check_engine_keeps_up(timing, layout, geometry, config):
+def check_engine_keeps_up(timing, layout, geometry, config, segmentation=False):
     """``ValueError`` unless the engine is sure to finish every depth row before the display shows it, even when
     the compositor reads a buffer in every active pixel (so the engine's reads get only the blanking clocks,
     ``h_total - h_active`` a line):
 
     * the first row: fetching 5 rows of both images (rows 0..4 start pass 1, which finishes row 0) takes at most
       ceil(5 W / blanking) lines; three passes (pass 0, pass 1 and the registered starts) at most
-      3 (``pass_clocks`` + 3) clocks; the depth map must start after both and ``ENGINE_START_DELAY``;
+      3 (``pass_clocks`` + 3) clocks; the depth map (and with ``segmentation`` the difference map's region, which
+      then shows the segmentation view from the same rows) must start after both and ``ENGINE_START_DELAY``;
     * every further row: a pass (``pass_clocks`` + 3) and the W reads of a row fit in the ``scale`` lines a
       buffer row is shown on.
     """
@@ -45,8 +46,12 @@ def check_engine_keeps_up(timing, layout, geometry, config):
         raise ValueError(f"the depth engine ({pass_clocks} clocks and {w} reads a row) cannot keep up with a "
                          f"depth map shown at {depth.scale}x on {timing.h_total}-clock lines")
     first = -(-5 * w // blank) * timing.h_total + 3 * pass_clocks + ENGINE_START_DELAY
-    if depth.y0 * timing.h_total + depth.x0 < first:
-        raise ValueError(f"the depth map must start at least {first} clocks into the frame (line "
+    start = depth.y0 * timing.h_total + depth.x0
+    if segmentation:
+        view = layout.region("disparity")
+        start = min(start, view.y0 * timing.h_total + view.x0)
+    if start < first:
+        raise ValueError(f"the depth map (and the segmentation view) must start at least {first} clocks into the frame (line "
                          f"{-(-first // timing.h_total)}) for the engine's first row to be ready")
 
 
@@ -70,6 +75,8 @@ class StereoDisplay(wiring.Component):
     ----------
     timing : ``In(TimingSignature)``
     settings : ``In(SettingsSignature)``
+    segment : ``In(1)``
+        The segmentation view in the difference map's place (the compositor's).
     left, right : ``Out(FrameBufferReadSignature(geometry))``
         To the frame buffers' read ports.
     video : ``Out(VideoSignature)``
@@ -89,17 +96,19 @@ class StereoDisplay(wiring.Component):
         self.compositor = Compositor(timing, geometry, layout, config=config, out_rows=out_rows,
                                      thresholds=thresholds, level_grey=level_grey)
         self.engine = DepthEngine(geometry, config, out_rows=out_rows)
-        check_engine_keeps_up(timing, self.compositor.layout, geometry, config)
+        check_engine_keeps_up(timing, self.compositor.layout, geometry, config, self.compositor.segmentation)
         self.arbiters = {side: ReadArbiter(geometry) for side in ("left", "right")}
         super().__init__({
             "timing": In(TimingSignature),
             "settings": In(SettingsSignature),
+            "segment": In(1),
             "left": Out(FrameBufferReadSignature(geometry)),
             "right": Out(FrameBufferReadSignature(geometry)),
             "video": Out(VideoSignature),
         })
         forward(self, "timing", self.compositor)
         forward(self, "settings", self.compositor)
+        forward(self, "segment", self.compositor)
         forward(self, "video", self.compositor)
         for side, arbiter in self.arbiters.items():
             forward(self, side, arbiter, "buffer")

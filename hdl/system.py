@@ -12,7 +12,8 @@ Blocks (each in its own file, see docs/architecture.md):
   rectification also moves the left rows the depth engine reads); the
   :class:`~hdl.vertical_offset.VerticalOffsetEstimator` watches both captures' writes and finds the vertical
   offset between the cameras; :class:`~hdl.rectification_select.RectificationSelect` uses it in place of the
-  manual rectification when the switches hold ``AUTO_CODE`` (SW7 = 0, SW6..SW0 = 1000000, docs/rectification.md);
+  manual rectification when the switches hold ``AUTO_CODE`` (SW7 = 0, SW6..SW0 = 1000000, docs/rectification.md)
+  or ``SEGMENT_CODE`` (1000001: also the segmentation view in the difference map's place, docs/display.md);
 * the CH7301C's own :class:`~hdl.i2c_init.InitSequencer` on the board's I2C bus;
 * status LEDs and the sensor/transmitter reset and power pins.
 
@@ -270,6 +271,7 @@ class StereoDepthSystem(wiring.Component):
         wiring.connect(m, self.sync_gen, self.display.timing)
         self._rectification(m, capture, pix)
         wiring.connect(m, self.select.settings, self.display.settings)
+        m.d.comb += self.display.segment.eq(self.select.segment)
         wiring.connect(m, self.display.left, capture.cam_a.read)       # camera A = left
         wiring.connect(m, self.display.right, capture.cam_b.read)      # camera B = right
         m.d.comb += switches.frame_start.eq(self.sync_gen.frame_start)

@@ -28,7 +28,7 @@ def char_codes(text):
 
 
 class TextLayer(wiring.Component):
-    """Draws ``boxes`` (constant :class:`spec.layout.TextBox` es) and one ``dynamic`` box whose characters come
+    """Draws ``boxes`` (constant :class:`spec.layout.TextBox` es) and named ``dynamic`` boxes whose characters come
     from ``chars``. A box covers ``len(text)`` cells of ``FONT_CELL`` font pixels, each ``scale`` x ``scale``
     display pixels; a font pixel is lit where its glyph (:data:`spec.font.FONT`) has ``#`` (the cell's last
     column and row never are). The boxes must not overlap.
@@ -36,8 +36,8 @@ class TextLayer(wiring.Component):
     Parameters
     ----------
     boxes : tuple of TextBox
-    dynamic : TextBox or None
-        Its ``text`` gives only the length; ``chars`` gives the characters.
+    dynamic : dict of str to TextBox
+        Boxes by name; a box's ``text`` gives only the length, ``chars.<name>`` the characters.
     v_active : int
         Active lines (the counters clear below them).
 
@@ -45,8 +45,8 @@ class TextLayer(wiring.Component):
     ----------
     x, y : In
         The raster position.
-    chars : In(ArrayLayout(CHAR_BITS, len(dynamic.text)))
-        Character codes (:data:`FONT_ORDER` indices) of the dynamic box; sampled when its cells are drawn.
+    chars : In(StructLayout({name: ArrayLayout(CHAR_BITS, len(box.text))}))
+        Character codes (:data:`FONT_ORDER` indices) of each dynamic box; sampled when its cells are drawn.
     in_text, lit : Out(1)
         :data:`LATENCY` clocks after ``x``, ``y``: the position is inside a box, and it is a lit font pixel.
 
@@ -62,13 +62,13 @@ class TextLayer(wiring.Component):
         self.boxes = tuple(boxes)
         for box in self.boxes:
             char_codes(box.text)
-        self.dynamic = dynamic
+        self.dynamic = dict(dynamic or {})
         self.v_active = v_active
-        n = len(dynamic.text) if dynamic is not None else 1
+        layout = {name: data.ArrayLayout(CHAR_BITS, len(box.text)) for name, box in self.dynamic.items()}
         super().__init__({
             "x": In(x_bits),
             "y": In(y_bits),
-            "chars": In(data.ArrayLayout(CHAR_BITS, n)),
+            "chars": In(data.StructLayout(layout or {"none": 1})),
             "in_text": Out(1),
             "lit": Out(1),
         })
@@ -79,8 +79,7 @@ class TextLayer(wiring.Component):
         m.d.sync += clear.eq(self.y >= self.v_active)
         in_any_3, lit_any_4, in_any_4 = [], [], Signal()
         entries = [(box, None) for box in self.boxes]
-        if self.dynamic is not None:
-            entries.append((self.dynamic, self.chars))
+        entries += [(box, getattr(self.chars, name)) for name, box in self.dynamic.items()]
         for i, (box, chars) in enumerate(entries):
             inside_3, lit_4 = self._box(m, i, box, chars, clear)
             in_any_3.append(inside_3)

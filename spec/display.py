@@ -4,7 +4,8 @@ panel's colours, labels, crosshair and readout (docs/display.md, "Four panels").
 __all__ = [
     "DIFF_THRESHOLDS", "DIFF_LEVEL_GREY", "NO_DATA_RGB", "BACKGROUND_RGB", "grey_to_rgb24",
     "DEPTH_COLOURS", "DEPTH_INVALID_RGB", "DEPTH_NOT_READY_RGB", "CROSSHAIR_RGB", "TEXT_RGB", "DEPTH_LABELS_M",
-    "CROSSHAIR_ARM", "READOUT_TEXT", "RECTIFICATION_MODES", "RECTIFICATION_TEXT",
+    "CROSSHAIR_ARM", "READOUT_TEXT", "SEGMENT_HALF_WIDTH", "SEGMENT_DIM_SHIFT", "SEGMENT_INVALID_RGB",
+    "SEGMENT_TEXT", "RECTIFICATION_MODES", "RECTIFICATION_TEXT",
 ]
 
 
@@ -44,6 +45,16 @@ DEPTH_LABELS_M = (0.5, 1, 2, 3, 5)
 CROSSHAIR_ARM = 8
 #: The centre distance readout: four digits (centimetres, leading zeros blank; "----" when invalid) and "cm".
 READOUT_TEXT = "0000cm"
+
+#: Depth-keyed segmentation (docs/display.md, "Segmentation"): a depth pixel is inside the band when its sub-pixel
+#: disparity is within SEGMENT_HALF_WIDTH pixels of the disparity register (|code / 2**F - d| <= half width).
+SEGMENT_HALF_WIDTH = 2
+#: Outside the band each channel of the 8-bit grey is shifted right by this many bits (a quarter of its value).
+SEGMENT_DIM_SHIFT = 2
+#: Bits OR-ed into a dimmed invalid depth pixel (bit 7 of blue: a dark blue tint).
+SEGMENT_INVALID_RGB = 0x000080
+#: The band's text: its near and far distance in metres (two decimals; "--.--" for no finite distance), then "m".
+SEGMENT_TEXT = "00.00-00.00m"
 
 #: The rectification in use on screen (docs/display.md, "Rectification text"): "rect", the signed offset in
 #: buffer rows as Python's ``f"{r:+3d}"`` ("+3", "-12", "+0", sign next to the digits), then the mode word.

@@ -57,10 +57,14 @@ def add_arguments(parser):
                         help="--scene card: last distance in metres (0.5 m; 4 m with --small)")
     parser.add_argument("--disparity", default="0", metavar="D",
                         help="disparity switch value 0..127 (SW7 = 1, SW6..SW0 = D); default 0")
-    parser.add_argument("--rectification", default="0", metavar="R",
-                        help="rectification switch value -63..63 buffer rows (SW7 = 0, SW6..SW0 = R in two's "
+    parser.add_argument("--rectification", default=None, metavar="R",
+                        help="rectification switch value -62..63 buffer rows (SW7 = 0, SW6..SW0 = R in two's "
                              "complement; negative reads the left image higher), or 'auto' (SW6..SW0 = 1000000: "
-                             "the offset the FPGA finds, docs/rectification.md); default 0")
+                             "the offset the FPGA finds, docs/rectification.md); default 0 (auto with --segment)")
+    parser.add_argument("--segment", action="store_true",
+                        help="the segmentation view in the difference map's place: the right image dimmed outside "
+                             "the depth band --disparity +-2 pixels, the band shown in metres (SW6..SW0 = 1000001: "
+                             "automatic rectification; docs/display.md)")
     parser.add_argument("--simulator", choices=SIMULATORS, default="verilator",
                         help="verilator (default), icarus, or amaranth (hours at full size; quick with --small)")
     parser.add_argument("--out", type=Path, default=Path("build/run"), help="output directory (build/run)")
@@ -109,9 +113,44 @@ def require_simulator(simulator):
         raise UserError(f"{simulator} is not installed ({hint})")
 
 
-def make_setup(small, disparity, rectification):
+def make_setup(small, disparity, rectification, segment=False):
     from sim.testbench.system.setup import SystemSetup
-    return (SystemSetup.small if small else SystemSetup.full)(disparity=disparity, rectification=rectification)
+    return (SystemSetup.small if small else SystemSetup.full)(disparity=disparity, rectification=rectification,
+                                                              segment=segment)
+
+
+def switch_settings(args):
+    """``(disparity, rectification, segment)`` from the arguments; one-line :class:`UserError` for a bad value:
+    ``--segment`` with a manual rectification, or a band that holds no disparity the engine gives."""
+    from hdl.rectification_select import MANUAL_RANGE
+    from spec.depth import DEPTH
+    from spec.display import SEGMENT_HALF_WIDTH
+    disparity = switch_value("disparity", args.disparity)
+    text = args.rectification if args.rectification is not None else ("auto" if args.segment else "0")
+    if text == "auto":
+        rectification = "auto"
+    else:
+        rectification = switch_value("rectification", text, MANUAL_RANGE.start, MANUAL_RANGE.stop - 1)
+    if args.segment:
+        if rectification != "auto":
+            raise UserError("--segment selects the automatic rectification (switches 1000001): drop "
+                            f"--rectification {text}")
+        top = DEPTH.disparities - 1 + SEGMENT_HALF_WIDTH
+        if disparity > top:
+            raise UserError(f"--segment: the band {disparity} +-{SEGMENT_HALF_WIDTH} pixels holds no disparity the "
+                            f"engine gives (0..{DEPTH.disparities - 1}): use --disparity 0..{top}")
+    return disparity, rectification, args.segment
+
+
+def segmentation_record(setup):
+    """``result.json``'s ``segmentation``: on or off, and the band (disparities and the text shown)."""
+    if not setup.segment:
+        return {"on": False}
+    from golden.segmentation import band_text
+    from spec.display import SEGMENT_HALF_WIDTH
+    d, hw = setup.disparity, SEGMENT_HALF_WIDTH
+    return {"on": True, "band_disparity_px": [max(d - hw, 0), d + hw], "band_text": band_text(d, setup.geometry),
+            "text_shown": setup.display_layout.band is not None}
 
 
 def run_cocotb_route(left_path, right_path, setup, simulator, work):
@@ -210,8 +249,12 @@ def summarise(setup, simulator, frame, golden, status, wall):
     ok = frame is not None and status.get("mismatched_pixels") == 0 and not status.get("violations")
     lines = [f"whole system, {g.width}x{g.height} sensors -> {g.buf_width}x{g.buf_height} buffers -> "
              f"{t.h_active}x{t.v_active} display, disparity {setup.disparity}, rectification "
-             f"{setup.rectification}, on {simulator}: {wall:.1f} s wall time"
+             f"{setup.rectification}{', segmentation on' if setup.segment else ''}, on {simulator}: {wall:.1f} s wall time"
              + (f" (the simulation {status['wall_s']:.1f} s)" if status.get("wall_s") else "")]
+    if setup.segment:
+        band = segmentation_record(setup)
+        low, high = band["band_disparity_px"]
+        lines.append(f"  segmentation view: band {band['band_text'].strip()} (disparities {low}..{high} px)")
     for bus in ("cam_a", "cam_b", "dvi"):
         if f"{bus}_init_done" in status:
             lines.append(f"  I2C {bus}: {'configured' if status[f'{bus}_init_done'] else 'FAILED'}")
@@ -240,10 +283,8 @@ def print_files(files):
 def run(args):
     from stereodepth.provenance import utc_now
     started = utc_now()
-    disparity = switch_value("disparity", args.disparity)
-    rectification = "auto" if args.rectification == "auto" else switch_value("rectification", args.rectification,
-                                                                              -63, 63)
-    setup = make_setup(args.small, disparity, rectification)
+    disparity, rectification, segment = switch_settings(args)
+    setup = make_setup(args.small, disparity, rectification, segment)
     if args.frames is not None or args.scene is not None:
         if args.vcd or args.ground_truth is not None:
             raise UserError("--vcd and --ground-truth are for one frame; with --frames, --scene card has a truth")
@@ -279,6 +320,7 @@ def run(args):
     depth, depth_files = depth_outputs(frame, setup, truth, outputs.write)
     files = write_outputs(outputs, frame, golden, status, {"total_wall_s": wall, "simulator": args.simulator,
                                                            "depth": depth,
+                                                           "segmentation": segmentation_record(setup),
                                                            "provenance": run_provenance(args, setup, started)})
     files.update(depth_files)
     if args.vcd:

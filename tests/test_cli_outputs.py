@@ -80,6 +80,7 @@ def test_complete_run_replaces_every_output_and_records_its_provenance(tmp_path)
     assert (params["disparity"], params["rectification"], params["simulator"], params["small"], params["vcd"]) \
         == (3, 0, "amaranth", True, True)
     assert params["out"] == str(out) and params["setup"]["preset"] == "small"
+    assert result["segmentation"] == {"on": False}
     import amaranth
     import cocotb
     assert record["tools"]["amaranth"] == amaranth.__version__ and record["tools"]["cocotb"] == cocotb.__version__
@@ -90,6 +91,22 @@ def test_complete_run_replaces_every_output_and_records_its_provenance(tmp_path)
     started, ended = (datetime.fromisoformat(record[k].replace("Z", "+00:00")) for k in ("started_utc", "ended_utc"))
     assert re.fullmatch(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ", record["ended_utc"])
     assert before.replace(microsecond=0) <= started <= ended <= datetime.now().astimezone()
+
+
+def test_segment_run_records_its_band(tmp_path):
+    """``--segment``: the switches on 1000001 (automatic rectification), the frame equal to the golden model's with
+    the segmentation view, the band in result.json and the summary (the small layout has no room for its text)."""
+    out = tmp_path / "out"
+    run = start_run(out, "--disparity", "3", "--segment")
+    stdout, stderr = run.communicate(timeout=600)
+    assert run.returncode == 0, stderr
+    result = json.loads((out / "result.json").read_text())
+    assert result["segmentation"] == {"on": True, "band_disparity_px": [1, 5], "band_text": " 5.46-27.28m",
+                                      "text_shown": False}
+    params = result["provenance"]["parameters"]
+    assert (params["rectification"], params["segment"], params["setup"]["segment"]) == ("auto", True, True)
+    assert "segmentation view: band 5.46-27.28m (disparities 1..5 px)" in stdout
+    assert "equals the golden model's frame bit for bit" in stdout
 
 
 def test_outputs_are_renamed_only_when_complete_and_stale_ones_removed(tmp_path):

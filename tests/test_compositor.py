@@ -83,9 +83,10 @@ class DisplayTestbench(wiring.Component):
             "video": Out(VideoSignature),
             "video_word": Out(27),
             "settings": Out(SettingsSignature),
+            "segment": In(1),
         })
         for name, child in (("timing", self.compositor), ("video", self.compositor), ("sw", self.switches),
-                            ("settings", self.switches)):
+                            ("settings", self.switches), ("segment", self.compositor)):
             forward(self, name, child)
 
     def elaborate(self, platform):
@@ -106,8 +107,8 @@ class DisplayTestbench(wiring.Component):
         return m
 
 
-def expected_frames(left, right, settings, timing, geometry, layout=None, config=SMALL_DEPTH):
-    return np.stack([composite_frame(left, right, d, r, timing, geometry, layout, depth=config)
+def expected_frames(left, right, settings, timing, geometry, layout=None, config=SMALL_DEPTH, segment=False):
+    return np.stack([composite_frame(left, right, d, r, timing, geometry, layout, depth=config, segment=segment)
                      for d, r in settings])
 
 
@@ -154,6 +155,30 @@ def test_golden_layout_1080p():
     assert (frame[749, 1764:1770] == bg).all()
 
 
+def test_segmentation_golden_1080p():
+    """The segmentation view at the board's size, by hand: two flat images (grey 31) match at disparity 0 (code 0
+    everywhere): with the band around d = 1 (codes 0..48) the view is 0xFFFFFF, around d = 10 (codes 128..192) it
+    is dimmed to 0xFF >> 2 = 0x3F; the band text " 2.27- 3.41m" (Z(12) = 2.273 m, Z(8) = 3.410 m) fills
+    [100, 244) x [382, 398), its first cell a space; with the segmentation off that box is background."""
+    flat = np.full((300, 400), 31, dtype=np.uint8)
+    near, codes, _ = composite_frame(flat, flat, 1, 0, details=True, segment=True)
+    far = composite_frame(flat, flat, 10, 0, segment=True)
+    off = composite_frame(flat, flat, 10, 0)
+    bg = [(BACKGROUND_RGB >> s) & 0xFF for s in (16, 8, 0)]
+    assert (codes == 0).all()
+    assert (near[410:1010, 100:900] == 255).all() and (far[410:1010, 100:900] == 0x3F).all()
+    assert (off[410:1010, 100:880] == 0).all()                  # the difference map: |31 - 31| = 0 -> level 0
+    assert (off[370:410, 100:900] == bg).all() and (far[382:398, 100:112] == bg).all()
+    assert (far[381, 100:244] == bg).all() and (far[398, 100:244] == bg).all()
+    lit = (far[382:398, 112:244] == 255).all(axis=-1)
+    assert lit.any() and ((far[382:398, 112:244] == bg).all(axis=-1) | lit).all()
+    assert (near[382:398, 112:244] != far[382:398, 112:244]).any()      # another band, another text
+    outside = far.copy()
+    outside[410:1010, 100:900] = off[410:1010, 100:900]
+    outside[382:398, 100:244] = off[382:398, 100:244]
+    assert (outside == off).all()
+
+
 def test_engine_keeps_up_check():
     """The depth map may not start before the engine's first row can be ready, nor be shown faster than the
     engine computes rows; the default layouts pass."""
@@ -197,7 +222,7 @@ def test_compositor_argument_checks():
 
 # --- the RTL against the golden model ----------------------------------------------------------------------
 
-def run_amaranth(timing, geometry, schedule, n_frames, layout=None):
+def run_amaranth(timing, geometry, schedule, n_frames, layout=None, segment=False):
     left, right = grey_buffers(geometry)
     dut = DisplayTestbench(timing, geometry, layout=layout, init_left=left.ravel().tolist(),
                          init_right=right.ravel().tolist())
@@ -212,6 +237,7 @@ def run_amaranth(timing, geometry, schedule, n_frames, layout=None):
     registers = []
 
     async def bench(ctx):
+        ctx.set(dut.segment, segment)
         for port, column in zip(ports, columns):      # the end of a previous frame's blanking
             ctx.set(port, column[-1])
         await ctx.tick().repeat(LATENCY + 2)
@@ -235,7 +261,7 @@ def run_amaranth(timing, geometry, schedule, n_frames, layout=None):
     simulate(dut, clocks={"sync": CLOCKS.PIXEL_HZ}, testbenches=[bench])
     assert registers == settings[:n_frames]
     check_stream(timing, LATENCY, n_frames, out,
-                 expected_frames(left, right, settings[:n_frames], timing, geometry, layout))
+                 expected_frames(left, right, settings[:n_frames], timing, geometry, layout, segment=segment))
 
 
 def test_display_path_amaranth():
@@ -260,18 +286,54 @@ def test_display_path_other_layout_amaranth():
     run_amaranth(timing, SMALL_SENSOR, schedule, 3, layout)
 
 
-def run_cocotb_display(timing, geometry, schedule, simulator, tmp_path):
+#: A small mode with room for the band text above the difference map (a 9-line gap).
+SEGMENT_TIMING = VideoTiming(h_active=112, h_front=4, h_sync=3, h_back=5, v_active=60, v_front=2, v_sync=2,
+                             v_back=3, hsync_positive=True, vsync_positive=True)
+SEGMENT_SCHEDULE = [dict(line=30, column=50, disparity=3, rectification=0),
+                    dict(line=20, column=24, disparity=6, rectification=1),
+                    dict(line=40, column=10, disparity=127, rectification=-2)]
+
+
+def test_segmentation_amaranth():
+    """The segmentation view in the difference map's place and the band text above it, RTL = golden bit for bit,
+    over frames whose disparity register (the band's centre) changes in the middle of the previous frame."""
+    layout = DisplayLayout.centred(SEGMENT_TIMING, SMALL_SENSOR, SMALL_DEPTH, gap=9)
+    assert layout.band is not None
+    run_amaranth(SEGMENT_TIMING, SMALL_SENSOR, SEGMENT_SCHEDULE, len(SEGMENT_SCHEDULE) + 1, layout, segment=True)
+
+
+def test_segmentation_off_is_the_old_frame():
+    """With the segmentation off the band box is all background: the default frame is the frame without it."""
+    left, right = grey_buffers(SMALL_SENSOR)
+    layout = DisplayLayout.centred(SEGMENT_TIMING, SMALL_SENSOR, SMALL_DEPTH, gap=9)
+    old = dataclasses.replace(layout, band=None)
+    on, off, without = (composite_frame(left, right, 3, 0, SEGMENT_TIMING, SMALL_SENSOR, lay, depth=SMALL_DEPTH,
+                                        segment=seg) for lay, seg in ((layout, True), (layout, False), (old, False)))
+    assert (off == without).all() and not (on == off).all()
+    with pytest.raises(ValueError, match="segmentation view needs"):
+        other = DisplayLayout(regions=tuple(dataclasses.replace(r, y0=r.y0 + 1) if r.source == "disparity" else r
+                                            for r in layout.regions), bar=layout.bar, readout=layout.readout)
+        composite_frame(left, right, 3, 0, SEGMENT_TIMING, SMALL_SENSOR, other, depth=SMALL_DEPTH, segment=True)
+
+
+def run_cocotb_display(timing, geometry, schedule, simulator, tmp_path, layout=None, segment=False):
     left, right = grey_buffers(geometry)
     events, settings = switch_events(schedule, timing)
     config = DEPTH if geometry == SENSOR else SMALL_DEPTH
     data = tmp_path / "display.npz"
     np.savez(data, left=left, right=right,
-             expected=expected_frames(left, right, settings, timing, geometry, config=config))
-    verilog = export_verilog(DisplayTestbench(timing, geometry, config=config), "display_testbench")
+             expected=expected_frames(left, right, settings, timing, geometry, layout, config, segment))
+    verilog = export_verilog(DisplayTestbench(timing, geometry, layout=layout, config=config), "display_testbench")
     run_cocotb(verilog, name="display_testbench", test_module="cocotb_compositor",
                simulator=simulator,
                params=dict(timing=dataclasses.asdict(timing), latency=LATENCY, data=str(data),
-                           schedule=schedule, clock_ps=CLOCK_PS))
+                           schedule=schedule, clock_ps=CLOCK_PS, segment=segment))
+
+
+def test_segmentation_cocotb(simulator, tmp_path):
+    """The segmentation view and its band text on the exported Verilog (Verilator and Icarus)."""
+    layout = DisplayLayout.centred(SEGMENT_TIMING, SMALL_SENSOR, SMALL_DEPTH, gap=9)
+    run_cocotb_display(SEGMENT_TIMING, SMALL_SENSOR, SEGMENT_SCHEDULE, simulator, tmp_path, layout, segment=True)
 
 
 def test_display_path_cocotb(simulator, tmp_path):

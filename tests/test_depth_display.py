@@ -98,15 +98,17 @@ def test_font_and_layout_facts():
     assert small.readout.y0 == small.region("depth").y1 + 1      # does not fit inside a 32 x 24 map
 
 
-def run_text_layer(boxes, dynamic, dynamic_text, timing):
-    """The text layer over one frame of the raster: (in_text, lit) as (v_active, h_active) arrays."""
+def run_text_layer(boxes, dynamic, dynamic_texts, timing):
+    """The text layer over one frame of the raster (``dynamic``: name -> box, ``dynamic_texts``: name -> text):
+    (in_text, lit) as (v_active, h_active) arrays."""
     dut = TextLayer(boxes, dynamic, v_active=timing.v_active)
     out_in = np.zeros((timing.v_active, timing.h_active), dtype=bool)
     out_lit = np.zeros_like(out_in)
 
     async def bench(ctx):
-        for i, c in enumerate(char_codes(dynamic_text)):
-            ctx.set(dut.chars[i], c)
+        for name, text in dynamic_texts.items():
+            for i, c in enumerate(char_codes(text)):
+                ctx.set(getattr(dut.chars, name)[i], c)
         ctx.set(dut.y, timing.v_active)                # blanking first: the counters clear
         await ctx.tick().repeat(2)
         pending = []
@@ -128,19 +130,20 @@ def run_text_layer(boxes, dynamic, dynamic_text, timing):
 
 
 def test_text_layer_equals_golden_drawing():
-    """Constant boxes at scales 1 and 2 and a dynamic box, every glyph of the font, against golden draw_text.
-    (The raster here has no blanking columns: the layer needs none.)"""
-    timing = VideoTiming(h_active=120, h_front=0, h_sync=1, h_back=0, v_active=40, v_front=1, v_sync=1, v_back=1)
+    """Constant boxes at scales 1 and 2 and two named dynamic boxes, every glyph of the font, against golden
+    draw_text. (The raster here has no blanking columns: the layer needs none.)"""
+    timing = VideoTiming(h_active=120, h_front=0, h_sync=1, h_back=0, v_active=48, v_front=1, v_sync=1, v_back=1)
     everything = "".join(FONT_ORDER)
     half = (len(everything) + 1) // 2
     boxes = (TextBox(everything[:half], 1, 0, 1), TextBox(everything[half:], 1, 9, 1), TextBox("0.5m", 40, 20, 2))
-    dynamic = TextBox("0000cm", 0, 30, 1)
-    shown = "-9.1cm"
+    dynamic = {"readout": TextBox("0000cm", 0, 30, 1), "band": TextBox("00.00-00.00m", 20, 39, 1)}
+    shown = {"readout": "-9.1cm", "band": " 0.83-12.50m"}
     lit_in, lit = run_text_layer(boxes, dynamic, shown, timing)
     frame = np.full((timing.v_active, timing.h_active), -1, dtype=np.int64)
     for box in boxes:
         draw_text(frame, box, box.text)
-    draw_text(frame, dynamic, shown)
+    for name, box in dynamic.items():
+        draw_text(frame, box, shown[name])
     assert (lit_in == (frame != -1)).all()
     assert (lit == (frame == TEXT_RGB)).all()
     assert ((frame == TEXT_RGB) | (frame == BACKGROUND_RGB) | (frame == -1)).all()

@@ -258,14 +258,14 @@ READOUT_PARTS = -(-(DEPTH.invalid + 1) // (1 << ROM_PART_BITS))
 def test_top_v_is_small_and_writes_no_zero_memory_init(build):
     """The frame buffers' zero initial values are left out (the block RAMs configure to zero): top.v stays under
     2 MB (it is about 30 MB with them); the only initial blocks left are ROMs with contents (the three I2C tables, the depth panel's colour,
-    readout and font tables), each with a non-zero word."""
+    readout and font tables, the segmentation band's text), each with a non-zero word."""
     _, files = build
     text = files["top.v"]
     assert len(text.encode()) < 2_000_000
     inits = re.findall(r"reg \[\d+:0\] (\S+) \[\d+:0\];\n\s*initial begin\n(.*?)\n\s*end\n", text, re.S)
     assert sorted(name for name, _ in inits) == sorted(
-        ["rom"] * 3 + ["colour_rom"] + [f"readout_rom{part}" for part in range(READOUT_PARTS)]
-        + [f"font_rom{row}" for row in range(6)])
+        ["rom"] * 3 + ["colour_rom", "band_rom"] + [f"readout_rom{part}" for part in range(READOUT_PARTS)]
+        + [f"font_rom{row}" for row in range(7)])
     for name, body in inits:
         assert re.search(r"= \d+'h0*[1-9a-f]", body), f"{name}: an initial block of zeros"
     memories = re.findall(r"reg \[(\d+):0\] (bit\d) \[(\d+):0\];", text)

@@ -21,6 +21,7 @@ from sim.models.clocking import SimClocking
 from hdl.compositor import Compositor
 from hdl.stereo_display import StereoDisplay
 from hdl.text_layer import TextLayer
+from hdl.segment_band import SegmentBand
 from hdl.disparity import DisparitySubtractor
 from hdl.downscaler import Downscaler
 from hdl.grey import Grey
@@ -55,6 +56,7 @@ REJECTED = {
                                      level_grey=(0, 255)),
     "StereoDisplay": lambda: StereoDisplay(SMALL_TIMING, SMALL_SENSOR, config=SMALL_DEPTH, out_rows=1),
     "TextLayer": lambda: TextLayer((TextBox("0.5km", 0, 0, 1),), v_active=10),
+    "SegmentBand": lambda: SegmentBand(SensorGeometry(grey_bits=9)),
     "DisparitySubtractor": lambda: DisparitySubtractor(SMALL_SENSOR, thresholds=()),
     "SwitchControl": lambda: SwitchControl(stages=1),
     "SyncGenerator": lambda: SyncGenerator(SMALL_TIMING, start=(10_000, 0)),
@@ -79,7 +81,8 @@ REJECTED = {
 #: Composites whose rejection comes from a part or from a check of the built parts: the parts left unused.
 BUILT_FIRST = {
     "CapturePath, a camera's capture": {"CameraCapture"},
-    "StereoDisplay": {"Compositor", "DepthEngine", "DisparitySubtractor", "TextLayer", "CentreDistance"},
+    "StereoDisplay": {"Compositor", "DepthEngine", "DisparitySubtractor", "TextLayer", "CentreDistance",
+                      "SegmentBand"},
     "StereoDepthSystem, its compositor": None,      # everything built before the display: any part
 }
 

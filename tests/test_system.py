@@ -117,6 +117,25 @@ def test_end_to_end_amaranth(tmp_path):
         assert monitor.transactions
 
 
+def test_end_to_end_amaranth_segmentation():
+    """The switches on 1000001 (automatic rectification + the segmentation view): the frame equals the golden frame
+    with the segmentation view in the difference map's place, which differs from the difference map."""
+    setup = SystemSetup.small(disparity=DISPARITY, rectification="auto", segment=True)
+    assert setup.switch_words() == [0x80 | DISPARITY, 0b1000001]
+    left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
+    result = run_amaranth(left, right, setup)
+    assert result.status["auto_rectification"]["auto"] == 1
+    assert result.mismatched_pixels == 0 and not result.sink.violations
+    np.testing.assert_array_equal(result.frame, result.golden)
+    plain = SystemSetup.small(disparity=DISPARITY, rectification="auto").golden_frame(
+        left, right, in_use=result.status["rectification"])
+    r = setup.display_layout.region("disparity")
+    assert (plain[r.y0:r.y1, r.x0:r.x1] != result.golden[r.y0:r.y1, r.x0:r.x1]).any()
+    outside = result.golden.copy()
+    outside[r.y0:r.y1, r.x0:r.x1] = plain[r.y0:r.y1, r.x0:r.x1]
+    np.testing.assert_array_equal(outside, plain)      # nothing else changes (the small layout has no band text)
+
+
 def test_end_to_end_amaranth_replayed_sensors():
     """The full-size Amaranth route (sim/testbench/system/rom_testbench.py: each camera's stream, made by the sensor model
     before the run, replayed from a ROM; gated simulator clocks) on the small preset: the same frame as the golden
@@ -270,5 +289,11 @@ def test_setup_rejects_out_of_range_switch_values():
         SystemSetup.small(rectification=64)
     with pytest.raises(ValueError, match="rectification"):
         SystemSetup.small(rectification=-64)            # 1000000 selects the automatic mode
+    with pytest.raises(ValueError, match="rectification"):
+        SystemSetup.small(rectification=-63)            # 1000001: automatic + the segmentation view
+    with pytest.raises(ValueError, match="segmentation view comes with the automatic"):
+        SystemSetup.small(rectification=3, segment=True)
+    assert SystemSetup.small(rectification="auto", segment=True).switch_words()[1] == 0b1000001
+    assert SystemSetup.small(rectification=-62).switch_words()[1] == 0b1000010
     assert SystemSetup.small(rectification=-1).switch_words()[1] == 0b1111111
     assert SystemSetup.small(rectification="auto").switch_words()[1] == 0b1000000

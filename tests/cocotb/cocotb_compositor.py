@@ -118,6 +118,7 @@ if cocotb is not None:
         clk = dut.clk
         dut.rst.value = 1
         dut.sw.value = 0
+        dut.segment.value = int(p.get("segment", False))
         dut.load_en.value = 0
         # During reset and loading the raster sits at its last position (the end of a frame's blanking).
         raster = reference_raster(timing)

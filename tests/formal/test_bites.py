@@ -28,6 +28,7 @@ from sim.formal.harnesses.disparity import DisparityHarness
 from sim.formal.harnesses.frame_buffer import FrameBufferHarness
 from sim.formal.harnesses.i2c import BUS_HZ, CLK_HZ, TIMEOUT_US, I2CMasterHarness, InitSequencerHarness
 from sim.formal.harnesses.read_arbiter import ReadArbiterHarness
+from sim.formal.harnesses.segment_band import SegmentBandHarness
 from sim.formal.harnesses.switches import SwitchControlHarness
 from sim.formal.harnesses.sync_gen import SyncGeneratorHarness
 from sim.formal.harnesses.vertical_offset import VerticalOffsetHarness
@@ -142,6 +143,13 @@ class EstimatorWiderSearch(VerticalOffsetHarness):
         return VerticalOffsetEstimator(self.geometry, dataclasses.replace(self.config, search_rows=3))
 
 
+class SegmentBandCentreOneHigher(SegmentBandHarness):
+    """The block given the disparity register plus one: the band centred a pixel too near."""
+    def connect(self, m, dut, disparity, enable, code, grey):
+        m.d.comb += [dut.disparity.eq(disparity + 1), dut.enable.eq(enable), dut.code.eq(code), dut.grey.eq(grey)]
+        return dut.rgb, dut.chars.as_value()
+
+
 BITES = {
     "sync_gen": (SyncPulseTooWide, "hsync_window_and_polarity"),
     "switches": (SwitchesLoadAnyTime, "_changes_only_after_frame_start"),
@@ -159,6 +167,7 @@ BITES = {
     "compositor": (CompositorLeftMovedDown, "left_request_exactly_for_its_image_or_the_difference_map"),
     "vertical_offset": (EstimatorTallerImage, "profile_read_in_memory"),
     "vertical_offset_range": (EstimatorWiderSearch, "cost_read_in_memory"),
+    "segment_band": (SegmentBandCentreOneHigher, "band"),
 }
 
 

@@ -41,7 +41,7 @@ from golden.capture import capture_frame
 from golden.disparity import composite_frame
 from golden.stereo_pair import fit_to_sensor
 from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE, Poll, Wait
-from hdl.rectification_select import AUTO_CODE
+from hdl.rectification_select import AUTO_CODE, MANUAL_RANGE, SEGMENT_CODE
 from spec.board import CLOCKS
 from spec.depth import DEPTH, SMALL_DEPTH
 from spec.display import DIFF_LEVEL_GREY, DIFF_THRESHOLDS
@@ -68,6 +68,7 @@ class SystemSetup:
     auto_rectification: object = RECTIFICATION     # the vertical-offset estimator's RectificationConfig
     disparity: int = 0
     rectification: int = 0
+    segment: bool = False              # the segmentation view (switches 1000001: needs rectification "auto")
     time_scale: float = 1.0            # applied to the MT9D112 table's waits and the model's boot/PLL times
     quick_table: bool = False          # only the MT9D112 table's essential entries (sim/testbench/system/tables.py)
     i2c_hz: int = CLOCKS.I2C_HZ
@@ -127,9 +128,12 @@ class SystemSetup:
         if not 0 <= self.disparity <= 127:
             raise ValueError(f"disparity must be 0..127 (seven switches), got {self.disparity}")
         if self.rectification != "auto" and not (isinstance(self.rectification, int)
-                                                 and -63 <= self.rectification <= 63):
-            raise ValueError(f"rectification must be -63..63 (seven switches, two's complement) or 'auto', "
-                             f"got {self.rectification!r}")
+                                                 and self.rectification in MANUAL_RANGE):
+            raise ValueError(f"rectification must be {MANUAL_RANGE.start}..{MANUAL_RANGE.stop - 1} (seven switches, "
+                             f"two's complement) or 'auto', got {self.rectification!r}")
+        if self.segment and self.rectification != "auto":
+            raise ValueError("the segmentation view comes with the automatic rectification (switches 1000001): "
+                             f"rectification must be 'auto', not {self.rectification!r}")
 
     @property
     def display_layout(self):
@@ -172,8 +176,11 @@ class SystemSetup:
 
     def switch_words(self):
         """The SW7..SW0 values to set in turn: disparity (SW7 = 1), then rectification (SW7 = 0, SW6..SW0 its
-        two's complement, hdl/switches.py; ``"auto"``: 1000000, hdl/rectification_select.py)."""
+        two's complement, hdl/switches.py; ``"auto"``: 1000000, with ``segment`` 1000001,
+        hdl/rectification_select.py)."""
         rectification = AUTO_CODE if self.rectification == "auto" else self.rectification
+        if self.segment:
+            rectification = SEGMENT_CODE
         return [0x80 | self.disparity, rectification & 0x7F]
 
     def fit(self, image):
@@ -196,7 +203,7 @@ class SystemSetup:
                 raise ValueError("the golden frame of an automatic-rectification run needs the offset in use")
             rectification = in_use
         return composite_frame(lb, rb, self.disparity, rectification, self.timing, g, self.display_layout,
-                               self.thresholds, self.level_grey, self.depth, details=details)
+                               self.thresholds, self.level_grey, self.depth, details=details, segment=self.segment)
 
     def deadline_s(self):
         """Simulated-time budget of a run: the I2C init (table waits + bus time, generously) plus a few frames."""
