@@ -20,6 +20,7 @@ import numpy as np
 
 from golden.depth import depth_map
 from golden.depth_display import draw_depth_display, draw_text, engine_left
+from golden.rectification_display import rectification_text
 from golden.segmentation import band_text, blank_band_text, segment_picture
 from spec.depth import DEPTH
 from spec.display import BACKGROUND_RGB, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, NO_DATA_RGB, grey_to_rgb24
@@ -90,11 +91,12 @@ def rgb24_to_bytes(rgb):
 
 def composite_frame(left, right, disparity, rectification, timing=CEA_1080P60, geometry=SENSOR, layout=None,
                     thresholds=DIFF_THRESHOLDS, level_grey=DIFF_LEVEL_GREY, depth=DEPTH, *, details=False,
-                    segment=False):
+                    segment=False, rectification_mode=(False, False)):
     """The displayed frame, uint8 (v_active, h_active, 3), for the two grey buffers and the switch settings.
     ``details=True`` returns ``(frame, codes, readout text)``: also the depth map shown and its readout.
     ``segment``: the segmentation view in the difference map's place (``ValueError`` if the layout's difference
-    map is not on the depth map's rows at its scale, left of it)."""
+    map is not on the depth map's rows at its scale, left of it). ``rectification_mode``: (automatic mode, held
+    verdict) for the layout's rectification text (``golden.rectification_display``)."""
     left, right = _check_images(left, right, geometry)
     if layout is None:
         layout = DisplayLayout.centred(timing, geometry, depth)
@@ -121,6 +123,8 @@ def composite_frame(left, right, disparity, rectification, timing=CEA_1080P60, g
     text = draw_depth_display(frame, codes, layout, geometry, depth)
     if layout.band is not None:
         draw_text(frame, layout.band, band_text(disparity, geometry) if segment else blank_band_text())
+    if layout.rectification is not None:
+        draw_text(frame, layout.rectification, rectification_text(rectification, *rectification_mode))
     if details:
         return rgb24_to_bytes(frame), codes, text
     return rgb24_to_bytes(frame)

@@ -23,7 +23,8 @@ pixel repeated ``scale`` x ``scale`` times (docs/display.md, "Four panels").
   layout's ``band`` text box the band in metres (spaces, so background, while ``segment`` is low).
 * the colour bar (every code's colour, near on top), the tick marks (``TEXT_RGB``), the distance labels and the
   centre-distance readout (:class:`hdl.text_layer.TextLayer`: glyph pixels ``TEXT_RGB``, the rest of a text box
-  ``BACKGROUND_RGB``); the readout shows :class:`hdl.centre_distance.CentreDistance` of this frame's map.
+  ``BACKGROUND_RGB``); the readout shows :class:`hdl.centre_distance.CentreDistance` of this frame's map, the
+  layout's ``rectification`` box the rectification in use (:class:`hdl.rectification_text.RectificationText`).
 * ``BACKGROUND_RGB`` elsewhere in the active area, ``rgb = 0`` outside it (``de`` low).
 
 The image regions and the disparity computation share each buffer's port; they never overlap (checked), so the
@@ -80,6 +81,7 @@ from spec.display import (
 from spec.layout import DisplayLayout
 from spec.sensor import SENSOR
 from spec.video import CEA_1080P60
+from hdl.rectification_text import RectificationModeSignature, RectificationText
 from hdl.region_scanner import RegionScanner
 from hdl.segment_band import LATENCY as SEGMENT_LATENCY, SegmentBand
 from hdl.switches import SettingsSignature
@@ -127,6 +129,8 @@ def check_layout(layout, timing, geometry, config=DEPTH):
     named += [(f"label {t.text!r}", t.box) for t in layout.labels]
     if layout.band is not None:
         named.append(("band text", layout.band.box))
+    if layout.rectification is not None:
+        named.append(("rectification text", layout.rectification.box))
     readout, depth = layout.readout.box, regions["depth"]
     for name, b in named + [("readout", readout)]:
         if b.x0 < 0 or b.y0 < 0 or b.x1 > timing.h_active or b.y1 > timing.v_active:
@@ -190,6 +194,9 @@ class Compositor(wiring.Component):
     settings : ``In(SettingsSignature)``
     segment : ``In(1)``
         Show the segmentation view (static through a frame; no effect unless :attr:`segmentation`).
+    rectification_mode : ``In(RectificationModeSignature)``
+        Automatic mode and held verdict for the rectification text (sampled one clock after ``frame_start``; no
+        effect when the layout has no ``rectification`` box).
     segmentation : bool
         The layout allows the segmentation view (:func:`segmentation_fits`).
     left, right : ``Out(SharedReadSignature(geometry))``
@@ -226,6 +233,7 @@ class Compositor(wiring.Component):
             "timing": In(TimingSignature),
             "settings": In(SettingsSignature),
             "segment": In(1),
+            "rectification_mode": In(RectificationModeSignature),
             "left": Out(SharedReadSignature(g)),
             "right": Out(SharedReadSignature(g)),
             "depth": Out(ResultReadSignature(ring_addr_bits, config.code_bits, g.buf_height)),
@@ -239,6 +247,10 @@ class Compositor(wiring.Component):
         dynamic = {"readout": layout.readout}
         if self.segmentation and layout.band is not None:
             dynamic["band"] = layout.band
+        self._rectification = None
+        if layout.rectification is not None:
+            dynamic["rectification"] = layout.rectification
+            self._rectification = RectificationText()
         self._text = TextLayer(layout.labels, dynamic, v_active=timing.v_active,
                                x_bits=len(self.timing.x), y_bits=len(self.timing.y))
 
@@ -257,6 +269,8 @@ class Compositor(wiring.Component):
         m.submodules.text = text = self._text
         m.d.comb += [text.x.eq(self.timing.x), text.y.eq(self.timing.y),
                      text.chars.readout.eq(self._distance.chars)]
+        if self._rectification is not None:
+            self._rectification_text(m, text)
         grey_5, show_image_5 = self._image_reads(m, inside, scanners)
         depth_5 = self._depth_reads(m, inside, scanners, vblank_1)
         depth_5["segment"] = self._segment_view(m, scanners)
@@ -422,6 +436,16 @@ class Compositor(wiring.Component):
                     bar=delayed(m, inside["bar"], 4, "in_bar"), tick=delayed(m, inside["tick"], 3, "in_tick"),
                     in_text=delayed(m, self._text.in_text, 5 - TEXT_LATENCY, "in_text"),
                     lit=delayed(m, self._text.lit, 5 - TEXT_LATENCY, "lit"))
+
+    def _rectification_text(self, m, text):
+        """The rectification in use as text: sampled one clock after ``frame_start``, when the settings of this
+        frame have loaded (they change on the edge that ends the ``frame_start`` clock)."""
+        m.submodules.rectification_text = rt = self._rectification
+        frame_start_1 = Signal()
+        m.d.sync += frame_start_1.eq(self.timing.frame_start)
+        m.d.comb += [rt.frame_start.eq(frame_start_1), rt.offset.eq(self.settings.rectification),
+                     rt.mode.auto.eq(self.rectification_mode.auto), rt.mode.held.eq(self.rectification_mode.held),
+                     text.chars.rectification.eq(rt.chars)]
 
     def _segment_view(self, m, scanners):
         """Clocks n + 2 .. n + 5: the segmentation view's colour (from the ring's code and the right port's grey at

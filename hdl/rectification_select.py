@@ -5,6 +5,7 @@ from amaranth import Module, Mux, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
+from hdl.rectification_text import RectificationModeSignature
 from hdl.switches import RECTIFICATION_RANGE, SettingsSignature
 from spec.rectification import RECTIFICATION
 
@@ -44,6 +45,10 @@ class RectificationSelect(wiring.Component):
         The automatic mode is selected.
     segment : Out(1)
         The segmentation view is selected (changes with the switch registers).
+    estimate_held : In(1)
+        The estimator's verdict: its last search had no clear minimum (changes with ``estimate``).
+    mode : Out(RectificationModeSignature)
+        For the screen: ``auto``, and ``held``: the verdict sampled with the estimate in use (0 in manual mode).
 
     Clock domain: ``sync`` (the system places it in ``pix``). Latency: the estimate is in use from the frame
     after the frame start that sampled it; a mode change takes effect with the switch registers.
@@ -59,17 +64,21 @@ class RectificationSelect(wiring.Component):
             "settings": Out(SettingsSignature),
             "auto": Out(1),
             "segment": Out(1),
+            "estimate_held": In(1),
+            "mode": Out(RectificationModeSignature),
         })
 
     def elaborate(self, platform):
         m = Module()
-        sampled = Signal.like(self.estimate)
+        sampled, sampled_held = Signal.like(self.estimate), Signal()
         with m.If(self.frame_start):
-            m.d.sync += sampled.eq(self.estimate)
+            m.d.sync += [sampled.eq(self.estimate), sampled_held.eq(self.estimate_held)]
         m.d.comb += [
             self.segment.eq(self.manual.rectification == SEGMENT_CODE),
             self.auto.eq((self.manual.rectification == AUTO_CODE) | self.segment),
             self.settings.disparity.eq(self.manual.disparity),
             self.settings.rectification.eq(Mux(self.auto, sampled, self.manual.rectification)),
+            self.mode.auto.eq(self.auto),
+            self.mode.held.eq(self.auto & sampled_held),
         ]
         return m

@@ -8,7 +8,11 @@ from hdl.switches import SWITCH_VALUE_BITS
 from hdl.text_layer import CHAR_BITS, char_codes
 from spec.display import RECTIFICATION_MODES, RECTIFICATION_TEXT
 
-__all__ = ["RectificationText", "LATENCY"]
+__all__ = ["RectificationText", "RectificationModeSignature", "LATENCY"]
+
+#: The automatic rectification's state as its source drives it: ``auto`` (the automatic mode is selected) and
+#: ``held`` (the estimate in use comes from a search without a clear minimum: the offset before it kept).
+RectificationModeSignature = wiring.Signature({"auto": Out(1), "held": Out(1)})
 
 #: Clocks from the ``frame_start`` edge that samples the inputs until ``chars`` holds their text.
 LATENCY = 2
@@ -27,9 +31,8 @@ class RectificationText(wiring.Component):
         The inputs are sampled on the clock edge that ends a ``frame_start`` cycle, so one frame shows one text.
     offset : In(signed(SWITCH_VALUE_BITS))
         The rectification in use (-64..63 buffer rows).
-    auto, held : In(1)
-        The automatic mode is selected; the estimator's last search had no clear minimum (shown only in automatic
-        mode).
+    mode : In(RectificationModeSignature)
+        ``held`` is shown only in automatic mode.
     chars : Out(ArrayLayout(CHAR_BITS, len(RECTIFICATION_TEXT)))
 
     Clock domain: ``sync`` (the display places it in ``pix``). Latency: :data:`LATENCY` clocks after the sampling
@@ -40,8 +43,7 @@ class RectificationText(wiring.Component):
         super().__init__({
             "frame_start": In(1),
             "offset": In(signed(SWITCH_VALUE_BITS)),
-            "auto": In(1),
-            "held": In(1),
+            "mode": In(RectificationModeSignature),
             "chars": Out(data.ArrayLayout(CHAR_BITS, len(RECTIFICATION_TEXT))),
         })
 
@@ -50,7 +52,7 @@ class RectificationText(wiring.Component):
         # The sampling edge: the inputs at frame_start.
         offset, auto, held = Signal.like(self.offset), Signal(), Signal()
         with m.If(self.frame_start):
-            m.d.sync += [offset.eq(self.offset), auto.eq(self.auto), held.eq(self.held)]
+            m.d.sync += [offset.eq(self.offset), auto.eq(self.mode.auto), held.eq(self.mode.held)]
         # Edge 1: sign, magnitude and its tens digit (the magnitude is at most 64), the mode.
         negative, magnitude, tens = Signal(), Signal(SWITCH_VALUE_BITS), Signal(range(7))
         absolute = Mux(offset < 0, -offset, offset)
@@ -72,9 +74,7 @@ class RectificationText(wiring.Component):
         updates += [chars[5].eq(Mux(tens == 0, code[" "], sign)),
                     chars[6].eq(Mux(tens == 0, sign, digit(tens))),
                     chars[7].eq(digit(ones))]
-        with m.Switch(mode):
-            for k, word in enumerate(words):
-                with m.Case(k):
-                    m.d.sync += [chars[8 + i].eq(c) for i, c in enumerate(word)]
+        for i, (hand, auto_c, held_c) in enumerate(zip(*words)):      # the mode word, a multiplexer per character
+            updates.append(chars[8 + i].eq(Mux(mode == 0, hand, Mux(mode == 1, auto_c, held_c))))
         m.d.sync += updates
         return m

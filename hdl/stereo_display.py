@@ -14,6 +14,7 @@ from spec.display import DIFF_LEVEL_GREY, DIFF_THRESHOLDS
 from spec.sensor import SENSOR
 from spec.video import CEA_1080P60
 from hdl.read_arbiter import ReadArbiter
+from hdl.rectification_text import RectificationModeSignature
 from hdl.switches import SettingsSignature
 from hdl.video_bus import TimingSignature, VideoSignature
 
@@ -77,6 +78,8 @@ class StereoDisplay(wiring.Component):
     settings : ``In(SettingsSignature)``
     segment : ``In(1)``
         The segmentation view in the difference map's place (the compositor's).
+    rectification_mode : ``In(RectificationModeSignature)``
+        Automatic mode and held verdict for the rectification text (the compositor's).
     left, right : ``Out(FrameBufferReadSignature(geometry))``
         To the frame buffers' read ports.
     video : ``Out(VideoSignature)``
@@ -102,6 +105,7 @@ class StereoDisplay(wiring.Component):
             "timing": In(TimingSignature),
             "settings": In(SettingsSignature),
             "segment": In(1),
+            "rectification_mode": In(RectificationModeSignature),
             "left": Out(FrameBufferReadSignature(geometry)),
             "right": Out(FrameBufferReadSignature(geometry)),
             "video": Out(VideoSignature),
@@ -109,6 +113,7 @@ class StereoDisplay(wiring.Component):
         forward(self, "timing", self.compositor)
         forward(self, "settings", self.compositor)
         forward(self, "segment", self.compositor)
+        forward(self, "rectification_mode", self.compositor)
         forward(self, "video", self.compositor)
         for side, arbiter in self.arbiters.items():
             forward(self, side, arbiter, "buffer")

@@ -272,6 +272,7 @@ class StereoDepthSystem(wiring.Component):
         self._rectification(m, capture, pix)
         wiring.connect(m, self.select.settings, self.display.settings)
         m.d.comb += self.display.segment.eq(self.select.segment)
+        wiring.connect(m, self.select.mode, self.display.rectification_mode)
         wiring.connect(m, self.display.left, capture.cam_a.read)       # camera A = left
         wiring.connect(m, self.display.right, capture.cam_b.read)      # camera B = right
         m.d.comb += switches.frame_start.eq(self.sync_gen.frame_start)
@@ -304,4 +305,5 @@ class StereoDepthSystem(wiring.Component):
             watch = getattr(est, side)
             m.d.comb += [watch.addr.eq(port.write.addr), watch.data.eq(port.write.data),
                          watch.en.eq(port.write.en), watch.frame_done.eq(port.status.frame_done)]
-        m.d.comb += [select.estimate.eq(est.offset), select.frame_start.eq(self.sync_gen.frame_start)]
+        m.d.comb += [select.estimate.eq(est.offset), select.estimate_held.eq(est.held),
+                     select.frame_start.eq(self.sync_gen.frame_start)]

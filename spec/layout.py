@@ -4,7 +4,7 @@ labels and readout, and the default arrangement :meth:`DisplayLayout.centred`.""
 from dataclasses import dataclass
 
 from .depth import DEPTH
-from .display import CROSSHAIR_ARM, DEPTH_LABELS_M, READOUT_TEXT, SEGMENT_TEXT
+from .display import CROSSHAIR_ARM, DEPTH_LABELS_M, READOUT_TEXT, RECTIFICATION_TEXT, SEGMENT_TEXT
 from .font import FONT_CELL
 from .sensor import disparity_of_distance
 
@@ -91,15 +91,17 @@ class ColourBar:
 class DisplayLayout:
     """Where everything goes on the screen: the four panels (``regions``), the colour bar with its tick marks
     (``ticks``, boxes in ``TEXT_RGB``) and distance labels (``labels``), the centre-distance ``readout``, the
-    crosshair's ``crosshair_arm`` (buffer pixels) and the segmentation band's text (``band``, or None).
+    crosshair's ``crosshair_arm`` (buffer pixels), the segmentation band's text (``band``, or None) and the
+    rectification in use (``rectification``, or None).
 
     Default (:meth:`centred`): the two camera images at 1x side by side on top, separated by ``gap``; the
     difference map and the depth map at 2x below them, side by side, another ``gap`` lower; the colour bar right
     of the depth map with its labels; the readout beside the crosshair (right of and below the centre) inside
     the depth map if it fits there, else just below the depth map; the band text left-aligned with the difference
-    map in the gap above it when the gap is as high as a text line (else None). For 1080p and 400 x 300 buffers: left
-    [540, 940) x [70, 370), right [980, 1380) x [70, 370), difference map [100, 900) x [410, 1010), depth map
-    [940, 1740) x [410, 1010), bar [1748, 1764) x [422, 998), band text [100, 244) x [382, 398). :func:`hdl.compositor.check_layout` checks that
+    map in the gap above it and the rectification text with the depth map, when the gap is as high as a text line
+    (and, for the rectification text, the line is long enough; else None). For 1080p and 400 x 300 buffers: left [540, 940) x [70, 370), right [980, 1380) x [70, 370),
+    difference map [100, 900) x [410, 1010), depth map [940, 1740) x [410, 1010), bar [1748, 1764) x [422, 998),
+    band text [100, 244) x [382, 398), rectification text [940, 1096) x [382, 398). :func:`hdl.compositor.check_layout` checks that
     nothing overlaps (except the readout inside the depth map) and everything fits.
     """
     regions: tuple
@@ -109,6 +111,7 @@ class DisplayLayout:
     readout: TextBox = None
     crosshair_arm: int = CROSSHAIR_ARM
     band: TextBox = None
+    rectification: TextBox = None
 
     def region(self, source):
         return next(r for r in self.regions if r.source == source)
@@ -148,13 +151,16 @@ class DisplayLayout:
             readout = TextBox(READOUT_TEXT, depth_region.x0 + (xc + 3) * 2, depth_region.y0 + (yc + 3) * 2, fs)
         else:
             readout = TextBox(READOUT_TEXT, depth_region.x0, depth_region.y1 + fs, fs)
-        band = None
+        band = rectification = None
         if gap >= cell_h:
             band = TextBox(SEGMENT_TEXT, x_bottom, y_top + h + (gap - cell_h) // 2, fs)
+            if depth_region.x0 + len(RECTIFICATION_TEXT) * cell_w <= timing.h_active:
+                rectification = TextBox(RECTIFICATION_TEXT, depth_region.x0, band.y0, fs)
         return cls(regions=(
             Region("left", x_left, y_top, 1, w, h),
             Region("right", x_left + w + gap, y_top, 1, w, h),
             Region("disparity", x_bottom, y_bottom, 2, w, h),
             depth_region,
         ), bar=bar, ticks=tuple(ticks), labels=tuple(labels), readout=readout, band=band,
+            rectification=rectification,
             crosshair_arm=min(CROSSHAIR_ARM, xc - 1, yc - 1, w - 1 - xc, h - 1 - yc))

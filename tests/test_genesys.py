@@ -265,7 +265,7 @@ def test_top_v_is_small_and_writes_no_zero_memory_init(build):
     inits = re.findall(r"reg \[\d+:0\] (\S+) \[\d+:0\];\n\s*initial begin\n(.*?)\n\s*end\n", text, re.S)
     assert sorted(name for name, _ in inits) == sorted(
         ["rom"] * 3 + ["colour_rom", "band_rom"] + [f"readout_rom{part}" for part in range(READOUT_PARTS)]
-        + [f"font_rom{row}" for row in range(7)])
+        + [f"font_rom{row}" for row in range(8)])
     for name, body in inits:
         assert re.search(r"= \d+'h0*[1-9a-f]", body), f"{name}: an initial block of zeros"
     memories = re.findall(r"reg \[(\d+):0\] (bit\d) \[(\d+):0\];", text)

@@ -31,11 +31,11 @@ def test_rtl_equals_the_golden_text_for_every_offset_and_mode():
 
     async def bench(ctx):
         for offset, auto, held in cases:
-            ctx.set(dut.offset, offset), ctx.set(dut.auto, auto), ctx.set(dut.held, held)
+            ctx.set(dut.offset, offset), ctx.set(dut.mode.auto, auto), ctx.set(dut.mode.held, held)
             ctx.set(dut.frame_start, 1)
             await ctx.tick()
             ctx.set(dut.frame_start, 0)
-            ctx.set(dut.offset, 0), ctx.set(dut.auto, 1 - auto)     # changes outside frame_start are not shown
+            ctx.set(dut.offset, 0), ctx.set(dut.mode.auto, 1 - auto)     # changes outside frame_start are not shown
             await ctx.tick().repeat(LATENCY - 1)
             early = _text(ctx.get(dut.chars[i]) for i in range(len(RECTIFICATION_TEXT)))
             await ctx.tick()

@@ -44,7 +44,8 @@ def check_run(status, setup, left, right, sink, models, monitors, *, after_s=Non
     """The check phase: compare the sink's frame 0 with the golden frame of ``left``/``right`` and record what the
     models and monitors saw (bus protocol errors after ``after_s``, default all). Fills ``status`` and returns
     ``(frame, golden)``."""
-    golden = setup.golden_frame(left, right, in_use=status.get("rectification"))
+    golden = setup.golden_frame(left, right, in_use=status.get("rectification"),
+                                held=status.get("auto_rectification", {}).get("held", False))
     frame = sink.frames[0] if sink.frames else None
     status["violations"] = [str(v) for v in sink.violations]
     status["mt9d112_problems"] = {b: models[b][0].problems() for b in ("cam_a", "cam_b")}

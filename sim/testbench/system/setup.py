@@ -190,10 +190,11 @@ class SystemSetup:
             image = fit_to_sensor(image, self.geometry.width, self.geometry.height)
         return image
 
-    def golden_frame(self, left, right, *, details=False, in_use=None):
+    def golden_frame(self, left, right, *, details=False, in_use=None, held=False):
         """The golden model's displayed frame for the pair (images at any size: fitted to the sensor first).
         ``details=True``: ``(frame, depth codes, readout text)`` (``golden.disparity.composite_frame``). In
-        automatic mode the rectification is the one the design reports in use (``in_use``)."""
+        automatic mode the rectification is the one the design reports in use (``in_use``) and the screen's
+        rectification text says ``held`` when the design reports its estimate held."""
         g = self.geometry
         lb = capture_frame(self.fit(left), g)
         rb = capture_frame(self.fit(right), g)
@@ -202,8 +203,10 @@ class SystemSetup:
             if in_use is None:
                 raise ValueError("the golden frame of an automatic-rectification run needs the offset in use")
             rectification = in_use
+        auto = self.rectification == "auto"
         return composite_frame(lb, rb, self.disparity, rectification, self.timing, g, self.display_layout,
-                               self.thresholds, self.level_grey, self.depth, details=details, segment=self.segment)
+                               self.thresholds, self.level_grey, self.depth, details=details, segment=self.segment,
+                               rectification_mode=(auto, auto and bool(held)))
 
     def deadline_s(self):
         """Simulated-time budget of a run: the I2C init (table waits + bus time, generously) plus a few frames."""
