@@ -105,21 +105,17 @@ class TextLayer(wiring.Component):
         code = Signal(CHAR_BITS, name=f"char{i}_2")
         row, column = Signal(range(ch), name=f"glyph_row{i}_2"), Signal(range(cw), name=f"cell_column{i}_2")
         m.d.sync += row.eq(scan.yb)
-        # The dynamic box in two steps within the clock: the cell from the column (a table), then the cell's
-        # character (a multiplexer of the characters), rather than one table of the column and every character.
-        cell, in_cell = Signal(range(len(box.text)), name=f"cell{i}_1"), Signal(name=f"in_cell{i}_1")
-        with m.Switch(scan.xb):
-            for u in range(len(box.text) * cw):
-                with m.Case(u):
-                    k, col = divmod(u, cw)
-                    m.d.sync += column.eq(col)
-                    if chars is None:
-                        m.d.sync += code.eq(char_codes(box.text[k])[0])
-                    else:
-                        m.d.comb += [cell.eq(k), in_cell.eq(1)]
-        if chars is not None:
-            with m.If(in_cell):
-                m.d.sync += code.eq(chars[cell])
+        # The cell and the column within it as running counters beside the scanner's xb (cell = xb // cw, column
+        # = xb % cw, updated on the same conditions), so no table of xb lies in front of the character multiplexer.
+        cell, cell_column = self._cell_counters(m, i, box, scan, clear)
+        m.d.sync += column.eq(cell_column)
+        if chars is None:
+            with m.Switch(cell):
+                for k, c in enumerate(box.text):
+                    with m.Case(k):
+                        m.d.sync += code.eq(char_codes(c)[0])
+        else:
+            m.d.sync += code.eq(chars[cell])
         # n + 2 -> n + 3: the glyph row's bits from the font ROM.
         row_bits = Signal(cw - 1, name=f"glyph_bits{i}_3")
         m.d.sync += row_bits.eq(self._glyph_row(m, code, row, str(i)))
@@ -129,6 +125,23 @@ class TextLayer(wiring.Component):
         lit = Signal(name=f"lit_text{i}_4")
         m.d.sync += lit.eq(inside_3 & (column_3 < cw - 1) & row_bits.bit_select(column_3, 1))
         return inside_3, lit
+
+    @staticmethod
+    def _cell_counters(m, i, box, scan, clear):
+        """(cell, column) registers equal to (``scan.xb`` // cw, ``scan.xb`` % cw) at every clock: cleared with
+        it, back to 0 at a line's end, one font pixel on after the last copy of one (``scan.x_phase``)."""
+        cw = FONT_CELL[0]
+        cell = Signal(range(len(box.text)), name=f"cell{i}_1")
+        column = Signal(range(cw), name=f"column{i}_1")
+        last_copy = (scan.x_phase == box.scale - 1) if box.scale > 1 else 1
+        with m.If(clear | (scan.active & scan.eol)):
+            m.d.sync += [cell.eq(0), column.eq(0)]
+        with m.Elif(scan.active & last_copy):
+            with m.If(column == cw - 1):
+                m.d.sync += [column.eq(0), cell.eq(cell + 1)]
+            with m.Else():
+                m.d.sync += column.eq(column + 1)
+        return cell, column
 
     def _glyph_row(self, m, code, row, tag):
         """The ``cw - 1`` bits of glyph ``code``'s row ``row`` (bit c = column c; 0 below the glyph): an
