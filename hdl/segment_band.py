@@ -61,7 +61,7 @@ class SegmentBand(wiring.Component):
     rgb : Out(24)
         The pixel's colour, :data:`LATENCY` (2) clocks after ``code`` / ``grey``.
     chars : Out(ArrayLayout(CHAR_BITS, len(SEGMENT_TEXT)))
-        The band text's font codes, registered (one clock after ``disparity`` / ``enable``).
+        The band text's font codes, registered (two clocks after ``disparity`` / ``enable``).
 
     Clock domain: ``sync``. The band's edges are registered from ``disparity`` (one clock); ``code`` and ``grey``
     are registered before any logic (they may come straight from block-RAM outputs), the colour in the second
@@ -109,15 +109,19 @@ class SegmentBand(wiring.Component):
         return m
 
     def _text(self, m):
-        """The band text ROM, read by the disparity register, registered; spaces while ``enable`` is low."""
+        """The band text ROM, read by the disparity register registered once more, its output registered; spaces
+        while ``enable`` is low (two clocks: the ROM's address decode and the enable multiplexer in one clock made
+        7 LUT levels)."""
         def word(text):
             return sum(c << (CHAR_BITS * pos) for pos, c in enumerate(char_codes(text)))
         shape = unsigned(len(self.chars.as_value()))
         rom = Memory(shape=shape, depth=len(self.table), init=[word(t) for t in self.table])
         m.submodules.band_rom = rom
         port = rom.read_port(domain="comb")
-        m.d.comb += port.addr.eq(self.disparity)
-        m.d.sync += self.chars.eq(Mux(self.enable, port.data, word(" " * len(SEGMENT_TEXT))))
+        disparity_1, enable_1 = Signal.like(self.disparity, name="text_disparity_1"), Signal(name="text_enable_1")
+        m.d.sync += [disparity_1.eq(self.disparity), enable_1.eq(self.enable)]
+        m.d.comb += port.addr.eq(disparity_1)
+        m.d.sync += self.chars.eq(Mux(enable_1, port.data, word(" " * len(SEGMENT_TEXT))))
 
 
 def _replicate_to_8_bits(grey):
