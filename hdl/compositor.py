@@ -87,6 +87,7 @@ from hdl.segment_band import LATENCY as SEGMENT_LATENCY, SegmentBand
 from hdl.switches import SettingsSignature
 from hdl.text_layer import LATENCY as TEXT_LATENCY, TextLayer
 from hdl.video_bus import TimingSignature, VideoSignature
+from hdl.reset_tree import add_reset_subtree
 
 __all__ = ["Compositor", "LATENCY", "check_layout", "segmentation_fits"]
 
@@ -259,14 +260,14 @@ class Compositor(wiring.Component):
         inside, eol, vblank_1 = self._region_flags(m)
         de_d, hsync_d, vsync_d = self._delay_line(m)
         scanners = self._scanners(m, inside, eol, vblank_1)
-        m.submodules.subtractor = sub = self._subtractor
+        sub = add_reset_subtree(m, "subtractor", self._subtractor)
         m.d.comb += [            # the disparity region's pixels (latency SUBTRACTOR_LATENCY = 4)
             sub.valid.eq(inside["disparity"]),
             sub.x.eq(scanners["disparity"].xb),
             sub.y.eq(scanners["disparity"].yb),
             sub.addr.eq(scanners["disparity"].addr),
         ]
-        m.submodules.text = text = self._text
+        text = add_reset_subtree(m, "text", self._text)
         m.d.comb += [text.x.eq(self.timing.x), text.y.eq(self.timing.y),
                      text.chars.readout.eq(self._distance.chars)]
         if self._rectification is not None:
@@ -419,7 +420,7 @@ class Compositor(wiring.Component):
         m.d.comb += result.addr.eq(ring_addr_2)
         # n + 3: the ring's data; the centre window; n + 4: the code to colour (depth map or bar band).
         in_depth_3, window_3 = delayed(m, in_depth_2, 1, "in_depth"), delayed(m, window_2, 1, "window")
-        m.submodules.distance = distance = self._distance
+        distance = add_reset_subtree(m, "distance", self._distance)
         m.d.comb += [distance.capture.eq(Mux(in_depth_3, window_3, 0)), distance.code.eq(result.data)]
         code_4 = Signal(range(cfg.disparities + 1), name="code_4")      # the whole disparity: its colour
         m.d.sync += code_4.eq(Mux(in_depth_3, result.data[cfg.fraction_bits:],

@@ -15,6 +15,7 @@ from spec.sensor import SENSOR
 from spec.video import CEA_1080P60
 from hdl.read_arbiter import ReadArbiter
 from hdl.rectification_text import RectificationModeSignature
+from hdl.reset_tree import add_reset_subtree
 from hdl.switches import SettingsSignature
 from hdl.video_bus import TimingSignature, VideoSignature
 
@@ -121,10 +122,10 @@ class StereoDisplay(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         comp, engine = self.compositor, self.engine
-        m.submodules.compositor = comp
-        m.submodules.engine = engine
+        add_reset_subtree(m, "compositor", comp)
+        add_reset_subtree(m, "engine", engine)
         for side, arbiter in self.arbiters.items():
-            m.submodules[f"{side}_arbiter"] = arbiter
+            add_reset_subtree(m, f"{side}_arbiter", arbiter)
             wiring.connect(m, getattr(comp, side), arbiter.display)
             wiring.connect(m, getattr(engine, side), arbiter.engine)
         wiring.connect(m, comp.depth, engine.result)

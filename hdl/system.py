@@ -83,6 +83,7 @@ from hdl.vertical_offset import VerticalOffsetEstimator
 from spec.rectification import RECTIFICATION
 from hdl.sync_gen import SyncGenerator
 from hdl.video_bus import VideoSignature
+from hdl.reset_tree import add_reset_subtree
 
 __all__ = ["StereoDepthSystem", "PanelSignature", "ControlSignature", "DISPLAY_LATENCY", "CAMERAS", "I2C_BUSES"]
 
@@ -258,16 +259,16 @@ class StereoDepthSystem(wiring.Component):
         ]
 
         # --- cameras: capture + frame buffers (cam_a / cam_b write, pix read) ----------------------------------
-        m.submodules.capture = capture = self.capture_path
+        capture = add_reset_subtree(m, "capture", self.capture_path, "pix")
         m.submodules.skew_meter = meter = self.skew_meter
         m.d.comb += [meter.start_a.eq(capture.cam_a.status.frame_start),
                      meter.start_b.eq(capture.cam_b.status.frame_start)]
 
         # --- display (pix) -------------------------------------------------------------------------------------
         pix = DomainRenamer("pix")
-        m.submodules.sync_gen = pix(self.sync_gen)
-        m.submodules.switches = switches = self.switches
-        m.submodules.display = pix(self.display)
+        add_reset_subtree(m, "sync_gen", pix(self.sync_gen), "pix")
+        switches = add_reset_subtree(m, "switches", self.switches, "pix")
+        add_reset_subtree(m, "display", pix(self.display), "pix")
         wiring.connect(m, self.sync_gen, self.display.timing)
         self._rectification(m, capture, pix)
         wiring.connect(m, self.select.settings, self.display.settings)
@@ -277,7 +278,7 @@ class StereoDepthSystem(wiring.Component):
         wiring.connect(m, self.display.right, capture.cam_b.read)      # camera B = right
         m.d.comb += switches.frame_start.eq(self.sync_gen.frame_start)
         if self.output is not None:
-            m.submodules.output = pix(self.output)
+            add_reset_subtree(m, "output", pix(self.output), "pix")
             wiring.connect(m, self.display.video, self.output.video)
 
         # --- LEDs ------------------------------------------------------------------------------------------------
@@ -299,8 +300,8 @@ class StereoDepthSystem(wiring.Component):
     def _rectification(self, m, capture, pix):
         """The estimator watches both captures' writes (camera A = left); the select picks manual or automatic."""
         est, select = self.estimator, self.select
-        m.submodules.vertical_offset = pix(est)
-        m.submodules.rectification_select = pix(select)
+        add_reset_subtree(m, "vertical_offset", pix(est), "pix")
+        add_reset_subtree(m, "rectification_select", pix(select), "pix")
         for side, port in (("left", capture.cam_a), ("right", capture.cam_b)):
             watch = getattr(est, side)
             m.d.comb += [watch.addr.eq(port.write.addr), watch.data.eq(port.write.data),

@@ -1,7 +1,7 @@
 """The board's clocks and I2C bus addresses (thesis table 4.1, spec "Clocks"; docs/hardware-facts.md gives the
 parts' sources)."""
 
-__all__ = ["CLOCKS", "I2C_ADDR"]
+__all__ = ["CLOCKS", "I2C_ADDR", "RESET_MAX_LOADS"]
 
 
 class CLOCKS:
@@ -18,3 +18,8 @@ class I2C_ADDR:
     """7-bit I2C addresses (docs/hardware-facts.md gives the sources)."""
     MT9D112 = 0x3C   # 0x78 as an 8-bit write address; each camera has its own bus on the VmodCAM
     CH7301C = 0x76   # AS strap dependent (0x75 or 0x76): see docs/hardware-facts.md
+
+
+#: The most loads any reset net of the board design may drive (the registered reset tree, hdl/reset_tree.py; a
+#: design target for a 6.7 ns period, not a device figure).
+RESET_MAX_LOADS = 500

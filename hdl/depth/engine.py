@@ -16,6 +16,7 @@ from hdl.depth.ports import ResultReadSignature, SharedReadSignature, token_layo
 from hdl.depth.row_ring import RowRing
 from hdl.depth.sgm_path import SgmPath
 from hdl.depth.winner import Winner
+from hdl.reset_tree import add_reset_subtree
 
 __all__ = ["DepthEngine", "Schedule", "schedule"]
 
@@ -140,8 +141,8 @@ class DepthEngine(wiring.Component):
         w, h = g.buf_width, g.buf_height
         ry = cfg.census_height // 2
 
-        m.submodules.left_ring = left_ring = RowRing(g, RING_ROWS)
-        m.submodules.right_ring = right_ring = RowRing(g, RING_ROWS)
+        left_ring = add_reset_subtree(m, "left_ring", RowRing(g, RING_ROWS))
+        right_ring = add_reset_subtree(m, "right_ring", RowRing(g, RING_ROWS))
         wiring.connect(m, wiring.flipped(self.left), left_ring.buffer)
         wiring.connect(m, wiring.flipped(self.right), right_ring.buffer)
 
@@ -304,15 +305,15 @@ class DepthEngine(wiring.Component):
         """Cost (3 clocks), then both paths; the vertical path's line buffer (read at clock 4)."""
         cfg, w = self.config, self.geometry.buf_width
         G, P = self.groups, cfg.lanes
-        m.submodules.cost = cost = MatchingCost(cfg)
+        cost = add_reset_subtree(m, "cost", MatchingCost(cfg))
         m.d.comb += [cost.right.eq(right_cen), cost.left.eq(left_sel), cost.inside.eq(inside)]
         tok = token
         for s in range(MatchingCost.LATENCY):
             delayed = Signal(token_layout(G, w), name=f"cost_token{s}")
             m.d.sync += delayed.eq(tok)
             tok = delayed
-        m.submodules.horizontal = horizontal = SgmPath(cfg, recurrent=True, width=w)
-        m.submodules.vertical = vertical = SgmPath(cfg, recurrent=False, width=w)
+        horizontal = add_reset_subtree(m, "horizontal", SgmPath(cfg, recurrent=True, width=w))
+        vertical = add_reset_subtree(m, "vertical", SgmPath(cfg, recurrent=False, width=w))
         for path in (horizontal, vertical):
             m.d.comb += [path.token.eq(tok), path.cost.eq(cost.cost)]
 
@@ -348,8 +349,8 @@ class DepthEngine(wiring.Component):
         """Winner, median, result ring."""
         cfg, g = self.config, self.geometry
         w = g.buf_width
-        m.submodules.winner = winner = Winner(cfg, w)
-        m.submodules.median = median = Median3x3(cfg, g)
+        winner = add_reset_subtree(m, "winner", Winner(cfg, w))
+        median = add_reset_subtree(m, "median", Median3x3(cfg, g))
         m.d.comb += [winner.token.eq(horizontal.l_token), winner.horizontal.eq(horizontal.l),
                      winner.vertical.eq(vertical.l)]
         end = [Signal(name=f"row_end{i}") for i in range(END_GAP)]

@@ -72,7 +72,9 @@ class Median3x3(wiring.Component):
         # q: read the two rows above (word x: [row y - 1, row y - 2]).
         inside = self.valid & (self.x < w)
         m.d.comb += read.addr.eq(self.x)
-        v1, end1, x1, code1 = Signal(), Signal(), Signal(range(w + 1)), Signal(bits)
+        # Data registers are reset-less (read only behind a set valid bit); the valid bits keep the reset.
+        v1, end1 = Signal(), Signal()
+        x1, code1 = Signal(range(w + 1), reset_less=True), Signal(bits, reset_less=True)
         m.d.sync += [v1.eq(self.valid & (self.y != 0)), end1.eq(self.x == w), x1.eq(self.x),
                      code1.eq(self.code)]
         w1 = Signal()
@@ -81,8 +83,8 @@ class Median3x3(wiring.Component):
         above, middle = read.data[1], read.data[0]
         m.d.comb += [write.addr.eq(x1), write.en.eq(w1)]
         m.d.comb += [write.data[0].eq(code1), write.data[1].eq(middle)]
-        col = Signal(column)
-        v2, end2, x2 = Signal(), Signal(), Signal(range(w + 1))
+        col = Signal(column, reset_less=True)
+        v2, end2, x2 = Signal(), Signal(), Signal(range(w + 1), reset_less=True)
         m.d.sync += [
             v2.eq(v1), end2.eq(end1), x2.eq(x1),
             col[0].eq(Mux(self.y == 1, middle, above)),
@@ -93,14 +95,15 @@ class Median3x3(wiring.Component):
         v, end, x, c = v2, end2, x2, col
         for step, (i, j) in enumerate(((0, 1), (1, 2), (0, 1))):
             nv, nend, nx, nc = Signal(name=f"sort_v{step}"), Signal(name=f"sort_end{step}"), \
-                Signal(range(w + 1), name=f"sort_x{step}"), Signal(column, name=f"sort_col{step}")
+                Signal(range(w + 1), name=f"sort_x{step}", reset_less=True), \
+                Signal(column, name=f"sort_col{step}", reset_less=True)
             m.d.sync += [nv.eq(v), nend.eq(end), nx.eq(x), nc.eq(c)]
             m.d.sync += [nc[i].eq(_lo(c[i], c[j])), nc[j].eq(_hi(c[i], c[j]))]
             v, end, x, c = nv, nend, nx, nc
         # q + 5: the window of three sorted columns around x - 1.
-        newest, previous = Signal(column), Signal(column)
-        window = [Signal(column, name=f"window{i}") for i in range(3)]
-        wv, wx = Signal(), Signal(range(w))
+        newest, previous = Signal(column, reset_less=True), Signal(column, reset_less=True)
+        window = [Signal(column, name=f"window{i}", reset_less=True) for i in range(3)]
+        wv, wx = Signal(), Signal(range(w), reset_less=True)
         m.d.sync += wv.eq(v & (x != 0))
         with m.If(v):
             with m.If(~end):
@@ -129,10 +132,10 @@ class Median3x3(wiring.Component):
             values = stage(state)
             state = {}
             for key, value in values.items():
-                reg = Signal(bits, name=f"median{n}_{key}")
+                reg = Signal(bits, name=f"median{n}_{key}", reset_less=True)
                 m.d.sync += reg.eq(value)
                 state[key] = reg
-            nv, nx = Signal(name=f"median{n}_v"), Signal(range(w), name=f"median{n}_x")
+            nv, nx = Signal(name=f"median{n}_v"), Signal(range(w), name=f"median{n}_x", reset_less=True)
             m.d.sync += [nv.eq(sv), nx.eq(sx)]
             sv, sx = nv, nx
         m.d.comb += [self.out_valid.eq(sv), self.out_x.eq(sx), self.out_code.eq(state["out"])]

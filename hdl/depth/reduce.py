@@ -34,11 +34,11 @@ def min_tree(m, items, name):
             while len(group) > 1:
                 group = [_min2(group[j], group[j + 1]) if j + 1 < len(group) else group[j]
                          for j in range(0, len(group), 2)]
-            value = Signal.like(items[0][0], name=f"{name}_v{level}_{i // FAN_IN}")
+            value = Signal.like(items[0][0], name=f"{name}_v{level}_{i // FAN_IN}", reset_less=True)
             m.d.sync += value.eq(group[0][0])
             index = None
             if group[0][1] is not None:
-                index = Signal.like(items[0][1], name=f"{name}_i{level}_{i // FAN_IN}")
+                index = Signal.like(items[0][1], name=f"{name}_i{level}_{i // FAN_IN}", reset_less=True)
                 m.d.sync += index.eq(group[0][1])
             nxt.append((value, index))
         items = nxt

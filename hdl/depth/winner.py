@@ -72,7 +72,7 @@ class Winner(wiring.Component):
         for k in range(lanes):
             m.d.sync += total[k].eq(self.horizontal[k] + self.vertical[k])
         # The previous group's last lane: S(d - 1) of this group's lane 0 (the pixel's groups are consecutive).
-        prev_last = Signal(sb)
+        prev_last = Signal(sb, reset_less=True)
         m.d.sync += prev_last.eq(total[lanes - 1])
         lane_bits = max(1, (lanes - 1).bit_length())
         payload = data.StructLayout({"lane": lane_bits, "below": sb, "above": sb})
@@ -87,15 +87,16 @@ class Winner(wiring.Component):
         first_lane = total[0]
         for s in range(tree_stages(lanes)):
             delayed = Signal(layout, name=f"winner_token{s}")
-            lane0 = Signal(sb, name=f"winner_lane0_{s}")
+            lane0 = Signal(sb, name=f"winner_lane0_{s}", reset_less=True)
             m.d.sync += [delayed.eq(tok), lane0.eq(first_lane)]
             tok, first_lane = delayed, lane0
 
-        best, below, above = Signal(sb), Signal(sb), Signal(sb)
-        best_d = Signal(range(cfg.disparities))
+        # Data registers: read only behind a token whose ``go`` is set, so reset-less (the reset-tree fanout).
+        best, below, above = (Signal(sb, reset_less=True) for _ in range(3))
+        best_d = Signal(range(cfg.disparities), reset_less=True)
         pending = Signal()          # the winner sits in a group's last lane: S(d* + 1) is the next group's lane 0
         final = Signal()
-        final_x = Signal(range(self.width))
+        final_x = Signal(range(self.width), reset_less=True)
         take = (tok.group == 0) | (value < best)
         m.d.sync += [final.eq(tok.go & tok.last), final_x.eq(tok.x)]
         with m.If(tok.go & take):
@@ -104,7 +105,7 @@ class Winner(wiring.Component):
         with m.Elif(tok.go & pending):
             m.d.sync += [above.eq(first_lane), pending.eq(0)]
         # Hold the winner while the second best is found (the next pixel's fold starts T clocks later).
-        held = {name: Signal.like(sig, name=f"held_{name}") for name, sig in
+        held = {name: Signal.like(sig, name=f"held_{name}", reset_less=True) for name, sig in
                 (("best", best), ("d", best_d), ("below", below), ("above", above), ("x", final_x))}
         with m.If(final):
             m.d.sync += [held["best"].eq(best), held["d"].eq(best_d), held["below"].eq(below),
@@ -137,7 +138,7 @@ class Winner(wiring.Component):
             m.d.sync += delayed.eq(rtok)
             rtok = delayed
         none = (1 << sb) - 1                    # above every sum: "no such disparity"
-        masked = Signal(data.ArrayLayout(sb, lanes))
+        masked = Signal(data.ArrayLayout(sb, lanes), reset_less=True)
         mtok = Signal(layout)
         m.d.sync += mtok.eq(rtok)
         for k in range(lanes):
@@ -149,10 +150,10 @@ class Winner(wiring.Component):
             delayed = Signal(layout, name=f"second_token{s}")
             m.d.sync += delayed.eq(mtok)
             mtok = delayed
-        second, done = Signal(sb), Signal()
+        second, done = Signal(sb, reset_less=True), Signal()
         with m.If(mtok.go):
             m.d.sync += second.eq(Mux((mtok.group == 0) | (value < second), value, second))
         m.d.sync += done.eq(mtok.go & mtok.last)
-        scaled, ready = Signal(range(64 * none + 1)), Signal()
+        scaled, ready = Signal(range(64 * none + 1), reset_less=True), Signal()
         m.d.sync += [scaled.eq(second * cfg.uniqueness), ready.eq(done)]
         return (held_best << 6) > scaled, ready
