@@ -19,6 +19,8 @@ class RegionScanner(wiring.Component):
         Repetitions of a pixel along the line and of a row.
     wrap : int or None
         ``addr`` counts modulo ``wrap`` (a ring of rows: ``wrap`` = rows x ``width``); None: no wrap.
+    cell_width : int or None
+        Also count ``xb`` in cells of this many pixels (``cell``, ``column``); None: no cell counters.
 
     Attributes
     ----------
@@ -29,6 +31,8 @@ class RegionScanner(wiring.Component):
         Valid while ``active``: ``addr`` = ``yb * width + xb`` (modulo ``wrap``), ``xb``, ``yb``; all registers.
     row_done : Out(1)
         Combinational: this pixel ends the last copy of picture row ``yb``.
+    cell, column : Out (with ``cell_width``)
+        ``xb // cell_width`` and ``xb % cell_width``, registers updated with ``xb`` (no divider in front of them).
 
     Other attributes (state, not ports: what the formal harness's invariant reads,
     sim/formal/harnesses/compositor.py)
@@ -39,10 +43,13 @@ class RegionScanner(wiring.Component):
     Clock domain: ``sync``.
     """
 
-    def __init__(self, width, height, scale_x, scale_y=None, *, wrap=None):
+    def __init__(self, width, height, scale_x, scale_y=None, *, wrap=None, cell_width=None):
         self.width, self.height = width, height
         self.scale_x, self.scale_y = scale_x, scale_x if scale_y is None else scale_y
         self.wrap = wrap
+        self.cell_width = cell_width
+        cells = {} if cell_width is None else {"cell": Out(range(max(2, -(-width // cell_width)))),
+                                                 "column": Out(range(max(2, cell_width)))}
         super().__init__({
             "active": In(1),
             "eol": In(1),
@@ -51,6 +58,7 @@ class RegionScanner(wiring.Component):
             "xb": Out(range(max(2, width))),           # (at least one bit: no zero-width vectors in Verilog)
             "yb": Out(range(max(2, height))),
             "row_done": Out(1),
+            **cells,
         })
         self.row_start = Signal(range(max(2, wrap if wrap is not None else width * height)))
         self.x_phase = Signal(range(max(2, self.scale_x)))
@@ -74,11 +82,16 @@ class RegionScanner(wiring.Component):
         else:
             m.d.comb += following.eq(Mux(self.addr == self.wrap - 1, 0, self.addr + 1))
         m.d.comb += self.row_done.eq(self.active & self.eol & last_y_copy)
+        cells = self.cell_width is not None
         with m.If(self.clear):
             m.d.sync += [self.addr.eq(0), row_start.eq(0), self.xb.eq(0), self.yb.eq(0)]
+            if cells:
+                m.d.sync += [self.cell.eq(0), self.column.eq(0)]
             m.d.sync += [p.eq(0) for p in (x_phase, y_phase) if p is not None]
         with m.Elif(self.active & self.eol):
             m.d.sync += self.xb.eq(0)
+            if cells:
+                m.d.sync += [self.cell.eq(0), self.column.eq(0)]
             if x_phase is not None:
                 m.d.sync += x_phase.eq(0)
             with m.If(last_y_copy):                 # next picture row
@@ -91,6 +104,11 @@ class RegionScanner(wiring.Component):
         with m.Elif(self.active):
             with m.If(last_x_copy):                 # next picture pixel
                 m.d.sync += [self.addr.eq(following), self.xb.eq(self.xb + 1)]
+                if cells:
+                    with m.If(self.column == self.cell_width - 1):
+                        m.d.sync += [self.column.eq(0), self.cell.eq(self.cell + 1)]
+                    with m.Else():
+                        m.d.sync += self.column.eq(self.column + 1)
                 if x_phase is not None:
                     m.d.sync += x_phase.eq(0)
             if x_phase is not None:

@@ -98,17 +98,17 @@ class TextLayer(wiring.Component):
             inside.eq((self.x >= b.x0) & (self.x < b.x1) & (self.y >= b.y0) & (self.y < b.y1)),
             eol.eq(self.x == b.x1 - 1),
         ]
-        scan = RegionScanner(len(box.text) * cw, ch, box.scale)
+        scan = RegionScanner(len(box.text) * cw, ch, box.scale, cell_width=cw)
         m.submodules[f"text_scan{i}"] = scan
         m.d.comb += [scan.active.eq(inside), scan.eol.eq(eol & inside), scan.clear.eq(clear)]
         # n + 1 -> n + 2: the cell's character code, the glyph row, the column within the cell.
         code = Signal(CHAR_BITS, name=f"char{i}_2")
         row, column = Signal(range(ch), name=f"glyph_row{i}_2"), Signal(range(cw), name=f"cell_column{i}_2")
         m.d.sync += row.eq(scan.yb)
-        # The cell and the column within it as running counters beside the scanner's xb (cell = xb // cw, column
-        # = xb % cw, updated on the same conditions), so no table of xb lies in front of the character multiplexer.
-        cell, cell_column = self._cell_counters(m, i, box, scan, clear)
-        m.d.sync += column.eq(cell_column)
+        # The cell and the column within it from the scanner's cell counters, so no table of xb lies in front of
+        # the character multiplexer.
+        cell = scan.cell
+        m.d.sync += column.eq(scan.column)
         if chars is None:
             with m.Switch(cell):
                 for k, c in enumerate(box.text):
@@ -125,23 +125,6 @@ class TextLayer(wiring.Component):
         lit = Signal(name=f"lit_text{i}_4")
         m.d.sync += lit.eq(inside_3 & (column_3 < cw - 1) & row_bits.bit_select(column_3, 1))
         return inside_3, lit
-
-    @staticmethod
-    def _cell_counters(m, i, box, scan, clear):
-        """(cell, column) registers equal to (``scan.xb`` // cw, ``scan.xb`` % cw) at every clock: cleared with
-        it, back to 0 at a line's end, one font pixel on after the last copy of one (``scan.x_phase``)."""
-        cw = FONT_CELL[0]
-        cell = Signal(range(len(box.text)), name=f"cell{i}_1")
-        column = Signal(range(cw), name=f"column{i}_1")
-        last_copy = (scan.x_phase == box.scale - 1) if box.scale > 1 else 1
-        with m.If(clear | (scan.active & scan.eol)):
-            m.d.sync += [cell.eq(0), column.eq(0)]
-        with m.Elif(scan.active & last_copy):
-            with m.If(column == cw - 1):
-                m.d.sync += [column.eq(0), cell.eq(cell + 1)]
-            with m.Else():
-                m.d.sync += column.eq(column + 1)
-        return cell, column
 
     def _glyph_row(self, m, code, row, tag):
         """The ``cw - 1`` bits of glyph ``code``'s row ``row`` (bit c = column c; 0 below the glyph): an
