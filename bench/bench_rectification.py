@@ -221,10 +221,7 @@ def resources_table():
         return
     report = synthesize(rtlil.convert(block, name="top"), build_dir("bench") / "rectification_synth",
                         domains=("sync",))
-    levels, carry, end = report.levels.get("sync", (0, 0, "-"))
-    print(f"   {report.luts} LUTs, {report.ffs} FFs, {report.bram_blocks36:g} RAMB36 equivalents, "
-          f"{report.cells.get('DSP48E', 0)} DSP48E; longest chain {levels} LUT levels + {carry} CARRY4 "
-          f"(ends at {end}); Yosys {report.seconds:.0f} s")
+    print(f"   {report.block_summary()}")
 
 
 def main(argv=None):

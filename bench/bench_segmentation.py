@@ -35,10 +35,7 @@ def resources():
         return
     report = synthesize(rtlil.convert(SegmentBand(SENSOR, DEPTH), name="top"), build_dir("bench") / "segment_synth",
                         domains=("sync",))
-    levels, carry, end = report.levels.get("sync", (0, 0, "-"))
-    print(f"2. SegmentBand alone (Yosys): {report.luts} LUTs, {report.ffs} FFs, {report.bram_blocks36:g} RAMB36 "
-          f"equivalents; longest chain {levels} LUT levels + {carry} CARRY4 (ends at {end}); Yosys "
-          f"{report.seconds:.0f} s")
+    print(f"2. SegmentBand alone (Yosys): {report.block_summary()}")
 
 
 def main(argv=None):

@@ -66,6 +66,13 @@ class Report:
     def bram_blocks36(self):
         return self.ramb36 + self.ramb18 / 2
 
+    def block_summary(self, domain="sync"):
+        """One line of a block synthesised alone: its cells and its longest chain in ``domain``."""
+        levels, carry, end = self.levels.get(domain, (0, 0, "-"))
+        return (f"{self.luts} LUTs, {self.ffs} FFs, {self.bram_blocks36:g} RAMB36 equivalents, "
+                f"{self.cells.get('DSP48E', 0)} DSP48E; longest chain {levels} LUT levels + {carry} CARRY4 "
+                f"(ends at {end}); Yosys {self.seconds:.0f} s")
+
     def totals(self):
         """The figures ``resources.json`` holds: totals, each domain's worst logic chain, the budget check."""
         lut_percent = 100 * self.luts / CAPACITY["LUT"]
