@@ -3,7 +3,7 @@
 
 from dataclasses import dataclass
 
-__all__ = ["SensorGeometry", "SENSOR", "SMALL_SENSOR", "VMODCAM_RIG", "disparity_of_distance"]
+__all__ = ["SensorGeometry", "SENSOR", "SMALL_SENSOR", "VMODCAM_RIG", "disparity_of_distance", "ROW_TAG_BITS"]
 
 
 @dataclass(frozen=True)
@@ -34,6 +34,10 @@ class SensorGeometry:
     def addr_bits(self):
         return max(1, (self.buf_depth - 1).bit_length())
 
+
+#: Width of a buffer row's frame tag: the capture's frame count mod 2**ROW_TAG_BITS of the camera frame that
+#: last started writing the row (docs/capture.md, "Consistency at the tear").
+ROW_TAG_BITS = 4
 
 #: The VmodCAM's MT9D112 at full resolution -> 400 x 300 x 5-bit buffers (2 x 120,000 words).
 SENSOR = SensorGeometry()

@@ -11,10 +11,10 @@ from amaranth.lib import data
 from amaranth.lib.wiring import In, Out
 
 from hdl.frame_buffer import FrameBufferReadSignature
-from spec.sensor import SENSOR
+from spec.sensor import ROW_TAG_BITS, SENSOR
 from hdl.signature import ParametricSignature
 
-__all__ = ["SharedReadSignature", "ResultReadSignature", "token_layout"]
+__all__ = ["SharedReadSignature", "ResultReadSignature", "RowTagReadSignature", "token_layout"]
 
 
 class SharedReadSignature(ParametricSignature):
@@ -40,6 +40,20 @@ class ResultReadSignature(ParametricSignature):
             "rows_ready": In(range(height + 1)),
             "rows_released": Out(range(height + 1)),
         }, addr_bits=addr_bits, code_bits=code_bits, height=height)
+
+
+class RowTagReadSignature(ParametricSignature):
+    """The reader's side of a frame buffer's row tags (docs/capture.md, "Consistency at the tear"): ``row`` (out)
+    a buffer row 0..height-1; in the next clock ``tag`` (in) is the frame tag of the camera frame that last
+    started writing that row (frame count mod 2**bits) and ``busy`` (in) says that the capture is writing that row
+    now (or may be: the tag is not to be trusted). Both are 0 from a source that tracks nothing."""
+
+    def __init__(self, height, bits=ROW_TAG_BITS):
+        super().__init__({
+            "row": Out(range(height)),
+            "tag": In(bits),
+            "busy": In(1),
+        }, height=height, bits=bits)
 
 
 def token_layout(groups, width):
