@@ -1,8 +1,9 @@
 """Golden model of the depth panel and its overlays (docs/display.md, "Four panels"), written from the spec.
 
-* :func:`depth_colours`: the colour of every whole disparity 0..D (D = invalid): the viridis anchors of
-  ``spec.display.DEPTH_COLOURS`` interpolated linearly at u = (n - 1) d / (D - 1), rounded to nearest; a
-  sub-pixel code c is shown in the colour of its whole part c // 2**F (the invalid code's whole part is D).
+* :func:`depth_colours`: the colour of every code 0..2**F D (2**F D = invalid): the viridis anchors of
+  ``spec.display.DEPTH_COLOURS`` interpolated linearly at u = min((n - 1) c / (2**F (D - 1)), n - 1), each
+  channel rounded half up (exact integer arithmetic); the invalid code is ``DEPTH_INVALID_RGB``. The colour bar
+  shows whole disparity d in the colour of code 2**F d.
 * :func:`engine_left`: the left image as the engine reads it with the signed rectification r: row y is
   row min(max(y + r, 0), H - 1) (the first row repeats above the image, the last below it).
 * :func:`centre_readout`: the median of the 3 x 3 codes around (W // 2, H // 2) and its readout text: the
@@ -28,12 +29,17 @@ __all__ = ["depth_colours", "engine_left", "centre_readout", "depth_picture", "d
 
 
 def depth_colours(config=DEPTH):
-    """(D + 1,) int64 0xRRGGBB: the colour of each code; the last is the invalid colour."""
-    anchors = np.asarray(DEPTH_COLOURS, dtype=np.float64)
-    positions = np.linspace(0.0, 1.0, len(anchors))
-    t = np.arange(config.disparities) / (config.disparities - 1)
-    channels = [np.floor(np.interp(t, positions, anchors[:, c]) + 0.5).astype(np.int64) for c in range(3)]
-    rgb = (channels[0] << 16) | (channels[1] << 8) | channels[2]
+    """(2**F D + 1,) int64 0xRRGGBB: the colour of each code 0..2**F D; the last is the invalid colour."""
+    anchors = np.asarray(DEPTH_COLOURS, dtype=np.int64)
+    n = len(anchors)
+    den = config.fraction * (config.disparities - 1)            # u = num / den
+    num = np.minimum((n - 1) * np.arange(config.invalid, dtype=np.int64), (n - 1) * den)
+    seg = np.minimum(num // den, n - 2)                          # the anchors seg, seg + 1 around u
+    rest = num - seg * den                                       # u - seg = rest / den, 0 <= rest <= den
+    lo, hi = anchors[seg], anchors[seg + 1]
+    # round half up: floor(lo + (hi - lo) rest / den + 1/2) = floor((2 den lo + 2 (hi - lo) rest + den) / (2 den))
+    channels = (2 * den * lo + 2 * (hi - lo) * rest[:, None] + den) // (2 * den)
+    rgb = (channels[:, 0] << 16) | (channels[:, 1] << 8) | channels[:, 2]
     return np.append(rgb, DEPTH_INVALID_RGB)
 
 
@@ -68,7 +74,7 @@ def centre_readout(codes, geometry=SENSOR, config=DEPTH):
 def depth_picture(codes, config=DEPTH, arm=0):
     """(H, W) int64 0xRRGGBB: the codes' colours with the crosshair drawn over them."""
     codes = np.asarray(codes)
-    picture = depth_colours(config)[codes >> config.fraction_bits]
+    picture = depth_colours(config)[codes]
     h, w = codes.shape
     yc, xc = h // 2, w // 2
     for offset in range(2, arm + 1):
@@ -99,9 +105,9 @@ def draw_depth_display(frame, codes, layout, geometry=SENSOR, config=DEPTH):
     frame[region.y0:region.y1, region.x0:region.x1] = np.repeat(np.repeat(picture, s, axis=0), s, axis=1)
     bar = layout.bar
     colours = depth_colours(config)
-    for code in range(bar.codes):
-        top = bar.y0 + (bar.codes - 1 - code) * bar.step
-        frame[top:top + bar.step, bar.x0:bar.x0 + bar.width] = colours[code]
+    for d in range(bar.codes):                                   # whole disparities: code 2**F d
+        top = bar.y0 + (bar.codes - 1 - d) * bar.step
+        frame[top:top + bar.step, bar.x0:bar.x0 + bar.width] = colours[d << config.fraction_bits]
     for tick in layout.ticks:
         frame[tick.y0:tick.y1, tick.x0:tick.x1] = TEXT_RGB
     for label in layout.labels:

@@ -12,8 +12,8 @@ pixel repeated ``scale`` x ``scale`` times (docs/display.md, "Four panels").
 
 * ``left`` / ``right``: the camera image, grey by bit replication (:func:`spec.display.grey_to_rgb24`).
 * ``disparity``: the :class:`hdl.disparity.DisparitySubtractor` output, ``level_grey[level]`` or ``NO_DATA_RGB``.
-* ``depth``: the engine's code's whole disparity (code >> ``fraction_bits``) through the colour map ROM
-  (:func:`hdl.colour_map.colour_table`); the crosshair
+* ``depth``: the engine's sub-pixel code through the colour map ROM (:func:`hdl.colour_map.colour_table`, the
+  2**F D codes below the invalid one in block RAM, the invalid colour chosen after it); the crosshair
   (``CROSSHAIR_RGB``) on the centre row and column, 2 .. ``crosshair_arm`` buffer pixels from the centre; a row
   the engine has not finished (``rows_ready``) shows ``DEPTH_NOT_READY_RGB``. A finished depth row is released
   to the engine after its last display line.
@@ -21,7 +21,7 @@ pixel repeated ``scale`` x ``scale`` times (docs/display.md, "Four panels").
   segmentation view instead (:class:`hdl.segment_band.SegmentBand`: the right image, dimmed outside the depth band
   around the disparity register, the engine's codes read from the result ring on the depth map's rows) and the
   layout's ``band`` text box the band in metres (spaces, so background, while ``segment`` is low).
-* the colour bar (every code's colour, near on top), the tick marks (``TEXT_RGB``), the distance labels and the
+* the colour bar (every whole disparity d in the colour of code 2**F d, near on top), the tick marks (``TEXT_RGB``), the distance labels and the
   centre-distance readout (:class:`hdl.text_layer.TextLayer`: glyph pixels ``TEXT_RGB``, the rest of a text box
   ``BACKGROUND_RGB``); the readout shows :class:`hdl.centre_distance.CentreDistance` of this frame's map, the
   layout's ``rectification`` box the rectification in use (:class:`hdl.rectification_text.RectificationText`).
@@ -43,8 +43,9 @@ clock    what happens
 n        ``timing`` in; compare ``x``/``y`` with the region bounds
 n + 1    region flags registered; running counters give the buffer/ring address and coordinates
 n + 2    read addresses and requests registered; crosshair, window and row-ready flags
-n + 3    frame-buffer and result-ring read data (into the segmentation block too)
-n + 4    read data registered (BRAM output register); the colour-map code (depth map or bar); the text
+n + 3    frame-buffer and result-ring read data (into the segmentation block too); the colour-map ROM's
+         address: the code (depth map) or 2**F x the band's disparity (bar)
+n + 4    read data registered (BRAM output register); the colour-map word and the invalid flag; the text
          layer's font pixel; the segmentation block's code and grey registered
 n + 5    disparity level / no-data, the image grey, the code's colour, the segmentation colour registered
 n + 6    ``video`` registered: the colour chosen by region
@@ -57,13 +58,12 @@ raster gives it; the constructor checks that the region starts at least 2 pixels
 layouts start lines down). So every disparity pixel of a frame uses the values loaded at that frame's start.
 """
 
-from amaranth import Cat, Const, Module, Mux, Signal, unsigned
+from amaranth import Cat, Const, Module, Mux, Signal
 from amaranth.lib import wiring
-from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
 from hdl.centre_distance import SETTLE_CLOCKS as READOUT_SETTLE, CentreDistance
-from hdl.colour_map import colour_table
+from hdl.colour_map import LATENCY as COLOUR_LATENCY, ColourMap
 from hdl.delay import delayed
 from hdl.depth.ports import ResultReadSignature, SharedReadSignature
 from hdl.disparity import LATENCY as SUBTRACTOR_LATENCY, SETTLE_CLOCKS, DisparitySubtractor, check_thresholds
@@ -418,21 +418,17 @@ class Compositor(wiring.Component):
             bar_code_2.eq(cfg.disparities - 1 - scanners["bar"].yb),
         ]
         m.d.comb += result.addr.eq(ring_addr_2)
-        # n + 3: the ring's data; the centre window; n + 4: the code to colour (depth map or bar band).
+        # n + 3: the ring's data; the centre window.
         in_depth_3, window_3 = delayed(m, in_depth_2, 1, "in_depth"), delayed(m, window_2, 1, "window")
         distance = add_reset_subtree(m, "distance", self._distance)
         m.d.comb += [distance.capture.eq(Mux(in_depth_3, window_3, 0)), distance.code.eq(result.data)]
-        code_4 = Signal(range(cfg.disparities + 1), name="code_4")      # the whole disparity: its colour
-        m.d.sync += code_4.eq(Mux(in_depth_3, result.data[cfg.fraction_bits:],
-                                  delayed(m, bar_code_2, 1, "bar_code")))
-        colour_5 = Signal(24, name="colour_5")
-        table = colour_table(cfg)
-        m.submodules.colour_rom = rom = Memory(shape=unsigned(24), depth=2 ** len(code_4),
-                                               init=table + [table[-1]] * (2 ** len(code_4) - len(table)))
-        colour = rom.read_port(domain="comb")
-        m.d.comb += colour.addr.eq(code_4)
-        m.d.sync += colour_5.eq(colour.data)
-        return dict(colour=colour_5, depth=delayed(m, in_depth_3, 2, "in_depth_3"),
+        # n + 3: the code to colour (the ring's data, or the bar's whole disparity d as code 2**F d) into the
+        # colour map (its ROM read at n + 3, the word at n + 4); the colour registered at n + 5.
+        m.submodules.colour_map = colour_map = ColourMap(cfg)
+        m.d.comb += colour_map.code.eq(Mux(in_depth_3, result.data,
+                                           delayed(m, bar_code_2, 1, "bar_code") << cfg.fraction_bits))
+        colour_5 = colour_map.rgb                                       # n + 3 + COLOUR_LATENCY
+        return dict(colour=colour_5, depth=delayed(m, in_depth_3, COLOUR_LATENCY, "in_depth_3"),
                     ready=delayed(m, ready_2, 3, "ready"), cross=delayed(m, cross_2, 3, "cross"),
                     bar=delayed(m, inside["bar"], 4, "in_bar"), tick=delayed(m, inside["tick"], 3, "in_tick"),
                     in_text=delayed(m, self._text.in_text, 5 - TEXT_LATENCY, "in_text"),

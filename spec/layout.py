@@ -74,8 +74,9 @@ class TextBox:
 
 @dataclass(frozen=True)
 class ColourBar:
-    """The depth colour map as a vertical bar: code c (0..codes-1) fills rows
-    ``y0 + (codes - 1 - c) * step`` .. ``+ step`` (near = large disparity on top) of columns [x0, x0 + width)."""
+    """The depth colour map as a vertical bar: whole disparity d (0..codes-1, shown in the colour of its code
+    2**F d) fills rows ``y0 + (codes - 1 - d) * step`` .. ``+ step`` (near = large disparity on top) of columns
+    [x0, x0 + width)."""
     x0: int
     y0: int
     width: int

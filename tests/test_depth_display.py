@@ -11,7 +11,7 @@ from hypothesis import given, settings, strategies as st
 
 from golden.depth_display import centre_readout, depth_colours, draw_text, distance_m
 from hdl.centre_distance import CentreDistance, SETTLE_CLOCKS, readout_table
-from hdl.colour_map import colour_table
+from hdl.colour_map import LATENCY as COLOUR_LATENCY, ColourMap, colour_table
 from spec.depth import DEPTH, SMALL_DEPTH, DepthConfig
 from spec.display import BACKGROUND_RGB, DEPTH_COLOURS, DEPTH_INVALID_RGB, TEXT_RGB
 from spec.font import FONT, FONT_CELL
@@ -31,20 +31,78 @@ def _rgb(value):
 
 @pytest.mark.parametrize("config", CONFIGS, ids=lambda c: f"D{c.disparities}")
 def test_colour_rom_equals_golden(config):
-    """The ROM (exact fractions) equals the golden colours (NumPy interpolation) for every code."""
+    """The ROM's contents (exact fractions) equal the golden colours (integer NumPy arithmetic) for every code
+    0..16 D."""
     assert colour_table(config) == depth_colours(config).tolist()
+    assert len(colour_table(config)) == config.invalid + 1
+
+
+def run_colour_map(config):
+    """Every code 0..16 D through the ColourMap block (Amaranth simulator), in order: the colours it gives."""
+    dut, codes, got = ColourMap(config), list(range(config.invalid + 1)), []
+
+    async def bench(ctx):
+        for c in codes + [0] * COLOUR_LATENCY:
+            ctx.set(dut.code, c)
+            await ctx.tick()
+            got.append(ctx.get(dut.rgb))
+
+    simulate(dut, clocks={"sync": 1e8}, testbenches=[bench])
+    return got[COLOUR_LATENCY - 1:COLOUR_LATENCY - 1 + len(codes)]
+
+
+@pytest.mark.parametrize("config", [SMALL_DEPTH, DEPTH], ids=lambda c: f"D{c.disparities}")
+def test_colour_map_block_equals_golden(config):
+    """The RTL lookup (block-RAM ROM read synchronously, the invalid code chosen after it) gives the golden colour
+    of every code 0..16 D, two clocks after the code."""
+    assert run_colour_map(config) == depth_colours(config).tolist()
+
+
+def _whole_pixel_colours(config):
+    """The colours of whole disparities 0..D - 1 as the panel showed them before issue 26 (NumPy's float
+    interpolation at u = 8 d / (D - 1), rounded half up): a third computation, for the codes 16 d."""
+    anchors = np.asarray(DEPTH_COLOURS, dtype=np.float64)
+    t = np.arange(config.disparities) / (config.disparities - 1)
+    ch = [np.floor(np.interp(t, np.linspace(0, 1, len(anchors)), anchors[:, c]) + 0.5).astype(int) for c in range(3)]
+    return ((ch[0] << 16) | (ch[1] << 8) | ch[2]).tolist()
+
+
+@pytest.mark.parametrize("config", CONFIGS, ids=lambda c: f"D{c.disparities}")
+def test_colour_rule_at_its_boundaries(config):
+    """Code 16 d has the colour whole disparity d had (every d); the largest valid code 16 (D - 2) + 8 lies below
+    the last anchor (u < 8) and before its colour; the invalid code is DEPTH_INVALID_RGB and no valid code's
+    colour. Between 16 d and 16 (d + 1) some code has a colour of its own (the panel shows fractions), and where
+    no anchor lies strictly between them every channel of every code between is between theirs."""
+    colours, f, top = depth_colours(config), config.fraction, config.disparities - 1
+    assert colours[:config.invalid:f].tolist() == _whole_pixel_colours(config)
+    largest = f * (config.disparities - 2) + f // 2
+    assert 8 * largest < 8 * f * top                            # u = 8 c / (16 (D - 1)) < 8
+    assert colours[largest] != colours[f * top] and colours[f * top] == (253 << 16 | 231 << 8 | 37)
+    assert colours[config.invalid] == DEPTH_INVALID_RGB and DEPTH_INVALID_RGB not in colours[:-1].tolist()
+    rgb = np.array([_rgb(v) for v in colours[:f * top + 1]])
+    for d in range(top):
+        lo, hi, inside = rgb[f * d], rgb[f * (d + 1)], rgb[f * d + 1:f * (d + 1)]
+        assert any((c != lo).any() and (c != hi).any() for c in inside)        # a fraction has its own colour
+        if not any(f * d < f * top * k // 8 < f * (d + 1) for k in range(9) if f * top * k % 8 == 0):
+            assert ((inside >= np.minimum(lo, hi)) & (inside <= np.maximum(lo, hi))).all()
 
 
 def test_colour_map_by_hand():
-    """Far = the first anchor, near = the last (yellow: warm); d = 31 of D = 64 is at u = 8 x 31 / 63 = 3 + 59/63,
-    59/63 of the way from anchor 3 (44, 114, 142) to anchor 4 (33, 145, 140): (44 - 11 x 59/63, 114 + 31 x
-    59/63, 142 - 2 x 59/63) = (33.70, 143.03, 140.13) -> (34, 143, 140); invalid is black. Lightness
+    """Far = the first anchor, near = the last (yellow: warm); D = 64: u = 8 c / 1008 = c / 126. d = 31 (code 496)
+    is at u = 3 + 118/126, from anchor 3 (44, 114, 142) to anchor 4 (33, 145, 140): (33.70, 143.03, 140.13) ->
+    (34, 143, 140); code 500 (d = 31.25): u = 3 + 122/126: (33.35, 144.02, 140.06) -> (33, 144, 140); code 504
+    (d = 31.5) is anchor 4 itself; code 512 (d = 32): 8/126 past it: (33.44, 146.84, 139.24) -> (33, 147, 139).
+    Half up: code 21, u = 1/6: (68 + 3/6, 1 + 44/6, 84 + 39/6) = (68.5, 8.33, 90.5) -> (69, 8, 91) (truncation
+    or half-to-even would give 68 and 90). The largest valid code 1000 (d = 62.5): u = 7 + 118/126 from (173,
+    220, 48) to (253, 231, 37): (247.92, 230.30, 37.70) -> (248, 230, 38). Invalid (1024) is black. Lightness
     (Rec. 709 luma) rises with disparity: the map is perceptually ordered, near is brightest."""
     table = colour_table(DEPTH)
-    assert _rgb(table[0]) == DEPTH_COLOURS[0] and _rgb(table[63]) == DEPTH_COLOURS[-1] == (253, 231, 37)
-    assert _rgb(table[31]) == (34, 143, 140)
-    assert table[64] == DEPTH_INVALID_RGB == 0
-    rgb = np.array([_rgb(v) for v in table[:64]], dtype=float)
+    assert _rgb(table[0]) == DEPTH_COLOURS[0] and _rgb(table[16 * 63]) == DEPTH_COLOURS[-1] == (253, 231, 37)
+    assert _rgb(table[496]) == (34, 143, 140) and _rgb(table[500]) == (33, 144, 140)
+    assert _rgb(table[504]) == DEPTH_COLOURS[4] and _rgb(table[512]) == (33, 147, 139)
+    assert _rgb(table[21]) == (69, 8, 91) and _rgb(table[1000]) == (248, 230, 38)
+    assert table[1024] == DEPTH_INVALID_RGB == 0 and len(table) == 1025
+    rgb = np.array([_rgb(v) for v in table[:16 * 63 + 1:16]], dtype=float)
     luma = rgb @ [0.2126, 0.7152, 0.0722]
     assert (np.diff(luma) > 0).all()
     assert rgb[63, 0] > rgb[63, 2] and rgb[0, 2] > rgb[0, 0]        # near warm (red > blue), far cool

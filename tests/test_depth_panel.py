@@ -13,7 +13,7 @@ from spec.depth import DEPTH
 from spec.layout import DisplayLayout
 from spec.sensor import SENSOR
 from spec.video import CEA_1080P60
-from sim.analysis.depth_panel import depth_summary, read_depth_panel, read_text, read_truth
+from sim.analysis.depth_panel import colour_codes, depth_summary, read_depth_panel, read_text, read_truth
 from sim import UserError
 
 LAYOUT = DisplayLayout.centred(CEA_1080P60, SENSOR, DEPTH)
@@ -26,12 +26,16 @@ def golden():
 
 
 def test_panel_and_readout_read_back(golden):
-    """Every panel pixel but the crosshair's 4 x 7 and the readout's 36 x 8 gives back the golden code; the
-    readout's text is the golden one; a cell broken by one pixel reads '?'."""
+    """Every panel pixel but the crosshair's 4 x 7 and the readout's 36 x 8 gives back a code of the golden code's
+    colour, within 2/16 pixel of it (at most 5 codes share a colour), and exactly the invalid code where it is
+    invalid; the readout's text is the golden one; a cell broken by one pixel reads '?'."""
     frame, codes, text = golden
     got, known = read_depth_panel(frame, LAYOUT, DEPTH)
     assert (~known).sum() == 4 * (LAYOUT.crosshair_arm - 1) + 36 * 8
-    assert (got[known] == (codes >> DEPTH.fraction_bits)[known]).all()       # the whole disparities
+    colours = depth_colours(DEPTH)
+    assert (colours[got[known]] == colours[codes[known]]).all() and (np.abs(got - codes)[known] <= 2).all()
+    assert ((got == DEPTH.invalid) == (codes == DEPTH.invalid))[known].all()
+    assert (got[known] % DEPTH.fraction != 0).mean() > 0.5                 # the fractions are shown
     assert read_text(frame, LAYOUT.readout) == text and text.strip()[0].isdigit()
     broken = frame.copy()
     box = LAYOUT.readout
@@ -40,10 +44,11 @@ def test_panel_and_readout_read_back(golden):
 
 
 def test_summary_against_a_truth(golden):
-    """A truth equal to the shown disparities: no bad pixel among the valid ones; every invalid pixel with a
-    truth counts bad; one pixel off by 1.5 is bad > 1 but not bad > 2."""
+    """A truth equal to the engine's sub-pixel disparities: no bad pixel among the valid ones (the read-back is
+    within 2/16 pixel); every invalid pixel with a truth counts bad; one pixel off by 1.5 is bad > 1 but not
+    bad > 2."""
     frame, codes, _ = golden
-    truth = (codes >> DEPTH.fraction_bits).astype(float)          # the panel shows whole disparities
+    truth = codes / DEPTH.fraction                                # the panel shows sub-pixel disparities
     invalid = codes == DEPTH.invalid
     truth[invalid] = 5.0
     s = depth_summary(frame, LAYOUT, SENSOR, DEPTH, truth)
@@ -83,7 +88,7 @@ def test_ground_truth_files(tmp_path):
     for args in (("missing.pfm", (2000, 1200)), ("t.pfm", (1600, 1200)), ("grey8.png", (2000, 1200))):
         with pytest.raises(UserError):
             read_truth(tmp_path / args[0], args[1], SENSOR)
-    assert len(set(depth_colours(DEPTH).tolist())) == DEPTH.disparities + 1     # the colours are invertible
+    assert len(colour_codes(DEPTH)) == len(set(depth_colours(DEPTH).tolist()))   # the colours are invertible
 
 
 def test_left_view_ground_truth_is_converted_to_the_right_view(tmp_path):

@@ -1,7 +1,8 @@
 """Reading the depth display back from a displayed frame (the HDMI sink's frame from the simulated pins).
 
-* :func:`read_depth_panel`: the depth codes the depth panel shows, by inverting the colour map pixel by pixel
-  (each buffer pixel's top-left display pixel); the crosshair's pixels and those under the readout carry no
+* :func:`read_depth_panel`: the sub-pixel depth codes the depth panel shows, by inverting the colour map pixel
+  by pixel (each buffer pixel's top-left display pixel; a colour shown by a few neighbouring codes reads as the
+  middle one, :func:`colour_codes`); the crosshair's pixels and those under the readout carry no
   code and are returned as unknown (``known`` False).
 * :func:`read_text`: a text box's characters, by matching every cell against the font.
 * :func:`depth_summary`: bad > 1 / bad > 2 / density of the panel's codes against a ground truth (over the known
@@ -24,8 +25,8 @@ from spec.sensor import SENSOR, disparity_of_distance
 from sim.analysis.truth import bad_pixel_rates, right_view
 from sim import UserError
 
-__all__ = ["read_depth_panel", "read_text", "depth_summary", "panel_picture", "depth_picture_png", "read_truth",
-           "depth_outputs", "summary_lines"]
+__all__ = ["colour_codes", "read_depth_panel", "read_text", "depth_summary", "panel_picture", "depth_picture_png",
+           "read_truth", "depth_outputs", "summary_lines"]
 
 
 def _to_rgb24(frame):
@@ -33,17 +34,34 @@ def _to_rgb24(frame):
     return (frame[..., 0] << 16) | (frame[..., 1] << 8) | frame[..., 2]
 
 
+def colour_codes(config):
+    """{colour: code}: each colour of the depth colour map (golden model) and the code it stands for: the middle
+    (rounded down) of the run of codes 0..16 (D - 1) showing it (codes above 16 (D - 1) are never output), the
+    invalid code for the invalid colour. ``ValueError`` when a colour's codes are not one run (then it could not
+    be read back)."""
+    colours = depth_colours(config).tolist()
+    runs = {}
+    for code, c in enumerate(colours[:config.fraction * (config.disparities - 1) + 1]):
+        first, last = runs.get(c, (code, code))
+        if last < code - 1:
+            raise ValueError("the colour map repeats a colour after another: the panel cannot be read back")
+        runs[c] = (first, code)
+    if colours[-1] in runs:
+        raise ValueError("the invalid colour is a valid code's: the panel cannot be read back")
+    lookup = {c: (first + last) // 2 for c, (first, last) in runs.items()}
+    lookup[colours[-1]] = config.invalid
+    return lookup
+
+
 def read_depth_panel(frame, layout, config):
-    """``(codes, known)`` (H x W) from the depth panel of ``frame`` (uint8 v_active x h_active x 3): the whole
-    disparities the colours show (0..D - 1; D = invalid or unknown; the panel shows a code's whole part). A
-    pixel whose colour is no code's (crosshair, readout, a broken panel) is unknown."""
+    """``(codes, known)`` (H x W) from the depth panel of ``frame`` (uint8 v_active x h_active x 3): the sub-pixel
+    codes the colours show (:func:`colour_codes`: exact up to the few codes sharing a colour; the invalid code
+    for invalid or unknown). A pixel whose colour is no code's (crosshair, readout, a broken panel) is
+    unknown."""
     panel = panel_picture(frame, layout)
-    colours = depth_colours(config)
-    lookup = {int(c): code for code, c in reversed(list(enumerate(colours)))}
-    if len(lookup) != len(colours):
-        raise ValueError("the colour map has repeated colours: the panel cannot be read back")
+    lookup = colour_codes(config)
     codes = np.vectorize(lambda c: lookup.get(int(c), -1), otypes=[np.int64])(panel)
-    return np.where(codes < 0, config.disparities, codes), codes >= 0
+    return np.where(codes < 0, config.invalid, codes), codes >= 0
 
 
 def read_text(frame, box):
@@ -75,7 +93,7 @@ def depth_summary(frame, layout, geometry, config, truth=None):
                "panel_pixels_unreadable": int((~known).sum())}
     if truth is not None:
         truth = np.where(known, truth, np.nan)
-        bad1, bad2, density = bad_pixel_rates(codes, codes != config.disparities, truth)
+        bad1, bad2, density = bad_pixel_rates(codes / config.fraction, codes != config.invalid, truth)
         summary.update(bad1=bad1, bad2=bad2, density=density,
                        pixels_with_truth=int(np.isfinite(truth).sum()))
     return summary
@@ -90,9 +108,9 @@ def panel_picture(frame, layout):
 
 
 def depth_picture_png(picture, path, geometry=SENSOR, config=None):
-    """Write ``picture`` (H x W 0xRRGGBB, :func:`panel_picture`) with a colour bar beside it (the colour map's
-    D codes from near on top to far, over the picture's height) and the metre labels that fall inside the range
-    to ``path``."""
+    """Write ``picture`` (H x W 0xRRGGBB, :func:`panel_picture`) with a colour bar beside it (the colours of the
+    D whole disparities, code 16 d, from near on top to far, over the picture's height) and the metre labels that
+    fall inside the range to ``path``."""
     from spec.depth import DEPTH
     from spec.display import DEPTH_LABELS_M
     from sim.models.ch7301c.hdmi_sink import write_png
@@ -104,8 +122,8 @@ def depth_picture_png(picture, path, geometry=SENSOR, config=None):
     top = FONT_CELL[1]
     canvas[top:top + h, :w] = picture
     rows = np.arange(h)
-    band = config.disparities - 1 - (rows * config.disparities) // h          # code shown on each bar row
-    canvas[top:top + h, w + 8:w + 18] = colours[band][:, None]
+    band = config.disparities - 1 - (rows * config.disparities) // h          # disparity shown on each bar row
+    canvas[top:top + h, w + 8:w + 18] = colours[band * config.fraction][:, None]
     for z in DEPTH_LABELS_M:
         d = disparity_of_distance(z, geometry)
         if 0 < d < config.disparities:
