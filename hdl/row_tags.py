@@ -27,9 +27,9 @@ from spec.sensor import ROW_TAG_BITS, SENSOR
 
 __all__ = ["RowTagTracker", "ROW_TAG_LATENCY"]
 
-#: Pix clocks from a strobe's toggle (the camera clock edge ending the strobe's clock) to the tracker's answer for
-#: a request made in that pix clock or later: up to 1 clock to the first synchroniser stage's sampling edge
-#: (+1 if it is metastable), the second stage, the tracker's state register, the read port's register.
+#: Pix clocks from a strobe's toggle (the camera clock edge ending the strobe's clock) to the edge of the answer
+#: that reflects it, at most: up to 1 clock to the first synchroniser stage's sampling edge (+1 if it is
+#: metastable), the second stage, the tracker's state registers, the answer register.
 ROW_TAG_LATENCY = 5
 
 
@@ -53,16 +53,18 @@ class RowTagTracker(wiring.Component):
         The capture's strobes (:data:`hdl.capture.CaptureStatusSignature`).
     read : ``In(RowTagReadSignature(buf_height, bits))``, ``pix_domain``
         ``row`` in; one clock later ``tag`` (the tag written at that row's last start, 0 before any) and ``busy``
-        (that row is the row in progress). The memory is transparent: a tag written in the request's clock is
-        the one read.
+        (that row is the row in progress), both as the tracker's state was in the request's clock (before that
+        clock's update). The tags are a distributed RAM (asynchronous read, registered answer).
     frame_tag : ``Out(bits)``, ``pix_domain``
         The tag of the frame in progress (frame starts seen, wrapping).
 
     Clock domains: ``cam_domain`` (the three synchronisers' toggles) and ``pix_domain`` (everything else).
-    Latency: the answer reflects a strobe for requests made from :data:`ROW_TAG_LATENCY` - 1 pix clocks after the
-    camera clock edge ending the strobe's clock (answered one clock later; 1 clock earlier when the first
-    synchroniser stage is not metastable). With the capture's latencies, ``busy`` rises at most 2 pix clocks
-    after the row's first write at 148.5 MHz pix / 80 MHz PCLK and falls at least 2 pix clocks after its last.
+    Latency: every answer registered on a pix edge at least :data:`ROW_TAG_LATENCY` pix clocks after the camera
+    edge that ends a strobe's clock reflects that strobe (4 when the first synchroniser stage is not
+    metastable), and none registered less than 3 pix clocks after it. With the capture's latencies (row_start
+    2 camera clocks before the row's first write, row_end 1 after its last), at 148.5 MHz pix and 80 MHz PCLK
+    ``busy`` and the new tag are answered at most 2 pix clocks after the row's first write, and ``busy`` until at
+    least 4 pix clocks after its last.
 
     Raises
     ------
@@ -95,7 +97,7 @@ class RowTagTracker(wiring.Component):
 
         m.submodules.tags = tags = Memory(shape=self.bits, depth=height, init=[])
         write = tags.write_port(domain=self.pix_domain)
-        read = tags.read_port(domain=self.pix_domain, transparent_for=(write,))
+        read = tags.read_port(domain="comb")      # asynchronous read + output register: distributed RAM, no BRAM
 
         frame = self.frame_tag
         index = Signal(range(height + 1))       # row starts since the frame start, saturating at height
@@ -117,7 +119,6 @@ class RowTagTracker(wiring.Component):
             write.data.eq(tag_now),
             write.en.eq(row_start & (index_now != height)),
             read.addr.eq(self.read.row),
-            self.read.tag.eq(read.data),
         ]
-        pix += self.read.busy.eq(busy & (busy_row == self.read.row))
+        pix += [self.read.tag.eq(read.data), self.read.busy.eq(busy & (busy_row == self.read.row))]
         return m

@@ -12,11 +12,21 @@ when all of it equals the golden frame of pair k.
 
 :func:`frame_sources` measures this for one displayed frame against the goldens of the run's pairs: per panel, per
 buffer row, the set of frames the row comes from; :func:`source_summary` condenses it for the per-frame table.
+
+At the tear (docs/depth.md, "Rows from different camera frames"). A depth map computed while a capture overwrites
+the buffers reads rows 0..c-1 of camera frame k (the new one, already written) and rows c..H-1 of frame k' (the one
+before), row c perhaps torn (part written). Its golden model is the torn map: ``golden.depth.depth_map`` of those
+rows with their tags (k above c, k' below, row c's tag None when torn, the same c for both cameras), drawn as the
+depth panel draws it (``golden.depth_display.depth_picture``). :func:`torn_depth_rows` finds the hypothesis (c, k,
+k', torn) whose torn map the displayed depth panel equals in the most rows; a depth row then comes *from frame k*
+(or k') when it equals that row of the torn map and the rule leaves the row valid, is *invalid at the tear* when it
+equals it and the rule invalidates the row (tags of rows y-3..y+3 not all equal), and is *mixed* when it equals no
+row of the torn map.
 """
 
 import numpy as np
 
-__all__ = ["PANELS", "frame_sources", "source_summary", "EMPTY"]
+__all__ = ["PANELS", "frame_sources", "source_summary", "EMPTY", "torn_depth_rows", "torn_summary"]
 
 #: The panels, as ``spec.layout`` names their regions.
 PANELS = ("left", "right", "disparity", "depth")
@@ -80,3 +90,115 @@ def source_summary(sources):
     out["consistent"] = out["depth_rows_mixed"] == 0
     out["equals_pair"] = max(sources["equals"]) if sources["equals"] else None
     return out
+
+
+#: Rows above and below a depth row whose tags decide it (docs/depth.md: census window and median, 3 each way).
+TEAR_REACH = 3
+
+
+def _engine_tags(tags, rectification):
+    """Per engine row, the tag of the buffer row it holds: engine row r reads buffer row clamp(r + offset)."""
+    h = len(tags)
+    return [tags[min(max(r + int(rectification), 0), h - 1)] for r in range(h)]
+
+
+def _invalid_by_rule(left_tags, right_tags):
+    """Per engine row: the torn-map rule invalidates it (some tag of rows clamp(y-3..y+3) is None or differs)."""
+    h = len(left_tags)
+    out = []
+    for y in range(h):
+        window = range(max(0, y - TEAR_REACH), min(h, y + TEAR_REACH + 1))
+        out.append(any(len({tags[r] for r in window}) != 1 or any(tags[r] is None for r in window)
+                       for tags in (left_tags, right_tags)))
+    return out
+
+
+def _panel_rows(frame, layout, geometry):
+    region = layout.region("depth")
+    s = region.scale
+    panel = np.asarray(frame)[region.y0:region.y1, region.x0:region.x1]
+    return panel.reshape(geometry.buf_height, s, region.x1 - region.x0, -1)
+
+
+def _picture_rows(codes, layout, depth, geometry):
+    from golden.depth_display import depth_picture
+    from golden.disparity import rgb24_to_bytes
+    region = layout.region("depth")
+    s = region.scale
+    picture = rgb24_to_bytes(np.repeat(np.repeat(depth_picture(codes, depth, layout.crosshair_arm), s, axis=0),
+                                       s, axis=1))
+    return picture.reshape(geometry.buf_height, s, region.x1 - region.x0, -1)
+
+
+def _matching_rows(panel, picture):
+    return np.all(panel == picture, axis=(1, 2, 3))
+
+
+def torn_map(buffers, above, below, c, torn, depth, rectification=0):
+    """The golden torn map (module docstring): buffer rows 0..c-1 of frame ``above``, c..H-1 of frame ``below``
+    (``buffers``: ``{k: (left, right)}`` grey buffers), row c's tag None when ``torn``; returns the codes and, per
+    engine row, whether the rule invalidates it."""
+    from golden.depth import depth_map
+    from golden.depth_display import engine_left
+    left_k, right_k = buffers[above]
+    left_j, right_j = buffers[below]
+    h = left_k.shape[0]
+    left = np.concatenate([left_k[:c], left_j[c:]])
+    right = np.concatenate([right_k[:c], right_j[c:]])
+    tags = [above] * c + [below] * (h - c)
+    if torn and c < h:
+        tags[c] = None
+    left_tags, right_tags = _engine_tags(tags, rectification), list(tags)
+    codes = depth_map(engine_left(left, rectification), right, depth, row_tags=(left_tags, right_tags))
+    return codes, _invalid_by_rule(left_tags, right_tags)
+
+
+def torn_depth_rows(frame, buffers, layout, geometry, depth, *, rectification=0, window=None):
+    """The hypothesis (c, k, k', torn) of the module docstring that explains the most rows of ``frame``'s depth
+    panel, over k' = the frame before k in ``buffers`` (``{k: (left, right)}``, keys in capture order, e.g.
+    :data:`EMPTY`, 0, 1, ...), c = 1..H-1 (or, with ``window``, within ``window`` rows of the first row where the
+    panel differs from frame k's untorn map) and torn True/False. Returns ``{"tear": (c, k, k', torn) or None,
+    "rows": per depth row k, k', "invalid" or None (mixed)}``; without a hypothesis explaining more rows than the
+    untorn maps do, ``tear`` is None and the rows are labelled by the best untorn map."""
+    from golden.depth import depth_map
+    from golden.depth_display import engine_left
+    h = geometry.buf_height
+    panel = _panel_rows(frame, layout, geometry)
+    keys = list(buffers)
+    best = (-1, None, None, None)            # (rows explained, tear, labels)
+
+    def consider(matched, tear, labels):
+        nonlocal best
+        if matched > best[0]:
+            best = (matched, tear, labels, None)
+
+    first_mismatch = {}
+    for k in keys:
+        left, right = buffers[k]
+        codes = depth_map(engine_left(left, rectification), right, depth)
+        match = _matching_rows(panel, _picture_rows(codes, layout, depth, geometry))
+        consider(int(match.sum()), None, [k if m else None for m in match])
+        first_mismatch[k] = int(np.argmin(match)) if not match.all() else h
+    for above, below in zip(keys[1:], keys[:-1]):
+        a = first_mismatch[above]
+        cs = range(1, h) if window is None else range(max(1, a - window), min(h, a + window + 1))
+        for c in cs:
+            for torn in (False, True):
+                codes, invalid = torn_map(buffers, above, below, c, torn, depth, rectification)
+                match = _matching_rows(panel, _picture_rows(codes, layout, depth, geometry))
+                labels = [None if not m else "invalid" if bad else (above if y < c else below)
+                          for y, (m, bad) in enumerate(zip(match, invalid))]
+                consider(int(match.sum()), (c, above, below, torn), labels)
+    return {"tear": best[1], "rows": best[2]}
+
+
+def torn_summary(torn):
+    """``{"depth_rows_from": {k: count}, "depth_rows_invalid_at_tear": n, "depth_rows_mixed_at_tear": n,
+    "tear": (c, k, k', torn) or None}`` of a :func:`torn_depth_rows` result."""
+    rows = torn["rows"]
+    counts = {}
+    for r in rows:
+        if r is not None and r != "invalid":
+            counts[str(r)] = counts.get(str(r), 0) + 1
+    return {"depth_rows_from": counts, "depth_rows_invalid_at_tear": sum(1 for r in rows if r == "invalid"),
+            "depth_rows_mixed_at_tear": sum(1 for r in rows if r is None), "tear": torn["tear"]}

@@ -66,7 +66,8 @@ class RowTagTrackerHarness(FormalHarness):
 
         past_row = self.past(m, row, name="past_row")
         self.prove(m, "frame_tag_counts_frame_starts", frame_tag == ref_frame)
-        self.prove(m, "tag_is_frame_at_last_row_start", ~pv | (past_row != watched) | (tag == ref_tag))
+        past_tag = self.past(m, ref_tag, name="past_ref_watched_tag", reset_less=True)
+        self.prove(m, "tag_is_frame_at_last_row_start", ~pv | (past_row != watched) | (tag == past_tag))
         self.prove(m, "busy_exactly_for_row_in_progress",
                    ~pv | (busy == self.past(m, ref_busy & (ref_busy_row == row), name="past_ref_busy")))
         self.cover(m, "last_row_tagged_by_second_frame", pv & (past_row == height - 1) & (tag == 2)
