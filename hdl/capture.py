@@ -153,11 +153,25 @@ class CameraCapture(wiring.Component):
                 status.frame_count.eq(status.frame_count + 1),
             ]
 
-        # Row strobes (kept buffer rows only). The row of a run starting with the frame is 0, whatever the
-        # counter still holds in that cycle.
-        lv_gated = Signal()
+        self._row_strobes(m, lv_r & frame_active, fv_rise, line_end, row)
+
+        # Pixel path.
+        m.d.comb += [
+            grey.pixel.eq(assembler.pixel),
+            downscaler.valid.eq(assembler.valid),
+            downscaler.grey.eq(grey.grey),
+            downscaler.column.eq(assembler.column),
+            downscaler.row.eq(row),
+        ]
+        return m
+
+    def _row_strobes(self, m, lv_gated, fv_rise, line_end, row):
+        """``status.row_start`` / ``row_end`` (counting rule 7, kept buffer rows only). The row of a run that starts
+        with the frame is 0, whatever the counter still holds in that cycle; ``row_end`` is delayed a cycle more, to
+        follow the row's last write."""
+        g = self.geometry
+        status = self.status
         lv_gated_prev = Signal()
-        m.d.comb += lv_gated.eq(lv_r & frame_active)
         m.d.sync += lv_gated_prev.eq(lv_gated)
         shift = g.scale.bit_length() - 1
 
@@ -170,13 +184,3 @@ class CameraCapture(wiring.Component):
             row_end_1.eq(line_end & kept(row)),
             status.row_end.eq(row_end_1),
         ]
-
-        # Pixel path.
-        m.d.comb += [
-            grey.pixel.eq(assembler.pixel),
-            downscaler.valid.eq(assembler.valid),
-            downscaler.grey.eq(grey.grey),
-            downscaler.column.eq(assembler.column),
-            downscaler.row.eq(row),
-        ]
-        return m
