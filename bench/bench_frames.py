@@ -61,8 +61,8 @@ def main(argv=None):
               f"{depth['centre_distance_cm']} cm (truth {None if truth is None else round(100 * truth, 1)}), "
               f"bad > 2 {depth.get('bad2')}")
         if k["depth_rows_mixed"]:
-            t = torn_summary(torn_depth_rows(s.frame, buffers, layout, g, setup.depth, rectification=setup.rectification,
-                                             window=12))
+            t = torn_summary(torn_depth_rows(s.frame, buffers, layout, g, setup.depth,
+                                             rectification=setup.rectification, window=12))
             torn_frames.append(t)
             print(f"    torn golden: tear (c, k, k', torn) {t['tear']}: rows from {t['depth_rows_from']}, invalid at "
                   f"the tear {t['depth_rows_invalid_at_tear']}, mixed {t['depth_rows_mixed_at_tear']}")

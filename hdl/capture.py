@@ -25,9 +25,10 @@ the frame ends there).
 Clock domain: ``sync`` (the parent uses ``DomainRenamer`` to place it in ``cam_a`` / ``cam_b``).
 Latency: ``write.en`` is high in the 3rd clock cycle after the rising edge that sampled a kept pixel's second
 byte (input register, assembler, downscaler register); the memory commits it on the rising edge that ends
-that cycle. ``frame_start``/``frame_done`` come 1 cycle after the edge that sampled the FV change, ``row_start`` 1 cycle after
-the edge that sampled the run's first byte (at least 2 cycles before the row's first ``write.en``), ``row_end`` 2
-cycles after the edge that sampled the run's end (LV or FV low: 1 cycle after the row's last ``write.en``).
+that cycle. ``frame_start``/``frame_done`` come 1 cycle after the edge that sampled the FV change, ``row_start``
+1 cycle after the edge that sampled the run's first byte (at least 2 cycles before the row's first ``write.en``),
+``row_end`` 2 cycles after the edge that sampled the run's end (LV or FV low: 1 cycle after the row's last
+``write.en``).
 A stream should therefore give at least 3 PCLK edges after a frame's last byte before PCLK stops (the
 MT9D112's blanking does).
 """
