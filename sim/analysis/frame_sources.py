@@ -20,8 +20,8 @@ rows with their tags (k above c, k' below, row c's tag None when torn, the same 
 depth panel draws it (``golden.depth_display.depth_picture``). :func:`torn_depth_rows` finds the hypothesis (c, k,
 k', torn) whose torn map the displayed depth panel equals in the most rows; a depth row then comes *from frame k*
 (or k') when it equals that row of the torn map and the rule leaves the row valid, is *invalid at the tear* when it
-equals it and the rule invalidates the row (tags of rows y-3..y+3 not all equal), and is *mixed* when it equals no
-row of the torn map.
+equals it and the rule invalidates the row (``golden.depth.row_flags``: a census window holding rows of two frames or
+a torn row), and is *mixed* when it equals no row of the torn map.
 """
 
 import numpy as np
@@ -92,25 +92,10 @@ def source_summary(sources):
     return out
 
 
-#: Rows above and below a depth row whose tags decide it (docs/depth.md: census window and median, 3 each way).
-TEAR_REACH = 3
-
-
 def _engine_tags(tags, rectification):
     """Per engine row, the tag of the buffer row it holds: engine row r reads buffer row clamp(r + offset)."""
     h = len(tags)
     return [tags[min(max(r + int(rectification), 0), h - 1)] for r in range(h)]
-
-
-def _invalid_by_rule(left_tags, right_tags):
-    """Per engine row: the torn-map rule invalidates it (some tag of rows clamp(y-3..y+3) is None or differs)."""
-    h = len(left_tags)
-    out = []
-    for y in range(h):
-        window = range(max(0, y - TEAR_REACH), min(h, y + TEAR_REACH + 1))
-        out.append(any(len({tags[r] for r in window}) != 1 or any(tags[r] is None for r in window)
-                       for tags in (left_tags, right_tags)))
-    return out
 
 
 def _panel_rows(frame, layout, geometry):
@@ -137,8 +122,8 @@ def _matching_rows(panel, picture):
 def torn_map(buffers, above, below, c, torn, depth, rectification=0):
     """The golden torn map (module docstring): buffer rows 0..c-1 of frame ``above``, c..H-1 of frame ``below``
     (``buffers``: ``{k: (left, right)}`` grey buffers), row c's tag None when ``torn``; returns the codes and, per
-    engine row, whether the rule invalidates it."""
-    from golden.depth import depth_map
+    engine row, whether the rule invalidates it (before the median)."""
+    from golden.depth import depth_map, row_flags
     from golden.depth_display import engine_left
     left_k, right_k = buffers[above]
     left_j, right_j = buffers[below]
@@ -150,7 +135,7 @@ def torn_map(buffers, above, below, c, torn, depth, rectification=0):
         tags[c] = None
     left_tags, right_tags = _engine_tags(tags, rectification), list(tags)
     codes = depth_map(engine_left(left, rectification), right, depth, row_tags=(left_tags, right_tags))
-    return codes, _invalid_by_rule(left_tags, right_tags)
+    return codes, row_flags((left_tags, right_tags), h, depth)[0]
 
 
 def torn_depth_rows(frame, buffers, layout, geometry, depth, *, rectification=0, window=None):
