@@ -227,6 +227,8 @@ class StereoDepthSystem(wiring.Component):
         for c in CAMERAS:
             forward(self, f"cam_{c}", self.capture_path, (f"cam_{c}", "pins"))
             forward(self, ("capture", f"cam_{c}"), self.capture_path, (f"cam_{c}", "status"))
+            for strobe in ("frame_start", "row_start", "row_end"):     # the capture's strobes, read by its tracker
+                forward(self, ("capture", f"cam_{c}", strobe), self.row_tags[c], strobe)
         for bus, seq in self.sequencers.items():
             forward(self, ("i2c", bus), seq, "i2c")
             forward(self, ("init", bus), seq, "status")
@@ -280,9 +282,6 @@ class StereoDepthSystem(wiring.Component):
         wiring.connect(m, self.display.right, capture.cam_b.read)      # camera B = right
         for c, side in zip(CAMERAS, ("left", "right")):
             tracker = add_reset_subtree(m, f"row_tags_{c}", self.row_tags[c], "pix")
-            status = capture.port(c).status
-            m.d.comb += [tracker.frame_start.eq(status.frame_start), tracker.row_start.eq(status.row_start),
-                         tracker.row_end.eq(status.row_end)]
             wiring.connect(m, getattr(self.display, f"{side}_tags"), tracker.read)
         m.d.comb += switches.frame_start.eq(self.sync_gen.frame_start)
         if self.output is not None:

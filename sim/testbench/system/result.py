@@ -17,7 +17,7 @@ import numpy as np
 
 from hdl.system import I2C_BUSES
 
-__all__ = ["SystemResult", "SystemTimeout", "check_run", "tear_golden"]
+__all__ = ["SystemResult", "SystemTimeout", "check_run", "tear_golden", "tear_tags"]
 
 
 class SystemTimeout(AssertionError):
@@ -67,6 +67,18 @@ def check_run(status, setup, left, right, sink, models, monitors, *, after_s=Non
     return frame, golden
 
 
+def tear_tags(height, tear):
+    """The buffers' row tags of a tear ``(c, torn)`` (:func:`tear_golden`): rows 0..c-1 new (1), c..H-1 old (0), row
+    c None when torn; None for no tear (``tear`` None)."""
+    if tear is None:
+        return None
+    c, torn = tear
+    tags = [1] * c + [0] * (height - c)
+    if torn:
+        tags[c] = None
+    return tags, list(tags)
+
+
 def tear_golden(setup, left, right, frame, golden, **kwargs):
     """``(golden frame, (c, torn))`` of the tear that explains ``frame`` (the map computed across a new camera frame
     of the same images overwriting the old one: buffer rows 0..c-1 tagged new, c..H-1 old, row c torn or not), or
@@ -80,10 +92,7 @@ def tear_golden(setup, left, right, frame, golden, **kwargs):
     first = int(np.argmax(panel)) if panel.any() else 0
     for c in range(max(1, first - 2), min(h, first + setup.depth.census_height + 1)):
         for torn in (False, True):
-            tags = [1] * c + [0] * (h - c)
-            if torn:
-                tags[c] = None
-            candidate = setup.golden_frame(left, right, row_tags=(tags, tags), **kwargs)
+            candidate = setup.golden_frame(left, right, row_tags=tear_tags(h, (c, torn)), **kwargs)
             if np.array_equal(frame, candidate):
                 return candidate, (c, torn)
     return golden, None
