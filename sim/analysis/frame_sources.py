@@ -105,14 +105,17 @@ def _panel_rows(frame, layout, geometry):
     return panel.reshape(geometry.buf_height, s, region.x1 - region.x0, -1)
 
 
-def _picture_rows(codes, layout, depth, geometry):
-    from golden.depth_display import depth_picture
+def _picture_rows(codes, layout, depth, geometry, shape):
+    """The depth panel as the display draws it for ``codes`` (the picture, the crosshair and whatever the layout
+    draws over the panel, the readout included: ``golden.depth_display.draw_depth_display``), per buffer row;
+    ``shape`` is the displayed frame's (rows, columns)."""
+    from golden.depth_display import draw_depth_display
     from golden.disparity import rgb24_to_bytes
     region = layout.region("depth")
-    s = region.scale
-    picture = rgb24_to_bytes(np.repeat(np.repeat(depth_picture(codes, depth, layout.crosshair_arm), s, axis=0),
-                                       s, axis=1))
-    return picture.reshape(geometry.buf_height, s, region.x1 - region.x0, -1)
+    frame = np.zeros(shape[:2], np.int64)
+    draw_depth_display(frame, codes, layout, geometry, depth)
+    picture = rgb24_to_bytes(frame[region.y0:region.y1, region.x0:region.x1])
+    return picture.reshape(geometry.buf_height, region.scale, region.x1 - region.x0, -1)
 
 
 def _matching_rows(panel, picture):
@@ -149,6 +152,7 @@ def torn_depth_rows(frame, buffers, layout, geometry, depth, *, rectification=0,
     from golden.depth_display import engine_left
     h = geometry.buf_height
     panel = _panel_rows(frame, layout, geometry)
+    panel_shape = np.asarray(frame).shape
     keys = list(buffers)
     best = (-1, None, None, None)            # (rows explained, tear, labels)
 
@@ -161,7 +165,7 @@ def torn_depth_rows(frame, buffers, layout, geometry, depth, *, rectification=0,
     for k in keys:
         left, right = buffers[k]
         codes = depth_map(engine_left(left, rectification), right, depth)
-        match = _matching_rows(panel, _picture_rows(codes, layout, depth, geometry))
+        match = _matching_rows(panel, _picture_rows(codes, layout, depth, geometry, panel_shape))
         consider(int(match.sum()), None, [k if m else None for m in match])
         first_mismatch[k] = int(np.argmin(match)) if not match.all() else h
     for above, below in zip(keys[1:], keys[:-1]):
@@ -170,7 +174,7 @@ def torn_depth_rows(frame, buffers, layout, geometry, depth, *, rectification=0,
         for c in cs:
             for torn in (False, True):
                 codes, invalid = torn_map(buffers, above, below, c, torn, depth, rectification)
-                match = _matching_rows(panel, _picture_rows(codes, layout, depth, geometry))
+                match = _matching_rows(panel, _picture_rows(codes, layout, depth, geometry, panel_shape))
                 labels = [None if not m else "invalid" if bad else (above if y < c else below)
                           for y, (m, bad) in enumerate(zip(match, invalid))]
                 consider(int(match.sum()), (c, above, below, torn), labels)
