@@ -122,22 +122,27 @@ def _matching_rows(panel, picture):
     return np.all(panel == picture, axis=(1, 2, 3))
 
 
+def _pair(value):
+    return tuple(value) if isinstance(value, (tuple, list)) else (value, value)
+
+
 def torn_map(buffers, above, below, c, torn, depth, rectification=0):
     """The golden torn map (module docstring): buffer rows 0..c-1 of frame ``above``, c..H-1 of frame ``below``
-    (``buffers``: ``{k: (left, right)}`` grey buffers), row c's tag None when ``torn``; returns the codes and, per
-    engine row, whether the rule invalidates it (before the median)."""
+    (``buffers``: ``{k: (left, right)}`` grey buffers), row c's tag None when ``torn``; ``c`` and ``torn`` may be
+    pairs (left, right): each image torn at its own row. Returns the codes and, per engine row, whether the rule
+    invalidates it (before the median)."""
     from golden.depth import depth_map, row_flags
     from golden.depth_display import engine_left
-    left_k, right_k = buffers[above]
-    left_j, right_j = buffers[below]
-    h = left_k.shape[0]
-    left = np.concatenate([left_k[:c], left_j[c:]])
-    right = np.concatenate([right_k[:c], right_j[c:]])
-    tags = [above] * c + [below] * (h - c)
-    if torn and c < h:
-        tags[c] = None
-    left_tags, right_tags = _engine_tags(tags, rectification), list(tags)
-    codes = depth_map(engine_left(left, rectification), right, depth, row_tags=(left_tags, right_tags))
+    h = buffers[above][0].shape[0]
+    images, all_tags = [], []
+    for side, (cs, ts) in enumerate(zip(_pair(c), _pair(torn))):
+        images.append(np.concatenate([buffers[above][side][:cs], buffers[below][side][cs:]]))
+        tags = [above] * cs + [below] * (h - cs)
+        if ts and cs < h:
+            tags[cs] = None
+        all_tags.append(tags)
+    left_tags, right_tags = _engine_tags(all_tags[0], rectification), all_tags[1]
+    codes = depth_map(engine_left(images[0], rectification), images[1], depth, row_tags=(left_tags, right_tags))
     return codes, row_flags((left_tags, right_tags), h, depth)[0]
 
 
@@ -145,44 +150,55 @@ def torn_depth_rows(frame, buffers, layout, geometry, depth, *, rectification=0,
     """The hypothesis (c, k, k', torn) of the module docstring that explains the most rows of ``frame``'s depth
     panel, over k' = the frame before k in ``buffers`` (``{k: (left, right)}``, keys in capture order, e.g.
     :data:`EMPTY`, 0, 1, ...), c = 1..H-1 (or, with ``window``, within ``window`` rows of the first row where the
-    panel differs from frame k's untorn map) and torn True/False. Returns ``{"tear": (c, k, k', torn) or None,
-    "rows": per depth row k, k', "invalid" or None (mixed)}``; without a hypothesis explaining more rows than the
-    untorn maps do, ``tear`` is None and the rows are labelled by the best untorn map."""
+    panel differs from frame k's untorn map) and torn True/False. If rows are left unexplained, the two images are
+    then allowed their own tear rows (the engine fetches the two buffers independently): c and torn become pairs
+    (left, right), the second tear searched from the first unexplained row to ``census_height`` + 2 rows below it.
+    Returns ``{"tear": (c, k, k', torn) or None, "rows": per depth row k, k', "k|k'" (left of k, right of k'
+    or the other way: between two tear rows), "invalid" or None (mixed)}``; without a hypothesis explaining more
+    rows than the untorn maps do, ``tear`` is None and the rows are labelled by the best untorn map."""
     from golden.depth import depth_map
     from golden.depth_display import engine_left
     h = geometry.buf_height
     panel = _panel_rows(frame, layout, geometry)
     panel_shape = np.asarray(frame).shape
     keys = list(buffers)
-    best = (-1, None, None, None)            # (rows explained, tear, labels)
+    best = [-1, None, None]            # rows explained, tear, labels
 
-    def consider(matched, tear, labels):
-        nonlocal best
-        if matched > best[0]:
-            best = (matched, tear, labels, None)
+    def consider(above, below, c, torn):
+        codes, invalid = torn_map(buffers, above, below, c, torn, depth, rectification)
+        match = _matching_rows(panel, _picture_rows(codes, layout, depth, geometry, panel_shape))
+        lo, hi = min(_pair(c)), max(_pair(c))
+        labels = [None if not m else "invalid" if bad else above if y < lo else below if y >= hi
+                  else f"{above}|{below}" for y, (m, bad) in enumerate(zip(match, invalid))]
+        if int(match.sum()) > best[0]:
+            best[:] = [int(match.sum()), (c, above, below, torn), labels]
 
     first_mismatch = {}
     for k in keys:
         left, right = buffers[k]
         codes = depth_map(engine_left(left, rectification), right, depth)
         match = _matching_rows(panel, _picture_rows(codes, layout, depth, geometry, panel_shape))
-        consider(int(match.sum()), None, [k if m else None for m in match])
+        if int(match.sum()) > best[0]:
+            best[:] = [int(match.sum()), None, [k if m else None for m in match]]
         first_mismatch[k] = int(np.argmin(match)) if not match.all() else h
     for above, below in zip(keys[1:], keys[:-1]):
         a = first_mismatch[above]
         cs = range(1, h) if window is None else range(max(1, a - window), min(h, a + window + 1))
         for c in cs:
             for torn in (False, True):
-                codes, invalid = torn_map(buffers, above, below, c, torn, depth, rectification)
-                match = _matching_rows(panel, _picture_rows(codes, layout, depth, geometry, panel_shape))
-                labels = [None if not m else "invalid" if bad else (above if y < c else below)
-                          for y, (m, bad) in enumerate(zip(match, invalid))]
-                consider(int(match.sum()), (c, above, below, torn), labels)
+                consider(above, below, c, torn)
+    if best[1] is not None and None in best[2]:
+        c, above, below, _ = best[1]
+        m = best[2].index(None)
+        for c2 in range(max(1, m - 2), min(h, m + depth.census_height + 3)):
+            for pair in ((c, c2), (c2, c)):
+                for torn in ((False, False), (True, False), (False, True), (True, True)):
+                    consider(above, below, pair, torn)
     return {"tear": best[1], "rows": best[2]}
 
 
 def torn_summary(torn):
-    """``{"depth_rows_from": {k: count}, "depth_rows_invalid_at_tear": n, "depth_rows_mixed_at_tear": n,
+    """``{"depth_rows_from": {k or "k|k'": count}, "depth_rows_invalid_at_tear": n, "depth_rows_mixed_at_tear": n,
     "tear": (c, k, k', torn) or None}`` of a :func:`torn_depth_rows` result."""
     rows = torn["rows"]
     counts = {}
