@@ -26,6 +26,9 @@ The counting rules (docs/capture.md "Counting rules"):
    ``x = column / scale < buf_width`` and ``y = row / scale < buf_height``; it goes to ``A = y * buf_width + x``.
    Pixels beyond the configured size are discarded, never wrapped.
 6. A frame is "ok" iff it had exactly ``height`` lines of exactly ``2 * width`` bytes each.
+7. A *kept* row is a row ``r`` with ``r % scale == 0`` and ``r // scale < buf_height``: buffer row ``r // scale``.
+   Its LV-high run *starts* at its first byte and *ends* at the first sample after it with LV (gated by the frame)
+   low, the end of the frame included; these are the capture's ``row_start`` / ``row_end`` events.
 """
 
 from dataclasses import dataclass, field
@@ -133,6 +136,7 @@ class FrameStatus:
 class StreamCapture:
     writes: list = field(default_factory=list)     # (sample index, address, grey) in order
     frames: list = field(default_factory=list)     # FrameStatus of every completed frame
+    rows: list = field(default_factory=list)       # ("start" | "end", sample index, buffer row) in order (rule 7)
     buffer: np.ndarray = None                      # the frame buffer after the stream
 
 
@@ -141,7 +145,8 @@ def capture_stream(fv, lv, data, geometry, *, r_byte_first=True, initial=None):
 
     ``initial`` is the buffer before the stream (zeros by default, the power-up content). Returns a
     :class:`StreamCapture`; ``writes`` holds ``(i, address, grey)`` where ``i`` is the index of the sample
-    carrying the pixel's second byte.
+    carrying the pixel's second byte; ``rows`` the kept rows' start and end events (rule 7) with the index of the
+    run's first sample and of the sample that ends it.
     """
     fv = np.asarray(fv, dtype=np.uint8).tolist()
     lv = np.asarray(lv, dtype=np.uint8).tolist()
@@ -169,6 +174,8 @@ def capture_stream(fv, lv, data, geometry, *, r_byte_first=True, initial=None):
             in_frame, row, bad, start = True, 0, False, i
         lv_now = 1 if (in_frame and f and lv[i]) else 0
         if lv_prev and not lv_now:                   # rule 4: a line ends
+            if row % s == 0 and row // s < bh:       # rule 7
+                result.rows.append(("end", i, row // s))
             if nbytes != line_len:
                 bad = True
             row += 1
@@ -176,6 +183,8 @@ def capture_stream(fv, lv, data, geometry, *, r_byte_first=True, initial=None):
         if in_frame and not f:                       # rule 2: frame end
             result.frames.append(FrameStatus(start, i, row, ok=(not bad and row == geometry.height)))
             in_frame = False
+        if lv_now and not lv_prev and row % s == 0 and row // s < bh:     # rule 7
+            result.rows.append(("start", i, row // s))
         if lv_now:                                   # rule 3
             if nbytes % 2 == 0:
                 first = data[i]

@@ -20,7 +20,10 @@ disparity in 1 / 2**F pixel (F = ``fraction_bits``), or ``config.invalid`` = D 2
 5. :func:`median3x3`: the 5th smallest of the 3 x 3 codes around each pixel, coordinates clamped; invalid sorts
    above every disparity, so a pixel is invalid only where most of its neighbourhood is.
 
-:func:`depth_map` runs the whole chain. Only constants come from ``spec``.
+:func:`depth_map` runs the whole chain. With ``row_tags`` (the frame tag of every row of each image, docs/depth.md,
+"Rows from different camera frames") it applies the two tag rules of :func:`row_flags`: rows whose census window
+holds rows of two camera frames (or a torn row) are invalid, and the vertical path restarts below them. Only
+constants come from ``spec``.
 """
 
 import numpy as np
@@ -28,7 +31,7 @@ import numpy as np
 from spec.depth import DEPTH
 
 __all__ = ["census", "matching_cost", "path_step", "path_cost", "subpixel", "second_best", "winner", "median3x3",
-           "depth_map", "DepthResult"]
+           "row_flags", "depth_map", "DepthResult"]
 
 
 def _check_pair(left, right, config):
@@ -84,10 +87,13 @@ def path_step(cost, prev, p1, p2):
     return cost + best - m
 
 
-def path_cost(cost, axis, config=DEPTH):
+def path_cost(cost, axis, config=DEPTH, restart=None):
     """Path costs (int32, D x H x W) along ``axis``: ``"horizontal"`` (left to right along each row) or
-    ``"vertical"`` (top to bottom along each column)."""
+    ``"vertical"`` (top to bottom along each column). ``restart`` (vertical only: H booleans, or None for row 0
+    only) marks the rows where the vertical path starts afresh (previous vector 0, as before row 0)."""
     cost = np.asarray(cost, dtype=np.int32)
+    if restart is not None and axis != "vertical":
+        raise ValueError("restart applies to the vertical path only")
     out = np.empty_like(cost)
     if axis == "horizontal":
         prev = np.zeros(cost[:, :, 0].shape, dtype=np.int32)
@@ -96,6 +102,8 @@ def path_cost(cost, axis, config=DEPTH):
     elif axis == "vertical":
         prev = np.zeros(cost[:, 0, :].shape, dtype=np.int32)
         for y in range(cost.shape[1]):
+            if restart is not None and restart[y]:
+                prev = np.zeros_like(prev)
             prev = out[:, y, :] = path_step(cost[:, y, :], prev, config.p1, config.p2)
     else:
         raise ValueError(f"axis must be 'horizontal' or 'vertical', not {axis!r}")
@@ -148,26 +156,72 @@ def median3x3(codes):
     return np.sort(stack, axis=0)[4].astype(codes.dtype)
 
 
-class DepthResult:
-    """Every intermediate of :func:`depth_map` (for tests and pictures)."""
+def _check_tags(tags, height, side):
+    try:
+        tags = list(tags)
+    except TypeError:
+        raise ValueError(f"{side} row tags must be a sequence of {height} ints or None") from None
+    if len(tags) != height:
+        raise ValueError(f"{side} row tags: {len(tags)} entries for {height} rows")
+    for tag in tags:
+        if tag is not None and not isinstance(tag, (int, np.integer)):
+            raise ValueError(f"{side} row tags must be ints or None, not {tag!r}")
+    return tags
 
-    def __init__(self, cost, horizontal, vertical, raw, best, codes, config):
+
+def row_flags(row_tags, height, config=DEPTH):
+    """(invalid, restart): two (H,) bool arrays from ``row_tags`` = (left_tags, right_tags), each H entries of an
+    int frame tag or None (a torn row); None means every row of one frame. With h = census_height // 2 and W(y) the
+    rows clamp(y - h) .. clamp(y + h): row y is invalid iff, for either image, a row of W(y) is torn or the tags of
+    W(y) differ; the vertical path restarts at row y iff y = 0, row y - 1 is invalid, or, for either image, row y
+    or y - 1 is torn or their tags differ. The two images' tags are never compared with each other."""
+    invalid, restart = np.zeros(height, dtype=bool), np.zeros(height, dtype=bool)
+    restart[0] = True
+    if row_tags is None:
+        return invalid, restart
+    try:
+        left_tags, right_tags = row_tags
+    except (TypeError, ValueError):
+        raise ValueError("row_tags must be None or a pair (left_tags, right_tags)") from None
+    h = config.census_height // 2
+    for tags in (_check_tags(left_tags, height, "left"), _check_tags(right_tags, height, "right")):
+        for y in range(height):
+            window = tags[max(y - h, 0):min(y + h, height - 1) + 1]
+            if None in window or len(set(window)) > 1:
+                invalid[y] = True
+            if y >= 1 and (tags[y] is None or tags[y - 1] is None or tags[y] != tags[y - 1]):
+                restart[y] = True
+    restart[1:] |= invalid[:-1]
+    return invalid, restart
+
+
+class DepthResult:
+    """Every intermediate of :func:`depth_map` (for tests and pictures); ``invalid_rows`` and ``restart_rows``
+    are :func:`row_flags`."""
+
+    def __init__(self, cost, horizontal, vertical, raw, best, codes, config, invalid_rows=None, restart_rows=None):
         self.cost, self.horizontal, self.vertical = cost, horizontal, vertical
         self.raw, self.best, self.codes, self.config = raw, best, codes, config
+        self.invalid_rows, self.restart_rows = invalid_rows, restart_rows
 
     @property
     def valid(self):
         return self.codes != self.config.invalid
 
 
-def depth_map(left, right, config=DEPTH, *, details=False):
+def depth_map(left, right, config=DEPTH, *, details=False, row_tags=None):
     """The engine's output for two grey buffers: (H, W) uint16 codes, disparity x 2**F, or the invalid code.
-    ``details=True`` returns a :class:`DepthResult` with the intermediates instead."""
+    ``row_tags``: None (every row of one camera frame) or (left_tags, right_tags), each H entries of an int frame
+    tag or None (torn), the left ones indexed by engine row; rows flagged by :func:`row_flags` are invalid before
+    the median, and the vertical path restarts where it says. ``details=True`` returns a :class:`DepthResult`
+    with the intermediates instead."""
     cost = matching_cost(left, right, config)
+    invalid_rows, restart_rows = row_flags(row_tags, cost.shape[1], config)
     horizontal = path_cost(cost, "horizontal", config)
-    vertical = path_cost(cost, "vertical", config)
+    vertical = path_cost(cost, "vertical", config, restart=restart_rows)
     raw, best = winner(horizontal + vertical, config)
+    raw[invalid_rows] = config.invalid
     codes = median3x3(raw)
     if details:
-        return DepthResult(cost, horizontal, vertical, raw, best, codes, config)
+        return DepthResult(cost, horizontal, vertical, raw, best, codes, config, invalid_rows, restart_rows)
     return codes

@@ -91,12 +91,15 @@ def rgb24_to_bytes(rgb):
 
 def composite_frame(left, right, disparity, rectification, timing=CEA_1080P60, geometry=SENSOR, layout=None,
                     thresholds=DIFF_THRESHOLDS, level_grey=DIFF_LEVEL_GREY, depth=DEPTH, *, details=False,
-                    segment=False, rectification_mode=(False, False)):
+                    segment=False, rectification_mode=(False, False), row_tags=None):
     """The displayed frame, uint8 (v_active, h_active, 3), for the two grey buffers and the switch settings.
     ``details=True`` returns ``(frame, codes, readout text)``: also the depth map shown and its readout.
     ``segment``: the segmentation view in the difference map's place (``ValueError`` if the layout's difference
     map is not on the depth map's rows at its scale, left of it). ``rectification_mode``: (automatic mode, held
-    verdict) for the layout's rectification text (``golden.rectification_display``)."""
+    verdict) for the layout's rectification text (``golden.rectification_display``). ``row_tags``: None, or the
+    frame tags of the buffers' rows (left_tags, right_tags), H entries each, an int or None (torn): the depth map is
+    then ``depth_map(..., row_tags=...)`` with the left tags moved with the left rows (docs/depth.md, "Rows from
+    different camera frames")."""
     left, right = _check_images(left, right, geometry)
     if layout is None:
         layout = DisplayLayout.centred(timing, geometry, depth)
@@ -106,7 +109,11 @@ def composite_frame(left, right, disparity, rectification, timing=CEA_1080P60, g
     frame[:] = BACKGROUND_RGB
     levels, no_data = difference_levels(left, right, disparity, rectification, thresholds)
     grey_rgb = np.array([(v << 16) | (v << 8) | v for v in level_grey], dtype=np.int64)
-    codes = depth_map(engine_left(left, _check_shift("rectification", rectification, signed=True)), right, depth)
+    shift = _check_shift("rectification", rectification, signed=True)
+    if row_tags is not None:
+        left_tags, right_tags = row_tags
+        row_tags = (list(engine_left(np.array(list(left_tags), dtype=object), shift)), list(right_tags))
+    codes = depth_map(engine_left(left, shift), right, depth, row_tags=row_tags)
     pictures = {
         "left": grey_to_rgb24(left, geometry.grey_bits),
         "right": grey_to_rgb24(right, geometry.grey_bits),

@@ -18,12 +18,17 @@ Ports: ``pins`` (:data:`CameraSignature`: ``data[8]``, ``lv``, ``fv``, sampled o
 frame-buffer write port ``write``; ``status`` (:data:`CaptureStatusSignature`): ``frame_start`` (one-cycle strobe,
 a frame begins), ``frame_done`` (one-cycle strobe, FV fell on a frame that had started) with ``frame_ok`` (that
 frame had exactly ``height`` lines of exactly ``2 * width`` bytes), ``frame_count`` (frames completed, wrapping),
-``in_frame``.
+``in_frame``, ``row_start`` / ``row_end`` (one-cycle strobes around each kept buffer row's writes: the LV-high run
+of a sensor row ``r`` with ``r % scale == 0`` and ``r < scale * buf_height`` starts / ends; a run cut by the end of
+the frame ends there).
 
 Clock domain: ``sync`` (the parent uses ``DomainRenamer`` to place it in ``cam_a`` / ``cam_b``).
 Latency: ``write.en`` is high in the 3rd clock cycle after the rising edge that sampled a kept pixel's second
 byte (input register, assembler, downscaler register); the memory commits it on the rising edge that ends
-that cycle. ``frame_start``/``frame_done`` come 1 cycle after the edge that sampled the FV change.
+that cycle. ``frame_start``/``frame_done`` come 1 cycle after the edge that sampled the FV change, ``row_start``
+1 cycle after the edge that sampled the run's first byte (at least 2 cycles before the row's first ``write.en``),
+``row_end`` 2 cycles after the edge that sampled the run's end (LV or FV low: 1 cycle after the row's last
+``write.en``).
 A stream should therefore give at least 3 PCLK edges after a frame's last byte before PCLK stops (the
 MT9D112's blanking does).
 """
@@ -50,6 +55,7 @@ CameraSignature = wiring.Signature({"data": Out(8), "lv": Out(1), "fv": Out(1)})
 #: ended was whole, frames completed (wrapping), and whether a frame is in progress.
 CaptureStatusSignature = wiring.Signature({
     "frame_start": Out(1), "frame_done": Out(1), "frame_ok": Out(1), "frame_count": Out(16), "in_frame": Out(1),
+    "row_start": Out(1), "row_end": Out(1),
 })
 
 
@@ -148,6 +154,8 @@ class CameraCapture(wiring.Component):
                 status.frame_count.eq(status.frame_count + 1),
             ]
 
+        self._row_strobes(m, lv_r & frame_active, fv_rise, line_end, row)
+
         # Pixel path.
         m.d.comb += [
             grey.pixel.eq(assembler.pixel),
@@ -157,3 +165,23 @@ class CameraCapture(wiring.Component):
             downscaler.row.eq(row),
         ]
         return m
+
+    def _row_strobes(self, m, lv_gated, fv_rise, line_end, row):
+        """``status.row_start`` / ``row_end`` (counting rule 7, kept buffer rows only). The row of a run that starts
+        with the frame is 0, whatever the counter still holds in that cycle; ``row_end`` is delayed a cycle more, to
+        follow the row's last write."""
+        g = self.geometry
+        status = self.status
+        lv_gated_prev = Signal()
+        m.d.sync += lv_gated_prev.eq(lv_gated)
+        shift = g.scale.bit_length() - 1
+
+        def kept(r):
+            return ((r[:shift] == 0) if shift else 1) & (r < g.scale * g.buf_height)
+
+        row_end_1 = Signal()
+        m.d.sync += [
+            status.row_start.eq(lv_gated & ~lv_gated_prev & (fv_rise | kept(row))),
+            row_end_1.eq(line_end & kept(row)),
+            status.row_end.eq(row_end_1),
+        ]

@@ -6,6 +6,7 @@ from amaranth.lib.wiring import In, Out
 
 from hdl.compositor import LATENCY as COMPOSITOR_LATENCY, Compositor
 from hdl.depth import DepthEngine, schedule
+from hdl.depth.ports import RowTagReadSignature
 from hdl.disparity import SETTLE_CLOCKS
 from hdl.forward import forward
 from hdl.frame_buffer import FrameBufferReadSignature
@@ -83,6 +84,8 @@ class StereoDisplay(wiring.Component):
         Automatic mode and held verdict for the rectification text (the compositor's).
     left, right : ``Out(FrameBufferReadSignature(geometry))``
         To the frame buffers' read ports.
+    left_tags, right_tags : ``Out(RowTagReadSignature(buf_height))``
+        The engine's, to each buffer's row tags (:class:`hdl.row_tags.RowTagTracker`).
     video : ``Out(VideoSignature)``
 
     Clock domain: ``sync`` (the parent renames it to ``pix``). Latency: :data:`LATENCY` clocks.
@@ -109,6 +112,8 @@ class StereoDisplay(wiring.Component):
             "rectification_mode": In(RectificationModeSignature),
             "left": Out(FrameBufferReadSignature(geometry)),
             "right": Out(FrameBufferReadSignature(geometry)),
+            "left_tags": Out(RowTagReadSignature(geometry.buf_height)),
+            "right_tags": Out(RowTagReadSignature(geometry.buf_height)),
             "video": Out(VideoSignature),
         })
         forward(self, "timing", self.compositor)
@@ -118,6 +123,7 @@ class StereoDisplay(wiring.Component):
         forward(self, "video", self.compositor)
         for side, arbiter in self.arbiters.items():
             forward(self, side, arbiter, "buffer")
+            forward(self, f"{side}_tags", self.engine)
 
     def elaborate(self, platform):
         m = Module()

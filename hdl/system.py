@@ -24,9 +24,9 @@ simulation testbench with :class:`~sim.models.clocking.SimClocking` in simulatio
 =========  ================================================================================================
 ``sync``   100 MHz: the three I2C init sequencers, the sensor/transmitter reset pins, LEDs 0..5
 ``pix``    148.5 MHz: sync generator, switches, compositor, depth engine, frame-buffer read ports, CH7301C output,
-           the vertical-offset search and the rectification select, LED 6
-``cam_a``  camera A's PCLK: its capture and frame-buffer write port, its row sums, LED 7
-``cam_b``  camera B's PCLK: its capture and frame-buffer write port, its row sums
+           the vertical-offset search and the rectification select, the row-tag trackers, LED 6
+``cam_a``  camera A's PCLK: its capture and frame-buffer write port, its row sums, its tracker's strobe toggles, LED 7
+``cam_b``  camera B's PCLK: its capture and frame-buffer write port, its row sums, its tracker's strobe toggles
 =========  ================================================================================================
 
 CH7301C output stage: with ``ddr="behavioural"`` (simulation, Verilog export) the system ends in
@@ -84,6 +84,7 @@ from spec.rectification import RECTIFICATION
 from hdl.sync_gen import SyncGenerator
 from hdl.video_bus import VideoSignature
 from hdl.reset_tree import add_reset_subtree
+from hdl.row_tags import RowTagTracker
 
 __all__ = ["StereoDepthSystem", "PanelSignature", "ControlSignature", "DISPLAY_LATENCY", "CAMERAS", "I2C_BUSES"]
 
@@ -180,6 +181,7 @@ class StereoDepthSystem(wiring.Component):
         self.cam_heartbeat_log2 = cam_heartbeat_log2
         # The blocks, built now so that bad parameters fail at construction and the members can be forwarded.
         self.capture_path = CapturePath(geometry, cameras=CAMERAS, r_byte_first=r_byte_first, read_domain="pix")
+        self.row_tags = {c: RowTagTracker(geometry, cam_domain=f"cam_{c}", pix_domain="pix") for c in CAMERAS}
         self.display = StereoDisplay(timing, geometry, layout, config=depth, thresholds=thresholds,
                                         level_grey=level_grey)
         self.sync_gen = SyncGenerator(timing)
@@ -225,6 +227,8 @@ class StereoDepthSystem(wiring.Component):
         for c in CAMERAS:
             forward(self, f"cam_{c}", self.capture_path, (f"cam_{c}", "pins"))
             forward(self, ("capture", f"cam_{c}"), self.capture_path, (f"cam_{c}", "status"))
+            for strobe in ("frame_start", "row_start", "row_end"):     # the capture's strobes, read by its tracker
+                forward(self, ("capture", f"cam_{c}", strobe), self.row_tags[c], strobe)
         for bus, seq in self.sequencers.items():
             forward(self, ("i2c", bus), seq, "i2c")
             forward(self, ("init", bus), seq, "status")
@@ -276,6 +280,9 @@ class StereoDepthSystem(wiring.Component):
         wiring.connect(m, self.select.mode, self.display.rectification_mode)
         wiring.connect(m, self.display.left, capture.cam_a.read)       # camera A = left
         wiring.connect(m, self.display.right, capture.cam_b.read)      # camera B = right
+        for c, side in zip(CAMERAS, ("left", "right")):
+            tracker = add_reset_subtree(m, f"row_tags_{c}", self.row_tags[c], "pix")
+            wiring.connect(m, getattr(self.display, f"{side}_tags"), tracker.read)
         m.d.comb += switches.frame_start.eq(self.sync_gen.frame_start)
         if self.output is not None:
             add_reset_subtree(m, "output", pix(self.output), "pix")

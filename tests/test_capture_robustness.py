@@ -42,10 +42,38 @@ def run_and_check(stream, final_image=None, r_byte_first=True):
     assert record.writes == [(a, v) for _, a, v in gold.writes]
     assert record.frames == [f.ok for f in gold.frames]
     assert record.samples == len(stream)
+    check_row_strobes(record, gold, TINY)
     if final_image is not None:
         np.testing.assert_array_equal(buffers["a"], capture_frame(final_image, TINY))
         np.testing.assert_array_equal(buffers["a"], gold.buffer)
     return gold
+
+
+#: When a status strobe is seen, in samples after the one it comes from (the observation before the rising edge of
+#: sample i sees the clock after edge i - 1): frame_start / row_start 1 clock after the edge that sampled the
+#: run's first byte, write.en 3 clocks after the pixel's second byte, row_end 2 clocks after the run's end.
+ROW_LATENCY = {"start": 2, "end": 3}
+WRITE_LATENCY = 3
+
+
+def check_row_strobes(record, gold, geometry):
+    """The row strobes equal the golden model's row events (rule 7) at their documented latency, and every write
+    lies strictly between the start and the end strobe of its buffer row."""
+    assert record.rows == [(kind, i + ROW_LATENCY[kind]) for kind, i, _ in gold.rows]
+    assert record.write_cycles == [i + WRITE_LATENCY for i, _, _ in gold.writes]
+    open_rows = {}                                  # buffer row -> its start strobe's cycle, while it runs
+    order = {"end": 0, "write": 1, "start": 2}      # a write in the cycle of a strobe is outside its row
+    events = sorted([(c, order[kind], kind, y) for (kind, c), (_, _, y) in zip(record.rows, gold.rows)]
+                    + [(c, 1, "write", a // geometry.buf_width) for c, (a, _) in zip(record.write_cycles,
+                                                                                      record.writes)])
+    for cycle, _, kind, y in events:
+        if kind == "start":
+            open_rows = {y: cycle}
+        elif kind == "end":
+            assert y in open_rows, f"row_end of row {y} at {cycle} without its row_start"
+            open_rows = {}
+        else:
+            assert y in open_rows and open_rows[y] < cycle, f"write to row {y} at {cycle} outside its row strobes"
 
 
 @pytest.mark.parametrize("case", list(fault_cases(TINY.width, TINY.height)))
@@ -58,6 +86,17 @@ def test_bad_frame_then_good_frame(case):
     # is in the blanking, a PCLK pause loses nothing) or it was never seen (in progress at reset).
     expected = {"reset_mid_frame": [True], "lv_without_fv": [True, True], "pclk_pause": [True, True]}
     assert [f.ok for f in gold.frames] == expected.get(case, [False, True])
+
+
+def test_row_end_follows_a_kept_last_pixel():
+    """A kept row whose line ends right after a kept pixel (row 0: 2 bytes, column 0) and a frame cut in kept row 4
+    after 10 bytes (columns 0 and 4): the row's last write is in the clock before its ``row_end``
+    (:func:`check_row_strobes`)."""
+    first, second = load_default_pair(TINY.width, TINY.height)
+    faults = Faults(line_bytes={0: 2}, fv_drop=(4, 10))
+    stream = MT9D112(CONFIG, timing=TINY_TIMING, seed=3).stream([first, second], faults=[faults, None])
+    gold = run_and_check(stream, final_image=second)
+    assert [kind for kind, _, _ in gold.rows[:3]] == ["start", "end", "start"]
 
 
 def test_counters_never_wrap():

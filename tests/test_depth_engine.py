@@ -17,7 +17,7 @@ from golden.depth import depth_map
 from golden.depth_display import engine_left
 from hdl.depth import DepthEngine, schedule
 from spec.depth import DEPTH, SMALL_DEPTH, DepthConfig
-from spec.sensor import SENSOR, SMALL_SENSOR
+from spec.sensor import ROW_TAG_BITS, SENSOR, SMALL_SENSOR
 from sim.runners.amaranth import simulate
 from board.export import export_verilog
 from sim.runners.cocotb import run_cocotb
@@ -36,13 +36,24 @@ def random_pair(seed, shape=SHAPE, top=32):
 
 
 def run_engine(left, right, *, geometry=G, config=CFG, grant_mask=0, restart_after=None, hold_clocks=0,
-               row_offset=0, timeout=200_000):
+               row_offset=0, timeout=200_000, tag_tables=None, flips=None):
     """One map from the testbench in Amaranth's simulator: returns (codes, clocks, reads, rows_ready seen while
-    the reader held back)."""
+    the reader held back). ``tag_tables``: (left, right) per buffer row, tag | busy << ROW_TAG_BITS; ``flips``:
+    (left row, right row) whose tag flips at the first ask (None: none)."""
     dut = DepthTestbench(geometry, config)
     out = {}
 
     async def bench(ctx):
+        if tag_tables is not None:
+            ctx.set(dut.tag_load_en, 1)
+            for r in range(geometry.buf_height):
+                ctx.set(dut.tag_load_row, r)
+                ctx.set(dut.tag_load_left, int(tag_tables[0][r]))
+                ctx.set(dut.tag_load_right, int(tag_tables[1][r]))
+                await ctx.tick()
+            ctx.set(dut.tag_load_en, 0)
+        for port, row in zip((dut.flip_left, dut.flip_right), flips or (None, None)):
+            ctx.set(port, geometry.buf_height if row is None else row)
         ctx.set(dut.load_en, 1)
         for a in range(geometry.buf_depth):
             ctx.set(dut.load_addr, a)
@@ -164,6 +175,76 @@ def test_restart_and_slow_reader():
     assert_same(codes, expected)
 
 
+# --- row tags (docs/depth.md, "Rows from different camera frames") --------------------------------------------
+
+BUSY = 1 << ROW_TAG_BITS
+
+
+def engine_tags(table, flip=None, row_offset=0):
+    """The tags the engine sees per engine row: the table's (None where busy), the flip row None at its first
+    fetch and flipped after it; the left rows through the rectification."""
+    h = len(table)
+    tags, flipped = [], False
+    for r in range(h):
+        b = min(max(r + row_offset, 0), h - 1)
+        value = int(table[b])
+        if b == flip:
+            tags.append(None if not flipped else (value & (BUSY - 1)) ^ 1)
+            flipped = True
+        else:
+            tags.append(None if value & BUSY else value)
+    return tags
+
+
+def tag_case(tables, flips=(None, None), row_offset=0, grant_mask=0, seed=31):
+    left, right = random_pair(seed)
+    tags = (engine_tags(tables[0], flips[0], row_offset), engine_tags(tables[1], flips[1]))
+    expected = depth_map(engine_left(left, row_offset), right, CFG, row_tags=tags)
+    codes, _, reads, _ = run_engine(left, right, grant_mask=grant_mask, row_offset=row_offset,
+                                    tag_tables=tables, flips=flips)
+    assert_same(codes, expected)
+    assert reads == (G.buf_depth, G.buf_depth)
+    return codes, expected, tags
+
+
+def steps(h, k, before=3, after=4):
+    return np.array([before] * k + [after] * (h - k))
+
+
+@pytest.mark.parametrize("side, k, grant_mask", [("left", 5, 0), ("right", 8, 0b101), ("left", 1, 0b11),
+                                                   ("right", 11, 0)])
+def test_tag_change_in_one_image(side, k, grant_mask):
+    """A tag change at row k in one image only: rows k - h .. k + h - 1 invalid, the vertical path restarted
+    below them, bit for bit with the golden map (which differs from the map without tags)."""
+    h = SHAPE[0]
+    tables = (steps(h, k), np.full(h, 9)) if side == "left" else (np.full(h, 9), steps(h, k))
+    codes, expected, _ = tag_case(tables, grant_mask=grant_mask)
+    left, right = random_pair(31)
+    assert (expected != depth_map(left, right, CFG)).any()
+
+
+def test_torn_by_a_flip_between_the_samples():
+    """Left row 6 (tag 3 among 2s) and right row 2 (6 among 7s) change their tags to their neighbours' after the
+    engine's first ask: each is torn (its start and end samples differ), although its end sample alone agrees
+    with every other row (so a missing start or end sample shows)."""
+    h = SHAPE[0]
+    left_table, right_table = np.full(h, 2), np.full(h, 7)
+    left_table[6], right_table[2] = 3, 6
+    _, _, tags = tag_case((left_table, right_table), flips=(6, 2), grant_mask=0b1)
+    assert tags[0][6] is None and tags[1][2] is None
+
+
+def test_busy_rows_and_a_rectified_left_image():
+    """Busy rows (left row 0, right rows 10 and 11) are torn; with the left image moved down 3 rows, engine rows
+    0 .. 3 read buffer row 0 (busy: four torn rows), and a left tag change at buffer row 4 reaches engine row 7."""
+    h = SHAPE[0]
+    left_table = steps(h, 4, 1, 2)
+    left_table[0] |= BUSY
+    right_table = np.full(h, 5)
+    right_table[10:] |= BUSY
+    tag_case((left_table, right_table), row_offset=-3, grant_mask=0b11)
+
+
 def test_constructor_checks_and_d128_elaborates():
     with pytest.raises(ValueError, match="lanes"):
         DepthEngine(G, DepthConfig(disparities=8, lanes=3))
@@ -171,6 +252,8 @@ def test_constructor_checks_and_d128_elaborates():
         DepthEngine(G, DepthConfig(disparities=32, lanes=4))
     with pytest.raises(ValueError, match="census"):
         DepthEngine(G, DepthConfig(disparities=8, lanes=4, census_width=6))
+    with pytest.raises(ValueError, match="tag_margin"):
+        DepthEngine(G, CFG, tag_margin=1)
     Fragment.get(DepthEngine(SENSOR, DepthConfig(disparities=128)), None)
     assert schedule(SENSOR, DepthConfig(disparities=128)).step_clocks == 8 + 4
 

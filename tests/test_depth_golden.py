@@ -199,3 +199,118 @@ def test_uniqueness_boundary_by_hand():
     total = np.array([[[99, 99]], [[20, 21]], [[15, 16]], [[20, 21]], [[16, 16]], [[99, 99]]])
     codes, _ = winner(total, cfg)
     assert codes.tolist() == [[32, cfg.invalid]]
+
+
+# --- rows from different camera frames (docs/depth.md, "Rows from different camera frames") ---------------------
+
+from golden.depth import row_flags                                     # noqa: E402
+from spec.depth import SMALL_DEPTH                                     # noqa: E402
+
+TAG_SHAPE = (12, 16)
+TAG_H = SMALL_DEPTH.census_height // 2                                 # 3
+
+
+def _tag_pair(seed=21):
+    rng = np.random.default_rng(seed)
+    return rng.integers(0, 32, TAG_SHAPE), rng.integers(0, 32, TAG_SHAPE)
+
+
+def _rows(first, last):
+    """The set of rows first..last, clamped to the image."""
+    return set(range(max(first, 0), min(last, TAG_SHAPE[0] - 1) + 1))
+
+
+def _flag_sets(tags):
+    invalid, restart = row_flags(tags, TAG_SHAPE[0], SMALL_DEPTH)
+    return set(np.flatnonzero(invalid).tolist()), set(np.flatnonzero(restart).tolist())
+
+
+def test_equal_tags_are_todays_map():
+    """All tags equal in each image (the two images' tags differ: they are never compared): the map without tags,
+    bit for bit; no row invalid, the vertical path starts at row 0 only."""
+    left, right = _tag_pair()
+    h = TAG_SHAPE[0]
+    tags = ([3] * h, [11] * h)
+    assert (depth_map(left, right, SMALL_DEPTH, row_tags=tags) == depth_map(left, right, SMALL_DEPTH)).all()
+    assert _flag_sets(tags) == (set(), {0})
+    assert _flag_sets(None) == (set(), {0})
+
+
+@pytest.mark.parametrize("k", [1, 2, 3, 6, 9, 11])
+@pytest.mark.parametrize("side", ["left", "right"])
+def test_a_tag_change_invalidates_the_window_rows(k, side):
+    """Tags a above row k, b from row k on (one image): rows k - h .. k + h - 1 are invalid (their census windows
+    hold both), the path restarts at rows k - h + 1 .. k + h (each row after an invalid one, and row k); rows above
+    the band keep today's raw codes, rows below it are the winner of a vertical path started afresh at k + h."""
+    left, right = _tag_pair(k)
+    h = TAG_SHAPE[0]
+    changed = [0] * k + [1] * (h - k)
+    tags = (changed, [5] * h) if side == "left" else ([5] * h, changed)
+    invalid, restart = _flag_sets(tags)
+    assert invalid == _rows(k - TAG_H, k + TAG_H - 1)
+    assert restart == {0} | _rows(k - TAG_H + 1, k + TAG_H)
+    got = depth_map(left, right, SMALL_DEPTH, row_tags=tags, details=True)
+    today = depth_map(left, right, SMALL_DEPTH, details=True)
+    assert (got.raw[sorted(invalid)] == SMALL_DEPTH.invalid).all()
+    above = k - TAG_H
+    assert (got.raw[:max(above, 0)] == today.raw[:max(above, 0)]).all()
+    below = k + TAG_H
+    if below < h:
+        fresh = path_cost(today.cost[:, below:], "vertical", SMALL_DEPTH)   # rows below, path from row k + h
+        raw, _ = winner(today.horizontal[:, below:] + fresh, SMALL_DEPTH)
+        assert (got.raw[below:] == raw).all()
+    assert (got.codes == median3x3(got.raw)).all()
+
+
+def test_restart_matters_below_the_band():
+    """The restart at row k + h (not only at the tag change k) changes the rows below: a path restarted at k only
+    gives other codes there for a random pair (so the rule is visible in the map)."""
+    left, right = _tag_pair(4)
+    h, k = TAG_SHAPE[0], 4
+    got = depth_map(left, right, SMALL_DEPTH, row_tags=([0] * k + [1] * (h - k), [0] * h), details=True)
+    at_k = np.zeros(h, dtype=bool)
+    at_k[[0, k]] = True
+    vertical = path_cost(got.cost, "vertical", SMALL_DEPTH, restart=at_k)
+    raw, _ = winner(got.horizontal + vertical, SMALL_DEPTH)
+    assert (raw[k + TAG_H:] != got.raw[k + TAG_H:]).any()
+
+
+@pytest.mark.parametrize("k", [0, 1, 5, 11])
+def test_a_torn_row(k):
+    """Row k torn (None) in one image: rows k - h .. k + h invalid, restarts at k - h + 1 .. k + h + 1."""
+    h = TAG_SHAPE[0]
+    torn = [7] * h
+    torn[k] = None
+    invalid, restart = _flag_sets(([7] * h, torn))
+    assert invalid == _rows(k - TAG_H, k + TAG_H)
+    assert restart == {0} | _rows(k - TAG_H + 1, k + TAG_H + 1)
+    left, right = _tag_pair(k + 40)
+    got = depth_map(left, right, SMALL_DEPTH, row_tags=(torn, [7] * h), details=True)
+    assert (got.raw[sorted(invalid)] == SMALL_DEPTH.invalid).all()
+    assert (got.raw[sorted(set(range(h)) - invalid)] != SMALL_DEPTH.invalid).any()
+
+
+def test_tears_in_both_images_and_a_short_window():
+    """Left changes at row 3, right at row 8: the union of both bands. A 7 x 1 census (h = 0): no row is invalid
+    for a tag change, but the path restarts at it; a torn row is invalid alone."""
+    h = TAG_SHAPE[0]
+    tags = ([0] * 3 + [1] * (h - 3), [4] * 8 + [5] * (h - 8))
+    invalid, restart = _flag_sets(tags)
+    assert invalid == _rows(0, 5) | _rows(5, 10)
+    assert restart == {0} | _rows(1, 11)
+    flat = DepthConfig(disparities=8, lanes=4, census_height=1)
+    inv, rst = row_flags(tags, h, flat)
+    assert not inv.any() and set(np.flatnonzero(rst)) == {0, 3, 8}
+    inv, rst = row_flags(([0] * 5 + [None] + [0] * (h - 6), [0] * h), h, flat)
+    assert set(np.flatnonzero(inv)) == {5} and set(np.flatnonzero(rst)) == {0, 5, 6}
+
+
+def test_bad_row_tags_are_rejected():
+    left, right = _tag_pair()
+    h = TAG_SHAPE[0]
+    with pytest.raises(ValueError, match="12 rows"):
+        depth_map(left, right, SMALL_DEPTH, row_tags=([0] * (h - 1), [0] * h))
+    with pytest.raises(ValueError, match="ints or None"):
+        depth_map(left, right, SMALL_DEPTH, row_tags=([0] * h, ["a"] * h))
+    with pytest.raises(ValueError, match="pair"):
+        depth_map(left, right, SMALL_DEPTH, row_tags=[0] * h)

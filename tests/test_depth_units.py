@@ -234,3 +234,60 @@ def test_uniqueness_boundaries(name, at, expected):
     lh, lv = _sums(cfg, at)
     assert golden_code(cfg, lh, lv) == expected
     assert run_winner(cfg, lh, lv) == (expected, 7)
+
+
+@pytest.mark.parametrize("margin", [2, 8, 40])
+def test_row_ring_tag_sample_timing(margin):
+    """RowRing's two tag samples (docs/depth.md, "Row tags"): a tag source that answers busy for row r only to the
+    ask in clock last_read(r) + margin makes row r torn (rows 0, 3, ...); busy for every other ask of r from its
+    first read on leaves it whole (rows 1, 4, ...); busy for the asks of r before its first read makes it torn
+    (rows 2, 5, ...). So the start sample is asked before the first read, the end sample exactly ``margin``
+    clocks after the last; ``tagged`` counts a row ``margin`` + 3 clocks after its last read. Random grants;
+    margin 40 is more than a 16-pixel row takes (the ring then holds the next row's last read back)."""
+    from hdl.depth.row_ring import RowRing
+    from spec.sensor import SMALL_SENSOR
+
+    g = SMALL_SENSOR
+    w, h = g.buf_width, g.buf_height
+    dut = RowRing(g, 8, tag_margin=margin)
+    rng = np.random.default_rng(margin)
+    first, last, torn, counted = {}, {}, {}, {}
+
+    def busy_for(row, t):
+        mode = row % 3
+        if mode == 0:
+            return row in last and t == last[row] + margin
+        if mode == 1:
+            return row in first and not (row in last and t == last[row] + margin)
+        return row not in first
+
+    async def bench(ctx):
+        ctx.set(dut.limit, h)
+        ctx.set(dut.start, 1)
+        await ctx.tick()
+        ctx.set(dut.start, 0)
+        answer, tagged = 0, 0
+        for t in range(20 * w * h):
+            grant = int(rng.integers(0, 3) != 0)
+            ctx.set(dut.buffer.grant, grant)
+            ctx.set(dut.tags.busy, answer)
+            ctx.set(dut.tags.tag, 5)
+            ask = ctx.get(dut.tags.row)
+            if ctx.get(dut.buffer.request) and grant:
+                row = ctx.get(dut.fetch_row)
+                first.setdefault(row, t)
+                if ctx.get(dut.fetch_col) == w - 1:
+                    last[row] = t
+            answer = int(busy_for(ask, t))
+            await ctx.tick()
+            if ctx.get(dut.tagged) != tagged:
+                tagged = ctx.get(dut.tagged)
+                torn[tagged - 1] = (ctx.get(dut.torn) >> ((tagged - 1) % 8)) & 1
+                counted[tagged - 1] = t + 1
+            if tagged == h:
+                break
+
+    simulate(dut, clocks={"sync": 1e8}, testbenches=[bench])
+    assert sorted(torn) == list(range(h))
+    assert {r: torn[r] for r in range(h)} == {r: int(r % 3 != 1) for r in range(h)}
+    assert all(counted[r] - last[r] == margin + 3 for r in range(h))

@@ -6,7 +6,7 @@ the last pair, the frame-start skew the design measures against the simulation's
 import numpy as np
 import pytest
 
-from sim.analysis.frame_sources import EMPTY, frame_sources, source_summary
+from sim.analysis.frame_sources import EMPTY, frame_sources, source_summary, torn_depth_rows, torn_summary
 from sim.testbed.sequence import card_distances, moving_card
 from sim.testbench.system.setup import SystemSetup
 
@@ -54,6 +54,68 @@ def test_moving_card_frames_on_verilator(card_run):
     # the captures counted every frame, and the display frames came in order of time
     assert all(len(status["capture_events_s"][c]["frame_done"]) == FRAMES for c in "ab")
     assert all(b.t_start_s > a.t_start_s for a, b in zip(shown, shown[1:]))
+
+
+def _buffers(setup, sequence):
+    from golden.capture import capture_frame
+    g = setup.geometry
+    zeros = np.zeros((g.buf_height, g.buf_width), np.uint8)
+    return {EMPTY: (zeros, zeros), **{k: (capture_frame(setup.fit(left), g), capture_frame(setup.fit(right), g))
+                                      for k, (left, right) in enumerate(sequence.pairs)}}
+
+
+def _torn(setup, sequence, shown):
+    """Per display frame with a mixed depth row (against the untorn goldens), its rows against the torn golden."""
+    goldens, buffers = _goldens(setup, sequence), _buffers(setup, sequence)
+    out = []
+    for s in shown:
+        if source_summary(frame_sources(s.frame, goldens, setup.display_layout, setup.geometry))["depth_rows_mixed"]:
+            out.append(torn_summary(torn_depth_rows(s.frame, buffers, setup.display_layout, setup.geometry,
+                                                    setup.depth, rectification=setup.rectification)))
+    return out
+
+
+def test_torn_maps_have_no_mixed_rows(card_run):
+    """The display frames whose depth map was computed across the tear (rows of two camera frames) equal the
+    golden torn map (docs/depth.md "Rows from different camera frames") in every row: each depth row from one
+    camera frame or invalid at the tear, none mixed (with the tracker's tags tied to 0 in the system, the rows
+    below the tear are mixed again)."""
+    setup, sequence, shown, _ = card_run
+    torn = _torn(setup, sequence, shown)
+    assert torn, "the run has no display frame computed across a tear"
+    for t in torn:
+        assert t["tear"] is not None and t["depth_rows_mixed_at_tear"] == 0, t
+        assert 0 < t["depth_rows_invalid_at_tear"] <= setup.depth.census_height
+
+
+def test_torn_rows_classified_from_the_definition():
+    """A depth panel drawn from a torn map (rows 0..4 of frame 1, row 5 torn, 6.. of frame 0) is found as that
+    tear; its rows come from frame 1 above, frame 0 below, the rule's invalid rows at the tear; a row changed in
+    the panel is mixed."""
+    from golden.depth import depth_map
+    from golden.depth_display import draw_depth_display
+    from golden.disparity import rgb24_to_bytes
+    setup = SystemSetup.small()
+    g, layout = setup.geometry, setup.display_layout
+    rng = np.random.default_rng(4)
+    base = [rng.integers(0, 32, (g.buf_height, g.buf_width + 8), dtype=np.uint8) for _ in range(2)]
+    buffers = {k: (b[:, 4:4 + g.buf_width], b[:, 4 - 2 * k:4 - 2 * k + g.buf_width]) for k, b in enumerate(base)}
+    c = 5
+    left = np.concatenate([buffers[1][0][:c], buffers[0][0][c:]])
+    right = np.concatenate([buffers[1][1][:c], buffers[0][1][c:]])
+    tags = [1] * c + [None] + [0] * (g.buf_height - c - 1)
+    codes = depth_map(left, right, setup.depth, row_tags=(tags, tags))
+    frame = np.zeros((setup.timing.v_active, setup.timing.h_active), np.int64)
+    draw_depth_display(frame, codes, layout, g, setup.depth)
+    frame = rgb24_to_bytes(frame)
+    found = torn_depth_rows(frame, buffers, layout, g, setup.depth)
+    assert found["tear"] == (c, 1, 0, True)
+    h = setup.depth.census_height // 2
+    invalid = range(c - h, c + h + 1)           # docs/depth.md: a torn row c makes rows c - h .. c + h invalid
+    assert found["rows"] == [("invalid" if y in invalid else 1 if y < c else 0) for y in range(g.buf_height)]
+    region = layout.region("depth")
+    frame[region.y1 - 1, region.x0] ^= 0xFF                   # one pixel of the last depth row changed
+    assert torn_depth_rows(frame, buffers, layout, g, setup.depth)["rows"][-1] is None
 
 
 def test_the_design_measures_the_skew_the_simulation_shows(card_run):

@@ -19,7 +19,7 @@ from sim.testbench.system.cocotb_routes import InSimulator, PythonModels
 from sim.testbench.system.run_amaranth import ROUTES as AMARANTH_ROUTES, run_amaranth
 from sim.testbench.system.waves import system_waves
 from sim.testbench.system.run_cocotb import DEFAULT_PAIR, run_cocotb_system
-from sim.testbench.system.result import SystemTimeout
+from sim.testbench.system.result import SystemTimeout, tear_tags
 from sim.testbench.system.setup import SystemSetup
 from sim.testbench.system.tables import QUICK_VARIABLES, SIZE_VARIABLES, mt9d112_table
 
@@ -127,8 +127,9 @@ def test_end_to_end_amaranth_segmentation():
     assert result.status["auto_rectification"]["auto"] == 1
     assert result.mismatched_pixels == 0 and not result.sink.violations
     np.testing.assert_array_equal(result.frame, result.golden)
-    plain = SystemSetup.small(disparity=DISPARITY, rectification="auto").golden_frame(
-        left, right, in_use=result.status["rectification"])
+    plain = SystemSetup.small(disparity=DISPARITY, rectification="auto").golden_frame(     # with the same tear
+        left, right, in_use=result.status["rectification"],
+        row_tags=tear_tags(setup.geometry.buf_height, result.status["tear"]))
     r = setup.display_layout.region("disparity")
     assert (plain[r.y0:r.y1, r.x0:r.x1] != result.golden[r.y0:r.y1, r.x0:r.x1]).any()
     outside = result.golden.copy()

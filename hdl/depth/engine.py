@@ -12,7 +12,7 @@ from spec.sensor import SENSOR
 from hdl.depth.census import CensusWindow
 from hdl.depth.matching_cost import MatchingCost
 from hdl.depth.median import Median3x3
-from hdl.depth.ports import ResultReadSignature, SharedReadSignature, token_layout
+from hdl.depth.ports import ResultReadSignature, RowTagReadSignature, SharedReadSignature, token_layout
 from hdl.depth.row_ring import RowRing
 from hdl.depth.sgm_path import SgmPath
 from hdl.depth.winner import Winner
@@ -55,7 +55,8 @@ class DepthEngine(wiring.Component):
     row by row from the two frame buffers into a small ring of result rows.
 
     Right image = reference: the code of right pixel (x, y) is its disparity d (match left(x + d, y)) in
-    1 / 2**F pixel (F = ``fraction_bits``), or ``config.invalid`` = D 2**F. ``golden.depth.depth_map`` is the same map.
+    1 / 2**F pixel (F = ``fraction_bits``), or ``config.invalid`` = D 2**F. ``golden.depth.depth_map`` is the same
+    map (with ``row_tags``: the tags the engine sampled).
 
     Parameters
     ----------
@@ -65,6 +66,9 @@ class DepthEngine(wiring.Component):
         D, census window, P1, P2, ``max_cost``, lanes (``DEPTH``).
     out_rows : int
         Rows in the result ring (4).
+    tag_margin : int
+        Clocks from a row's last read to the request of its end tag sample (8; at least 2): at least the row-tag
+        source's lag behind the capture's writes.
 
     Ports
     -----
@@ -80,6 +84,15 @@ class DepthEngine(wiring.Component):
         The reader's port into the result ring: address (r mod out_rows) * width + x, data one clock later;
         ``rows_ready`` = rows of this map complete (0 after ``start``); row r is written only once the
         reader's ``rows_released`` > r - out_rows.
+    left_tags, right_tags : Out(RowTagReadSignature(height))
+        The two buffers' row tags (``row`` from a register, ``tag`` and ``busy`` one clock later; tag 0, busy 0
+        from a source that tracks nothing: then the map is the one without tags). Each fetched row is asked
+        before its first read and again ``tag_margin`` clocks after its last read (the answer taken one clock
+        later); it is torn if either answer is busy or the tags differ. Row y is invalid (raw codes forced to
+        ``config.invalid`` before the median) iff, in either image, a row of its census window is torn or the
+        window's tags differ; the vertical path restarts at row y iff y = 0, row y - 1 is invalid, or (either
+        image) row y or y - 1 is torn or their tags differ: ``golden.depth.depth_map(..., row_tags=...)``. The
+        left tags are those of the rows the engine reads (after ``left_row_offset``).
     busy : Out(1)
         A map is being computed.
 
@@ -102,13 +115,17 @@ class DepthEngine(wiring.Component):
     2 clocks to the median's end token, 12 in the median
     ========== ==============================================================
 
+    A row's first read is at the earliest 4 clocks after the previous row's last one; a pass waits for its rows'
+    end tag samples, ``tag_margin`` + 3 clocks after their last reads (docs/depth.md, "Row tags").
+
     Raises
     ------
     ValueError
-        If ``lanes`` does not divide D, D is more than the width, or the census window is not odd.
+        If ``lanes`` does not divide D, D is more than the width, the census window is not odd, or ``tag_margin``
+        is less than 2.
     """
 
-    def __init__(self, geometry=SENSOR, config=DEPTH, *, out_rows=4):
+    def __init__(self, geometry=SENSOR, config=DEPTH, *, out_rows=4, tag_margin=8):
         if config.disparities % config.lanes:
             raise ValueError(f"lanes ({config.lanes}) must divide D ({config.disparities})")
         if not 2 <= config.disparities <= geometry.buf_width:
@@ -118,6 +135,9 @@ class DepthEngine(wiring.Component):
             raise ValueError(f"the census window must be odd x odd and at most {RING_ROWS - 1} rows high")
         if out_rows < 2:
             raise ValueError(f"out_rows must be at least 2, not {out_rows}")
+        if tag_margin < 2:
+            raise ValueError(f"tag_margin must be at least 2 clocks, not {tag_margin}")
+        self.tag_margin = tag_margin
         self.geometry = geometry
         self.config = config
         self.out_rows = out_rows
@@ -132,6 +152,8 @@ class DepthEngine(wiring.Component):
             "left": Out(SharedReadSignature(geometry)),
             "right": Out(SharedReadSignature(geometry)),
             "result": In(ResultReadSignature((out_rows * w - 1).bit_length(), config.code_bits, h)),
+            "left_tags": Out(RowTagReadSignature(h)),
+            "right_tags": Out(RowTagReadSignature(h)),
             "busy": Out(1),
         })
 
@@ -141,10 +163,12 @@ class DepthEngine(wiring.Component):
         w, h = g.buf_width, g.buf_height
         ry = cfg.census_height // 2
 
-        left_ring = add_reset_subtree(m, "left_ring", RowRing(g, RING_ROWS))
-        right_ring = add_reset_subtree(m, "right_ring", RowRing(g, RING_ROWS))
+        left_ring = add_reset_subtree(m, "left_ring", RowRing(g, RING_ROWS, tag_margin=self.tag_margin))
+        right_ring = add_reset_subtree(m, "right_ring", RowRing(g, RING_ROWS, tag_margin=self.tag_margin))
         wiring.connect(m, wiring.flipped(self.left), left_ring.buffer)
         wiring.connect(m, wiring.flipped(self.right), right_ring.buffer)
+        wiring.connect(m, wiring.flipped(self.left_tags), left_ring.tags)
+        wiring.connect(m, wiring.flipped(self.right_tags), right_ring.tags)
 
         # --- Pass control ---------------------------------------------------------------------------
         y = Signal(range(h + 1))                   # the pass running or waiting to run
@@ -161,15 +185,19 @@ class DepthEngine(wiring.Component):
         m.d.sync += [need.eq(Mux(y + ry + 1 < h, y + ry + 1, h)), first.eq(y == 0), before.eq(y - 1),
                      room_limit.eq(self.result.rows_released + self.out_rows)]
         can_start = Signal()
-        m.d.sync += can_start.eq((left_ring.fetched >= need) & (right_ring.fetched >= need)
+        m.d.sync += can_start.eq((left_ring.tagged >= need) & (right_ring.tagged >= need)
                                  & (first | (before < room_limit)))
         # The census rows' ring slots, in two registered stages (y + j - ry, then clamped): y changes only in
-        # DRAIN and the slots are read only in RUN, at least three clocks later.
+        # DRAIN and the slots are read only in RUN, at least three clocks later. ``inner[j]``: census rows j - 1
+        # and j are different image rows (the edge into row j is inside the window).
+        inner = [Signal(name=f"census_inner{j}") for j in range(cfg.census_height)]
         for j in range(cfg.census_height):
             row = Signal(signed(len(y) + 1), name=f"census_row{j}")
             m.d.sync += row.eq(y + j - ry)
             clamped = Mux(row < 0, 0, Mux(row > h - 1, h - 1, row))
-            m.d.sync += ring_row[j].eq(clamped[:(RING_ROWS - 1).bit_length()])
+            m.d.sync += [ring_row[j].eq(clamped[:(RING_ROWS - 1).bit_length()]),
+                         inner[j].eq((row >= 1) & (row <= h - 1))]
+        row_invalid, restart = self._row_flags(m, (left_ring, right_ring), ring_row, inner, first, y)
         limit = Signal(range(h + 1))            # rows that may be fetched: none while idle; late is safe
         m.d.sync += limit.eq(Mux(~self.busy, 0, Mux(y + RING_ROWS - ry < h, y + RING_ROWS - ry, h)))
         m.d.comb += [left_ring.limit.eq(limit), right_ring.limit.eq(limit),
@@ -180,9 +208,38 @@ class DepthEngine(wiring.Component):
 
         left_sig, right_sig = self._census(m, left_ring, right_ring, ring_row, step, clock, in_run)
         token, right_cen, left_sel, inside = self._issue(m, left_sig, right_sig, step, clock, in_run)
-        horizontal, vertical = self._paths(m, token, right_cen, left_sel, inside, step, clock, in_run, y)
-        self._back_end(m, horizontal, vertical, y, out_base)
+        horizontal, vertical = self._paths(m, token, right_cen, left_sel, inside, step, clock, in_run, restart)
+        self._back_end(m, horizontal, vertical, y, out_base, row_invalid)
         return m
+
+    def _row_flags(self, m, rings, ring_row, inner, first, y):
+        """Row y's invalid and vertical-restart flags from the rings' slot bits (docs/depth.md, "Rows from
+        different camera frames"), registered in two stages, recomputed every clock: a pass uses them from its
+        step 0's clock 5 on, and its rows' bits are in the slots a clock before the pass starts."""
+        ry = self.config.census_height // 2
+        picked, edge_y = [], []
+        for ring in rings:
+            for j in range(len(ring_row)):
+                bit = Signal(name=f"window_torn{len(picked)}")
+                m.d.sync += bit.eq(ring.torn.bit_select(ring_row[j], 1))
+                picked.append(bit)
+                if j or ry == 0:
+                    bit = Signal(name=f"window_edge{len(picked)}")
+                    m.d.sync += bit.eq(ring.edge.bit_select(ring_row[j], 1) & inner[j])
+                    if j:
+                        picked.append(bit)
+                    if j == ry:                  # the edge into row y itself
+                        edge_y.append(bit)
+        row_invalid, prev_invalid, restart = Signal(), Signal(), Signal()
+        first_late = Signal()
+        m.d.sync += [row_invalid.eq(Cat(*picked).any()), first_late.eq(first),
+                     restart.eq(first_late | prev_invalid | Cat(*edge_y).any())]
+        # The invalid flag of row y - 1, taken when y moves on (the flags of row y are in two clocks later).
+        y_seen = Signal.like(y)
+        m.d.sync += y_seen.eq(y)
+        with m.If(y != y_seen):
+            m.d.sync += prev_invalid.eq(row_invalid)
+        return row_invalid, restart
 
     def _passes(self, m, y, step, clock, can_start, in_run, out_base):
         """The pass state machine: wait for rows and room, run the steps, drain, next pass."""
@@ -301,7 +358,7 @@ class DepthEngine(wiring.Component):
                         m.d.sync += [left_sel[k].eq(e.census), inside[k].eq(e.inside)]
         return token, right_cen, left_sel, inside
 
-    def _paths(self, m, token, right_cen, left_sel, inside, step, clock, in_run, y):
+    def _paths(self, m, token, right_cen, left_sel, inside, step, clock, in_run, restart):
         """Cost (3 clocks), then both paths; the vertical path's line buffer (read at clock 4)."""
         cfg, w = self.config, self.geometry.buf_width
         G, P = self.groups, cfg.lanes
@@ -333,8 +390,8 @@ class DepthEngine(wiring.Component):
         prev = Signal.like(vertical.prev, reset_less=True)     # datapath: written before it is read
         m.d.comb += vertical.prev.eq(prev)
         with m.If(clock == VREAD_CLOCK + 1):
-            m.d.sync += [prev.eq(Mux(y == 0, 0, Cat(*(r.data for r in rows_reads)))),
-                         vertical.prev_min.eq(Mux(y == 0, 0, min_read.data))]
+            m.d.sync += [prev.eq(Mux(restart, 0, Cat(*(r.data for r in rows_reads)))),
+                         vertical.prev_min.eq(Mux(restart, 0, min_read.data))]
         lt = vertical.l_token
         for gi, write in enumerate(rows_writes):
             m.d.comb += [write.addr.eq(lt.x), write.data.eq(vertical.l.as_value()),
@@ -345,7 +402,7 @@ class DepthEngine(wiring.Component):
         m.d.comb += [min_write.addr.eq(min_x), min_write.data.eq(vertical.m), min_write.en.eq(vertical.m_valid)]
         return horizontal, vertical
 
-    def _back_end(self, m, horizontal, vertical, y, out_base):
+    def _back_end(self, m, horizontal, vertical, y, out_base, row_invalid):
         """Winner, median, result ring."""
         cfg, g = self.config, self.geometry
         w = g.buf_width
@@ -361,7 +418,7 @@ class DepthEngine(wiring.Component):
             median.y.eq(y),
             median.valid.eq(winner.valid | end[-1]),
             median.x.eq(Mux(end[-1], w, winner.x)),
-            median.code.eq(winner.code),
+            median.code.eq(Mux(row_invalid, cfg.invalid, winner.code)),
         ]
         m.submodules.results = results = Memory(shape=unsigned(cfg.code_bits), depth=self.out_rows * w, init=[])
         write, read = results.write_port(), results.read_port()

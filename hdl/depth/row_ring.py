@@ -6,7 +6,7 @@ from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
 from spec.sensor import SENSOR
-from hdl.depth.ports import SharedReadSignature
+from hdl.depth.ports import RowTagReadSignature, SharedReadSignature
 from hdl.shift_add import times
 
 __all__ = ["RowRing"]
@@ -25,12 +25,23 @@ class RowRing(wiring.Component):
     dual-port memories -- one whole-word write port, one synchronous read port, one clock, no lane write
     enables (docs/board.md): the census reads one, the merge reads the other.
 
+    Row tags (docs/depth.md, "Rows from different camera frames"): once a row may be fetched (``limit``) the ring
+    asks ``tags`` for its buffer row (the *start sample*; no read of the row is requested before it is in), and again
+    ``tag_margin`` clocks after the row's last granted read (the *end sample*: ``tags.row`` is the row in the clock
+    ``tag_margin`` clocks after that read, the answer is taken one clock later). The row is *torn* iff either
+    sample is busy or their tags differ; its *edge* bit is set iff it is torn, the ring row before it is torn, or
+    the two rows' tags differ (ring row 0: iff it is torn). Both bits go into the row's slot; ``tagged`` counts
+    the rows whose data and bits are in. While an end sample is pending the ring does not make the next row's
+    last read (it never binds for width >= ``tag_margin``).
+
     Parameters
     ----------
     geometry : SensorGeometry
         Buffer size and grey width.
     rows : int
         Ring slots, a power of two.
+    tag_margin : int
+        Clocks from a row's last read to its end sample's request (at least 2): the row-tag source's lag.
 
     Ports
     -----
@@ -42,7 +53,13 @@ class RowRing(wiring.Component):
     limit : In(range(height + 1))
         Rows below ``limit`` may be fetched; the reader raises it as slots become free.
     fetched : Out(range(height + 1))
-        Rows completely in the ring.
+        Rows whose pixels are all in the ring.
+    tagged : Out(range(height + 1))
+        Rows whose pixels and tag bits are in (``tagged`` <= ``fetched`` <= ``tagged`` + 1).
+    torn, edge : Out(rows)
+        One bit per slot (slot ``r mod rows`` for ring row r): torn, and inconsistent with the row before.
+    tags : Out(RowTagReadSignature(height))
+        The buffer's row tags: ``row`` from a register; ``tag``, ``busy`` of that row one clock later.
     col : In(range(width))
         Ring read address; ``column`` holds that column of every slot one clock later.
 
@@ -58,17 +75,24 @@ class RowRing(wiring.Component):
 
     Clock domain: ``sync`` (the parent renames it to ``pix``).
 
+    Latency: a row's first read at the earliest 3 clocks after ``limit`` allows it (0 without tags) and 5 clocks
+    after the previous row's last read (2 without tags);
+    ``tagged`` counts it ``tag_margin`` + 3 clocks after its last read (``fetched``: 2).
+
     Raises
     ------
     ValueError
-        If ``rows`` is not a power of two of at least 2.
+        If ``rows`` is not a power of two of at least 2, or ``tag_margin`` is less than 2.
     """
 
-    def __init__(self, geometry=SENSOR, rows=8):
+    def __init__(self, geometry=SENSOR, rows=8, *, tag_margin=8):
         if rows < 2 or rows & (rows - 1):
             raise ValueError(f"ring rows must be a power of two >= 2, not {rows}")
+        if tag_margin < 2:
+            raise ValueError(f"tag_margin must be at least 2 clocks, not {tag_margin}")
         self.geometry = geometry
         self.rows = rows
+        self.tag_margin = tag_margin
         super().__init__({
             "buffer": Out(SharedReadSignature(geometry)),
             "start": In(1),
@@ -77,6 +101,10 @@ class RowRing(wiring.Component):
             "fetched": Out(range(geometry.buf_height + 1)),
             "col": In(range(geometry.buf_width)),
             "column": Out(data.ArrayLayout(geometry.grey_bits, rows)),
+            "tagged": Out(range(geometry.buf_height + 1)),
+            "torn": Out(rows),
+            "edge": Out(rows),
+            "tags": Out(RowTagReadSignature(geometry.buf_height)),
         })
         self.fetch_row = Signal(range(geometry.buf_height + 1))
         self.fetch_col = Signal(range(geometry.buf_width))
@@ -116,15 +144,20 @@ class RowRing(wiring.Component):
         pending_last = Signal()
 
         # The request comes from registers: ``allowed`` lags ``issued`` by a clock, so the clock after a row's
-        # last column is granted never requests (the next row may not be allowed yet).
-        allowed, row_done = Signal(), Signal()
+        # last column is granted never requests (the next row may not be allowed yet). ``sampled``: the row's start
+        # sample is in; ``ending & col_last``: the previous row's end sample is pending and this is the last read.
+        allowed, row_done, sampled, ending, col_last = Signal(), Signal(), Signal(), Signal(), Signal()
         m.d.sync += allowed.eq((issued < self.limit) & (issued < g.buf_height))
         m.d.comb += [
             self.buffer.port.addr.eq(addr),
-            self.buffer.request.eq(allowed & ~row_done & ~self.start),
+            self.buffer.request.eq(allowed & ~row_done & sampled & ~(ending & col_last) & ~self.start),
         ]
         granted = self.buffer.request & self.buffer.grant
-        m.d.sync += [pending.eq(granted), row_done.eq(granted & (col == g.buf_width - 1))]
+        last_read = granted & (col == g.buf_width - 1)
+        m.d.sync += [pending.eq(granted), row_done.eq(last_read)]
+        with m.If(granted):
+            m.d.sync += col_last.eq(col == g.buf_width - 2)
+        self._tag_samples(m, source, slot, allowed, row_done, sampled, ending, last_read)
         with m.If(granted):
             m.d.sync += [
                 pending_col.eq(col),
@@ -156,5 +189,53 @@ class RowRing(wiring.Component):
         with m.If(self.start):
             m.d.sync += [issued.eq(0), slot.eq(0), col.eq(0), addr.eq(offset_addr), row_start.eq(offset_addr),
                          source.eq(first_source), above.eq(first_above), pending.eq(0), self.fetched.eq(0),
-                         allowed.eq(0)]
+                         allowed.eq(0), col_last.eq(0)]
         return m
+
+    def _tag_samples(self, m, source, slot, allowed, row_done, sampled, ending, last_read):
+        """The start and end samples of each row's tag through the one ``tags`` port, and the slot bits."""
+        g, margin = self.geometry, self.tag_margin
+        bits = len(self.tags.tag)
+        port = self.tags
+        # The port asks for the row to be fetched once it may be fetched (``want``: allowed, start sample not in;
+        # ``allowed`` is a clock late after a row's last read, hence ``row_done``), and for a pending end sample's
+        # row in the clock of its request; otherwise it keeps the row it asked for last.
+        count = Signal(range(margin + 1))           # clocks to the end request (1: this clock); 0: none pending
+        end_row, end_slot = Signal.like(source), Signal.like(slot)
+        end_ask = count == 2
+        want = Signal()
+        m.d.comb += want.eq(allowed & ~sampled & ~row_done)
+        with m.If(end_ask):
+            m.d.sync += port.row.eq(end_row)
+        with m.Elif(want):
+            m.d.sync += port.row.eq(source)
+        # ``shown``: this clock's answer is for ``source`` (asked in the clock before, unchanged since).
+        asked, shown = Signal(), Signal()
+        m.d.sync += [asked.eq(want & ~end_ask & ~last_read & ~self.start),
+                     shown.eq(asked & ~last_read & ~self.start)]
+        start_tag, start_busy = Signal(bits), Signal()
+        with m.If(shown & ~sampled):
+            m.d.sync += [start_tag.eq(port.tag), start_busy.eq(port.busy), sampled.eq(1)]
+        held_tag, held_busy = Signal(bits), Signal()  # the start sample of the row whose end sample is pending
+        with m.If(last_read):
+            m.d.sync += [count.eq(margin), end_row.eq(source), end_slot.eq(slot), ending.eq(1), sampled.eq(0),
+                         held_tag.eq(start_tag), held_busy.eq(start_busy)]
+        with m.Elif(count != 0):
+            m.d.sync += count.eq(count - 1)
+        take, write = Signal(), Signal()            # this clock's answer is the end sample; the slot bits go in
+        end_tag, end_busy = Signal(bits), Signal()
+        m.d.sync += [take.eq(count == 1), write.eq(take)]
+        with m.If(take):
+            m.d.sync += [end_tag.eq(port.tag), end_busy.eq(port.busy)]
+        prev_tag, prev_torn, first = Signal(bits), Signal(), Signal(init=1)
+        torn = end_busy | held_busy | (end_tag != held_tag)
+        edge = torn | prev_torn | (~first & (end_tag != prev_tag))
+        with m.If(write):
+            for k in range(self.rows):
+                with m.If(end_slot == k):
+                    m.d.sync += [self.torn[k].eq(torn), self.edge[k].eq(edge)]
+            m.d.sync += [prev_tag.eq(end_tag), prev_torn.eq(torn), first.eq(0), ending.eq(0),
+                         self.tagged.eq(self.tagged + 1)]
+        with m.If(self.start):
+            m.d.sync += [count.eq(0), sampled.eq(0), ending.eq(0), take.eq(0), write.eq(0), prev_torn.eq(0),
+                         first.eq(1), self.tagged.eq(0)]

@@ -12,11 +12,21 @@ when all of it equals the golden frame of pair k.
 
 :func:`frame_sources` measures this for one displayed frame against the goldens of the run's pairs: per panel, per
 buffer row, the set of frames the row comes from; :func:`source_summary` condenses it for the per-frame table.
+
+At the tear (docs/depth.md, "Rows from different camera frames"). A depth map computed while a capture overwrites
+the buffers reads rows 0..c-1 of camera frame k (the new one, already written) and rows c..H-1 of frame k' (the one
+before), row c perhaps torn (part written). Its golden model is the torn map: ``golden.depth.depth_map`` of those
+rows with their tags (k above c, k' below, row c's tag None when torn, the same c for both cameras), drawn as the
+depth panel draws it (``golden.depth_display.depth_picture``). :func:`torn_depth_rows` finds the hypothesis (c, k,
+k', torn) whose torn map the displayed depth panel equals in the most rows; a depth row then comes *from frame k*
+(or k') when it equals that row of the torn map and the rule leaves the row valid, is *invalid at the tear* when it
+equals it and the rule invalidates the row (``golden.depth.row_flags``: a census window holding rows of two frames or
+a torn row), and is *mixed* when it equals no row of the torn map.
 """
 
 import numpy as np
 
-__all__ = ["PANELS", "frame_sources", "source_summary", "EMPTY"]
+__all__ = ["PANELS", "frame_sources", "source_summary", "EMPTY", "torn_depth_rows", "torn_summary"]
 
 #: The panels, as ``spec.layout`` names their regions.
 PANELS = ("left", "right", "disparity", "depth")
@@ -80,3 +90,120 @@ def source_summary(sources):
     out["consistent"] = out["depth_rows_mixed"] == 0
     out["equals_pair"] = max(sources["equals"]) if sources["equals"] else None
     return out
+
+
+def _engine_tags(tags, rectification):
+    """Per engine row, the tag of the buffer row it holds: engine row r reads buffer row clamp(r + offset)."""
+    h = len(tags)
+    return [tags[min(max(r + int(rectification), 0), h - 1)] for r in range(h)]
+
+
+def _panel_rows(frame, layout, geometry):
+    region = layout.region("depth")
+    s = region.scale
+    panel = np.asarray(frame)[region.y0:region.y1, region.x0:region.x1]
+    return panel.reshape(geometry.buf_height, s, region.x1 - region.x0, -1)
+
+
+def _picture_rows(codes, layout, depth, geometry, shape):
+    """The depth panel as the display draws it for ``codes`` (the picture, the crosshair and whatever the layout
+    draws over the panel, the readout included: ``golden.depth_display.draw_depth_display``), per buffer row;
+    ``shape`` is the displayed frame's (rows, columns)."""
+    from golden.depth_display import draw_depth_display
+    from golden.disparity import rgb24_to_bytes
+    region = layout.region("depth")
+    frame = np.zeros(shape[:2], np.int64)
+    draw_depth_display(frame, codes, layout, geometry, depth)
+    picture = rgb24_to_bytes(frame[region.y0:region.y1, region.x0:region.x1])
+    return picture.reshape(geometry.buf_height, region.scale, region.x1 - region.x0, -1)
+
+
+def _matching_rows(panel, picture):
+    return np.all(panel == picture, axis=(1, 2, 3))
+
+
+def _pair(value):
+    return tuple(value) if isinstance(value, (tuple, list)) else (value, value)
+
+
+def torn_map(buffers, above, below, c, torn, depth, rectification=0):
+    """The golden torn map (module docstring): buffer rows 0..c-1 of frame ``above``, c..H-1 of frame ``below``
+    (``buffers``: ``{k: (left, right)}`` grey buffers), row c's tag None when ``torn``; ``c`` and ``torn`` may be
+    pairs (left, right): each image torn at its own row. Returns the codes and, per engine row, whether the rule
+    invalidates it (before the median)."""
+    from golden.depth import depth_map, row_flags
+    from golden.depth_display import engine_left
+    h = buffers[above][0].shape[0]
+    images, all_tags = [], []
+    for side, (cs, ts) in enumerate(zip(_pair(c), _pair(torn))):
+        images.append(np.concatenate([buffers[above][side][:cs], buffers[below][side][cs:]]))
+        tags = [above] * cs + [below] * (h - cs)
+        if ts and cs < h:
+            tags[cs] = None
+        all_tags.append(tags)
+    left_tags, right_tags = _engine_tags(all_tags[0], rectification), all_tags[1]
+    codes = depth_map(engine_left(images[0], rectification), images[1], depth, row_tags=(left_tags, right_tags))
+    return codes, row_flags((left_tags, right_tags), h, depth)[0]
+
+
+def torn_depth_rows(frame, buffers, layout, geometry, depth, *, rectification=0, window=None):
+    """The hypothesis (c, k, k', torn) of the module docstring that explains the most rows of ``frame``'s depth
+    panel, over k' = the frame before k in ``buffers`` (``{k: (left, right)}``, keys in capture order, e.g.
+    :data:`EMPTY`, 0, 1, ...), c = 1..H-1 (or, with ``window``, within ``window`` rows of the first row where the
+    panel differs from frame k's untorn map) and torn True/False. If rows are left unexplained, the two images are
+    then allowed their own tear rows (the engine fetches the two buffers independently): c and torn become pairs
+    (left, right), the second tear searched from the first unexplained row to ``census_height`` + 2 rows below it.
+    Returns ``{"tear": (c, k, k', torn) or None, "rows": per depth row k, k', "k|k'" (left of k, right of k'
+    or the other way: between two tear rows), "invalid" or None (mixed)}``; without a hypothesis explaining more
+    rows than the untorn maps do, ``tear`` is None and the rows are labelled by the best untorn map."""
+    from golden.depth import depth_map
+    from golden.depth_display import engine_left
+    h = geometry.buf_height
+    panel = _panel_rows(frame, layout, geometry)
+    panel_shape = np.asarray(frame).shape
+    keys = list(buffers)
+    best = [-1, None, None]            # rows explained, tear, labels
+
+    def consider(above, below, c, torn):
+        codes, invalid = torn_map(buffers, above, below, c, torn, depth, rectification)
+        match = _matching_rows(panel, _picture_rows(codes, layout, depth, geometry, panel_shape))
+        lo, hi = min(_pair(c)), max(_pair(c))
+        labels = [None if not m else "invalid" if bad else above if y < lo else below if y >= hi
+                  else f"{above}|{below}" for y, (m, bad) in enumerate(zip(match, invalid))]
+        if int(match.sum()) > best[0]:
+            best[:] = [int(match.sum()), (c, above, below, torn), labels]
+
+    first_mismatch = {}
+    for k in keys:
+        left, right = buffers[k]
+        codes = depth_map(engine_left(left, rectification), right, depth)
+        match = _matching_rows(panel, _picture_rows(codes, layout, depth, geometry, panel_shape))
+        if int(match.sum()) > best[0]:
+            best[:] = [int(match.sum()), None, [k if m else None for m in match]]
+        first_mismatch[k] = int(np.argmin(match)) if not match.all() else h
+    for above, below in zip(keys[1:], keys[:-1]):
+        a = first_mismatch[above]
+        cs = range(1, h) if window is None else range(max(1, a - window), min(h, a + window + 1))
+        for c in cs:
+            for torn in (False, True):
+                consider(above, below, c, torn)
+    if best[1] is not None and None in best[2]:
+        c, above, below, _ = best[1]
+        m = best[2].index(None)
+        for c2 in range(max(1, m - 2), min(h, m + depth.census_height + 3)):
+            for pair in ((c, c2), (c2, c)):
+                for torn in ((False, False), (True, False), (False, True), (True, True)):
+                    consider(above, below, pair, torn)
+    return {"tear": best[1], "rows": best[2]}
+
+
+def torn_summary(torn):
+    """``{"depth_rows_from": {k or "k|k'": count}, "depth_rows_invalid_at_tear": n, "depth_rows_mixed_at_tear": n,
+    "tear": (c, k, k', torn) or None}`` of a :func:`torn_depth_rows` result."""
+    rows = torn["rows"]
+    counts = {}
+    for r in rows:
+        if r is not None and r != "invalid":
+            counts[str(r)] = counts.get(str(r), 0) + 1
+    return {"depth_rows_from": counts, "depth_rows_invalid_at_tear": sum(1 for r in rows if r == "invalid"),
+            "depth_rows_mixed_at_tear": sum(1 for r in rows if r is None), "tear": torn["tear"]}

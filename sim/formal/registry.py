@@ -13,6 +13,7 @@ from sim.formal.harnesses.disparity import DisparityHarness
 from sim.formal.harnesses.frame_buffer import FrameBufferHarness
 from sim.formal.harnesses.i2c import I2CMasterHarness, InitSequencerHarness
 from sim.formal.harnesses.read_arbiter import ReadArbiterHarness
+from sim.formal.harnesses.row_tags import RowTagTrackerHarness
 from sim.formal.harnesses.segment_band import SegmentBandHarness
 from sim.formal.harnesses.switches import SwitchControlHarness
 from sim.formal.harnesses.sync_gen import SyncGenerator1080pHarness, SyncGeneratorHarness
@@ -37,6 +38,7 @@ DEFAULT = {
     "vertical_offset": VerticalOffsetHarness,
     "subpixel_codes": SubpixelCodesHarness,
     "segment_band": SegmentBandHarness,
+    "row_tags": RowTagTrackerHarness,
 }
 
 

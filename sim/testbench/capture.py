@@ -37,18 +37,29 @@ __all__ = ["CaptureRecord", "run_capture_amaranth", "run_capture_cocotb", "playb
 @dataclass
 class CaptureRecord:
     """What one camera's capture did: every committed write ``(address, grey)`` in order, ``frame_ok`` at
-    every ``frame_done`` strobe, and the number of PCLK samples sent."""
+    every ``frame_done`` strobe, the number of PCLK samples sent, and when (the index of the sample whose rising
+    edge ends the clock, :meth:`observe`'s call count) each write and each ``row_start`` / ``row_end`` strobe
+    was: ``write_cycles``, ``rows`` (``("start" | "end", cycle)``)."""
     writes: list = field(default_factory=list)
     frames: list = field(default_factory=list)
     samples: int = 0
+    write_cycles: list = field(default_factory=list)
+    rows: list = field(default_factory=list)
+    cycle: int = 0
 
     def observe(self, read, write, status):
         """Record one PCLK period's ``write`` port and capture ``status``, each value read with ``read(signal)``
         (and only when it counts: per-sample reads are what a simulation pays for)."""
         if read(write.en):
             self.writes.append((read(write.addr), read(write.data)))
+            self.write_cycles.append(self.cycle)
         if read(status.frame_done):
             self.frames.append(bool(read(status.frame_ok)))
+        if read(status.row_start):
+            self.rows.append(("start", self.cycle))
+        if read(status.row_end):
+            self.rows.append(("end", self.cycle))
+        self.cycle += 1
 
 
 def _cocotb_value(handle):

@@ -10,7 +10,11 @@ written through ``load_*`` (one word of each per clock), ``start`` starts a map,
 * copies every finished row from the engine's result ring into a full-size result memory, then releases it
   (not while ``hold`` is high: a reader that falls behind);
 * counts the granted reads of each buffer (``reads_left``, ``reads_right``);
-* raises ``done`` when all rows are copied and counts the clocks from ``start`` to ``done`` (``clocks``).
+* raises ``done`` when all rows are copied and counts the clocks from ``start`` to ``done`` (``clocks``);
+* answers the engine's row-tag ports from a table per buffer (``tag_load_*``: one row's tag, busy in bit
+  ``ROW_TAG_BITS``; all 0 at reset), one clock after ``row``; the row ``flip_left`` / ``flip_right`` (``height``:
+  none) has its tag's bit 0 flipped the first time the engine asks for it after ``start`` (after the answer), so
+  that the row's start and end samples differ.
 
 ``read_addr`` / ``read_data`` read the result memory (y * width + x; data one clock later).
 """
@@ -23,7 +27,7 @@ from amaranth.lib.wiring import In, Out
 from hdl.depth import DepthEngine
 from hdl.frame_buffer import FrameBuffer
 from spec.depth import DEPTH
-from spec.sensor import SENSOR
+from spec.sensor import ROW_TAG_BITS, SENSOR
 
 __all__ = ["DepthTestbench"]
 
@@ -48,6 +52,12 @@ class DepthTestbench(wiring.Component):
             "reads_right": Out(32),
             "read_addr": In(g.addr_bits),
             "read_data": Out(config.code_bits),
+            "tag_load_en": In(1),
+            "tag_load_row": In(range(g.buf_height)),
+            "tag_load_left": In(ROW_TAG_BITS + 1),
+            "tag_load_right": In(ROW_TAG_BITS + 1),
+            "flip_left": In(range(g.buf_height + 1), init=g.buf_height),
+            "flip_right": In(range(g.buf_height + 1), init=g.buf_height),
         })
 
     def elaborate(self, platform):
@@ -77,6 +87,7 @@ class DepthTestbench(wiring.Component):
                 port.port.data.eq(buf.read.data),
             ]
 
+        self._tag_server(m, engine)
         m.submodules.maps = maps = Memory(shape=unsigned(cfg.code_bits), depth=g.buf_depth, init=[])
         store, fetch = maps.write_port(), maps.read_port()
         m.d.comb += [fetch.addr.eq(self.read_addr), self.read_data.eq(fetch.data)]
@@ -103,3 +114,30 @@ class DepthTestbench(wiring.Component):
         with m.If(self.start):
             m.d.sync += [row.eq(0), ring_base.eq(0), map_addr.eq(0), copying.eq(0), self.clocks.eq(0)]
         return m
+
+    def _tag_server(self, m, engine):
+        """One table of (busy, tag) per buffer, read at the engine's ``row``; the flip row changes after its first
+        answer of the map."""
+        h = self.geometry.buf_height
+        start_seen = Signal()
+        m.d.sync += start_seen.eq(self.start)
+        for name in ("left", "right"):
+            port, flip = getattr(engine, f"{name}_tags"), getattr(self, f"flip_{name}")
+            table = Memory(shape=unsigned(ROW_TAG_BITS + 1), depth=h, init=[])
+            m.submodules[f"{name}_tag_table"] = table
+            read, write = table.read_port(), table.write_port()
+            armed, flipping = Signal(name=f"{name}_flip_armed"), Signal(name=f"{name}_flipping")
+            asked = armed & (port.row == flip)
+            m.d.sync += [flipping.eq(asked), armed.eq(armed & ~asked)]
+            with m.If(self.start):
+                m.d.sync += [armed.eq(0), flipping.eq(0)]
+            with m.Elif(start_seen):
+                m.d.sync += armed.eq(1)      # the engine shows its first row of the map from the clock after
+            m.d.comb += [
+                read.addr.eq(port.row),
+                port.tag.eq(read.data[:ROW_TAG_BITS]),
+                port.busy.eq(read.data[ROW_TAG_BITS]),
+                write.addr.eq(Mux(self.tag_load_en, self.tag_load_row, flip)),
+                write.data.eq(Mux(self.tag_load_en, getattr(self, f"tag_load_{name}"), read.data ^ 1)),
+                write.en.eq(self.tag_load_en | flipping),
+            ]

@@ -17,6 +17,7 @@ from hdl.i2c_master import I2CMaster
 from hdl.init_tables import InitTable
 from spec.sensor import SensorGeometry
 from hdl.read_arbiter import ReadArbiter
+from hdl.row_tags import RowTagTracker
 from hdl.sync_gen import SyncGenerator
 from sim.formal.runner import check
 
@@ -28,6 +29,7 @@ from sim.formal.harnesses.disparity import DisparityHarness
 from sim.formal.harnesses.frame_buffer import FrameBufferHarness
 from sim.formal.harnesses.i2c import BUS_HZ, CLK_HZ, TIMEOUT_US, I2CMasterHarness, InitSequencerHarness
 from sim.formal.harnesses.read_arbiter import ReadArbiterHarness
+from sim.formal.harnesses.row_tags import RowTagTrackerHarness
 from sim.formal.harnesses.segment_band import SegmentBandHarness
 from sim.formal.harnesses.switches import SwitchControlHarness
 from sim.formal.harnesses.sync_gen import SyncGeneratorHarness
@@ -59,6 +61,20 @@ class CaptureWrongByteOrder(CaptureHarness):
     """The capture set for G byte first while the sensor sends R byte first."""
     def dut(self):
         return CameraCapture(self.geometry, r_byte_first=False)
+
+
+class CaptureRowEndAtRunEnd(CaptureHarness):
+    """The row end strobe seen also at every frame end (the frame-done strobe, a clock before a row's end)."""
+    def row_strobes(self, dut):
+        return dut.status.row_start, dut.status.row_end | dut.status.frame_done
+
+
+class TrackerMoreRows(RowTagTrackerHarness):
+    """The tracker built for one buffer row more than the buffer has: a row start past the last row is taken."""
+    def dut(self):
+        g = self.geometry
+        return RowTagTracker(dataclasses.replace(g, height=g.height + g.scale), bits=2, cam_domain="sync",
+                             pix_domain="sync")
 
 
 class SubtractorWiderImage(DisparityHarness):
@@ -168,6 +184,8 @@ BITES = {
     "vertical_offset": (EstimatorTallerImage, "profile_read_in_memory"),
     "vertical_offset_range": (EstimatorWiderSearch, "cost_read_in_memory"),
     "segment_band": (SegmentBandCentreOneHigher, "band"),
+    "capture_rows": (CaptureRowEndAtRunEnd, "row_end_exactly_after_kept_run_end"),
+    "row_tags": (TrackerMoreRows, "busy_exactly_for_row_in_progress"),
 }
 
 

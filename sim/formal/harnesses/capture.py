@@ -5,10 +5,13 @@ The sensor pins are free on every clock: no assumption, so malformed streams (li
 without FV, FV falling mid-line, frames in progress at reset) are all included. The harness follows the
 counting rules of the capture docstring with its own reference counters on the pins (frame = FV rising edge to
 FV falling edge, column = byte pair in the LV run, row = LV falling edges in the frame, both saturating), and
-compares the write port, 3 clocks later (the capture's latency), with the pixel the rules give.
+compares the write port, 3 clocks later (the capture's latency), with the pixel the rules give. The row strobes:
+``row_start`` exactly 2 clocks after a kept row's run starts on the pins, ``row_end`` 3 clocks after it ends; and
+every write lies strictly inside its row's strobes (between the row start counted since the frame start and the
+next row end).
 """
 
-from amaranth import Cat, Signal
+from amaranth import Cat, Mux, Signal
 
 from hdl.capture import CameraCapture
 from spec.sensor import SMALL_SENSOR
@@ -64,6 +67,13 @@ class CaptureHarness(FormalHarness):
         self.prove(m, "frame_done_exactly_when_frame_fv_falls",
                    ~pv2 | (frame_done == self.past(m, ref["fall"], 2, name="past_fall")))
 
+        row_start, row_end = self.row_strobes(dut)
+        self.prove(m, "row_start_exactly_at_kept_run_start",
+                   ~pv2 | (row_start == self.past(m, ref["run_start"], 2, name="past_run_start")))
+        self.prove(m, "row_end_exactly_after_kept_run_end",
+                   ~pv | (row_end == self.past(m, ref["run_end"], LATENCY, name="past_run_end")))
+        self._writes_inside_rows(m, dut, row_start, row_end)
+
         self.cover(m, "write_in_second_kept_row", w_en & (w_addr == g.buf_width))
         self.cover(m, "write_at_last_address", w_en & (w_addr == g.buf_depth - 1))
         self.cover(m, "long_line_saturates_column", column == g.width)
@@ -71,6 +81,30 @@ class CaptureHarness(FormalHarness):
         with m.If(ref["fall"] & lv):
             m.d.sync += fell_mid_line.eq(1)
         self.cover(m, "first_pixel_written_after_fv_fell_mid_line", w_en & (w_addr == 0) & fell_mid_line)
+
+    def row_strobes(self, dut):
+        """The capture's ``row_start`` and ``row_end`` (a mutant may connect others)."""
+        return dut.status.row_start, dut.status.row_end
+
+    def _writes_inside_rows(self, m, dut, row_start, row_end):
+        """From the strobes alone: the row in progress (row starts since the frame start, 1-based, saturating) and
+        whether one is open; a write must be to that row, in a clock after its start and before its end."""
+        g = self.geometry
+        status = dut.status
+        starts = Signal(range(g.buf_height + 2), name="strobe_rows_started")
+        open_row = Signal(name="strobe_row_open")
+        base = Mux(status.frame_start, 0, starts)
+        with m.If(row_start):
+            m.d.sync += [starts.eq(Mux(base == g.buf_height + 1, base, base + 1)), open_row.eq(1)]
+        with m.Elif(status.frame_start):
+            m.d.sync += starts.eq(0)
+        with m.If(row_end & ~row_start):
+            m.d.sync += open_row.eq(0)
+        y = Signal(range(g.buf_height + 1), name="write_row")
+        m.d.comb += y.eq(dut.write.addr // g.buf_width)
+        self.prove(m, "write_inside_its_row_strobes",
+                   ~dut.write.en | (open_row & ~row_end & ~row_start & (starts == y + 1)))
+        self.cover(m, "row_end_after_a_kept_last_pixel", row_end & self.past(m, dut.write.en, name="past_w_en"))
 
     def _reference(self, m, data, lv, fv):
         """The counting rules on the pins: whether the pixel completed now is kept, its address and grey."""
@@ -102,5 +136,8 @@ class CaptureHarness(FormalHarness):
         s = g.scale
         completes = lv_on & odd
         keep = completes & (column % s == 0) & (row % s == 0) & (column < g.width) & (row < g.height)
+        def kept(r):
+            return (r % s == 0) & (r < s * g.buf_height)
         return {"keep": keep, "address": (row // s) * g.buf_width + column // s, "pixel": Cat(data, first),
-                "rise": rise, "fall": in_frame & ~fv, "in_frame": in_frame}
+                "rise": rise, "fall": in_frame & ~fv, "in_frame": in_frame,
+                "run_start": lv_on & ~lv_prev & kept(Mux(rise, 0, row)), "run_end": line_end & kept(row)}

@@ -190,11 +190,12 @@ class SystemSetup:
             image = fit_to_sensor(image, self.geometry.width, self.geometry.height)
         return image
 
-    def golden_frame(self, left, right, *, details=False, in_use=None, held=False):
+    def golden_frame(self, left, right, *, details=False, in_use=None, held=False, row_tags=None):
         """The golden model's displayed frame for the pair (images at any size: fitted to the sensor first).
         ``details=True``: ``(frame, depth codes, readout text)`` (``golden.disparity.composite_frame``). In
         automatic mode the rectification is the one the design reports in use (``in_use``) and the screen's
-        rectification text says ``held`` when the design reports its estimate held."""
+        rectification text says ``held`` when the design reports its estimate held. ``row_tags``: the buffer rows'
+        frame tags (``golden.disparity.composite_frame``), for a map computed across a tear."""
         g = self.geometry
         lb = capture_frame(self.fit(left), g)
         rb = capture_frame(self.fit(right), g)
@@ -206,7 +207,7 @@ class SystemSetup:
         auto = self.rectification == "auto"
         return composite_frame(lb, rb, self.disparity, rectification, self.timing, g, self.display_layout,
                                self.thresholds, self.level_grey, self.depth, details=details, segment=self.segment,
-                               rectification_mode=(auto, auto and bool(held)))
+                               rectification_mode=(auto, auto and bool(held)), row_tags=row_tags)
 
     def deadline_s(self):
         """Simulated-time budget of a run: the I2C init (table waits + bus time, generously) plus a few frames."""
