@@ -21,6 +21,12 @@ and at the end (on Ctrl-C from the frames so far, under their partial names: ``f
 lossless), ``depth_video.gif`` (the depth panels), ``result.json`` (the run's status, the per-frame table under
 ``frames``, the frame-start skew between the cameras, provenance).
 
+In automatic rectification (``--rectification auto``; with ``--scene card --vertical-offset V[,V2,...]`` the rig
+knocked mid-run) the goldens are :mod:`sim.analysis.auto_rectification`'s (the golden estimator over the captured
+buffers; each pair with the state before and after its search), the table adds ``rectification_shown`` /
+``rectification_expected`` and result.json ``auto_rectification_run``; the settled frame must show the expected
+state.
+
 The check: the last display frame (the settled one: no capture writes the buffers any more) equals the golden
 model's frame of the last pair bit for bit, every image-panel row comes from some camera frame, and the sink saw
 no timing violation.
