@@ -55,6 +55,10 @@ def add_arguments(parser):
                         help="--scene card: first distance in metres (3 m; 8 m with --small)")
     parser.add_argument("--near", type=float, default=None, metavar="M",
                         help="--scene card: last distance in metres (0.5 m; 4 m with --small)")
+    parser.add_argument("--vertical-offset", default=None, metavar="V[,V2,...]",
+                        help="--scene card: the rig's vertical offset in sensor rows (the left image V rows lower; "
+                             "4 sensor rows = 1 buffer row); several values split the run into equal parts, e.g. "
+                             "0,12 = a knock to the rig halfway (try it with --rectification auto)")
     parser.add_argument("--disparity", default="0", metavar="D",
                         help="disparity switch value 0..127 (SW7 = 1, SW6..SW0 = D); default 0")
     parser.add_argument("--rectification", default=None, metavar="R",
@@ -292,6 +296,8 @@ def run(args):
         if args.frames is None:
             raise UserError("--scene card needs --frames N")
         return run_frames(args, setup, started)
+    if args.vertical_offset is not None:
+        raise UserError("--vertical-offset is for --frames N --scene card")
     if args.left is None or args.right is None:
         raise UserError("give LEFT and RIGHT image files (or --frames N with folders or --scene card)")
     if args.vcd and (args.simulator != "amaranth" or not args.small):

@@ -21,6 +21,12 @@ and at the end (on Ctrl-C from the frames so far, under their partial names: ``f
 lossless), ``depth_video.gif`` (the depth panels), ``result.json`` (the run's status, the per-frame table under
 ``frames``, the frame-start skew between the cameras, provenance).
 
+In automatic rectification (``--rectification auto``; with ``--scene card --vertical-offset V[,V2,...]`` the rig
+knocked mid-run) the goldens are :mod:`sim.analysis.auto_rectification`'s (the golden estimator over the captured
+buffers; each pair with the state before and after its search), the table adds ``rectification_shown`` /
+``rectification_expected`` and result.json ``auto_rectification_run``; the settled frame must show the expected
+state.
+
 The check: the last display frame (the settled one: no capture writes the buffers any more) equals the golden
 model's frame of the last pair bit for bit, every image-panel row comes from some camera frame, and the sink saw
 no timing violation.
@@ -47,6 +53,9 @@ COLUMNS = ("display_frame", "t_start_ms", "cam_a_frames_done", "cam_b_frames_don
            "right_rows_by_frame", "disparity_rows_by_frame", "depth_rows_by_frame", "depth_rows_mixed",
            "consistent", "equals_pair", "depth_frame", "centre_shown_cm", "centre_truth_cm", "bad1", "bad2",
            "density")
+#: Columns added in automatic rectification (:mod:`sim.analysis.auto_rectification`): the offset in use and mode
+#: the display frame shows (the state of the golden it equals) and the one expected from the golden estimator.
+AUTO_COLUMNS = ("rectification_shown", "rectification_expected")
 
 
 def build_sequence(args, setup):
@@ -54,10 +63,12 @@ def build_sequence(args, setup):
     from sim.testbed.sequence import moving_card, repeated_pair, sequence_from_folders
     if args.frames < 1:
         raise UserError(f"--frames must be at least 1, got {args.frames}")
+    if getattr(args, "vertical_offset", None) is not None and args.scene is None:
+        raise UserError("--vertical-offset is for --scene card (the test bed renders the misaligned rig)")
     if args.scene is not None:
         if args.left is not None or args.right is not None:
             raise UserError("--scene card renders its own images: give no LEFT/RIGHT")
-        return moving_card(setup, args.frames, args.far, args.near)
+        return moving_card(setup, args.frames, args.far, args.near, card_offsets(args, setup))
     if args.left is None or args.right is None:
         raise UserError("give LEFT and RIGHT (two image files or two folders), or --scene card")
     left, right = Path(args.left), Path(args.right)
@@ -68,6 +79,22 @@ def build_sequence(args, setup):
     from .cmd_run import load_images
     l_img, r_img = load_images(left, right, setup)
     return repeated_pair(l_img, r_img, args.frames, setup, sources=[left, right])
+
+
+def card_offsets(args, setup):
+    """``--vertical-offset V[,V2,...]`` (sensor rows) as the per-frame schedule (``offset_schedule``), or None."""
+    from sim.testbed.sequence import offset_schedule
+    text = getattr(args, "vertical_offset", None)
+    if text is None:
+        return None
+    try:
+        values = [int(v, 0) for v in text.split(",")]
+    except ValueError:
+        raise UserError(f"--vertical-offset takes integers in sensor rows, comma-separated, not {text!r}") from None
+    limit = setup.geometry.height // 4
+    if any(abs(v) > limit for v in values):
+        raise UserError(f"--vertical-offset: at most +-{limit} sensor rows at this size, got {text}")
+    return offset_schedule(args.frames, values)
 
 
 def _rows_text(counts):
@@ -81,12 +108,13 @@ def _rows_text(counts):
 class FrameWriter:
     """Receives the display frames: writes each one's files and table row at once, keeps what the end needs."""
 
-    def __init__(self, out, setup, sequence, goldens):
-        self.out, self.setup, self.sequence, self.goldens = out, setup, sequence, goldens
+    def __init__(self, out, setup, sequence, goldens, auto=None):
+        self.out, self.setup, self.sequence, self.goldens, self.auto = out, setup, sequence, goldens, auto
+        self.columns = COLUMNS + (AUTO_COLUMNS if auto is not None else ())
         (out / "frames").mkdir(exist_ok=True)
         self.rows, self.hdmi, self.depth = [], [], []
         self.csv_file = open(out / "frames.partial.csv", "w", newline="")
-        self.csv = csv.DictWriter(self.csv_file, COLUMNS)
+        self.csv = csv.DictWriter(self.csv_file, self.columns)
         self.csv.writeheader()
         self.last_frame = None
 
@@ -96,7 +124,10 @@ class FrameWriter:
         from sim.models.ch7301c.hdmi_sink import write_png
         setup, frame = self.setup, shown.frame
         layout, g = setup.display_layout, setup.geometry
-        sources = source_summary(frame_sources(frame, self.goldens, layout, g))
+        if self.auto is not None:       # automatic rectification: either state of each pair (auto_rectification)
+            sources = self.auto.row(frame, layout, g, min(shown.captured["a"], shown.captured["b"]))
+        else:
+            sources = source_summary(frame_sources(frame, self.goldens, layout, g))
         k = sources["depth_frame"]
         truth = self.sequence.truth[k] if k is not None and k >= 0 else None
         depth = depth_summary(frame, layout, g, setup.depth, truth)
@@ -112,7 +143,7 @@ class FrameWriter:
             write_atomic(self.out / "frames" / f"hdmi_{name}.png", lambda p: write_png(frame, p))
             write_atomic(self.out / "frames" / f"depth_{name}.png",
                          lambda p: depth_picture_png(picture, p, g, setup.depth))
-            self.csv.writerow({c: (_rows_text(row[c]) if c.endswith("_by_frame") else row[c]) for c in COLUMNS})
+            self.csv.writerow({c: (_rows_text(row[c]) if c.endswith("_by_frame") else row[c]) for c in self.columns})
             self.csv_file.flush()
             self.rows.append(row)
             self.hdmi.append(self.out / "frames" / f"hdmi_{name}.png")
@@ -196,10 +227,16 @@ def run_frames(args, setup, started):
     out = prepare_out_dir(args.out)
     sequence = build_sequence(args, setup)
     outputs = RunOutputs(out, OUTPUTS, stale=("frames/*.png",)).start()
-    black = np.zeros_like(sequence.pairs[0][0])
-    goldens = {EMPTY: setup.golden_frame(black, black)}
-    goldens.update({k: setup.golden_frame(*pair) for k, pair in enumerate(sequence.pairs)})
-    writer = FrameWriter(out, setup, sequence, goldens)
+    auto = None
+    if setup.rectification == "auto":
+        from sim.analysis.auto_rectification import AutoGoldens
+        auto = AutoGoldens(setup, sequence)
+        goldens = auto.after
+    else:
+        black = np.zeros_like(sequence.pairs[0][0])
+        goldens = {EMPTY: setup.golden_frame(black, black)}
+        goldens.update({k: setup.golden_frame(*pair) for k, pair in enumerate(sequence.pairs)})
+    writer = FrameWriter(out, setup, sequence, goldens, auto)
     wall = time.perf_counter()
     status, interrupted = {}, False
     try:
@@ -220,6 +257,10 @@ def run_frames(args, setup, started):
                   settled_equals_last_pair=settled_ok, image_rows_from_camera_frames=image_rows_ok)
     if "capture_events_s" in status:
         result["skew"] = skew_figures(status, setup)
+    if auto is not None:
+        result["auto_rectification_run"] = auto_record(auto, sequence, writer.rows)
+        settled_ok = settled_ok and result["auto_rectification_run"]["settled_shows_expected"]
+        result["settled_equals_last_pair"] = settled_ok
     from stereodepth.provenance import provenance
     result["provenance"] = provenance(list(sequence.sources), dict(vars(args), setup=setup.to_spec()), started)
     outputs.partial("result.json").write_text(json.dumps(result, indent=1, default=str) + "\n")
@@ -232,6 +273,25 @@ def run_frames(args, setup, started):
     if interrupted:
         raise KeyboardInterrupt
     return 0 if ok else 1
+
+
+def auto_record(auto, sequence, rows):
+    """``result.json``'s ``auto_rectification_run``: the golden estimator's state per camera frame, where the
+    offset in use changes (and how many camera frames after the rig's last knock before it), the first display
+    frame showing each new offset, and whether the settled frame shows the expected state."""
+    offsets = [float(v) for v in getattr(sequence, "vertical_offsets", None) or []]
+    knocks = [k for k in range(1, len(offsets)) if offsets[k] != offsets[k - 1]]
+    changes = []
+    for k, old, new in auto.changes():
+        knock = max((j for j in knocks if j <= k), default=None)
+        shown = next((r["display_frame"] for r in rows if r["rectification_shown"] == new.text()), None)
+        changes.append({"after_camera_frame": k, "from": old.text(), "to": new.text(), "knock_camera_frame": knock,
+                        "camera_frames_after_knock": None if knock is None else k - knock + 1,
+                        "first_display_frame_shown": shown})
+    last = rows[-1] if rows else None
+    return {"rig_vertical_offset_rows": offsets, "knocks_before_camera_frame": knocks,
+            "expected_per_camera_frame": [s.text() for s in auto.states], "changes": changes,
+            "settled_shows_expected": last is not None and last["rectification_shown"] == auto.states[-1].text()}
 
 
 def print_summary(result, setup, ok):
@@ -250,7 +310,19 @@ def print_summary(result, setup, ok):
         print(f"  frame {r['display_frame']:3d} t {r['t_start_ms']:8.3f} ms  captured {r['cam_a_frames_done']}/"
               f"{r['cam_b_frames_done']}  depth rows {_rows_text(r['depth_rows_by_frame']) or '-'} mixed "
               f"{r['depth_rows_mixed']}  centre {r['centre_shown_cm']} cm (truth {r['centre_truth_cm']})"
-              + (f"  bad>2 {100 * r['bad2']:.1f} %" if r["bad2"] is not None else ""))
+              + (f"  bad>2 {100 * r['bad2']:.1f} %" if r["bad2"] is not None else "")
+              + (f"  rect {r['rectification_shown']} (expected {r['rectification_expected']})"
+                 if "rectification_shown" in r else ""))
+    if "auto_rectification_run" in result:
+        auto = result["auto_rectification_run"]
+        print(f"  automatic rectification, rig vertical offset per camera frame {auto['rig_vertical_offset_rows']} "
+              f"sensor rows; expected in use {auto['expected_per_camera_frame']}")
+        for c in auto["changes"] or [None]:
+            print("  the offset in use never changed" if c is None else
+                  f"  offset in use {c['from']} -> {c['to']} after camera frame {c['after_camera_frame']}'s search"
+                  + (f" ({c['camera_frames_after_knock']} camera frames after the knock)"
+                     if c["knock_camera_frame"] is not None else "")
+                  + f", first shown on display frame {c['first_display_frame_shown']}")
     print("  the settled display frame equals the golden frame of the last pair"
           if result["settled_equals_last_pair"] else "  the settled display frame does NOT equal the last pair's")
     print("OK" if ok else "FAILED")

@@ -320,3 +320,50 @@ def test_moving_card_full_size_on_verilator():
     assert all(m["aligned"] and m["skew_sync_clocks"] == 0 for m in status["hardware_skew"])
     centre = depth_summary(shown[-1].frame, setup.display_layout, setup.geometry, setup.depth)
     assert centre["centre_distance_cm"] == 50
+
+
+def _knocked_card(setup, frames=4, offsets=(0, 12)):
+    from sim.testbed.sequence import offset_schedule
+    return moving_card(setup, frames, vertical_offsets=offset_schedule(frames, list(offsets)))
+
+
+def test_auto_rectification_relocks_after_a_knock_on_verilator():
+    """Automatic rectification over four camera frames with the rig knocked halfway (0, then +12 sensor rows = +3
+    buffer rows, the small search's edge): the golden estimator over the captured buffers expects the new offset
+    after stable_frames frames; the design's display frames show, by the golden frame each equals, only the
+    offset in use before or after the knock (never another), the new one within stable_frames + 1 camera frames,
+    and the settled display frame is the golden frame of the last pair with +3 in use, bit for bit."""
+    from sim.analysis.auto_rectification import AutoGoldens, State
+    from sim.testbench.system.frames_verilator import run_verilator_frames
+    setup = SystemSetup.small(rectification="auto")
+    sequence = _knocked_card(setup)
+    auto = AutoGoldens(setup, sequence)
+    knock, stable = 2, setup.auto_rectification.stable_frames
+    assert [s.offset for s in auto.states] == [0, 0, 0, 3]           # the golden expectation, from the spec
+    shown = []
+    status, _ = run_verilator_frames(sequence, setup, on_frame=shown.append)
+    assert status["violations"] == [] and len(shown) == status["settled_frame"] + 1
+    rows = [auto.row(s.frame, setup.display_layout, setup.geometry, min(s.captured.values())) for s in shown]
+    assert np.array_equal(shown[-1].frame, setup.golden_frame(*sequence.pairs[-1], in_use=3, held=False))
+    assert rows[-1]["equals_pair"] == 3 and rows[-1]["rectification_shown"] == "+3 auto"
+    assert {r["rectification_shown"] for r in rows} <= {None, "+0 auto", "+3 auto"}
+    first = next(i for i, r in enumerate(rows) if r["rectification_shown"] == "+3 auto")
+    assert all(r["rectification_shown"] in (None, "+3 auto") for r in rows[first:])
+    assert min(shown[first].captured.values()) - knock <= stable + 1      # camera frames done since the knock
+    assert all(r["rectification_shown"] in (None, r["rectification_expected"]) for r in rows)
+    assert auto.changes() == [(3, State(0, False), State(3, False))]
+
+
+def test_the_knock_schedule_and_its_errors(tmp_path, capsys):
+    from sim.testbed.sequence import offset_schedule
+    from stereodepth.cli import main
+    assert offset_schedule(6, [0, 12]) == [0, 0, 0, 12, 12, 12]
+    assert offset_schedule(5, [0, 4, 8]) == [0, 0, 4, 4, 8]
+    for extra, message in ((["--frames", "2", "--scene", "card", "--vertical-offset", "0,4,8"], "3 vertical offsets"),
+                           (["--frames", "2", "--scene", "card", "--vertical-offset", "x"], "takes integers"),
+                           (["--frames", "2", "--scene", "card", "--vertical-offset", "99"], "at most +-12"),
+                           (["a.png", "b.png", "--frames", "2", "--vertical-offset", "4"], "is for --scene card"),
+                           (["a.png", "b.png", "--vertical-offset", "4"], "is for --frames N --scene card")):
+        assert main(["run", "--small", *extra, "--out", str(tmp_path)]) == 2
+        err = capsys.readouterr().err
+        assert message in err and len(err.strip().splitlines()) == 1, err

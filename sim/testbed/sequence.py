@@ -25,7 +25,8 @@ from golden.image_file import ImageFileError, image_size
 from sim import UserError
 
 __all__ = ["FrameSequence", "sequence_from_folders", "repeated_pair", "moving_card", "IMAGE_SUFFIXES",
-           "CARD_RANGE_M", "DROP"]
+           "CARD_RANGE_M", "DROP",
+           "offset_schedule"]
 
 #: The file names a sequence folder's images may have.
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".ppm", ".pgm", ".tif", ".tiff")
@@ -41,13 +42,15 @@ class FrameSequence:
     per frame the right view's disparity in buffer pixels (NaN = unknown) or None; ``centre_m``: per frame the
     true distance at the centre of the right image or None; ``names``: per frame a label (file names, the card's
     distance); ``sources``: the input files (for provenance); ``faults``: per camera ``"a"``/``"b"`` a list with
-    one entry per frame: None, a :class:`sim.models.mt9d112.sensor.Faults` for that frame, or :data:`DROP`."""
+    one entry per frame: None, a :class:`sim.models.mt9d112.sensor.Faults` for that frame, or :data:`DROP`;
+    ``vertical_offsets``: per frame the rig's vertical offset in sensor rows when the input is rendered."""
     pairs: list
     truth: list = None
     centre_m: list = None
     names: list = None
     sources: list = field(default_factory=list)
     faults: dict = field(default_factory=dict)
+    vertical_offsets: list = None       # per frame the rig's vertical offset in sensor rows (moving_card), or None
 
     def __post_init__(self):
         n = len(self.pairs)
@@ -119,11 +122,23 @@ def repeated_pair(left, right, frames, setup, sources=()):
     return FrameSequence([pair] * frames, sources=list(sources))
 
 
-def card_rig(setup):
-    """The test bed's rig for ``setup``'s sensor (the VmodCAM; at the small size its central window)."""
+def card_rig(setup, vertical_offset_px=0.0):
+    """The test bed's rig for ``setup``'s sensor (the VmodCAM; at the small size its central window), the left
+    camera's image ``vertical_offset_px`` sensor rows lower than the right one's (``StereoRig``'s sign)."""
     from sim.testbed.scene import StereoRig
     g = setup.geometry
-    return StereoRig(width=g.width, height=g.height)
+    return StereoRig(width=g.width, height=g.height, vertical_offset_px=vertical_offset_px)
+
+
+def offset_schedule(frames, values):
+    """Per camera frame the rig's vertical offset (sensor rows) for ``values`` ``[V1, V2, ...]``: the run split
+    into ``len(values)`` equal parts (the later parts one frame shorter when it does not divide), part i at Vi;
+    e.g. 6 frames of ``[0, 12]``: 0 0 0 12 12 12 (a knock to the rig before camera frame 3). One-line
+    :class:`~sim.UserError` for more values than frames."""
+    values = [0.0] if not values else list(values)
+    if len(values) > frames:
+        raise UserError(f"{len(values)} vertical offsets for {frames} camera frames: give at most one per frame")
+    return [values[k * len(values) // frames] for k in range(frames)]
 
 
 def card_distances(frames, far_m, near_m):
@@ -136,18 +151,22 @@ def card_distances(frames, far_m, near_m):
     return [float(1 / v) for v in inv]
 
 
-def moving_card(setup, frames, far_m=None, near_m=None):
+def moving_card(setup, frames, far_m=None, near_m=None, vertical_offsets=None):
     """The synthetic test bed with the card moving from ``far_m`` to ``near_m`` over ``frames`` camera frames (see
-    the module docstring; defaults :data:`CARD_RANGE_M`)."""
+    the module docstring; defaults :data:`CARD_RANGE_M`); ``vertical_offsets``: per frame the rig's vertical
+    offset in sensor rows (:func:`offset_schedule`; default 0), a change between two frames a knock to the rig."""
     from sim.testbed.scene import object_footprint, rectangle, render_pair, small_rectangle
     default_far, default_near = CARD_RANGE_M[setup.preset]
     far_m = default_far if far_m is None else far_m
     near_m = default_near if near_m is None else near_m
-    rig = card_rig(setup)
+    offsets = [0.0] * frames if vertical_offsets is None else list(vertical_offsets)
+    if len(offsets) != frames:
+        raise ValueError(f"{len(offsets)} vertical offsets for {frames} frames")
     make = rectangle if setup.preset == "full" else small_rectangle
     pairs, truth, centre, names = [], [], [], []
     g = setup.geometry
-    for z in card_distances(frames, far_m, near_m):
+    for z, v in zip(card_distances(frames, far_m, near_m), offsets):
+        rig = card_rig(setup, v)
         card = make(z, centre_x_m=rig.baseline_m / 2, finish="textured",
                     texel_m=0.01 if setup.preset == "full" else 0.004)
         pairs.append(render_pair(card, rig))
@@ -156,5 +175,5 @@ def moving_card(setup, frames, far_m=None, near_m=None):
         t[object_footprint(card, rig, side="right", scale=g.scale)] = rig.disparity_px(z) / g.scale
         truth.append(t)
         centre.append(z if np.isfinite(t[g.buf_height // 2, g.buf_width // 2]) else None)
-        names.append(f"card at {z:.3f} m")
-    return FrameSequence(pairs, truth=truth, centre_m=centre, names=names)
+        names.append(f"card at {z:.3f} m" + (f", rig vertical offset {v:+g} rows" if v else ""))
+    return FrameSequence(pairs, truth=truth, centre_m=centre, names=names, vertical_offsets=offsets)
