@@ -30,7 +30,7 @@ from golden.capture import capture_frame
 from golden.depth import depth_map
 from golden.software.sad import sad_disparity
 from golden.stereo_pair import load_default_pair
-from hdl.depth import schedule
+from hdl.depth import schedule, tag_delay
 from spec.depth import DEPTH
 from spec.sensor import SENSOR
 from sim.analysis.truth import bad_pixel_rates, error_figures, motorcycle_truth, scene_truth
@@ -183,13 +183,14 @@ def main():
     left, right = motorcycle_buffers()
     t = min(_timed(lambda: depth_map(left, right, DEPTH)) for _ in range(3))
     plan = schedule(SENSOR, DEPTH)
-    per_map = 4 * SENSOR.buf_width + (SENSOR.buf_height + 1) * (plan.pass_clocks + 3)
+    per_map = 4 * SENSOR.buf_width + (SENSOR.buf_height + 1) * (plan.pass_clocks + 3) + tag_delay(DEPTH)
     lines = ["## Depth engine (census 7x7, SGM horizontal + vertical, P1 16, P2 96, WTA, equiangular 1/16 pixel, "
              f"uniqueness {DEPTH.uniqueness}, 3x3 median)", "",
              f"golden model, full 400 x 300 map: {t:.2f} s (best of 3)",
              f"RTL schedule: {plan.steps} steps x {plan.step_clocks} clocks + {plan.drain_clocks} per row pass = "
              f"{plan.pass_clocks + 3} clocks (1080p: 4,400 clocks per buffer row at 2x); whole map with every read "
-             f"granted: {per_map:,} pixel clocks of the 2,475,000 in a 1080p60 frame", ""]
+             f"granted: {per_map:,} pixel clocks of the 2,475,000 in a 1080p60 frame (the row-tag samples: "
+             f"{tag_delay(DEPTH)} of them)", ""]
     truth_right = motorcycle_truth("right")
     rows = evaluate(left, right, truth_right)
     lines += table("Motorcycle, right view (ground truth made from Middlebury's left map)", rows)

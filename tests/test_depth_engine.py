@@ -204,6 +204,7 @@ def tag_case(tables, flips=(None, None), row_offset=0, grant_mask=0, seed=31):
                                     tag_tables=tables, flips=flips)
     assert_same(codes, expected)
     assert reads == (G.buf_depth, G.buf_depth)
+    assert (expected != CFG.invalid).any()
     return codes, expected, tags
 
 
@@ -235,14 +236,15 @@ def test_torn_by_a_flip_between_the_samples():
 
 
 def test_busy_rows_and_a_rectified_left_image():
-    """Busy rows (left row 0, right rows 10 and 11) are torn; with the left image moved down 3 rows, engine rows
-    0 .. 3 read buffer row 0 (busy: four torn rows), and a left tag change at buffer row 4 reaches engine row 7."""
+    """Busy rows are torn: left buffer row 0 with the left image moved down 2 rows (engine rows 0 .. 2 read it:
+    three torn rows, rows 0 .. 5 invalid), right row 11 (rows 8 .. 11 invalid)."""
     h = SHAPE[0]
-    left_table = steps(h, 4, 1, 2)
+    left_table = np.full(h, 1)
     left_table[0] |= BUSY
     right_table = np.full(h, 5)
-    right_table[10:] |= BUSY
-    tag_case((left_table, right_table), row_offset=-3, grant_mask=0b11)
+    right_table[11] |= BUSY
+    _, _, tags = tag_case((left_table, right_table), row_offset=-2, grant_mask=0b11)
+    assert tags[0][:4] == [None, None, None, 1] and tags[1][11] is None
 
 
 def test_constructor_checks_and_d128_elaborates():
@@ -267,9 +269,17 @@ def test_schedule_fits_a_display_row():
 
 # --- cocotb ----------------------------------------------------------------------------------------------
 
-def run_cocotb_depth(left, right, geometry, config, simulator, tmp_path, grant_mask=0):
+def run_cocotb_depth(left, right, geometry, config, simulator, tmp_path, grant_mask=0, tag_tables=None,
+                     flips=(None, None)):
     data = tmp_path / "depth.npz"
-    np.savez(data, left=left, right=right, expected=depth_map(left, right, config))
+    h = geometry.buf_height
+    if tag_tables is None:
+        np.savez(data, left=left, right=right, expected=depth_map(left, right, config))
+    else:
+        tags = (engine_tags(tag_tables[0], flips[0]), engine_tags(tag_tables[1], flips[1]))
+        np.savez(data, left=left, right=right, expected=depth_map(left, right, config, row_tags=tags),
+                 left_tags=tag_tables[0], right_tags=tag_tables[1],
+                 flips=[h if f is None else f for f in flips])
     result = tmp_path / "result.json"
     name = f"depth_testbench_{geometry.buf_width}x{geometry.buf_height}_d{config.disparities}"
     verilog = export_verilog(DepthTestbench(geometry, config), name)
@@ -284,6 +294,18 @@ def run_cocotb_depth(left, right, geometry, config, simulator, tmp_path, grant_m
 def test_depth_cocotb_small(simulator, tmp_path):
     left, right = random_pair(5)
     outcome = run_cocotb_depth(left, right, G, CFG, simulator, tmp_path, grant_mask=0b101)
+    assert outcome["mismatches"] == 0
+
+
+def test_depth_cocotb_row_tags(simulator, tmp_path):
+    """Row tags through the Verilog: a left tag change at row 3 (rows 0 .. 5 invalid, the vertical path restarted
+    at row 6), left row 11 torn by a flip between its two samples, right row 11 busy (rows 8 .. 11 invalid)."""
+    left, right = random_pair(6)
+    h = SHAPE[0]
+    right_table = np.full(h, 3)
+    right_table[11] |= BUSY
+    outcome = run_cocotb_depth(left, right, G, CFG, simulator, tmp_path, grant_mask=0b11,
+                               tag_tables=(steps(h, 3), right_table), flips=(11, None))
     assert outcome["mismatches"] == 0
 
 

@@ -18,7 +18,7 @@ from hdl.depth.sgm_path import SgmPath
 from hdl.depth.winner import Winner
 from hdl.reset_tree import add_reset_subtree
 
-__all__ = ["DepthEngine", "Schedule", "schedule"]
+__all__ = ["DepthEngine", "Schedule", "schedule", "tag_delay"]
 
 RING_ROWS = 8           # input ring slots per image: the 7 census rows and the one being fetched
 CENSUS_SHIFT = 1        # clock of a step at which the ring column enters the census windows
@@ -48,6 +48,13 @@ def schedule(geometry=SENSOR, config=DEPTH):
     steps = geometry.buf_width + 2 * (config.census_width // 2) + config.disparities - 1
     code_clock = PATH_CLOCK + SgmPath.LATENCY + groups - 1 + Winner.latency(config)
     return Schedule(step_clocks, steps, code_clock + END_GAP + Median3x3.LATENCY + 2 - step_clocks)
+
+
+def tag_delay(config=DEPTH, tag_margin=8):
+    """Clocks the row-tag samples add to a map with every read granted (docs/depth.md, "Row tags"): pass 0 waits
+    for its census_height // 2 + 1 rows, each 3 clocks later for its start sample, and for the last one's end
+    sample, ``tag_margin`` + 1 clocks after its last pixel would have counted."""
+    return 3 * (config.census_height // 2 + 1) + tag_margin + 1
 
 
 class DepthEngine(wiring.Component):
@@ -95,6 +102,11 @@ class DepthEngine(wiring.Component):
         left tags are those of the rows the engine reads (after ``left_row_offset``).
     busy : Out(1)
         A map is being computed.
+
+    Other attributes (state, not ports: what the formal harness reads, sim/formal/harnesses/depth.py)
+    row_invalid, restart : Signal
+        The running pass's row is invalid; its vertical path restarts (both valid from the pass's first census
+        column on).
 
     Clock domain: ``sync`` (the parent renames it to ``pix``).
 
@@ -146,6 +158,7 @@ class DepthEngine(wiring.Component):
         plan = schedule(geometry, config)
         self.step_clocks, self.steps, self.drain_clocks = plan.step_clocks, plan.steps, plan.drain_clocks
         self.lead = plan.steps - w
+        self.row_invalid, self.restart = Signal(), Signal()
         super().__init__({
             "start": In(1),
             "left_row_offset": In(range(-(h - 1), h)),
@@ -230,7 +243,7 @@ class DepthEngine(wiring.Component):
                         picked.append(bit)
                     if j == ry:                  # the edge into row y itself
                         edge_y.append(bit)
-        row_invalid, prev_invalid, restart = Signal(), Signal(), Signal()
+        row_invalid, prev_invalid, restart = self.row_invalid, Signal(), self.restart
         first_late = Signal()
         m.d.sync += [row_invalid.eq(Cat(*picked).any()), first_late.eq(first),
                      restart.eq(first_late | prev_invalid | Cat(*edge_y).any())]

@@ -1,6 +1,8 @@
 """cocotb test of the depth engine in its testbench (sim/testbench/depth.py; driven by tests/test_depth_engine.py).
 
-The pair is written into the two frame buffers through the testbench's load port, one word of each per clock;
+The pair is written into the two frame buffers through the testbench's load port, one word of each per clock,
+and the row-tag tables (if the ``.npz`` has ``left_tags`` / ``right_tags``: tag | busy << 4 per buffer row, and
+``flips``: the rows whose tag flips at the engine's first ask; else all 0, no flip) through the tag load port;
 then one ``start`` pulse, and the test waits (as a simulator trigger, no Python per clock) until the testbench has
 copied every row of the map out of the engine's result ring. The whole map is read back and compared, bit for
 bit, with the golden model's (``golden.depth.depth_map``, computed in the pytest process and handed over in an
@@ -39,9 +41,24 @@ if cocotb is not None:
         dut.hold.value = 0
         dut.row_offset.value = 0                  # the rectification offset (tests/test_depth_engine.py: Amaranth)
         dut.read_addr.value = 0
+        dut.tag_load_en.value = 0
+        dut.tag_load_row.value = 0
+        dut.tag_load_left.value = 0
+        dut.tag_load_right.value = 0
+        flips = data["flips"] if "flips" in data else (h, h)
+        dut.flip_left.value = int(flips[0])
+        dut.flip_right.value = int(flips[1])
         for _ in range(3):
             await FallingEdge(clk)
         dut.rst.value = 0
+        if "left_tags" in data:
+            dut.tag_load_en.value = 1
+            for r in range(h):
+                dut.tag_load_row.value = r
+                dut.tag_load_left.value = int(data["left_tags"][r])
+                dut.tag_load_right.value = int(data["right_tags"][r])
+                await FallingEdge(clk)
+            dut.tag_load_en.value = 0
         dut.load_en.value = 1
         for a in range(h * w):
             dut.load_addr.value = a

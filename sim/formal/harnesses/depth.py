@@ -3,8 +3,8 @@
 still reads, a pass reads only complete rows and starts only when the result ring has room for its row.
 
 The environment is free except for the reader's contract: ``start`` may come on any clock (a map in progress is
-abandoned), the arbiters grant or refuse any request on any clock, the frame buffers return any data, the
-reader reads any address. Only ``result.rows_released`` is constrained, by the contract of
+abandoned), the arbiters grant or refuse any request on any clock, the frame buffers return any data and the
+row-tag sources any tag and busy bit, the reader reads any address. Only ``result.rows_released`` is constrained, by the contract of
 :class:`~hdl.depth.ports.ResultReadSignature` (each assumption below says which part).
 
 The engine is a tiny configuration of the same RTL (D = 2, 7 x 7 census) on a 3 x 9 buffer with a 3-row result
@@ -62,8 +62,11 @@ class DepthEngineHarness(FormalHarness):
         reads = {}
         for side in ("left", "right"):
             port = getattr(dut, side)
+            tags = getattr(dut, f"{side}_tags")
             m.d.comb += [port.grant.eq(self.free(f"{side}_grant")),
-                         port.port.data.eq(self.free(f"{side}_data", g.grey_bits))]
+                         port.port.data.eq(self.free(f"{side}_data", g.grey_bits)),
+                         tags.tag.eq(self.free(f"{side}_tag", len(tags.tag))),
+                         tags.busy.eq(self.free(f"{side}_tag_busy"))]
             ring = module.submodules[f"{side}_ring"]
             reads[side] = (port, ring, ring.write_en,
                            module.submodules[f"{side}_census"].shift)
@@ -75,7 +78,25 @@ class DepthEngineHarness(FormalHarness):
         self._reader_contract(m, start, rows_released, rows_ready)
         for side, (port, ring, ring_write, census_shift) in reads.items():
             self._input_rows(m, side, port, ring, ring_write, census_shift, y, busy)
+            self._row_tags(m, side, ring, census_shift, y, dut)
         self._results(m, y, median, result_write, reads["left"][3], rows_released, rows_ready)
+        self.prove(m, "invalid_row_gives_only_invalid_codes",
+                   ~(median.valid & (median.x < g.buf_width) & dut.row_invalid) | (median.code == cfg.invalid))
+
+    def _row_tags(self, m, side, ring, census_shift, y, dut):
+        h, ry = self.geometry.buf_height, self.config.census_height // 2
+        self.prove(m, f"{side}_tag_row_in_image", ring.tags.row < h)
+        self.prove(m, f"{side}_tagged_rows_are_fetched", (ring.tagged <= ring.fetched) &
+                   (ring.fetched <= ring.tagged + 1))
+        self.prove(m, f"{side}_pass_reads_rows_with_their_tags",
+                   ~census_shift | (ring.tagged >= Mux(y + ry + 1 < h, y + ry + 1, h)))
+        # A torn row in the pass's census window (rows clamp(y - 3 .. y + 3), slot row mod 8) makes the row invalid.
+        torn_in_window = 0
+        for j in range(-ry, ry + 1):
+            row = Mux(y + j < 0, 0, Mux(y + j > h - 1, h - 1, y + j))
+            torn_in_window = torn_in_window | ring.torn.bit_select(row[:(RING_ROWS - 1).bit_length()], 1)
+        self.prove(m, f"{side}_torn_window_row_makes_the_row_invalid",
+                   ~census_shift | ~torn_in_window | dut.row_invalid)
 
     def _reader_contract(self, m, start, rows_released, rows_ready):
         pv = self.past_valid(m)
