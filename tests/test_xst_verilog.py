@@ -201,8 +201,9 @@ def test_synchroniser_registers_carry_async_reg_and_shreg_extract(build):
     regs = re.findall(r'\(\* ASYNC_REG = "TRUE" \*\)\n\s*\(\* SHREG_EXTRACT = "no" \*\)\n\s*reg (?:\[\d+:0\] )?(\w+)',
                       verilog)
     # 6 I2C line synchronisers (scl, sda per bus), the switch synchroniser, the frame-skew meter's two frame-start
-    # pulse synchronisers and the vertical-offset search's two frame-done ones, 2 stages each
-    assert sorted(regs) == sorted(["stage0", "stage1"] * 11)
+    # pulse synchronisers, the vertical-offset search's two frame-done ones and the two row-tag trackers' three each
+    # (frame start, row start, row end), 2 stages each
+    assert sorted(regs) == sorted(["stage0", "stage1"] * 17)
     assert not re.search(r"\(\* (?:ASYNC_REG|SHREG_EXTRACT)[^\n]*\*\)\n(?:\s*\(\*[^\n]*\*\)\n)*\s*(?:output|wire|input)",
                          verilog)
     # the reset synchronisers are FDPE instances with ASYNC_REG (6 domains, 2 stages)
