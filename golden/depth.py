@@ -173,8 +173,9 @@ def row_flags(row_tags, height, config=DEPTH):
     """(invalid, restart): two (H,) bool arrays from ``row_tags`` = (left_tags, right_tags), each H entries of an
     int frame tag or None (a torn row); None means every row of one frame. With h = census_height // 2 and W(y) the
     rows clamp(y - h) .. clamp(y + h): row y is invalid iff, for either image, a row of W(y) is torn or the tags of
-    W(y) differ; the vertical path restarts at row y iff y = 0, row y - 1 is invalid, or, for either image, row y
-    or y - 1 is torn or their tags differ. The two images' tags are never compared with each other."""
+    W(y) differ, or a row of W(y) has a left tag other than its right tag (the cameras' frames are paired: docs/
+    capture.md, "Frame pairs"); the vertical path restarts at row y iff y = 0, row y - 1 is invalid, or, for
+    either image, row y or y - 1 is torn or their tags differ."""
     invalid, restart = np.zeros(height, dtype=bool), np.zeros(height, dtype=bool)
     restart[0] = True
     if row_tags is None:
@@ -184,13 +185,18 @@ def row_flags(row_tags, height, config=DEPTH):
     except (TypeError, ValueError):
         raise ValueError("row_tags must be None or a pair (left_tags, right_tags)") from None
     h = config.census_height // 2
-    for tags in (_check_tags(left_tags, height, "left"), _check_tags(right_tags, height, "right")):
+    left_tags, right_tags = _check_tags(left_tags, height, "left"), _check_tags(right_tags, height, "right")
+    for tags in (left_tags, right_tags):
         for y in range(height):
             window = tags[max(y - h, 0):min(y + h, height - 1) + 1]
             if None in window or len(set(window)) > 1:
                 invalid[y] = True
             if y >= 1 and (tags[y] is None or tags[y - 1] is None or tags[y] != tags[y - 1]):
                 restart[y] = True
+    for y in range(height):
+        rows = range(max(y - h, 0), min(y + h, height - 1) + 1)
+        if any(left_tags[j] != right_tags[j] for j in rows):
+            invalid[y] = True
     restart[1:] |= invalid[:-1]
     return invalid, restart
 

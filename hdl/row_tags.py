@@ -6,7 +6,10 @@ start and ``row_start`` / ``row_end`` before the first and after the last write 
 is carried into ``pix`` by its own :class:`amaranth.lib.cdc.PulseSynchronizer` (as :mod:`hdl.frame_skew` does).
 There:
 
-* a frame counter ``frame`` (``bits`` wide, wrapping) counts frame starts: the tag of the frame in progress;
+* a frame start is reported on ``pair.started`` and the frame takes ``pair.tag`` (from
+  :class:`hdl.frame_pairing.FramePairing`, which gives the two cameras' frames that belong together one tag; a
+  tracker alone behind a pairing whose other camera never starts counts its frame starts): the tag of the frame in
+  progress;
 * the row index counts the row starts since the frame start, saturating at ``height`` (= no row: a row start
   beyond the buffer writes nothing and changes nothing);
 * at a row start the frame's tag is written into a memory of ``height`` tags at the row index, and that row
@@ -23,6 +26,7 @@ from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
 from hdl.depth.ports import RowTagReadSignature
+from hdl.frame_pairing import FramePairSignature
 from spec.sensor import ROW_TAG_BITS, SENSOR
 
 __all__ = ["RowTagTracker", "ROW_TAG_LATENCY"]
@@ -55,8 +59,11 @@ class RowTagTracker(wiring.Component):
         ``row`` in; one clock later ``tag`` (the tag written at that row's last start, 0 before any) and ``busy``
         (that row is the row in progress), both as the tracker's state was in the request's clock (before that
         clock's update). The tags are a distributed RAM (asynchronous read, registered answer).
+    pair : ``Out(FramePairSignature(bits))``, ``pix_domain``
+        ``started``: the frame start, synchronised (a one-clock pulse); ``tag``: the tag that frame takes, read in
+        the same clock (combinational in the pairing).
     frame_tag : ``Out(bits)``, ``pix_domain``
-        The tag of the frame in progress (frame starts seen, wrapping).
+        The tag of the frame in progress (``pair.tag`` at the last frame start; 0 after reset).
 
     Clock domains: ``cam_domain`` (the three synchronisers' toggles) and ``pix_domain`` (everything else).
     Latency: every answer registered on a pix edge at least :data:`ROW_TAG_LATENCY` pix clocks after the camera
@@ -81,6 +88,7 @@ class RowTagTracker(wiring.Component):
         super().__init__({
             "frame_start": In(1), "row_start": In(1), "row_end": In(1),
             "read": In(RowTagReadSignature(height, bits)),
+            "pair": Out(FramePairSignature(bits)),
             "frame_tag": Out(bits),
         })
 
@@ -105,7 +113,8 @@ class RowTagTracker(wiring.Component):
         tag_now = Signal(self.bits)             # the frame tag after this clock's frame start
         index_now = Signal(range(height + 1))   # the row index after this clock's frame start
         m.d.comb += [
-            tag_now.eq(frame + frame_start),
+            self.pair.started.eq(frame_start),
+            tag_now.eq(Mux(frame_start, self.pair.tag, frame)),
             index_now.eq(Mux(frame_start, 0, index)),
         ]
         with m.If(frame_start):

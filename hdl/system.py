@@ -24,7 +24,7 @@ simulation testbench with :class:`~sim.models.clocking.SimClocking` in simulatio
 =========  ================================================================================================
 ``sync``   100 MHz: the three I2C init sequencers, the sensor/transmitter reset pins, LEDs 0..5
 ``pix``    148.5 MHz: sync generator, switches, compositor, depth engine, frame-buffer read ports, CH7301C output,
-           the vertical-offset search and the rectification select, the row-tag trackers, LED 6
+           the vertical-offset search and the rectification select, the row-tag trackers and their frame pairing, LED 6
 ``cam_a``  camera A's PCLK: its capture and frame-buffer write port, its row sums, its tracker's strobe toggles, LED 7
 ``cam_b``  camera B's PCLK: its capture and frame-buffer write port, its row sums, its tracker's strobe toggles
 =========  ================================================================================================
@@ -85,6 +85,7 @@ from hdl.sync_gen import SyncGenerator
 from hdl.video_bus import VideoSignature
 from hdl.reset_tree import add_reset_subtree
 from hdl.row_tags import RowTagTracker
+from hdl.frame_pairing import FramePairing
 
 __all__ = ["StereoDepthSystem", "PanelSignature", "ControlSignature", "DISPLAY_LATENCY", "CAMERAS", "I2C_BUSES"]
 
@@ -182,6 +183,7 @@ class StereoDepthSystem(wiring.Component):
         # The blocks, built now so that bad parameters fail at construction and the members can be forwarded.
         self.capture_path = CapturePath(geometry, cameras=CAMERAS, r_byte_first=r_byte_first, read_domain="pix")
         self.row_tags = {c: RowTagTracker(geometry, cam_domain=f"cam_{c}", pix_domain="pix") for c in CAMERAS}
+        self.frame_pairing = FramePairing()
         self.display = StereoDisplay(timing, geometry, layout, config=depth, thresholds=thresholds,
                                         level_grey=level_grey)
         self.sync_gen = SyncGenerator(timing)
@@ -280,9 +282,11 @@ class StereoDepthSystem(wiring.Component):
         wiring.connect(m, self.select.mode, self.display.rectification_mode)
         wiring.connect(m, self.display.left, capture.cam_a.read)       # camera A = left
         wiring.connect(m, self.display.right, capture.cam_b.read)      # camera B = right
+        add_reset_subtree(m, "frame_pairing", pix(self.frame_pairing), "pix")
         for c, side in zip(CAMERAS, ("left", "right")):
             tracker = add_reset_subtree(m, f"row_tags_{c}", self.row_tags[c], "pix")
             wiring.connect(m, getattr(self.display, f"{side}_tags"), tracker.read)
+            wiring.connect(m, tracker.pair, getattr(self.frame_pairing, c))
         m.d.comb += switches.frame_start.eq(self.sync_gen.frame_start)
         if self.output is not None:
             add_reset_subtree(m, "output", pix(self.output), "pix")

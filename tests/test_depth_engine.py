@@ -196,7 +196,7 @@ def engine_tags(table, flip=None, row_offset=0):
     return tags
 
 
-def tag_case(tables, flips=(None, None), row_offset=0, grant_mask=0, seed=31):
+def tag_case(tables, flips=(None, None), row_offset=0, grant_mask=0, seed=31, some_valid=True):
     left, right = random_pair(seed)
     tags = (engine_tags(tables[0], flips[0], row_offset), engine_tags(tables[1], flips[1]))
     expected = depth_map(engine_left(left, row_offset), right, CFG, row_tags=tags)
@@ -204,7 +204,7 @@ def tag_case(tables, flips=(None, None), row_offset=0, grant_mask=0, seed=31):
                                     tag_tables=tables, flips=flips)
     assert_same(codes, expected)
     assert reads == (G.buf_depth, G.buf_depth)
-    assert (expected != CFG.invalid).any()
+    assert (expected != CFG.invalid).any() == some_valid
     return codes, expected, tags
 
 
@@ -212,25 +212,41 @@ def steps(h, k, before=3, after=4):
     return np.array([before] * k + [after] * (h - k))
 
 
-@pytest.mark.parametrize("side, k, grant_mask", [("left", 5, 0), ("right", 8, 0b101), ("left", 1, 0b11),
-                                                   ("right", 11, 0)])
-def test_tag_change_in_one_image(side, k, grant_mask):
-    """A tag change at row k in one image only: rows k - h .. k + h - 1 invalid, the vertical path restarted
-    below them, bit for bit with the golden map (which differs from the map without tags)."""
+@pytest.mark.parametrize("left_k, right_k, grant_mask", [(5, 5, 0), (8, 8, 0b101), (3, 7, 0b11), (11, None, 0)])
+def test_tag_changes(left_k, right_k, grant_mask):
+    """The next camera frame pair's tag from row left_k in the left image and right_k in the right one (None:
+    none): rows whose census window holds two pairs' rows, or a left row of one pair beside a right row of the
+    other, are invalid, the vertical path restarted below them, bit for bit with the golden map (which differs
+    from the map without tags)."""
     h = SHAPE[0]
-    tables = (steps(h, k), np.full(h, 9)) if side == "left" else (np.full(h, 9), steps(h, k))
-    codes, expected, _ = tag_case(tables, grant_mask=grant_mask)
+    tables = tuple(np.full(h, 3) if k is None else steps(h, k) for k in (left_k, right_k))
+    codes, expected, tags = tag_case(tables, grant_mask=grant_mask)
     left, right = random_pair(31)
     assert (expected != depth_map(left, right, CFG)).any()
+    if left_k != right_k:            # rows between the two changes pair different frames: invalid, though in
+        between = range(min(left_k, right_k or h), max(left_k, right_k or h))    # each image alone untorn
+        assert all(tags[0][r] != tags[1][r] for r in between)
+        assert (expected[list(between)] == CFG.invalid).all()
+
+
+@pytest.mark.parametrize("right_k", [None, 10])
+def test_images_of_different_pairs_are_invalid(right_k):
+    """Left rows all of pair 4 (left from row 2 on, above it 3); the right rows all of pair 3 (from row 10 on: 4):
+    no row's census window holds one pair's rows only in both images, so every code is invalid, as the golden
+    map says (row 6 only through the comparison of the two images' tags)."""
+    h = SHAPE[0]
+    left_table = np.full(h, 4) if right_k is None else steps(h, 2)
+    tag_case((left_table, np.full(h, 3) if right_k is None else steps(h, right_k)), grant_mask=0b10,
+             some_valid=False)
 
 
 def test_torn_by_a_flip_between_the_samples():
-    """Left row 6 (tag 3 among 2s) and right row 2 (6 among 7s) change their tags to their neighbours' after the
-    engine's first ask: each is torn (its start and end samples differ), although its end sample alone agrees
-    with every other row (so a missing start or end sample shows)."""
+    """Left row 6 and right row 2 (tag 3 among 2s) change their tags to their neighbours' after the engine's first
+    ask: each is torn (its start and end samples differ), although its end sample alone agrees with every other
+    row (so a missing start or end sample shows)."""
     h = SHAPE[0]
-    left_table, right_table = np.full(h, 2), np.full(h, 7)
-    left_table[6], right_table[2] = 3, 6
+    left_table, right_table = np.full(h, 2), np.full(h, 2)
+    left_table[6], right_table[2] = 3, 3
     _, _, tags = tag_case((left_table, right_table), flips=(6, 2), grant_mask=0b1)
     assert tags[0][6] is None and tags[1][2] is None
 
@@ -241,7 +257,7 @@ def test_busy_rows_and_a_rectified_left_image():
     h = SHAPE[0]
     left_table = np.full(h, 1)
     left_table[0] |= BUSY
-    right_table = np.full(h, 5)
+    right_table = np.full(h, 1)
     right_table[11] |= BUSY
     _, _, tags = tag_case((left_table, right_table), row_offset=-2, grant_mask=0b11)
     assert tags[0][:4] == [None, None, None, 1] and tags[1][11] is None
@@ -298,11 +314,12 @@ def test_depth_cocotb_small(simulator, tmp_path):
 
 
 def test_depth_cocotb_row_tags(simulator, tmp_path):
-    """Row tags through the Verilog: a left tag change at row 3 (rows 0 .. 5 invalid, the vertical path restarted
-    at row 6), left row 11 torn by a flip between its two samples, right row 11 busy (rows 8 .. 11 invalid)."""
+    """Row tags through the Verilog: a tag change at row 3 in the left image and at row 4 in the right (rows 0 .. 6
+    invalid, the vertical path restarted at row 7), left row 11 torn by a flip between its two samples, right row
+    11 busy (rows 8 .. 11 invalid)."""
     left, right = random_pair(6)
     h = SHAPE[0]
-    right_table = np.full(h, 3)
+    right_table = steps(h, 4)
     right_table[11] |= BUSY
     outcome = run_cocotb_depth(left, right, G, CFG, simulator, tmp_path, grant_mask=0b11,
                                tag_tables=(steps(h, 3), right_table), flips=(11, None))

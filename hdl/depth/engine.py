@@ -97,7 +97,8 @@ class DepthEngine(wiring.Component):
         before its first read and again ``tag_margin`` clocks after its last read (the answer taken one clock
         later); it is torn if either answer is busy or the tags differ. Row y is invalid (raw codes forced to
         ``config.invalid`` before the median) iff, in either image, a row of its census window is torn or the
-        window's tags differ; the vertical path restarts at row y iff y = 0, row y - 1 is invalid, or (either
+        window's tags differ, or a window row's left tag is not its right tag (the trackers' tags are paired,
+        :class:`hdl.frame_pairing.FramePairing`); the vertical path restarts at row y iff y = 0, row y - 1 is invalid, or (either
         image) row y or y - 1 is torn or their tags differ: ``golden.depth.depth_map(..., row_tags=...)``. The
         left tags are those of the rows the engine reads (after ``left_row_offset``).
     busy : Out(1)
@@ -243,6 +244,11 @@ class DepthEngine(wiring.Component):
                         picked.append(bit)
                     if j == ry:                  # the edge into row y itself
                         edge_y.append(bit)
+        left_ring, right_ring = rings
+        for j in range(len(ring_row)):          # the left and right tags of each window row: one camera frame pair
+            bit = Signal(name=f"window_pair{j}")
+            m.d.sync += bit.eq(left_ring.slot_tags[ring_row[j]] != right_ring.slot_tags[ring_row[j]])
+            picked.append(bit)
         row_invalid, prev_invalid, restart = self.row_invalid, Signal(), self.restart
         first_late = Signal()
         m.d.sync += [row_invalid.eq(Cat(*picked).any()), first_late.eq(first),

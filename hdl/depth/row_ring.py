@@ -5,7 +5,7 @@ from amaranth.lib import data, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
-from spec.sensor import SENSOR
+from spec.sensor import ROW_TAG_BITS, SENSOR
 from hdl.depth.ports import RowTagReadSignature, SharedReadSignature
 from hdl.shift_add import times
 
@@ -30,8 +30,8 @@ class RowRing(wiring.Component):
     ``tag_margin`` clocks after the row's last granted read (the *end sample*: ``tags.row`` is the row in the clock
     ``tag_margin`` clocks after that read, the answer is taken one clock later). The row is *torn* iff either
     sample is busy or their tags differ; its *edge* bit is set iff it is torn, the ring row before it is torn, or
-    the two rows' tags differ (ring row 0: iff it is torn). Both bits go into the row's slot; ``tagged`` counts
-    the rows whose data and bits are in. While an end sample is pending the ring does not make the next row's
+    the two rows' tags differ (ring row 0: iff it is torn). Both bits and the end sample's tag go into the row's
+    slot; ``tagged`` counts the rows whose data, bits and tag are in. While an end sample is pending the ring does not make the next row's
     last read (it never binds for width >= ``tag_margin``).
 
     Parameters
@@ -58,6 +58,8 @@ class RowRing(wiring.Component):
         Rows whose pixels and tag bits are in (``tagged`` <= ``fetched`` <= ``tagged`` + 1).
     torn, edge : Out(rows)
         One bit per slot (slot ``r mod rows`` for ring row r): torn, and inconsistent with the row before.
+    slot_tags : Out(ArrayLayout(tag bits, rows))
+        The end sample's tag of each slot's row (compared with the other image's by the engine).
     tags : Out(RowTagReadSignature(height))
         The buffer's row tags: ``row`` from a register; ``tag``, ``busy`` of that row one clock later.
     col : In(range(width))
@@ -104,6 +106,7 @@ class RowRing(wiring.Component):
             "tagged": Out(range(geometry.buf_height + 1)),
             "torn": Out(rows),
             "edge": Out(rows),
+            "slot_tags": Out(data.ArrayLayout(ROW_TAG_BITS, rows)),
             "tags": Out(RowTagReadSignature(geometry.buf_height)),
         })
         self.fetch_row = Signal(range(geometry.buf_height + 1))
@@ -233,7 +236,7 @@ class RowRing(wiring.Component):
         with m.If(write):
             for k in range(self.rows):
                 with m.If(end_slot == k):
-                    m.d.sync += [self.torn[k].eq(torn), self.edge[k].eq(edge)]
+                    m.d.sync += [self.torn[k].eq(torn), self.edge[k].eq(edge), self.slot_tags[k].eq(end_tag)]
             m.d.sync += [prev_tag.eq(end_tag), prev_torn.eq(torn), first.eq(0), ending.eq(0),
                          self.tagged.eq(self.tagged + 1)]
         with m.If(self.start):

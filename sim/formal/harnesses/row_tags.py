@@ -4,8 +4,9 @@ and the row index never leaves the memory, for any strobes in any order (more ro
 missing or without a start, frames cut mid-row).
 
 The capture's strobes and the reader's row are free on every clock (the row assumed inside the buffer); the camera
-and pix domains are both the harness's ``sync`` (the synchronisers become a fixed delay). The reference follows
-the tracker's docstring on the synchronisers' outputs: a frame counter, the row starts since the frame start
+and pix domains are both the harness's ``sync`` (the synchronisers become a fixed delay). The tag a frame takes
+(``pair.tag``, the pairing's answer) is free too. The reference follows the tracker's docstring on the
+synchronisers' outputs: the frame's tag taken at the frame start, the row starts since the frame start
 (saturating at the height), the row in progress, and the tag of one watched row (any row, fixed for the trace).
 """
 
@@ -33,10 +34,12 @@ class RowTagTrackerHarness(FormalHarness):
         height = self.geometry.buf_height
         strobes = {k: self.free(k) for k in ("frame_start", "row_start", "row_end")}
         row, watched = self.free("read_row", range(height)), self.free("watched_row", range(height))
+        start_tag = self.free("start_tag", BITS)
         dut = self.dut()
         module = self.open(m, "dut", dut)
         # The block's ports and its synchronisers' outputs (the one place to adapt to a new signature).
-        m.d.comb += [getattr(dut, k).eq(v) for k, v in strobes.items()] + [dut.read.row.eq(row)]
+        m.d.comb += [getattr(dut, k).eq(v) for k, v in strobes.items()] + [dut.read.row.eq(row),
+                                                                          dut.pair.tag.eq(start_tag)]
         fs, rs, re = (module.submodules[f"sync_{k}"].o for k in ("frame_start", "row_start", "row_end"))
         tag, busy, frame_tag = dut.read.tag, dut.read.busy, dut.frame_tag
 
@@ -52,7 +55,7 @@ class RowTagTrackerHarness(FormalHarness):
         ref_index = Signal(range(height + 1), name="ref_index")
         ref_busy, ref_busy_row = Signal(name="ref_busy"), Signal(range(height), name="ref_busy_row")
         ref_tag = Signal(BITS, name="ref_watched_tag", reset_less=True)     # like the memory: kept over resets
-        frame_now = Mux(fs, ref_frame + 1, ref_frame)[:BITS]
+        frame_now = Mux(fs, start_tag, ref_frame)
         index_now = Mux(fs, 0, ref_index)
         starts = rs & (index_now < height)
         with m.If(fs):
@@ -65,12 +68,13 @@ class RowTagTrackerHarness(FormalHarness):
             m.d.sync += ref_busy.eq(0)
 
         past_row = self.past(m, row, name="past_row")
-        self.prove(m, "frame_tag_counts_frame_starts", frame_tag == ref_frame)
+        self.prove(m, "frame_tag_is_the_tag_taken_at_the_frame_start", frame_tag == ref_frame)
+        self.prove(m, "frame_start_reported_to_the_pairing", dut.pair.started == fs)
         past_tag = self.past(m, ref_tag, name="past_ref_watched_tag", reset_less=True)
         self.prove(m, "tag_is_frame_at_last_row_start", ~pv | (past_row != watched) | (tag == past_tag))
         self.prove(m, "busy_exactly_for_row_in_progress",
                    ~pv | (busy == self.past(m, ref_busy & (ref_busy_row == row), name="past_ref_busy")))
-        self.cover(m, "last_row_tagged_by_second_frame", pv & (past_row == height - 1) & (tag == 2)
-                   & (watched == height - 1))
+        self.cover(m, "last_row_tagged_by_a_second_frame", pv & (past_row == height - 1) & (tag == 2)
+                   & (watched == height - 1) & (ref_frame == 2))
         self.cover(m, "row_start_beyond_buffer", rs & (ref_index == height))
         self.cover(m, "last_row_busy", busy & (past_row == height - 1))
