@@ -11,6 +11,7 @@ from sim.formal.harnesses.depth import DepthEngineHarness
 from sim.formal.harnesses.depth_codes import MedianCodesHarness, SubpixelCodesHarness, WinnerCodesHarness
 from sim.formal.harnesses.disparity import DisparityHarness
 from sim.formal.harnesses.frame_buffer import FrameBufferHarness
+from sim.formal.harnesses.frame_pairing import FramePairingHarness
 from sim.formal.harnesses.i2c import I2CMasterHarness, InitSequencerHarness
 from sim.formal.harnesses.read_arbiter import ReadArbiterHarness
 from sim.formal.harnesses.row_tags import RowTagTrackerHarness
@@ -39,6 +40,7 @@ DEFAULT = {
     "subpixel_codes": SubpixelCodesHarness,
     "segment_band": SegmentBandHarness,
     "row_tags": RowTagTrackerHarness,
+    "frame_pairing": FramePairingHarness,
 }
 
 

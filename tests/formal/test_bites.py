@@ -18,6 +18,7 @@ from hdl.init_tables import InitTable
 from spec.sensor import SensorGeometry
 from hdl.read_arbiter import ReadArbiter
 from hdl.row_tags import RowTagTracker
+from hdl.frame_pairing import FramePairing
 from hdl.sync_gen import SyncGenerator
 from sim.formal.runner import check
 
@@ -30,6 +31,7 @@ from sim.formal.harnesses.frame_buffer import FrameBufferHarness
 from sim.formal.harnesses.i2c import BUS_HZ, CLK_HZ, TIMEOUT_US, I2CMasterHarness, InitSequencerHarness
 from sim.formal.harnesses.read_arbiter import ReadArbiterHarness
 from sim.formal.harnesses.row_tags import RowTagTrackerHarness
+from sim.formal.harnesses.frame_pairing import FramePairingHarness
 from sim.formal.harnesses.segment_band import SegmentBandHarness
 from sim.formal.harnesses.switches import SwitchControlHarness
 from sim.formal.harnesses.sync_gen import SyncGeneratorHarness
@@ -75,6 +77,12 @@ class TrackerMoreRows(RowTagTrackerHarness):
         g = self.geometry
         return RowTagTracker(dataclasses.replace(g, height=g.height + g.scale), bits=2, cam_domain="sync",
                              pix_domain="sync")
+
+
+class PairingWiderTag(FramePairingHarness):
+    """The pairing counts with one tag bit more than the trackers keep: its tags do not wrap where theirs do."""
+    def dut(self):
+        return FramePairing(3)
 
 
 class SubtractorWiderImage(DisparityHarness):
@@ -186,6 +194,7 @@ BITES = {
     "segment_band": (SegmentBandCentreOneHigher, "band"),
     "capture_rows": (CaptureRowEndAtRunEnd, "row_end_exactly_after_kept_run_end"),
     "row_tags": (TrackerMoreRows, "busy_exactly_for_row_in_progress"),
+    "frame_pairing": (PairingWiderTag, "_by_the_rule"),
 }
 
 
