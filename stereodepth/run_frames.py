@@ -1,7 +1,7 @@
 """``stereodepth run --frames N``: the whole simulated system on a moving scene, camera frame after camera frame.
 
-Inputs (:mod:`sim.testbed.sequence`): LEFT and RIGHT two folders of images (paired in file-name order),
-or two image files (the same pair every frame), or ``--scene card`` (the synthetic test bed, a textured card
+Inputs (:mod:`sim.testbed.sequence`): LEFT and RIGHT two folders of images (paired in file-name order), two
+video files (frame k of each a pair), or two image files (the same pair every frame), or ``--scene card`` (the synthetic test bed, a textured card
 moving from ``--far`` to ``--near`` metres over the run). The two sensor models send N camera frames, one image
 each, and every display frame from the first after the I2C init to the first one that starts after both captures
 have finished frame N is rebuilt from the simulated pins: on Verilator (the C++ testbench; full size or small), on
@@ -18,7 +18,8 @@ Written into ``--out`` as the run goes (so Ctrl-C leaves every finished display 
 
 and at the end (on Ctrl-C from the frames so far, under their partial names: ``frames.partial.csv``, ...):
 ``hdmi_video.png`` (animated PNG of the display frames,
-lossless), ``depth_video.gif`` (the depth panels), ``result.json`` (the run's status, the per-frame table under
+lossless), ``hdmi_video.mp4`` (the same as MP4, where OpenCV's FFmpeg has an MPEG-4 encoder: the run's summary
+says when it does not), ``depth_video.gif`` (the depth panels), ``result.json`` (the run's status, the per-frame table under
 ``frames``, the frame-start skew between the cameras, provenance).
 
 In automatic rectification (``--rectification auto``; with ``--scene card --vertical-offset V[,V2,...]`` the rig
@@ -47,7 +48,7 @@ from .outputs import RunOutputs, write_atomic
 from .progress import Progress
 
 #: Files (besides ``frames/*``) a multi-frame run writes into ``--out``.
-OUTPUTS = ("frames.csv", "hdmi_video.png", "depth_video.gif", "result.json")
+OUTPUTS = ("frames.csv", "hdmi_video.png", "hdmi_video.mp4", "depth_video.gif", "result.json")
 #: Columns of ``frames.csv``.
 COLUMNS = ("display_frame", "t_start_ms", "cam_a_frames_done", "cam_b_frames_done", "left_rows_by_frame",
            "right_rows_by_frame", "disparity_rows_by_frame", "depth_rows_by_frame", "depth_rows_mixed",
@@ -60,7 +61,8 @@ AUTO_COLUMNS = ("rectification_shown", "rectification_expected")
 
 def build_sequence(args, setup):
     """The run's :class:`~sim.testbed.sequence.FrameSequence` from the command line."""
-    from sim.testbed.sequence import moving_card, repeated_pair, sequence_from_folders
+    from sim.testbed.sequence import VIDEO_SUFFIXES, moving_card, repeated_pair, sequence_from_folders, \
+        sequence_from_videos
     if args.frames < 1:
         raise UserError(f"--frames must be at least 1, got {args.frames}")
     if getattr(args, "vertical_offset", None) is not None and args.scene is None:
@@ -76,6 +78,11 @@ def build_sequence(args, setup):
         if not (left.is_dir() and right.is_dir()):
             raise UserError(f"LEFT and RIGHT must both be folders or both be image files ({left}, {right})")
         return sequence_from_folders(left, right, setup, args.frames)
+    videos = [p.suffix.lower() in VIDEO_SUFFIXES for p in (left, right)]
+    if any(videos):
+        if not all(videos):
+            raise UserError(f"LEFT and RIGHT must both be video files or both be image files ({left}, {right})")
+        return sequence_from_videos(left, right, setup, args.frames)
     from .cmd_run import load_images
     l_img, r_img = load_images(left, right, setup)
     return repeated_pair(l_img, r_img, args.frames, setup, sources=[left, right])
@@ -167,9 +174,32 @@ class FrameWriter:
                            append_images=images[1:], duration=duration, loop=0)
             return outputs.commit(name) if complete else path
         files["display frames from the pins, animated PNG"] = animation(self.hdmi, "hdmi_video.png")
+        mp4 = write_mp4(self.hdmi, outputs.partial("hdmi_video.mp4"), 1000 / duration)
+        if mp4 is None:
+            files["display frames, MP4"] = "not written: OpenCV has no MPEG-4 encoder here"
+        else:
+            files["display frames, MP4"] = outputs.commit("hdmi_video.mp4") if complete else mp4
         files["depth panels, animated GIF"] = animation(self.depth, "depth_video.gif")
         files["display frames, one PNG each"] = self.out / "frames" / "hdmi_NNN.png"
         return files
+
+
+def write_mp4(paths, path, fps):
+    """The PNG frames ``paths`` as an MPEG-4 video at ``path`` (OpenCV's FFmpeg, codec ``mp4v``); ``path``, or
+    None (nothing left behind) when no encoder opens."""
+    import cv2
+    first = cv2.imread(str(paths[0]))
+    height, width = first.shape[:2]
+    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"mp4v"), fps, (width, height))
+    if not writer.isOpened():
+        Path(path).unlink(missing_ok=True)
+        return None
+    try:
+        for p in paths:
+            writer.write(cv2.imread(str(p)))
+    finally:
+        writer.release()
+    return path
 
 
 def skew_figures(status, setup):
