@@ -6,7 +6,8 @@ the last pair, the frame-start skew the design measures against the simulation's
 import numpy as np
 import pytest
 
-from sim.analysis.frame_sources import EMPTY, frame_sources, source_summary, torn_depth_rows, torn_summary
+from sim.analysis.frame_sources import (EMPTY, frame_sources, source_summary, tear_candidates, torn_depth_rows,
+                                        torn_summary)
 from sim.testbed.sequence import card_distances, moving_card
 from sim.testbench.system.setup import SystemSetup
 
@@ -113,9 +114,27 @@ def test_torn_rows_classified_from_the_definition():
     h = setup.depth.census_height // 2
     invalid = range(c - h, c + h + 1)           # docs/depth.md: a torn row c makes rows c - h .. c + h invalid
     assert found["rows"] == [("invalid" if y in invalid else 1 if y < c else 0) for y in range(g.buf_height)]
+    quick = torn_depth_rows(frame, buffers, layout, g, setup.depth,
+                            candidates=tear_candidates(list(invalid), g.buf_height, setup.depth))
+    assert quick == found                       # the tear the withheld rows point to, without the search
     region = layout.region("depth")
     frame[region.y1 - 1, region.x0] ^= 0xFF                   # one pixel of the last depth row changed
     assert torn_depth_rows(frame, buffers, layout, g, setup.depth)["rows"][-1] is None
+
+
+def test_tear_candidates_follow_the_rule():
+    """docs/depth.md with h = 3: a tag change at c withholds c - 3 .. c + 2, a torn row c withholds c - 3 .. c + 3,
+    tears at c < c' in the two images c - 3 .. c' + 2; each run of withheld rows points back to its tear."""
+    from spec.depth import DepthConfig
+    depth = DepthConfig(disparities=8, lanes=4, census_height=7)
+    assert 6 in tear_candidates(range(3, 9), 40, depth)                 # a tag change at 6
+    assert 6 in tear_candidates(range(3, 10), 40, depth)                # row 6 torn
+    assert (6, 11) in tear_candidates(range(3, 14), 40, depth)          # left at 6, right at 11
+    assert (11, 6) in tear_candidates(range(3, 14), 40, depth)
+    assert 2 in tear_candidates(range(0, 5), 40, depth)                 # clamped at the top: c = b1 - h + 1
+    both = tear_candidates(list(range(3, 9)) + list(range(20, 26)), 40, depth)
+    assert 6 in both and 23 in both
+    assert tear_candidates([], 40, depth) == []
 
 
 def test_the_design_measures_the_skew_the_simulation_shows(card_run):
@@ -300,6 +319,26 @@ def test_video_files_give_the_pairs_their_frames_give_as_a_folder(tmp_path):
     for (vl, vr), (fl, fr) in zip(videos.pairs, folders.pairs):
         assert np.array_equal(vl, fl) and np.array_equal(vr, fr)
     assert not np.array_equal(videos.pairs[0][0], videos.pairs[1][0])
+
+
+def test_a_video_pair_runs_to_a_video(tmp_path):
+    """``stereodepth run L.avi R.avi --small --frames 2`` on Verilator: the settled frame passes, every display
+    frame's depth rows come from a camera frame or are withheld at a tear (none mixed: the torn golden map,
+    ``FrameWriter.tear``), and hdmi_video.mp4 holds every display frame."""
+    import json
+    import cv2
+    from stereodepth.cli import main
+    left, right = _moving_pair(2, (256, 192))
+    _write_video(tmp_path / "L.avi", left)
+    _write_video(tmp_path / "R.avi", right)
+    out = tmp_path / "out"
+    assert main(["run", str(tmp_path / "L.avi"), str(tmp_path / "R.avi"), "--small", "--frames", "2",
+                 "--out", str(out)]) == 0
+    rows = json.loads((out / "result.json").read_text())["frames"]
+    assert all(r["depth_rows_mixed"] == 0 and r["consistent"] for r in rows)
+    assert any(r["depth_rows_withheld"] and r["tear"] for r in rows)
+    video = cv2.VideoCapture(str(out / "hdmi_video.mp4"))
+    assert int(video.get(cv2.CAP_PROP_FRAME_COUNT)) == len(rows) >= 3
 
 
 @pytest.mark.parametrize("case, message", [
