@@ -43,12 +43,13 @@ OUTPUTS = ("hdmi_frame.png", "golden_frame.png", "difference.png", "depth_map.pn
 
 def add_arguments(parser):
     parser.add_argument("left", metavar="LEFT", nargs="?",
-                        help="left image file (camera A); with --frames also a folder of images")
+                        help="left image file (camera A); with --frames also a folder of images or a video file")
     parser.add_argument("right", metavar="RIGHT", nargs="?",
-                        help="right image file (camera B), same size as LEFT; with --frames also a folder")
+                        help="right image file (camera B), same size as LEFT; with --frames also a folder or a video")
     parser.add_argument("--frames", type=int, default=None, metavar="N",
-                        help="N camera frames of a moving scene (LEFT/RIGHT folders, or one pair repeated, or "
-                             "--scene card) and every display frame they overlap: stereodepth/run_frames.py")
+                        help="N camera frames of a moving scene (LEFT/RIGHT folders or video files, or one pair "
+                             "repeated, or --scene card) and every display frame they overlap: "
+                             "stereodepth/run_frames.py")
     parser.add_argument("--scene", choices=("card",), default=None,
                         help="with --frames: the synthetic test bed, a textured card moving from --far to --near")
     parser.add_argument("--far", type=float, default=None, metavar="M",

@@ -1,7 +1,7 @@
 """``stereodepth run --frames N``: the whole simulated system on a moving scene, camera frame after camera frame.
 
-Inputs (:mod:`sim.testbed.sequence`): LEFT and RIGHT two folders of images (paired in file-name order),
-or two image files (the same pair every frame), or ``--scene card`` (the synthetic test bed, a textured card
+Inputs (:mod:`sim.testbed.sequence`): LEFT and RIGHT two folders of images (paired in file-name order), two
+video files (frame k of each a pair), or two image files (the same pair every frame), or ``--scene card`` (the synthetic test bed, a textured card
 moving from ``--far`` to ``--near`` metres over the run). The two sensor models send N camera frames, one image
 each, and every display frame from the first after the I2C init to the first one that starts after both captures
 have finished frame N is rebuilt from the simulated pins: on Verilator (the C++ testbench; full size or small), on
@@ -13,12 +13,13 @@ Written into ``--out`` as the run goes (so Ctrl-C leaves every finished display 
   size with the colour bar);
 * ``frames.csv``: one row per display frame (a line appended and flushed per frame): its start time, the frames
   each capture had completed, which camera frame every panel's rows come from (``sim/analysis/frame_sources.py``:
-  mixed depth rows, consistent, equal to a pair's golden frame), the centre distance shown against the truth and,
+  mixed depth rows, rows withheld at a tear, consistent, equal to a pair's golden frame), the centre distance shown against the truth and,
   with a truth, bad > 1 / bad > 2 / density of the depth panel;
 
 and at the end (on Ctrl-C from the frames so far, under their partial names: ``frames.partial.csv``, ...):
 ``hdmi_video.png`` (animated PNG of the display frames,
-lossless), ``depth_video.gif`` (the depth panels), ``result.json`` (the run's status, the per-frame table under
+lossless), ``hdmi_video.mp4`` (the same as MP4, where OpenCV's FFmpeg has an MPEG-4 encoder: the run's summary
+says when it does not), ``depth_video.gif`` (the depth panels), ``result.json`` (the run's status, the per-frame table under
 ``frames``, the frame-start skew between the cameras, provenance).
 
 In automatic rectification (``--rectification auto``; with ``--scene card --vertical-offset V[,V2,...]`` the rig
@@ -47,10 +48,11 @@ from .outputs import RunOutputs, write_atomic
 from .progress import Progress
 
 #: Files (besides ``frames/*``) a multi-frame run writes into ``--out``.
-OUTPUTS = ("frames.csv", "hdmi_video.png", "depth_video.gif", "result.json")
+OUTPUTS = ("frames.csv", "hdmi_video.png", "hdmi_video.mp4", "depth_video.gif", "result.json")
 #: Columns of ``frames.csv``.
 COLUMNS = ("display_frame", "t_start_ms", "cam_a_frames_done", "cam_b_frames_done", "left_rows_by_frame",
            "right_rows_by_frame", "disparity_rows_by_frame", "depth_rows_by_frame", "depth_rows_mixed",
+           "depth_rows_withheld", "tear",
            "consistent", "equals_pair", "depth_frame", "centre_shown_cm", "centre_truth_cm", "bad1", "bad2",
            "density")
 #: Columns added in automatic rectification (:mod:`sim.analysis.auto_rectification`): the offset in use and mode
@@ -60,7 +62,8 @@ AUTO_COLUMNS = ("rectification_shown", "rectification_expected")
 
 def build_sequence(args, setup):
     """The run's :class:`~sim.testbed.sequence.FrameSequence` from the command line."""
-    from sim.testbed.sequence import moving_card, repeated_pair, sequence_from_folders
+    from sim.testbed.sequence import VIDEO_SUFFIXES, moving_card, repeated_pair, sequence_from_folders, \
+        sequence_from_videos
     if args.frames < 1:
         raise UserError(f"--frames must be at least 1, got {args.frames}")
     if getattr(args, "vertical_offset", None) is not None and args.scene is None:
@@ -76,6 +79,11 @@ def build_sequence(args, setup):
         if not (left.is_dir() and right.is_dir()):
             raise UserError(f"LEFT and RIGHT must both be folders or both be image files ({left}, {right})")
         return sequence_from_folders(left, right, setup, args.frames)
+    videos = [p.suffix.lower() in VIDEO_SUFFIXES for p in (left, right)]
+    if any(videos):
+        if not all(videos):
+            raise UserError(f"LEFT and RIGHT must both be video files or both be image files ({left}, {right})")
+        return sequence_from_videos(left, right, setup, args.frames)
     from .cmd_run import load_images
     l_img, r_img = load_images(left, right, setup)
     return repeated_pair(l_img, r_img, args.frames, setup, sources=[left, right])
@@ -98,10 +106,10 @@ def card_offsets(args, setup):
 
 
 def _rows_text(counts):
-    """``{"0": 3, "0..2": 9}`` as ``"0:3 0..2:9"``, in frame order."""
+    """``{"0": 3, "0..2": 9, "1|0": 2}`` as ``"0:3 0..2:9 1|0:2"``, in frame order."""
     def order(key):
-        lo, _, hi = re.fullmatch(r"(-?\d+)(\.\.(-?\d+))?", key).groups()
-        return int(lo), int(hi) if hi is not None else int(lo)
+        lo, hi = (int(v) for v in re.match(r"(-?\d+)(?:\.\.|\|)?(-?\d+)?", key).groups(default=key.split("|")[0]))
+        return lo, hi
     return " ".join(f"{k}:{counts[k]}" for k in sorted(counts, key=order))
 
 
@@ -117,6 +125,7 @@ class FrameWriter:
         self.csv = csv.DictWriter(self.csv_file, self.columns)
         self.csv.writeheader()
         self.last_frame = None
+        self.buffers = None             # the pairs' grey buffers, made at the first tear
 
     def __call__(self, shown):
         from sim.analysis.depth_panel import depth_picture_png, depth_summary, panel_picture
@@ -127,7 +136,10 @@ class FrameWriter:
         if self.auto is not None:       # automatic rectification: either state of each pair (auto_rectification)
             sources = self.auto.row(frame, layout, g, min(shown.captured["a"], shown.captured["b"]))
         else:
-            sources = source_summary(frame_sources(frame, self.goldens, layout, g))
+            raw = frame_sources(frame, self.goldens, layout, g, setup.depth)
+            sources = source_summary(raw)
+            if sources["depth_rows_mixed"] or sources["depth_rows_withheld"]:
+                sources.update(self.tear(frame, raw, min(shown.captured["a"], shown.captured["b"])))
         k = sources["depth_frame"]
         truth = self.sequence.truth[k] if k is not None and k >= 0 else None
         depth = depth_summary(frame, layout, g, setup.depth, truth)
@@ -143,12 +155,37 @@ class FrameWriter:
             write_atomic(self.out / "frames" / f"hdmi_{name}.png", lambda p: write_png(frame, p))
             write_atomic(self.out / "frames" / f"depth_{name}.png",
                          lambda p: depth_picture_png(picture, p, g, setup.depth))
-            self.csv.writerow({c: (_rows_text(row[c]) if c.endswith("_by_frame") else row[c]) for c in self.columns})
+            self.csv.writerow({c: (_rows_text(row[c]) if c.endswith("_by_frame") else row.get(c)) for c in self.columns})
             self.csv_file.flush()
             self.rows.append(row)
             self.hdmi.append(self.out / "frames" / f"hdmi_{name}.png")
             self.depth.append(self.out / "frames" / f"depth_{name}.png")
             self.last_frame = frame
+
+    def tear(self, frame, raw, done):
+        """The depth rows of a display frame computed across a tear, against the golden torn map (``sim/analysis/
+        frame_sources.py``: the tear rows the withheld rows point to, between the camera frames around the one
+        being captured, ``done`` frames being complete): ``depth_rows_mixed`` (rows equal to no row of it),
+        ``depth_rows_withheld`` (its invalid rows), ``consistent`` and ``tear`` ((c, k, k', torn) or None);
+        nothing when no tear explains more rows than the pairs' goldens do."""
+        from golden.capture import capture_frame
+        from sim.analysis.frame_sources import EMPTY, tear_candidates, torn_depth_rows, torn_summary
+        setup, g = self.setup, self.setup.geometry
+        if self.buffers is None:
+            zeros = np.zeros((g.buf_height, g.buf_width), np.uint8)
+            self.buffers = {EMPTY: (zeros, zeros), **{
+                k: (capture_frame(setup.fit(left), g), capture_frame(setup.fit(right), g))
+                for k, (left, right) in enumerate(self.sequence.pairs)}}
+        near = {k: b for k, b in self.buffers.items() if done - 2 <= k <= done + 1}
+        withheld = [r for r, (s, bad) in enumerate(zip(raw["depth"], raw["depth_invalid"])) if not s and bad]
+        torn = torn_depth_rows(frame, near, setup.display_layout, g, setup.depth, rectification=setup.rectification,
+                               candidates=tear_candidates(withheld, g.buf_height, setup.depth))
+        if torn["tear"] is None:
+            return {}
+        t = torn_summary(torn)
+        return {"depth_rows_by_frame": t["depth_rows_from"], "depth_rows_mixed": t["depth_rows_mixed_at_tear"],
+                "depth_rows_withheld": t["depth_rows_invalid_at_tear"], "consistent": t["depth_rows_mixed_at_tear"] == 0,
+                "tear": "c={} frames {}/{} torn {}".format(*t["tear"])}
 
     def finish(self, outputs, complete=True):
         """Close the table and write the animations; returns ``{what: path}``. An interrupted run's (not
@@ -167,9 +204,32 @@ class FrameWriter:
                            append_images=images[1:], duration=duration, loop=0)
             return outputs.commit(name) if complete else path
         files["display frames from the pins, animated PNG"] = animation(self.hdmi, "hdmi_video.png")
+        mp4 = write_mp4(self.hdmi, outputs.partial("hdmi_video.mp4"), 1000 / duration)
+        if mp4 is None:
+            files["display frames, MP4"] = "not written: OpenCV has no MPEG-4 encoder here"
+        else:
+            files["display frames, MP4"] = outputs.commit("hdmi_video.mp4") if complete else mp4
         files["depth panels, animated GIF"] = animation(self.depth, "depth_video.gif")
         files["display frames, one PNG each"] = self.out / "frames" / "hdmi_NNN.png"
         return files
+
+
+def write_mp4(paths, path, fps):
+    """The PNG frames ``paths`` as an MPEG-4 video at ``path`` (OpenCV's FFmpeg, codec ``mp4v``); ``path``, or
+    None (nothing left behind) when no encoder opens."""
+    import cv2
+    first = cv2.imread(str(paths[0]))
+    height, width = first.shape[:2]
+    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"mp4v"), fps, (width, height))
+    if not writer.isOpened():
+        Path(path).unlink(missing_ok=True)
+        return None
+    try:
+        for p in paths:
+            writer.write(cv2.imread(str(p)))
+    finally:
+        writer.release()
+    return path
 
 
 def skew_figures(status, setup):
@@ -309,7 +369,8 @@ def print_summary(result, setup, ok):
     for r in rows:
         print(f"  frame {r['display_frame']:3d} t {r['t_start_ms']:8.3f} ms  captured {r['cam_a_frames_done']}/"
               f"{r['cam_b_frames_done']}  depth rows {_rows_text(r['depth_rows_by_frame']) or '-'} mixed "
-              f"{r['depth_rows_mixed']}  centre {r['centre_shown_cm']} cm (truth {r['centre_truth_cm']})"
+              f"{r['depth_rows_mixed']}" + (f" withheld {r['depth_rows_withheld']}" if r.get("depth_rows_withheld")
+                                              else "") + f"  centre {r['centre_shown_cm']} cm (truth {r['centre_truth_cm']})"
               + (f"  bad>2 {100 * r['bad2']:.1f} %" if r["bad2"] is not None else "")
               + (f"  rect {r['rectification_shown']} (expected {r['rectification_expected']})"
                  if "rectification_shown" in r else ""))

@@ -6,7 +6,8 @@ the last pair, the frame-start skew the design measures against the simulation's
 import numpy as np
 import pytest
 
-from sim.analysis.frame_sources import EMPTY, frame_sources, source_summary, torn_depth_rows, torn_summary
+from sim.analysis.frame_sources import (EMPTY, frame_sources, source_summary, tear_candidates, torn_depth_rows,
+                                        torn_summary)
 from sim.testbed.sequence import card_distances, moving_card
 from sim.testbench.system.setup import SystemSetup
 
@@ -113,9 +114,27 @@ def test_torn_rows_classified_from_the_definition():
     h = setup.depth.census_height // 2
     invalid = range(c - h, c + h + 1)           # docs/depth.md: a torn row c makes rows c - h .. c + h invalid
     assert found["rows"] == [("invalid" if y in invalid else 1 if y < c else 0) for y in range(g.buf_height)]
+    quick = torn_depth_rows(frame, buffers, layout, g, setup.depth,
+                            candidates=tear_candidates(list(invalid), g.buf_height, setup.depth))
+    assert quick == found                       # the tear the withheld rows point to, without the search
     region = layout.region("depth")
     frame[region.y1 - 1, region.x0] ^= 0xFF                   # one pixel of the last depth row changed
     assert torn_depth_rows(frame, buffers, layout, g, setup.depth)["rows"][-1] is None
+
+
+def test_tear_candidates_follow_the_rule():
+    """docs/depth.md with h = 3: a tag change at c withholds c - 3 .. c + 2, a torn row c withholds c - 3 .. c + 3,
+    tears at c < c' in the two images c - 3 .. c' + 2; each run of withheld rows points back to its tear."""
+    from spec.depth import DepthConfig
+    depth = DepthConfig(disparities=8, lanes=4, census_height=7)
+    assert 6 in tear_candidates(range(3, 9), 40, depth)                 # a tag change at 6
+    assert 6 in tear_candidates(range(3, 10), 40, depth)                # row 6 torn
+    assert (6, 11) in tear_candidates(range(3, 14), 40, depth)          # left at 6, right at 11
+    assert (11, 6) in tear_candidates(range(3, 14), 40, depth)
+    assert 2 in tear_candidates(range(0, 5), 40, depth)                 # clamped at the top: c = b1 - h + 1
+    both = tear_candidates(list(range(3, 9)) + list(range(20, 26)), 40, depth)
+    assert 6 in both and 23 in both
+    assert tear_candidates([], 40, depth) == []
 
 
 def test_the_design_measures_the_skew_the_simulation_shows(card_run):
@@ -265,6 +284,91 @@ def test_sequence_folder_errors(tmp_path, capsys, case, message):
     assert code == 2 and message in err and len(err.strip().splitlines()) == 1 and "Traceback" not in err
 
 
+def _write_video(path, frames, fourcc="FFV1"):
+    """``frames`` (RGB uint8 arrays) as a video file; FFV1 is lossless, so the frames read back exactly."""
+    import cv2
+    height, width = frames[0].shape[:2]
+    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*fourcc), 15, (width, height))
+    assert writer.isOpened()
+    for frame in frames:
+        writer.write(cv2.cvtColor(frame, cv2.COLOR_RGB2BGR))
+    writer.release()
+
+
+def _moving_pair(frames, size=(160, 120)):
+    rng = np.random.default_rng(7)
+    base = rng.integers(0, 256, (size[1], size[0] + 8 * frames, 3), dtype=np.uint8)
+    return ([base[:, 4 * k + 4:4 * k + 4 + size[0]] for k in range(frames)],
+            [base[:, 4 * k:4 * k + size[0]] for k in range(frames)])
+
+
+def test_video_files_give_the_pairs_their_frames_give_as_a_folder(tmp_path):
+    """Two lossless video files and two folders of the same frames: one sequence, pair for pair."""
+    from PIL import Image
+    from sim.testbed.sequence import sequence_from_folders, sequence_from_videos
+    setup = SystemSetup.small()
+    left, right = _moving_pair(3)
+    for side, frames in (("L", left), ("R", right)):
+        _write_video(tmp_path / f"{side}.avi", frames)
+        (tmp_path / side).mkdir()
+        for k, frame in enumerate(frames):
+            Image.fromarray(frame).save(tmp_path / side / f"{k:02d}.png")
+    videos = sequence_from_videos(tmp_path / "L.avi", tmp_path / "R.avi", setup, 2)
+    folders = sequence_from_folders(tmp_path / "L", tmp_path / "R", setup, 2)
+    assert len(videos) == 2 and len(sequence_from_videos(tmp_path / "L.avi", tmp_path / "R.avi", setup)) == 3
+    for (vl, vr), (fl, fr) in zip(videos.pairs, folders.pairs):
+        assert np.array_equal(vl, fl) and np.array_equal(vr, fr)
+    assert not np.array_equal(videos.pairs[0][0], videos.pairs[1][0])
+
+
+def test_a_video_pair_runs_to_a_video(tmp_path):
+    """``stereodepth run L.avi R.avi --small --frames 2`` on Verilator: the settled frame passes, every display
+    frame's depth rows come from a camera frame or are withheld at a tear (none mixed: the torn golden map,
+    ``FrameWriter.tear``), and hdmi_video.mp4 holds every display frame."""
+    import json
+    import cv2
+    from stereodepth.cli import main
+    left, right = _moving_pair(2, (256, 192))
+    _write_video(tmp_path / "L.avi", left)
+    _write_video(tmp_path / "R.avi", right)
+    out = tmp_path / "out"
+    assert main(["run", str(tmp_path / "L.avi"), str(tmp_path / "R.avi"), "--small", "--frames", "2",
+                 "--out", str(out)]) == 0
+    rows = json.loads((out / "result.json").read_text())["frames"]
+    assert all(r["depth_rows_mixed"] == 0 and r["consistent"] for r in rows)
+    assert any(r["depth_rows_withheld"] and r["tear"] for r in rows)
+    video = cv2.VideoCapture(str(out / "hdmi_video.mp4"))
+    assert int(video.get(cv2.CAP_PROP_FRAME_COUNT)) == len(rows) >= 3
+
+
+@pytest.mark.parametrize("case, message", [
+    ("count", "the left video has 3 frames, the right video 2"),
+    ("size", "the left video is 160x120, the right video 200x150"),
+    ("too_many", "--frames 5, but the videos hold 3 frames"),
+    ("not_a_video", "is not a video file OpenCV can read"),
+    ("missing", "does not exist"),
+    ("mixed", "both be video files or both be image files"),
+])
+def test_sequence_video_errors(tmp_path, capsys, case, message):
+    from stereodepth.cli import main
+    left, right = _moving_pair(3)
+    if case == "size":
+        right = _moving_pair(3, (200, 150))[1]
+    _write_video(tmp_path / "L.mp4", left, "mp4v")
+    _write_video(tmp_path / "R.mp4", right[:2] if case == "count" else right, "mp4v")
+    paths = [tmp_path / "L.mp4", tmp_path / "R.mp4"]
+    if case == "not_a_video":
+        paths[1].write_text("not a video\n")
+    elif case == "missing":
+        paths[1].unlink()
+    elif case == "mixed":
+        paths[1] = tmp_path / "R.png"
+    frames = "5" if case == "too_many" else "2"
+    code = main(["run", *map(str, paths), "--small", "--frames", frames, "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert code == 2 and message in err and len(err.strip().splitlines()) == 1 and "Traceback" not in err
+
+
 def test_scene_needs_no_images_and_frames(tmp_path, capsys):
     from stereodepth.cli import main
     assert main(["run", "--small", "--scene", "card", "--out", str(tmp_path)]) == 2
@@ -275,7 +379,7 @@ def test_scene_needs_no_images_and_frames(tmp_path, capsys):
 
 def test_ctrl_c_keeps_the_finished_frames(tmp_path):
     """SIGINT in the middle of a multi-frame run: exit 130, every display frame finished so far readable under its
-    own name, the table, the animations and result.json of those frames under their partial names."""
+    own name, the table, the animations (the MP4 too) and result.json of those frames under their partial names."""
     import json
     import signal
     import subprocess
@@ -303,6 +407,10 @@ def test_ctrl_c_keeps_the_finished_frames(tmp_path):
     assert result["interrupted"] and len(result["frames"]) == len(frames)
     assert (out / "frames.partial.csv").read_text().count("\n") == len(frames) + 1
     assert Image.open(out / "hdmi_video.partial.png").n_frames == len(frames)
+    import cv2
+    video = cv2.VideoCapture(str(out / "hdmi_video.partial.mp4"))
+    assert int(video.get(cv2.CAP_PROP_FRAME_COUNT)) == len(frames)
+    assert (int(video.get(cv2.CAP_PROP_FRAME_WIDTH)), int(video.get(cv2.CAP_PROP_FRAME_HEIGHT))) == (112, 52)
     assert not (out / "result.json").exists() and not (out / "hdmi_video.png").exists()
 
 

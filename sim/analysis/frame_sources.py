@@ -7,7 +7,9 @@ one buffer row of the left image, the right image, the difference map or the dep
 -- *comes from frame k* when it equals that row of the golden frame of pair k bit for bit. A row can come from
 several frames (where the scene did not change there) or from none: a depth (or difference) row computed from a
 left row of one frame and a right row of another, or from rows of the window of different frames, equals no
-golden row -- a *mixed* row. A display frame is *consistent* when no depth row is mixed, and it *equals pair k*
+golden row -- a *mixed* row. A depth row equal to no golden row whose every code is invalid is not mixed but
+*withheld*: the design's row tags invalidated it at a tear (docs/depth.md, "Rows from different camera frames"),
+so it shows no frame's depth. A display frame is *consistent* when no depth row is mixed, and it *equals pair k*
 when all of it equals the golden frame of pair k.
 
 :func:`frame_sources` measures this for one displayed frame against the goldens of the run's pairs: per panel, per
@@ -26,7 +28,8 @@ a torn row), and is *mixed* when it equals no row of the torn map.
 
 import numpy as np
 
-__all__ = ["PANELS", "frame_sources", "source_summary", "EMPTY", "torn_depth_rows", "torn_summary"]
+__all__ = ["PANELS", "frame_sources", "source_summary", "EMPTY", "torn_depth_rows", "torn_summary",
+           "tear_candidates"]
 
 #: The panels, as ``spec.layout`` names their regions.
 PANELS = ("left", "right", "disparity", "depth")
@@ -41,16 +44,21 @@ def _row_slices(layout, source, geometry):
             for r in range(geometry.buf_height)]
 
 
-def frame_sources(frame, goldens, layout, geometry):
+def frame_sources(frame, goldens, layout, geometry, depth=None):
     """``{panel: [set of frame indices, one per buffer row]}`` of displayed ``frame`` (uint8 RGB) against
     ``goldens`` (``{index: golden frame}``, e.g. :data:`EMPTY` and 0..N-1), plus ``"equals"``: the indices whose
-    golden frame equals ``frame`` entirely."""
+    golden frame equals ``frame`` entirely; with the depth configuration ``depth``, also ``"depth_invalid"``: per
+    depth row, whether the panel shows every code of it invalid."""
     out = {}
     for panel in PANELS:
         rows = _row_slices(layout, panel, geometry)
         out[panel] = [{k for k, g in goldens.items() if np.array_equal(frame[ys, xs], g[ys, xs])}
                       for ys, xs in rows]
     out["equals"] = sorted(k for k, g in goldens.items() if np.array_equal(frame, g))
+    if depth is not None:
+        from sim.analysis.depth_panel import read_depth_panel
+        codes, _ = read_depth_panel(frame, layout, depth)
+        out["depth_invalid"] = [bool(row.all()) for row in codes == depth.invalid]
     return out
 
 
@@ -75,12 +83,17 @@ def source_summary(sources):
     under the frame it comes from, or under the range of frames that all show it), ``depth_frame`` (the newest
     frame that the most depth rows come from alone, else the newest frame any depth row comes from, or None),
     ``consistent`` (no mixed depth row) and ``equals_pair`` (the newest pair whose golden frame the display frame
-    equals, or None)."""
+    equals, or None). With ``"depth_invalid"`` in ``sources``: ``depth_rows_withheld``, the depth rows from no
+    frame that are wholly invalid, which ``depth_rows_mixed`` then leaves out."""
     out = {}
     for panel in PANELS:
         counts, mixed = _by_frame(sources[panel])
         out[f"{panel}_rows_by_frame"] = counts
         out[f"{panel}_rows_mixed"] = mixed
+    if "depth_invalid" in sources:
+        withheld = sum(1 for s, bad in zip(sources["depth"], sources["depth_invalid"]) if not s and bad)
+        out["depth_rows_withheld"] = withheld
+        out["depth_rows_mixed"] -= withheld
     alone = {}
     for s in sources["depth"]:
         if len(s) == 1:
@@ -146,7 +159,33 @@ def torn_map(buffers, above, below, c, torn, depth, rectification=0):
     return codes, row_flags((left_tags, right_tags), h, depth)[0]
 
 
-def torn_depth_rows(frame, buffers, layout, geometry, depth, *, rectification=0, window=None):
+def tear_candidates(withheld, height, depth):
+    """Tear rows that explain the withheld depth rows ``withheld`` (row indices) by the rule of docs/depth.md: per
+    run of consecutive withheld rows b0..b1, a tag change at c withholds c - h .. c + h - 1 (c = b0 + h, or
+    b1 - h + 1 where the run is clamped at the top), a torn row c withholds c - h .. c + h (c = b1 - h), and two
+    images torn at c < c' withhold c - h .. c' + h - 1. Returns the tear rows c (1..H-1) and (left, right) pairs,
+    for :func:`torn_depth_rows`'s ``candidates``."""
+    h = depth.census_height // 2
+    rows = sorted(set(int(r) for r in withheld))
+    runs = []
+    for r in rows:
+        if runs and r == runs[-1][1] + 1:
+            runs[-1][1] = r
+        else:
+            runs.append([r, r])
+    inside = lambda c: 1 <= c <= height - 1          # noqa: E731
+    out = []
+    for b0, b1 in runs:
+        for c in (b0 + h, b1 - h + 1, b1 - h):
+            if inside(c) and c not in out:
+                out.append(c)
+        c, c2 = b0 + h, b1 - h + 1
+        if inside(c) and inside(c2) and c < c2:
+            out += [(c, c2), (c2, c)]
+    return out
+
+
+def torn_depth_rows(frame, buffers, layout, geometry, depth, *, rectification=0, window=None, candidates=None):
     """The hypothesis (c, k, k', torn) of the module docstring that explains the most rows of ``frame``'s depth
     panel, over k' = the frame before k in ``buffers`` (``{k: (left, right)}``, keys in capture order, e.g.
     :data:`EMPTY`, 0, 1, ...), c = 1..H-1 (or, with ``window``, within ``window`` rows of the first row where the
@@ -155,7 +194,9 @@ def torn_depth_rows(frame, buffers, layout, geometry, depth, *, rectification=0,
     (left, right), the second tear searched from the first unexplained row to ``census_height`` + 2 rows below it.
     Returns ``{"tear": (c, k, k', torn) or None, "rows": per depth row k, k', "k|k'" (left of k, right of k'
     or the other way: between two tear rows), "invalid" or None (mixed)}``; without a hypothesis explaining more
-    rows than the untorn maps do, ``tear`` is None and the rows are labelled by the best untorn map."""
+    rows than the untorn maps do, ``tear`` is None and the rows are labelled by the best untorn map. With
+    ``candidates`` (:func:`tear_candidates`: tear rows and (left, right) pairs) only those tears are tried, each
+    torn or not in each image, and no second pass."""
     from golden.depth import depth_map
     from golden.depth_display import engine_left
     h = geometry.buf_height
@@ -181,6 +222,14 @@ def torn_depth_rows(frame, buffers, layout, geometry, depth, *, rectification=0,
         if int(match.sum()) > best[0]:
             best[:] = [int(match.sum()), None, [k if m else None for m in match]]
         first_mismatch[k] = int(np.argmin(match)) if not match.all() else h
+    if candidates is not None:
+        for above, below in zip(keys[1:], keys[:-1]):
+            for c in candidates:
+                torns = (False, True) if isinstance(c, int) else ((False, False), (True, False), (False, True),
+                                                                  (True, True))
+                for torn in torns:
+                    consider(above, below, c, torn)
+        return {"tear": best[1], "rows": best[2]}
     for above, below in zip(keys[1:], keys[:-1]):
         a = first_mismatch[above]
         cs = range(1, h) if window is None else range(max(1, a - window), min(h, a + window + 1))

@@ -8,6 +8,9 @@ Three sources:
 
 * :func:`sequence_from_folders`: two folders of images, paired in file-name order; one-line
   :class:`~sim.UserError` for an empty folder, different counts, a pair of different sizes, too few frames.
+* :func:`sequence_from_videos`: two video files (anything OpenCV's FFmpeg reads: MP4, AVI, MKV, ...), frame k of
+  each the pair of camera frame k; one-line :class:`~sim.UserError` for a file that is not a readable video,
+  different frame counts or sizes, too few frames.
 * :func:`repeated_pair`: one pair for every frame (a still scene).
 * :func:`moving_card`: the synthetic test bed (``sim/testbed/scene.py``) with a textured card in front of the right
   camera moving from ``far_m`` to ``near_m`` over the run, evenly in 1/Z (so its disparity grows evenly);
@@ -24,12 +27,15 @@ import numpy as np
 from golden.image_file import ImageFileError, image_size
 from sim import UserError
 
-__all__ = ["FrameSequence", "sequence_from_folders", "repeated_pair", "moving_card", "IMAGE_SUFFIXES",
+__all__ = ["FrameSequence", "sequence_from_folders", "sequence_from_videos", "repeated_pair", "moving_card",
+           "IMAGE_SUFFIXES", "VIDEO_SUFFIXES",
            "CARD_RANGE_M", "DROP",
            "offset_schedule"]
 
 #: The file names a sequence folder's images may have.
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".ppm", ".pgm", ".tif", ".tiff")
+#: The file names taken as video files (a LEFT/RIGHT pair of them is a sequence).
+VIDEO_SUFFIXES = (".mp4", ".avi", ".mkv", ".mov", ".webm", ".m4v", ".mpg", ".mpeg")
 #: A ``faults`` entry: the sensor drops that frame (its frame period has FV low; the image is never sent).
 DROP = "drop"
 #: Default (far, near) card distances in metres per preset: inside the depth engine's range at each size.
@@ -114,6 +120,55 @@ def sequence_from_folders(left_dir, right_dir, setup, frames=None):
                             f"{'x'.join(map(str, image_size(left[0])))}: all frames must have one size")
     return FrameSequence(pairs, names=[f"{lp.name} / {rp.name}" for lp, rp in zip(left, right)],
                          sources=[p for pair in zip(left, right) for p in pair])
+
+
+def _video_frames(path, side, limit):
+    """``(frames, count)``: the first ``limit`` frames of video ``path`` as RGB uint8 arrays (all when ``limit`` is
+    None) and the number of frames it holds (read to the end when the container does not say)."""
+    import cv2
+    path = Path(path)
+    if not path.is_file():
+        raise UserError(f"{side} video: {path} does not exist")
+    video = cv2.VideoCapture(str(path))
+    try:
+        if not video.isOpened():
+            raise UserError(f"{side} video: {path} is not a video file OpenCV can read")
+        frames = []
+        while limit is None or len(frames) < limit:
+            ok, bgr = video.read()
+            if not ok:
+                break
+            frames.append(cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB))
+        count = int(video.get(cv2.CAP_PROP_FRAME_COUNT))
+        if limit is None or count <= 0:
+            count = len(frames) + sum(1 for _ in iter(lambda: video.grab(), False))
+    finally:
+        video.release()
+    if not frames:
+        raise UserError(f"{side} video: {path} holds no frame OpenCV can decode")
+    return frames, count
+
+
+def sequence_from_videos(left_path, right_path, setup, frames=None):
+    """The pairs of two video files (left = camera A, right = camera B): frame k of each, fitted to ``setup``'s
+    sensor; the first ``frames`` of them (default all). One-line :class:`~sim.UserError` for bad input."""
+    left, n_left = _video_frames(left_path, "left", frames)
+    right, n_right = _video_frames(right_path, "right", frames)
+    if n_left != n_right:
+        raise UserError(f"the left video has {n_left} frames, the right video {n_right}: a sequence needs one right "
+                        "frame per left frame")
+    if frames is not None and len(left) < frames:
+        raise UserError(f"--frames {frames}, but the videos hold {len(left)} frames")
+    size = lambda image: f"{image.shape[1]}x{image.shape[0]}"      # noqa: E731
+    if size(left[0]) != size(right[0]):
+        raise UserError(f"the left video is {size(left[0])}, the right video {size(right[0])}: both cameras' "
+                        "frames must have one size")
+    g = setup.geometry
+    if left[0].shape[0] < g.buf_height or left[0].shape[1] < g.buf_width:
+        raise UserError(f"the videos are {size(left[0])}: at least {g.buf_width}x{g.buf_height} needed")
+    pairs = [(setup.fit(lf), setup.fit(rf)) for lf, rf in zip(left, right)]
+    names = [f"{Path(left_path).name} / {Path(right_path).name} frame {k}" for k in range(len(pairs))]
+    return FrameSequence(pairs, names=names, sources=[Path(left_path), Path(right_path)])
 
 
 def repeated_pair(left, right, frames, setup, sources=()):
