@@ -185,7 +185,7 @@ class FrameWriter:
         t = torn_summary(torn)
         return {"depth_rows_by_frame": t["depth_rows_from"], "depth_rows_mixed": t["depth_rows_mixed_at_tear"],
                 "depth_rows_withheld": t["depth_rows_invalid_at_tear"], "consistent": t["depth_rows_mixed_at_tear"] == 0,
-                "tear": "c={} frames {}/{} torn {}".format(*t["tear"])}
+                "tear": tear_text(t["tear"])}
 
     def finish(self, outputs, complete=True):
         """Close the table and write the animations; returns ``{what: path}``. An interrupted run's (not
@@ -212,6 +212,16 @@ class FrameWriter:
         files["depth panels, animated GIF"] = animation(self.depth, "depth_video.gif")
         files["display frames, one PNG each"] = self.out / "frames" / "hdmi_NNN.png"
         return files
+
+
+def tear_text(tear):
+    """A tear of ``torn_depth_rows`` for the table: ``"c=10 frames 1/0 torn False"`` (rows from c on of the second
+    frame) or ``"rows 10,24 frames 0/1/0"`` (several changes, the frames alternating; ``t`` after a torn row)."""
+    if tear[0] == "rows":
+        _, changes, first, second = tear
+        frames = "/".join(str((first, second)[i % 2]) for i in range(len(changes) + 1))
+        return f"rows {','.join(f'{c}{chr(116) if torn else chr(32)}'.strip() for c, torn in changes)} frames {frames}"
+    return "c={} frames {}/{} torn {}".format(*tear)
 
 
 def write_mp4(paths, path, fps):

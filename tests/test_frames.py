@@ -122,6 +122,36 @@ def test_torn_rows_classified_from_the_definition():
     assert torn_depth_rows(frame, buffers, layout, g, setup.depth)["rows"][-1] is None
 
 
+def test_a_map_overtaken_twice_is_classified_from_the_definition():
+    """Rows 0..7 of frame 0, 8..15 of frame 1, 16.. of frame 0 again in both images (the engine reads its first rows
+    at the display frame's start and the rest after the captures moved on): no single tear explains the panel,
+    the rows the withheld runs point to do; every other row comes from its frame, none is mixed."""
+    from golden.depth import depth_map
+    from golden.depth_display import draw_depth_display
+    from golden.disparity import rgb24_to_bytes
+    import dataclasses
+    setup = SystemSetup.small()
+    layout, g = setup.display_layout, setup.geometry
+    depth = dataclasses.replace(setup.depth, census_height=3)     # h = 1: two bands and rows between in 12 rows
+    rng = np.random.default_rng(9)
+    base = [rng.integers(0, 32, (g.buf_height, g.buf_width + 8), dtype=np.uint8) for _ in range(2)]
+    buffers = {k: (b[:, 4:4 + g.buf_width], b[:, 4 - 2 * k:4 - 2 * k + g.buf_width]) for k, b in enumerate(base)}
+    h = depth.census_height // 2
+    changes = (3, 8)
+    row_frames = [(0, 1)[sum(1 for c in changes if c <= r) % 2] for r in range(g.buf_height)]
+    left = np.stack([buffers[row_frames[r]][0][r] for r in range(g.buf_height)])
+    right = np.stack([buffers[row_frames[r]][1][r] for r in range(g.buf_height)])
+    codes = depth_map(left, right, depth, row_tags=(row_frames, row_frames))
+    frame = np.zeros((setup.timing.v_active, setup.timing.h_active), np.int64)
+    draw_depth_display(frame, codes, layout, g, depth)
+    frame = rgb24_to_bytes(frame)
+    found = torn_depth_rows(frame, buffers, layout, g, depth)
+    assert found["tear"] == ("rows", tuple((c, False) for c in changes), 0, 1)
+    invalid = set(range(changes[0] - h, changes[0] + h)) | set(range(changes[1] - h, changes[1] + h))
+    assert found["rows"] == [("invalid" if y in invalid else row_frames[y]) for y in range(g.buf_height)]
+    assert torn_summary(found)["depth_rows_mixed_at_tear"] == 0
+
+
 def test_tear_candidates_follow_the_rule():
     """docs/depth.md with h = 3: a tag change at c withholds c - 3 .. c + 2, a torn row c withholds c - 3 .. c + 3,
     tears at c < c' in the two images c - 3 .. c' + 2; each run of withheld rows points back to its tear."""

@@ -29,7 +29,7 @@ a torn row), and is *mixed* when it equals no row of the torn map.
 import numpy as np
 
 __all__ = ["PANELS", "frame_sources", "source_summary", "EMPTY", "torn_depth_rows", "torn_summary",
-           "tear_candidates"]
+           "tear_candidates", "segment_candidates", "segment_map"]
 
 #: The panels, as ``spec.layout`` names their regions.
 PANELS = ("left", "right", "disparity", "depth")
@@ -159,6 +159,57 @@ def torn_map(buffers, above, below, c, torn, depth, rectification=0):
     return codes, row_flags((left_tags, right_tags), h, depth)[0]
 
 
+def segment_map(buffers, row_frames, torn_rows, depth, rectification=0):
+    """The golden map of buffers whose row r holds frame ``row_frames[r]`` in both images (the captures overtaken
+    more than once while the engine read the map: it reads its first rows at the display frame's start, then
+    waits for the display to reach the depth panel), the rows ``torn_rows`` torn. Returns the codes and, per
+    engine row, whether the rule invalidates it."""
+    from golden.depth import depth_map, row_flags
+    from golden.depth_display import engine_left
+    h = len(row_frames)
+    images = [np.stack([buffers[row_frames[r]][side][r] for r in range(h)]) for side in (0, 1)]
+    tags = [None if r in torn_rows else row_frames[r] for r in range(h)]
+    left_tags = _engine_tags(tags, rectification)
+    codes = depth_map(engine_left(images[0], rectification), images[1], depth, row_tags=(left_tags, tags))
+    return codes, row_flags((left_tags, tags), h, depth)[0]
+
+
+def _runs(rows):
+    runs = []
+    for r in sorted(set(int(r) for r in rows)):
+        if runs and r == runs[-1][1] + 1:
+            runs[-1][1] = r
+        else:
+            runs.append([r, r])
+    return runs
+
+
+def segment_candidates(withheld, height, depth):
+    """The change rows, one per run of withheld rows, that explain them all at once in both images: a run of 2h
+    rows b0.. a tag change at b0 + h, a run of 2h + 1 a torn row b0 + h, a run from row 0 a change at b1 - h + 1.
+    Returns ``((c, torn), ...)`` in row order, or None when a run fits none of these or there is one run only."""
+    h = depth.census_height // 2
+    changes = []
+    for b0, b1 in _runs(withheld):
+        length = b1 - b0 + 1
+        if b0 == 0 and length <= 2 * h:
+            change = (b1 - h + 1, False)
+        elif length in (2 * h, 2 * h + 1):
+            change = (b0 + h, length == 2 * h + 1)
+        else:
+            return None
+        if not 1 <= change[0] <= height - 1:
+            return None
+        changes.append(change)
+    return tuple(changes) if len(changes) >= 2 else None
+
+
+def _withheld_rows(frame, layout, depth):
+    from sim.analysis.depth_panel import read_depth_panel
+    codes, _ = read_depth_panel(frame, layout, depth)
+    return np.flatnonzero((codes == depth.invalid).all(axis=1))
+
+
 def tear_candidates(withheld, height, depth):
     """Tear rows that explain the withheld depth rows ``withheld`` (row indices) by the rule of docs/depth.md: per
     run of consecutive withheld rows b0..b1, a tag change at c withholds c - h .. c + h - 1 (c = b0 + h, or
@@ -166,13 +217,7 @@ def tear_candidates(withheld, height, depth):
     images torn at c < c' withhold c - h .. c' + h - 1. Returns the tear rows c (1..H-1) and (left, right) pairs,
     for :func:`torn_depth_rows`'s ``candidates``."""
     h = depth.census_height // 2
-    rows = sorted(set(int(r) for r in withheld))
-    runs = []
-    for r in rows:
-        if runs and r == runs[-1][1] + 1:
-            runs[-1][1] = r
-        else:
-            runs.append([r, r])
+    runs = _runs(withheld)
     inside = lambda c: 1 <= c <= height - 1          # noqa: E731
     out = []
     for b0, b1 in runs:
@@ -191,7 +236,10 @@ def torn_depth_rows(frame, buffers, layout, geometry, depth, *, rectification=0,
     :data:`EMPTY`, 0, 1, ...), c = 1..H-1 (or, with ``window``, within ``window`` rows of the first row where the
     panel differs from frame k's untorn map) and torn True/False. If rows are left unexplained, the two images are
     then allowed their own tear rows (the engine fetches the two buffers independently): c and torn become pairs
-    (left, right), the second tear searched from the first unexplained row to ``census_height`` + 2 rows below it.
+    (left, right), the second tear searched from the first unexplained row to ``census_height`` + 2 rows below it
+    and at the rows the panel's wholly invalid rows point to (:func:`tear_candidates`).
+    Rows still unexplained then try several tag changes in both images (:func:`_segments`), ``tear`` then
+    ``("rows", ((c, torn), ...), first frame, second frame)``.
     Returns ``{"tear": (c, k, k', torn) or None, "rows": per depth row k, k', "k|k'" (left of k, right of k'
     or the other way: between two tear rows), "invalid" or None (mixed)}``; without a hypothesis explaining more
     rows than the untorn maps do, ``tear`` is None and the rows are labelled by the best untorn map. With
@@ -229,6 +277,7 @@ def torn_depth_rows(frame, buffers, layout, geometry, depth, *, rectification=0,
                                                                   (True, True))
                 for torn in torns:
                     consider(above, below, c, torn)
+        _segments(best, frame, buffers, keys, panel, layout, geometry, depth, rectification)
         return {"tear": best[1], "rows": best[2]}
     for above, below in zip(keys[1:], keys[:-1]):
         a = first_mismatch[above]
@@ -239,11 +288,35 @@ def torn_depth_rows(frame, buffers, layout, geometry, depth, *, rectification=0,
     if best[1] is not None and None in best[2]:
         c, above, below, _ = best[1]
         m = best[2].index(None)
-        for c2 in range(max(1, m - 2), min(h, m + depth.census_height + 3)):
+        pointed = [c2 for c2 in tear_candidates(_withheld_rows(frame, layout, depth), h, depth)
+                   if isinstance(c2, int)]
+        for c2 in sorted(set(range(max(1, m - 2), min(h, m + depth.census_height + 3))) | set(pointed)):
             for pair in ((c, c2), (c2, c)):
                 for torn in ((False, False), (True, False), (False, True), (True, True)):
                     consider(above, below, pair, torn)
+    _segments(best, frame, buffers, keys, panel, layout, geometry, depth, rectification)
     return {"tear": best[1], "rows": best[2]}
+
+
+def _segments(best, frame, buffers, keys, panel, layout, geometry, depth, rectification):
+    """When rows are still unexplained: the hypothesis of several tag changes in both images at the rows the
+    withheld runs point to (:func:`segment_candidates`), the frames alternating from either; ``best`` updated."""
+    if best[2] is not None and None not in best[2]:
+        return
+    changes = segment_candidates(_withheld_rows(frame, layout, depth), geometry.buf_height, depth)
+    if changes is None:
+        return
+    at = [c for c, _ in changes]
+    torn_rows = {c for c, torn in changes if torn}
+    for above, below in reversed(list(zip(keys[1:], keys[:-1]))):        # the newest frames first on a tie
+        for first, second in ((below, above), (above, below)):
+            row_frames = [(first, second)[sum(1 for c in at if c <= r) % 2] for r in range(geometry.buf_height)]
+            codes, invalid = segment_map(buffers, row_frames, torn_rows, depth, rectification)
+            match = _matching_rows(panel, _picture_rows(codes, layout, depth, geometry, np.asarray(frame).shape))
+            if int(match.sum()) > best[0]:
+                labels = [None if not m else "invalid" if bad else row_frames[y]
+                          for y, (m, bad) in enumerate(zip(match, invalid))]
+                best[:] = [int(match.sum()), ("rows", changes, first, second), labels]
 
 
 def torn_summary(torn):

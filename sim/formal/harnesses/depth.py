@@ -79,6 +79,7 @@ class DepthEngineHarness(FormalHarness):
         for side, (port, ring, ring_write, census_shift) in reads.items():
             self._input_rows(m, side, port, ring, ring_write, census_shift, y, busy)
             self._row_tags(m, side, ring, census_shift, y, dut)
+        self._pairs(m, reads["left"][1], reads["right"][1], reads["left"][3], y, dut)
         self._results(m, y, median, result_write, reads["left"][3], rows_released, rows_ready)
         self.prove(m, "invalid_row_gives_only_invalid_codes",
                    ~(median.valid & (median.x < g.buf_width) & dut.row_invalid) | (median.code == cfg.invalid))
@@ -97,6 +98,17 @@ class DepthEngineHarness(FormalHarness):
             torn_in_window = torn_in_window | ring.torn.bit_select(row[:(RING_ROWS - 1).bit_length()], 1)
         self.prove(m, f"{side}_torn_window_row_makes_the_row_invalid",
                    ~census_shift | ~torn_in_window | dut.row_invalid)
+
+    def _pairs(self, m, left_ring, right_ring, census_shift, y, dut):
+        """A row of the pass's census window whose left and right slot tags differ (two camera frame pairs) makes
+        the row invalid."""
+        h, ry = self.geometry.buf_height, self.config.census_height // 2
+        mismatch = 0
+        for j in range(-ry, ry + 1):
+            row = Mux(y + j < 0, 0, Mux(y + j > h - 1, h - 1, y + j))
+            slot = row[:(RING_ROWS - 1).bit_length()]
+            mismatch = mismatch | (left_ring.slot_tags[slot] != right_ring.slot_tags[slot])
+        self.prove(m, "pair_mismatch_in_window_makes_the_row_invalid", ~census_shift | ~mismatch | dut.row_invalid)
 
     def _reader_contract(self, m, start, rows_released, rows_ready):
         pv = self.past_valid(m)
