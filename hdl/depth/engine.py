@@ -244,11 +244,7 @@ class DepthEngine(wiring.Component):
                         picked.append(bit)
                     if j == ry:                  # the edge into row y itself
                         edge_y.append(bit)
-        left_ring, right_ring = rings
-        for j in range(len(ring_row)):          # the left and right tags of each window row: one camera frame pair
-            bit = Signal(name=f"window_pair{j}")
-            m.d.sync += bit.eq(left_ring.slot_tags[ring_row[j]] != right_ring.slot_tags[ring_row[j]])
-            picked.append(bit)
+        picked += self._pair_bits(m, rings, ring_row)
         row_invalid, prev_invalid, restart = self.row_invalid, Signal(), self.restart
         first_late = Signal()
         m.d.sync += [row_invalid.eq(Cat(*picked).any()), first_late.eq(first),
@@ -259,6 +255,16 @@ class DepthEngine(wiring.Component):
         with m.If(y != y_seen):
             m.d.sync += prev_invalid.eq(row_invalid)
         return row_invalid, restart
+
+    def _pair_bits(self, m, rings, ring_row):
+        """Per census window row, registered: its left and right slot tags differ (two camera frame pairs)."""
+        left_ring, right_ring = rings
+        bits = []
+        for j in range(len(ring_row)):
+            bit = Signal(name=f"window_pair{j}")
+            m.d.sync += bit.eq(left_ring.slot_tags[ring_row[j]] != right_ring.slot_tags[ring_row[j]])
+            bits.append(bit)
+        return bits
 
     def _passes(self, m, y, step, clock, can_start, in_run, out_base):
         """The pass state machine: wait for rows and room, run the steps, drain, next pass."""

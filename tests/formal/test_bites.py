@@ -114,6 +114,17 @@ class DepthEngineWiderImage(DepthEngineHarness):
         return DepthEngine(wider, self.config, out_rows=self.out_rows)
 
 
+class EngineWithoutPairs(DepthEngine):
+    """The engine that never compares the two images' tags (each image's own rule only)."""
+    def _pair_bits(self, m, rings, ring_row):
+        return []
+
+
+class DepthEngineWithoutPairs(DepthEngineHarness):
+    def dut(self):
+        return EngineWithoutPairs(self.geometry, self.config, out_rows=self.out_rows)
+
+
 class EngineFirstArbiter(ReadArbiter):
     """Priority to the engine: the arbiter built with its two readers swapped (the display refused while the
     engine requests: it would miss pixels)."""
@@ -195,6 +206,7 @@ BITES = {
     "capture_rows": (CaptureRowEndAtRunEnd, "row_end_exactly_after_kept_run_end"),
     "row_tags": (TrackerMoreRows, "busy_exactly_for_row_in_progress"),
     "frame_pairing": (PairingWiderTag, "_by_the_rule"),
+    "depth_pairs": (DepthEngineWithoutPairs, "pair_mismatch_in_window_makes_the_row_invalid"),
 }
 
 
