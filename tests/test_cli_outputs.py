@@ -31,9 +31,9 @@ def earlier_run(out):
     (out / "notes.txt").write_text("the user's own file\n")
 
 
-def start_run(out, *extra):
+def start_run(out, *extra, vcd=True):
     return subprocess.Popen([sys.executable, "-m", "stereodepth", "run", *map(str, DEFAULT_PAIR), "--small",
-                             "--simulator", "amaranth", "--vcd", "--out", str(out), *extra],
+                             "--simulator", "amaranth", *(["--vcd"] if vcd else []), "--out", str(out), *extra],
                             cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
 
@@ -62,6 +62,9 @@ def _sha256(path):
 
 
 def test_complete_run_replaces_every_output_and_records_its_provenance(tmp_path):
+    """... and its GTKWave save file opens on its VCD with every signal it lists (where GTKWave is installed; the
+    one Amaranth run with waveforms of the default suite: tests/test_system.py's end-to-end run writes none)."""
+    from sim.waves import gtkwave_check
     out = tmp_path / "out"
     earlier_run(out)
     before = datetime.now().astimezone()
@@ -72,6 +75,10 @@ def test_complete_run_replaces_every_output_and_records_its_provenance(tmp_path)
     assert names == ["depth_map.png", "golden_frame.png", "hdmi_frame.png", "notes.txt", "result.json",
                      "system.gtkw", "system.vcd"], names
     assert f'[dumpfile] "{(out / "system.vcd").resolve()}"' in (out / "system.gtkw").read_text()
+    if gtkwave_check.available():
+        want = gtkwave_check.listed(out / "system.gtkw")
+        assert len(want) >= 30
+        assert gtkwave_check.displayed(out / "system.gtkw")[0] == want
     result = json.loads((out / "result.json").read_text())
     record = result["provenance"]
     assert [i["path"] for i in record["inputs"]] == [str(p.resolve()) for p in DEFAULT_PAIR]
@@ -95,9 +102,10 @@ def test_complete_run_replaces_every_output_and_records_its_provenance(tmp_path)
 
 def test_segment_run_records_its_band(tmp_path):
     """``--segment``: the switches on 1000001 (automatic rectification), the frame equal to the golden model's with
-    the segmentation view, the band in result.json and the summary (the small layout has no room for its text)."""
+    the segmentation view, the band in result.json and the summary (the small layout has no room for its text).
+    Without ``--vcd`` (a third of the time; the waveform outputs are the complete run's test)."""
     out = tmp_path / "out"
-    run = start_run(out, "--disparity", "3", "--segment")
+    run = start_run(out, "--disparity", "3", "--segment", vcd=False)
     stdout, stderr = run.communicate(timeout=600)
     assert run.returncode == 0, stderr
     result = json.loads((out / "result.json").read_text())

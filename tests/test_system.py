@@ -17,7 +17,6 @@ from spec.display import NO_DATA_RGB
 from spec.sensor import SMALL_SENSOR
 from sim.testbench.system.cocotb_routes import InSimulator, PythonModels
 from sim.testbench.system.run_amaranth import ROUTES as AMARANTH_ROUTES, run_amaranth
-from sim.testbench.system.waves import system_waves
 from sim.testbench.system.run_cocotb import DEFAULT_PAIR, run_cocotb_system
 from sim.testbench.system.result import SystemTimeout, tear_tags
 from sim.testbench.system.setup import SystemSetup
@@ -87,18 +86,14 @@ def _check_status(status):
     assert status["leds"] & 0b111111 == 0b010101          # init done on all three buses, no error
 
 
-def test_end_to_end_amaranth(tmp_path):
-    """The small system end to end in Amaranth's simulator, writing the demo's waveforms: the frame equals the
-    golden frame, and the GTKWave save file opens with every signal it lists (where GTKWave is installed)."""
-    from sim.waves import gtkwave_check
+def test_end_to_end_amaranth():
+    """The small system end to end in Amaranth's simulator: the frame equals the golden frame, the parts end
+    configured, the buses clean. No waveforms (they cost twice the run): the demo's waveforms of the same run and
+    their GTKWave save file are checked by tests/test_cli_outputs.py's complete run (``stereodepth run --small
+    --simulator amaranth --vcd``: the same ``run_amaranth`` with ``system_waves``)."""
     setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION)
     left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
-    gtkw = tmp_path / "system.gtkw"
-    result = run_amaranth(left, right, setup, vcd=tmp_path / "system.vcd", gtkw=gtkw, traces=system_waves)
-    if gtkwave_check.available():
-        want = gtkwave_check.listed(gtkw)
-        assert len(want) >= 30
-        assert gtkwave_check.displayed(gtkw)[0] == want
+    result = run_amaranth(left, right, setup)
     _check_status(result.status)
     _check_golden_is_interesting(result.golden, setup)
     assert not result.sink.violations, result.sink.violations[:5]
