@@ -13,8 +13,11 @@ import time
 from datetime import datetime
 from pathlib import Path
 
+import numpy as np
 import pytest
 
+from golden.image_file import read_image
+from golden.stereo_pair import load_default_pair
 from sim.testbench.system.run_cocotb import DEFAULT_PAIR
 from stereodepth.outputs import RunOutputs, partial_name
 
@@ -103,6 +106,9 @@ def test_complete_run_replaces_every_output_and_records_its_provenance(tmp_path)
 def test_segment_run_records_its_band(tmp_path):
     """``--segment``: the switches on 1000001 (automatic rectification), the frame equal to the golden model's with
     the segmentation view, the band in result.json and the summary (the small layout has no room for its text).
+    The frame shown is also rebuilt here from the golden model (the offset in use and the tear that result.json
+    records): the segmentation view differs from the difference map it replaces, and nothing else changes (the
+    checks of tests/test_system.py::test_end_to_end_amaranth_segmentation, now slow: the same run in-process).
     Without ``--vcd`` (a third of the time; the waveform outputs are the complete run's test)."""
     out = tmp_path / "out"
     run = start_run(out, "--disparity", "3", "--segment", vcd=False)
@@ -115,6 +121,28 @@ def test_segment_run_records_its_band(tmp_path):
     assert (params["rectification"], params["segment"], params["setup"]["segment"]) == ("auto", True, True)
     assert "segmentation view: band 5.46-27.28m (disparities 1..5 px)" in stdout
     assert "equals the golden model's frame bit for bit" in stdout
+    assert result["auto_rectification"]["auto"] == 1
+    assert result["mismatched_pixels"] == 0 and result["violations"] == []
+    _check_segmentation_frame(read_image(out / "hdmi_frame.png"), result, disparity=3)
+
+
+def _check_segmentation_frame(shown, result, disparity):
+    """``shown`` is the golden frame with the segmentation view, which differs from the plain frame (same offset,
+    same tear) in the difference map's place only."""
+    from sim.testbench.system.result import tear_tags
+    from sim.testbench.system.setup import SystemSetup
+    setup = SystemSetup.small(disparity=disparity, rectification="auto", segment=True)
+    assert setup.switch_words() == [0x80 | disparity, 0b1000001]
+    left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
+    same = dict(in_use=result["rectification"], row_tags=tear_tags(setup.geometry.buf_height, result["tear"]))
+    golden = setup.golden_frame(left, right, **same)
+    np.testing.assert_array_equal(shown, golden)
+    plain = SystemSetup.small(disparity=disparity, rectification="auto").golden_frame(left, right, **same)
+    r = setup.display_layout.region("disparity")
+    assert (plain[r.y0:r.y1, r.x0:r.x1] != golden[r.y0:r.y1, r.x0:r.x1]).any()
+    outside = golden.copy()
+    outside[r.y0:r.y1, r.x0:r.x1] = plain[r.y0:r.y1, r.x0:r.x1]
+    np.testing.assert_array_equal(outside, plain)      # nothing else changes (the small layout has no band text)
 
 
 def test_outputs_are_renamed_only_when_complete_and_stale_ones_removed(tmp_path):

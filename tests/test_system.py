@@ -112,9 +112,12 @@ def test_end_to_end_amaranth():
         assert monitor.transactions
 
 
+@pytest.mark.slow
 def test_end_to_end_amaranth_segmentation():
     """The switches on 1000001 (automatic rectification + the segmentation view): the frame equals the golden frame
-    with the segmentation view in the difference map's place, which differs from the difference map."""
+    with the segmentation view in the difference map's place, which differs from the difference map. Slow: the
+    default suite runs the same simulation through the CLI, tests/test_cli_outputs.py::
+    test_segment_run_records_its_band, with these checks on the frame it shows."""
     setup = SystemSetup.small(disparity=DISPARITY, rectification="auto", segment=True)
     assert setup.switch_words() == [0x80 | DISPARITY, 0b1000001]
     left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
