@@ -80,3 +80,14 @@ def _long_rank(nodeid):
 def pytest_collection_modifyitems(config, items):
     """The tests of :data:`LONG_FIRST` first, in its order; the others after them in their collected order."""
     items.sort(key=lambda item: _long_rank(item.nodeid))
+
+
+@pytest.fixture(scope="session")
+def board_build():
+    """``(platform, files)`` of the board build at the board's defaults (``board.top.board_plan``, every file that
+    tests/test_genesys.py and tests/test_xst_verilog.py read), made once per worker and shared by both: with
+    xdist handing out one test at a time, a module-scoped build was made again each time a worker came back to
+    the module."""
+    from board.top import board_plan
+    platform, plan = board_plan(files=(".v", ".ucf", ".sh", ".bat", ".tcl", ".xst", ".il", ".prj"))
+    return platform, plan.files
