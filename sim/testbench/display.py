@@ -43,10 +43,11 @@ class Capture:
 
 def run_display_cocotb(design, timing, *, simulator, name="display_path", sink_clocks=0, min_frames=1,
                        compare_golden=True, expect_values=None, expect_edges=None, free_run_clocks=0, out_dir=None,
-                       progress_file=None, waves=None, testcase=None):
+                       progress_file=None, waves=None, testcase=None, optimise=False):
     """Run ``sim/testbench/display_cocotb.py`` on ``design`` (a :class:`~hdl.display_path.DisplayPath`: ``clk``,
     ``rst`` and the ``ch7301c`` pins) through :func:`sim.runners.cocotb.run_cocotb`. See that module for the
-    parameters. Returns the cocotb test directory; raises ``AssertionError`` when a cocotb test fails."""
+    parameters (``optimise``: :func:`~sim.runners.cocotb.run_cocotb`'s, for benchmarks). Returns the cocotb test
+    directory; raises ``AssertionError`` when a cocotb test fails."""
     params = {"timing": dataclasses.asdict(timing), "sink_clocks": sink_clocks, "min_frames": min_frames,
               "compare_golden": compare_golden, "free_run_clocks": free_run_clocks}
     if expect_values:
@@ -57,7 +58,7 @@ def run_display_cocotb(design, timing, *, simulator, name="display_path", sink_c
         if path is not None:        # absolute: the simulator runs in its own test directory
             params[key] = str(Path(path).resolve())
     return run_cocotb(design, name=name, test_module="sim.testbench.display_cocotb", simulator=simulator, params=params,
-                      waves=waves, testcase=testcase, run_waves=display_run_waves(timing))
+                      waves=waves, testcase=testcase, run_waves=display_run_waves(timing), optimise=optimise)
 
 
 def display_run_waves(timing):
