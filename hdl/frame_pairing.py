@@ -56,8 +56,6 @@ class FramePairing(wiring.Component):
         start in one clock) and the state.
     pair : ``Out(bits)``
         The tag of the open pair (registered: after the last clock's starts).
-    started_a, started_b : Signal
-        Camera A / B has started in the open pair (state, read by the formal harness).
 
     Clock domain: ``sync`` (the system renames it to ``pix``). Latency: ``tag`` in the clock of the start.
 
@@ -72,19 +70,19 @@ class FramePairing(wiring.Component):
             raise ValueError(f"bits must be at least 1, got {bits}")
         self.bits = bits
         super().__init__({"a": In(FramePairSignature(bits)), "b": In(FramePairSignature(bits)), "pair": Out(bits)})
-        self.started_a, self.started_b = Signal(), Signal()
 
     def elaborate(self, platform):
         m = Module()
         pair = self.pair
+        in_a, in_b = Signal(), Signal()             # camera A / B has started in the open pair
         # Camera A's start first, then camera B's on the state A's left.
-        opens_a = self.a.started & ~(self.started_b & ~self.started_a)
+        opens_a = self.a.started & ~(in_b & ~in_a)
         pair_a = Signal(self.bits)
         started_a, started_b = Signal(), Signal()   # the state after camera A's start
         m.d.comb += [
             pair_a.eq(Mux(opens_a, pair + 1, pair)),
-            started_a.eq(self.started_a | self.a.started),
-            started_b.eq(self.started_b & ~opens_a),
+            started_a.eq(in_a | self.a.started),
+            started_b.eq(in_b & ~opens_a),
         ]
         opens_b = self.b.started & ~(started_a & ~started_b)
         pair_b = Signal(self.bits)
@@ -95,7 +93,7 @@ class FramePairing(wiring.Component):
         ]
         m.d.sync += [
             pair.eq(pair_b),
-            self.started_a.eq(started_a & ~opens_b),
-            self.started_b.eq(started_b | self.b.started),
+            in_a.eq(started_a & ~opens_b),
+            in_b.eq(started_b | self.b.started),
         ]
         return m

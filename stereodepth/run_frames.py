@@ -1,11 +1,12 @@
 """``stereodepth run --frames N``: the whole simulated system on a moving scene, camera frame after camera frame.
 
 Inputs (:mod:`sim.testbed.sequence`): LEFT and RIGHT two folders of images (paired in file-name order), two
-video files (frame k of each a pair), or two image files (the same pair every frame), or ``--scene card`` (the synthetic test bed, a textured card
-moving from ``--far`` to ``--near`` metres over the run). The two sensor models send N camera frames, one image
-each, and every display frame from the first after the I2C init to the first one that starts after both captures
-have finished frame N is rebuilt from the simulated pins: on Verilator (the C++ testbench; full size or small), on
-Amaranth's simulator (small) or on Icarus through cocotb (small; the frames arrive when the simulation ends).
+video files (frame k of each a pair), or two image files (the same pair every frame), or ``--scene card`` (the
+synthetic test bed, a textured card moving from ``--far`` to ``--near`` metres over the run). The two sensor
+models send N camera frames, one image each, and every display frame from the first after the I2C init to the
+first one that starts after both captures have finished frame N is rebuilt from the simulated pins: on Verilator
+(the C++ testbench; full size or small), on Amaranth's simulator (small) or on Icarus through cocotb (small; the
+frames arrive when the simulation ends).
 
 Written into ``--out`` as the run goes (so Ctrl-C leaves every finished display frame readable):
 
@@ -13,14 +14,14 @@ Written into ``--out`` as the run goes (so Ctrl-C leaves every finished display 
   size with the colour bar);
 * ``frames.csv``: one row per display frame (a line appended and flushed per frame): its start time, the frames
   each capture had completed, which camera frame every panel's rows come from (``sim/analysis/frame_sources.py``:
-  mixed depth rows, rows withheld at a tear, consistent, equal to a pair's golden frame), the centre distance shown against the truth and,
-  with a truth, bad > 1 / bad > 2 / density of the depth panel;
+  mixed depth rows, rows withheld at a tear, consistent, equal to a pair's golden frame), the centre distance
+  shown against the truth and, with a truth, bad > 1 / bad > 2 / density of the depth panel;
 
 and at the end (on Ctrl-C from the frames so far, under their partial names: ``frames.partial.csv``, ...):
-``hdmi_video.png`` (animated PNG of the display frames,
-lossless), ``hdmi_video.mp4`` (the same as MP4, where OpenCV's FFmpeg has an MPEG-4 encoder: the run's summary
-says when it does not), ``depth_video.gif`` (the depth panels), ``result.json`` (the run's status, the per-frame table under
-``frames``, the frame-start skew between the cameras, provenance).
+``hdmi_video.png`` (animated PNG of the display frames, lossless), ``hdmi_video.mp4`` (the same as MP4, where
+OpenCV's FFmpeg has an MPEG-4 encoder: the run's summary says when it does not), ``depth_video.gif`` (the depth
+panels), ``result.json`` (the run's status, the per-frame table under ``frames``, the frame-start skew between the
+cameras, provenance).
 
 In automatic rectification (``--rectification auto``; with ``--scene card --vertical-offset V[,V2,...]`` the rig
 knocked mid-run) the goldens are :mod:`sim.analysis.auto_rectification`'s (the golden estimator over the captured
@@ -155,7 +156,8 @@ class FrameWriter:
             write_atomic(self.out / "frames" / f"hdmi_{name}.png", lambda p: write_png(frame, p))
             write_atomic(self.out / "frames" / f"depth_{name}.png",
                          lambda p: depth_picture_png(picture, p, g, setup.depth))
-            self.csv.writerow({c: (_rows_text(row[c]) if c.endswith("_by_frame") else row.get(c)) for c in self.columns})
+            self.csv.writerow({c: (_rows_text(row[c]) if c.endswith("_by_frame") else row.get(c))
+                               for c in self.columns})
             self.csv_file.flush()
             self.rows.append(row)
             self.hdmi.append(self.out / "frames" / f"hdmi_{name}.png")
@@ -183,8 +185,9 @@ class FrameWriter:
         if torn["tear"] is None:
             return {}
         t = torn_summary(torn)
-        return {"depth_rows_by_frame": t["depth_rows_from"], "depth_rows_mixed": t["depth_rows_mixed_at_tear"],
-                "depth_rows_withheld": t["depth_rows_invalid_at_tear"], "consistent": t["depth_rows_mixed_at_tear"] == 0,
+        mixed = t["depth_rows_mixed_at_tear"]
+        return {"depth_rows_by_frame": t["depth_rows_from"], "depth_rows_mixed": mixed,
+                "depth_rows_withheld": t["depth_rows_invalid_at_tear"], "consistent": mixed == 0,
                 "tear": tear_text(t["tear"])}
 
     def finish(self, outputs, complete=True):
@@ -379,8 +382,9 @@ def print_summary(result, setup, ok):
     for r in rows:
         print(f"  frame {r['display_frame']:3d} t {r['t_start_ms']:8.3f} ms  captured {r['cam_a_frames_done']}/"
               f"{r['cam_b_frames_done']}  depth rows {_rows_text(r['depth_rows_by_frame']) or '-'} mixed "
-              f"{r['depth_rows_mixed']}" + (f" withheld {r['depth_rows_withheld']}" if r.get("depth_rows_withheld")
-                                              else "") + f"  centre {r['centre_shown_cm']} cm (truth {r['centre_truth_cm']})"
+              f"{r['depth_rows_mixed']}"
+              + (f" withheld {r['depth_rows_withheld']}" if r.get("depth_rows_withheld") else "")
+              + f"  centre {r['centre_shown_cm']} cm (truth {r['centre_truth_cm']})"
               + (f"  bad>2 {100 * r['bad2']:.1f} %" if r["bad2"] is not None else "")
               + (f"  rect {r['rectification_shown']} (expected {r['rectification_expected']})"
                  if "rectification_shown" in r else ""))

@@ -98,8 +98,9 @@ class DepthEngine(wiring.Component):
         later); it is torn if either answer is busy or the tags differ. Row y is invalid (raw codes forced to
         ``config.invalid`` before the median) iff, in either image, a row of its census window is torn or the
         window's tags differ, or a window row's left tag is not its right tag (the trackers' tags are paired,
-        :class:`hdl.frame_pairing.FramePairing`); the vertical path restarts at row y iff y = 0, row y - 1 is invalid, or (either
-        image) row y or y - 1 is torn or their tags differ: ``golden.depth.depth_map(..., row_tags=...)``. The
+        :class:`hdl.frame_pairing.FramePairing`); the vertical path restarts at row y iff y = 0, row y - 1 is
+        invalid, or (either image) row y or y - 1 is torn or their tags differ:
+        ``golden.depth.depth_map(..., row_tags=...)``. The
         left tags are those of the rows the engine reads (after ``left_row_offset``).
     busy : Out(1)
         A map is being computed.

@@ -31,8 +31,8 @@ class RowRing(wiring.Component):
     ``tag_margin`` clocks after that read, the answer is taken one clock later). The row is *torn* iff either
     sample is busy or their tags differ; its *edge* bit is set iff it is torn, the ring row before it is torn, or
     the two rows' tags differ (ring row 0: iff it is torn). Both bits and the end sample's tag go into the row's
-    slot; ``tagged`` counts the rows whose data, bits and tag are in. While an end sample is pending the ring does not make the next row's
-    last read (it never binds for width >= ``tag_margin``).
+    slot; ``tagged`` counts the rows whose data, bits and tag are in. While an end sample is pending the ring does
+    not make the next row's last read (it never binds for width >= ``tag_margin``).
 
     Parameters
     ----------
