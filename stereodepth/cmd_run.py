@@ -102,6 +102,9 @@ def load_images(left, right, setup):
     (``golden.image_file.MAX_PIXELS``) pair, or one whose crop to the sensor's aspect is smaller than the frame
     buffer (it would be enlarged beyond what the buffers hold)."""
     from golden.stereo_pair import load_pair
+    from sim.testbed.sequence import VIDEO_SUFFIXES
+    if any(Path(p).suffix.lower() in VIDEO_SUFFIXES for p in (left, right)):
+        raise UserError(f"{left} / {right}: video files run frame after frame: add --frames N")
     g = setup.geometry
     try:
         return load_pair(left, right, g.width, g.height, min_size=(g.buf_width, g.buf_height))

@@ -378,6 +378,7 @@ def test_a_video_pair_runs_to_a_video(tmp_path):
     ("not_a_video", "is not a video file OpenCV can read"),
     ("missing", "does not exist"),
     ("mixed", "both be video files or both be image files"),
+    ("no_frames", "video files run frame after frame: add --frames N"),
 ])
 def test_sequence_video_errors(tmp_path, capsys, case, message):
     from stereodepth.cli import main
@@ -393,8 +394,8 @@ def test_sequence_video_errors(tmp_path, capsys, case, message):
         paths[1].unlink()
     elif case == "mixed":
         paths[1] = tmp_path / "R.png"
-    frames = "5" if case == "too_many" else "2"
-    code = main(["run", *map(str, paths), "--small", "--frames", frames, "--out", str(tmp_path / "o")])
+    frames = [] if case == "no_frames" else ["--frames", "5" if case == "too_many" else "2"]
+    code = main(["run", *map(str, paths), "--small", *frames, "--out", str(tmp_path / "o")])
     err = capsys.readouterr().err
     assert code == 2 and message in err and len(err.strip().splitlines()) == 1 and "Traceback" not in err
 
