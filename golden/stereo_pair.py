@@ -39,6 +39,16 @@ def fit_to_sensor(image, width, height):
     return np.asarray(img.convert("RGB"), dtype=np.uint8)
 
 
+def check_crop(shape, width, height, min_size):
+    """:class:`~golden.image_file.ImageFileError` (one line) when an image of ``shape`` (rows, columns, ...),
+    centre-cropped to the sensor's ``width``:``height``, is smaller than ``min_size`` ``(w, h)``."""
+    h, w = shape[:2]
+    crop = crop_size(w, h, width, height)
+    if crop[0] < min_size[0] or crop[1] < min_size[1]:
+        raise ImageFileError(f"the pair is {w}x{h} ({crop[0]}x{crop[1]} once centre-cropped to the sensor's "
+                             f"{width}:{height}), smaller than the least usable {min_size[0]}x{min_size[1]}")
+
+
 def load_pair(left_path, right_path, width, height, *, min_size=(1, 1)):
     """Read a stereo pair from image files and fit both to the sensor size. ``min_size``: the least ``(w, h)``
     of the centre crop. Raises :class:`~golden.image_file.ImageFileError` (a ``ValueError``, one line) for a
@@ -50,11 +60,7 @@ def load_pair(left_path, right_path, width, height, *, min_size=(1, 1)):
         if shapes[0] != shapes[-1]:
             raise ImageFileError(f"left image is {shapes[0][1]}x{shapes[0][0]} but right image is "
                                  f"{shapes[1][1]}x{shapes[1][0]}: a stereo pair must be the same size")
-        h, w = image.shape[:2]
-        crop = crop_size(w, h, width, height)
-        if crop[0] < min_size[0] or crop[1] < min_size[1]:
-            raise ImageFileError(f"the pair is {w}x{h} ({crop[0]}x{crop[1]} once centre-cropped to the sensor's "
-                                 f"{width}:{height}), smaller than the least usable {min_size[0]}x{min_size[1]}")
+        check_crop(image.shape, width, height, min_size)
         fitted.append(fit_to_sensor(image, width, height))
         del image
     return tuple(fitted)

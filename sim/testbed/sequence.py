@@ -163,9 +163,12 @@ def sequence_from_videos(left_path, right_path, setup, frames=None):
     if size(left[0]) != size(right[0]):
         raise UserError(f"the left video is {size(left[0])}, the right video {size(right[0])}: both cameras' "
                         "frames must have one size")
+    from golden.stereo_pair import check_crop
     g = setup.geometry
-    if left[0].shape[0] < g.buf_height or left[0].shape[1] < g.buf_width:
-        raise UserError(f"the videos are {size(left[0])}: at least {g.buf_width}x{g.buf_height} needed")
+    try:
+        check_crop(left[0].shape, g.width, g.height, (g.buf_width, g.buf_height))
+    except ImageFileError as exc:
+        raise UserError(f"the videos: {exc}") from None
     pairs = [(setup.fit(lf), setup.fit(rf)) for lf, rf in zip(left, right)]
     names = [f"{Path(left_path).name} / {Path(right_path).name} frame {k}" for k in range(len(pairs))]
     return FrameSequence(pairs, names=names, sources=[Path(left_path), Path(right_path)])
