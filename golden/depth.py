@@ -186,17 +186,16 @@ def row_flags(row_tags, height, config=DEPTH):
         raise ValueError("row_tags must be None or a pair (left_tags, right_tags)") from None
     h = config.census_height // 2
     left_tags, right_tags = _check_tags(left_tags, height, "left"), _check_tags(right_tags, height, "right")
-    for tags in (left_tags, right_tags):
-        for y in range(height):
-            window = tags[max(y - h, 0):min(y + h, height - 1) + 1]
+    for y in range(height):
+        rows = slice(max(y - h, 0), min(y + h, height - 1) + 1)
+        if left_tags[rows] != right_tags[rows]:         # a window row of two camera frame pairs
+            invalid[y] = True
+        for tags in (left_tags, right_tags):
+            window = tags[rows]
             if None in window or len(set(window)) > 1:
                 invalid[y] = True
             if y >= 1 and (tags[y] is None or tags[y - 1] is None or tags[y] != tags[y - 1]):
                 restart[y] = True
-    for y in range(height):
-        rows = range(max(y - h, 0), min(y + h, height - 1) + 1)
-        if any(left_tags[j] != right_tags[j] for j in rows):
-            invalid[y] = True
     restart[1:] |= invalid[:-1]
     return invalid, restart
 

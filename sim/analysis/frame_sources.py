@@ -56,9 +56,7 @@ def frame_sources(frame, goldens, layout, geometry, depth=None):
                       for ys, xs in rows]
     out["equals"] = sorted(k for k, g in goldens.items() if np.array_equal(frame, g))
     if depth is not None:
-        from sim.analysis.depth_panel import read_depth_panel
-        codes, _ = read_depth_panel(frame, layout, depth)
-        out["depth_invalid"] = [bool(row.all()) for row in codes == depth.invalid]
+        out["depth_invalid"] = _invalid_rows(frame, layout, depth).tolist()
     return out
 
 
@@ -204,10 +202,11 @@ def segment_candidates(withheld, height, depth):
     return tuple(changes) if len(changes) >= 2 else None
 
 
-def _withheld_rows(frame, layout, depth):
+def _invalid_rows(frame, layout, depth):
+    """Per depth-panel row of ``frame``: every code the panel shows there is invalid (a bool array)."""
     from sim.analysis.depth_panel import read_depth_panel
     codes, _ = read_depth_panel(frame, layout, depth)
-    return np.flatnonzero((codes == depth.invalid).all(axis=1))
+    return (codes == depth.invalid).all(axis=1)
 
 
 def tear_candidates(withheld, height, depth):
@@ -252,6 +251,7 @@ def torn_depth_rows(frame, buffers, layout, geometry, depth, *, rectification=0,
     panel_shape = np.asarray(frame).shape
     keys = list(buffers)
     best = [-1, None, None]            # rows explained, tear, labels
+    withheld = np.flatnonzero(_invalid_rows(frame, layout, depth))      # the panel's wholly invalid rows
 
     def consider(above, below, c, torn):
         codes, invalid = torn_map(buffers, above, below, c, torn, depth, rectification)
@@ -277,7 +277,7 @@ def torn_depth_rows(frame, buffers, layout, geometry, depth, *, rectification=0,
                                                                   (True, True))
                 for torn in torns:
                     consider(above, below, c, torn)
-        _segments(best, frame, buffers, keys, panel, layout, geometry, depth, rectification)
+        _segments(best, withheld, frame, buffers, keys, panel, layout, geometry, depth, rectification)
         return {"tear": best[1], "rows": best[2]}
     for above, below in zip(keys[1:], keys[:-1]):
         a = first_mismatch[above]
@@ -288,22 +288,22 @@ def torn_depth_rows(frame, buffers, layout, geometry, depth, *, rectification=0,
     if best[1] is not None and None in best[2]:
         c, above, below, _ = best[1]
         m = best[2].index(None)
-        pointed = [c2 for c2 in tear_candidates(_withheld_rows(frame, layout, depth), h, depth)
-                   if isinstance(c2, int)]
+        pointed = [c2 for c2 in tear_candidates(withheld, h, depth) if isinstance(c2, int)]
         for c2 in sorted(set(range(max(1, m - 2), min(h, m + depth.census_height + 3))) | set(pointed)):
             for pair in ((c, c2), (c2, c)):
                 for torn in ((False, False), (True, False), (False, True), (True, True)):
                     consider(above, below, pair, torn)
-    _segments(best, frame, buffers, keys, panel, layout, geometry, depth, rectification)
+    _segments(best, withheld, frame, buffers, keys, panel, layout, geometry, depth, rectification)
     return {"tear": best[1], "rows": best[2]}
 
 
-def _segments(best, frame, buffers, keys, panel, layout, geometry, depth, rectification):
+def _segments(best, withheld, frame, buffers, keys, panel, layout, geometry, depth, rectification):
     """When rows are still unexplained: the hypothesis of several tag changes in both images at the rows the
-    withheld runs point to (:func:`segment_candidates`), the frames alternating from either; ``best`` updated."""
+    ``withheld`` runs point to (:func:`segment_candidates`), the frames alternating from either; ``best``
+    updated."""
     if best[2] is not None and None not in best[2]:
         return
-    changes = segment_candidates(_withheld_rows(frame, layout, depth), geometry.buf_height, depth)
+    changes = segment_candidates(withheld, geometry.buf_height, depth)
     if changes is None:
         return
     at = [c for c, _ in changes]
