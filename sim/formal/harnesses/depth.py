@@ -91,22 +91,25 @@ class DepthEngineHarness(FormalHarness):
                    (ring.fetched <= ring.tagged + 1))
         self.prove(m, f"{side}_pass_reads_rows_with_their_tags",
                    ~census_shift | (ring.tagged >= Mux(y + ry + 1 < h, y + ry + 1, h)))
-        # A torn row in the pass's census window (rows clamp(y - 3 .. y + 3), slot row mod 8) makes the row invalid.
+        # A torn row in the pass's census window makes the row invalid.
         torn_in_window = 0
-        for j in range(-ry, ry + 1):
-            row = Mux(y + j < 0, 0, Mux(y + j > h - 1, h - 1, y + j))
-            torn_in_window = torn_in_window | ring.torn.bit_select(row[:(RING_ROWS - 1).bit_length()], 1)
+        for slot in self._window_slots(y):
+            torn_in_window = torn_in_window | ring.torn.bit_select(slot, 1)
         self.prove(m, f"{side}_torn_window_row_makes_the_row_invalid",
                    ~census_shift | ~torn_in_window | dut.row_invalid)
+
+    def _window_slots(self, y):
+        """The ring slots of the pass's census window: rows clamp(y - 3 .. y + 3), slot = row mod 8."""
+        h, ry = self.geometry.buf_height, self.config.census_height // 2
+        for j in range(-ry, ry + 1):
+            row = Mux(y + j < 0, 0, Mux(y + j > h - 1, h - 1, y + j))
+            yield row[:(RING_ROWS - 1).bit_length()]
 
     def _pairs(self, m, left_ring, right_ring, census_shift, y, dut):
         """A row of the pass's census window whose left and right slot tags differ (two camera frame pairs) makes
         the row invalid."""
-        h, ry = self.geometry.buf_height, self.config.census_height // 2
         mismatch = 0
-        for j in range(-ry, ry + 1):
-            row = Mux(y + j < 0, 0, Mux(y + j > h - 1, h - 1, y + j))
-            slot = row[:(RING_ROWS - 1).bit_length()]
+        for slot in self._window_slots(y):
             mismatch = mismatch | (left_ring.slot_tags[slot] != right_ring.slot_tags[slot])
         self.prove(m, "pair_mismatch_in_window_makes_the_row_invalid", ~census_shift | ~mismatch | dut.row_invalid)
 
