@@ -352,7 +352,7 @@ def test_longest_paths_on_a_hand_made_netlist():
     assert levels["sync"][:2] == (1, 1)
 
 
-# --- a build ISE takes as it is (issue 17 part 3) --------------------------------------------------------------
+# --- a build ISE takes as it is --------------------------------------------------------------------------------
 
 #: The centre readout's table (one entry per code up to the invalid one) in 256-word parts (hdl/centre_distance.py).
 READOUT_PARTS = -(-(DEPTH.invalid + 1) // (1 << ROM_PART_BITS))
