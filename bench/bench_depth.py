@@ -8,11 +8,11 @@ motorcycle; opencv-python-headless ships no sample images).
 
 Figures: bad > 0.5, bad > 1 and bad > 2 px over every pixel with a ground truth (an invalid pixel counts bad),
 the mean absolute error of the valid pixels and the density, for the engine (sub-pixel codes / 16), the
-whole-pixel engine of issue 14, and under it the engine's confidence trade (bad > 2 among the valid pixels
+whole-pixel engine (``fraction_bits = 0``), and under it the engine's confidence trade (bad > 2 among the valid pixels
 against density for a few uniqueness thresholds); for the thesis's SAD 15 x 15 + WTA, OpenCV StereoBM (best block size) and StereoSGBM on
 the same buffers shifted to 8 bits, all with the right image as reference (OpenCV runs on the mirrored pair).
 Motorcycle ground truth: the right view made from Middlebury's left map (sim/analysis/truth.py), and, to compare
-with the issue's probe, the mirrored pair against Middlebury's own left map ("left view").
+with the probe of the engine's goals, the mirrored pair against Middlebury's own left map ("left view").
 
 Writes build/bench/depth.md and build/bench/depth_motorcycle.png (right image, ground truth, the four maps;
 one colour scale with a legend; invalid / unknown in grey). Run: ``python -m bench depth``.
@@ -46,7 +46,7 @@ def engine(left, right, config=DEPTH):
 
 
 def whole_pixels(left, right):
-    """The issue 14 engine (whole pixels, no confidence) for comparison."""
+    """The whole-pixel engine (no sub-pixel fit, no confidence stage) for comparison."""
     return engine(left, right, dataclasses.replace(DEPTH, fraction_bits=0, uniqueness=64))
 
 
@@ -85,11 +85,11 @@ def mirrored(method):
 
 def evaluate(left, right, truth, *, mirror=False):
     """[(name, bad1, bad2, density, map, valid, (bad0.5, bad1, bad2, mae, density))] for the engine, the
-    whole-pixel engine of issue 14, SAD, best BM, SGBM."""
+    whole-pixel engine, SAD, best BM, SGBM."""
     wrap = mirrored if mirror else (lambda f: f)
     rows = []
     for name, method in (("depth engine, 1/16 pixel (golden = RTL)", engine),
-                         ("depth engine, whole pixels (issue 14)", whole_pixels), ("thesis SAD 15x15 + WTA", sad15),
+                         ("depth engine, whole pixels", whole_pixels), ("thesis SAD 15x15 + WTA", sad15),
                          ("OpenCV StereoSGBM 5x5", sgbm)):
         d, v = wrap(method)(left, right)
         rows.append((name, *bad_pixel_rates(d, v, truth), d, v, error_figures(d, v, truth)))
@@ -160,7 +160,7 @@ def picture(right, truth, rows, path):
     cmap.set_bad((0.45, 0.45, 0.45))
     panels = [("right image (reference)", right, "grey", None), ("ground truth (right view)", truth, cmap, True)]
     panels += [(f"{r[0]}\nbad>2 {100 * r[2]:.1f} %, density {100 * r[3]:.1f} %",
-                np.where(r[5], r[4], np.nan), cmap, True) for r in rows if "issue 14" not in r[0]]
+                np.where(r[5], r[4], np.nan), cmap, True) for r in rows if r[0] != "depth engine, whole pixels"]
     fig, axes = plt.subplots(2, 3, figsize=(15, 8.4), constrained_layout=True)
     image = None
     for ax, (title, img, cm, scaled) in zip(axes.flat, panels):
@@ -195,7 +195,7 @@ def main():
     rows = evaluate(left, right, truth_right)
     lines += table("Motorcycle, right view (ground truth made from Middlebury's left map)", rows)
     lines += confidence("Motorcycle", left, right, truth_right)
-    lines += table("Motorcycle, mirrored pair, left view (Middlebury's own map; the issue's probe)",
+    lines += table("Motorcycle, mirrored pair, left view (Middlebury's own map)",
                    evaluate(left, right, motorcycle_truth("left"), mirror=True))
     scenes, rig = synthetic_scenes()
     for name, scene in scenes.items():

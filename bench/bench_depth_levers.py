@@ -1,4 +1,4 @@
-"""Lever study for the depth engine (issue 26): what each change of the golden model buys, measured before it is
+"""Lever study for the depth engine (docs/depth.md): what each change of the golden model buys, measured before it is
 built. NumPy only (golden/depth.py's stages), on the motorcycle pair and the synthetic scenes of bench depth.
 
 Levers:

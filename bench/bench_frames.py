@@ -1,5 +1,6 @@
-"""Multi-frame whole-system runs at full size on Verilator (issue 28): the test bed's card moving from 3 m to 0.5 m
-over N camera frames of both 1600 x 1200 sensors and every 1080p display frame they overlap.
+"""Multi-frame whole-system runs at full size on Verilator (docs/capture.md, "Frame after frame"): the test bed's
+card moving from 3 m to 0.5 m over N camera frames of both 1600 x 1200 sensors and every 1080p display frame
+they overlap.
 
 Printed: the wall time (build apart), simulated time, display frames, per display frame the frames the captures had
 completed, the rows of the depth panel from one camera frame and the mixed ones (``sim/analysis/frame_sources.py``),

@@ -1,4 +1,4 @@
-"""Automatic rectification (issue 27, docs/rectification.md): which method finds the vertical offset, how well,
+"""Automatic rectification (docs/rectification.md): which method finds the vertical offset, how well,
 and what it does to the depth map.
 
 1. Method comparison on pairs with a known offset (in buffer rows; the true offset r: left row y + r = right row

@@ -35,7 +35,7 @@ import time
 from pathlib import Path
 
 PROBE_US = {"icarus": 200, "amaranth": 4}
-#: Targets (issue 20): the project's simulation within 1.5 times the raw model's (beyond: 1.2), the whole
+#: Targets: the project's simulation within 1.5 times the raw model's (beyond: 1.2), the whole
 #: Verilator step of make demo under 15 s with a cached build.
 RATIO_TARGET, RATIO_BEYOND, STEP_TARGET_S = 1.5, 1.2, 15.0
 REPEAT = 2

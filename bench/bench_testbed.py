@@ -1,4 +1,4 @@
-"""The automatic depth engine on the thesis's test bed (issue 26 item 5, docs/testbed.md): the distance the
+"""The automatic depth engine on the thesis's test bed (docs/testbed.md): the distance the
 centre readout shows for the table object at the 12 distances of table 4.2, against the true distance, for each
 card finish of the renderer (``solid``: the thesis's plain cards; ``edged``; ``textured``).
 
@@ -14,7 +14,7 @@ import argparse
 from sim.testbed.experiment import THESIS_DISTANCES_M, run_table
 from sim.testbed.scene import FINISHES
 
-#: The goal of issue 26: worst |error| over this range of distances (m) -> limit.
+#: The goal (docs/testbed.md): worst |error| over this range of distances (m) -> limit.
 GOALS = (((0.5, 1.5), 0.02), ((3.0, 3.0), 0.05))
 
 

@@ -4,7 +4,11 @@ into a Virtex-5 build for Xilinx ISE, and what checks that build here.
 =========================  ===================================================================================
 module                     what
 =========================  ===================================================================================
-``board.genesys``          the platform (pins, UCF rendering, the ISE scripts, the pin-file parser)
+``board.genesys``          the platform: the board's resources and its VHDC connector (pin sources, placeholders)
+``board.vmodcam``          the VmodCAM add-on: its resources on a VHDC connector, its timing figures
+``board.ise``              the ISE flow of the platform: UCF rendering, timing constraints, tool options
+``board.ise_templates``    the ISE build's file templates (UCF, XST script, build scripts, project TCL)
+``board.pin_file``         the ``--pins`` file: FPGA pins for the VHDC placeholders
 ``board.top``              ``GenesysTop``: the system on the board's pins; ``board_plan`` (the build)
 ``board.clocking``         the clock plan (DCM_ADV + PLL_ADV), ``GenesysClocking`` and its reset tree
 ``board.export``           Verilog export: flat port names, Amaranth's Verilog and its post-processing

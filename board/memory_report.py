@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 __all__ = ["MemoryInfo", "memories", "block_cost", "mapped_blocks", "lines", "SMALL_BITS", "PROBLEMS"]
 
-#: Memories below this many bits are not required to be block RAM (issue 25: "larger than a few hundred bits").
+#: Memories below this many bits are not required to be block RAM (the rule: "larger than a few hundred bits").
 SMALL_BITS = 512
 #: Templates that do not give block RAM by construction.
 PROBLEMS = ("lane write enables", "asynchronous read")

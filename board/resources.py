@@ -36,7 +36,7 @@ __all__ = ["Report", "estimate", "synthesize", "run_yosys", "top_module", "longe
 #: DCMs, 6 PLLs; the Virtex-5 family has 32 global clock buffers; 48 DSP48E slices).
 CAPACITY = {"LUT": 28_800, "FF": 28_800, "RAMB36": 60, "DSP48E": 48, "BUFG": 32, "DCM_ADV": 12, "PLL_ADV": 6}
 BRAM_KBIT = 36 * 1024           # one RAMB36 holds 36 Kib of data + parity
-#: The whole design's budget with the depth engine (issue 14): block RAM in RAMB36 equivalents, LUTs in percent.
+#: The whole design's budget with the depth engine: block RAM in RAMB36 equivalents, LUTs in percent.
 BUDGET = {"ramb36": 58, "lut_percent": 60}
 THESIS_BRAM_PERCENT = 56
 

@@ -51,9 +51,9 @@ class ModelError(ValueError):
 
 def clock_periods():
     """``{domain: period in ns}`` from the board's clock plan (``board.clocking.PLAN``; the camera domains at the PCLK
-    frequency the UCF constrains, ``board.genesys.CAM_PCLK_MAX_HZ``): the figures the PERIOD constraints carry."""
+    frequency the UCF constrains, ``board.vmodcam.CAM_PCLK_MAX_HZ``): the figures the PERIOD constraints carry."""
     from board.clocking import PLAN
-    from board.genesys import CAM_PCLK_MAX_HZ
+    from board.vmodcam import CAM_PCLK_MAX_HZ
     from hdl.system import CAMERAS
     periods = {domain: 1e9 / float(hz) for domain, _, hz, _, _ in PLAN.table()}
     periods.update({f"cam_{c}": 1e9 / CAM_PCLK_MAX_HZ for c in CAMERAS})

@@ -94,7 +94,7 @@ class GenesysTop(wiring.Component):
         self._output(m, ("control", "cam_vdden"), platform.request("vmodcam_vdden", dir="-"),
                      self.system.control.cam_vdden)
         self._ch7301c(m, platform)
-        # TIG groups of the clocks (board/genesys.py: PERIODs sit on the clock pads only, ngdbuild derives the
+        # TIG groups of the clocks (board/ise.py: PERIODs sit on the clock pads only, ngdbuild derives the
         # DCM/PLL outputs; the TIG groups are second groups on the PLL output nets and the PCLK pads).
         if hasattr(platform, "add_tig_group"):
             for name, net, family in clocking.tig_groups():

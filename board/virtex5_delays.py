@@ -10,7 +10,7 @@ against a second-hand model (FloPoCo's Virtex-5 target, a -3 device: LUT 0.086 n
 0.023 ns per bit, XORCY 0.300 ns, block RAM 1.75 ns, DSP multiplier 2.39 ns): the -1 grade is the slowest, so
 each value here is at or above those.
 
-The routing delay is one figure per net (``net_ns``, default 0.5 ns: the issue's goal is stated at that figure),
+The routing delay is one figure per net (``net_ns``, default 0.5 ns: the timing goal is stated at that figure),
 except on the connections the slice and the DSP/RAM columns make without general routing (UG190 chapter 5: a
 LUT's O6/O5 into its own slice's carry chain and F7 multiplexer, F7 into F8, carry-out into the next slice's
 carry-in): those cost nothing beyond the cell delay.

@@ -1,5 +1,4 @@
-"""Golden model of the camera capture path, written from ../shared/spec.md ("Camera driver") and
-docs/capture.md, never from the RTL.
+"""Golden model of the camera capture path, written from docs/capture.md, never from the RTL.
 
 Two levels:
 

@@ -1,4 +1,4 @@
-"""Golden model of the disparity map generator and the display compositor, written from ../shared/spec.md.
+"""Golden model of the disparity map generator and the display compositor, written from docs/disparity.md.
 
 * :func:`difference_levels`: for every right-image pixel (x, y) of the buffer, ``|L(x + d, y + r) - R(x, y)|``
   quantised to ``level`` = number of thresholds ``t`` with ``|L - R| >= t``; ``r`` is signed (negative: the

@@ -14,7 +14,8 @@ module                  what
 ``spec.layout``         the screen layout (``DisplayLayout`` and its boxes)
 ======================  ======================================================================
 
-Sources: ../shared/spec.md (which pins the thesis down), CEA-861 for the video timing, docs/hardware-facts.md for
-the parts' clocks and addresses. Every block takes its sizes as constructor arguments whose defaults come from
-here, so a test can build the same RTL small. Imports nothing of the project outside ``spec``.
+Sources: the thesis (*FPGA based stereo camera depth map generation*, C. Güvendik, 2014) as docs/*.md pin it
+down, CEA-861 for the video timing, docs/hardware-facts.md for the parts' clocks and addresses. Every block takes
+its sizes as constructor arguments whose defaults come from here, so a test can build the same RTL small.
+Imports nothing of the project outside ``spec``.
 """

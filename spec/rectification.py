@@ -12,7 +12,7 @@ class RectificationConfig:
     Offsets -``search_rows`` .. ``search_rows`` buffer rows are tried on the rows of the window
     ``search_rows + 1 .. height - search_rows - 1`` (the same rows for every offset, every read inside the image).
     """
-    search_rows: int = 16       # R: offsets -R..R buffer rows (the issue asks for at least +-16)
+    search_rows: int = 16       # R: offsets -R..R buffer rows (the goal: at least +-16)
     margin_shift: int = 2       # clear minimum: c2 - c1 > c2 >> margin_shift (the best 25 % below the rest)
     texture_shift: int = 5      # texture: T >= (width * window rows) >> texture_shift (1/32 grey per pixel per row)
     switch_shift: int = 3       # a new offset must beat the one in use: C(in use) - c1 > C(in use) >> switch_shift

@@ -12,9 +12,10 @@ Writes to ``--out`` (default build/genesys/) what Amaranth's ``XilinxPlatform`` 
 * ``top_ise_project.tcl``   ``xtclsh`` script that creates an ISE project (``top.xise``) for Project Navigator
 * ``clocks.txt``            the clock plan (M/D values, frequencies, error)
 
-The VmodCAM's VHDC pins are not confirmed from a source (docs/board.md): their LOCs are placeholders named
-``UNCONFIRMED_...`` that ngdbuild rejects, so no bitstream can come out with guessed camera pins. Give the
-real locations with ``--pins FILE`` (lines ``UNCONFIRMED_CAMA_D0 AB12``), or use ``--allow-unconfirmed`` to
+The FPGA pins behind the Genesys's VHDC connector are not confirmed from a source (docs/board.md): the
+connector's map holds placeholders named ``UNCONFIRMED_VHDC_<connector pin>`` that ngdbuild rejects, so no
+bitstream can come out with guessed camera pins. Give the real locations with ``--pins FILE`` (lines
+``UNCONFIRMED_VHDC_15 AB12``, read by ``board.pin_file``), or use ``--allow-unconfirmed`` to
 leave those LOCs out (ISE then places the camera ports itself: for trial synthesis and timing only, never for a
 board).
 """
@@ -27,13 +28,13 @@ from .errors import UserError, prepare_out_dir
 def add_arguments(parser):
     parser.add_argument("--out", default="build/genesys", metavar="DIR", help="output directory (build/genesys)")
     parser.add_argument("--pins", metavar="FILE",
-                        help="locations for the unconfirmed VmodCAM pins: lines 'UNCONFIRMED_<name> <pin>'")
+                        help="FPGA pins for the VHDC connector's placeholders: lines 'UNCONFIRMED_VHDC_<n> <pin>'")
     parser.add_argument("--allow-unconfirmed", action="store_true",
                         help="leave the LOC of still-unconfirmed pins out of the UCF (trial builds only)")
 
 
 def _read_pins(path):
-    from board.genesys import parse_pin_file
+    from board.pin_file import parse_pin_file
     path = Path(path)
     if not path.is_file():
         raise UserError(f"no such pin file: {path}")

@@ -3,16 +3,26 @@
 * The checked-in constraints/genesys.ucf is exactly what the build generates (one source of truth: the platform).
 * An independent UCF reader checks every pin of that file against the pin lists of the sources (transcribed
   here from the stored copies cited in board/genesys.py), the IO standards and the unconfirmed placeholders.
+* The VmodCAM's VHDC connector pins give back Digilent's Atlys camera pins through the Atlys connector map; every
+  camera pin resolves through the Genesys VHDC connector, to a placeholder or to the location a pin file gives;
+  a bad pin file is one error line from the command line.
 * Every top-level port of the generated Verilog is constrained; the CH7301C and MCLK outputs come from ODDRs in
   the right clock domains; the ISE scripts target the right part.
 """
 
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
+from amaranth import Elaboratable, Module
+from amaranth.lib import io
 
-from board.genesys import UNCONFIRMED, GenesysPlatform, parse_pin_file, ucf_net_line
+from board.genesys import UNCONFIRMED, VHDC, GenesysPlatform
+from board.ise import ucf_net_line
+from board.pin_file import parse_pin_file
+from board.vmodcam import VHDC_IO_PINS, VHDC_PAIRS, VHDC_PINS
 from board.top import GenesysTop
 from hdl.centre_distance import ROM_PART_BITS
 from spec.depth import DEPTH
@@ -83,11 +93,13 @@ def test_ucf_pins_match_the_sources():
         assert nets[net]["DRIVE"] == "24" and nets[net]["SLEW"] == "FAST"
     for net in ("ch7301c_i2c_0__scl__io", "ch7301c_i2c_0__sda__io"):
         assert nets[net].get("PULLUP")
-    # Every other located net is a camera pin with a placeholder location.
+    # Every other located net is a camera pin with a placeholder location, each VHDC placeholder at most once.
     cams = {n: a for n, a in nets.items() if n not in SOURCE_PINS and "LOC" in a}
-    assert len(cams) == len(UNCONFIRMED) == 2 * (8 + 8) + 1
-    assert sorted(a["LOC"] for a in cams.values()) == sorted(UNCONFIRMED)
+    assert len(cams) == 2 * (8 + 8) + 1
+    locs = [a["LOC"] for a in cams.values()]
+    assert len(set(locs)) == len(locs) and set(locs) <= set(UNCONFIRMED)
     assert all(n.startswith("vmodcam") for n in cams)
+    assert all(a["IOSTANDARD"] == "LVCMOS33" and set(a) <= {"LOC", "IOSTANDARD", "TNM"} for a in cams.values())
     # Clocks: the oscillator at 10 ns, the camera PCLK pins at 12.5 ns (the TIGs: tests/test_xst_verilog.py).
     text = "\n".join(others)
     assert re.search(r'PERIOD "PRDclk100_0__io" 10\.0000 ns', text)
@@ -144,8 +156,11 @@ def test_board_output_stage_structure(build):
 
 def test_pin_overrides_and_trial_mode():
     name = UNCONFIRMED[0]
+    in_use = GenesysPlatform().unconfirmed_in_use
+    assert len(in_use) == 2 * (8 + 8) + 1 and name in in_use
     plat = GenesysPlatform(pins={name: "AB12"})
-    assert name not in plat.unconfirmed_in_use and len(plat.unconfirmed_in_use) == len(UNCONFIRMED) - 1
+    assert name not in plat.unconfirmed_in_use and len(plat.unconfirmed_in_use) == len(in_use) - 1
+    assert GenesysPlatform(pins={n: f"A{i}" for i, n in enumerate(UNCONFIRMED, 1)}).unconfirmed_in_use == ()
     with pytest.raises(ValueError, match="unknown placeholder"):
         GenesysPlatform(pins={"UNCONFIRMED_NOPE": "A1"})
     assert 'LOC = "UNCONFIRMED_X"' in ucf_net_line("p", "UNCONFIRMED_X", {"IOSTANDARD": "LVCMOS33"})
@@ -157,7 +172,7 @@ def test_pin_overrides_and_trial_mode():
 def test_pin_file_parser():
     pins = parse_pin_file(f"# comment\n{UNCONFIRMED[0]} ab12\n{UNCONFIRMED[1]} = C3  # trailing\n\n")
     assert pins == {UNCONFIRMED[0]: "AB12", UNCONFIRMED[1]: "C3"}
-    for bad in ("UNCONFIRMED_CAMA_D0", "UNCONFIRMED_CAMA_D0 12AB", "UNCONFIRMED_FOO A1"):
+    for bad in ("UNCONFIRMED_VHDC_1", "UNCONFIRMED_VHDC_1 12AB", "UNCONFIRMED_VHDC_2 A1", "UNCONFIRMED_FOO A1"):
         with pytest.raises(ValueError, match="line 1"):
             parse_pin_file(bad)
 
@@ -165,7 +180,95 @@ def test_pin_file_parser():
 def test_unconfirmed_pins_are_documented():
     board = (REPO_ROOT / "docs" / "board.md").read_text()
     for name in UNCONFIRMED:
-        assert name in board, name
+        assert re.search(rf"`{name}`", board), name
+
+
+#: The Atlys's VHDC connector, pins 1..68 ("-": ground or supply), transcribed from amaranth-lang/amaranth-boards
+#: amaranth_boards/atlys.py (Connector "vhdci" 0); litex-hub/litex-boards digilent_atlys.py names the same FPGA pins
+#: EXP-IO1_P .. EXP-IO20_P (first row) and EXP-IO1_N .. EXP-IO20_N (second row).
+ATLYS_VHDC = ("U16 - U15 U13 - M11 R11 - T12 N10 - M10 U11 - R10 - - - - U10 - R8 M8 - U8 U7 - N7 T6 - R7 N6 - U5 "
+              "V16 - V15 V13 - N11 T11 - V12 P11 - N9 V11 - T10 - - - - V10 - T8 N8 - V8 V7 - P8 V6 - T7 P7 - V5"
+              ).split()
+
+#: Digilent's VmodCAM design for the Atlys: the FPGA pin of each camera signal (tariqmuh/XPS_VmodCam
+#: IP1_VideoIn/implementation/system.ucf; CAMA_D_I[0..7], CAMA_PCLK_I, ..., CAMX_VDDEN_O).
+ATLYS_VMODCAM_UCF = {
+    ("A", "d"): "M10 U11 V15 U16 U15 U13 M11 R11", ("A", "pclk"): "R10", ("A", "lv"): "N10", ("A", "fv"): "T12",
+    ("A", "mclk"): "N11", ("A", "scl"): "V12", ("A", "sda"): "P11", ("A", "rst_n"): "V13", ("A", "pwdn"): "T11",
+    ("B", "d"): "U5 V5 R8 M8 U8 U7 N7 T6", ("B", "pclk"): "U10", ("B", "lv"): "N6", ("B", "fv"): "R7",
+    ("B", "mclk"): "V8", ("B", "scl"): "P8", ("B", "sda"): "V6", ("B", "rst_n"): "N8", ("B", "pwdn"): "T8",
+    ("X", "vdden"): "V16",
+}
+
+
+def test_vmodcam_connector_pins_give_digilents_atlys_pins():
+    """The VmodCAM's connector pins, read through the Atlys's connector map, are the pins of Digilent's Atlys
+    design for the same camera board; the connector's signal pins and pairs are the Atlys map's."""
+    atlys = {str(pin): fpga for pin, fpga in enumerate(ATLYS_VHDC, 1) if fpga != "-"}
+    assert len(ATLYS_VHDC) == 68 and tuple(sorted(map(int, atlys))) == VHDC_IO_PINS
+    assert all(p + 34 == n for p, n in VHDC_PAIRS)
+    assert sorted(p for pair in VHDC_PAIRS for p in pair) == list(VHDC_IO_PINS)
+    assert set(VHDC_PINS) == set(ATLYS_VMODCAM_UCF)
+    for key, pins in VHDC_PINS.items():
+        assert " ".join(atlys[pin] for pin in pins.split()) == ATLYS_VMODCAM_UCF[key], key
+    used = [pin for pins in VHDC_PINS.values() for pin in pins.split()]
+    assert len(used) == len(set(used)) == 2 * (8 + 8) + 1
+
+
+def _camera_nets():
+    """``{UCF net: VHDC connector pin}`` of every camera pin, from the VmodCAM's connector pins."""
+    nets = {}
+    for number, cam in enumerate("AB"):
+        for signal in ("d", "pclk", "lv", "fv", "mclk", "scl", "sda", "rst_n", "pwdn"):
+            pins = VHDC_PINS[(cam, signal)].split()
+            names = [f"vmodcam_{number}__{signal}__io<{i}>" for i in range(8)] if signal == "d" else \
+                [f"vmodcam_{number}__{signal}__io"]
+            nets.update(zip(names, pins, strict=True))
+    nets["vmodcam_vdden_0__io"] = VHDC_PINS[("X", "vdden")]
+    return nets
+
+
+def test_the_connector_resolves_every_camera_pin():
+    """Each camera net of the checked-in UCF sits at the placeholder of its own VHDC connector pin."""
+    nets, _ = parse_ucf(UCF_PATH.read_text())
+    cams = {n: a["LOC"] for n, a in nets.items() if n.startswith("vmodcam")}
+    assert cams == {net: VHDC[pin] for net, pin in _camera_nets().items()}
+
+
+class _Cameras(Elaboratable):
+    """Requests the VmodCAM's resources and nothing else (a design for the platform's UCF)."""
+
+    def elaborate(self, platform):
+        m = Module()
+        for name, number in (("vmodcam", 0), ("vmodcam", 1), ("vmodcam_vdden", 0)):
+            resource = platform.request(name, number, dir="-")
+            ports = [resource] if name == "vmodcam_vdden" else [getattr(resource, f) for f in (
+                "d", "pclk", "lv", "fv", "mclk", "scl", "sda", "rst_n", "pwdn")]
+            for i, port in enumerate(ports):
+                m.submodules[f"{name}_{number}_{i}"] = io.Buffer(port.direction, port)
+        return m
+
+
+def test_a_pin_file_fills_the_connector_map(tmp_path):
+    """A pin file of all 40 VHDC pins (through the command line's parser) puts each camera net at the location
+    given for its connector pin; nothing is left unconfirmed."""
+    locations = {name: f"A{i}" for i, name in enumerate(UNCONFIRMED, 1)}
+    pins = parse_pin_file("".join(f"{name} {loc}\n" for name, loc in locations.items()))
+    platform = GenesysPlatform(pins=pins, files=(".ucf",))
+    nets, _ = parse_ucf(platform.prepare(_Cameras(), name="top").files["top.ucf"])
+    cams = {n: a["LOC"] for n, a in nets.items() if n.startswith("vmodcam")}
+    assert cams == {net: locations[VHDC[pin]] for net, pin in _camera_nets().items()}
+    assert platform.unconfirmed_in_use == ()
+
+
+def test_a_bad_pin_file_is_one_error_line(tmp_path):
+    (tmp_path / "pins.txt").write_text(f"# VHDC\n{UNCONFIRMED[0]} AB12\nUNCONFIRMED_CAMA_D0 AB13\n")
+    r = subprocess.run([sys.executable, "-m", "stereodepth", "verilog", "--pins", "pins.txt", "--out", "out"],
+                       cwd=tmp_path, capture_output=True, text=True, env={"PYTHONPATH": str(REPO_ROOT),
+                                                                          "PATH": "/usr/bin:/bin"})
+    assert r.returncode == 2 and r.stdout == ""
+    assert r.stderr.splitlines() == [
+        "stereodepth verilog: error: pins.txt: line 3: UNCONFIRMED_CAMA_D0 is not a placeholder pin of this platform"]
 
 
 def test_top_rejects_what_the_board_cannot_do():
@@ -249,7 +352,7 @@ def test_longest_paths_on_a_hand_made_netlist():
     assert levels["sync"][:2] == (1, 1)
 
 
-# --- a build ISE takes as it is (issue 17 part 3) --------------------------------------------------------------
+# --- a build ISE takes as it is --------------------------------------------------------------------------------
 
 #: The centre readout's table (one entry per code up to the invalid one) in 256-word parts (hdl/centre_distance.py).
 READOUT_PARTS = -(-(DEPTH.invalid + 1) // (1 << ROM_PART_BITS))

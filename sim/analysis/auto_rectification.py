@@ -1,4 +1,4 @@
-"""The golden expectation of a multi-frame run in automatic rectification (issue 27), independent of the RTL.
+"""The golden expectation of a multi-frame run in automatic rectification, independent of the RTL.
 
 The design's estimator (docs/rectification.md) searches once both captures have finished a camera frame, on the
 row sums of what they wrote: after camera frame k, the buffers hold pair k (``golden.capture.capture_frame``).

@@ -1,4 +1,4 @@
-"""Which camera frames a displayed frame was made of, row by row (issue 28: consistency, defined and measured).
+"""Which camera frames a displayed frame was made of, row by row (consistency, defined and measured).
 
 Definition. Camera frame k of the run is the pair (left image k, right image k) the two sensors sent as their k-th
 frame; frame -1 is the buffers before any capture (all zeros). The golden model's displayed frame of pair k

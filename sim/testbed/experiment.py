@@ -57,7 +57,7 @@ __all__ = [
     "RtlCheck", "rtl_difference_rows", "rtl_crosscheck", "EngineReading", "engine_reading"
 ]
 
-# --- Thesis table 4.2 (../shared/spec.md) -----------------------------------------------------------------
+# --- Thesis table 4.2 (docs/testbed.md) ------------------------------------------------------------------
 
 THESIS_DISTANCES_M = (0.25, 0.50, 0.75, 1.00, 1.25, 1.50, 1.75, 2.00, 2.25, 2.50, 2.75, 3.00)
 THESIS_CALCULATED_PX = (109, 54, 36, 27, 22, 18, 15, 13, 12, 11, 10, 9)
@@ -220,8 +220,8 @@ class TestbedPoint:
     expected_px: float            # centre disparity for the rig used (with its misalignments)
     alignment: Alignment
     footprint_pixels: int
-    engine: "EngineReading | None" = None      # the automatic depth engine on the same pair (issue 26)
-    auto: "AutoOffset | None" = None           # the vertical-offset estimator on the same pair (issue 27)
+    engine: "EngineReading | None" = None      # the automatic depth engine on the same pair
+    auto: "AutoOffset | None" = None           # the vertical-offset estimator on the same pair
 
     @property
     def found(self):
