@@ -36,6 +36,12 @@ MAY_IMPORT = {
     "sim.testbed": ("spec", "hdl", "golden", "sim.__init__", "sim.runners", "sim.testbench"),
     "bench": ("spec", "hdl", "golden", "board", "sim"),
     "stereodepth": ("spec", "hdl", "golden", "board", "sim"),
+    # the board commands build the board's design (hdl.config): no simulation
+    "stereodepth.cmd_verilog": ("spec", "hdl", "board", "stereodepth.errors"),
+    "stereodepth.cmd_resources": ("spec", "hdl", "board", "stereodepth.errors"),
+    "stereodepth.cmd_timing": ("spec", "hdl", "board", "stereodepth.errors"),
+    "bench.bench_resources": ("spec", "hdl", "board"),
+    "bench.bench_timing": ("spec", "hdl", "board"),
     "tests": PRODUCT,
 }
 
