@@ -1,8 +1,8 @@
-"""The board's Verilog simulated as built (board/simulation/top.py, board/simulation/top_cocotb.py).
+"""The board's Verilog simulated as built (sim/board/top.py, sim/board/top_cocotb.py).
 
 ``top.v`` comes from the same path as ``stereodepth verilog`` (``board.top.board_plan``), at the small sizes of
 ``SystemSetup.small()`` with the board's own I2C table (only the output size changed, waits scaled) for the
-default run and at the board's sizes in the slow test. The primitives are the models in board/simulation/xilinx. The
+default run and at the board's sizes in the slow test. The primitives are the models in sim/board/xilinx. The
 mutations the issue names must fail: the two 12-bit words swapped at the CH7301C ODDRs, and the MT9D112 capture
 mode 0x00F2 -> 0x00F0 (a still capture).
 """
@@ -14,7 +14,7 @@ import pytest
 
 from hdl.init_tables import InitTable, Write
 from board.genesys import UNCONFIRMED
-from board.simulation.top import board_setup, board_top_kwargs, board_verilog, run_board_cocotb
+from sim.board.top import board_setup, board_top_kwargs, board_verilog, run_board_cocotb
 from sim.runners.cocotb import simulator_available
 
 SMALL = {"preset": "small", "quick_table": False}
