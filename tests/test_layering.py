@@ -35,7 +35,7 @@ MAY_IMPORT = {
     "sim.formal": ("spec", "hdl", "sim.__init__", "sim.runners"),
     "sim.analysis": ("spec", "golden", "sim.__init__", "sim.models", "sim.testbed"),
     "sim.testbed": ("spec", "hdl", "golden", "sim.__init__", "sim.runners", "sim.testbench"),
-    "sim.board": ("spec", "hdl", "golden", "board", "sim.__init__", "sim.models", "sim.runners", "sim.testbench"),
+    "sim.board": ("spec", "hdl", "board", "sim.__init__", "sim.testbench"),
     "bench": ("spec", "hdl", "golden", "board", "sim"),
     "stereodepth": ("spec", "hdl", "golden", "board", "sim"),
     # the board commands build the board's design (hdl.config): no simulation

@@ -1,5 +1,5 @@
 """cocotb test of the board's Verilog as built (``top.v`` of ``stereodepth verilog``) with the Virtex-5 primitive
-models, on Icarus and Verilator (driven by tests/test_board_top.py through ``sim.board.top.run_board_cocotb``).
+models, on Icarus and Verilator (run by tests/test_board_top.py's ``run_board_cocotb``).
 
 The bench (``sim.board.top.TESTBENCH``) drives only the 100 MHz oscillator pin and the reset button; everything
 else comes from the design and the models:
