@@ -16,8 +16,7 @@ module                     what
 ``board.resources``        the Yosys ``synth_xilinx -family xc5v`` resource estimate
 ``board.memory_report``    each memory of the design, its XST coding form and its block RAM cost
 ``board.timing``           the static timing estimate on that netlist (``board.virtex5_delays``: its delays)
-``board.simulation``       the board's ``top.v`` simulated as built, with the Virtex-5 primitive models
 =========================  ===================================================================================
 
-May import: ``spec``, ``hdl`` (``board.simulation`` also ``golden`` and ``sim``).
+May import: ``spec``, ``hdl``. The board's ``top.v`` simulated as built is ``sim.board``.
 """

@@ -43,6 +43,7 @@ from amaranth.lib import io, wiring
 from hdl.ch7301c_output import split_rgb
 from board.clocking import PLAN, GenesysClocking
 from board.export import flat_name
+from hdl.config import DesignConfig
 from spec.sensor import SENSOR
 from spec.video import CEA_1080P60
 from hdl.system import CAMERAS, StereoDepthSystem
@@ -168,11 +169,14 @@ class GenesysTop(wiring.Component):
         self._open_drain(m, ("i2c", "dvi", "sda"), i2c.sda, sys_.i2c.dvi.sda)
 
 
-def board_plan(*, pins=None, allow_unconfirmed=False, files=None, name="top", **top_kwargs):
-    """Prepare the ISE build of :class:`GenesysTop` (nothing is run): returns ``(platform, plan)``, ``plan`` an
-    ``amaranth.build.BuildPlan`` whose ``files`` are the build directory's contents. See
+def board_plan(*, design=None, pins=None, allow_unconfirmed=False, files=None, name="top", **top_kwargs):
+    """Prepare the ISE build of :class:`GenesysTop` for ``design`` (an :class:`hdl.config.DesignConfig`; ``None``:
+    the board's, ``DesignConfig.full()``), nothing run: returns ``(platform, plan)``, ``plan`` an
+    ``amaranth.build.BuildPlan`` whose ``files`` are the build directory's contents. ``top_kwargs`` override the
+    design's :meth:`~hdl.config.DesignConfig.top_kwargs` (a short simulation's LED blink rates). See
     :class:`board.genesys.GenesysPlatform` for ``pins``, ``allow_unconfirmed`` and ``files``."""
     from board.genesys import GenesysPlatform
+    top_kwargs = {**(design or DesignConfig.full()).top_kwargs(), **top_kwargs}
     platform = GenesysPlatform(pins=pins, allow_unconfirmed=allow_unconfirmed, files=files)
     plan = platform.prepare(GenesysTop(**top_kwargs), name=name)
     return platform, plan

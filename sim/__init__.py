@@ -16,6 +16,8 @@ package            what                                                   may im
 ``sim.formal``     the formal runner, its engines and the harnesses       ``spec``, ``hdl``, ``sim.runners``
 ``sim.testbed``    the thesis's test bed and the synthetic scenes         ``spec``, ``hdl``, ``golden``,
                                                                           ``sim.runners``, ``sim.testbench``
+``sim.board``      the board's ``top.v`` (``board.top``) simulated as     ``spec``, ``hdl``, ``board``,
+                   built, with the Virtex-5 primitive models              ``sim.testbench``
 ``sim.analysis``   ground truth, bad-pixel figures, reading pictures      ``spec``, ``golden``, ``sim.models``,
                    back                                                   ``sim.testbed``
 =================  =====================================================  ====================================

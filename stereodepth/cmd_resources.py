@@ -12,7 +12,7 @@ def add_arguments(parser):
     parser.add_argument("--out", default="build/resources", metavar="DIR",
                         help="where top.il, the Yosys log, the stat JSON and report.txt go (build/resources)")
     parser.add_argument("--small", action="store_true",
-                        help="estimate the small test configuration instead of the board's (quick check)")
+                        help="estimate the small design of the default test run instead of the board's (quick check)")
 
 
 def run(args):
@@ -22,8 +22,8 @@ def run(args):
     print("synthesising with Yosys synth_xilinx -family xc5v ...", flush=True)
     top_kwargs = {}
     if args.small:
-        from sim.testbench.system.setup import SystemSetup
-        top_kwargs = SystemSetup.small().board_kwargs()
+        from hdl.config import DesignConfig
+        top_kwargs = DesignConfig.small().top_kwargs()
     report, frame_bits = estimate(args.out, **top_kwargs)
     lines = report.lines(frame_bits)
     lines.append("")

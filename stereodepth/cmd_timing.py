@@ -15,7 +15,7 @@ def add_arguments(parser):
     parser.add_argument("--out", default="build/timing", metavar="DIR",
                         help="where top.il, the Yosys log, report.txt and timing.json go (build/timing)")
     parser.add_argument("--small", action="store_true",
-                        help="time the small test configuration instead of the board's (quick check)")
+                        help="time the small design of the default test run instead of the board's (quick check)")
     parser.add_argument("--net-ns", type=float, default=0.5, metavar="NS",
                         help="routing delay charged per net (0.5 ns)")
     parser.add_argument("--paths", type=int, default=10, metavar="N", help="worst paths listed per domain (10)")
@@ -54,8 +54,8 @@ def _load_netlist(path):
 
 
 def _small_kwargs():
-    from sim.testbench.system.setup import SystemSetup
-    return SystemSetup.small().board_kwargs()
+    from hdl.config import DesignConfig
+    return DesignConfig.small().top_kwargs()
 
 
 def run(args):

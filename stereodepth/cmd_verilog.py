@@ -1,7 +1,8 @@
 """``stereodepth verilog``: write the Genesys board build (Verilog, UCF, ISE scripts) -- without running ISE.
 
 Writes to ``--out`` (default build/genesys/) what Amaranth's ``XilinxPlatform`` prepares for ISE, for
-:class:`board.top.GenesysTop` on :class:`board.genesys.GenesysPlatform`:
+:class:`board.top.GenesysTop` on :class:`board.genesys.GenesysPlatform`, the board's design
+(:meth:`hdl.config.DesignConfig.full`):
 
 * ``top.v``                 the whole design as one Verilog file (XST input, ``board.export.xst_verilog``)
 * ``top.ucf``               pins, IO standards, PERIODs on the clock pads, the TIGs between unrelated clocks,
@@ -50,7 +51,8 @@ def write_board_build(out, *, pins=None, allow_unconfirmed=False):
     """Write the build directory; returns ``(platform, list of written paths)``."""
     from board.clocking import PLAN
     from board.top import board_plan
-    platform, plan = board_plan(pins=pins, allow_unconfirmed=allow_unconfirmed)
+    from hdl.config import DesignConfig
+    platform, plan = board_plan(design=DesignConfig.full(), pins=pins, allow_unconfirmed=allow_unconfirmed)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     written = []

@@ -1,23 +1,54 @@
-"""The board's Verilog simulated as built (board/simulation/top.py, board/simulation/top_cocotb.py).
+"""The board's Verilog simulated as built (sim/board/top.py; the cocotb test module tests/cocotb/cocotb_board_top.py).
 
 ``top.v`` comes from the same path as ``stereodepth verilog`` (``board.top.board_plan``), at the small sizes of
 ``SystemSetup.small()`` with the board's own I2C table (only the output size changed, waits scaled) for the
-default run and at the board's sizes in the slow test. The primitives are the models in board/simulation/xilinx. The
+default run and at the board's sizes in the slow test. The primitives are the models in sim/board/xilinx. The
 mutations the issue names must fail: the two 12-bit words swapped at the CH7301C ODDRs, and the MT9D112 capture
 mode 0x00F2 -> 0x00F0 (a still capture).
 """
 
-from dataclasses import replace
+import json
+from dataclasses import dataclass, replace
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from hdl.init_tables import InitTable, Write
 from board.genesys import UNCONFIRMED
-from board.simulation.top import board_setup, board_top_kwargs, board_verilog, run_board_cocotb
-from sim.runners.cocotb import simulator_available
+from sim.board.top import (BOARD_PRIMITIVES, BOARD_VERILATOR_ARGS, TESTBENCH, board_setup, board_top_kwargs,
+                           board_verilog)
+from sim.board.xilinx import model_sources
+from sim.runners.cocotb import run_cocotb, simulator_available
+from sim.testbench.system.run_cocotb import DEFAULT_PAIR
 
 SMALL = {"preset": "small", "quick_table": False}
+
+
+@dataclass
+class BoardResult:
+    status: dict
+    frame: np.ndarray
+    golden: np.ndarray
+    test_dir: Path
+
+
+def run_board_cocotb(verilog, simulator, *, spec, out_dir, left=None, right=None, waves=None, **params):
+    """Run ``tests/cocotb/cocotb_board_top.py`` on ``verilog`` (a ``board_verilog`` text) inside
+    ``sim.board.top.TESTBENCH`` with the models of ``spec`` (``{"preset": "small"|"full", **SystemSetup fields}``).
+    Extra ``params`` go to the test (``dvi_version_id``: what the CH7301C model's 0x4A reads; ``measure_eye``: time
+    every data change against XCLK). Raises ``AssertionError`` when the test fails."""
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    p = {"setup": dict(spec), "left": str(Path(left or DEFAULT_PAIR[0]).resolve()),
+         "right": str(Path(right or DEFAULT_PAIR[1]).resolve()), "out_dir": str(out_dir.resolve()), **params}
+    test_dir = run_cocotb(verilog + TESTBENCH, name="board_tb", test_module="cocotb_board_top", simulator=simulator,
+                          params=p, waves=waves, extra_sources=model_sources(BOARD_PRIMITIVES),
+                          build_args=BOARD_VERILATOR_ARGS if simulator == "verilator" else (),
+                          verilator_fast=True)
+    status = json.loads((out_dir / "result.json").read_text())
+    frame = np.load(out_dir / "frame.npy") if (out_dir / "frame.npy").exists() else None
+    return BoardResult(status=status, frame=frame, golden=np.load(out_dir / "golden.npy"), test_dir=Path(test_dir))
 
 
 def small_setup():

@@ -7,6 +7,7 @@ to the source tree or to tests/.
 """
 
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -18,9 +19,14 @@ ROOT = Path(__file__).resolve().parents[1]
 
 @pytest.fixture(scope="module")
 def installed(tmp_path_factory):
+    """The wheel built from a copy of the sources (setuptools builds in the source tree and reuses its ``build/lib``
+    and ``*.egg-info``: a file a stale build left there would hide one the package no longer has)."""
     target = tmp_path_factory.mktemp("site")
+    source = tmp_path_factory.mktemp("source") / "stereo-fpga"
+    shutil.copytree(ROOT, source, ignore=shutil.ignore_patterns(".git", ".venv", "build", "*.egg-info", "__pycache__",
+                                                                ".pytest_cache", ".hypothesis", "tests"))
     subprocess.run([sys.executable, "-m", "pip", "install", "--quiet", "--no-deps",
-                    "--target", str(target), str(ROOT)], check=True, capture_output=True, text=True,
+                    "--target", str(target), str(source)], check=True, capture_output=True, text=True,
                    cwd=tmp_path_factory.mktemp("build"))
     return target
 
@@ -41,6 +47,19 @@ def test_the_installed_package_is_not_the_checkout(installed, tmp_path):
                            env={**os.environ, "PYTHONPATH": str(installed)}, capture_output=True, text=True)
     assert probe.stdout.strip().startswith(str(installed)), probe.stdout + probe.stderr
     assert not (installed / "tests").exists()
+
+
+def test_the_package_data_is_installed(installed, tmp_path):
+    """The files product code reads from its packages: the bundled pair, the C++ testbench, the Xilinx models."""
+    probe = ("from sim.board.xilinx import model_sources\n"
+             "from sim.runners.verilator import build\n"
+             "from golden.stereo_pair import DATA_DIR\n"
+             "pair = [DATA_DIR / f'motorcycle_{side}.png' for side in ('left', 'right')]\n"
+             "files = [*model_sources(), *(build.SOURCE_DIR / n for n in build.BUILD_SOURCES), *pair]\n"
+             "print(sorted(str(f) for f in files if not f.is_file()))\n")
+    run = subprocess.run([sys.executable, "-c", probe], cwd=tmp_path, env={**os.environ, "PYTHONPATH": str(installed)},
+                         capture_output=True, text=True)
+    assert run.returncode == 0 and run.stdout.strip() == "[]", run.stdout + run.stderr
 
 
 def test_verilog_from_outside_the_checkout(installed, tmp_path):

@@ -1,10 +1,12 @@
 """The layering docs/architecture.md promises, read from the source: every import of every module (module level and
-inside functions) is checked against what its layer may import, and product code names no module under tests/.
+inside functions) is checked against what its layer may import, no two packages import each other (directly or
+round a longer cycle), and product code names no module under tests/.
 
 A module's layer is the longest entry of :data:`MAY_IMPORT` its name starts with (``sim.models.i2c.bus`` is in
-``sim.models``; ``board.simulation.top`` in ``board.simulation``). An import is allowed when the imported name
-starts with one of the layer's entries, or with the layer itself. A violation is reported as
-``file:line: <module> imports <name>``.
+``sim.models``; ``stereodepth.cmd_timing`` in ``stereodepth.cmd_timing``). An import is allowed when the imported
+name starts with one of the layer's entries, or with the layer itself. A violation is reported as
+``file:line: <module> imports <name>``. The packages are the project's top-level ones (:data:`PROJECT`); a cycle
+between them is reported as ``cycle: a -> b -> a`` with the import behind each step.
 """
 
 import ast
@@ -20,7 +22,6 @@ MAY_IMPORT = {
     "hdl": ("spec",),
     "golden": ("spec",),
     "board": ("spec", "hdl"),
-    "board.simulation": ("spec", "hdl", "golden", "board", "sim"),
     "sim": ("spec", "hdl", "golden"),                       # the package itself: its exceptions
     "sim.waves": ("spec", "hdl", "sim.__init__"),
     "sim.models": ("spec", "hdl", "golden", "sim.__init__", "sim.waves"),
@@ -34,8 +35,15 @@ MAY_IMPORT = {
     "sim.formal": ("spec", "hdl", "sim.__init__", "sim.runners"),
     "sim.analysis": ("spec", "golden", "sim.__init__", "sim.models", "sim.testbed"),
     "sim.testbed": ("spec", "hdl", "golden", "sim.__init__", "sim.runners", "sim.testbench"),
+    "sim.board": ("spec", "hdl", "board", "sim.__init__", "sim.testbench"),
     "bench": ("spec", "hdl", "golden", "board", "sim"),
     "stereodepth": ("spec", "hdl", "golden", "board", "sim"),
+    # the board commands build the board's design (hdl.config): no simulation
+    "stereodepth.cmd_verilog": ("spec", "hdl", "board", "stereodepth.errors"),
+    "stereodepth.cmd_resources": ("spec", "hdl", "board", "stereodepth.errors"),
+    "stereodepth.cmd_timing": ("spec", "hdl", "board", "stereodepth.errors"),
+    "bench.bench_resources": ("spec", "hdl", "board"),
+    "bench.bench_timing": ("spec", "hdl", "board"),
     "tests": PRODUCT,
 }
 
@@ -95,6 +103,40 @@ def violations(root=ROOT):
     return found
 
 
+def package_graph(root=ROOT):
+    """The import graph between the project's top-level packages, from the same scan as :func:`violations`:
+    ``{package: {imported package: "file:line" of its first such import}}``."""
+    graph = {}
+    for top in PROJECT:
+        for path in sorted((root / top).rglob("*.py")):
+            for line, name in imported_names(path, root):
+                other = name.split(".")[0]
+                if other in PROJECT and other != top:
+                    graph.setdefault(top, {}).setdefault(other, f"{path.relative_to(root)}:{line}")
+    return graph
+
+
+def package_cycles(root=ROOT):
+    """Every cycle of :func:`package_graph`, once each, starting at its first package in :data:`PROJECT`'s
+    order, as ``cycle: a -> b -> a (file:line imports ...; ...)`` with the import behind each step."""
+    graph = package_graph(root)
+    order = {p: i for i, p in enumerate(PROJECT)}
+    found = []
+
+    def walk(start, path):
+        for nxt in sorted(graph.get(path[-1], {}), key=order.get):
+            if nxt == start:
+                steps = path + [start]
+                where = "; ".join(graph[a][b] for a, b in zip(steps, steps[1:]))
+                found.append(f"cycle: {' -> '.join(steps)} ({where})")
+            elif order[nxt] > order[start] and nxt not in path:
+                walk(start, path + [nxt])
+
+    for start in sorted(graph, key=order.get):
+        walk(start, [start])
+    return found
+
+
 def _docstring_nodes(tree):
     for node in ast.walk(tree):
         if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)):
@@ -123,6 +165,25 @@ def names_of_tests(root=ROOT):
 def test_every_package_imports_only_what_its_layer_may():
     found = violations()
     assert not found, "layering violations:\n" + "\n".join(found)
+
+
+def test_no_cycle_between_packages():
+    found = package_cycles()
+    assert not found, "import cycles between packages:\n" + "\n".join(found)
+
+
+def test_the_check_sees_a_cycle_between_packages(tmp_path):
+    """A cycle through two packages and one through three are each reported once; a one-way import is not."""
+    for d in ("hdl", "board", "sim", "golden"):
+        (tmp_path / d).mkdir()
+    (tmp_path / "board" / "top.py").write_text("from spec.sensor import SENSOR\n\ndef f():\n    from sim.runner import run\n")
+    (tmp_path / "sim" / "runner.py").write_text("from board.top import f\nfrom golden.model import g\n")
+    (tmp_path / "golden" / "model.py").write_text("import hdl.block\n")
+    (tmp_path / "hdl" / "block.py").write_text("from sim.runner import run\n")
+    assert package_cycles(tmp_path) == [
+        "cycle: hdl -> sim -> golden -> hdl (hdl/block.py:1; sim/runner.py:2; golden/model.py:1)",
+        "cycle: board -> sim -> board (board/top.py:4; sim/runner.py:1)",
+    ]
 
 
 def test_product_code_names_no_module_under_tests():

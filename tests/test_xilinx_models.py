@@ -1,4 +1,4 @@
-"""The Virtex-5 primitive models (board/simulation/xilinx) against their documented behaviour, on Icarus and Verilator.
+"""The Virtex-5 primitive models (sim/board/xilinx) against their documented behaviour, on Icarus and Verilator.
 
 ``tests/cocotb/cocotb_xilinx.py`` has one cocotb test per group of primitives (see its docstring). Each group
 is also run on a deliberately wrong variant of its model (:data:`MUTANTS`, one textual change to the model
@@ -12,7 +12,7 @@ import pytest
 from sim.runners.cocotb import SIMULATORS, run_cocotb, simulator_available
 
 REPO_ROOT = Path(__file__).resolve().parents[1]
-from board.simulation.xilinx import PRIMITIVES, VERILATOR_ARGS, model_sources
+from sim.board.xilinx import PRIMITIVES, VERILATOR_ARGS, model_sources
 
 BENCH = REPO_ROOT / "tests" / "cocotb" / "xilinx_models_tb.v"
 GROUPS = ("io_buffers", "flip_flops", "oddr", "dcm", "pll")

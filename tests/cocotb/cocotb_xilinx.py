@@ -1,4 +1,4 @@
-"""cocotb tests of the Virtex-5 primitive models (board/simulation/xilinx) against their documented behaviour.
+"""cocotb tests of the Virtex-5 primitive models (sim/board/xilinx) against their documented behaviour.
 
 Run from tests/test_xilinx_models.py on ``tests/cocotb/xilinx_models_tb.v``. Each test drives one group of
 primitives and compares what it measures with a reference written here from the documents (UG190 and the

@@ -1,22 +1,31 @@
-"""One place that says how a whole-system simulation is set up: sizes, time scale, clocks, models, golden frame.
+"""One place that says how a whole-system simulation is set up: the design, time scale, clocks, models, golden frame.
 
 :class:`SystemSetup` is shared by both simulators' runners (``sim/testbench/system/run_amaranth.py``,
 ``sim/testbench/system/run_cocotb.py`` and the scenario it runs inside the simulator), the tests, the benchmarks and the command
 line, so every route simulates the same configuration and compares against the same golden frame.
 
+A setup is a design (:attr:`SystemSetup.design`, an ``hdl.config.DesignConfig``: what a board build of the same
+design is made from) plus the simulation's own settings. The design's fields are fields of the setup under the
+design's names (``geometry``, ``timing``, ``layout``, ``thresholds``, ``level_grey``, ``depth``,
+``auto_rectification``, ``sys_hz``, ``i2c_hz``, ``i2c_retry_delay_us``, ``pclk_hz``), so a setup is made,
+replaced and written as JSON field by field; the design's MT9D112 table is :attr:`SystemSetup.cam_table`. The
+simulation's own: the switch settings (``disparity``, ``rectification``, ``segment``), the table's speed-ups
+(``time_scale``, ``quick_table``: ``sim/testbench/system/tables.py``), the cameras' phase and PCLK error
+(``cam_phase_s``, ``cam_clock_ppm``), the I2C models' faults (``i2c_faults``), the simulated clock lock
+(``lock_cycles``), when the pixel clock starts (``pix_after_init``) and the sensor models' timing
+(``sensor_timing``).
+
 Two presets:
 
-* :meth:`SystemSetup.small`: ``SMALL_SENSOR`` (64 x 48 -> 16 x 12 buffers) on ``SMALL_TIMING`` (112 x 52 active),
-  ``SMALL_DEPTH`` (D = 8),
-  the MT9D112 table with the small output size, only its essential entries and its waits scaled by 1/50
-  (``sim/testbench/system/tables.py``), a 1 MHz I2C bus (Fast-mode Plus rate, the fastest the I2C master accepts; a simulation
-  speed-up: the register-file models do not depend on the bus rate; the 100 kHz bus is exercised by the I2C
-  block's own tests and by the full preset). For the default test run.
-* :meth:`SystemSetup.full`: the board's sizes (1600 x 1200 -> 400 x 300, 1080p60), the board's MT9D112 table
-  unchanged and the 100 kHz bus. For the slow test, the benchmark and the demo.
+* :meth:`SystemSetup.small`: ``DesignConfig.small()`` (64 x 48 sensors -> 16 x 12 buffers, a 112 x 52 display,
+  D = 8, a 1 MHz I2C bus: a simulation speed-up the register-file models do not notice; the 100 kHz bus is
+  exercised by the I2C block's own tests and by the full preset), its MT9D112 table with only the essential
+  entries and its waits scaled by 1/50 (``sim/testbench/system/tables.py``). For the default test run.
+* :meth:`SystemSetup.full`: ``DesignConfig.full()``, the board's design (1600 x 1200 -> 400 x 300, 1080p60, the
+  board's MT9D112 table unchanged, the 100 kHz bus). For the slow test, the benchmark and the demo.
 
-The sensors' PCLK is ``spec.board.CLOCKS.CAM_PCLK_HZ``: what the MT9D112 table programs. Camera A is the left
-image, camera B the right image.
+The sensors' PCLK is the design's ``pclk_hz`` (``spec.board.CLOCKS.CAM_PCLK_HZ``: what the MT9D112 table
+programs). Camera A is the left image, camera B the right image.
 
 Simulation shortcuts, stated:
 
@@ -29,7 +38,7 @@ Simulation shortcuts, stated:
   show the still-empty buffers, and the display domain is where the simulators spend most of their time.
   ``pix_after_init=False`` runs it from time 0 (tests/test_system.py does once, in cocotb).
 
-:meth:`SystemSetup.spec` / :meth:`SystemSetup.from_spec` turn a setup into JSON and back (the cocotb scenario gets
+:meth:`SystemSetup.to_spec` / :meth:`SystemSetup.from_spec` turn a setup into JSON and back (the cocotb scenario gets
 its setup that way).
 """
 
@@ -40,15 +49,9 @@ import numpy as np
 from golden.capture import capture_frame
 from golden.disparity import composite_frame
 from golden.stereo_pair import fit_to_sensor
-from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE, Poll, Wait
+from hdl.config import DesignConfig
+from hdl.init_tables import Poll, Wait
 from hdl.rectification_select import AUTO_CODE, MANUAL_RANGE, SEGMENT_CODE
-from spec.board import CLOCKS
-from spec.depth import DEPTH, SMALL_DEPTH
-from spec.display import DIFF_LEVEL_GREY, DIFF_THRESHOLDS
-from spec.layout import DisplayLayout
-from spec.rectification import RECTIFICATION, SMALL_RECTIFICATION
-from spec.sensor import SENSOR, SMALL_SENSOR
-from spec.video import CEA_1080P60, SMALL_TIMING
 from sim.models.ch7301c.target import CH7301CModel
 from sim.models.mt9d112.target import MT9D112Model
 from sim.models.mt9d112.sensor import MT9D112, SENSOR_TIMING, SMALL_SENSOR_TIMING
@@ -56,25 +59,44 @@ from sim.testbench.system.tables import model_timing, mt9d112_table
 
 __all__ = ["SystemSetup"]
 
+_FULL = DesignConfig.full()
+#: The setup's fields that are the design's (``hdl.config.DesignConfig``'s of the same names).
+DESIGN_FIELDS = ("geometry", "timing", "layout", "thresholds", "level_grey", "depth", "auto_rectification", "sys_hz",
+                 "i2c_hz", "i2c_retry_delay_us", "pclk_hz")
+#: The simulation's speed-ups of the small preset (sim/testbench/system/tables.py).
+_SMALL_SPEED_UPS = {"time_scale": 0.02, "quick_table": True}
+
+
+def _design_fields(design):
+    """A design's fields as setup fields; the layout left ``None`` (centred for the setup's own sizes)."""
+    return {name: getattr(design, name) for name in DESIGN_FIELDS if name != "layout"}
+
 
 @dataclass(frozen=True)
 class SystemSetup:
-    geometry: object = SENSOR
-    timing: object = CEA_1080P60
-    layout: object = None
-    thresholds: tuple = DIFF_THRESHOLDS
-    level_grey: tuple = DIFF_LEVEL_GREY
-    depth: object = DEPTH              # the depth engine's DepthConfig
-    auto_rectification: object = RECTIFICATION     # the vertical-offset estimator's RectificationConfig
+    """A whole-system simulation: a design and the simulation's own settings (see the module docstring).
+
+    Raises
+    ------
+    ValueError
+        Switch settings the seven switches cannot give (``disparity``, ``rectification``, ``segment``).
+    """
+    geometry: object = _FULL.geometry
+    timing: object = _FULL.timing
+    layout: object = None              # None: DisplayLayout.centred for the setup's sizes
+    thresholds: tuple = _FULL.thresholds
+    level_grey: tuple = _FULL.level_grey
+    depth: object = _FULL.depth                            # the depth engine's DepthConfig
+    auto_rectification: object = _FULL.auto_rectification  # the vertical-offset estimator's RectificationConfig
     disparity: int = 0
     rectification: int = 0
     segment: bool = False              # the segmentation view (switches 1000001: needs rectification "auto")
     time_scale: float = 1.0            # applied to the MT9D112 table's waits and the model's boot/PLL times
     quick_table: bool = False          # only the MT9D112 table's essential entries (sim/testbench/system/tables.py)
-    i2c_hz: int = CLOCKS.I2C_HZ
-    i2c_retry_delay_us: int = 1000
-    sys_hz: int = CLOCKS.SYS_HZ
-    pclk_hz: int = CLOCKS.CAM_PCLK_HZ
+    i2c_hz: int = _FULL.i2c_hz
+    i2c_retry_delay_us: int = _FULL.i2c_retry_delay_us
+    sys_hz: int = _FULL.sys_hz
+    pclk_hz: int = _FULL.pclk_hz
     cam_phase_s: dict = field(default_factory=lambda: {"a": 0.0, "b": 3.1e-9})   # the cameras are not in phase
     cam_clock_ppm: dict = field(default_factory=dict)   # per camera: its PCLK off pclk_hz by this many ppm
     i2c_faults: dict = field(default_factory=dict)      # per bus: fault options of its model (sim.models.i2c.target)
@@ -84,17 +106,14 @@ class SystemSetup:
 
     @classmethod
     def small(cls, **kw):
-        kw.setdefault("sensor_timing", SMALL_SENSOR_TIMING)
-        kw.setdefault("pix_after_init", True)
-        return cls(geometry=SMALL_SENSOR, timing=SMALL_TIMING, depth=SMALL_DEPTH,
-                   auto_rectification=SMALL_RECTIFICATION, time_scale=0.02, quick_table=True,
-                   i2c_hz=1_000_000, i2c_retry_delay_us=20, **kw)
+        """``DesignConfig.small()`` with the small preset's speed-ups; ``kw`` overrides any field."""
+        return cls(**{**_design_fields(DesignConfig.small()), **_SMALL_SPEED_UPS,
+                      "sensor_timing": SMALL_SENSOR_TIMING, "pix_after_init": True, **kw})
 
     @classmethod
     def full(cls, **kw):
-        kw.setdefault("sensor_timing", SENSOR_TIMING)
-        kw.setdefault("pix_after_init", True)
-        return cls(**kw)
+        """``DesignConfig.full()``, the board's design, simulated as it is; ``kw`` overrides any field."""
+        return cls(**{**_design_fields(_FULL), "sensor_timing": SENSOR_TIMING, "pix_after_init": True, **kw})
 
     def to_spec(self):
         """This setup as JSON: ``{"preset": "small"|"full", **fields that differ from the preset}``. Raises
@@ -122,7 +141,7 @@ class SystemSetup:
     @property
     def preset(self):
         """``"small"`` or ``"full"``: which preset this setup's sizes are."""
-        return "full" if self.geometry == SENSOR else "small"
+        return "full" if self.geometry == _FULL.geometry else "small"
 
     def __post_init__(self):
         if not 0 <= self.disparity <= 127:
@@ -136,26 +155,31 @@ class SystemSetup:
                              f"rectification must be 'auto', not {self.rectification!r}")
 
     @property
+    def design(self):
+        """The design this setup simulates (``hdl.config.DesignConfig``): its design fields, and its MT9D112 table
+        with the setup's speed-ups (:attr:`cam_table`)."""
+        return DesignConfig(**{name: getattr(self, name) for name in DESIGN_FIELDS}, cam_table=self.cam_table)
+
+    @property
     def display_layout(self):
-        return self.layout or DisplayLayout.centred(self.timing, self.geometry, self.depth)
+        """The design's display layout (``layout``, or the centred one for the setup's sizes)."""
+        return self.design.layout
 
     @property
     def cam_table(self):
-        if self.geometry == SENSOR and self.time_scale == 1.0 and not self.quick_table:
-            return MT9D112_TABLE
+        """The MT9D112 table the design holds: the board's at the setup's sensor size, with ``time_scale`` and
+        ``quick_table`` applied (sim/testbench/system/tables.py)."""
         return mt9d112_table(self.geometry, time_scale=self.time_scale, quick=self.quick_table)
 
     def system_kwargs(self):
-        """Keyword arguments for ``sim.testbench.system.testbench.SystemTestbench`` (and from there ``hdl.system.StereoDepthSystem``)."""
-        return dict(geometry=self.geometry, timing=self.timing, layout=self.display_layout,
-                    thresholds=self.thresholds, level_grey=self.level_grey, depth=self.depth,
-                    auto_rectification=self.auto_rectification, cam_table=self.cam_table,
-                    dvi_table=CH7301C_TABLE, clk_hz=self.sys_hz, i2c_hz=self.i2c_hz,
-                    i2c_retry_delay_us=self.i2c_retry_delay_us, lock_cycles=self.lock_cycles)
+        """Keyword arguments for ``sim.testbench.system.testbench.SystemTestbench`` (and from there
+        ``hdl.system.StereoDepthSystem``): the design's (``DesignConfig.top_kwargs``) and the simulated clocks'
+        lock time."""
+        return {**self.board_kwargs(), "lock_cycles": self.lock_cycles}
 
     def board_kwargs(self):
         """Keyword arguments for ``board.top.GenesysTop`` with this setup's design (the board has no lock counter)."""
-        return {k: v for k, v in self.system_kwargs().items() if k != "lock_cycles"}
+        return self.design.top_kwargs()
 
     def i2c_models(self):
         """Fresh register-file models: ``{bus: [target, ...]}`` for the buses ``cam_a``, ``cam_b``, ``dvi``."""

@@ -1,37 +1,30 @@
-"""I2C init tables for whole-system simulations at a reduced sensor size and/or time scale.
+"""The MT9D112 init table of a whole-system simulation: the design's table with the simulation's speed-ups.
 
-The board uses ``hdl.init_tables.MT9D112_TABLE`` (1600 x 1200) as is. A simulation with a small sensor
-(``spec.sensor.SMALL_SENSOR``) needs the same table with the output size and crop window of that sensor, and a
-short simulation wants the table's waits (1 ms each: sensor boot, PLL lock, MCU command) shortened. This module
-derives such tables from the board's table, entry for entry: the same registers in the same order, only
+The output size the table programs is a design fact: ``hdl.sensor_table.sized_mt9d112_table`` gives the board's
+``hdl.init_tables.MT9D112_TABLE`` at a sensor geometry's size, and ``hdl.config.DesignConfig`` holds it. Two
+changes on top of it are simulation speed-ups, valid only against the sensor models, never on a board:
 
-* the values of the context-B output width/height variables (driver 7, offsets 0x07/0x09) and of the crop
-  window's X1/Y1 (offsets 0x61/0x65) replaced by the sensor geometry's width and height, and
-* every ``Wait`` and every ``Poll`` interval multiplied by ``time_scale`` (at least 1 us),
-* with ``quick=True``, only the entries the sensor needs to come up in RGB565 at that size kept (:data:`QUICK`):
+* every ``Wait`` and every ``Poll`` interval multiplied by ``time_scale`` (at least 1 us); the sensor models then
+  boot and lock their PLL as much faster (:func:`model_timing`), a real MT9D112 does not;
+* with ``quick=True``, only the entries the sensor needs to come up in RGB565 at that size kept (:data:`QUICK_VARIABLES`):
   the boot wait, the chip-version check, the output format, width, height and crop-window variables, the
   sequencer's capture mode (video: without it the sensor sends one still frame and returns to preview) and
   "capture" command with its wait and completion poll, and the output enable -- 19 of the table's
-  42 entries. The default-run simulations use it (the Amaranth simulator spends about 1 s of
-  wall time per 20 us of I2C traffic on this design); the full table runs in the full-size run.
+  42 entries (the model needs no PLL, slew-rate or standby settings; a real sensor does). The default-run
+  simulations use it (the Amaranth simulator spends about 1 s of wall time per 20 us of I2C traffic on this
+  design); the full table runs in the full-size run and the board top's small run.
 
-The sensor models must then be given matching timing (``MT9D112Model(boot_s=..., pll_lock_s=...)``):
-:func:`model_timing` returns the scaled figures.
+``sim.testbench.system.setup.SystemSetup`` applies them (its ``time_scale`` and ``quick_table``) to its design's
+table.
 """
 
 from dataclasses import replace
 
 from hdl.init_tables import MT9D112_TABLE, Barrier, InitTable, Poll, Wait, Write
+from hdl.sensor_table import SIZE_VARIABLES, VAR_ADDRESS, VAR_DATA, sized_mt9d112_table, variable
 from spec.board import CLOCKS
 
 __all__ = ["mt9d112_table", "model_timing", "SIZE_VARIABLES", "QUICK_VARIABLES"]
-
-_VAR_ADDRESS = 0x338C
-_VAR_DATA = 0x3390
-
-#: (driver, offset) of the variables that carry the output size -> "width" or "height".
-SIZE_VARIABLES = {(7, 0x07): "width", (7, 0x09): "height", (7, 0x61): "width", (7, 0x65): "height"}
-
 
 #: Variables kept by ``quick=True``: output format, size, crop X1/Y1 (context B), the capture mode and the
 #: sequencer command.
@@ -44,24 +37,22 @@ def _scaled(us, time_scale):
 
 
 def mt9d112_table(geometry, *, time_scale=1.0, quick=False, base=MT9D112_TABLE):
-    """``base`` with the output size of ``geometry`` (``width`` x ``height``), waits scaled by ``time_scale``
-    and, with ``quick``, only the essential entries (see the module docstring). Raises ``ValueError`` if
-    ``base`` does not set all four size variables."""
+    """``base`` with the output size of ``geometry`` (``hdl.sensor_table.sized_mt9d112_table``), waits scaled by
+    ``time_scale`` and, with ``quick``, only the essential entries (see the module docstring). Raises
+    ``ValueError`` if ``base`` does not set all four size variables."""
+    sized = sized_mt9d112_table(geometry, base=base)
+    if time_scale == 1.0 and not quick:
+        return sized
     entries = []
     var = None
-    found = set()
     waits_seen = 0
-    for e in base.entries:
+    for e in sized.entries:
         keep = True
-        if isinstance(e, Write) and e.reg == _VAR_ADDRESS:
-            var = ((e.value >> 8) & 0x1F, e.value & 0xFF)
+        if isinstance(e, Write) and e.reg == VAR_ADDRESS:
+            var = variable(e.value)
             keep = var in QUICK_VARIABLES
-        elif isinstance(e, Write) and e.reg == _VAR_DATA:
+        elif isinstance(e, Write) and e.reg == VAR_DATA:
             keep = var in QUICK_VARIABLES
-            if var in SIZE_VARIABLES:
-                value = getattr(geometry, SIZE_VARIABLES[var])
-                e = replace(e, value=value, comment=f"{e.comment} -> {value} (simulation size)")
-                found.add(var)
         elif isinstance(e, Wait):
             waits_seen += 1
             keep = waits_seen == 1 or entries_after_command(entries)
@@ -69,23 +60,19 @@ def mt9d112_table(geometry, *, time_scale=1.0, quick=False, base=MT9D112_TABLE):
         elif isinstance(e, Barrier):
             keep = True
         elif isinstance(e, Poll):
-            keep = e.reg in _QUICK_REGISTERS or e.reg == _VAR_DATA
+            keep = e.reg in _QUICK_REGISTERS or e.reg == VAR_DATA
             if e.interval_us:
                 e = replace(e, interval_us=_scaled(e.interval_us, time_scale))
         else:
             keep = e.reg in _QUICK_REGISTERS
         if keep or not quick:
             entries.append(e)
-    missing = set(SIZE_VARIABLES) - found
-    if missing:
-        raise ValueError(f"the base table does not set the size variables {sorted(missing)}")
-    return InitTable(base.device, tuple(entries))
+    return InitTable(sized.device, tuple(entries))
 
 
 def entries_after_command(entries):
     """True once the sequencer command (variable 1:0x03) has been written: the wait that follows it is kept."""
-    return any(isinstance(e, Write) and e.reg == _VAR_ADDRESS and ((e.value >> 8) & 0x1F, e.value & 0xFF)
-               == (1, 0x03) for e in entries)
+    return any(isinstance(e, Write) and e.reg == VAR_ADDRESS and variable(e.value) == (1, 0x03) for e in entries)
 
 
 def model_timing(time_scale=1.0):

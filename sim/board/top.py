@@ -1,6 +1,6 @@
-"""The board's Verilog simulated as built: the ``top.v`` of ``stereodepth verilog`` under cocotb, with the Virtex-5
-primitive models (``board/simulation/xilinx``), the sensor models on the camera pins, the I2C models on the three buses and the
-HDMI sink on the CH7301C pins.
+"""The board's Verilog simulated as built: the ``top.v`` of ``stereodepth verilog`` with the Virtex-5 primitive models
+(``sim/board/xilinx``) and the testbench around it that the sensor models, the I2C models and the HDMI sink drive and
+read through the board's pins.
 
 * :func:`board_verilog`: the ``top.v`` text the board build writes (``board.top.board_plan``, the same path as
   ``stereodepth verilog``), for the board's sizes or a :class:`sim.testbench.system.setup.SystemSetup`'s small ones.
@@ -13,23 +13,20 @@ HDMI sink on the CH7301C pins.
   resolved here as on the board (``pullup`` plus the models' pull-downs), not by ``sim.models.i2c.bus.OpenDrainBus``,
   which resolves a design's ``o``/``oe`` pins; the driver that runs the models on it is the same
   (``sim.models.i2c.bus.start_cocotb_targets``).
-* :func:`run_board_cocotb`: build and run ``board/simulation/top_cocotb.py`` on Icarus or Verilator; returns the
-  status the test wrote (frame, golden frame, measured clocks, LED and part states).
+* :data:`BOARD_PRIMITIVES`, :data:`BOARD_VERILATOR_ARGS`: the primitive models to build beside it and the Verilator
+  switches they need.
+
+tests/test_board_top.py runs it under cocotb (its test module ``tests/cocotb/cocotb_board_top.py``) with the
+sensor, I2C and HDMI-sink models on the pins and compares the frame with the golden model's.
 
 Clocks: the 100 MHz oscillator is the only clock the testbench drives; MCLK, the pixel clock and XCLK come out
 of the DCM/PLL models, PCLK from the sensor models. Time unit 1 ns, precision 1 ps (the models need them).
 """
 
-import json
-from dataclasses import dataclass
-from pathlib import Path
+from sim.board.xilinx import VERILATOR_ARGS
 
-import numpy as np
-
-from sim.runners.cocotb import run_cocotb
-from board.simulation.xilinx import VERILATOR_ARGS, model_sources
-
-__all__ = ["board_setup", "board_top_kwargs", "board_verilog", "TESTBENCH", "BoardResult", "run_board_cocotb"]
+__all__ = ["board_setup", "board_top_kwargs", "board_verilog", "TESTBENCH", "BOARD_PRIMITIVES",
+           "BOARD_VERILATOR_ARGS"]
 
 TESTBENCH = """
 module board_tb (
@@ -93,10 +90,10 @@ def board_setup(spec):
 
 
 def board_top_kwargs(setup, *, heartbeat_log2=1, cam_heartbeat_log2=1, **overrides):
-    """``GenesysTop`` keyword arguments for a :class:`~sim.testbench.system.setup.SystemSetup` (its sizes, layout, tables,
-    I2C rate); the LED blink rates are shortened so a short simulation sees them toggle."""
-    kw = setup.system_kwargs()
-    kw.pop("lock_cycles")                     # SimSystem's lock model: the board has the DCM/PLL
+    """``GenesysTop`` keyword arguments for a :class:`~sim.testbench.system.setup.SystemSetup`'s design (its
+    ``board_kwargs``: sizes, layout, tables, I2C rate; the board has the DCM/PLL, no simulated lock); the LED blink
+    rates are shortened so a short simulation sees them toggle."""
+    kw = setup.board_kwargs()
     kw.update(heartbeat_log2=heartbeat_log2, cam_heartbeat_log2=cam_heartbeat_log2, **overrides)
     return kw
 
@@ -107,30 +104,3 @@ def board_verilog(top_kwargs=None, *, pins=None):
     from board.top import board_plan
     _, plan = board_plan(pins=pins, files=(".v",), **(top_kwargs or {}))
     return plan.files["top.v"]
-
-
-@dataclass
-class BoardResult:
-    status: dict
-    frame: np.ndarray
-    golden: np.ndarray
-    test_dir: Path
-
-
-def run_board_cocotb(verilog, simulator, *, spec, out_dir, left=None, right=None, waves=None, **params):
-    """Run ``board/simulation/top_cocotb.py`` on ``verilog`` (a :func:`board_verilog` text) with the models of
-    ``spec`` (``{"preset": "small"|"full", **SystemSetup fields}``, as ``sim.testbench.system.run_cocotb``). Extra ``params``
-    go to the test (``dvi_version_id``: what the CH7301C model's 0x4A reads; ``measure_eye``: time every data
-    change against XCLK). Raises ``AssertionError`` when the test fails."""
-    from sim.testbench.system.run_cocotb import DEFAULT_PAIR
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    p = {"setup": dict(spec), "left": str(Path(left or DEFAULT_PAIR[0]).resolve()),
-         "right": str(Path(right or DEFAULT_PAIR[1]).resolve()), "out_dir": str(out_dir.resolve()), **params}
-    test_dir = run_cocotb(verilog + TESTBENCH, name="board_tb", test_module="board.simulation.top_cocotb", simulator=simulator,
-                          params=p, waves=waves, extra_sources=model_sources(BOARD_PRIMITIVES),
-                          build_args=BOARD_VERILATOR_ARGS if simulator == "verilator" else (),
-                          verilator_fast=True)
-    status = json.loads((out_dir / "result.json").read_text())
-    frame = np.load(out_dir / "frame.npy") if (out_dir / "frame.npy").exists() else None
-    return BoardResult(status=status, frame=frame, golden=np.load(out_dir / "golden.npy"), test_dir=Path(test_dir))

@@ -1,7 +1,7 @@
 """cocotb test of the board's Verilog as built (``top.v`` of ``stereodepth verilog``) with the Virtex-5 primitive
-models, on Icarus and Verilator (driven by tests/test_board_top.py through ``board.simulation.top.run_board_cocotb``).
+models, on Icarus and Verilator (run by tests/test_board_top.py's ``run_board_cocotb``).
 
-The bench (``board.simulation.top.TESTBENCH``) drives only the 100 MHz oscillator pin and the reset button; everything
+The bench (``sim.board.top.TESTBENCH``) drives only the 100 MHz oscillator pin and the reset button; everything
 else comes from the design and the models:
 
 * the DCM/PLL models make MCLK, the pixel clock and the 90-degree XCLK clock: the test measures MCLK on both
@@ -37,7 +37,7 @@ from golden.part_config import ch7301c_expected, mt9d112_expected
 from golden.stereo_pair import load_pair
 from board.clocking import PLAN
 from hdl.system import CAMERAS, I2C_BUSES
-from board.simulation.top import board_setup
+from sim.board.top import board_setup
 from sim.runners.cocotb import TopPorts, test_params
 from sim.models.ch7301c.hdmi_sink import HdmiSink, SinkError
 from sim.models.i2c.bus import start_cocotb_targets

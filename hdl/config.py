@@ -1,0 +1,111 @@
+"""The design configuration: everything a board build and a simulation of the same design share.
+
+A :class:`DesignConfig` names one design of :class:`hdl.system.StereoDepthSystem`: its sizes (sensor geometry,
+video timing, display layout), the difference map's thresholds and level greys, the depth engine's and the
+vertical-offset estimator's configurations, the I2C init tables its sequencers hold in ROM, and its clocks.
+:meth:`DesignConfig.top_kwargs` gives the keyword arguments of ``hdl.system.StereoDepthSystem`` and of
+``board.top.GenesysTop`` for it. The board build (``board.top.board_plan``, ``stereodepth verilog``,
+``resources``, ``timing``) reads it from here; a whole-system simulation
+(``sim.testbench.system.setup.SystemSetup``) holds one beside the simulation's own settings.
+
+Two presets:
+
+* :meth:`DesignConfig.full`: the board's design, 1600 x 1200 sensors -> 400 x 300 buffers, 1080p60, the
+  board's MT9D112 table, the 100 kHz I2C bus.
+* :meth:`DesignConfig.small`: the small design the default test run simulates: ``SMALL_SENSOR`` (64 x 48 -> 16 x
+  12 buffers) on ``SMALL_TIMING`` (112 x 52 active), ``SMALL_DEPTH`` (D = 8), ``SMALL_RECTIFICATION``, the
+  board's MT9D112 table programming the 64 x 48 output size (``hdl/sensor_table.py``: the output size is a
+  design fact), a 1 MHz I2C bus (the Fast-mode Plus rate, the fastest the I2C master accepts) with a 20 us retry
+  delay. The simulation's speed-ups of the table (waits scaled, entries a model does not need left out) are not
+  part of the design: ``sim/testbench/system/tables.py``.
+"""
+
+from dataclasses import dataclass
+
+from hdl.init_tables import CH7301C_TABLE
+from hdl.sensor_table import sized_mt9d112_table
+from spec.board import CLOCKS
+from spec.depth import DEPTH, SMALL_DEPTH
+from spec.display import DIFF_LEVEL_GREY, DIFF_THRESHOLDS
+from spec.layout import DisplayLayout
+from spec.rectification import RECTIFICATION, SMALL_RECTIFICATION
+from spec.sensor import SENSOR, SMALL_SENSOR
+from spec.video import CEA_1080P60, SMALL_TIMING
+
+__all__ = ["DesignConfig"]
+
+
+@dataclass(frozen=True)
+class DesignConfig:
+    """One design of the system (see the module docstring).
+
+    Parameters
+    ----------
+    geometry : :class:`spec.sensor.SensorGeometry`
+        The sensors' output size and the buffers.
+    timing : :class:`spec.video.VideoTiming`
+        The display's video mode.
+    layout : :class:`spec.layout.DisplayLayout` or None
+        The display layout; ``None``: ``DisplayLayout.centred(timing, geometry, depth)``.
+    thresholds, level_grey : tuple
+        The difference map's level thresholds and greys (``spec.display``).
+    depth : :class:`spec.depth.DepthConfig`
+        The depth engine.
+    auto_rectification : :class:`spec.rectification.RectificationConfig`
+        The vertical-offset estimator.
+    cam_table, dvi_table : :class:`hdl.init_tables.InitTable` or None
+        The tables the MT9D112 and CH7301C sequencers play; ``cam_table=None``: the board's MT9D112 table at
+        ``geometry``'s output size (:func:`hdl.sensor_table.sized_mt9d112_table`).
+    sys_hz : int
+        The ``sync`` domain's clock (the I2C masters' and sequencers' time base).
+    i2c_hz : int
+        The I2C bus rate of all three buses.
+    i2c_retry_delay_us : int
+        The sequencers' pause before retrying a NACKed transaction.
+    pclk_hz : int
+        The sensors' PCLK as ``cam_table`` programs it: the ``cam_a``/``cam_b`` domains' clock.
+
+    Attributes
+    ----------
+    layout, cam_table
+        Never ``None``: resolved as above when the configuration is made.
+    """
+    geometry: object = SENSOR
+    timing: object = CEA_1080P60
+    layout: object = None
+    thresholds: tuple = DIFF_THRESHOLDS
+    level_grey: tuple = DIFF_LEVEL_GREY
+    depth: object = DEPTH
+    auto_rectification: object = RECTIFICATION
+    cam_table: object = None
+    dvi_table: object = CH7301C_TABLE
+    sys_hz: int = CLOCKS.SYS_HZ
+    i2c_hz: int = CLOCKS.I2C_HZ
+    i2c_retry_delay_us: int = 1000
+    pclk_hz: int = CLOCKS.CAM_PCLK_HZ
+
+    def __post_init__(self):
+        # frozen: the resolved defaults are set the way dataclasses' own __init__ sets fields
+        if self.layout is None:
+            object.__setattr__(self, "layout", DisplayLayout.centred(self.timing, self.geometry, self.depth))
+        if self.cam_table is None:
+            object.__setattr__(self, "cam_table", sized_mt9d112_table(self.geometry))
+
+    @classmethod
+    def full(cls, **kw):
+        """The board's design; ``kw`` overrides fields."""
+        return cls(**kw)
+
+    @classmethod
+    def small(cls, **kw):
+        """The small design of the default test run (see the module docstring); ``kw`` overrides fields."""
+        return cls(**{"geometry": SMALL_SENSOR, "timing": SMALL_TIMING, "depth": SMALL_DEPTH,
+                      "auto_rectification": SMALL_RECTIFICATION, "i2c_hz": 1_000_000, "i2c_retry_delay_us": 20,
+                      **kw})
+
+    def top_kwargs(self):
+        """Keyword arguments of ``hdl.system.StereoDepthSystem`` and ``board.top.GenesysTop`` for this design."""
+        return dict(geometry=self.geometry, timing=self.timing, layout=self.layout, thresholds=self.thresholds,
+                    level_grey=self.level_grey, depth=self.depth, auto_rectification=self.auto_rectification,
+                    cam_table=self.cam_table, dvi_table=self.dvi_table, clk_hz=self.sys_hz, i2c_hz=self.i2c_hz,
+                    i2c_retry_delay_us=self.i2c_retry_delay_us)
