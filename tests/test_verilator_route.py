@@ -1,5 +1,6 @@
-"""The Verilator route with its testbench in C++ (sim/testbench/system/run_verilator.py, sim/runners/verilator/) on the small preset:
-the frame, the models' checks, the raw reference model replaying the run exactly, and each check shown to bite."""
+"""The Verilator backend with its testbench in C++ (sim/testbench/system/run_verilator.py, sim/runners/verilator/) on
+the small preset, through ``sim.system.simulate``: the frame, the models' checks, the raw reference model replaying
+the run exactly, and each check shown to bite."""
 
 import numpy as np
 import pytest
@@ -9,7 +10,8 @@ from hdl.init_tables import CH7301C_TABLE
 from sim.models.ch7301c.hdmi_sink import HdmiSink
 from sim.models.i2c.table import expected_writes
 from sim.testbench.system.result import SystemTimeout
-from sim.testbench.system.run_verilator import VerilatorRun, camera_pins, run_verilator
+from sim.system import Verilator, simulate, still_pair
+from sim.testbench.system.run_verilator import VerilatorRun, camera_pins
 from sim.testbench.system.setup import SystemSetup
 from sim.runners.verilator.ctestbench import STIMULUS
 from bench.raw_model import run_raw
@@ -23,17 +25,17 @@ def _setup():
 
 
 def _pair(setup):
-    return load_default_pair(setup.geometry.width, setup.geometry.height)
+    return still_pair(*load_default_pair(setup.geometry.width, setup.geometry.height), setup)
 
 
 @pytest.fixture(scope="module")
 def base():
     setup = _setup()
-    return run_verilator(*_pair(setup), setup, keep_stimulus=True)
+    return simulate(setup, _pair(setup), Verilator(keep_stimulus=True))
 
 
 def test_small_run_is_bit_exact_and_every_check_holds(base):
-    status, run = base.status, base.figures["run"]
+    status, run = base.status, base.driver
     setup = run.setup
     for bus in ("cam_a", "cam_b", "dvi"):
         assert status[f"{bus}_init_done"] and not status[f"{bus}_init_error"]
@@ -58,7 +60,7 @@ def test_small_run_is_bit_exact_and_every_check_holds(base):
 def test_raw_model_replays_the_run_exactly(base):
     """The raw model (raw_main.cpp, no Python) given the run's stimulus log evaluates the design as often and
     records the same pins, word for word."""
-    run = base.figures["run"]
+    run = base.driver
     figures, recording = run_raw(run)
     assert figures["complete"] and figures["evals"] == base.status["evals"]
     np.testing.assert_array_equal(recording, run.recording[:run.h.recorded])
@@ -66,7 +68,7 @@ def test_raw_model_replays_the_run_exactly(base):
 
 def test_raw_model_sees_a_changed_stimulus(base):
     """Bites: the same log with the disparity switch word changed records different pins."""
-    run = base.figures["run"]
+    run = base.driver
     stimulus = run.h.stimulus().copy()
     sw = run.h.port(("panel", "sw"))
     word = np.flatnonzero((stimulus["kind"] == 0) & (stimulus["a"] == sw) & (stimulus["b"] == 0x80 | DISPARITY))
@@ -81,7 +83,7 @@ def test_replay_check_bites():
     """A camera that replays one wrong sample is caught by the replay check (the frame would hide a shifted
     stream: the capture starts at the frame's FV edge)."""
     setup = _setup()
-    run = VerilatorRun(setup, *_pair(setup))
+    run = VerilatorRun(setup, _pair(setup))
     bad = run.words["a"].copy()
     i = int(np.flatnonzero(bad >> 8 == 0b11)[100])          # a byte of an active line
     bad[i] ^= 0x10
@@ -103,23 +105,23 @@ def test_configuration_guard(monkeypatch):
                         lambda geometry: SensorConfig(width=g.width, height=g.height, rgb565=True,
                                                       r_byte_first=False))
     with pytest.raises(SystemTimeout, match="camera a: the I2C init configured .*r_byte_first=True"):
-        run_verilator(*_pair(setup), setup)
+        simulate(setup, _pair(setup), Verilator())
 
 
 def test_a_device_that_does_not_answer_fails_the_init():
     """The models answer live: a CH7301C that NACKs its address leaves the DVI bus in error and no frame."""
     setup = _setup()
-    run = VerilatorRun(setup, *_pair(setup))
+    run = VerilatorRun(setup, _pair(setup))
     run.models["dvi"][0].nack_address = True
     status = run.run()
     assert status["dvi_init_error"] and not status["dvi_init_done"] and status["cam_a_init_done"]
-    assert "t_end_s" not in status and run.check()[0] is None
+    assert "t_end_s" not in status and run.frames.shown == 0
 
 
 def test_sink_reports_wrong_xclk_levels(base):
     """Bites: one recorded word with XCLK_P high a quarter period after the falling edge is an xclk violation at
     that clock; the frame is still rebuilt."""
-    run = base.figures["run"]
+    run = base.driver
     words = run.recording[:run.h.recorded].copy()
     words[1234] |= 1 << 30
     sink = feed_sink(words, HdmiSink(run.setup.timing))
@@ -161,7 +163,7 @@ def test_build_key_follows_the_design(tmp_path, monkeypatch):
 def test_testbench_refuses_values_that_do_not_fit(base):
     """A value wider than the port (Verilator expects the bits above a port's width clear) or a write to an output is
     refused before it reaches the model."""
-    h = base.figures["run"].h
+    h = base.driver.h
     with pytest.raises(ValueError, match="does not fit .*8 bits"):
         h[("panel", "sw")] = 0x100
     with pytest.raises(ValueError, match="does not fit .*1 bits"):
@@ -178,7 +180,7 @@ def test_the_testbench_has_every_port_of_the_exported_top(base):
     from amaranth.lib import wiring
     from board.export import flat_name
     from sim.testbench.system.testbench import SystemTestbench
-    run = base.figures["run"]
+    run = base.driver
     design = SystemTestbench(clock_ports=True, **_setup().system_kwargs())
     want = {flat_name(path): (member.flow == wiring.In, Shape.cast(member.shape).width)
             for path, member, _ in design.signature.flatten(design)}
