@@ -6,7 +6,8 @@
    1920 x 1080 frame -- on Verilator (``stereodepth run`` does the same with your own pair): both MT9D112 models
    configured over I2C by the RTL, both cameras captured, the depth map computed by the engine, the four panels
    composited and driven onto the CH7301C pins, rebuilt by the HDMI sink model and compared bit for bit with the
-   golden model. The depth panel the pins carried is read back (its colours inverted) and scored against the
+   golden model. The frame shown is the first display frame whose depth map comes from complete camera frames (no
+   rows withheld at a tear where a capture was overwriting the buffers; the summary says which one it was). The depth panel the pins carried is read back (its colours inverted) and scored against the
    motorcycle's ground truth (``sim.analysis.truth``): bad > 1, bad > 2, density; the readout gives the centre
    distance. -> ``hdmi_frame.png`` (the frame from the simulated pins), ``golden_frame.png``,
    ``depth_map.png`` (the depth map alone, buffer size, with its colour bar), ``result.json``.
@@ -63,7 +64,7 @@ def waves_step(setup, outputs, files):
     left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
     backend = Amaranth(vcd=outputs.partial("system.vcd"), gtkw=outputs.partial("system.gtkw"), traces=system_waves)
     try:
-        result = cmd_run.simulate_still(setup, still_pair(left, right, setup), backend, "amaranth")
+        result = cmd_run.simulate_still(setup, still_pair(left, right, setup), backend, "amaranth", policy="first")
     except SimulationFailed as exc:
         print(f"stereodepth demo: waveform run failed: {exc}", file=sys.stderr)
         return None
@@ -121,9 +122,11 @@ def run(args):
     from sim.analysis.truth import motorcycle_truth
     depth, depth_files = depth_outputs(frame, setup, motorcycle_truth("right", setup.geometry), outputs.write)
     files.update(cmd_run.write_outputs(outputs, frame, golden, status, {"simulator": args.simulator,
-                                                                       "depth": depth, "provenance": record}))
+                                                                       "verdict": result.verdict, "depth": depth,
+                                                                       "provenance": record}))
     files.update(depth_files)
-    ok, lines = cmd_run.summarise(setup, args.simulator, frame, golden, status, time.perf_counter() - t_step)
+    ok, lines = cmd_run.summarise(setup, args.simulator, frame, golden, status, time.perf_counter() - t_step,
+                                  result.verdict)
     if status.get("t_end_s") and status.get("wall_s"):
         edges = sum(setup.clock_edges(status["t_end_s"], status["t_init_s"], status["t_init_s"]).values())
         lines.insert(-1, f"  {edges / 1e6:.1f} M clock edges (all domains) in {status['wall_s']:.1f} s of "

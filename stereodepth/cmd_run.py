@@ -5,7 +5,10 @@ fitted to the sensor by centre-crop and resize, as ``golden.stereo_pair.load_pai
 MT9D112 sensor models; the RTL configures them and the CH7301C over I2C, captures both cameras into the frame
 buffers, composites the left image, the right image, the difference map for the given switch settings and the
 depth engine's map (colour bar, labels, crosshair, centre distance) and drives the CH7301C pins; the HDMI sink model rebuilds the frame, which is compared bit for
-bit with the golden model's frame.
+bit with the golden model's frame. The cameras send the pair every frame, so a display frame's depth map may be
+computed while a capture overwrites the buffers (rows withheld at the tear, docs/depth.md): the run shows the first
+display frame whose depth map comes from complete camera frames (within eight display frames; in automatic
+rectification also with the offset locked) and says which one it was, and the offset found.
 
 Writes to ``--out`` (default build/run/): ``hdmi_frame.png`` (the frame rebuilt from the simulated pins),
 ``golden_frame.png``, ``difference.png`` (only if they differ), ``depth_map.png`` (the depth map the displayed
@@ -139,13 +142,14 @@ def segmentation_record(setup):
             "text_shown": setup.display_layout.band is not None}
 
 
-def simulate_still(setup, sequence, backend, simulator):
-    """The one-frame run of ``sequence`` (a still pair) on ``backend`` with a progress bar; a
+def simulate_still(setup, sequence, backend, simulator, policy="whole"):
+    """The one-frame run of ``sequence`` (a still pair) on ``backend`` with a progress bar, showing the first display
+    frame whose depth map has no withheld rows (``policy``, :data:`sim.system.verdict.POLICIES`); a
     :class:`~sim.system.run.SystemResult`. Raises :class:`sim.SimulationFailed` (the caller prints it)."""
     from sim.system import simulate
     bar, progress = progress_bar(simulator)
     try:
-        return simulate(setup, sequence, backend, progress=progress)
+        return simulate(setup, sequence, backend, progress=progress, policy=policy)
     finally:
         bar.close()
 
@@ -186,9 +190,34 @@ def run_provenance(args, setup, started):
     return provenance([args.left, args.right], parameters, started)
 
 
-def summarise(setup, simulator, frame, golden, status, wall):
+def shown_lines(verdict):
+    """The lines saying which display frame a still pair's run shows and why, and the offset the automatic
+    rectification found."""
+    k, n = verdict.get("chosen"), verdict.get("display_frames", 0)
+    if k is None:
+        return []
+    withheld = verdict["withheld_rows"]
+    if verdict.get("policy") != "whole":
+        lines = [f"  display frame {k} shown ({withheld[k]} depth rows withheld at a tear)"]
+    elif withheld[k]:
+        lines = [f"  display frame {k} shown: none of the {n} display frames run has a depth map of complete camera "
+                 f"frames (depth rows withheld at a tear: {withheld})"]
+    else:
+        before = f" (depth rows withheld at a tear before it: {withheld[:k]})" if k else ""
+        lines = [f"  display frame {k} shown: the first whose depth map comes from complete camera frames{before}"]
+    if "auto_offset" in verdict:
+        first = verdict["auto_offset_first_frame"]
+        lines.append(f"  automatic rectification: offset {verdict['auto_offset']:+d} buffer rows found, "
+                     + (f"locked from display frame {first} on" if first is not None else "NOT locked"))
+    return lines
+
+
+def summarise(setup, simulator, frame, golden, status, wall, verdict=None):
+    """``(ok, lines)`` of a one-frame run: the run's ``verdict`` (:meth:`sim.system.verdict.Judge.run_verdict`)
+    and the ``status``'s marks."""
     g, t = setup.geometry, setup.timing
-    ok = frame is not None and status.get("mismatched_pixels") == 0 and not status.get("violations")
+    ok = verdict["ok"] if verdict is not None else \
+        frame is not None and status.get("mismatched_pixels") == 0 and not status.get("violations")
     lines = [f"whole system, {g.width}x{g.height} sensors -> {g.buf_width}x{g.buf_height} buffers -> "
              f"{t.h_active}x{t.v_active} display, disparity {setup.disparity}, rectification "
              f"{setup.rectification}{', segmentation on' if setup.segment else ''}, on {simulator}: {wall:.1f} s wall time"
@@ -212,6 +241,7 @@ def summarise(setup, simulator, frame, golden, status, wall):
         lines.append("  the HDMI frame equals the golden model's frame bit for bit")
     else:
         lines.append(f"  the HDMI frame DIFFERS from the golden frame in {status.get('mismatched_pixels')} pixels")
+    lines += shown_lines(verdict or {})
     lines.append("OK" if ok else "FAILED")
     return ok, lines
 
@@ -228,8 +258,8 @@ def run(args):
     disparity, rectification, segment = switch_settings(args)
     setup = make_setup(args.small, disparity, rectification, segment)
     if args.frames is not None or args.scene is not None:
-        if args.vcd or args.ground_truth is not None:
-            raise UserError("--vcd and --ground-truth are for one frame; with --frames, --scene card has a truth")
+        if args.vcd:
+            raise UserError("--vcd is for one frame: drop --frames / --scene")
         from .run_frames import run_frames
         if args.frames is None:
             raise UserError("--scene card needs --frames N")
@@ -268,14 +298,14 @@ def run(args):
     from sim.analysis.depth_panel import depth_outputs, summary_lines
     depth, depth_files = depth_outputs(frame, setup, truth, outputs.write)
     files = write_outputs(outputs, frame, golden, status, {"total_wall_s": wall, "simulator": args.simulator,
-                                                           "depth": depth,
+                                                           "verdict": result.verdict, "depth": depth,
                                                            "segmentation": segmentation_record(setup),
                                                            "provenance": run_provenance(args, setup, started)})
     files.update(depth_files)
     if args.vcd:
         files["VCD"] = out / "system.vcd"
         files["GTKWave save file (gtkwave system.gtkw)"] = out / "system.gtkw"
-    ok, lines = summarise(setup, args.simulator, frame, golden, status, wall)
+    ok, lines = summarise(setup, args.simulator, frame, golden, status, wall, result.verdict)
     print("\n".join(lines[:-1] + summary_lines(depth) + lines[-1:]))
     print_files(files)
     return 0 if ok else 1

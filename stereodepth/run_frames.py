@@ -1,7 +1,8 @@
 """``stereodepth run --frames N``: the whole simulated system on a moving scene, camera frame after camera frame.
 
 Inputs (:mod:`sim.testbed.sequence`): LEFT and RIGHT two folders of images (paired in file-name order), two
-video files (frame k of each a pair), or two image files (the same pair every frame), or ``--scene card`` (the
+video files (frame k of each a pair), or two image files (the same pair every frame; ``--ground-truth`` then gives
+every frame its truth), or ``--scene card`` (the
 synthetic test bed, a textured card moving from ``--far`` to ``--near`` metres over the run). The two sensor
 models send N camera frames, one image each, and every display frame from the first after the I2C init to the
 first one that starts after both captures have finished frame N is rebuilt from the simulated pins
@@ -71,6 +72,10 @@ def build_sequence(args, setup):
         sequence_from_videos
     if args.frames < 1:
         raise UserError(f"--frames must be at least 1, got {args.frames}")
+    if getattr(args, "ground_truth", None) is not None and (args.scene is not None or Path(args.left or "").is_dir()
+                                                            or Path(args.left or "").suffix.lower() in VIDEO_SUFFIXES):
+        raise UserError("--ground-truth with --frames is for two image files (the pair every frame): --scene card "
+                        "has its own truth, folders and videos have none")
     if getattr(args, "vertical_offset", None) is not None and args.scene is None:
         raise UserError("--vertical-offset is for --scene card (the test bed renders the misaligned rig)")
     if args.scene is not None:
@@ -90,7 +95,13 @@ def build_sequence(args, setup):
             raise UserError(f"LEFT and RIGHT must both be video files or both be image files ({left}, {right})")
         return sequence_from_videos(left, right, setup, args.frames)
     l_img, r_img = load_images(left, right, setup)
-    return repeated_pair(l_img, r_img, args.frames, setup, sources=[left, right])
+    sequence = repeated_pair(l_img, r_img, args.frames, setup, sources=[left, right])
+    if getattr(args, "ground_truth", None) is not None:
+        from golden.image_file import image_size
+        from sim.analysis.depth_panel import read_truth
+        truth = read_truth(args.ground_truth, image_size(left), setup.geometry, view=args.truth_view)
+        sequence.truth = [truth] * len(sequence)
+    return sequence
 
 
 def card_offsets(args, setup):

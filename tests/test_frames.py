@@ -518,3 +518,13 @@ def test_the_knock_schedule_and_its_errors(tmp_path, capsys):
         assert main(["run", "--small", *extra, "--out", str(tmp_path)]) == 2
         err = capsys.readouterr().err
         assert message in err and len(err.strip().splitlines()) == 1, err
+
+
+def test_ground_truth_with_frames_is_for_an_image_pair(tmp_path, capsys):
+    """``--ground-truth`` with ``--frames`` gives the repeated pair of two image files its truth; the test bed's card
+    has its own, folders and videos none: one line, exit code 2."""
+    from stereodepth.cli import main
+    assert main(["run", "--small", "--scene", "card", "--frames", "2", "--ground-truth", str(tmp_path / "t.pfm"),
+                 "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "--ground-truth with --frames is for two image files" in err and len(err.strip().splitlines()) == 1

@@ -205,3 +205,71 @@ def test_ports_inc_leaves_ports_wider_than_64_bits_alone():
     assert wide_ports(text) == {"depth__row"}
     with pytest.raises(RuntimeError, match="no ports"):
         ports_inc("class Vsystem {};")
+
+
+def test_a_still_pair_shows_a_whole_depth_map(base):
+    """The cameras send the pair every frame, so a display frame's depth map can be computed while a capture
+    overwrites the buffers: here the first one's is (rows withheld at the tear, the golden frame of that tear). The
+    command line's policy runs display frames until one's depth map comes from complete camera frames and shows it:
+    equal to the untorn golden frame, no row withheld; the verdict names it. (Bite: choosing the first frame fails
+    the first assertion on the chosen frame.)"""
+    setup = _setup()
+    pair = _pair(setup)
+    first = base.frames[0]
+    assert first.verdict["withheld_rows"] > 0 and first.verdict["tear"] is not None
+    result = simulate(setup, pair, Verilator(), policy="whole")
+    shown = result.chosen
+    assert shown.verdict["withheld_rows"] == 0 and shown.verdict["tear"] is None, result.verdict
+    np.testing.assert_array_equal(shown.frame, setup.golden_frame(*pair.pairs[0]))
+    k = result.verdict["chosen"]
+    assert k == shown.index > 0 and all(w > 0 for w in result.verdict["withheld_rows"][:k]) and result.ok
+    assert len(result.frames) == k + 1 and result.frame is shown.frame
+
+
+def test_automatic_rectification_reports_the_offset_it_found():
+    """A still pair with the rig's left image 12 sensor rows (3 buffer rows) low, in automatic rectification: the
+    run shows a display frame with the offset locked and no row withheld, and reports the offset found (+3, the
+    golden estimator's) and the first display frame that used it."""
+    from sim.analysis.auto_rectification import expected_states
+    from sim.testbed.sequence import moving_card, repeated_pair
+    setup = SystemSetup.small(disparity=DISPARITY, rectification="auto")
+    card = moving_card(setup, 1, vertical_offsets=[12])
+    states = expected_states(setup, repeated_pair(*card.pairs[0], 4, setup))
+    assert states[0].offset == 0 and states[-1].offset == 3          # locks after a few camera frames
+    result = simulate(setup, still_pair(*card.pairs[0], setup), Verilator(), policy="whole")
+    verdict, shown = result.verdict, result.chosen
+    assert verdict["auto_offset"] == 3 and shown.settings["auto_rectification"]["locked"] and result.ok
+    assert shown.verdict["withheld_rows"] == 0
+    assert verdict["auto_offset_first_frame"] == min(f.index for f in result.frames if f.settings["rectification"] == 3)
+    np.testing.assert_array_equal(shown.frame, setup.golden_frame(*card.pairs[0], in_use=3))
+
+
+def test_run_command_shows_and_names_the_whole_frame(tmp_path, capsys):
+    """``stereodepth run LEFT RIGHT --small``: hdmi_frame.png is the first display frame without withheld depth rows,
+    the summary and result.json name it; with ``--frames 2`` the same pair accepts a ``--ground-truth`` (every
+    frame's table row then has bad > 2)."""
+    import json
+    from PIL import Image
+    from stereodepth.cli import main
+    from sim.testbench.system.run_cocotb import DEFAULT_PAIR
+    out = tmp_path / "one"
+    assert main(["run", *map(str, DEFAULT_PAIR), "--small", "--disparity", str(DISPARITY), "--rectification",
+                 str(RECTIFICATION), "--out", str(out)]) == 0
+    verdict = json.loads((out / "result.json").read_text())["verdict"]
+    k = verdict["chosen"]
+    assert k > 0 and verdict["withheld_rows"][k] == 0 and verdict["policy"] == "whole"
+    assert f"display frame {k} shown: the first whose depth map comes from complete camera frames" \
+        in capsys.readouterr().out
+    setup = _setup()
+    np.testing.assert_array_equal(np.asarray(Image.open(out / "hdmi_frame.png").convert("RGB")),
+                                  setup.golden_frame(*_pair(setup).pairs[0]))
+    size = Image.open(DEFAULT_PAIR[1]).size
+    with open(tmp_path / "truth.pfm", "wb") as f:
+        f.write(b"Pf\n%d %d\n-1.0\n" % size)
+        np.full((size[1], size[0]), 100.0, "<f4").tofile(f)
+    frames = tmp_path / "frames"
+    main(["run", *map(str, DEFAULT_PAIR), "--small", "--frames", "2", "--ground-truth", str(tmp_path / "truth.pfm"),
+          "--out", str(frames)])
+    rows = json.loads((frames / "result.json").read_text())["frames"]
+    assert rows and all(r["bad2"] is not None for r in rows if r["depth_frame"] is not None and r["depth_frame"] >= 0)
+    assert any(r["bad2"] is not None for r in rows)

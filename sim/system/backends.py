@@ -135,7 +135,9 @@ class Amaranth(Backend):
 class Cocotb(Backend):
     """cocotb on ``simulator`` (``"verilator"`` or ``"icarus"``), working in ``out_dir``: a still pair along
     ``route`` (a :class:`~sim.testbench.system.cocotb_routes.CocotbRoute`; default the in-simulator route), a
-    sequence with the Python models (small size, no faults); ``waves`` as ``sim.runners.cocotb.run_cocotb``'s."""
+    sequence with the Python models (small size, no faults); ``waves`` as ``sim.runners.cocotb.run_cocotb``'s. The
+    frames come back when the simulation has ended, so a still pair's run cannot stop at the frame its caller
+    accepts: it records ``max_frames`` display frames."""
 
     def __init__(self, simulator, route=None, *, out_dir, waves=None):
         self.name, self.route, self.out_dir, self.waves = simulator, route, out_dir, waves

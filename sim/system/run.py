@@ -20,39 +20,21 @@ from dataclasses import dataclass, field
 
 from sim import SimulationFailed
 from sim.system.verdict import Judge
+from sim.testbed.sequence import FrameSequence
 
 __all__ = ["simulate", "still_pair", "StillPair", "SystemResult"]
 
 
-class StillPair:
-    """A still pair as a sequence: ``pairs`` holds the one pair (fitted to the sensor), which the sensors send for
-    ever (``still``); ``sources``: the input files."""
+class StillPair(FrameSequence):
+    """A still pair as a sequence: ``pairs`` holds the one pair, which the sensors send for ever (``still``)."""
 
     still = True
-    faults = {}
-
-    def __init__(self, left, right, setup, sources=()):
-        self.pairs = [(setup.fit(left), setup.fit(right))]
-        self.sources = list(sources)
-        self.names = ["still pair"]
-
-    def __len__(self):
-        return 1
-
-    def images(self, camera):
-        return [self.pairs[0]["ab".index(camera)]]
-
-    def camera_faults(self, camera):
-        return [None]
-
-    def frames_sent(self, camera):
-        return 1
 
 
 def still_pair(left, right, setup, sources=()):
     """The sequence of a one-frame run: ``left``/``right`` (RGB arrays, any size: fitted to the sensor), sent for
-    ever (:class:`StillPair`)."""
-    return StillPair(left, right, setup, sources)
+    ever (:class:`StillPair`); ``sources``: the input files."""
+    return StillPair([(setup.fit(left), setup.fit(right))], names=["still pair"], sources=list(sources))
 
 
 @dataclass
