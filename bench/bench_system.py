@@ -6,7 +6,7 @@ A whole run is the frame of ``make demo``: the bundled pair at the switch settin
 camera, one 1080p display frame, the rebuilt frame compared bit for bit with the golden frame (the slow test of
 ``tests/test_system.py`` runs the same at other settings).
 
-* Verilator, the project's route (``sim/testbench/system/run_verilator.py``: the testbench in C++, the Python models
+* Verilator, the project's backend (``sim/testbench/system/run_verilator.py``: the testbench in C++, the Python models
   answering the I2C buses): the simulation, measured beside the **raw model** of the same design
   (``bench/raw_main.cpp``: the same C++ testbench driven from the run's stimulus log, no Python, built the
   way Verilator builds an executable), which must record the same pins word for word; their ratio is the cost of
@@ -64,7 +64,7 @@ def bench_verilator(repeat=REPEAT):
     docstring); the build first, timed apart when there was none."""
     import numpy as np
     from golden.stereo_pair import load_default_pair
-    from sim.testbench.system.run_verilator import run_verilator
+    from sim.system import Verilator, simulate, still_pair
     from bench.raw_model import build_raw, run_raw
     setup = _setup()
     fresh = []
@@ -73,16 +73,16 @@ def bench_verilator(repeat=REPEAT):
     left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
     project, raw, same = [], [], True
     for _ in range(repeat):
-        result = run_verilator(left, right, setup, keep_stimulus=True)
-        run = result.figures["run"]
+        result = simulate(setup, still_pair(left, right, setup), Verilator(keep_stimulus=True))
+        run = result.driver
         figures, recording = run_raw(run)
         same = same and figures["evals"] == result.status["evals"] and np.array_equal(
             recording, run.recording[:run.h.recorded])
         project.append(result)
         raw.append(figures)
     best = min(project, key=lambda r: r.status["wall_s"])
-    s, t_cam = best.status, min(best.figures["run"].started.values()) * 1e-12
-    return {"ok": best.mismatched_pixels == 0 and not s["violations"], "sim_s": s["t_end_s"],
+    s, t_cam = best.status, min(best.driver.started.values()) * 1e-12
+    return {"ok": best.ok, "sim_s": s["t_end_s"],
             "run_wall_s": s["wall_s"], "cpu_s": min(r.status["cpu_s"] for r in project),
             "walls": [r.status["wall_s"] for r in project], "evals": s["evals"], "i2c_wakes": s["i2c_wakes"],
             "raw_wall_s": min(f["wall_s"] for f in raw), "raw_cpu_s": min(f["cpu_s"] for f in raw),
@@ -130,32 +130,35 @@ def _print_verilator(v, step_s):
 
 def bench_cocotb(simulator, tmp):
     """The whole run on ``simulator`` along the in-simulator route (see the module docstring)."""
+    from golden.stereo_pair import load_default_pair
+    from sim.system import Cocotb, simulate, still_pair
     from sim.testbench.system.cocotb_routes import InSimulator
-    from sim.testbench.system.run_cocotb import run_cocotb_system
+    setup = _setup()
+    pair = still_pair(*load_default_pair(setup.geometry.width, setup.geometry.height), setup)
     wall = time.perf_counter()
-    result = run_cocotb_system(_setup(), simulator, route=InSimulator(), out_dir=Path(tmp) / simulator)
+    result = simulate(setup, pair, Cocotb(simulator, InSimulator(), out_dir=Path(tmp) / simulator))
     total = time.perf_counter() - wall
     s = result.status
-    return {"ok": result.mismatched_pixels == 0 and not s["violations"], "sim_s": s["t_end_s"],
+    return {"ok": result.ok, "sim_s": s["t_end_s"],
             "run_wall_s": s["wall_s"], "build_and_export_s": total - s["wall_s"],
             "cycles": _cycles(s["t_end_s"], s["t_init_s"], s["t_init_s"]), "phases": s["phase_wall_s"]}
 
 
 def bench_amaranth_whole():
-    """The whole run in Amaranth's simulator (``sim.testbench.system.run_amaranth.run_amaranth`` along its replay route:
+    """The whole run in Amaranth's simulator (``sim.system.Amaranth`` along its replay route:
     sensor streams replayed from ROMs in the simulated design, gated clocks; the sink samples every pixel clock in
     Python). The phase marks count from the start of the simulation (after the ROMs are built)."""
     from golden.stereo_pair import load_default_pair
-    from sim.testbench.system.run_amaranth import ROUTES, run_amaranth
+    from sim.system import Amaranth, simulate, still_pair
     setup = _setup()
-    left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
+    pair = still_pair(*load_default_pair(setup.geometry.width, setup.geometry.height), setup)
     marks = {}
     start = time.perf_counter()
-    result = run_amaranth(left, right, setup, route=ROUTES["replay"],
-                          progress=lambda stage, fraction: marks.setdefault(stage, time.perf_counter() - start))
+    result = simulate(setup, pair, Amaranth("replay"),
+                      progress=lambda stage, fraction: marks.setdefault(stage, time.perf_counter() - start))
     f = result.figures
     t_end = result.status["t_end_s"]
-    return {"ok": result.mismatched_pixels == 0 and not result.sink.violations, "sim_s": t_end,
+    return {"ok": result.ok, "sim_s": t_end,
             "run_wall_s": f["wall_s"], "cycles": _cycles(t_end, f["t_init_s"], f["t_init_s"]),
             "build_and_export_s": f["setup_s"],
             "phases": {"init": marks.get("capture", 0.0) - marks.get("i2c", 0.0),

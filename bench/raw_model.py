@@ -1,7 +1,8 @@
 """The raw reference model, for the system benchmark: the same Verilated system and C++ testbench run from
 ``bench/raw_main.cpp`` alone, to measure what the project's Python adds to the Verilator route.
 
-:func:`run_raw` hands a finished :class:`sim.testbench.system.run_verilator.VerilatorRun` (made with ``keep_stimulus=True``)
+:func:`run_raw` hands a finished :class:`sim.testbench.system.run_verilator.VerilatorRun` (a run's ``driver``, made
+with ``sim.system.Verilator(keep_stimulus=True)``)
 to the raw model: the same port bindings, each camera's stream as a file, and the run's stimulus log -- every input
 the phases and the Python models set, with the number of evaluations before it -- so the raw model evaluates the
 design at exactly the same points with exactly the same inputs, without Python. It returns the raw model's

@@ -20,6 +20,8 @@ package            what                                                   may im
                    built, with the Virtex-5 primitive models              ``sim.testbench``
 ``sim.analysis``   ground truth, bad-pixel figures, reading pictures      ``spec``, ``golden``, ``sim.models``,
                    back                                                   ``sim.testbed``
+``sim.system``     the whole-system run: ``simulate``, the backends, the  all of the above
+                   verdict
 =================  =====================================================  ====================================
 
 Every package may also import the exceptions below. ``tests/test_layering.py`` holds the exact rule.

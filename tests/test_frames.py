@@ -1,6 +1,7 @@
-"""Multi-frame whole-system runs (issue 28) at the small size: a moving card, frame after frame, on Verilator (the
-C++ testbench) and Amaranth's simulator; the per-row frame sources, the settled frame against the golden model of
-the last pair, the frame-start skew the design measures against the simulation's; the command line's input errors.
+"""Multi-frame whole-system runs (issue 28) at the small size: a moving card, frame after frame, through
+``sim.system.simulate`` on every backend (Verilator's C++ testbench, Amaranth's simulator, cocotb); the per-row frame
+sources the run's verdict gives, the settled frame against the golden model of the last pair, the frame-start skew
+the design measures against the simulation's; the command line's input errors.
 """
 
 import numpy as np
@@ -8,18 +9,31 @@ import pytest
 
 from sim.analysis.frame_sources import (EMPTY, frame_sources, source_summary, tear_candidates, torn_depth_rows,
                                         torn_summary)
+from sim.system import Amaranth, Cocotb, Verilator, simulate
 from sim.testbed.sequence import card_distances, moving_card
 from sim.testbench.system.setup import SystemSetup
 
 FRAMES = 3
 
 
-def _run_verilator(setup, frames=FRAMES):
-    from sim.testbench.system.frames_verilator import run_verilator_frames
-    sequence = moving_card(setup, frames)
+def _simulate(setup, sequence, backend=None):
+    """``simulate`` on ``backend`` (default Verilator); checks that ``on_frame`` saw every display frame, judged,
+    in order. Returns the result."""
     shown = []
-    status, _ = run_verilator_frames(sequence, setup, on_frame=shown.append)
-    return sequence, shown, status
+    result = simulate(setup, sequence, backend or Verilator(), on_frame=shown.append)
+    assert shown == result.frames and all(s.verdict is not None for s in shown)
+    return result
+
+
+def _run_verilator(setup, frames=FRAMES):
+    sequence = moving_card(setup, frames)
+    result = _simulate(setup, sequence)
+    return sequence, result.frames, result.status
+
+
+def _frames_of(key):
+    """The camera frames a ``*_rows_by_frame`` key names: ``"k"``, ``"j..k"`` or ``"k|k'"``."""
+    return [int(k) for k in key.replace("..", "|").split("|")]
 
 
 def _goldens(setup, sequence):
@@ -44,11 +58,12 @@ def test_moving_card_frames_on_verilator(card_run):
     assert status["violations"] == []
     assert [s.index for s in shown] == list(range(len(shown)))
     assert len(shown) == status["settled_frame"] + 1 >= FRAMES
-    summaries = _summaries(setup, sequence, shown)
+    summaries = [s.verdict for s in shown]
     # the settled frame (no capture writes any more) is the golden frame of the last pair, bit for bit
     assert summaries[-1]["equals_pair"] == FRAMES - 1
+    assert np.array_equal(shown[-1].golden, setup.golden_frame(*sequence.pairs[-1]))
     # every pair reached the screen: each camera frame is the source of some depth rows of some display frame
-    sources = {k for s in summaries for key in s["depth_rows_by_frame"] for k in map(int, key.split(".."))}
+    sources = {k for s in summaries for key in s["depth_rows_by_frame"] for k in _frames_of(key)}
     assert set(range(FRAMES)) <= sources
     for s in summaries:     # an image row is at most torn where the capture writes it while it is shown
         assert s["left_rows_mixed"] <= 1 and s["right_rows_mixed"] <= 1
@@ -210,15 +225,13 @@ def test_faults_mid_stream_recover_within_a_frame():
     display frame still has whole image rows from the camera frames (at most the one row being written torn)."""
     from sim.models.mt9d112.sensor import Faults
     from sim.testbed.sequence import DROP
-    from sim.testbench.system.frames_verilator import run_verilator_frames
     setup = SystemSetup.small()
     g = setup.geometry
     sequence = moving_card(setup, 5)
     sequence.faults = {"a": [None, Faults(fv_drop=(g.height // 2, 5)), None, None, None],
                        "b": [None, None, DROP, None, None]}
-    shown = []
-    status, _ = run_verilator_frames(sequence, setup, on_frame=shown.append,
-                                     switch_changes={2: [0x80 | 3, 0]})
+    result = _simulate(setup, sequence, Verilator(switch_changes={2: [0x80 | 3, 0]}))
+    status, shown = result.status, result.frames
     assert status["violations"] == []
     events = status["capture_events_s"]
     assert len(events["a"]["frame_done"]) == 5 and len(events["b"]["frame_done"]) == 4
@@ -236,12 +249,11 @@ def test_a_sensor_restarted_mid_run_is_seen_and_written_whole():
     the simulation shows, frame starts 0 and 1 aligned, 2 and 3 not, LD7 on; the settled display frame is the
     golden frame of the last pair bit for bit."""
     from sim.models.mt9d112.sensor import Faults
-    from sim.testbench.system.frames_verilator import run_verilator_frames
     setup = SystemSetup.small()
     sequence = moving_card(setup, 4)
     sequence.faults = {"b": [None, Faults(fv_drop=(setup.geometry.height - 1, 0), silence_lines=10), None, None]}
-    shown = []
-    status, _ = run_verilator_frames(sequence, setup, on_frame=shown.append)
+    result = _simulate(setup, sequence)
+    status, shown = result.status, result.frames
     assert status["violations"] == []
     events, hardware = status["capture_events_s"], status["hardware_skew"]
     assert len(events["a"]["frame_done"]) == 4 and len(events["b"]["frame_done"]) == 4
@@ -258,13 +270,12 @@ def test_a_sensor_restarted_mid_run_is_seen_and_written_whole():
 @pytest.mark.slow
 def test_moving_card_frames_on_amaranth():
     """About a minute: the Python sensor drivers run per PCLK for two camera frames and five display frames."""
-    from sim.testbench.system.frames_amaranth import run_amaranth_frames
     setup = SystemSetup.small()
     sequence = moving_card(setup, 2)
-    shown = []
-    status = run_amaranth_frames(sequence, setup, on_frame=shown.append)
-    assert status["violations"] == [] and len(shown) == status["settled_frame"] + 1
-    summaries = _summaries(setup, sequence, shown)
+    result = _simulate(setup, sequence, Amaranth())
+    status, shown = result.status, result.frames
+    assert status["violations"] == [] and len(shown) == status["settled_frame"] + 1 and result.ok
+    summaries = [s.verdict for s in shown]
     assert summaries[-1]["equals_pair"] == 1
     assert len(status["hardware_skew"]) == 2 and all(m["aligned"] for m in status["hardware_skew"])
 
@@ -273,12 +284,12 @@ def test_moving_card_frames_on_amaranth():
 def test_moving_card_frames_on_cocotb(simulator, tmp_path):
     """The same scenario in cocotb (Python sensor drivers and sink inside the simulator), on Verilator and Icarus
     (40 s on Icarus; Verilator's build about 90 s more)."""
-    from sim.testbench.system.frames_cocotb import run_cocotb_frames
     setup = SystemSetup.small()
     sequence = moving_card(setup, 2)
-    status, shown = run_cocotb_frames(sequence, setup, simulator, tmp_path)
-    assert status["violations"] == [] and len(shown) == status["settled_frame"] + 1
-    summaries = _summaries(setup, sequence, shown)
+    result = _simulate(setup, sequence, Cocotb(simulator, out_dir=tmp_path))
+    status, shown = result.status, result.frames
+    assert status["violations"] == [] and len(shown) == status["settled_frame"] + 1 and result.ok
+    summaries = [s.verdict for s in shown]
     assert summaries[-1]["equals_pair"] == 1
     assert all(s["left_rows_mixed"] <= 1 and s["right_rows_mixed"] <= 1 for s in summaries)
     assert len(status["hardware_skew"]) == 2 and all(m["aligned"] for m in status["hardware_skew"])
@@ -454,7 +465,7 @@ def test_moving_card_full_size_on_verilator():
     setup = SystemSetup.full(disparity=20)
     sequence, shown, status = _run_verilator(setup, frames=3)
     assert status["violations"] == [] and len(shown) == status["settled_frame"] + 1 >= 9
-    summaries = _summaries(setup, sequence, shown)
+    summaries = [s.verdict for s in shown]
     assert summaries[-1]["equals_pair"] == 2
     assert all(m["aligned"] and m["skew_sync_clocks"] == 0 for m in status["hardware_skew"])
     centre = depth_summary(shown[-1].frame, setup.display_layout, setup.geometry, setup.depth)
@@ -473,16 +484,17 @@ def test_auto_rectification_relocks_after_a_knock_on_verilator():
     offset in use before or after the knock (never another), the new one within stable_frames + 1 camera frames,
     and the settled display frame is the golden frame of the last pair with +3 in use, bit for bit."""
     from sim.analysis.auto_rectification import AutoGoldens, State
-    from sim.testbench.system.frames_verilator import run_verilator_frames
     setup = SystemSetup.small(rectification="auto")
     sequence = _knocked_card(setup)
     auto = AutoGoldens(setup, sequence)
     knock, stable = 2, setup.auto_rectification.stable_frames
     assert [s.offset for s in auto.states] == [0, 0, 0, 3]           # the golden expectation, from the spec
-    shown = []
-    status, _ = run_verilator_frames(sequence, setup, on_frame=shown.append)
+    result = _simulate(setup, sequence)
+    status, shown = result.status, result.frames
     assert status["violations"] == [] and len(shown) == status["settled_frame"] + 1
-    rows = [auto.row(s.frame, setup.display_layout, setup.geometry, min(s.captured.values())) for s in shown]
+    rows = [s.verdict for s in shown]
+    assert rows == [auto.row(s.frame, setup.display_layout, setup.geometry, min(s.captured.values())) for s in shown]
+    assert result.verdict["auto_rectification_run"]["settled_shows_expected"] and result.ok
     assert np.array_equal(shown[-1].frame, setup.golden_frame(*sequence.pairs[-1], in_use=3, held=False))
     assert rows[-1]["equals_pair"] == 3 and rows[-1]["rectification_shown"] == "+3 auto"
     assert {r["rectification_shown"] for r in rows} <= {None, "+0 auto", "+3 auto"}
@@ -506,3 +518,13 @@ def test_the_knock_schedule_and_its_errors(tmp_path, capsys):
         assert main(["run", "--small", *extra, "--out", str(tmp_path)]) == 2
         err = capsys.readouterr().err
         assert message in err and len(err.strip().splitlines()) == 1, err
+
+
+def test_ground_truth_with_frames_is_for_an_image_pair(tmp_path, capsys):
+    """``--ground-truth`` with ``--frames`` gives the repeated pair of two image files its truth; the test bed's card
+    has its own, folders and videos none: one line, exit code 2."""
+    from stereodepth.cli import main
+    assert main(["run", "--small", "--scene", "card", "--frames", "2", "--ground-truth", str(tmp_path / "t.pfm"),
+                 "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "--ground-truth with --frames is for two image files" in err and len(err.strip().splitlines()) == 1

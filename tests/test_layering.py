@@ -36,6 +36,9 @@ MAY_IMPORT = {
     "sim.analysis": ("spec", "golden", "sim.__init__", "sim.models", "sim.testbed"),
     "sim.testbed": ("spec", "hdl", "golden", "sim.__init__", "sim.runners", "sim.testbench"),
     "sim.board": ("spec", "hdl", "board", "sim.__init__", "sim.testbench"),
+    # the whole-system run: the drivers, and the analysis and sequences its verdict needs
+    "sim.system": ("spec", "hdl", "golden", "board", "sim.__init__", "sim.models", "sim.replay", "sim.runners",
+                   "sim.waves", "sim.testbench", "sim.testbed", "sim.analysis"),
     "bench": ("spec", "hdl", "golden", "board", "sim"),
     "stereodepth": ("spec", "hdl", "golden", "board", "sim"),
     # the board commands build the board's design (hdl.config): no simulation

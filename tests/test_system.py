@@ -3,9 +3,10 @@ frame buffers -> compositor and depth engine -> CH7301C pins -> HDMI sink model,
 golden model's frame (golden.disparity.composite_frame of golden.capture.capture_frame of each image: the four
 panels, the depth map with its colour bar, labels, crosshair and centre distance).
 
-Default run: the small preset (64 x 48 sensor, 112 x 52 display, D = 8; sim/testbench/system/setup.py) on Amaranth's
-simulator and through cocotb on Verilator and Icarus, along every route (tests/test_verilator_route.py runs the
-Verilator route with the C++ testbench). Slow: the full 1600 x 1200 -> 1080p run (tests marked ``slow``).
+Every run goes through ``sim.system.simulate`` with a still pair. Default run: the small preset (64 x 48 sensor,
+112 x 52 display, D = 8; sim/testbench/system/setup.py) on Amaranth's simulator and through cocotb on Verilator and
+Icarus, along every route (tests/test_verilator_route.py runs the Verilator backend with the C++ testbench). Slow:
+the full 1600 x 1200 -> 1080p run (tests marked ``slow``), parametrized over the backends.
 """
 
 import numpy as np
@@ -15,9 +16,9 @@ from golden.stereo_pair import load_default_pair
 from hdl.init_tables import MT9D112_TABLE, Poll, Wait, Write
 from spec.display import NO_DATA_RGB
 from spec.sensor import SMALL_SENSOR
+from sim.system import Amaranth, Cocotb, Verilator, simulate, still_pair
 from sim.testbench.system.cocotb_routes import InSimulator, PythonModels
-from sim.testbench.system.run_amaranth import ROUTES as AMARANTH_ROUTES, run_amaranth
-from sim.testbench.system.run_cocotb import DEFAULT_PAIR, run_cocotb_system
+from sim.testbench.system.run_cocotb import DEFAULT_PAIR
 from sim.testbench.system.result import SystemTimeout, tear_tags
 from sim.testbench.system.setup import SystemSetup
 from sim.testbench.system.tables import QUICK_VARIABLES, SIZE_VARIABLES, mt9d112_table
@@ -76,6 +77,11 @@ def _check_golden_is_interesting(golden, setup):
                               details=True)[2].strip()[0].isdigit()
 
 
+def _run(setup, backend):
+    left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
+    return simulate(setup, still_pair(left, right, setup), backend)
+
+
 def _check_status(status):
     for bus in ("cam_a", "cam_b", "dvi"):
         assert status[f"{bus}_init_done"] and not status[f"{bus}_init_error"], status
@@ -90,10 +96,9 @@ def test_end_to_end_amaranth():
     """The small system end to end in Amaranth's simulator: the frame equals the golden frame, the parts end
     configured, the buses clean. No waveforms (they cost twice the run): the demo's waveforms of the same run and
     their GTKWave save file are checked by tests/test_cli_outputs.py's complete run (``stereodepth run --small
-    --simulator amaranth --vcd``: the same ``run_amaranth`` with ``system_waves``)."""
+    --simulator amaranth --vcd``: the same backend with ``system_waves``)."""
     setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION)
-    left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
-    result = run_amaranth(left, right, setup)
+    result = _run(setup, Amaranth())
     _check_status(result.status)
     _check_golden_is_interesting(result.golden, setup)
     assert not result.sink.violations, result.sink.violations[:5]
@@ -121,7 +126,7 @@ def test_end_to_end_amaranth_segmentation():
     setup = SystemSetup.small(disparity=DISPARITY, rectification="auto", segment=True)
     assert setup.switch_words() == [0x80 | DISPARITY, 0b1000001]
     left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
-    result = run_amaranth(left, right, setup)
+    result = _run(setup, Amaranth())
     assert result.status["auto_rectification"]["auto"] == 1
     assert result.mismatched_pixels == 0 and not result.sink.violations
     np.testing.assert_array_equal(result.frame, result.golden)
@@ -141,7 +146,7 @@ def test_end_to_end_amaranth_replayed_sensors():
     model, and every sample of the replayed frame period was sent."""
     setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION)
     left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
-    result = run_amaranth(left, right, setup, route=AMARANTH_ROUTES["replay"])
+    result = _run(setup, Amaranth("replay"))
     _check_status(result.status)
     assert not result.sink.violations, result.sink.violations[:5]
     assert result.mismatched_pixels == 0
@@ -154,16 +159,15 @@ def test_replayed_sensors_need_the_configuration_their_stream_was_made_for(monke
     """The replay ROM is made before the run for the spec's sensor configuration; if the RTL's I2C init leaves a
     register-file model configured otherwise (here: the ROM made for G byte first), the run stops with an error
     instead of replaying a stream the model would not send."""
-    import sim.testbench.system.run_amaranth
+    import sim.testbench.system.run_amaranth       # where the replay route makes its ROMs
     from sim.models.mt9d112.config import SensorConfig
     setup = SystemSetup.small()
     g = setup.geometry
     monkeypatch.setattr(sim.testbench.system.run_amaranth, "expected_sensor_config",
                         lambda geometry: SensorConfig(width=g.width, height=g.height, rgb565=True,
                                                       r_byte_first=False))
-    left, right = load_default_pair(g.width, g.height)
     with pytest.raises(SystemTimeout, match="camera a: the I2C init configured .*r_byte_first=True"):
-        run_amaranth(left, right, setup, route=AMARANTH_ROUTES["replay"])
+        _run(setup, Amaranth("replay"))
 
 
 def test_end_to_end_cocotb_python_models(tmp_path):
@@ -172,7 +176,7 @@ def test_end_to_end_cocotb_python_models(tmp_path):
     (``pix_after_init=False``; the other routes start it after the init). Verilator runs the same scenario through
     the in-simulator route below. (One run: this was two, the second only for the start-up order.)"""
     setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION, pix_after_init=False)
-    result = run_cocotb_system(setup, "icarus", route=PythonModels(), out_dir=tmp_path)
+    result = _run(setup, Cocotb("icarus", PythonModels(), out_dir=tmp_path))
     status = result.status
     _check_status(status)
     _check_golden_is_interesting(result.golden, SystemSetup.small(disparity=DISPARITY,
@@ -191,7 +195,7 @@ def test_in_simulator_route_is_equivalent(simulator, tmp_path):
     pin recorder's per-clock samples equal those of the Python sink (``CocotbSink``) sampling the same pins; the
     frame rebuilt from them equals the golden frame bit for bit."""
     setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION)
-    result = run_cocotb_system(setup, simulator, route=InSimulator(cross_check=5000), out_dir=tmp_path)
+    result = _run(setup, Cocotb(simulator, InSimulator(cross_check=5000), out_dir=tmp_path))
     status = result.status
     _check_status(status)
     assert status["replay_checks"]["a"] == {"samples": 5000, "mismatches": 0}
@@ -218,38 +222,21 @@ def _check_full_size_frame(status, result):
 
 
 @pytest.mark.slow
-def test_end_to_end_full_size_verilator():
-    """1600 x 1200 sensors -> 400 x 300 buffers -> one 1080p frame, bit for bit, on Verilator with the testbench
-    in C++ (sim/testbench/system/run_verilator.py): the route of make demo."""
-    from sim.testbench.system.run_verilator import run_verilator
-    left, right = load_default_pair(FULL_SETUP.geometry.width, FULL_SETUP.geometry.height)
-    result = run_verilator(left, right, FULL_SETUP)
+@pytest.mark.parametrize("backend", [
+    pytest.param(lambda tmp: Verilator(), id="verilator"),          # the C++ testbench: the route of make demo
+    pytest.param(lambda tmp: Cocotb("icarus", InSimulator(), out_dir=tmp), id="icarus"),
+    # Hours long (README gives the figure): each camera's stream replayed from a ROM, gated clocks
+    # (sim/testbench/system/rom_testbench.py), the HDMI sink still samples every pixel clock in Python.
+    pytest.param(lambda tmp: Amaranth("replay"), id="amaranth", marks=pytest.mark.hours),
+])
+def test_end_to_end_full_size(backend, tmp_path):
+    """1600 x 1200 sensors -> 400 x 300 buffers -> one 1080p frame, bit for bit, on each backend."""
+    result = _run(FULL_SETUP, backend(tmp_path))
     _check_full_size_status(result.status)
     _check_full_size_frame(result.status, result)
-    assert all(c["mismatches"] == 0 and c["samples"] > 4_000_000 for c in result.status["replay_checks"].values())
-
-
-@pytest.mark.slow
-def test_end_to_end_full_size_icarus(tmp_path):
-    """The same on Icarus through cocotb (the in-simulator route)."""
-    result = run_cocotb_system(FULL_SETUP, "icarus", route=InSimulator(), out_dir=tmp_path)
-    _check_full_size_status(result.status)
-    _check_full_size_frame(result.status, result)
-
-
-@pytest.mark.slow
-@pytest.mark.hours
-def test_end_to_end_full_size_amaranth():
-    """The same full-size run in Amaranth's simulator, along its replay route (each camera's stream replayed from
-    a ROM, gated clocks: sim/testbench/system/rom_testbench.py; the HDMI sink still samples every pixel clock in Python). Hours
-    long (README gives the figure); the small preset runs both Amaranth routes."""
-    setup = FULL_SETUP
-    left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
-    result = run_amaranth(left, right, setup, route=AMARANTH_ROUTES["replay"])
-    _check_full_size_status(result.status)
-    assert not result.sink.violations, result.sink.violations[:5]
-    assert result.frame is not None and result.frame.shape == (1080, 1920, 3)
-    np.testing.assert_array_equal(result.frame, result.golden)
+    assert result.frame.shape == (1080, 1920, 3) and result.ok
+    for check in result.status.get("replay_checks", {}).values():
+        assert check["mismatches"] == 0 and check["samples"] > 4_000_000
 
 
 def test_run_command_rejects_bad_input(tmp_path, capsys):

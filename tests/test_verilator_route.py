@@ -1,5 +1,6 @@
-"""The Verilator route with its testbench in C++ (sim/testbench/system/run_verilator.py, sim/runners/verilator/) on the small preset:
-the frame, the models' checks, the raw reference model replaying the run exactly, and each check shown to bite."""
+"""The Verilator backend with its testbench in C++ (sim/testbench/system/run_verilator.py, sim/runners/verilator/) on
+the small preset, through ``sim.system.simulate``: the frame, the models' checks, the raw reference model replaying
+the run exactly, and each check shown to bite."""
 
 import numpy as np
 import pytest
@@ -9,7 +10,8 @@ from hdl.init_tables import CH7301C_TABLE
 from sim.models.ch7301c.hdmi_sink import HdmiSink
 from sim.models.i2c.table import expected_writes
 from sim.testbench.system.result import SystemTimeout
-from sim.testbench.system.run_verilator import VerilatorRun, camera_pins, run_verilator
+from sim.system import Verilator, simulate, still_pair
+from sim.testbench.system.run_verilator import VerilatorRun, camera_pins
 from sim.testbench.system.setup import SystemSetup
 from sim.runners.verilator.ctestbench import STIMULUS
 from bench.raw_model import run_raw
@@ -23,17 +25,17 @@ def _setup():
 
 
 def _pair(setup):
-    return load_default_pair(setup.geometry.width, setup.geometry.height)
+    return still_pair(*load_default_pair(setup.geometry.width, setup.geometry.height), setup)
 
 
 @pytest.fixture(scope="module")
 def base():
     setup = _setup()
-    return run_verilator(*_pair(setup), setup, keep_stimulus=True)
+    return simulate(setup, _pair(setup), Verilator(keep_stimulus=True))
 
 
 def test_small_run_is_bit_exact_and_every_check_holds(base):
-    status, run = base.status, base.figures["run"]
+    status, run = base.status, base.driver
     setup = run.setup
     for bus in ("cam_a", "cam_b", "dvi"):
         assert status[f"{bus}_init_done"] and not status[f"{bus}_init_error"]
@@ -58,7 +60,7 @@ def test_small_run_is_bit_exact_and_every_check_holds(base):
 def test_raw_model_replays_the_run_exactly(base):
     """The raw model (raw_main.cpp, no Python) given the run's stimulus log evaluates the design as often and
     records the same pins, word for word."""
-    run = base.figures["run"]
+    run = base.driver
     figures, recording = run_raw(run)
     assert figures["complete"] and figures["evals"] == base.status["evals"]
     np.testing.assert_array_equal(recording, run.recording[:run.h.recorded])
@@ -66,7 +68,7 @@ def test_raw_model_replays_the_run_exactly(base):
 
 def test_raw_model_sees_a_changed_stimulus(base):
     """Bites: the same log with the disparity switch word changed records different pins."""
-    run = base.figures["run"]
+    run = base.driver
     stimulus = run.h.stimulus().copy()
     sw = run.h.port(("panel", "sw"))
     word = np.flatnonzero((stimulus["kind"] == 0) & (stimulus["a"] == sw) & (stimulus["b"] == 0x80 | DISPARITY))
@@ -81,7 +83,7 @@ def test_replay_check_bites():
     """A camera that replays one wrong sample is caught by the replay check (the frame would hide a shifted
     stream: the capture starts at the frame's FV edge)."""
     setup = _setup()
-    run = VerilatorRun(setup, *_pair(setup))
+    run = VerilatorRun(setup, _pair(setup))
     bad = run.words["a"].copy()
     i = int(np.flatnonzero(bad >> 8 == 0b11)[100])          # a byte of an active line
     bad[i] ^= 0x10
@@ -103,23 +105,23 @@ def test_configuration_guard(monkeypatch):
                         lambda geometry: SensorConfig(width=g.width, height=g.height, rgb565=True,
                                                       r_byte_first=False))
     with pytest.raises(SystemTimeout, match="camera a: the I2C init configured .*r_byte_first=True"):
-        run_verilator(*_pair(setup), setup)
+        simulate(setup, _pair(setup), Verilator())
 
 
 def test_a_device_that_does_not_answer_fails_the_init():
     """The models answer live: a CH7301C that NACKs its address leaves the DVI bus in error and no frame."""
     setup = _setup()
-    run = VerilatorRun(setup, *_pair(setup))
+    run = VerilatorRun(setup, _pair(setup))
     run.models["dvi"][0].nack_address = True
     status = run.run()
     assert status["dvi_init_error"] and not status["dvi_init_done"] and status["cam_a_init_done"]
-    assert "t_end_s" not in status and run.check()[0] is None
+    assert "t_end_s" not in status and run.frames.shown == 0
 
 
 def test_sink_reports_wrong_xclk_levels(base):
     """Bites: one recorded word with XCLK_P high a quarter period after the falling edge is an xclk violation at
     that clock; the frame is still rebuilt."""
-    run = base.figures["run"]
+    run = base.driver
     words = run.recording[:run.h.recorded].copy()
     words[1234] |= 1 << 30
     sink = feed_sink(words, HdmiSink(run.setup.timing))
@@ -161,7 +163,7 @@ def test_build_key_follows_the_design(tmp_path, monkeypatch):
 def test_testbench_refuses_values_that_do_not_fit(base):
     """A value wider than the port (Verilator expects the bits above a port's width clear) or a write to an output is
     refused before it reaches the model."""
-    h = base.figures["run"].h
+    h = base.driver.h
     with pytest.raises(ValueError, match="does not fit .*8 bits"):
         h[("panel", "sw")] = 0x100
     with pytest.raises(ValueError, match="does not fit .*1 bits"):
@@ -178,7 +180,7 @@ def test_the_testbench_has_every_port_of_the_exported_top(base):
     from amaranth.lib import wiring
     from board.export import flat_name
     from sim.testbench.system.testbench import SystemTestbench
-    run = base.figures["run"]
+    run = base.driver
     design = SystemTestbench(clock_ports=True, **_setup().system_kwargs())
     want = {flat_name(path): (member.flow == wiring.In, Shape.cast(member.shape).width)
             for path, member, _ in design.signature.flatten(design)}
@@ -203,3 +205,71 @@ def test_ports_inc_leaves_ports_wider_than_64_bits_alone():
     assert wide_ports(text) == {"depth__row"}
     with pytest.raises(RuntimeError, match="no ports"):
         ports_inc("class Vsystem {};")
+
+
+def test_a_still_pair_shows_a_whole_depth_map(base):
+    """The cameras send the pair every frame, so a display frame's depth map can be computed while a capture
+    overwrites the buffers: here the first one's is (rows withheld at the tear, the golden frame of that tear). The
+    command line's policy runs display frames until one's depth map comes from complete camera frames and shows it:
+    equal to the untorn golden frame, no row withheld; the verdict names it. (Bite: choosing the first frame fails
+    the first assertion on the chosen frame.)"""
+    setup = _setup()
+    pair = _pair(setup)
+    first = base.frames[0]
+    assert first.verdict["withheld_rows"] > 0 and first.verdict["tear"] is not None
+    result = simulate(setup, pair, Verilator(), policy="whole")
+    shown = result.chosen
+    assert shown.verdict["withheld_rows"] == 0 and shown.verdict["tear"] is None, result.verdict
+    np.testing.assert_array_equal(shown.frame, setup.golden_frame(*pair.pairs[0]))
+    k = result.verdict["chosen"]
+    assert k == shown.index > 0 and all(w > 0 for w in result.verdict["withheld_rows"][:k]) and result.ok
+    assert len(result.frames) == k + 1 and result.frame is shown.frame
+
+
+def test_automatic_rectification_reports_the_offset_it_found():
+    """A still pair with the rig's left image 12 sensor rows (3 buffer rows) low, in automatic rectification: the
+    run shows a display frame with the offset locked and no row withheld, and reports the offset found (+3, the
+    golden estimator's) and the first display frame that used it."""
+    from sim.analysis.auto_rectification import expected_states
+    from sim.testbed.sequence import moving_card, repeated_pair
+    setup = SystemSetup.small(disparity=DISPARITY, rectification="auto")
+    card = moving_card(setup, 1, vertical_offsets=[12])
+    states = expected_states(setup, repeated_pair(*card.pairs[0], 4, setup))
+    assert states[0].offset == 0 and states[-1].offset == 3          # locks after a few camera frames
+    result = simulate(setup, still_pair(*card.pairs[0], setup), Verilator(), policy="whole")
+    verdict, shown = result.verdict, result.chosen
+    assert verdict["auto_offset"] == 3 and shown.settings["auto_rectification"]["locked"] and result.ok
+    assert shown.verdict["withheld_rows"] == 0
+    assert verdict["auto_offset_first_frame"] == min(f.index for f in result.frames if f.settings["rectification"] == 3)
+    np.testing.assert_array_equal(shown.frame, setup.golden_frame(*card.pairs[0], in_use=3))
+
+
+def test_run_command_shows_and_names_the_whole_frame(tmp_path, capsys):
+    """``stereodepth run LEFT RIGHT --small``: hdmi_frame.png is the first display frame without withheld depth rows,
+    the summary and result.json name it; with ``--frames 2`` the same pair accepts a ``--ground-truth`` (every
+    frame's table row then has bad > 2)."""
+    import json
+    from PIL import Image
+    from stereodepth.cli import main
+    from sim.testbench.system.run_cocotb import DEFAULT_PAIR
+    out = tmp_path / "one"
+    assert main(["run", *map(str, DEFAULT_PAIR), "--small", "--disparity", str(DISPARITY), "--rectification",
+                 str(RECTIFICATION), "--out", str(out)]) == 0
+    verdict = json.loads((out / "result.json").read_text())["verdict"]
+    k = verdict["chosen"]
+    assert k > 0 and verdict["withheld_rows"][k] == 0 and verdict["policy"] == "whole"
+    assert f"display frame {k} shown: the first whose depth map comes from complete camera frames" \
+        in capsys.readouterr().out
+    setup = _setup()
+    np.testing.assert_array_equal(np.asarray(Image.open(out / "hdmi_frame.png").convert("RGB")),
+                                  setup.golden_frame(*_pair(setup).pairs[0]))
+    size = Image.open(DEFAULT_PAIR[1]).size
+    with open(tmp_path / "truth.pfm", "wb") as f:
+        f.write(b"Pf\n%d %d\n-1.0\n" % size)
+        np.full((size[1], size[0]), 100.0, "<f4").tofile(f)
+    frames = tmp_path / "frames"
+    main(["run", *map(str, DEFAULT_PAIR), "--small", "--frames", "2", "--ground-truth", str(tmp_path / "truth.pfm"),
+          "--out", str(frames)])
+    rows = json.loads((frames / "result.json").read_text())["frames"]
+    assert rows and all(r["bad2"] is not None for r in rows if r["depth_frame"] is not None and r["depth_frame"] >= 0)
+    assert any(r["bad2"] is not None for r in rows)

@@ -14,7 +14,7 @@
 //   MEASURE_EDGES rising edges, checks it against CLKIN_PERIOD (more than 1 % apart is an error), waits the lock
 //   time and starts the outputs at a rising edge of CLKIN, raising LOCKED with them (with feedback: once CLKFB
 //   has followed twice). The lock sequence and the output generator are shared with PLL_ADV
-//   (board/simulation/xilinx/xil_clocking.v).
+//   (sim/board/xilinx/xil_clocking.v).
 // * Not modelled ($fatal if used): variable phase shift (PSEN), the dynamic reconfiguration port (DEN),
 //   CLKIN_DIVIDE_BY_2, jitter, STATUS bits (0), loss of lock on a changing input.
 // The lock time is a model parameter (SIM_LOCK_TIME_NS, default `XIL_DCM_LOCK_TIME_NS` or 10 us); DS202's

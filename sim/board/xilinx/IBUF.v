@@ -1,7 +1,7 @@
 // Behavioural simulation model of the Virtex-5 IBUF (single-ended input buffer), for the board-top simulation.
 // Its logic function (UG190 chapter 6, "SelectIO Resources"): O follows I. The attributes select the electrical
 // standard and input delay, which a logic simulation does not see. Zero delay. Time unit of every model in
-// board/simulation/xilinx: 1 ns (see board/simulation/xilinx/__init__.py).
+// sim/board/xilinx: 1 ns (see sim/board/xilinx/__init__.py).
 module IBUF #(
   parameter CAPACITANCE = "DONT_CARE",
   parameter IBUF_DELAY_VALUE = "0",

@@ -12,7 +12,7 @@
 //   CLKIN1 (CLKINSEL = 1) over MEASURE_EDGES rising edges, checks it against CLKIN1_PERIOD (more than 1 % apart
 //   is an error: UG190 asks for the real input period there), waits the lock time, and starts every output at a
 //   rising edge of the input (t0): CLKOUTn rises at t0 + CLKOUTn_PHASE / 360 x T_n + k x T_n and stays high
-//   CLKOUTn_DUTY_CYCLE x T_n (board/simulation/xilinx/xil_clocking.v: the lock sequence and the output generator shared with
+//   CLKOUTn_DUTY_CYCLE x T_n (sim/board/xilinx/xil_clocking.v: the lock sequence and the output generator shared with
 //   DCM_ADV). Edge times are computed from t0, so the outputs do not drift from the input over a long run.
 //   Outputs with phase 0 are aligned to the input's rising edges every time the two periods meet (UG190: the
 //   feedback path aligns CLKFBOUT, and with it the zero-phase outputs, to CLKIN).
@@ -24,7 +24,7 @@
 //
 // The lock time is a model parameter (SIM_LOCK_TIME_NS, default `XIL_PLL_LOCK_TIME_NS` or 10 us): DS202's
 // maximum lock time could not be read from a stored copy here, so the default is not the data sheet's figure.
-// Time unit: 1 ns, precision 1 ps (board/simulation/xilinx/__init__.py).
+// Time unit: 1 ns, precision 1 ps (sim/board/xilinx/__init__.py).
 `ifndef XIL_PLL_LOCK_TIME_NS
 `define XIL_PLL_LOCK_TIME_NS 10000.0
 `endif

@@ -1,4 +1,4 @@
-// Shared by the DCM_ADV and PLL_ADV models (board/simulation/xilinx): their lock sequence. Not a Xilinx primitive.
+// Shared by the DCM_ADV and PLL_ADV models (sim/board/xilinx): their lock sequence. Not a Xilinx primitive.
 //
 // RST = 1 (asynchronous): running and locked low. After RST falls: measure the reference's period over
 // MEASURE_EDGES rising edges, check it against EXPECTED_NS (more than 1 % apart stops the simulation: the

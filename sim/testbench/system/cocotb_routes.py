@@ -20,7 +20,7 @@ subclass registered in :data:`ROUTES`; the scenario does not change.
 import os
 from pathlib import Path
 
-from hdl.system import CAMERAS
+from hdl.system import CAMERAS, DISPLAY_LATENCY
 from sim.runners import build_dir
 from sim.models.ch7301c.hdmi_sink import CocotbSink, HdmiSink
 from sim.replay.pins import read_recording, replay_recording
@@ -73,9 +73,10 @@ class CocotbRoute:
     async def start_pix(self, ports, setup):
         raise NotImplementedError
 
-    async def camera(self, ports, c, sensor, image, phase_s):
-        """Drive camera ``c`` from ``sensor`` (configured) with ``image``, ``phase_s`` after now. Returns a dict for
-        the status (or None)."""
+    async def camera(self, ports, c, sensor, images, phase_s, *, still, setup):
+        """Drive camera ``c`` from ``sensor`` (configured), ``phase_s`` after now: a still pair's image (``images[0]``)
+        every frame period for ever, or (``still`` False) ``images`` one per frame period, then FV low. Returns a dict
+        for the status (or None)."""
         raise NotImplementedError
 
     def before_display(self, ports):
@@ -83,8 +84,15 @@ class CocotbRoute:
 
     async def display(self, ports, setup, clocks, status):
         """Sample ``clocks`` pixel clocks of the CH7301C pins from the next XCLK rising edge; returns the
-        :class:`~sim.models.ch7301c.hdmi_sink.HdmiSink` whose frame is checked. May add to ``status``."""
+        :class:`~sim.models.ch7301c.hdmi_sink.HdmiSink` that rebuilt the frames (all kept). May add to
+        ``status``."""
         raise NotImplementedError
+
+    async def display_frames(self, ports, setup, frames, keep, settings):
+        """A sequence's display frames: sample the pins from now, hand each frame the sink completes to
+        ``frames`` (:meth:`~sim.testbench.system.result.DisplayFrames.completed` with ``keep`` and ``settings()``)
+        until it has them all; returns the sink."""
+        raise NotImplementedError(f"the {self.name} route runs a still pair only")
 
 
 class PythonModels(CocotbRoute):
@@ -106,16 +114,43 @@ class PythonModels(CocotbRoute):
     async def start_pix(self, ports, setup):
         self._pix_clock.start(start_high=True)
 
-    async def camera(self, ports, c, sensor, image, phase_s):
+    async def camera(self, ports, c, sensor, images, phase_s, *, still, setup):
         from sim.models.mt9d112.sensor import drive_cocotb
-        await drive_cocotb(sensor.frames([image] * 1_000_000, tail=False, max_idle=10),
-                           clk=getattr(ports.clocks, f"cam_{c}"), pins=getattr(ports, f"cam_{c}"),
+
+        def chunks():
+            if still:
+                yield from sensor.frames([images[0]] * 1_000_000, tail=False, max_idle=10)
+                return
+            yield from sensor.frames(images, tail=False, max_idle=10)
+            tail_s = 4 * setup.timing.clocks_per_frame / setup.timing.pixel_hz
+            line = sensor.timing.line_time(setup.geometry.width)
+            yield sensor.blank(max(1, round(tail_s * setup.pclk_hz / line)))
+        await drive_cocotb(chunks(), clk=getattr(ports.clocks, f"cam_{c}"), pins=getattr(ports, f"cam_{c}"),
                            pclk_hz=sensor.pclk_hz, start_delay=phase_s)
 
     async def display(self, ports, setup, clocks, status):
         sink = HdmiSink(setup.timing)
         await CocotbSink(ports.ch7301c, sink, period_ps=period_ps(setup.timing.pixel_hz, 4)).run(clocks)
         return sink
+
+    async def display_frames(self, ports, setup, frames, keep, settings):
+        import cocotb
+        from cocotb.triggers import Timer
+        pending = []
+        sink = HdmiSink(setup.timing, keep_frames=1, on_frame=lambda index, frame: pending.append(frame.copy()))
+        pixel_ps = period_ps(setup.timing.pixel_hz, 4)
+        cocotb.start_soon(CocotbSink(ports.ch7301c, sink, period_ps=pixel_ps).run(10 ** 9))
+        frame_ps = round(setup.timing.clocks_per_frame / setup.timing.pixel_hz * 1e12)
+        for chunk in range(3 * max(frames.sent.values()) + 12):
+            now = settings()
+            # The first chunk holds a display frame and the pins' latency: the sink completes frame k in chunk k.
+            await Timer(frame_ps + (0 if chunk else (DISPLAY_LATENCY + 2) * pixel_ps), unit="ps")
+            for frame in pending:
+                frames.completed(keep, frame, now)
+            pending.clear()
+            if frames.finished(False, 0):
+                return sink
+        raise AssertionError(frames.overdue())
 
 
 class InSimulator(CocotbRoute):
@@ -152,10 +187,12 @@ class InSimulator(CocotbRoute):
     async def start_pix(self, ports, setup):
         ports.clock_en.pix.value = 1
 
-    async def camera(self, ports, c, sensor, image, phase_s):
-        """The model's frame period (blanking + frame) as the replay's ROM, repeated."""
+    async def camera(self, ports, c, sensor, images, phase_s, *, still, setup):
+        """The model's frame period (blanking + frame) of a still pair's image as the replay's ROM, repeated."""
         from cocotb.triggers import Timer
-        stream = sensor.frame(image)
+        if not still:
+            raise ValueError("the in-simulator route replays a still pair only")
+        stream = sensor.frame(images[0])
         hex_file = Path(os.getcwd()) / f"cam_{c}.hex"
         replay = getattr(ports.replay, f"cam_{c}")
         replay.length.value = write_hex(pack_stream(stream), hex_file)

@@ -1,54 +1,129 @@
-"""What a whole-system run gives back, and the check that ends every run (both simulators, every route).
+"""What a whole-system driver hands back, and the checks every driver ends with.
 
-:func:`check_run` is the last phase of a run: from the sink's rebuilt frame, the golden frame, the device models and
-the bus monitors it fills the run's status with the comparison and what the models saw; :class:`SystemResult`
-carries it all back to the caller.
+:class:`DisplayFrame` is one display frame as the HDMI sink rebuilt it from the simulated pins; :class:`DisplayFrames`
+is the bookkeeping every driver shares while it records them: the captures' frame starts and ends and the design's
+skew meter as the driver notes them, which camera frames each display frame started after, and when a run has
+seen enough (the settled frame of a sequence, or a still pair's frame its caller accepts). :func:`record_parts` is
+the part of the check phase about the parts: what the device models and the bus monitors saw.
 
-The cameras stream their image over and over while a run records its display frame, so that frame's depth map may
-have been computed across a tear: rows of two camera frames (the same image), told apart by the row tags, and the
-rows at the tear invalid (docs/depth.md, "Rows from different camera frames"). The frame is then compared with the
-golden frame of that tear (:func:`tear_golden`: the tear row c found by trying each near the depth panel's first
-row that differs, row c torn or not) and ``status["tear"]`` says which; it is None for a frame without a tear.
+The cameras of a still pair stream its images over and over, so a display frame's depth map may have been computed
+across a tear: rows of two camera frames (the same images), told apart by the row tags, and the rows at the tear
+invalid (docs/depth.md, "Rows from different camera frames"). :func:`tear_golden` finds the golden frame of that
+tear (the tear row c found by trying each near the depth panel's first row that differs, row c torn or not);
+:func:`check_run` is the whole check of a one-frame run of the board top (``sim/board/``).
 """
 
-from dataclasses import dataclass, field
+import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from hdl.system import I2C_BUSES
+from sim import SimulationFailed
 
-__all__ = ["SystemResult", "SystemTimeout", "check_run", "tear_golden", "tear_tags"]
+__all__ = ["DisplayFrame", "DisplayFrames", "SystemTimeout", "sent_frames", "record_parts", "check_run", "tear_golden",
+           "tear_tags"]
 
 
-class SystemTimeout(AssertionError):
+class SystemTimeout(SimulationFailed):
     """The simulation did not reach a stage in the allowed simulated time (or could not go on)."""
 
 
 @dataclass
-class SystemResult:
-    """A run's outcome: the rebuilt ``frame`` (None if none was rebuilt), the ``golden`` frame, the ``status``
-    (:func:`check_run`'s keys and the phases' marks: ``<bus>_init_done``, ``t_init_s``, ``cam_<c>_frame_ok``,
-    ``t_captured_s``, ``t_end_s``, ...), wall-time ``figures``; from Amaranth's simulator also the ``sink``, the
-    device ``models`` and the bus ``monitors``, from cocotb the ``test_dir`` (logs, waves)."""
+class DisplayFrame:
+    """One display frame: ``index`` (0 = the first recorded), ``frame`` (uint8 RGB, as the sink rebuilt it from the
+    pins), ``t_start_s`` (simulated time of its first recorded pixel clock), ``captured`` (frames each capture had
+    completed by then, ``{camera: count}``), ``settings`` (the switch settings and the automatic rectification's
+    state the design showed as it started: ``disparity``, ``rectification`` in use, ``auto_rectification``), and,
+    once the run has judged it (:mod:`sim.system.verdict`), its ``golden`` frame and ``verdict``."""
+    index: int
     frame: np.ndarray
-    golden: np.ndarray
-    status: dict
-    figures: dict = field(default_factory=dict)
-    sink: object = None
-    models: dict = None
-    monitors: dict = None
-    test_dir: object = None
+    t_start_s: float
+    captured: dict
+    settings: dict = None
+    golden: np.ndarray = None
+    verdict: dict = None
 
-    @property
-    def mismatched_pixels(self):
-        if self.frame is None:
-            return None
-        return int(np.any(self.frame != self.golden, axis=-1).sum())
+
+class DisplayFrames:
+    """A driver's display frames and the captures' events (see the module docstring); ``sent``: the frames each
+    camera sends (``{camera: count}``) of a sequence, None for a still pair."""
+
+    def __init__(self, setup, cameras, sent=None):
+        self.setup, self.sent = setup, sent
+        self.events = {c: {"frame_start": [], "frame_done": []} for c in cameras}
+        self.hardware_skew = []
+        self.shown, self.settled, self.t0, self.period_s = 0, None, None, None
+
+    def note_capture(self, camera, now, started, done):
+        """Camera ``camera``'s capture started a frame (``started``) or completed one (``done``) at ``now``."""
+        if started:
+            self.events[camera]["frame_start"].append(now)
+        if done:
+            self.events[camera]["frame_done"].append(now)
+
+    def note_skew(self, now, skew, aligned):
+        """A new measurement of the design's skew meter (``skew`` in ``sync`` clocks)."""
+        self.hardware_skew.append({"t_s": now, "skew_sync_clocks": skew, "aligned": aligned})
+
+    def start(self, t0, period_s):
+        """The first display frame starts at ``t0``, the next every ``period_s``."""
+        self.t0, self.period_s = t0, period_s
+
+    def completed(self, on_frame, frame, settings=None):
+        """The sink completed the next display frame: hand it to ``on_frame``; returns its answer as a bool."""
+        start = self.t0 + self.shown * self.period_s
+        captured = {c: sum(1 for t in e["frame_done"] if t <= start) for c, e in self.events.items()}
+        shown = DisplayFrame(self.shown, frame, start, captured, settings)
+        self.shown += 1
+        return bool(on_frame(shown))
+
+    def finished(self, enough, max_frames):
+        """Whether the run has its display frames: a still pair's when ``enough`` or after ``max_frames``, a
+        sequence's with its settled frame (the first that starts after both captures completed every frame the
+        camera sent)."""
+        if self.sent is None:
+            return enough or self.shown >= max_frames
+        sent = self.sent
+        if self.settled is None and all(len(e["frame_done"]) >= sent[c] for c, e in self.events.items()):
+            end = max(self.events[c]["frame_done"][sent[c] - 1] for c in self.events)
+            self.settled = math.ceil((end - self.t0) / self.period_s)
+        return self.settled is not None and self.shown > self.settled
+
+    def overdue(self):
+        """The message of a run whose display frames did not come in time."""
+        if self.sent is None:
+            return f"the display frames did not complete in time ({self.shown} so far)"
+        return f"the captures did not complete {max(self.sent.values())} frames in time"
+
+    def record(self):
+        """The status entries of the display frames and the captures' events."""
+        return {"display_frames": self.shown, "settled_frame": self.settled, "t_display_start_s": self.t0,
+                "capture_events_s": self.events, "hardware_skew": self.hardware_skew}
+
+
+def sent_frames(sequence, cameras):
+    """``{camera: frames it sends}`` of a sequence, None for a still pair (``sequence.still``): the ``sent`` of
+    :class:`DisplayFrames`."""
+    if getattr(sequence, "still", False):
+        return None
+    return {c: sequence.frames_sent(c) for c in cameras}
+
+
+def record_parts(status, models, monitors, *, after_s=None):
+    """Record in ``status`` what the device ``models`` and the bus ``monitors`` saw (bus protocol errors after
+    ``after_s``, default all)."""
+    status["mt9d112_problems"] = {b: models[b][0].problems() for b in ("cam_a", "cam_b")}
+    status["sensor_config"] = {b: repr(models[b][0].sensor_config()) for b in ("cam_a", "cam_b")}
+    status["dvi_config"] = dict(models["dvi"][0].dvi_config().__dict__)
+    status["i2c_protocol_errors"] = {b: [str(e) for e in monitors[b].protocol_errors
+                                         if after_s is None or e[0] > after_s] for b in I2C_BUSES}
+    status["i2c_transactions"] = {b: len(monitors[b].transactions) for b in I2C_BUSES}
 
 
 def check_run(status, setup, left, right, sink, models, monitors, *, after_s=None):
-    """The check phase: compare the sink's frame 0 with the golden frame of ``left``/``right`` and record what the
-    models and monitors saw (bus protocol errors after ``after_s``, default all). Fills ``status`` and returns
+    """The check of a one-frame run: compare the sink's frame 0 with the golden frame of ``left``/``right`` (that of
+    a tear when one explains it) and record what the models and monitors saw. Fills ``status`` and returns
     ``(frame, golden)``."""
     kwargs = {"in_use": status.get("rectification"), "held": status.get("auto_rectification", {}).get("held", False)}
     golden = setup.golden_frame(left, right, **kwargs)
@@ -57,12 +132,7 @@ def check_run(status, setup, left, right, sink, models, monitors, *, after_s=Non
     if frame is not None and not np.array_equal(frame, golden):
         golden, status["tear"] = tear_golden(setup, left, right, frame, golden, **kwargs)
     status["violations"] = [str(v) for v in sink.violations]
-    status["mt9d112_problems"] = {b: models[b][0].problems() for b in ("cam_a", "cam_b")}
-    status["sensor_config"] = {b: repr(models[b][0].sensor_config()) for b in ("cam_a", "cam_b")}
-    status["dvi_config"] = dict(models["dvi"][0].dvi_config().__dict__)
-    status["i2c_protocol_errors"] = {b: [str(e) for e in monitors[b].protocol_errors
-                                         if after_s is None or e[0] > after_s] for b in I2C_BUSES}
-    status["i2c_transactions"] = {b: len(monitors[b].transactions) for b in I2C_BUSES}
+    record_parts(status, models, monitors, after_s=after_s)
     status["mismatched_pixels"] = None if frame is None else int(np.any(frame != golden, axis=-1).sum())
     return frame, golden
 

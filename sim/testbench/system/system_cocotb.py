@@ -1,7 +1,7 @@
-"""cocotb end-to-end test of the whole system, on Verilator and Icarus: stereo pair in, HDMI frame out, compared
-with the golden model. The scenario and its phases are ``sim/testbench/system/cocotb_scenario.py``; the design and the
-parameters come from ``sim.testbench.system.run_cocotb.run_cocotb_system`` (tests/test_system.py, the bench, the ``run`` and
-``demo`` commands)."""
+"""cocotb end-to-end test of the whole system, on Verilator and Icarus: a still pair or a sequence in, the display
+frames out. The scenario and its phases are ``sim/testbench/system/cocotb_scenario.py``; the design and the
+parameters come from ``sim.testbench.system.run_cocotb.run_cocotb_system`` (the cocotb backend of
+``sim.system``)."""
 
 import cocotb
 
@@ -19,9 +19,3 @@ async def end_to_end(dut):
 @cocotb.test(skip="probe_us" not in PARAMS)   # only the bench (bench/bench_system.py) asks for the probe
 async def rate_probe(dut):
     await cocotb_scenario.rate_probe(dut, PARAMS)
-
-
-@cocotb.test(skip="sequence" not in PARAMS)    # the multi-frame scenario (sim/testbench/system/frames_cocotb.py)
-async def multi_frame(dut):
-    from sim.testbench.system import cocotb_frames
-    await cocotb_frames.frames_end_to_end(dut, PARAMS)
