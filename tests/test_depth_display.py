@@ -59,7 +59,7 @@ def test_colour_map_block_equals_golden(config):
 
 
 def _whole_pixel_colours(config):
-    """The colours of whole disparities 0..D - 1 as the panel showed them before issue 26 (NumPy's float
+    """The colours of whole disparities 0..D - 1 by the whole-pixel rule (NumPy's float
     interpolation at u = 8 d / (D - 1), rounded half up): a third computation, for the codes 16 d."""
     anchors = np.asarray(DEPTH_COLOURS, dtype=np.float64)
     t = np.arange(config.disparities) / (config.disparities - 1)

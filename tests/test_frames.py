@@ -1,4 +1,4 @@
-"""Multi-frame whole-system runs (issue 28) at the small size: a moving card, frame after frame, through
+"""Multi-frame whole-system runs at the small size: a moving card, frame after frame, through
 ``sim.system.simulate`` on every backend (Verilator's C++ testbench, Amaranth's simulator, cocotb); the per-row frame
 sources the run's verdict gives, the settled frame against the golden model of the last pair, the frame-start skew
 the design measures against the simulation's; the command line's input errors.
