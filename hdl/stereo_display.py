@@ -20,7 +20,7 @@ from hdl.reset_tree import add_reset_subtree
 from hdl.switches import SettingsSignature
 from hdl.video_bus import TimingSignature, VideoSignature
 
-__all__ = ["StereoDisplay", "LATENCY", "ENGINE_START_DELAY", "check_engine_keeps_up"]
+__all__ = ["StereoDisplay", "LATENCY", "ENGINE_START_DELAY", "check_engine_keeps_up", "check_display"]
 
 #: Clocks from ``timing`` in to ``video`` out (the compositor's).
 LATENCY = COMPOSITOR_LATENCY
@@ -56,6 +56,16 @@ def check_engine_keeps_up(timing, layout, geometry, config, segmentation=False):
     if start < first:
         raise ValueError(f"the depth map (and the segmentation view) must start at least {first} clocks into the frame (line "
                          f"{-(-first // timing.h_total)}) for the engine's first row to be ready")
+
+
+def check_display(timing, geometry, layout, *, config=DEPTH, out_rows=4, thresholds=DIFF_THRESHOLDS,
+                  level_grey=DIFF_LEVEL_GREY):
+    """The layout (``None``: centred) of a :class:`StereoDisplay`; ``ValueError`` for what it rejects (the
+    compositor's and the engine's checks, :func:`check_engine_keeps_up`)."""
+    layout = check_parameters(timing, geometry, layout, config, thresholds, level_grey)[0]
+    check_engine(geometry, config, out_rows)
+    check_engine_keeps_up(timing, layout, geometry, config, segmentation_fits(layout))
+    return layout
 
 
 class StereoDisplay(wiring.Component):
@@ -99,9 +109,8 @@ class StereoDisplay(wiring.Component):
 
     def __init__(self, timing=CEA_1080P60, geometry=SENSOR, layout=None, *, config=DEPTH, out_rows=4,
                  thresholds=DIFF_THRESHOLDS, level_grey=DIFF_LEVEL_GREY):
-        layout = check_parameters(timing, geometry, layout, config, thresholds, level_grey)[0]
-        check_engine(geometry, config, out_rows)
-        check_engine_keeps_up(timing, layout, geometry, config, segmentation_fits(layout))
+        layout = check_display(timing, geometry, layout, config=config, out_rows=out_rows, thresholds=thresholds,
+                               level_grey=level_grey)
         self.video_timing, self.geometry, self.layout, self.config, self.out_rows = timing, geometry, layout, config, out_rows
         self.thresholds, self.level_grey = thresholds, level_grey
         super().__init__({

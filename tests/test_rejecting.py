@@ -80,7 +80,6 @@ REJECTED = {
 
 #: Composites whose rejection comes from a part or from a check of the built parts: the parts left unused.
 BUILT_FIRST = {
-    "StereoDepthSystem, its compositor": None,      # everything built before the display: any part
 }
 
 
