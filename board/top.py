@@ -46,7 +46,7 @@ from board.export import flat_name
 from hdl.config import DesignConfig
 from spec.sensor import SENSOR
 from spec.video import CEA_1080P60
-from hdl.system import CAMERAS, StereoDepthSystem
+from hdl.system import CAMERAS, StereoDepthSystem, SystemParameters
 
 __all__ = ["GenesysTop", "board_plan"]
 
@@ -64,10 +64,15 @@ class GenesysTop(wiring.Component):
         For :class:`~hdl.system.StereoDepthSystem` (``ddr`` is always ``None`` here: the top level builds the
         CH7301C pins).
 
+    Attributes
+    ----------
+    params : :class:`hdl.system.SystemParameters`
+        The system's parameters. The system and the clocking are the submodules ``system`` and ``clocking``.
+
     Raises
     ------
     ValueError
-        Negative sync polarities (the output stage assumes CEA-861 1080p60's), or a ``ddr``.
+        Negative sync polarities (the output stage assumes CEA-861 1080p60's), a ``ddr``, the system's checks.
     TypeError
         Elaborated without a platform.
     """
@@ -77,24 +82,26 @@ class GenesysTop(wiring.Component):
             raise ValueError("the board output stage assumes positive sync polarities (CEA-861 1080p60)")
         if system_kwargs.pop("ddr", None) is not None:
             raise ValueError("GenesysTop builds the CH7301C pins itself (ddr must be None)")
-        self.system = StereoDepthSystem(geometry, timing, ddr=None, **system_kwargs)
-        self.clocking = GenesysClocking(plan, cam_domains=tuple(f"cam_{c}" for c in CAMERAS))
+        self.params = SystemParameters(geometry, timing, ddr=None, **system_kwargs)
+        self.plan = plan
         super().__init__({})
 
     def elaborate(self, platform):
         if platform is None:
             raise TypeError("GenesysTop is a board top level: elaborate it with board.genesys.GenesysPlatform")
         m = Module()
-        m.domains += self.clocking.domains
-        m.submodules.clocking = clocking = self.clocking
-        m.submodules.system = sys_ = self.system
-        self._clock_inputs(m, platform)
-        self._panel(m, platform)
+        clocking = GenesysClocking(self.plan, cam_domains=tuple(f"cam_{c}" for c in CAMERAS))
+        system = StereoDepthSystem(**vars(self.params))
+        m.domains += clocking.domains
+        m.submodules.clocking = clocking
+        m.submodules.system = system
+        self._clock_inputs(m, platform, clocking)
+        self._panel(m, platform, system)
         for number, c in enumerate(CAMERAS):          # resource 0 = camera A (left), 1 = camera B (right)
-            self._camera(m, platform, number, c)
+            self._camera(m, platform, number, c, system, clocking)
         self._output(m, ("control", "cam_vdden"), platform.request("vmodcam_vdden", dir="-"),
-                     self.system.control.cam_vdden)
-        self._ch7301c(m, platform)
+                     system.control.cam_vdden)
+        self._ch7301c(m, platform, system)
         # TIG groups of the clocks (board/ise.py: PERIODs sit on the clock pads only, ngdbuild derives the
         # DCM/PLL outputs; the TIG groups are second groups on the PLL output nets and the PCLK pads).
         if hasattr(platform, "add_tig_group"):
@@ -121,27 +128,28 @@ class GenesysTop(wiring.Component):
         b = self._buffer(m, path, io.Buffer("o", port))
         m.d.comb += b.o.eq(value)
 
-    def _clock_inputs(self, m, platform):
+    def _clock_inputs(self, m, platform, clocking):
         clk = self._buffer(m, ("clk100",), io.Buffer("i", platform.request("clk100", dir="-")))
         rst = self._buffer(m, ("rst",), io.Buffer("i", platform.request("rst", dir="-")))
-        m.d.comb += [self.clocking.clk100.eq(clk.i), self.clocking.button.eq(rst.i)]
+        m.d.comb += [clocking.clk100.eq(clk.i), clocking.button.eq(rst.i)]
 
-    def _panel(self, m, platform):
-        panel = self.system.panel
+    def _panel(self, m, platform, system):
+        panel = system.panel
         sw = self._buffer(m, ("panel", "sw"), io.Buffer("i", platform.request("switches", dir="-")))
         m.d.comb += panel.sw.eq(sw.i)
         self._output(m, ("panel", "leds"), platform.request("leds", dir="-"), panel.leds)
 
-    def _camera(self, m, platform, number, c):
-        """VmodCAM resource ``number`` onto camera ``c``'s pins, I2C bus, PCLK and MCLK."""
-        sys_, name = self.system, f"cam_{c}"
+    def _camera(self, m, platform, number, c, sys_, clocking):
+        """VmodCAM resource ``number`` onto camera ``c``'s pins (of the system ``sys_``), I2C bus, PCLK (into
+        ``clocking``) and MCLK."""
+        name = f"cam_{c}"
         cam = platform.request("vmodcam", number, dir="-")
         pins = getattr(sys_, name)
         for pin, port in (("data", cam.d), ("lv", cam.lv), ("fv", cam.fv)):   # IOB input flip-flops (OFFSET IN)
             b = self._buffer(m, (name, pin), io.FFBuffer("i", port, i_domain=name))
             m.d.comb += getattr(pins, pin).eq(b.i)
         pclk = self._buffer(m, (name, "pclk"), io.Buffer("i", cam.pclk))
-        m.d.comb += getattr(self.clocking.cam_pclk, name).eq(pclk.i)
+        m.d.comb += getattr(clocking.cam_pclk, name).eq(pclk.i)
         m.submodules[f"{name}_mclk_oddr"] = mclk = io.DDRBuffer("o", cam.mclk, o_domain="mclk")
         m.d.comb += [mclk.o[0].eq(1), mclk.o[1].eq(0)]
         bus = getattr(sys_.i2c, name)
@@ -150,9 +158,10 @@ class GenesysTop(wiring.Component):
         self._output(m, (name, "rst_n"), cam.rst_n, sys_.control.cam_rst_n)
         self._output(m, (name, "pwdn"), cam.pwdn, sys_.control.cam_pwdn)
 
-    def _ch7301c(self, m, platform):
-        """CH7301C: dual-edge data, IOB-registered syncs, XCLK pair from the 90-degree clock, its I2C bus."""
-        sys_, video = self.system, self.system.video
+    def _ch7301c(self, m, platform, sys_):
+        """CH7301C (from the system ``sys_``): dual-edge data, IOB-registered syncs, XCLK pair from the 90-degree
+        clock, its I2C bus."""
+        video = sys_.video
         ch = platform.request("ch7301c", dir="-")
         first, second = split_rgb(video.rgb)
         m.submodules.dvi_d_oddr = d = io.DDRBuffer("o", ch.d, o_domain="pix")

@@ -37,14 +37,13 @@ from amaranth import Module, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
-from hdl.downscaler import Downscaler
-from hdl.forward import forward
+from hdl.downscaler import Downscaler, check_geometry as check_downscale
 from hdl.frame_buffer import FrameBufferWriteSignature
 from hdl.grey import Grey
 from spec.sensor import SENSOR
-from hdl.rgb565_assembler import RGB565Assembler
+from hdl.rgb565_assembler import RGB565Assembler, check_width
 
-__all__ = ["CameraSignature", "CaptureStatusSignature", "CameraCapture"]
+__all__ = ["CameraSignature", "CaptureStatusSignature", "CameraCapture", "check_geometry"]
 
 #: A camera's parallel video bus as the sensor drives it (MT9D112 DOUT[7:0], LINE_VALID, FRAME_VALID). The pins
 #: change on PCLK's falling edge and are sampled on its rising edge: PCLK is the clock of the receiving domain
@@ -57,6 +56,15 @@ CaptureStatusSignature = wiring.Signature({
     "frame_start": Out(1), "frame_done": Out(1), "frame_ok": Out(1), "frame_count": Out(16), "in_frame": Out(1),
     "row_start": Out(1), "row_end": Out(1),
 })
+
+
+def check_geometry(geometry):
+    """``ValueError`` unless a capture can be built for ``geometry``: 5 bits of grey, a geometry the downscaler
+    (:func:`hdl.downscaler.check_geometry`) and the assembler (:func:`hdl.rgb565_assembler.check_width`) take."""
+    if geometry.grey_bits != 5:
+        raise ValueError("the spec's grey conversion gives 5 bits; geometry.grey_bits must be 5")
+    check_downscale(geometry)
+    check_width(geometry.width)
 
 
 class CameraCapture(wiring.Component):
@@ -84,27 +92,24 @@ class CameraCapture(wiring.Component):
     """
 
     def __init__(self, geometry=SENSOR, r_byte_first=True):
-        if geometry.grey_bits != 5:
-            raise ValueError("the spec's grey conversion gives 5 bits; geometry.grey_bits must be 5")
+        check_geometry(geometry)
         self.geometry = geometry
         self.r_byte_first = r_byte_first
-        # The assembler's column counts 0 .. width (saturating at width).
-        self._downscaler = Downscaler(geometry, column_bits=geometry.width.bit_length(),
-                                      row_bits=geometry.height.bit_length())
-        self._assembler = RGB565Assembler(geometry.width, r_byte_first=r_byte_first)
         super().__init__({
             "pins": In(CameraSignature),
             "write": Out(FrameBufferWriteSignature(geometry)),
             "status": Out(CaptureStatusSignature),
         })
-        forward(self, "write", self._downscaler)
 
     def elaborate(self, platform):
         m = Module()
         g = self.geometry
-        m.submodules.assembler = assembler = self._assembler
+        m.submodules.assembler = assembler = RGB565Assembler(g.width, r_byte_first=self.r_byte_first)
         m.submodules.grey = grey = Grey()
-        m.submodules.downscaler = downscaler = self._downscaler
+        # The assembler's column counts 0 .. width (saturating at width).
+        m.submodules.downscaler = downscaler = Downscaler(g, column_bits=g.width.bit_length(),
+                                                         row_bits=g.height.bit_length())
+        wiring.connect(m, wiring.flipped(self.write), downscaler.write)
 
         # Input registers (IOB flip-flops on the board). FV's registers start high so that a frame in
         # progress when reset ends does not look like a FV rising edge.

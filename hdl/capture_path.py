@@ -10,8 +10,7 @@ from amaranth import DomainRenamer, Module
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
-from hdl.capture import CameraCapture, CameraSignature, CaptureStatusSignature
-from hdl.forward import forward
+from hdl.capture import CameraCapture, CameraSignature, CaptureStatusSignature, check_geometry as check_capture
 from hdl.frame_buffer import FrameBuffer, FrameBufferReadSignature, FrameBufferWriteSignature
 from spec.sensor import SENSOR
 from hdl.signature import ParametricSignature
@@ -52,28 +51,28 @@ class CapturePath(wiring.Component):
     Attributes
     ----------
     cam_<c> : ``Out(CapturePortSignature(geometry))``, one per camera
-        The capture's ``pins``, ``write`` and ``status`` and the buffer's ``read`` port: these members are
-        handed down to the capture and the buffer (forwarded, not copied: :func:`hdl.forward.forward`).
+        The capture's ``pins``, ``write`` and ``status`` and the buffer's ``read`` port, connected to them.
 
     Clock domains: ``cam_<c>`` per camera and ``read_domain``, all defined by the parent (for a top-level export,
     Amaranth makes their clocks the ports ``cam_a_clk``, ``pix_clk``, ...). Latency: as
     :class:`~hdl.capture.CameraCapture` (write port) and :class:`~hdl.frame_buffer.FrameBuffer` (read port).
+
+    Raises
+    ------
+    ValueError
+        Camera names that are not distinct, or a geometry the captures reject.
     """
 
     def __init__(self, geometry=SENSOR, *, cameras=("a", "b"), r_byte_first=True, read_domain="pix", init=()):
         if not cameras or len(set(cameras)) != len(cameras):
             raise ValueError(f"cameras must be distinct names, got {cameras!r}")
+        check_capture(geometry)
         self.geometry = geometry
         self.cameras = tuple(cameras)
+        self.r_byte_first = r_byte_first
         self.read_domain = read_domain
-        self.captures = {c: CameraCapture(geometry, r_byte_first=r_byte_first) for c in self.cameras}
-        self.buffers = {c: FrameBuffer(geometry, write_domain=f"cam_{c}", read_domain=read_domain, init=init)
-                        for c in self.cameras}
+        self.init = tuple(init)
         super().__init__({f"cam_{c}": Out(CapturePortSignature(geometry)) for c in self.cameras})
-        for c in self.cameras:
-            for name in ("pins", "write", "status"):
-                forward(self, (f"cam_{c}", name), self.captures[c])
-            forward(self, (f"cam_{c}", "read"), self.buffers[c])
 
     def port(self, camera):
         """The member of camera ``camera``."""
@@ -82,8 +81,13 @@ class CapturePath(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         for c in self.cameras:
-            capture, buffer = self.captures[c], self.buffers[c]
+            capture = CameraCapture(self.geometry, r_byte_first=self.r_byte_first)
+            buffer = FrameBuffer(self.geometry, write_domain=f"cam_{c}", read_domain=self.read_domain, init=self.init)
             m.submodules[f"capture_{c}"] = DomainRenamer(f"cam_{c}")(capture)
             m.submodules[f"buffer_{c}"] = buffer
-            wiring.connect(m, capture.write, buffer.write)
+            port = self.port(c)
+            for name in ("pins", "status"):
+                wiring.connect(m, wiring.flipped(getattr(port, name)), getattr(capture, name))
+            wiring.connect(m, capture.write, buffer.write, wiring.flipped(port.write))
+            wiring.connect(m, wiring.flipped(port.read), buffer.read)
         return m

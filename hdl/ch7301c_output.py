@@ -7,7 +7,7 @@ from amaranth.lib.wiring import In, Out
 from spec.video import CEA_1080P60
 from hdl.video_bus import VideoSignature
 
-__all__ = ["CH7301CSignature", "CH7301COutput", "split_rgb"]
+__all__ = ["CH7301CSignature", "CH7301COutput", "split_rgb", "check_ddr"]
 
 
 #: The CH7301C's input pins as the FPGA drives them: the 12-bit dual-edge ``data`` bus (D[11:0]), ``hsync``,
@@ -33,6 +33,14 @@ def split_rgb(rgb):
         return ((g & 0xF) << 8) | b, (r << 4) | (g >> 4)
     r, g, b = rgb[16:24], rgb[8:16], rgb[0:8]
     return Cat(b, g[0:4]), Cat(g[4:8], r)
+
+
+def check_ddr(ddr, xclk_domain=None):
+    """``ValueError`` unless ``ddr`` is one of ``DDR_MODES`` and ``xclk_domain`` is given only with ``"virtex5"``."""
+    if ddr not in DDR_MODES:
+        raise ValueError(f"ddr must be one of {DDR_MODES}, not {ddr!r}")
+    if xclk_domain is not None and ddr != "virtex5":
+        raise ValueError("xclk_domain only applies to ddr='virtex5'")
 
 
 class CH7301COutput(wiring.Component):
@@ -95,10 +103,7 @@ class CH7301COutput(wiring.Component):
     pins: Out(CH7301CSignature)
 
     def __init__(self, timing=CEA_1080P60, *, ddr="behavioural", xclk_domain=None):
-        if ddr not in DDR_MODES:
-            raise ValueError(f"ddr must be one of {DDR_MODES}, not {ddr!r}")
-        if xclk_domain is not None and ddr != "virtex5":
-            raise ValueError("xclk_domain only applies to ddr='virtex5'")
+        check_ddr(ddr, xclk_domain)
         self.mode = timing
         self.ddr = ddr
         self.xclk_domain = xclk_domain or "sync"

@@ -67,7 +67,6 @@ from hdl.colour_map import LATENCY as COLOUR_LATENCY, ColourMap
 from hdl.delay import delayed
 from hdl.depth.ports import ResultReadSignature, SharedReadSignature
 from hdl.disparity import LATENCY as SUBTRACTOR_LATENCY, SETTLE_CLOCKS, DisparitySubtractor, check_thresholds
-from hdl.forward import forward
 from spec.depth import DEPTH
 from spec.display import (
     BACKGROUND_RGB,
@@ -85,11 +84,11 @@ from hdl.rectification_text import RectificationModeSignature, RectificationText
 from hdl.region_scanner import RegionScanner
 from hdl.segment_band import LATENCY as SEGMENT_LATENCY, SegmentBand
 from hdl.switches import SettingsSignature
-from hdl.text_layer import LATENCY as TEXT_LATENCY, TextLayer
+from hdl.text_layer import LATENCY as TEXT_LATENCY, TextLayer, char_codes
 from hdl.video_bus import TimingSignature, VideoSignature
 from hdl.reset_tree import add_reset_subtree
 
-__all__ = ["Compositor", "LATENCY", "check_layout", "segmentation_fits"]
+__all__ = ["Compositor", "LATENCY", "check_layout", "check_parameters", "segmentation_fits"]
 
 #: Clocks from ``timing`` in to ``video`` out.
 LATENCY = 6
@@ -168,6 +167,25 @@ def segmentation_fits(layout):
     return (diff.y0, diff.scale) == (depth.y0, depth.scale) and diff.x1 <= depth.x0
 
 
+def check_parameters(timing, geometry, layout, config, thresholds, level_grey):
+    """``(layout, regions, thresholds, level_grey)`` of a :class:`Compositor`: the layout (``None``: centred), its
+    regions by source (:func:`check_layout`), the threshold and grey tables as tuples; ``ValueError`` for what
+    :class:`Compositor` rejects."""
+    if layout is None:
+        layout = DisplayLayout.centred(timing, geometry, config)
+    regions = check_layout(layout, timing, geometry, config)
+    thresholds = check_thresholds(thresholds, geometry.grey_bits)
+    grey = tuple(int(v) for v in level_grey)
+    if len(grey) != len(thresholds) + 1 or any(not 0 <= v <= 255 for v in grey):
+        raise ValueError(f"level_grey needs {len(thresholds) + 1} entries in 0..255 (one per level), "
+                         f"got {level_grey!r}")
+    if geometry.grey_bits > 8:
+        raise ValueError(f"grey_bits = {geometry.grey_bits}: the display shows at most 8 bits of grey")
+    for box in layout.labels:
+        char_codes(box.text)
+    return layout, regions, thresholds, grey
+
+
 class Compositor(wiring.Component):
     """Lays out the camera images, the difference map and the depth map on the video frame; latency 6 clocks.
 
@@ -200,6 +218,9 @@ class Compositor(wiring.Component):
         effect when the layout has no ``rectification`` box).
     segmentation : bool
         The layout allows the segmentation view (:func:`segmentation_fits`).
+    dynamic : dict
+        The text layer's boxes of changing text by name (``readout``; ``band``, ``rectification`` where the
+        layout has them).
     left, right : ``Out(SharedReadSignature(geometry))``
         ``grant`` is not used (the arbiter gives the compositor priority).
     depth : ``Out(ResultReadSignature(...))``
@@ -210,24 +231,16 @@ class Compositor(wiring.Component):
     ------
     ValueError
         A layout that does not fit, overlaps or starts too early (:func:`check_layout`), a bad threshold or grey
-        table, more than 8 bits of grey.
+        table, more than 8 bits of grey, a label character the font lacks.
     """
 
     def __init__(self, timing=CEA_1080P60, geometry=SENSOR, layout=None, *, config=DEPTH, out_rows=4,
                  thresholds=DIFF_THRESHOLDS, level_grey=DIFF_LEVEL_GREY):
-        if layout is None:
-            layout = DisplayLayout.centred(timing, geometry, config)
+        layout, self.regions, self.thresholds, self.level_grey = check_parameters(
+            timing, geometry, layout, config, thresholds, level_grey)
         self.video_timing = timing          # (the ``timing`` attribute is the TimingSignature port)
         self.geometry, self.config, self.out_rows = geometry, config, out_rows
         self.layout = layout
-        self.regions = check_layout(layout, timing, geometry, config)
-        self.thresholds = check_thresholds(thresholds, geometry.grey_bits)
-        self.level_grey = tuple(int(v) for v in level_grey)
-        if len(self.level_grey) != len(self.thresholds) + 1 or any(not 0 <= v <= 255 for v in self.level_grey):
-            raise ValueError(f"level_grey needs {len(self.thresholds) + 1} entries in 0..255 (one per level), "
-                             f"got {level_grey!r}")
-        if geometry.grey_bits > 8:
-            raise ValueError(f"grey_bits = {geometry.grey_bits}: the display shows at most 8 bits of grey")
         g = geometry
         ring_addr_bits = (out_rows * g.buf_width - 1).bit_length()
         super().__init__({
@@ -240,42 +253,38 @@ class Compositor(wiring.Component):
             "depth": Out(ResultReadSignature(ring_addr_bits, config.code_bits, g.buf_height)),
             "video": Out(VideoSignature),
         })
-        self._subtractor = DisparitySubtractor(g, self.thresholds)
-        forward(self, "settings", self._subtractor)     # the switch registers go to the subtractor only
-        self._distance = CentreDistance(g, config)
         self.segmentation = segmentation_fits(layout)
-        self._segment = SegmentBand(g, config) if self.segmentation else None
-        dynamic = {"readout": layout.readout}
+        self.dynamic = {"readout": layout.readout}          # the text layer's boxes of changing text
         if self.segmentation and layout.band is not None:
-            dynamic["band"] = layout.band
-        self._rectification = None
+            self.dynamic["band"] = layout.band
         if layout.rectification is not None:
-            dynamic["rectification"] = layout.rectification
-            self._rectification = RectificationText()
-        self._text = TextLayer(layout.labels, dynamic, v_active=timing.v_active,
-                               x_bits=len(self.timing.x), y_bits=len(self.timing.y))
+            self.dynamic["rectification"] = layout.rectification
 
     def elaborate(self, platform):
         m = Module()
+        g = self.geometry
         inside, eol, vblank_1 = self._region_flags(m)
         de_d, hsync_d, vsync_d = self._delay_line(m)
         scanners = self._scanners(m, inside, eol, vblank_1)
-        sub = add_reset_subtree(m, "subtractor", self._subtractor)
+        sub = add_reset_subtree(m, "subtractor", DisparitySubtractor(g, self.thresholds))
+        wiring.connect(m, wiring.flipped(self.settings), sub.settings)     # the switch registers: the subtractor's
         m.d.comb += [            # the disparity region's pixels (latency SUBTRACTOR_LATENCY = 4)
             sub.valid.eq(inside["disparity"]),
             sub.x.eq(scanners["disparity"].xb),
             sub.y.eq(scanners["disparity"].yb),
             sub.addr.eq(scanners["disparity"].addr),
         ]
-        text = add_reset_subtree(m, "text", self._text)
-        m.d.comb += [text.x.eq(self.timing.x), text.y.eq(self.timing.y),
-                     text.chars.readout.eq(self._distance.chars)]
-        if self._rectification is not None:
+        distance = add_reset_subtree(m, "distance", CentreDistance(g, self.config))
+        text = add_reset_subtree(m, "text", TextLayer(self.layout.labels, self.dynamic,
+                                                      v_active=self.video_timing.v_active,
+                                                      x_bits=len(self.timing.x), y_bits=len(self.timing.y)))
+        m.d.comb += [text.x.eq(self.timing.x), text.y.eq(self.timing.y), text.chars.readout.eq(distance.chars)]
+        if "rectification" in self.dynamic:
             self._rectification_text(m, text)
-        grey_5, show_image_5 = self._image_reads(m, inside, scanners)
-        depth_5 = self._depth_reads(m, inside, scanners, vblank_1)
-        depth_5["segment"] = self._segment_view(m, scanners)
-        self._colour(m, grey_5, show_image_5, depth_5, de_d[5])
+        grey_5, show_image_5 = self._image_reads(m, inside, scanners, sub)
+        depth_5 = self._depth_reads(m, inside, scanners, vblank_1, distance, text)
+        depth_5["segment"] = self._segment_view(m, scanners, text)
+        self._colour(m, grey_5, show_image_5, depth_5, de_d[5], sub)
         m.d.comb += [
             self.video.de.eq(de_d[LATENCY]),
             self.video.hsync.eq(hsync_d[LATENCY]),
@@ -355,9 +364,9 @@ class Compositor(wiring.Component):
             m.d.comb += [sc.active.eq(inside[flag]), sc.eol.eq(eol[flag] & inside[flag]), sc.clear.eq(vblank_1)]
         return scanners
 
-    def _image_reads(self, m, inside, scanners):
-        """Clocks n + 2 .. n + 5: each read port serves its image region or the subtractor; the image grey."""
-        g, sub = self.geometry, self._subtractor
+    def _image_reads(self, m, inside, scanners, sub):
+        """Clocks n + 2 .. n + 5: each read port serves its image region or the subtractor ``sub``; the image grey."""
+        g = self.geometry
         # n + 2: read addresses; the subtractor registers its own addresses from the disparity flag at n + 1.
         show_left_2, show_right_2 = Signal(name="show_left_2"), Signal(name="show_right_2")
         subtracting_2 = Signal(name="subtracting_2")
@@ -393,9 +402,10 @@ class Compositor(wiring.Component):
         assert SUBTRACTOR_LATENCY == 4, "the stage numbering above assumes the subtractor's 4-clock latency"
         return grey_5, show_image_5
 
-    def _depth_reads(self, m, inside, scanners, vblank_1):
+    def _depth_reads(self, m, inside, scanners, vblank_1, distance, text):
         """Clocks n + 1 .. n + 5: the depth map from the result ring (rows released as they are shown), the
-        crosshair, the centre window, the bar's band and the colour of the code."""
+        crosshair, the centre window (into ``distance``), the bar's band and the colour of the code; ``text``'s
+        flags delayed to n + 5."""
         g, cfg, arm = self.geometry, self.config, self.layout.crosshair_arm
         scan, result = scanners["depth"], self.depth
         with m.If(vblank_1):
@@ -420,7 +430,6 @@ class Compositor(wiring.Component):
         m.d.comb += result.addr.eq(ring_addr_2)
         # n + 3: the ring's data; the centre window.
         in_depth_3, window_3 = delayed(m, in_depth_2, 1, "in_depth"), delayed(m, window_2, 1, "window")
-        distance = add_reset_subtree(m, "distance", self._distance)
         m.d.comb += [distance.capture.eq(Mux(in_depth_3, window_3, 0)), distance.code.eq(result.data)]
         # n + 3: the code to colour (the ring's data, or the bar's whole disparity d as code 2**F d) into the
         # colour map (its ROM read at n + 3, the word at n + 4); the colour registered at n + 5.
@@ -431,37 +440,37 @@ class Compositor(wiring.Component):
         return dict(colour=colour_5, depth=delayed(m, in_depth_3, COLOUR_LATENCY, "in_depth_3"),
                     ready=delayed(m, ready_2, 3, "ready"), cross=delayed(m, cross_2, 3, "cross"),
                     bar=delayed(m, inside["bar"], 4, "in_bar"), tick=delayed(m, inside["tick"], 3, "in_tick"),
-                    in_text=delayed(m, self._text.in_text, 5 - TEXT_LATENCY, "in_text"),
-                    lit=delayed(m, self._text.lit, 5 - TEXT_LATENCY, "lit"))
+                    in_text=delayed(m, text.in_text, 5 - TEXT_LATENCY, "in_text"),
+                    lit=delayed(m, text.lit, 5 - TEXT_LATENCY, "lit"))
 
     def _rectification_text(self, m, text):
         """The rectification in use as text: sampled one clock after ``frame_start``, when the settings of this
         frame have loaded (they change on the edge that ends the ``frame_start`` clock)."""
-        m.submodules.rectification_text = rt = self._rectification
+        m.submodules.rectification_text = rt = RectificationText()
         frame_start_1 = Signal()
         m.d.sync += frame_start_1.eq(self.timing.frame_start)
         m.d.comb += [rt.frame_start.eq(frame_start_1), rt.offset.eq(self.settings.rectification),
                      rt.mode.auto.eq(self.rectification_mode.auto), rt.mode.held.eq(self.rectification_mode.held),
                      text.chars.rectification.eq(rt.chars)]
 
-    def _segment_view(self, m, scanners):
+    def _segment_view(self, m, scanners, text):
         """Clocks n + 2 .. n + 5: the segmentation view's colour (from the ring's code and the right port's grey at
-        n + 3) and whether it is shown (``segment``, the ring row ready); None without segmentation."""
+        n + 3) and whether it is shown (``segment``, the ring row ready), its band into ``text``; None without
+        segmentation."""
         if not self.segmentation:
             return None
-        m.submodules.segment_band = seg = self._segment
+        m.submodules.segment_band = seg = SegmentBand(self.geometry, self.config)
         ready_2 = Signal(name="segment_ready_2")
         m.d.sync += ready_2.eq(scanners["segment"].yb < self.depth.rows_ready)
         m.d.comb += [seg.disparity.eq(self.settings.disparity), seg.enable.eq(self.segment),
                      seg.code.eq(self.depth.data), seg.grey.eq(self.right.port.data)]
-        if "band" in self._text.dynamic:
-            m.d.comb += self._text.chars.band.eq(seg.chars)
+        if "band" in self.dynamic:
+            m.d.comb += text.chars.band.eq(seg.chars)
         assert SEGMENT_LATENCY == 2, "the stage numbering assumes the segmentation block's 2-clock latency"
         return dict(rgb=seg.rgb, ready=delayed(m, ready_2, 3, "segment_ready"), on=self.segment)
 
-    def _colour(self, m, grey_5, show_image_5, depth_5, de_5):
-        """Clock n + 5 -> n + 6: the colour chosen by region."""
-        sub = self._subtractor
+    def _colour(self, m, grey_5, show_image_5, depth_5, de_5, sub):
+        """Clock n + 5 -> n + 6: the colour chosen by region (the difference map's level and no-data from ``sub``)."""
         grey8 = self._replicate_to_8_bits(grey_5)
         level_rgb = Signal(24, name="level_rgb")
         with m.Switch(sub.level):

@@ -4,11 +4,10 @@ from amaranth.hdl import Module
 from amaranth.lib import wiring
 from amaranth.lib.wiring import Out
 
-from hdl.ch7301c_output import CH7301COutput, CH7301CSignature
-from hdl.forward import forward
+from hdl.ch7301c_output import CH7301COutput, CH7301CSignature, check_ddr
 from spec.video import CEA_1080P60
-from hdl.pattern_gen import PatternGenerator
-from hdl.sync_gen import SyncGenerator
+from hdl.pattern_gen import PatternGenerator, check_active
+from hdl.sync_gen import SyncGenerator, check_timing
 
 __all__ = ["DisplayPath", "DISPLAY_PATH_LATENCY"]
 
@@ -35,35 +34,39 @@ class DisplayPath(wiring.Component):
         The output stage's pins (:class:`~hdl.ch7301c_output.CH7301COutput` gives the dual-edge format).
     frame_start : ``Out(1)``
         The sync generator's strobe, for testbenches and triggers.
-    sync_gen, pattern, output
-        The three blocks, for testbenches and wave dumps.
 
     Clock domain: ``sync`` (the pixel clock; a board top level renames it to ``pix``).
     Latency: :data:`DISPLAY_PATH_LATENCY` = 2 clocks from raster position to pins (``frame_start`` is not
     delayed: it is high two clocks before pixel (0, 0) reaches the pins). From reset, the pins carry
     2 blank clocks, then the first pixel of frame 0. ``start`` is the sync generator's raster position after
-    reset (simulation windows; see :class:`hdl.sync_gen.SyncGenerator`).
+    reset (simulation windows; see :class:`hdl.sync_gen.SyncGenerator`). The three blocks are the submodules
+    ``sync_gen``, ``pattern``, ``output`` (their signals are named so in a dump).
+
+    Raises
+    ------
+    ValueError
+        Parameters one of the three blocks rejects.
     """
 
     ch7301c: Out(CH7301CSignature)
     frame_start: Out(1)
 
     def __init__(self, timing=CEA_1080P60, *, ddr="behavioural", start=(0, 0)):
+        check_timing(timing, start)
+        check_active(timing)
+        check_ddr(ddr)
         self.mode = timing
         self.ddr = ddr
         self.start = start
-        self.sync_gen = SyncGenerator(timing, start=start)
-        self.pattern = PatternGenerator(timing)
-        self.output = CH7301COutput(timing, ddr=ddr)
         super().__init__()
-        forward(self, "ch7301c", self.output, "pins")
-        forward(self, "frame_start", self.sync_gen)
 
     def elaborate(self, platform):
         m = Module()
-        m.submodules.sync_gen = sync_gen = self.sync_gen
-        m.submodules.pattern = pattern = self.pattern
-        m.submodules.output = output = self.output
+        m.submodules.sync_gen = sync_gen = SyncGenerator(self.mode, start=self.start)
+        m.submodules.pattern = pattern = PatternGenerator(self.mode)
+        m.submodules.output = output = CH7301COutput(self.mode, ddr=self.ddr)
         wiring.connect(m, sync_gen, pattern.timing)
         wiring.connect(m, pattern.video, output.video)
+        wiring.connect(m, wiring.flipped(self.ch7301c), output.pins)
+        m.d.comb += self.frame_start.eq(sync_gen.frame_start)
         return m

@@ -24,7 +24,18 @@ from hdl.frame_buffer import FrameBufferWriteSignature
 from hdl.shift_add import times
 from spec.sensor import SENSOR
 
-__all__ = ["Downscaler"]
+__all__ = ["Downscaler", "check_geometry"]
+
+
+def check_geometry(geometry):
+    """``ValueError`` unless ``geometry`` can be downscaled: ``scale`` a power of two, the sensor at least one
+    ``scale`` x ``scale`` block."""
+    scale = geometry.scale
+    if scale < 1 or scale & (scale - 1):
+        raise ValueError(f"scale must be a power of two, got {scale}")
+    if geometry.buf_width < 1 or geometry.buf_height < 1:
+        raise ValueError(f"sensor {geometry.width}x{geometry.height} is smaller than one {scale}x{scale} "
+                         f"block")
 
 
 class Downscaler(wiring.Component):
@@ -49,12 +60,7 @@ class Downscaler(wiring.Component):
     """
 
     def __init__(self, geometry=SENSOR, *, column_bits=None, row_bits=None):
-        scale = geometry.scale
-        if scale < 1 or scale & (scale - 1):
-            raise ValueError(f"scale must be a power of two, got {scale}")
-        if geometry.buf_width < 1 or geometry.buf_height < 1:
-            raise ValueError(f"sensor {geometry.width}x{geometry.height} is smaller than one {scale}x{scale} "
-                             f"block")
+        check_geometry(geometry)
         self.geometry = geometry
         column_bits = column_bits or geometry.width.bit_length()
         row_bits = row_bits or geometry.height.bit_length()

@@ -15,13 +15,21 @@ from amaranth.lib.cdc import PulseSynchronizer
 from amaranth.lib.wiring import Out
 
 
-__all__ = ["FrameSkewMeter", "FrameSkewSignature"]
+__all__ = ["FrameSkewMeter", "FrameSkewSignature", "skew_bits"]
 
 
 def FrameSkewSignature(bits):
     """``skew`` (signed ``bits``), ``valid`` (a measurement has completed), ``aligned`` (\\|skew\\| <= one line),
     ``count`` (measurements completed, wrapping)."""
     return wiring.Signature({"skew": Out(signed(bits)), "valid": Out(1), "aligned": Out(1), "count": Out(8)})
+
+
+def skew_bits(line_clocks, max_clocks):
+    """The width of a :class:`FrameSkewMeter`'s skew (signed) for a measurement of up to ``max_clocks``;
+    ``ValueError`` unless 0 < ``line_clocks`` <= ``max_clocks``."""
+    if not 0 < line_clocks <= max_clocks:
+        raise ValueError(f"need 0 < line_clocks <= max_clocks, got {line_clocks} and {max_clocks}")
+    return max_clocks.bit_length() + 1
 
 
 class FrameSkewMeter(wiring.Component):
@@ -50,11 +58,9 @@ class FrameSkewMeter(wiring.Component):
     """
 
     def __init__(self, *, line_clocks=4320, max_clocks=2_600_000, cam_domains=("cam_a", "cam_b")):
-        if not 0 < line_clocks <= max_clocks:
-            raise ValueError(f"need 0 < line_clocks <= max_clocks, got {line_clocks} and {max_clocks}")
+        self.bits = skew_bits(line_clocks, max_clocks)
         self.line_clocks, self.max_clocks = line_clocks, max_clocks
         self.cam_domains = tuple(cam_domains)
-        self.bits = max_clocks.bit_length() + 1
         super().__init__({"start_a": wiring.In(1), "start_b": wiring.In(1),
                           "status": Out(FrameSkewSignature(self.bits))})
 

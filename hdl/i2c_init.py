@@ -19,7 +19,7 @@ waits ``retry_delay_us`` and repeats the whole transaction, at most ``retries`` 
 ``error``. After an error the sequencer leaves the bus idle for good: it never goes on to the next entry and
 never raises ``done`` (only a reset restarts it).
 
-Outputs: ``i2c`` (:data:`hdl.i2c_master.I2CSignature`, the master's own pins) and ``status``
+Outputs: ``i2c`` (:data:`hdl.i2c_master.I2CSignature`, connected to the master's pins) and ``status``
 (:class:`InitStatusSignature`, all ``sync``, registered): ``busy`` until the table ends or fails; ``done``
 (sticky) once every entry has completed; ``error`` (sticky) with ``error_code`` (:class:`ErrorCode`) and
 ``entry`` = index of the failing entry (while running: the current entry; after ``done``: the table length);
@@ -34,13 +34,12 @@ from amaranth.lib import data, enum, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
-from hdl.forward import forward
-from hdl.i2c_master import Cmd, I2CMaster, I2CSignature
+from hdl.i2c_master import Cmd, I2CMaster, I2CSignature, master_timing
 from hdl.init_tables import Barrier, Check, InitTable, Wait, Write
 from spec.board import CLOCKS
 from hdl.signature import ParametricSignature
 
-__all__ = ["ErrorCode", "InitStatusSignature", "InitSequencer"]
+__all__ = ["ErrorCode", "InitStatusSignature", "InitSequencer", "check_parameters"]
 
 
 class ErrorCode(enum.Enum, shape=3):
@@ -69,6 +68,15 @@ def _us_to_cycles(us, clk_hz):
     return -(-us * clk_hz // 1_000_000)
 
 
+def check_parameters(table, *, clk_hz=CLOCKS.SYS_HZ, bus_hz=CLOCKS.I2C_HZ, retries=3, timeout_us=25_000):
+    """``TypeError`` / ``ValueError`` for what :class:`InitSequencer` rejects (see its Raises)."""
+    if not isinstance(table, InitTable):
+        raise TypeError("table must be an hdl.init_tables.InitTable")
+    if retries < 0:
+        raise ValueError("retries must be >= 0")
+    master_timing(clk_hz, bus_hz, timeout_us)
+
+
 class InitSequencer(wiring.Component):
     """Plays ``table`` once after reset; see the module docstring for the entries, the faults and the status.
 
@@ -85,7 +93,7 @@ class InitSequencer(wiring.Component):
     Attributes
     ----------
     i2c : ``Out(I2CSignature)``
-        The master's pins.
+        Connected to the master's pins (the submodule ``master``).
     status : ``Out(InitStatusSignature(len(table)))``
     barrier : ``Out(1)``, release : ``In(1)``
         Held at a ``Barrier`` entry; released (see the module docstring). ``release`` is high unless driven: a
@@ -101,19 +109,15 @@ class InitSequencer(wiring.Component):
 
     def __init__(self, table, *, clk_hz=CLOCKS.SYS_HZ, bus_hz=CLOCKS.I2C_HZ, retries=3,
                  retry_delay_us=1000, timeout_us=25_000):
-        if not isinstance(table, InitTable):
-            raise TypeError("table must be an hdl.init_tables.InitTable")
-        if retries < 0:
-            raise ValueError("retries must be >= 0")
+        check_parameters(table, clk_hz=clk_hz, bus_hz=bus_hz, retries=retries, timeout_us=timeout_us)
         self.table = table
         self.clk_hz = clk_hz
         self.bus_hz = bus_hz
         self.retries = retries
+        self.timeout_us = timeout_us
         self.retry_delay = max(1, _us_to_cycles(retry_delay_us, clk_hz))
-        self.master = I2CMaster(clk_hz=clk_hz, bus_hz=bus_hz, timeout_us=timeout_us)
         super().__init__({"i2c": Out(I2CSignature), "status": Out(InitStatusSignature(len(table))),
                           "barrier": Out(1), "release": In(1, init=1)})
-        forward(self, "i2c", self.master)
 
     def _rom(self):
         dev = self.table.device
@@ -144,8 +148,9 @@ class InitSequencer(wiring.Component):
 
     def elaborate(self, platform):
         m = Module()
-        m.submodules.master = self.master
-        states = _States(self, m)
+        m.submodules.master = master = I2CMaster(clk_hz=self.clk_hz, bus_hz=self.bus_hz, timeout_us=self.timeout_us)
+        wiring.connect(m, wiring.flipped(self.i2c), master.i2c)
+        states = _States(self, master, m)
         m.d.comb += self.status.busy.eq(~self.status.done & ~self.status.error)
         with m.FSM() as fsm:
             states.entry()
@@ -161,8 +166,8 @@ class _States:
     """The sequencer's ROM, registers and step programs, and the states of its FSM, a group per method (emitted
     inside the ``m.FSM()`` block of :meth:`InitSequencer.elaborate`, in this order)."""
 
-    def __init__(self, seq, m):
-        self.seq, self.m, self.master = seq, m, seq.master
+    def __init__(self, seq, master, m):
+        self.seq, self.m, self.master = seq, m, master
         dev, n = seq.table.device, len(seq.table)
         self.n = n
         layout, words, max_count, max_attempts = seq._rom()

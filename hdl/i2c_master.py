@@ -42,7 +42,7 @@ from amaranth.lib.wiring import In, Out
 
 from spec.board import CLOCKS
 
-__all__ = ["OpenDrainSignature", "I2CSignature", "Cmd", "I2CTiming", "I2CMaster"]
+__all__ = ["OpenDrainSignature", "I2CSignature", "Cmd", "I2CTiming", "I2CMaster", "master_timing"]
 
 #: One open-drain pin as its driver sees it: ``oe`` = 1 with ``o`` = 0 pulls the line low, ``oe`` = 0 releases it
 #: (a pull-up makes it high); ``i`` is the line's level, high when idle. A driver must never set ``oe`` with
@@ -111,6 +111,16 @@ class I2CTiming:
         return cycles * 1e9 / self.clk_hz
 
 
+def master_timing(clk_hz, bus_hz, timeout_us):
+    """``(I2CTiming(clk_hz, bus_hz), time-out in cycles)`` of an :class:`I2CMaster`; ``ValueError`` for a clock too
+    slow for the bus rate, a bus rate above 1 MHz, a time-out shorter than the bus-free time."""
+    timing = I2CTiming(clk_hz, bus_hz)
+    timeout = max(1, -(-timeout_us * clk_hz // 1_000_000))
+    if timeout <= timing.buf + 4:
+        raise ValueError("timeout_us must be longer than the bus-free time")
+    return timing, timeout
+
+
 class I2CMaster(wiring.Component):
     """Byte-level I2C master on open-drain pins; see the module docstring for the commands, the bus timing,
     clock stretching, bus clear, time-outs and arbitration.
@@ -156,10 +166,7 @@ class I2CMaster(wiring.Component):
     i2c: Out(I2CSignature)
 
     def __init__(self, *, clk_hz=CLOCKS.SYS_HZ, bus_hz=CLOCKS.I2C_HZ, timeout_us=25_000):
-        self.timing = I2CTiming(clk_hz, bus_hz)
-        self.timeout = max(1, -(-timeout_us * clk_hz // 1_000_000))
-        if self.timeout <= self.timing.buf + 4:
-            raise ValueError("timeout_us must be longer than the bus-free time")
+        self.timing, self.timeout = master_timing(clk_hz, bus_hz, timeout_us)
         super().__init__()
 
     def elaborate(self, platform):

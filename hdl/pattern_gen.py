@@ -7,7 +7,7 @@ from amaranth.lib.wiring import In, Out
 from spec.video import CEA_1080P60
 from hdl.video_bus import TimingSignature, VideoSignature, Y_BITS
 
-__all__ = ["PatternGenerator"]
+__all__ = ["PatternGenerator", "check_active"]
 
 
 class ReciprocalDivider:
@@ -28,6 +28,13 @@ class ReciprocalDivider:
 
     def __call__(self, value):
         return (value * Const(self.mul)) >> self.shift
+
+
+def check_active(timing):
+    """``ValueError`` unless ``timing``'s active area has room for the test pattern (8 x 2 pixels)."""
+    if timing.h_active < 8 or timing.v_active < 2:
+        raise ValueError(f"the test pattern needs at least 8 x 2 active pixels, got "
+                         f"{timing.h_active} x {timing.v_active}")
 
 
 class PatternGenerator(wiring.Component):
@@ -66,9 +73,7 @@ class PatternGenerator(wiring.Component):
     """
 
     def __init__(self, timing=CEA_1080P60):
-        if timing.h_active < 8 or timing.v_active < 2:
-            raise ValueError(f"the test pattern needs at least 8 x 2 active pixels, got "
-                             f"{timing.h_active} x {timing.v_active}")
+        check_active(timing)
         self.mode = timing
         super().__init__({
             "timing": In(TimingSignature),

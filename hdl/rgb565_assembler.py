@@ -28,7 +28,13 @@ from amaranth.lib.wiring import In, Out
 
 from spec.sensor import SENSOR
 
-__all__ = ["RGB565Assembler"]
+__all__ = ["RGB565Assembler", "check_width"]
+
+
+def check_width(width):
+    """``ValueError`` unless ``width`` (pixels per line) is positive."""
+    if width < 1:
+        raise ValueError(f"width must be positive, got {width}")
 
 
 class RGB565Assembler(wiring.Component):
@@ -48,8 +54,7 @@ class RGB565Assembler(wiring.Component):
     """
 
     def __init__(self, width=SENSOR.width, *, r_byte_first=True):
-        if width < 1:
-            raise ValueError(f"width must be positive, got {width}")
+        check_width(width)
         self.width = width
         self.r_byte_first = r_byte_first
         column_shape = unsigned(width.bit_length())     # 0 .. width inclusive

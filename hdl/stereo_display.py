@@ -4,11 +4,11 @@ from amaranth import Module, Mux, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
-from hdl.compositor import LATENCY as COMPOSITOR_LATENCY, Compositor
+from hdl.compositor import LATENCY as COMPOSITOR_LATENCY, Compositor, check_parameters, segmentation_fits
 from hdl.depth import DepthEngine, schedule
+from hdl.depth.engine import check_parameters as check_engine
 from hdl.depth.ports import RowTagReadSignature
 from hdl.disparity import SETTLE_CLOCKS
-from hdl.forward import forward
 from hdl.frame_buffer import FrameBufferReadSignature
 from spec.depth import DEPTH
 from spec.display import DIFF_LEVEL_GREY, DIFF_THRESHOLDS
@@ -20,7 +20,7 @@ from hdl.reset_tree import add_reset_subtree
 from hdl.switches import SettingsSignature
 from hdl.video_bus import TimingSignature, VideoSignature
 
-__all__ = ["StereoDisplay", "LATENCY", "ENGINE_START_DELAY", "check_engine_keeps_up"]
+__all__ = ["StereoDisplay", "LATENCY", "ENGINE_START_DELAY", "check_engine_keeps_up", "check_display"]
 
 #: Clocks from ``timing`` in to ``video`` out (the compositor's).
 LATENCY = COMPOSITOR_LATENCY
@@ -56,6 +56,16 @@ def check_engine_keeps_up(timing, layout, geometry, config, segmentation=False):
     if start < first:
         raise ValueError(f"the depth map (and the segmentation view) must start at least {first} clocks into the frame (line "
                          f"{-(-first // timing.h_total)}) for the engine's first row to be ready")
+
+
+def check_display(timing, geometry, layout, *, config=DEPTH, out_rows=4, thresholds=DIFF_THRESHOLDS,
+                  level_grey=DIFF_LEVEL_GREY):
+    """The layout (``None``: centred) of a :class:`StereoDisplay`; ``ValueError`` for what it rejects (the
+    compositor's and the engine's checks, :func:`check_engine_keeps_up`)."""
+    layout = check_parameters(timing, geometry, layout, config, thresholds, level_grey)[0]
+    check_engine(geometry, config, out_rows)
+    check_engine_keeps_up(timing, layout, geometry, config, segmentation_fits(layout))
+    return layout
 
 
 class StereoDisplay(wiring.Component):
@@ -99,12 +109,10 @@ class StereoDisplay(wiring.Component):
 
     def __init__(self, timing=CEA_1080P60, geometry=SENSOR, layout=None, *, config=DEPTH, out_rows=4,
                  thresholds=DIFF_THRESHOLDS, level_grey=DIFF_LEVEL_GREY):
-        self.geometry = geometry
-        self.compositor = Compositor(timing, geometry, layout, config=config, out_rows=out_rows,
-                                     thresholds=thresholds, level_grey=level_grey)
-        self.engine = DepthEngine(geometry, config, out_rows=out_rows)
-        check_engine_keeps_up(timing, self.compositor.layout, geometry, config, self.compositor.segmentation)
-        self.arbiters = {side: ReadArbiter(geometry) for side in ("left", "right")}
+        layout = check_display(timing, geometry, layout, config=config, out_rows=out_rows, thresholds=thresholds,
+                               level_grey=level_grey)
+        self.video_timing, self.geometry, self.layout, self.config, self.out_rows = timing, geometry, layout, config, out_rows
+        self.thresholds, self.level_grey = thresholds, level_grey
         super().__init__({
             "timing": In(TimingSignature),
             "settings": In(SettingsSignature),
@@ -116,24 +124,23 @@ class StereoDisplay(wiring.Component):
             "right_tags": Out(RowTagReadSignature(geometry.buf_height)),
             "video": Out(VideoSignature),
         })
-        forward(self, "timing", self.compositor)
-        forward(self, "settings", self.compositor)
-        forward(self, "segment", self.compositor)
-        forward(self, "rectification_mode", self.compositor)
-        forward(self, "video", self.compositor)
-        for side, arbiter in self.arbiters.items():
-            forward(self, side, arbiter, "buffer")
-            forward(self, f"{side}_tags", self.engine)
 
     def elaborate(self, platform):
         m = Module()
-        comp, engine = self.compositor, self.engine
+        comp = Compositor(self.video_timing, self.geometry, self.layout, config=self.config, out_rows=self.out_rows,
+                          thresholds=self.thresholds, level_grey=self.level_grey)
+        engine = DepthEngine(self.geometry, self.config, out_rows=self.out_rows)
         add_reset_subtree(m, "compositor", comp)
         add_reset_subtree(m, "engine", engine)
-        for side, arbiter in self.arbiters.items():
-            add_reset_subtree(m, f"{side}_arbiter", arbiter)
+        for name in ("timing", "settings", "rectification_mode", "video"):
+            wiring.connect(m, wiring.flipped(getattr(self, name)), getattr(comp, name))
+        m.d.comb += comp.segment.eq(self.segment)
+        for side in ("left", "right"):
+            arbiter = add_reset_subtree(m, f"{side}_arbiter", ReadArbiter(self.geometry))
             wiring.connect(m, getattr(comp, side), arbiter.display)
             wiring.connect(m, getattr(engine, side), arbiter.engine)
+            wiring.connect(m, wiring.flipped(getattr(self, side)), arbiter.buffer)
+            wiring.connect(m, wiring.flipped(getattr(self, f"{side}_tags")), getattr(engine, f"{side}_tags"))
         wiring.connect(m, comp.depth, engine.result)
         start = self.timing.frame_start
         for i in range(ENGINE_START_DELAY):

@@ -6,11 +6,12 @@ from amaranth.lib import wiring
 from spec.video import CEA_1080P60
 from hdl.video_bus import TimingSignature, X_BITS, Y_BITS
 
-__all__ = ["SyncGenerator"]
+__all__ = ["SyncGenerator", "check_timing"]
 
 
-def check_timing(timing):
-    """Raise ``ValueError`` unless ``timing`` is a mode the display blocks can produce."""
+def check_timing(timing, start=(0, 0)):
+    """Raise ``ValueError`` unless ``timing`` is a mode the display blocks can produce and ``start`` a raster
+    position of it."""
     if timing.h_total > 2 ** X_BITS or timing.v_total > 2 ** Y_BITS:
         raise ValueError(f"{timing.h_total} x {timing.v_total} does not fit the {X_BITS}/{Y_BITS}-bit x/y of "
                          f"TimingSignature")
@@ -18,6 +19,9 @@ def check_timing(timing):
             min(timing.h_front, timing.h_back, timing.v_back) < 0:
         raise ValueError(f"unsupported video timing {timing} (need h_active, h_sync, v_active, v_sync, "
                          f"v_front >= 1 and non-negative porches)")
+    x0, y0 = start
+    if not (0 <= x0 < timing.h_total and 0 <= y0 < timing.v_total):
+        raise ValueError(f"start {start} is outside the {timing.h_total} x {timing.v_total} raster")
 
 
 class SyncGenerator(wiring.Component):
@@ -65,12 +69,9 @@ class SyncGenerator(wiring.Component):
     """
 
     def __init__(self, timing=CEA_1080P60, *, start=(0, 0)):
-        check_timing(timing)
-        x0, y0 = start
-        if not (0 <= x0 < timing.h_total and 0 <= y0 < timing.v_total):
-            raise ValueError(f"start {start} is outside the {timing.h_total} x {timing.v_total} raster")
+        check_timing(timing, start)
         self.timing = timing
-        self.start = (x0, y0)
+        self.start = tuple(start)
         super().__init__(TimingSignature)
 
     def elaborate(self, platform):

@@ -59,17 +59,18 @@ Latency: from a raster position of the sync generator to the CH7301C pins, :data
 while a capture is in progress can show part old, part new image.
 """
 
+from dataclasses import KW_ONLY, dataclass
+
 from amaranth import DomainRenamer, Module, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
-from hdl.capture import CameraSignature, CaptureStatusSignature
+from hdl.capture import CameraSignature, CaptureStatusSignature, check_geometry as check_capture
 from hdl.capture_path import CapturePath
 from hdl.ch7301c_output import CH7301COutput, CH7301CSignature
-from hdl.stereo_display import LATENCY as COMPOSITOR_LATENCY, StereoDisplay
-from hdl.forward import forward
-from hdl.frame_skew import FrameSkewMeter, FrameSkewSignature
-from hdl.i2c_init import InitSequencer, InitStatusSignature
+from hdl.stereo_display import LATENCY as COMPOSITOR_LATENCY, StereoDisplay, check_display
+from hdl.frame_skew import FrameSkewMeter, FrameSkewSignature, skew_bits
+from hdl.i2c_init import InitSequencer, InitStatusSignature, check_parameters as check_sequencer
 from hdl.i2c_master import I2CSignature
 from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE
 from spec.board import CLOCKS
@@ -81,13 +82,14 @@ from hdl.rectification_select import RectificationSelect
 from hdl.switches import SettingsSignature, SwitchControl
 from hdl.vertical_offset import VerticalOffsetEstimator
 from spec.rectification import RECTIFICATION
-from hdl.sync_gen import SyncGenerator
+from hdl.sync_gen import SyncGenerator, check_timing
 from hdl.video_bus import VideoSignature
 from hdl.reset_tree import add_reset_subtree
 from hdl.row_tags import RowTagTracker
 from hdl.frame_pairing import FramePairing
 
-__all__ = ["StereoDepthSystem", "PanelSignature", "ControlSignature", "DISPLAY_LATENCY", "CAMERAS", "I2C_BUSES"]
+__all__ = ["StereoDepthSystem", "SystemParameters", "PanelSignature", "ControlSignature", "DISPLAY_LATENCY", "CAMERAS",
+           "I2C_BUSES"]
 
 #: Pixel clocks from a sync-generator raster position to that pixel on the CH7301C pins.
 DISPLAY_LATENCY = COMPOSITOR_LATENCY + 1
@@ -105,8 +107,9 @@ ControlSignature = wiring.Signature({
 })
 
 
-class StereoDepthSystem(wiring.Component):
-    """The whole system without clocking or pins: see the module docstring.
+@dataclass(frozen=True)
+class SystemParameters:
+    """The parameters of a :class:`StereoDepthSystem`, checked; its signature follows from them.
 
     Parameters
     ----------
@@ -135,9 +138,93 @@ class StereoDepthSystem(wiring.Component):
         ``None``: the video stream only (the board top level builds the pins).
     heartbeat_log2, cam_heartbeat_log2 : int
         LED blink rates.
+    skew_line_clocks : int or None
+        One sensor line in ``sync`` clocks, the frame-skew goal (default: see the module docstring).
+
+    Raises
+    ------
+    ValueError
+        Any block's parameter check; ``ddr`` other than ``"behavioural"`` or ``None``.
+    TypeError
+        An init table that is not an ``InitTable``.
+    """
+    geometry: object = SENSOR
+    timing: object = CEA_1080P60
+    layout: object = None
+    _: KW_ONLY
+    thresholds: tuple = DIFF_THRESHOLDS
+    level_grey: tuple = DIFF_LEVEL_GREY
+    depth: object = DEPTH
+    auto_rectification: object = RECTIFICATION
+    cam_table: object = MT9D112_TABLE
+    dvi_table: object = CH7301C_TABLE
+    clk_hz: int = CLOCKS.SYS_HZ
+    i2c_hz: int = CLOCKS.I2C_HZ
+    i2c_retry_delay_us: int = 1000
+    r_byte_first: bool = True
+    ddr: object = "behavioural"
+    heartbeat_log2: int = 5
+    cam_heartbeat_log2: int = 3
+    skew_line_clocks: object = None
+
+    def __post_init__(self):
+        if self.ddr not in ("behavioural", None):
+            raise ValueError(f"ddr must be 'behavioural' or None (board: pins built by board.top), not {self.ddr!r}")
+        check_capture(self.geometry)
+        check_display(self.timing, self.geometry, self.layout, config=self.depth, thresholds=self.thresholds,
+                      level_grey=self.level_grey)
+        check_timing(self.timing)
+        self.auto_rectification.check(self.geometry.buf_height)
+        skew_bits(*self.skew_clocks)
+        for table in self.tables.values():
+            check_sequencer(table, clk_hz=self.clk_hz, bus_hz=self.i2c_hz)
+
+    @property
+    def tables(self):
+        """The init table of each I2C bus."""
+        return {"cam_a": self.cam_table, "cam_b": self.cam_table, "dvi": self.dvi_table}
+
+    @property
+    def skew_clocks(self):
+        """``(line_clocks, max_clocks)`` of the frame-skew meter."""
+        g = self.geometry
+        line = self.skew_line_clocks or -(-(2 * g.width + 256) * self.clk_hz // CLOCKS.CAM_PCLK_HZ)
+        return line, max(line, line * (g.height + 8) // 2)
+
+    def signature(self):
+        """The system's signature (see :class:`StereoDepthSystem`'s Attributes)."""
+        members = {
+            **{f"cam_{c}": In(CameraSignature) for c in CAMERAS},
+            "capture": Out(wiring.Signature({f"cam_{c}": Out(CaptureStatusSignature) for c in CAMERAS})),
+            "i2c": Out(wiring.Signature({bus: Out(I2CSignature) for bus in I2C_BUSES})),
+            "init": Out(wiring.Signature({bus: Out(InitStatusSignature(len(table)))
+                                          for bus, table in self.tables.items()})),
+            "panel": Out(PanelSignature),
+            "control": Out(ControlSignature),
+            "video": Out(VideoSignature),
+            "frame_start": Out(1),
+            "settings": Out(SettingsSignature),
+            "skew": Out(FrameSkewSignature(skew_bits(*self.skew_clocks))),
+            "rectification": Out(wiring.Signature({n: Out(1) for n in ("auto", "confident", "held", "locked")})),
+        }
+        if self.ddr is not None:
+            members["ch7301c"] = Out(CH7301CSignature)
+        return wiring.Signature(members)
+
+
+class StereoDepthSystem(wiring.Component):
+    """The whole system without clocking or pins: see the module docstring.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        The parameters: :class:`SystemParameters`.
 
     Attributes
     ----------
+    params : :class:`SystemParameters`
+    geometry, video_timing
+        The parameters ``geometry`` and ``timing``.
     cam_a, cam_b : ``In(CameraSignature)``
         Camera pins (``cam_<c>`` domain).
     capture : ``Out``, per camera ``cam_a``, ``cam_b`` a ``CaptureStatusSignature``
@@ -162,97 +249,51 @@ class StereoDepthSystem(wiring.Component):
     rectification : ``Out``: ``auto``, ``confident``, ``held``, ``locked``
         The automatic rectification's mode and the estimator's last verdict (``pix``).
 
-    Every member is handed down to the block that drives or reads it (:func:`hdl.forward.forward`).
+    Each member is connected to the block that drives or reads it (``wiring.connect``, flipped).
 
     Raises
     ------
-    ValueError
-        Any block's parameter check; ``ddr`` other than ``"behavioural"`` or ``None``.
+    ValueError, TypeError
+        As :class:`SystemParameters`.
     """
 
-    def __init__(self, geometry=SENSOR, timing=CEA_1080P60, layout=None, *, thresholds=DIFF_THRESHOLDS,
-                 level_grey=DIFF_LEVEL_GREY, depth=DEPTH, auto_rectification=RECTIFICATION, cam_table=MT9D112_TABLE,
-                 dvi_table=CH7301C_TABLE, clk_hz=CLOCKS.SYS_HZ, i2c_hz=CLOCKS.I2C_HZ, i2c_retry_delay_us=1000,
-                 r_byte_first=True, ddr="behavioural", heartbeat_log2=5, cam_heartbeat_log2=3, skew_line_clocks=None):
-        if ddr not in ("behavioural", None):
-            raise ValueError(f"ddr must be 'behavioural' or None (board: pins built by board.top), not {ddr!r}")
-        self.geometry = geometry
-        self.video_timing = timing
-        self.heartbeat_log2 = heartbeat_log2
-        self.cam_heartbeat_log2 = cam_heartbeat_log2
-        # The blocks, built now so that bad parameters fail at construction and the members can be forwarded.
-        self.capture_path = CapturePath(geometry, cameras=CAMERAS, r_byte_first=r_byte_first, read_domain="pix")
-        self.row_tags = {c: RowTagTracker(geometry, cam_domain=f"cam_{c}", pix_domain="pix") for c in CAMERAS}
-        self.frame_pairing = FramePairing()
-        self.display = StereoDisplay(timing, geometry, layout, config=depth, thresholds=thresholds,
-                                        level_grey=level_grey)
-        self.sync_gen = SyncGenerator(timing)
-        self.switches = SwitchControl(domain="pix")
-        self.estimator = VerticalOffsetEstimator(geometry, auto_rectification, left_domain="cam_a",
-                                                 right_domain="cam_b")
-        self.select = RectificationSelect(auto_rectification)
-        self.output = CH7301COutput(timing, ddr=ddr) if ddr is not None else None
-        line = skew_line_clocks or -(-(2 * geometry.width + 256) * clk_hz // CLOCKS.CAM_PCLK_HZ)
-        self.skew_meter = FrameSkewMeter(
-            line_clocks=line, max_clocks=max(line, line * (geometry.height + 8) // 2),
-            cam_domains=tuple(f"cam_{c}" for c in CAMERAS))
-        tables = {"cam_a": cam_table, "cam_b": cam_table, "dvi": dvi_table}
-        self.sequencers = {
-            bus: InitSequencer(table, clk_hz=clk_hz, bus_hz=i2c_hz, retry_delay_us=i2c_retry_delay_us)
-            for bus, table in tables.items()
-        }
-        super().__init__(self._members(tables))
-        # The switches' settings output is the select's own manual input (one set of signals, named after the
-        # select's member: the system's ``settings`` are the select's output).
-        forward(self.select, "manual", self.switches, "settings")
-        self._forward_members()
-
-    def _members(self, tables):
-        members = {
-            **{f"cam_{c}": In(CameraSignature) for c in CAMERAS},
-            "capture": Out(wiring.Signature({f"cam_{c}": Out(CaptureStatusSignature) for c in CAMERAS})),
-            "i2c": Out(wiring.Signature({bus: Out(I2CSignature) for bus in I2C_BUSES})),
-            "init": Out(wiring.Signature({bus: Out(InitStatusSignature(len(tables[bus]))) for bus in I2C_BUSES})),
-            "panel": Out(PanelSignature),
-            "control": Out(ControlSignature),
-            "video": Out(VideoSignature),
-            "frame_start": Out(1),
-            "settings": Out(SettingsSignature),
-            "skew": Out(FrameSkewSignature(self.skew_meter.bits)),
-            "rectification": Out(wiring.Signature({n: Out(1) for n in ("auto", "confident", "held", "locked")})),
-        }
-        if self.output is not None:
-            members["ch7301c"] = Out(CH7301CSignature)
-        return members
-
-    def _forward_members(self):
-        for c in CAMERAS:
-            forward(self, f"cam_{c}", self.capture_path, (f"cam_{c}", "pins"))
-            forward(self, ("capture", f"cam_{c}"), self.capture_path, (f"cam_{c}", "status"))
-            for strobe in ("frame_start", "row_start", "row_end"):     # the capture's strobes, read by its tracker
-                forward(self, ("capture", f"cam_{c}", strobe), self.row_tags[c], strobe)
-        for bus, seq in self.sequencers.items():
-            forward(self, ("i2c", bus), seq, "i2c")
-            forward(self, ("init", bus), seq, "status")
-        forward(self, ("panel", "sw"), self.switches)
-        forward(self, "video", self.display)
-        forward(self, "frame_start", self.sync_gen)
-        forward(self, "settings", self.select)
-        forward(self, "skew", self.skew_meter, "status")
-        forward(self, ("rectification", "auto"), self.select)
-        for name in ("confident", "held", "locked"):
-            forward(self, ("rectification", name), self.estimator)
-        if self.output is not None:
-            forward(self, "ch7301c", self.output, "pins")
+    def __init__(self, *args, **kwargs):
+        self.params = SystemParameters(*args, **kwargs)
+        self.geometry, self.video_timing = self.params.geometry, self.params.timing
+        super().__init__(self.params.signature())
 
     def elaborate(self, platform):
         m = Module()
+        p = self.params
+        sequencers = self._init(m)
+        capture = add_reset_subtree(m, "capture", CapturePath(p.geometry, cameras=CAMERAS, r_byte_first=p.r_byte_first,
+                                                              read_domain="pix"), "pix")
+        for c in CAMERAS:
+            port = capture.port(c)
+            wiring.connect(m, wiring.flipped(getattr(self, f"cam_{c}")), port.pins)
+            wiring.connect(m, wiring.flipped(getattr(self.capture, f"cam_{c}")), port.status)
+        line, most = p.skew_clocks
+        m.submodules.skew_meter = meter = FrameSkewMeter(line_clocks=line, max_clocks=most,
+                                                         cam_domains=tuple(f"cam_{c}" for c in CAMERAS))
+        m.d.comb += [meter.start_a.eq(capture.cam_a.status.frame_start),
+                     meter.start_b.eq(capture.cam_b.status.frame_start)]
+        wiring.connect(m, wiring.flipped(self.skew), meter.status)
+        sync_gen = self._display(m, capture)
+        self._leds(m, sync_gen, sequencers)
+        return m
 
-        # --- I2C init: one sequencer per bus (sync) -----------------------------------------------------------
-        for bus, seq in self.sequencers.items():
-            m.submodules[f"init_{bus}"] = seq
+    def _init(self, m):
+        """The I2C init sequencers (``sync``, one per bus) and the sensor / transmitter reset and power pins."""
+        p = self.params
+        sequencers = {}
+        for bus, table in p.tables.items():
+            m.submodules[f"init_{bus}"] = seq = InitSequencer(table, clk_hz=p.clk_hz, bus_hz=p.i2c_hz,
+                                                               retry_delay_us=p.i2c_retry_delay_us)
+            wiring.connect(m, wiring.flipped(getattr(self.i2c, bus)), seq.i2c)
+            wiring.connect(m, wiring.flipped(getattr(self.init, bus)), seq.status)
+            sequencers[bus] = seq
         # The cameras' tables meet at their Barrier and go on together (docs/hardware-facts.md, "in step").
-        cam_a, cam_b = self.sequencers["cam_a"], self.sequencers["cam_b"]
+        cam_a, cam_b = sequencers["cam_a"], sequencers["cam_b"]
         m.d.comb += [seq.release.eq(cam_a.barrier & cam_b.barrier) for seq in (cam_a, cam_b)]
 
         # Sensor / transmitter reset and power: low in reset, high from the first sync clock after it.
@@ -263,38 +304,65 @@ class StereoDepthSystem(wiring.Component):
             control.cam_rst_n.eq(out_of_reset), control.dvi_reset_n.eq(out_of_reset),
             control.cam_vdden.eq(out_of_reset), control.cam_pwdn.eq(0),
         ]
+        return sequencers
 
-        # --- cameras: capture + frame buffers (cam_a / cam_b write, pix read) ----------------------------------
-        capture = add_reset_subtree(m, "capture", self.capture_path, "pix")
-        m.submodules.skew_meter = meter = self.skew_meter
-        m.d.comb += [meter.start_a.eq(capture.cam_a.status.frame_start),
-                     meter.start_b.eq(capture.cam_b.status.frame_start)]
-
-        # --- display (pix) -------------------------------------------------------------------------------------
+    def _display(self, m, capture):
+        """The pixel-clock side: sync generator, switches, rectification, the display, the row tags and the output
+        stage. Returns the sync generator."""
+        p = self.params
         pix = DomainRenamer("pix")
-        add_reset_subtree(m, "sync_gen", pix(self.sync_gen), "pix")
-        switches = add_reset_subtree(m, "switches", self.switches, "pix")
-        add_reset_subtree(m, "display", pix(self.display), "pix")
-        wiring.connect(m, self.sync_gen, self.display.timing)
-        self._rectification(m, capture, pix)
-        wiring.connect(m, self.select.settings, self.display.settings)
-        m.d.comb += self.display.segment.eq(self.select.segment)
-        wiring.connect(m, self.select.mode, self.display.rectification_mode)
-        wiring.connect(m, self.display.left, capture.cam_a.read)       # camera A = left
-        wiring.connect(m, self.display.right, capture.cam_b.read)      # camera B = right
-        add_reset_subtree(m, "frame_pairing", pix(self.frame_pairing), "pix")
+        sync_gen = add_reset_subtree(m, "sync_gen", pix(SyncGenerator(p.timing)), "pix")
+        switches = add_reset_subtree(m, "switches", SwitchControl(domain="pix"), "pix")
+        display = add_reset_subtree(m, "display", pix(StereoDisplay(
+            p.timing, p.geometry, p.layout, config=p.depth, thresholds=p.thresholds, level_grey=p.level_grey)), "pix")
+        m.d.comb += [switches.sw.eq(self.panel.sw), switches.frame_start.eq(sync_gen.frame_start),
+                     self.frame_start.eq(sync_gen.frame_start)]
+        wiring.connect(m, sync_gen, display.timing)
+        select = self._rectification(m, capture, pix, sync_gen)
+        wiring.connect(m, switches.settings, select.manual)
+        wiring.connect(m, select.settings, display.settings, wiring.flipped(self.settings))
+        m.d.comb += display.segment.eq(select.segment)
+        wiring.connect(m, select.mode, display.rectification_mode)
+        wiring.connect(m, display.left, capture.cam_a.read)       # camera A = left
+        wiring.connect(m, display.right, capture.cam_b.read)      # camera B = right
+        pairing = add_reset_subtree(m, "frame_pairing", pix(FramePairing()), "pix")
         for c, side in zip(CAMERAS, ("left", "right")):
-            tracker = add_reset_subtree(m, f"row_tags_{c}", self.row_tags[c], "pix")
-            wiring.connect(m, getattr(self.display, f"{side}_tags"), tracker.read)
-            wiring.connect(m, tracker.pair, getattr(self.frame_pairing, c))
-        m.d.comb += switches.frame_start.eq(self.sync_gen.frame_start)
-        if self.output is not None:
-            add_reset_subtree(m, "output", pix(self.output), "pix")
-            wiring.connect(m, self.display.video, self.output.video)
+            tracker = add_reset_subtree(m, f"row_tags_{c}", RowTagTracker(p.geometry, cam_domain=f"cam_{c}",
+                                                                          pix_domain="pix"), "pix")
+            status = capture.port(c).status
+            m.d.comb += [getattr(tracker, strobe).eq(getattr(status, strobe))     # the capture's, read by its tracker
+                         for strobe in ("frame_start", "row_start", "row_end")]
+            wiring.connect(m, getattr(display, f"{side}_tags"), tracker.read)
+            wiring.connect(m, tracker.pair, getattr(pairing, c))
+        if p.ddr is None:
+            wiring.connect(m, wiring.flipped(self.video), display.video)
+        else:
+            output = add_reset_subtree(m, "output", pix(CH7301COutput(p.timing, ddr=p.ddr)), "pix")
+            wiring.connect(m, display.video, output.video, wiring.flipped(self.video))
+            wiring.connect(m, wiring.flipped(self.ch7301c), output.pins)
+        return sync_gen
 
-        # --- LEDs ------------------------------------------------------------------------------------------------
-        frames = Signal(self.heartbeat_log2 + 1)
-        with m.If(self.sync_gen.frame_start):
+    def _rectification(self, m, capture, pix, sync_gen):
+        """The estimator watches both captures' writes (camera A = left); the select picks manual or automatic.
+        Returns the select."""
+        p = self.params
+        est = add_reset_subtree(m, "vertical_offset", pix(VerticalOffsetEstimator(
+            p.geometry, p.auto_rectification, left_domain="cam_a", right_domain="cam_b")), "pix")
+        select = add_reset_subtree(m, "rectification_select", pix(RectificationSelect(p.auto_rectification)), "pix")
+        for side, port in (("left", capture.cam_a), ("right", capture.cam_b)):
+            watch = getattr(est, side)
+            m.d.comb += [watch.addr.eq(port.write.addr), watch.data.eq(port.write.data),
+                         watch.en.eq(port.write.en), watch.frame_done.eq(port.status.frame_done)]
+        m.d.comb += [select.estimate.eq(est.offset), select.estimate_held.eq(est.held),
+                     select.frame_start.eq(sync_gen.frame_start), self.rectification.auto.eq(select.auto)]
+        m.d.comb += [getattr(self.rectification, name).eq(getattr(est, name)) for name in ("confident", "held", "locked")]
+        return select
+
+    def _leds(self, m, sync_gen, sequencers):
+        """The status LEDs (see the module docstring)."""
+        p = self.params
+        frames = Signal(p.heartbeat_log2 + 1)
+        with m.If(sync_gen.frame_start):
             m.d.pix += frames.eq(frames + 1)
         init = self.init
         m.d.comb += [
@@ -303,19 +371,6 @@ class StereoDepthSystem(wiring.Component):
             self.panel.leds[4].eq(init.dvi.done),
             self.panel.leds[5].eq(init.dvi.error | (init.dvi.mismatch & frames[-1])),
             self.panel.leds[6].eq(frames[-1]),
-            self.panel.leds[7].eq(self.capture.cam_a.frame_count[self.cam_heartbeat_log2]
+            self.panel.leds[7].eq(self.capture.cam_a.frame_count[p.cam_heartbeat_log2]
                                   | (self.skew.valid & ~self.skew.aligned)),
         ]
-        return m
-
-    def _rectification(self, m, capture, pix):
-        """The estimator watches both captures' writes (camera A = left); the select picks manual or automatic."""
-        est, select = self.estimator, self.select
-        add_reset_subtree(m, "vertical_offset", pix(est), "pix")
-        add_reset_subtree(m, "rectification_select", pix(select), "pix")
-        for side, port in (("left", capture.cam_a), ("right", capture.cam_b)):
-            watch = getattr(est, side)
-            m.d.comb += [watch.addr.eq(port.write.addr), watch.data.eq(port.write.data),
-                         watch.en.eq(port.write.en), watch.frame_done.eq(port.status.frame_done)]
-        m.d.comb += [select.estimate.eq(est.offset), select.estimate_held.eq(est.held),
-                     select.frame_start.eq(self.sync_gen.frame_start)]

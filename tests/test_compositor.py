@@ -21,7 +21,6 @@ from golden.stereo_pair import load_default_pair
 from hdl.compositor import LATENCY, Compositor
 from hdl.stereo_display import StereoDisplay, check_engine_keeps_up
 from board.export import export_verilog
-from hdl.forward import forward
 from hdl.frame_buffer import FrameBuffer
 from spec.board import CLOCKS
 from spec.depth import DEPTH, SMALL_DEPTH
@@ -70,9 +69,8 @@ class DisplayTestbench(wiring.Component):
     checks it against the ``video`` ports themselves at intervals)."""
 
     def __init__(self, timing, geometry, *, layout=None, config=SMALL_DEPTH, init_left=(), init_right=()):
-        self.switches = SwitchControl()
-        self.compositor = StereoDisplay(timing, geometry, layout, config=config)
-        self.buffers = (FrameBuffer(geometry, init=list(init_left)), FrameBuffer(geometry, init=list(init_right)))
+        self.timing_mode, self.geometry, self.layout, self.config = timing, geometry, layout, config
+        self.init = (list(init_left), list(init_right))
         super().__init__({
             "timing": In(TimingSignature),
             "sw": In(SWITCH_VALUE_BITS + 1),
@@ -85,20 +83,21 @@ class DisplayTestbench(wiring.Component):
             "settings": Out(SettingsSignature),
             "segment": In(1),
         })
-        for name, child in (("timing", self.compositor), ("video", self.compositor), ("sw", self.switches),
-                            ("settings", self.switches), ("segment", self.compositor)):
-            forward(self, name, child)
 
     def elaborate(self, platform):
         m = Module()
-        m.submodules.switches = switches = self.switches
-        m.submodules.compositor = comp = self.compositor
-        m.submodules.left_buffer = left = self.buffers[0]
-        m.submodules.right_buffer = right = self.buffers[1]
-        wiring.connect(m, switches.settings, comp.settings)
+        m.submodules.switches = switches = SwitchControl()
+        m.submodules.compositor = comp = StereoDisplay(self.timing_mode, self.geometry, self.layout, config=self.config)
+        m.submodules.left_buffer = left = FrameBuffer(self.geometry, init=self.init[0])
+        m.submodules.right_buffer = right = FrameBuffer(self.geometry, init=self.init[1])
+        wiring.connect(m, switches.settings, comp.settings, wiring.flipped(self.settings))
+        wiring.connect(m, wiring.flipped(self.timing), comp.timing)
+        wiring.connect(m, wiring.flipped(self.video), comp.video)
         wiring.connect(m, comp.left, left.read)
         wiring.connect(m, comp.right, right.read)
         m.d.comb += [
+            switches.sw.eq(self.sw),
+            comp.segment.eq(self.segment),
             switches.frame_start.eq(self.timing.frame_start),
             self.video_word.eq(Cat(comp.video.vsync, comp.video.hsync, comp.video.de, comp.video.rgb)),
         ]

@@ -19,7 +19,6 @@ from hypothesis import strategies as st
 from golden.capture import downscale, grey5
 from hdl.downscaler import Downscaler
 from hdl.grey import Grey
-from hdl.forward import forward
 from hdl.frame_buffer import FrameBufferWriteSignature
 from spec.sensor import SensorGeometry
 
@@ -29,18 +28,17 @@ class GreyDownscale(wiring.Component):
 
     def __init__(self, geometry):
         self.geometry = geometry
-        self.downscaler = Downscaler(geometry)
         super().__init__({
             "pixel": In(16), "valid": In(1),
-            "column": In(len(self.downscaler.column)), "row": In(len(self.downscaler.row)),
+            "column": In(geometry.width.bit_length()), "row": In(geometry.height.bit_length()),
             "write": Out(FrameBufferWriteSignature(geometry)),
         })
-        forward(self, "write", self.downscaler)
 
     def elaborate(self, platform):
         m = Module()
         m.submodules.grey = grey = Grey()
-        m.submodules.downscaler = ds = self.downscaler
+        m.submodules.downscaler = ds = Downscaler(self.geometry)
+        wiring.connect(m, wiring.flipped(self.write), ds.write)
         m.d.comb += [
             grey.pixel.eq(self.pixel), ds.grey.eq(grey.grey), ds.valid.eq(self.valid),
             ds.column.eq(self.column), ds.row.eq(self.row),

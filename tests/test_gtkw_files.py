@@ -102,8 +102,8 @@ def test_system_save_file_decodes_the_buses_and_names_the_states(system_save_fil
 
 
 def test_no_saved_trace_has_a_collision_suffix(system_save_file, display_waves):
-    """No listed trace carries a ``$NN`` suffix (the wrappers hand their members down to their children instead
-    of copying them: hdl/forward.py)."""
+    """No listed trace carries a ``$NN`` suffix: every signal shown has its plain name in the module of the block
+    that owns it (sim/waves/gtkw.py shows that one)."""
     suffixed = [n for gtkw in (system_save_file, display_waves["GTKWave"]) for n in gtkwave_check.listed(gtkw)
                 if COLLISION.search(n)]
     assert suffixed == []

@@ -1,11 +1,10 @@
 # amaranth: UnusedElaboratable=no
-"""Every constructor that rejects its arguments raises, and a leaf block does so before it builds any sub-block.
+"""Every constructor that rejects its arguments raises before it builds any sub-block (a composite builds its parts
+in ``elaborate`` and runs their checks first).
 
 The rejected objects are created here, and this file silences Amaranth's "created but never used" warning for what
 it creates (the linter comment on its first line, as Amaranth's own tests do); a sub-block the constructor had
-already built is created in the block's own file and still warns. A composite whose check needs its parts built
-first (:data:`BUILT_FIRST`) leaves those parts unused: Amaranth warns about them, as it does for its own composite
-blocks, and the command line silences that warning when it reports the error (``stereodepth.cli``)."""
+already built is created in the block's own file and still warns."""
 
 import gc
 import warnings
@@ -78,15 +77,6 @@ REJECTED = {
 }
 
 
-#: Composites whose rejection comes from a part or from a check of the built parts: the parts left unused.
-BUILT_FIRST = {
-    "CapturePath, a camera's capture": {"CameraCapture"},
-    "StereoDisplay": {"Compositor", "DepthEngine", "DisparitySubtractor", "TextLayer", "CentreDistance",
-                      "SegmentBand"},
-    "StereoDepthSystem, its compositor": None,      # everything built before the display: any part
-}
-
-
 @pytest.fixture(autouse=True)
 def warnings_on():
     """Amaranth stays quiet about unused elaboratables until something has been elaborated in the process (a
@@ -104,10 +94,7 @@ def test_rejected_constructor_checks_before_it_builds(name):
             make()
         gc.collect()
     unused = {str(w.message).split()[0].rpartition(".")[2] for w in caught if issubclass(w.category, UnusedElaboratable)}
-    if name in BUILT_FIRST:
-        assert BUILT_FIRST[name] is None or unused <= BUILT_FIRST[name], unused
-    else:
-        assert not unused, unused
+    assert not unused, unused
 
 
 def test_the_check_sees_a_sub_block_built_before_the_check(tmp_path, monkeypatch):

@@ -18,7 +18,7 @@ from hdl.depth.sgm_path import SgmPath
 from hdl.depth.winner import Winner
 from hdl.reset_tree import add_reset_subtree
 
-__all__ = ["DepthEngine", "Schedule", "schedule", "tag_delay"]
+__all__ = ["DepthEngine", "Schedule", "schedule", "tag_delay", "check_parameters"]
 
 RING_ROWS = 8           # input ring slots per image: the 7 census rows and the one being fetched
 CENSUS_SHIFT = 1        # clock of a step at which the ring column enters the census windows
@@ -55,6 +55,21 @@ def tag_delay(config=DEPTH, tag_margin=8):
     for its census_height // 2 + 1 rows, each 3 clocks later for its start sample, and for the last one's end
     sample, ``tag_margin`` + 1 clocks after its last pixel would have counted."""
     return 3 * (config.census_height // 2 + 1) + tag_margin + 1
+
+
+def check_parameters(geometry, config, out_rows=4, tag_margin=8):
+    """``ValueError`` for what :class:`DepthEngine` rejects (see its Raises)."""
+    if config.disparities % config.lanes:
+        raise ValueError(f"lanes ({config.lanes}) must divide D ({config.disparities})")
+    if not 2 <= config.disparities <= geometry.buf_width:
+        raise ValueError(f"D = {config.disparities} must be 2..{geometry.buf_width} (the image width)")
+    if (config.census_width % 2 == 0 or config.census_height % 2 == 0
+            or config.census_height > RING_ROWS - 1):
+        raise ValueError(f"the census window must be odd x odd and at most {RING_ROWS - 1} rows high")
+    if out_rows < 2:
+        raise ValueError(f"out_rows must be at least 2, not {out_rows}")
+    if tag_margin < 2:
+        raise ValueError(f"tag_margin must be at least 2 clocks, not {tag_margin}")
 
 
 class DepthEngine(wiring.Component):
@@ -140,17 +155,7 @@ class DepthEngine(wiring.Component):
     """
 
     def __init__(self, geometry=SENSOR, config=DEPTH, *, out_rows=4, tag_margin=8):
-        if config.disparities % config.lanes:
-            raise ValueError(f"lanes ({config.lanes}) must divide D ({config.disparities})")
-        if not 2 <= config.disparities <= geometry.buf_width:
-            raise ValueError(f"D = {config.disparities} must be 2..{geometry.buf_width} (the image width)")
-        if (config.census_width % 2 == 0 or config.census_height % 2 == 0
-                or config.census_height > RING_ROWS - 1):
-            raise ValueError(f"the census window must be odd x odd and at most {RING_ROWS - 1} rows high")
-        if out_rows < 2:
-            raise ValueError(f"out_rows must be at least 2, not {out_rows}")
-        if tag_margin < 2:
-            raise ValueError(f"tag_margin must be at least 2 clocks, not {tag_margin}")
+        check_parameters(geometry, config, out_rows, tag_margin)
         self.tag_margin = tag_margin
         self.geometry = geometry
         self.config = config

@@ -69,11 +69,11 @@ class RowRing(wiring.Component):
     fetch_row, fetch_col : Signal
         The ring row and column the next read requests (``buffer.port.addr`` = min(max(fetch_row +
         row_offset, 0), height - 1) * width + fetch_col, counted).
-    memory, shadow : amaranth.lib.memory.Memory
-        The ring and its copy: one word per column, ``grey_bits`` per slot (slot ``k`` in bits
-        ``k * grey_bits`` up).
     write_en : Signal(rows)
         One bit per slot: the slot whose memory is written this clock (at most one bit is set).
+
+    The ring and its copy are the submodules ``ring`` and ``ring_shadow``: one word per column, ``grey_bits`` per
+    slot (slot ``k`` in bits ``k * grey_bits`` up).
 
     Clock domain: ``sync`` (the parent renames it to ``pix``).
 
@@ -111,22 +111,25 @@ class RowRing(wiring.Component):
         })
         self.fetch_row = Signal(range(geometry.buf_height + 1))
         self.fetch_col = Signal(range(geometry.buf_width))
-        word = unsigned(geometry.grey_bits * rows)
-        self.memory = Memory(shape=word, depth=geometry.buf_width, init=[])
-        self.shadow = Memory(shape=word, depth=geometry.buf_width, init=[])
         self.write_en = Signal(rows)
-        self._writes = [self.memory.write_port(), self.shadow.write_port()]
-        self._read, self._merge_read = self.memory.read_port(), self.shadow.read_port()
+
+    def _memories(self, m):
+        """The ring and its copy (submodules ``ring``, ``ring_shadow``): ``(write ports, read port, copy's read
+        port)``."""
+        word = unsigned(self.geometry.grey_bits * self.rows)
+        m.submodules.ring = memory = Memory(shape=word, depth=self.geometry.buf_width, init=[])
+        m.submodules.ring_shadow = shadow = Memory(shape=word, depth=self.geometry.buf_width, init=[])
+        writes = [memory.write_port(), shadow.write_port()]
+        return writes, memory.read_port(), shadow.read_port()
 
     def elaborate(self, platform):
         m = Module()
         g, rows = self.geometry, self.rows
         gb = g.grey_bits
-        m.submodules.ring = self.memory
-        m.submodules.ring_shadow = self.shadow
-        m.d.comb += self._read.addr.eq(self.col)
+        writes, read, merge_read = self._memories(m)
+        m.d.comb += read.addr.eq(self.col)
         for k in range(rows):
-            m.d.comb += self.column[k].eq(self._read.data[k * gb:(k + 1) * gb])
+            m.d.comb += self.column[k].eq(read.data[k * gb:(k + 1) * gb])
 
         issued = self.fetch_row                      # row being requested
         slot = Signal(range(rows))                   # issued mod rows
@@ -181,10 +184,10 @@ class RowRing(wiring.Component):
 
         # The merge: the copy is read at the granted column (``col``, before it advances), so its word is
         # there when the pixel arrives; consecutive writes go to different columns (width >= 2).
-        m.d.comb += [self._merge_read.addr.eq(col), self.write_en.eq(Mux(pending, C(1, rows) << pending_slot, 0))]
-        old = self._merge_read.data
+        m.d.comb += [merge_read.addr.eq(col), self.write_en.eq(Mux(pending, C(1, rows) << pending_slot, 0))]
+        old = merge_read.data
         merged = Cat(*(Mux(self.write_en[k], self.buffer.port.data, old[k * gb:(k + 1) * gb]) for k in range(rows)))
-        for write in self._writes:
+        for write in writes:
             m.d.comb += [write.addr.eq(pending_col), write.data.eq(merged), write.en.eq(pending)]
         with m.If(pending & pending_last):
             m.d.sync += self.fetched.eq(self.fetched + 1)

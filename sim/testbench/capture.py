@@ -23,7 +23,6 @@ from amaranth.lib.wiring import In, Out
 
 from hdl.capture_path import CapturePath, CapturePortSignature
 from board.export import export_verilog
-from hdl.forward import forward
 from spec.board import CLOCKS
 from sim.runners import build_dir
 from sim.runners.cocotb import TopPorts
@@ -250,22 +249,23 @@ class _CapturePlayback(wiring.Component):
     """A capture path whose cameras are fed by the top-level pins or by a ``sensor_replay`` module each."""
 
     def __init__(self, geometry, files, r_byte_first):
+        self.geometry = geometry
         self.files = files
-        self.path = CapturePath(geometry, cameras=tuple(files), r_byte_first=r_byte_first)
+        self.r_byte_first = r_byte_first
         super().__init__({
             **{f"cam_{c}": Out(CapturePortSignature(geometry)) for c in files},
             "playback": Out(wiring.Signature({f"cam_{c}": Out(PlaybackSignature) for c in files})),
         })
-        for c in files:
-            for name in ("write", "status", "read"):
-                forward(self, (f"cam_{c}", name), self.path, (f"cam_{c}", name))
 
     def elaborate(self, platform):
         m = Module()
-        m.submodules.path = self.path
+        m.submodules.path = path = CapturePath(self.geometry, cameras=tuple(self.files), r_byte_first=self.r_byte_first)
         for c, (hex_path, depth) in self.files.items():
+            for name in ("write", "status", "read"):
+                wiring.connect(m, wiring.flipped(getattr(getattr(self, f"cam_{c}"), name)),
+                               getattr(path.port(c), name))
             control, outer = getattr(self.playback, f"cam_{c}"), getattr(self, f"cam_{c}").pins
-            inner = getattr(self.path, f"cam_{c}").pins
+            inner = path.port(c).pins
             data, lv, fv = Signal(8, name=f"replay_{c}_data"), Signal(name=f"replay_{c}_lv"), \
                 Signal(name=f"replay_{c}_fv")
             m.submodules[f"replay_{c}"] = Instance(

@@ -171,16 +171,20 @@ def write_display_waves(timing, vcd_path, *, lines=None):
     dut = DisplayPath(timing, start=start)
     vcd_path = Path(vcd_path).resolve()
     gtkw_path = vcd_path.with_suffix(".gtkw")
-    pins, sync, video = dut.ch7301c, dut.sync_gen, dut.pattern.video
+    pins = dut.ch7301c
+    # The sync generator's and the pattern generator's own signals, by their names in the dump (the display path's
+    # submodules ``sync_gen`` and ``pattern``).
+    sync = {name: f"sync_gen.{name}" for name in ("x", "y", "de", "hsync", "vsync", "frame_start")}
+    video = [f"pattern.video__{name}" for name in ("rgb", "de", "hsync", "vsync")]
     vsync_on = int(timing.vsync_positive)
     traces = Waves(groups={
         "ch7301c_pins": [pins.xclk_p, pins.xclk_n, pins.data, pins.de, pins.hsync, pins.vsync],
-        "sync_generator": [Show(sync.x, fmt="dec"), Show(sync.y, fmt="dec"), sync.de, sync.hsync, sync.vsync,
-                           sync.frame_start],
-        "pattern_generator": [video.rgb, video.de, video.hsync, video.vsync],
-    }, events=[Event("last active line end", sync.de, value=0),
-               Event("vsync", sync.vsync, value=vsync_on),
-               Event("vsync end", sync.vsync, 1 - vsync_on, after="vsync"),
+        "sync_generator": [Show(sync["x"], fmt="dec"), Show(sync["y"], fmt="dec"),
+                           *(Show(sync[name]) for name in ("de", "hsync", "vsync", "frame_start"))],
+        "pattern_generator": [Show(name) for name in video],
+    }, events=[Event("last active line end", sync["de"], value=0),
+               Event("vsync", sync["vsync"], value=vsync_on),
+               Event("vsync end", sync["vsync"], 1 - vsync_on, after="vsync"),
                Event("vsync on the pins", pins.vsync, value=vsync_on)])
 
     async def testbench(ctx):

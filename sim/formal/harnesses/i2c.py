@@ -133,7 +133,7 @@ class InitSequencerHarness(FormalHarness):
         pins = master_pins(dut)
         status = dut.status
         done, error, error_code, entry = status.done, status.error, status.error_code, status.entry
-        master = dut.master
+        master = module.submodules.master
         rom_addr = module.submodules.rom.read_ports[0].addr
         bus(self, m, pins)
 

@@ -16,7 +16,7 @@ from amaranth import Module, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
-from hdl.forward import forward
+from hdl.i2c_master import I2CSignature
 from hdl.signature import ParametricSignature
 
 __all__ = ["ResolvedBusSignature", "OpenDrainBus", "I2CBench", "i2c_bench_waves", "amaranth_target_process", "start_cocotb_targets",
@@ -36,57 +36,68 @@ class ResolvedBusSignature(ParametricSignature):
 
 
 class OpenDrainBus(wiring.Component):
-    """Wired-AND resolution of the open-drain pins ``pins`` (an ``hdl.i2c_master.I2CSignature`` interface of the
-    design: this block drives their ``i``); its own signature is :class:`ResolvedBusSignature`. Clock domain of
-    ``drive_high``: ``sync``. Latency: the lines are combinational."""
+    """Wired-AND resolution of a design's open-drain pins.
 
-    def __init__(self, pins, *, peer=False):
-        self._pins = pins
-        super().__init__(ResolvedBusSignature(peer=peer))
+    Parameters
+    ----------
+    peer : bool
+        With a cocotbext-i2c device's outputs (:class:`ResolvedBusSignature`).
+
+    Attributes
+    ----------
+    pins : ``In(I2CSignature)``
+        The design's ``hdl.i2c_master.I2CSignature`` interface (this block drives its ``i``).
+    lines : ``Out(ResolvedBusSignature(peer=peer))``
+        The resolved bus.
+
+    Clock domain of ``lines.drive_high``: ``sync``. Latency: the lines are combinational.
+    """
+
+    def __init__(self, *, peer=False):
+        super().__init__({"pins": In(I2CSignature), "lines": Out(ResolvedBusSignature(peer=peer))})
 
     def elaborate(self, platform):
         m = Module()
-        pins = self._pins
-        scl = ~(pins.scl.oe & ~pins.scl.o) & ~self.ext_scl_low
-        sda = ~(pins.sda.oe & ~pins.sda.o) & ~self.ext_sda_low
-        if "peer_scl_o" in self.signature.members:
-            scl &= self.peer_scl_o
-            sda &= self.peer_sda_o
-        m.d.comb += [self.scl.eq(scl), self.sda.eq(sda), pins.scl.i.eq(scl), pins.sda.i.eq(sda)]
+        pins, lines = self.pins, self.lines
+        scl = ~(pins.scl.oe & ~pins.scl.o) & ~lines.ext_scl_low
+        sda = ~(pins.sda.oe & ~pins.sda.o) & ~lines.ext_sda_low
+        if "peer_scl_o" in lines.signature.members:
+            scl &= lines.peer_scl_o
+            sda &= lines.peer_sda_o
+        m.d.comb += [lines.scl.eq(scl), lines.sda.eq(sda), pins.scl.i.eq(scl), pins.sda.i.eq(sda)]
         driven_high = Signal()
         m.d.comb += driven_high.eq((pins.scl.oe & pins.scl.o) | (pins.sda.oe & pins.sda.o))
         with m.If(driven_high):
-            m.d.sync += self.drive_high.eq(1)
+            m.d.sync += lines.drive_high.eq(1)
         return m
 
 
 def I2CBench(duts, *, counter_bits=40):
     """A component wiring each DUT of ``duts`` (``{bus name: component}``, each with an ``i2c``
     ``I2CSignature`` member) to its own :class:`OpenDrainBus` (with a cocotbext-i2c peer). Members: ``bus.<b>``
-    (the resolved bus), ``status.<b>`` (the DUT's ``status`` interface, forwarded to it, for DUTs that have one) and
+    (the resolved bus), ``status.<b>`` (connected to the DUT's ``status`` interface, for DUTs that have one) and
     ``cycles`` (``sync`` clocks: the time base of the Python models)."""
     with_status = {b: dut for b, dut in duts.items() if "status" in dut.signature.members}
 
     class _Bench(wiring.Component):
         def __init__(self):
-            self.buses = {b: OpenDrainBus(dut.i2c, peer=True) for b, dut in duts.items()}
             members = {"cycles": Out(counter_bits),
                        "bus": Out(wiring.Signature({b: Out(ResolvedBusSignature(peer=True)) for b in duts}))}
             if with_status:
                 members["status"] = Out(wiring.Signature(
                     {b: Out(dut.signature.members["status"].signature) for b, dut in with_status.items()}))
             super().__init__(members)
-            for b in duts:
-                forward(self, ("bus", b), self.buses[b], ())
-            for b, dut in with_status.items():
-                forward(self, ("status", b), dut, "status")
 
         def elaborate(self, platform):
             m = Module()
             m.d.sync += self.cycles.eq(self.cycles + 1)
             for b, dut in duts.items():
                 m.submodules[b] = dut
-                m.submodules[f"{b}_bus"] = self.buses[b]
+                m.submodules[f"{b}_bus"] = bus = OpenDrainBus(peer=True)
+                wiring.connect(m, dut.i2c, bus.pins)
+                wiring.connect(m, wiring.flipped(getattr(self.bus, b)), bus.lines)
+            for b, dut in with_status.items():
+                wiring.connect(m, wiring.flipped(getattr(self.status, b)), dut.status)
             return m
 
     return _Bench()

@@ -22,10 +22,9 @@ from amaranth import ClockDomain, ClockSignal, Module
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
-from hdl.forward import forward
-from hdl.system import CAMERAS
+from hdl.system import CAMERAS, SystemParameters
 from sim.replay.sensor import SensorReplay
-from sim.testbench.system.testbench import SystemTestbench
+from sim.testbench.system.testbench import DOMAINS, SystemTestbench, bench_members, pass_through
 
 __all__ = ["RomReplayTestbench", "GATED_DOMAINS", "ClockGate", "enable_clock"]
 
@@ -70,7 +69,8 @@ class RomReplayTestbench(wiring.Component):
         ``{gated domain: its free-running ClockDomain}``, for the simulator's ``add_clock``.
     domains : list of ClockDomain
         The system's domains (``sync``, ``pix``, ``cam_a``, ``cam_b``), defined here.
-    system : :class:`hdl.system.StereoDepthSystem`
+    params : :class:`hdl.system.SystemParameters`
+        The system's parameters (``video_timing``: its ``timing``).
 
     Raises
     ------
@@ -81,37 +81,34 @@ class RomReplayTestbench(wiring.Component):
     def __init__(self, *, replay_words, **system_kwargs):
         if set(replay_words) != set(CAMERAS):
             raise ValueError(f"replay_words needs one ROM per camera {CAMERAS}, got {sorted(replay_words)}")
-        self.bench = SystemTestbench(define_domains=False, **system_kwargs)
-        self.system = self.bench.system
-        self.domains = self.bench.domains
-        self.replays = {c: SensorReplay(replay_words[c], domain=f"cam_{c}") for c in CAMERAS}
+        self.replay_words = replay_words
+        self.system_kwargs = system_kwargs
+        self.params = SystemParameters(ddr="behavioural", **{k: v for k, v in system_kwargs.items()
+                                                             if k != "lock_cycles"})
+        self.video_timing = self.params.timing
+        self.domains = [ClockDomain(name) for name in DOMAINS]
         cam_pins = {f"cam_{c}" for c in CAMERAS}
-        own = [name for name in self.bench.signature.members if name not in cam_pins]
-        members = {name: self.bench.signature.members[name] for name in own}
+        members = {name: member for name, member in bench_members(self.params).items() if name not in cam_pins}
         members.update({
             "clock_en": In(wiring.Signature({name: Out(1) for name in GATED_DOMAINS})),
             "replay_run": In(wiring.Signature({f"cam_{c}": Out(1) for c in CAMERAS})),
         })
         super().__init__(members)
-        for name in own:
-            forward(self, name, self.bench)
-        for c, replay in self.replays.items():
-            # The replay drives the capture's pin signals themselves: no assignment in between to wake on every
-            # PCLK sample.
-            forward(self.bench, f"cam_{c}", replay, "pins")
         self.free_domains = {name: ClockDomain(f"free_{name}", reset_less=True) for name in GATED_DOMAINS}
 
     def elaborate(self, platform):
         m = Module()
         m.domains += list(self.free_domains.values())
-        m.submodules.bench = bench = self.bench
+        m.submodules.bench = bench = SystemTestbench(define_domains=False, **self.system_kwargs)
         m.domains += self.domains         # defined here: the replays use the camera domains too
+        pass_through(m, self, bench)
         domains = {cd.name: cd for cd in self.domains}
         for name in GATED_DOMAINS:
             m.submodules[f"gate_{name}"] = gate = ClockGate(f"free_{name}", domains[name].clk)
             m.d.comb += gate.en.eq(getattr(self.clock_en, name))
-        for c, replay in self.replays.items():
-            m.submodules[f"replay_{c}"] = replay
+        for c in CAMERAS:
+            m.submodules[f"replay_{c}"] = replay = SensorReplay(self.replay_words[c], domain=f"cam_{c}")
+            wiring.connect(m, replay.pins, getattr(bench, f"cam_{c}"))
             m.d.comb += replay.run.eq(getattr(self.replay_run, f"cam_{c}"))
         return m
 

@@ -3,8 +3,8 @@
 :class:`hdl.system.StereoDepthSystem` (behavioural CH7301C output) with :class:`sim.models.clocking.SimClocking` (the
 board clocking's simulation model: same domains and reset tree, clocks from the simulator) and one
 :class:`sim.models.i2c.bus.OpenDrainBus` per I2C bus, where the board has pads and pull-ups. Every other member of the
-system is the bench's own, handed down to the system (forwarded, not copied: :func:`hdl.forward.forward`), so the
-exported Verilog's ports are the design's signals under the bench's flat names.
+system is the bench's own too, connected to the system's (``wiring.connect``), so the exported Verilog's ports are
+the system's members under the bench's flat names.
 
 Clock domains: ``sync``, ``pix``, ``cam_a``, ``cam_b``, defined here (unless ``define_domains=False``: then the
 parent adds ``bench.domains`` and drives their clocks). A domain's clock comes from the simulator: in Amaranth's
@@ -13,16 +13,46 @@ simulator ``add_clock`` or a testbench drives it; for exported Verilog, ``clock_
 reset comes from the clocking model's reset tree. Latency: the bus resolution is combinational.
 """
 
-from amaranth import Module, Signal
+from amaranth import ClockDomain, Module, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
 from sim.models.clocking import SimClocking
-from hdl.forward import forward
-from hdl.system import CAMERAS, I2C_BUSES, StereoDepthSystem
+from hdl.system import CAMERAS, I2C_BUSES, StereoDepthSystem, SystemParameters
 from sim.models.i2c.bus import OpenDrainBus, ResolvedBusSignature
 
-__all__ = ["SystemTestbench"]
+__all__ = ["SystemTestbench", "bench_members", "pass_through", "DOMAINS"]
+
+#: The system's clock domains.
+DOMAINS = ("sync", "pix", *(f"cam_{c}" for c in CAMERAS))
+
+
+def pass_through(m, outer, inner):
+    """Connect each member of component ``outer`` that its child ``inner`` has to the child's: an interface with
+    ``wiring.connect`` (``outer``'s flipped), a port with an assignment in its direction."""
+    for name, member in outer.signature.members.items():
+        if name not in inner.signature.members:
+            continue
+        if member.is_signature:
+            wiring.connect(m, wiring.flipped(getattr(outer, name)), getattr(inner, name))
+        elif member.flow == Out:
+            m.d.comb += getattr(outer, name).eq(getattr(inner, name))
+        else:
+            m.d.comb += getattr(inner, name).eq(getattr(outer, name))
+
+
+def bench_members(params, *, cycle_bits=40, clock_ports=False):
+    """The members of a :class:`SystemTestbench` of a system with parameters ``params``
+    (:class:`hdl.system.SystemParameters`)."""
+    members = {name: member for name, member in params.signature().members.items() if name != "i2c"}
+    members.update({
+        "button": In(1), "locked": Out(1),
+        "bus": Out(wiring.Signature({b: Out(ResolvedBusSignature()) for b in I2C_BUSES})),
+        "cycles": Out(cycle_bits),
+    })
+    if clock_ports:
+        members["clocks"] = In(wiring.Signature({name: Out(1) for name in DOMAINS}))
+    return members
 
 
 class SystemTestbench(wiring.Component):
@@ -43,6 +73,10 @@ class SystemTestbench(wiring.Component):
 
     Attributes
     ----------
+    params : :class:`hdl.system.SystemParameters`
+        The system's parameters (``geometry``, ``video_timing``: its ``geometry`` and ``timing``).
+    domains : list of ClockDomain
+        ``sync``, ``pix``, ``cam_a``, ``cam_b``.
     (every member of the system but ``i2c``)
         The system's own interfaces: ``cam_a``, ``cam_b``, ``capture``, ``init``, ``panel``, ``control``, ``video``,
         ``ch7301c``, ``frame_start``, ``settings``.
@@ -54,38 +88,28 @@ class SystemTestbench(wiring.Component):
     cycles : ``Out(cycle_bits)``
         ``sync`` clocks since the simulation started (reset-less: it counts while ``sync`` is in reset too); the
         time base of the Python I2C models.
+
+    Raises
+    ------
+    ValueError, TypeError
+        ``clock_ports`` without ``define_domains``, ``lock_cycles`` below 1, the system's parameter checks.
     """
 
     def __init__(self, *, lock_cycles=16, cycle_bits=40, define_domains=True, clock_ports=False, **system_kwargs):
         if clock_ports and not define_domains:
             raise ValueError("clock_ports needs define_domains: the clocks of domains defined elsewhere are "
                              "driven there")
+        if lock_cycles < 1:
+            raise ValueError("lock_cycles must be at least 1")
         self.define_domains = define_domains
         self.clock_ports = clock_ports
-        self.system = StereoDepthSystem(ddr="behavioural", **system_kwargs)
-        self.clocking = SimClocking(cam_domains=tuple(f"cam_{c}" for c in CAMERAS), lock_cycles=lock_cycles)
-        self.buses = {b: OpenDrainBus(getattr(self.system.i2c, b)) for b in I2C_BUSES}
-        own = [name for name in self.system.signature.members if name != "i2c"]
-        members = {name: self.system.signature.members[name] for name in own}
-        members.update({
-            "button": In(1), "locked": Out(1),
-            "bus": Out(wiring.Signature({b: Out(ResolvedBusSignature()) for b in I2C_BUSES})),
-            "cycles": Out(cycle_bits),
-        })
-        if clock_ports:
-            members["clocks"] = In(wiring.Signature({cd.name: Out(1) for cd in self.clocking.domains}))
-        super().__init__(members)
-        for name in own:
-            forward(self, name, self.system)
-        forward(self, "button", self.clocking)
-        forward(self, "locked", self.clocking)
-        for b in I2C_BUSES:
-            forward(self, ("bus", b), self.buses[b], ())
-
-    @property
-    def domains(self):
-        """The clock domains (``sync``, ``pix``, ``cam_a``, ``cam_b``)."""
-        return self.clocking.domains
+        self.lock_cycles = lock_cycles
+        self.system_kwargs = dict(ddr="behavioural", **system_kwargs)
+        self.params = SystemParameters(**self.system_kwargs)
+        self.geometry, self.video_timing = self.params.geometry, self.params.timing
+        #: The clock domains, driven by the clocking model's reset tree.
+        self.domains = [ClockDomain(name) for name in DOMAINS]
+        super().__init__(bench_members(self.params, cycle_bits=cycle_bits, clock_ports=clock_ports))
 
     def elaborate(self, platform):
         m = Module()
@@ -93,10 +117,15 @@ class SystemTestbench(wiring.Component):
             m.domains += self.domains
         if self.clock_ports:
             m.d.comb += [cd.clk.eq(getattr(self.clocks, cd.name)) for cd in self.domains]
-        m.submodules.clocking = self.clocking
-        m.submodules.system = self.system
-        for b, bus in self.buses.items():
-            m.submodules[f"bus_{b}"] = bus
+        m.submodules.clocking = clocking = SimClocking(cam_domains=tuple(f"cam_{c}" for c in CAMERAS),
+                                                       lock_cycles=self.lock_cycles)
+        m.d.comb += [clocking.button.eq(self.button), self.locked.eq(clocking.locked)]
+        m.submodules.system = system = StereoDepthSystem(**self.system_kwargs)
+        pass_through(m, self, system)
+        for b in I2C_BUSES:
+            m.submodules[f"bus_{b}"] = bus = OpenDrainBus()
+            wiring.connect(m, getattr(system.i2c, b), bus.pins)
+            wiring.connect(m, wiring.flipped(getattr(self.bus, b)), bus.lines)
         cycles = Signal.like(self.cycles, reset_less=True, name="cycle_count")
         m.d.sync += cycles.eq(cycles + 1)
         m.d.comb += self.cycles.eq(cycles)

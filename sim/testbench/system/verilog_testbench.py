@@ -22,11 +22,10 @@ from amaranth import Cat, Instance, Module, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
-from hdl.forward import forward
-from hdl.system import CAMERAS
+from hdl.system import CAMERAS, SystemParameters
 from sim.replay.pins import RECORDER_VERILOG
 from sim.replay.sensor import REPLAY_VERILOG
-from sim.testbench.system.testbench import SystemTestbench
+from sim.testbench.system.testbench import SystemTestbench, bench_members, pass_through
 
 __all__ = ["VerilogReplayTestbench", "ReplayControlSignature", "RecorderSignature", "write_sources"]
 
@@ -107,6 +106,8 @@ class VerilogReplayTestbench(wiring.Component):
 
     Attributes
     ----------
+    params : :class:`hdl.system.SystemParameters`
+        The system's parameters (``video_timing``: its ``timing``).
     (every member of the system testbench but the camera pins)
     clock_en : ``In``, per clock ``sync``, ``pix``, ``rec``, ``cam_a``, ``cam_b``
     clocks : ``Out``, the same clocks
@@ -124,10 +125,12 @@ class VerilogReplayTestbench(wiring.Component):
             raise ValueError("clock periods must be even (the pixel period a multiple of 4) in picoseconds")
         self.replay_depth = int(replay_depth)
         self.periods_ps = dict(periods_ps)
-        self.bench = SystemTestbench(define_domains=False, **system_kwargs)
+        self.system_kwargs = system_kwargs
+        self.params = SystemParameters(ddr="behavioural", **{k: v for k, v in system_kwargs.items()
+                                                             if k != "lock_cycles"})
+        self.video_timing = self.params.timing
         cam_pins = {f"cam_{c}" for c in CAMERAS}
-        own = [name for name in self.bench.signature.members if name not in cam_pins]
-        members = {name: self.bench.signature.members[name] for name in own}
+        members = {name: member for name, member in bench_members(self.params).items() if name not in cam_pins}
         clocks = wiring.Signature({name: Out(1) for name in _CLOCKS})
         members.update({
             "clock_en": In(clocks), "clocks": Out(clocks),
@@ -135,13 +138,12 @@ class VerilogReplayTestbench(wiring.Component):
             "recorder": Out(RecorderSignature),
         })
         super().__init__(members)
-        for name in own:
-            forward(self, name, self.bench)
 
     def elaborate(self, platform):
         m = Module()
-        m.submodules.bench = bench = self.bench
+        m.submodules.bench = bench = SystemTestbench(define_domains=False, **self.system_kwargs)
         m.domains += bench.domains
+        pass_through(m, self, bench)
         domains = {cd.name: cd for cd in bench.domains}
         p = self.periods_ps
         en, clocks = self.clock_en, self.clocks
@@ -153,7 +155,7 @@ class VerilogReplayTestbench(wiring.Component):
             name = f"cam_{c}"
             m.submodules[f"{name}_gen"] = Instance("clock_gen", p_HALF_PS=p["cam"] // 2,
                                                    i_en=getattr(en, name), o_clk=domains[name].clk)
-            self._replay(m, c, domains[name].clk)
+            self._replay(m, c, domains[name].clk, bench)
         m.d.comb += [getattr(clocks, name).eq(cd.clk) for name, cd in domains.items()]
         pins, rec = bench.ch7301c, self.recorder
         m.submodules.recorder = Instance(
@@ -163,9 +165,9 @@ class VerilogReplayTestbench(wiring.Component):
             i_xclk_p=pins.xclk_p, i_xclk_n=pins.xclk_n, o_done=rec.done, o_count=rec.count)
         return m
 
-    def _replay(self, m, c, pclk):
-        """Camera ``c``'s replay module onto the bench's camera pins."""
-        control, pins = getattr(self.replay, f"cam_{c}"), getattr(self.bench, f"cam_{c}")
+    def _replay(self, m, c, pclk, bench):
+        """Camera ``c``'s replay module onto the camera pins of ``bench`` (the system testbench)."""
+        control, pins = getattr(self.replay, f"cam_{c}"), getattr(bench, f"cam_{c}")
         m.submodules[f"replay_{c}"] = Instance(
             "sensor_replay", p_DEPTH=self.replay_depth, p_FILE=f"cam_{c}.hex", p_LOOP=1,
             i_pclk=pclk, i_load=control.load, i_run=control.run, i_length=control.length,

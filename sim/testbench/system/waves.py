@@ -22,8 +22,11 @@ __all__ = ["system_waves", "system_events", "cocotb_system_waves"]
 
 def system_waves(top):
     """The :class:`sim.waves.gtkw.Waves` of a whole-system run (``top``: the design ``run_amaranth`` simulates, with
-    :class:`sim.testbench.system.testbench.SystemTestbench`'s members and its ``system``)."""
-    groups = {"reset_and_clocking": [top.button, top.locked]}
+    :class:`sim.testbench.system.testbench.SystemTestbench`'s members and its ``video_timing``; the signals of the
+    system's blocks by their names in the dump)."""
+    # A top-level input is shown as the block that reads it names it (in the top's own module, its copy there has
+    # the plain name): the clocking model's button, the system's switches.
+    groups = {"reset_and_clocking": [Show("clocking.button"), top.locked]}
     for b in I2C_BUSES:
         bus, init = getattr(top.bus, b), getattr(top.init, b)
         groups[f"i2c_{b}"] = [I2CBus(f"{b}_i2c", bus.scl, bus.sda),
@@ -31,21 +34,25 @@ def system_waves(top):
                               Show(f"init_{b}.master.fsm_state", alias=f"{b} I2C master"),
                               init.done, init.error]
     for c in CAMERAS:
-        pins, status = getattr(top.system, f"cam_{c}"), getattr(top.capture, f"cam_{c}")
-        groups[f"camera_{c}"] = [pins.fv, pins.lv, pins.data,
+        status = getattr(top.capture, f"cam_{c}")
+        pins = {name: f"system.cam_{c}__{name}" for name in ("fv", "lv", "data")}    # the system's own (by name)
+        groups[f"camera_{c}"] = [Show(pins["fv"]), Show(pins["lv"]), Show(pins["data"]),
                                  Show(f"capture_{c}.row", fmt="dec", alias=f"cam_{c} lines in frame"),
                                  status.frame_done, status.frame_ok, Show(status.frame_count, fmt="dec")]
-    groups["switches"] = [top.panel.sw, Show(top.settings.disparity, fmt="dec"),
+    groups["switches"] = [Show("system.panel__sw"), Show(top.settings.disparity, fmt="dec"),
                           Show(top.settings.rectification, fmt="dec")]
-    engine = top.system.display.engine
-    groups["depth_engine"] = [engine.start, engine.busy, Show(engine.left_row_offset, fmt="dec"),
-                              engine.left.request, engine.left.grant, engine.right.request, engine.right.grant,
-                              Show(engine.result.rows_ready, fmt="dec"), Show(engine.result.rows_released, fmt="dec")]
+    engine = "display.engine."          # the depth engine's own signals, by their names in the dump
+    groups["depth_engine"] = [Show(engine + "start"), Show(engine + "busy"),
+                              Show(engine + "left_row_offset", fmt="dec"),
+                              *(Show(f"{engine}{side}__{name}") for side in ("left", "right")
+                                for name in ("request", "grant")),
+                              Show(engine + "result__rows_ready", fmt="dec"),
+                              Show(engine + "result__rows_released", fmt="dec")]
     video, pins = top.video, top.ch7301c
     groups["video_stream"] = [video.rgb, video.de, video.hsync, video.vsync, top.frame_start]
     groups["ch7301c_pins"] = [pins.xclk_p, pins.xclk_n, pins.data, pins.de, pins.hsync, pins.vsync]
     groups["leds"] = [Show(top.panel.leds, fmt="bin")]
-    events = system_events(lambda path: _member(top, path), top.system.video_timing)
+    events = system_events(lambda path: _member(top, path), top.video_timing)
     return Waves(groups=groups, events=events, view=VIEW, before_s=BEFORE_S, after_s=AFTER_S)
 
 
