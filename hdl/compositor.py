@@ -1,5 +1,4 @@
-"""Display compositor: the camera images, the difference map and the depth map on one video frame (thesis 4.3-4.5,
-issue 15).
+"""Display compositor: the camera images, the difference map and the depth map on one video frame (thesis 4.3-4.5).
 
 Inputs: the sync generator's raster (``timing``: :data:`hdl.video_bus.TimingSignature`), the switch registers
 (``settings``: :data:`hdl.switches.SettingsSignature`), one read port per frame buffer (``left``, ``right``:

@@ -1,4 +1,4 @@
-"""FrameSkewMeter: the time between the two cameras' frame starts, measured in ``sync`` clocks (issue 28).
+"""FrameSkewMeter: the time between the two cameras' frame starts, measured in ``sync`` clocks.
 
 Each capture's ``frame_start`` strobe (its own PCLK domain) is carried into ``sync`` by a
 :class:`amaranth.lib.cdc.PulseSynchronizer` (the same latency for both, so the difference survives to within one

@@ -1,5 +1,5 @@
-"""RectificationSelect: the rectification in use, by hand (the switches) or found by the estimator (issue 27,
-docs/rectification.md)."""
+"""RectificationSelect: the rectification in use, by hand (the switches) or found by the estimator
+(docs/rectification.md)."""
 
 from amaranth import Module, Mux, Signal
 from amaranth.lib import wiring

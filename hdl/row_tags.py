@@ -1,5 +1,5 @@
 """RowTagTracker: which camera frame last started writing each frame-buffer row, and which row is being written
-now (issue 28, consistency at the tear; docs/capture.md "Frame after frame").
+now (consistency at the tear; docs/capture.md "Frame after frame").
 
 A camera's capture (:class:`hdl.capture.CameraCapture`, in the camera's domain) strobes ``frame_start`` at a frame's
 start and ``row_start`` / ``row_end`` before the first and after the last write of every kept buffer row. Each strobe

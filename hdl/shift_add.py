@@ -1,7 +1,7 @@
 """``times(value, k)``: ``value * k`` for a constant ``k >= 0`` as a sum of shifted copies of ``value``.
 
-Synthesis maps a ``*`` between a signal and a constant to a DSP48E without its input or output registers
-(issue 25); the few shifted terms of a small constant (``buf_width`` = 400 is three: ``2**8 + 2**7 + 2**4``)
+Synthesis maps a ``*`` between a signal and a constant to a DSP48E without its input or output registers;
+the few shifted terms of a small constant (``buf_width`` = 400 is three: ``2**8 + 2**7 + 2**4``)
 are adders in the fabric instead. The result has the shape Amaranth gives the sum (wide enough for every
 value, signed if ``value`` is).
 """

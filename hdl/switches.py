@@ -5,7 +5,7 @@ The eight slide switches SW7..SW0 set two 7-bit registers: with SW7 = 1 the valu
 Each register keeps its value while the other one is selected, so the user sets one, flips SW7 and sets the
 other. Both start at 0 after reset (the thesis's figure 4.13).
 
-Signed rectification (issue 27): SW6..SW0 are the rectification in two's complement, -64..63 buffer rows.
+Signed rectification: SW6..SW0 are the rectification in two's complement, -64..63 buffer rows.
 0..63 (SW6 = 0) mean what they mean in the thesis (the left image read that many rows lower: its figures use
 3, 4 and 5); SW6 = 1 gives -64..-1 (the left image read rows higher: a left camera mounted lower than the
 right one), e.g. 1111111 = -1, 1110000 = -16, 1000000 = -64. The disparity stays unsigned, 0..127.
