@@ -40,7 +40,6 @@ LONG_FIRST = (
     "tests/test_cli_outputs.py::test_complete_run_replaces_every_output_and_records_its_provenance",
     "tests/test_system.py::test_end_to_end_cocotb_python_models",
     "tests/test_cocotb_waves.py::test_a_cocotb_run_with_waves_leaves_a_save_file_gtkwave_opens",
-    "tests/test_system.py::test_end_to_end_amaranth_replayed_sensors",
     "tests/test_cocotb_runner.py::test_verilator_fast_failure_is_reported",
     "tests/test_install.py::test_small_demo_from_outside_the_checkout",
     "tests/test_display_path.py::test_display_path_cocotb",

@@ -92,17 +92,20 @@ def _check_status(status):
     assert status["leds"] & 0b111111 == 0b010101          # init done on all three buses, no error
 
 
-def test_end_to_end_amaranth():
-    """The small system end to end in Amaranth's simulator: the frame equals the golden frame, the parts end
-    configured, the buses clean. No waveforms (they cost twice the run): the demo's waveforms of the same run and
-    their GTKWave save file are checked by tests/test_cli_outputs.py's complete run (``stereodepth run --small
-    --simulator amaranth --vcd``: the same backend with ``system_waves``)."""
+@pytest.mark.parametrize("route", ["python", "replay"])
+def test_end_to_end_amaranth(route):
+    """The small system end to end in Amaranth's simulator, along each route: the Python sensor models per PCLK, and
+    the full-size route (sim/testbench/system/rom_testbench.py: each camera's stream, made by the sensor model before
+    the run, replayed from a ROM; gated simulator clocks), whose every sample of the replayed frame period was sent.
+    The frame equals the golden frame, the parts end configured, the buses clean. No waveforms (they cost twice the
+    run): the demo's waveforms of the same run and their GTKWave save file are checked by tests/test_cli_outputs.py's
+    complete run (``stereodepth run --small --simulator amaranth --vcd``: the same backend with ``system_waves``)."""
     setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION)
-    result = _run(setup, Amaranth())
+    result = _run(setup, Amaranth(route))
     _check_status(result.status)
     _check_golden_is_interesting(result.golden, setup)
     assert not result.sink.violations, result.sink.violations[:5]
-    assert result.frame is not None
+    assert result.frame is not None and result.ok
     assert result.mismatched_pixels == 0
     np.testing.assert_array_equal(result.frame, result.golden)
     for bus in ("cam_a", "cam_b"):
@@ -115,6 +118,9 @@ def test_end_to_end_amaranth():
     for bus, monitor in result.monitors.items():
         assert not monitor.protocol_errors, (bus, monitor.protocol_errors[:3])
         assert monitor.transactions
+    if route == "replay":
+        frame_period = setup.sensor(result.models["cam_a"][0], seed=0).frame(result.sequence.pairs[0][0])
+        assert min(result.figures["cam_samples"].values()) > len(frame_period)
 
 
 @pytest.mark.slow
@@ -138,21 +144,6 @@ def test_end_to_end_amaranth_segmentation():
     outside = result.golden.copy()
     outside[r.y0:r.y1, r.x0:r.x1] = plain[r.y0:r.y1, r.x0:r.x1]
     np.testing.assert_array_equal(outside, plain)      # nothing else changes (the small layout has no band text)
-
-
-def test_end_to_end_amaranth_replayed_sensors():
-    """The full-size Amaranth route (sim/testbench/system/rom_testbench.py: each camera's stream, made by the sensor model
-    before the run, replayed from a ROM; gated simulator clocks) on the small preset: the same frame as the golden
-    model, and every sample of the replayed frame period was sent."""
-    setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION)
-    left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
-    result = _run(setup, Amaranth("replay"))
-    _check_status(result.status)
-    assert not result.sink.violations, result.sink.violations[:5]
-    assert result.mismatched_pixels == 0
-    np.testing.assert_array_equal(result.frame, result.golden)
-    frame_period = setup.sensor(result.models["cam_a"][0], seed=0).frame(left)
-    assert min(result.figures["cam_samples"].values()) > len(frame_period)
 
 
 def test_replayed_sensors_need_the_configuration_their_stream_was_made_for(monkeypatch):

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import cocotb
 import numpy as np
-from cocotb.triggers import First, RisingEdge, Timer
+from cocotb.triggers import First, ReadOnly, RisingEdge, Timer
 from cocotb.utils import get_sim_time
 
 from hdl.system import CAMERAS, DISPLAY_LATENCY, I2C_BUSES
@@ -104,6 +104,7 @@ class _Run:
         last = [int(s.value) for s in signals]
         while True:
             await First(*(s.value_change for s in signals))
+            await ReadOnly()                        # every register of this edge updated (the meter's together)
             values, now = [int(s.value) for s in signals], _now_s()
             for i, c in enumerate(CAMERAS):
                 started, done = values[2 * i] and not last[2 * i], values[2 * i + 1] != last[2 * i + 1]
