@@ -64,12 +64,14 @@ class FormalHarness:
     """Base class of a formal harness; see the module docstring.
 
     Class attributes: ``name`` (directory and table label), ``block`` (the block under test, for the table),
-    ``engine`` ("pdr" or "induction") for the unbounded properties, ``max_steps`` (k-induction limit).
+    ``engine`` ("pdr" or "induction") for the unbounded properties, ``max_steps`` (k-induction limit),
+    ``timeout`` (seconds of wall clock for each tool run before the check reports a tool error).
     """
     name = None
     block = None
     engine = "pdr"
     max_steps = 20
+    timeout = 600
 
     def __init__(self):
         self._select = None
@@ -286,12 +288,12 @@ def _run_group(harness, bound, names, workdir, outdir):
     start = time.perf_counter()
     text = harness.rtlil(("bound", bound))
     if bound is not None:
-        engine, outcome = "bmc", engines.bmc(text, workdir, depth=bound)
+        engine, outcome = "bmc", engines.bmc(text, workdir, depth=bound, timeout=harness.timeout)
     elif harness.engine == "pdr":
-        engine, outcome = "pdr", engines.prove_pdr(text, workdir)
+        engine, outcome = "pdr", engines.prove_pdr(text, workdir, timeout=harness.timeout)
     elif harness.engine == "induction":
         engine = "induction"
-        outcome = engines.prove_induction(text, workdir, max_steps=harness.max_steps)
+        outcome = engines.prove_induction(text, workdir, max_steps=harness.max_steps, timeout=harness.timeout)
     else:
         raise ValueError(f"unknown engine {harness.engine!r} in {type(harness).__name__}")
     result = GroupResult(bound, engine, names, outcome, 0.0)
@@ -337,7 +339,8 @@ def check(harness, *, outdir=DEFAULT_OUTDIR, covers=True):
     names = [p.name for p in harness.properties("cover")] if covers and proved else []
     if names:
         bounds = {p.name: p.bound for p in harness.properties("cover")}
-        cover_results = engines.reach(harness.rtlil("covers"), workdir / "covers", names, bounds=bounds)
+        cover_results = engines.reach(harness.rtlil("covers"), workdir / "covers", names, bounds=bounds,
+                                      timeout=harness.timeout)
         for n, o in cover_results.items():
             if o.status == "reached":
                 cover_vcds[n] = vcd = outdir / f"cover_{n}.vcd"

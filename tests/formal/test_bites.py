@@ -24,7 +24,7 @@ from sim.formal.runner import check
 
 from sim.formal.harnesses.capture import CaptureHarness
 from sim.formal.harnesses.compositor import CompositorHarness
-from sim.formal.harnesses.depth import DepthEngineHarness, DepthMapHarness
+from sim.formal.harnesses.depth import DepthEngineHarness
 from sim.formal.harnesses.depth_codes import SubpixelCodesHarness, WinnerCodesHarness
 from sim.formal.harnesses.disparity import DisparityHarness
 from sim.formal.harnesses.frame_buffer import FrameBufferHarness
@@ -112,14 +112,6 @@ class DepthEngineWiderImage(DepthEngineHarness):
         g = self.geometry
         wider = dataclasses.replace(g, width=g.width + g.scale)
         return DepthEngine(wider, self.config, out_rows=self.out_rows)
-
-
-class DepthMapWiderImage(DepthMapHarness):
-    """The map harness's engine built one pixel wider than its buffer: its result rows are one word longer than the
-    reader's."""
-    def dut(self):
-        g = self.geometry
-        return DepthEngine(dataclasses.replace(g, width=g.width + g.scale), self.config, out_rows=self.out_rows)
 
 
 class EngineWithoutPairs(DepthEngine):
@@ -215,7 +207,6 @@ BITES = {
     "row_tags": (TrackerMoreRows, "busy_exactly_for_row_in_progress"),
     "frame_pairing": (PairingWiderTag, "_by_the_rule"),
     "depth_pairs": (DepthEngineWithoutPairs, "pair_mismatch_in_window_makes_the_row_invalid"),
-    "depth_map": (DepthMapWiderImage, "result_write_"),
 }
 
 

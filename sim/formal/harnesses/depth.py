@@ -37,20 +37,20 @@ DEFAULT_COVERS = ("pass_takes_a_column",)
 #: BMC's bound for the pass cover (clocks; the shortest trace is about 100).
 PASS_COVER_BOUND = 200
 
-#: The property families (each a method of the harness below): the input rows' reads and ring writes, the row
-#: tags and frame pairs, the result ring's writes and the pass admission, the codes of an invalid row.
-PARTS = ("reads", "tags", "results", "codes")
-
-
 class DepthEngineHarness(FormalHarness):
-    """The engine with the property families of ``parts`` (all but the codes, whose cone is the whole datapath:
-    :class:`DepthMapHarness` proves it on a smaller engine)."""
+    """The engine with the property families named in ``parts``: "reads" (the input rows' reads and ring writes),
+    "tags" (row tags and frame pairs), "results" (the result ring's writes and the pass admission) and "codes" (an
+    invalid row's codes: its cone is the whole datapath, so :class:`DepthMapHarness` proves it on a smaller
+    engine)."""
     name = "depth"
     block = "DepthEngine"
     all_covers = False
     default_covers = DEFAULT_COVERS
     parts = ("reads", "tags", "results")
     map_cover_bound = None          # map_completes by PDR (the slow variant)
+    #: The PDR proof of the 28 properties takes 5 minutes of CPU or more; on the shared machine (load average 5-7)
+    #: that is more than the default 600 s of wall clock.
+    timeout = 1800
 
     def __init__(self, geometry=GEOMETRY, config=CONFIG, out_rows=OUT_ROWS):
         super().__init__()
