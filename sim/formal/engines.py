@@ -11,7 +11,8 @@ a counterexample or cover trace comes back as the value of every input port on e
 * :func:`bmc`: ABC's ``bmc3``: no assertion fails in the first ``depth`` clocks.
 * :func:`reach`: each cover, as an assertion that it never happens, through ABC's random simulation ``sim3``
   (a deep cover in milliseconds) and, for what it misses, ``pdr``: "reached" with a trace, or "unreached" (then
-  proven unreachable by ``pdr``).
+  proven unreachable by ``pdr``); a cover with a bound goes to ``bmc3`` (Glucose) instead of ``pdr``, for one
+  hundreds of clocks deep behind a reset and a start that random simulation cannot keep low that long.
 
 ABC is the ``yosys-abc`` program of Debian's ``yosys`` package (``apt-get install yosys``; ``make test``
 installs it through ``scripts/system-deps.sh``); ``$YOSYS_ABC`` overrides the path.
@@ -189,9 +190,12 @@ def prove_induction(rtlil, workdir, *, max_steps, timeout=600):
     raise FormalToolError(f"cannot read the result of sat -tempinduct in {workdir / 'induction.log'}")
 
 
-def reach(rtlil, workdir, covers, *, timeout=600):
+def reach(rtlil, workdir, covers, *, bounds=None, timeout=600):
     """Each cover (the ``uncovered_<name>`` assertion that the harness emits for it) through ``sim3`` and then
-    ``pdr`` (:func:`_simulate`): ``{name: Outcome}``, "reached" with a trace or "unreached"."""
+    ``pdr`` (:func:`_simulate`), or ``bmc3 -g`` to ``bounds[name]`` clocks when that is given:
+    ``{name: Outcome}``, "reached" with a trace or "unreached" (``steps``: the bound searched, 0 for proven
+    unreachable)."""
+    bounds = bounds or {}
     workdir = _setup(workdir, rtlil)
     script = _PREP + _AIGER_MAP + "design -save mapped\n"
     for i, name in enumerate(covers):
@@ -200,12 +204,14 @@ def reach(rtlil, workdir, covers, *, timeout=600):
     _yosys(script, workdir, "covers", timeout)
     results = {}
     for i, name in enumerate(covers):
+        bound = bounds.get(name)
+        search = "pdr" if bound is None else f"bmc3 -g -F {bound}"
         if _simulate(workdir, f"cover_{i}", timeout) or \
-                _abc_verdict(_abc(workdir, f"cover_{i}", "pdr", timeout), workdir, f"cover_{i}") == "failed":
+                _abc_verdict(_abc(workdir, f"cover_{i}", search, timeout), workdir, f"cover_{i}") == "failed":
             frames = _read_aiger_trace(workdir, f"cover_{i}")
             results[name] = Outcome("reached", len(frames), frames)
         else:
-            results[name] = Outcome("unreached")
+            results[name] = Outcome("unreached", bound or 0)
     return results
 
 

@@ -7,7 +7,7 @@ from spec.video import SMALL_TIMING
 
 from sim.formal.harnesses.capture import CaptureHarness
 from sim.formal.harnesses.compositor import CompositorHarness
-from sim.formal.harnesses.depth import DepthEngineHarness
+from sim.formal.harnesses.depth import DepthEngineHarness, DepthMapHarness
 from sim.formal.harnesses.depth_codes import MedianCodesHarness, SubpixelCodesHarness, WinnerCodesHarness
 from sim.formal.harnesses.disparity import DisparityHarness
 from sim.formal.harnesses.frame_buffer import FrameBufferHarness
@@ -24,6 +24,7 @@ from sim.formal.harnesses.vertical_offset import VerticalOffsetHarness
 #: first, so that `make formal`'s two workers finish together.
 DEFAULT = {
     "depth": DepthEngineHarness,
+    "depth_map": DepthMapHarness,
     "compositor": CompositorHarness,
     "sync_gen_small": SyncGeneratorHarness,
     "sync_gen_1080p": SyncGenerator1080pHarness,

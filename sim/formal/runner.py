@@ -19,7 +19,8 @@ states named properties::
 * proves every property without a ``bound`` for all time, with the harness's ``engine`` ("pdr": ABC's IC3, or
   "induction": Yosys's k-induction), and checks each property with ``bound=k`` for the first ``k`` clocks (BMC);
 * searches, for each cover, a trace that makes it true: a proof whose covers are not all reached may hold
-  vacuously, and the check fails (an unreached cover is proven unreachable);
+  vacuously, and the check fails (an unreached cover is proven unreachable; a cover with ``bound=k`` is searched
+  by BMC in the first ``k`` clocks only, for one too deep for PDR, and then is reported not reached within k);
 * on a failure, writes the counterexample to ``build/formal/<name>/<group>.vcd`` and a one-line summary naming
   the property (the first ``assert_<property>`` wire that is 0 in the trace); each cover trace goes to
   ``cover_<cover>.vcd``.
@@ -63,12 +64,14 @@ class FormalHarness:
     """Base class of a formal harness; see the module docstring.
 
     Class attributes: ``name`` (directory and table label), ``block`` (the block under test, for the table),
-    ``engine`` ("pdr" or "induction") for the unbounded properties, ``max_steps`` (k-induction limit).
+    ``engine`` ("pdr" or "induction") for the unbounded properties, ``max_steps`` (k-induction limit),
+    ``timeout`` (seconds of wall clock for each tool run before the check reports a tool error).
     """
     name = None
     block = None
     engine = "pdr"
     max_steps = 20
+    timeout = 600
 
     def __init__(self):
         self._select = None
@@ -98,9 +101,11 @@ class FormalHarness:
         """Restrict the environment to traces where ``test`` holds on every clock (an interface contract)."""
         return self._property(m, "assume", name, test, None)
 
-    def cover(self, m, name, test):
-        """A case the properties must be able to see: the check fails unless some trace makes ``test`` true."""
-        return self._property(m, "cover", name, test, None)
+    def cover(self, m, name, test, *, bound=None):
+        """A case the properties must be able to see: the check fails unless some trace makes ``test`` true
+        (within the first ``bound`` clocks if given: searched by BMC, not PDR, for a cover hundreds of clocks
+        deep)."""
+        return self._property(m, "cover", name, test, bound)
 
     def open(self, m, name, dut):
         """Elaborate ``dut`` now and add its ``Module`` as submodule ``name`` (in place of ``dut``, which is then
@@ -271,7 +276,8 @@ class Report:
                            f"{', '.join(g.names)} within {g.outcome.steps} steps")
         for name, o in self.covers.items():
             if o.status != "reached":
-                out.append(f"UNREACHED {self.harness}: cover {name} is unreachable")
+                out.append(f"UNREACHED {self.harness}: cover {name} " +
+                           (f"not reached within {o.steps} clocks (bmc3)" if o.steps else "is unreachable"))
         if not out:
             out.append(f"PASS {self.harness}: {self.property_count} properties, "
                        f"{len(self.covers)} covers reached, {self.seconds:.1f} s")
@@ -282,12 +288,12 @@ def _run_group(harness, bound, names, workdir, outdir):
     start = time.perf_counter()
     text = harness.rtlil(("bound", bound))
     if bound is not None:
-        engine, outcome = "bmc", engines.bmc(text, workdir, depth=bound)
+        engine, outcome = "bmc", engines.bmc(text, workdir, depth=bound, timeout=harness.timeout)
     elif harness.engine == "pdr":
-        engine, outcome = "pdr", engines.prove_pdr(text, workdir)
+        engine, outcome = "pdr", engines.prove_pdr(text, workdir, timeout=harness.timeout)
     elif harness.engine == "induction":
         engine = "induction"
-        outcome = engines.prove_induction(text, workdir, max_steps=harness.max_steps)
+        outcome = engines.prove_induction(text, workdir, max_steps=harness.max_steps, timeout=harness.timeout)
     else:
         raise ValueError(f"unknown engine {harness.engine!r} in {type(harness).__name__}")
     result = GroupResult(bound, engine, names, outcome, 0.0)
@@ -332,7 +338,9 @@ def check(harness, *, outdir=DEFAULT_OUTDIR, covers=True):
     proved = all(g.ok for g in groups)
     names = [p.name for p in harness.properties("cover")] if covers and proved else []
     if names:
-        cover_results = engines.reach(harness.rtlil("covers"), workdir / "covers", names)
+        bounds = {p.name: p.bound for p in harness.properties("cover")}
+        cover_results = engines.reach(harness.rtlil("covers"), workdir / "covers", names, bounds=bounds,
+                                      timeout=harness.timeout)
         for n, o in cover_results.items():
             if o.status == "reached":
                 cover_vcds[n] = vcd = outdir / f"cover_{n}.vcd"

@@ -24,7 +24,7 @@ def _check(factory):
 
 
 #: Proofs that take minutes (the depth engine's): ``make formal`` and ``make test-slow`` run them, not ``make test``.
-LONG = {"depth"}
+LONG = {"depth", "depth_map"}
 
 
 @pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n in LONG else n for n in sorted(DEFAULT)])
