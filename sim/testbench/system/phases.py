@@ -31,7 +31,9 @@ A driver is the primitives the phases are written against, each in its simulator
 * ``progress(stage)``: the run entered ``stage`` (``i2c``, ``capture``, ``display``, ``done``); the driver
   reports it with its fraction done.
 
-A driver whose primitives never suspend (Verilator: plain calls) runs the coroutine with :func:`run_to_end`.
+A driver whose primitives never suspend (Verilator: plain calls) runs the coroutine with :func:`run_to_end`. A
+driver that cannot record the display one display frame period at a time (the cocotb scenario's in-simulator
+recorder writes one stretch) runs :func:`before_display` and its own display phase.
 """
 
 import math
@@ -41,7 +43,7 @@ from hdl.system import DISPLAY_LATENCY, I2C_BUSES
 from sim.models.ch7301c.hdmi_sink import HdmiSink
 from sim.testbench.system.result import SystemTimeout
 
-__all__ = ["phases", "display_limit", "run_to_end", "RESET_PRESS_S", "PIX_RESET_S", "SWITCH_HOLD_CLOCKS", "LOCK",
+__all__ = ["phases", "before_display", "display", "mark", "display_limit", "run_to_end", "RESET_PRESS_S", "PIX_RESET_S", "SWITCH_HOLD_CLOCKS", "LOCK",
            "INIT", "CAPTURE"]
 
 #: How long the reset button is held.
@@ -70,18 +72,31 @@ async def phases(sim, setup, *, still, frames, on_frame, max_frames, deadline_s,
     may take (:func:`display_limit`; a :class:`~sim.testbench.system.result.SystemTimeout` after them); fills
     ``status``. Returns the HDMI sink of the display phase (a sink that saw nothing when the init failed)."""
     wall0 = time.perf_counter()
-    status["phase_wall_s"] = phase_wall = {}
     sink = HdmiSink(setup.timing, keep_frames=1)
+    if await before_display(sim, setup, still=still, deadline_s=deadline_s, status=status, wall0=wall0):
+        await display(sim, setup, sink, frames, on_frame, max_frames, limit_frames, status)
+        mark(status, "display", wall0)
+    return sink
+
+
+async def before_display(sim, setup, *, still, deadline_s, status, wall0):
+    """The phases up to the display frames: reset, I2C init and (``still``) capture, each marked in
+    ``status["phase_wall_s"]`` with the wall time since ``wall0``. False if the init failed (nothing more was
+    done)."""
+    status["phase_wall_s"] = {}
     await reset(sim, setup, deadline_s)
     if not await init(sim, setup, deadline_s, status):
-        return sink
-    phase_wall["init"] = time.perf_counter() - wall0
+        return False
+    mark(status, "init", wall0)
     if still:
         await capture(sim, deadline_s, status)
-        phase_wall["capture"] = time.perf_counter() - wall0
-    await display(sim, setup, sink, frames, on_frame, max_frames, limit_frames, status)
-    phase_wall["display"] = time.perf_counter() - wall0
-    return sink
+        mark(status, "capture", wall0)
+    return True
+
+
+def mark(status, phase, wall0):
+    """Note in ``status["phase_wall_s"]`` that ``phase`` ended (wall seconds since ``wall0``)."""
+    status["phase_wall_s"][phase] = time.perf_counter() - wall0
 
 
 def display_limit(setup, sequence, max_frames, deadline_s):

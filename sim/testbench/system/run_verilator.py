@@ -16,16 +16,14 @@ shows the last pair on buffers no capture writes any more). A camera starts the 
 says RGB565 and streaming, and only if that configuration is exactly the expected one (a
 :class:`~sim.testbench.system.result.SystemTimeout` otherwise: the configuration guard).
 
-Python keeps the models and the phases (reset, I2C init, capture, display frames, check): the simulation runs in
-C++ until something Python must answer -- an I2C line changes (the register-file models answer at that instant;
-the bus monitors see every change of the whole run), a status output changes (a phase waits for it; the captures'
-frame starts and ends are noted all along, with the design's skew meter), or a time a phase set -- so nothing polls
-and no Python runs per clock. The display frames are recorded one display frame period at a time from a display
-frame start (for a still pair the first after both captures completed a frame, for a sequence the first after the
-I2C init), each chunk fed to one HDMI sink, and each frame the sink completes handed to ``on_frame`` at once as a
-:class:`~sim.testbench.system.result.DisplayFrame`. A sequence ends with its settled frame (the first display frame
-that starts after both captures completed the whole sequence); a still pair when ``on_frame`` returns True (enough)
-or after ``max_frames`` display frames.
+Python keeps the models and runs the phases (:func:`sim.testbench.system.phases.phases`: reset, I2C init, capture,
+display frames), the driver's primitives plain calls (the coroutine never suspends,
+:func:`~sim.testbench.system.phases.run_to_end`): the simulation runs in C++ until something Python must answer --
+an I2C line changes (the register-file models answer at that instant; the bus monitors see every change of the whole
+run), a status output changes (a phase waits for it; the captures' frame starts and ends are noted all along, with
+the design's skew meter), or a time a phase set -- so nothing polls and no Python runs per clock. Each display frame
+period of the pins is recorded in one chunk and fed to the phases' HDMI sink; after each, the switch words
+``switch_changes`` gives for that count are scheduled.
 
 The check phase of the driver: what the models and the bus monitors saw
 (:func:`sim.testbench.system.result.record_parts`) and the replay check (every sample each camera's pins carried
