@@ -16,7 +16,7 @@
 
 A driver is the primitives the phases are written against, each in its simulator's way of advancing time:
 
-* ``button(pressed)``: the reset button (pressed: the switches at 0 too);
+* ``button(pressed)``: the reset button (the switches are at 0 while it is first pressed);
 * ``await start_pix()``: start the pixel clock; ``await pix_out_of_reset()``: until the pixel domain left reset;
 * ``await advance(seconds)``, ``await advance_pix(clocks)``: let simulated time pass;
 * ``await until(what, condition, timeout_s)``: until ``condition()`` holds (a
@@ -43,8 +43,8 @@ from hdl.system import DISPLAY_LATENCY, I2C_BUSES
 from sim.models.ch7301c.hdmi_sink import HdmiSink
 from sim.testbench.system.result import SystemTimeout
 
-__all__ = ["phases", "before_display", "display", "mark", "display_limit", "run_to_end", "RESET_PRESS_S", "PIX_RESET_S", "SWITCH_HOLD_CLOCKS", "LOCK",
-           "INIT", "CAPTURE"]
+__all__ = ["phases", "before_display", "display", "mark", "display_limit", "run_to_end", "RESET_PRESS_S",
+           "PIX_RESET_S", "SWITCH_HOLD_CLOCKS", "LOCK", "INIT", "CAPTURE"]
 
 #: How long the reset button is held.
 RESET_PRESS_S = 50e-9
