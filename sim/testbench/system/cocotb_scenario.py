@@ -1,13 +1,13 @@
 """The whole-system scenario inside a cocotb simulation (Verilator or Icarus), in phases.
 
 ``sim/testbench/system/system_cocotb.py`` runs :func:`end_to_end` (and, for the benchmark, :func:`rate_probe`) on
-the design :func:`sim.testbench.system.run_cocotb.run_cocotb_system` exported; the phases are those of the other
-drivers (``sim/testbench/system/run_verilator.py``, ``run_amaranth.py``): **reset** (button, clock lock), **init**
-(the RTL configures the register-file models over I2C; then the pixel clock and the switches), **capture** (a still
-pair: both sensors stream once configured, until both captures complete a frame), **display** (the CH7301C pins
-sampled from a display frame start: a still pair's ``max_frames`` display frames; a sequence's frames up to its
-settled frame, :class:`~sim.testbench.system.result.DisplayFrames`), **check** (what the models and the buses saw,
-:func:`sim.testbench.system.result.record_parts`; the display frames are judged by the run,
+the design :func:`sim.testbench.system.run_cocotb.run_cocotb_system` exported. The phases up to the display
+frames are :func:`sim.testbench.system.phases.before_display` (reset, I2C init, capture), the scenario their
+primitives in cocotb triggers (a wait polls every :data:`POLL_NS` step of what it waits for); the **display** is the
+scenario's own, because the in-simulator route's pin recorder writes one stretch of display frames: the CH7301C
+pins sampled from a display frame start, a still pair's ``max_frames`` display frames, a sequence's frames up to its
+settled frame (:class:`~sim.testbench.system.result.DisplayFrames`); then the **check** (what the models and the
+buses saw, :func:`sim.testbench.system.result.record_parts`; the display frames are judged by the run,
 :mod:`sim.system.verdict`). The route (``sim/testbench/system/cocotb_routes.py``) drives the clocks, the cameras
 and the display; a coroutine notes each capture's frame starts and ends and the design's skew meter as they change.
 
@@ -32,10 +32,15 @@ from sim.runners.cocotb import TopPorts
 from sim.models.i2c.bus import start_cocotb_targets
 from sim.models.i2c.monitor import I2CBusMonitor
 from sim.testbench.system.cocotb_routes import period_ps, route_from_spec
-from sim.testbench.system.result import DisplayFrames, record_parts
+from sim.testbench.system.phases import CAPTURE, INIT, LOCK, PIX_RESET_S, before_display, mark
+from sim.testbench.system.result import DisplayFrames, SystemTimeout, record_parts
 from sim.testbench.system.setup import SystemSetup
 
 __all__ = ["end_to_end", "rate_probe"]
+
+#: The scenario's polling step while it waits (``until``), by what it waits for (the capture: 20 us above 100
+#: pixels wide).
+POLL_NS = {LOCK: 20, INIT: 2000, CAPTURE: 1000}
 
 
 def _now_s():
@@ -63,8 +68,8 @@ class _Run:
             self.images = {"a": list(npz["left"]), "b": list(npz["right"])}
         self.deadline = self.setup.deadline_s()
         self.status = {"route": self.route.spec()}
-        self.phase_wall, self.wall0 = {}, time.perf_counter()
-        self.stage, self.running = "I2C-init", True
+        self.wall0 = time.perf_counter()
+        self.stage, self.running = "i2c", True
         self.models = self.setup.i2c_models()
         self.monitors = {bus: I2CBusMonitor() for bus in I2C_BUSES}
         self.replay_checks = {}
@@ -72,14 +77,7 @@ class _Run:
         self.frames = DisplayFrames(self.setup, CAMERAS, sent)
         self.shown = []
 
-    async def wait_for(self, cond, what, step_ns=1000):
-        start = _now_s()
-        while not cond():
-            if _now_s() - start > self.deadline:
-                raise AssertionError(f"{what} did not happen within {self.deadline * 1e3:.3f} ms of simulated time")
-            await Timer(step_ns, unit="ns")
-
-    async def progress(self):
+    async def write_progress(self):
         """Writes the progress file every 50 us of simulated time."""
         total = self.setup.expected_sim_time_s()
         while self.running and self.progress_file:
@@ -113,10 +111,6 @@ class _Run:
                 self.frames.note_skew(now, ports.skew.skew.value.to_signed(), bool(int(ports.skew.aligned.value)))
             last = values
 
-    def mark(self, phase, stage):
-        self.phase_wall[phase] = time.perf_counter() - self.wall0
-        self.stage = stage
-
     def settings(self):
         ports = self.ports
         return {"disparity": int(ports.settings.disparity.value),
@@ -124,60 +118,74 @@ class _Run:
                 "auto_rectification": {n: int(getattr(ports.rectification, n).value)
                                        for n in ("auto", "confident", "held", "locked")}}
 
-    # --- the phases -------------------------------------------------------------------------------------------
-
-    async def reset(self):
-        ports = self.ports
-        ports.button.value = 1
-        ports.panel.sw.value = 0
-        self.route.start(ports, self.setup)
-        if not self.setup.pix_after_init:
-            await self.route.start_pix(ports, self.setup)
+    def start(self):
+        """Before time advances: the route's idle inputs and clocks, the I2C targets, the cameras (each starts
+        once configured), the progress file and the captures' watch."""
+        self.route.start(self.ports, self.setup)
         for bus in I2C_BUSES:
-            start_cocotb_targets(getattr(ports.bus, bus), self.models[bus], self.monitors[bus])
+            start_cocotb_targets(getattr(self.ports.bus, bus), self.models[bus], self.monitors[bus])
         for seed, c in enumerate(CAMERAS):
             cocotb.start_soon(self.camera(c, seed))
-        cocotb.start_soon(self.progress())
+        cocotb.start_soon(self.write_progress())
         cocotb.start_soon(self.watch_captures())
-        await Timer(50, unit="ns")
-        ports.button.value = 0
-        await self.wait_for(lambda: int(ports.locked.value) == 1, "clock lock", step_ns=20)
-        if not self.setup.pix_after_init:
-            await self.set_switches()
 
-    async def set_switches(self):
-        await Timer(200, unit="ns")                 # pix out of reset: 2 synchroniser stages
-        for word in self.setup.switch_words():
-            self.ports.panel.sw.value = word
-            await Timer(30 * period_ps(self.setup.timing.pixel_hz, 4), unit="ps")
+    # --- the primitives of the phases before the display (sim.testbench.system.phases) -------------------------
 
-    async def init(self):
-        init = {b: getattr(self.ports.init, b) for b in I2C_BUSES}
-        await self.wait_for(lambda: all(int(s.done.value) or int(s.error.value) for s in init.values()),
-                            "I2C initialisation", step_ns=2000)
-        for b, s in init.items():
-            self.status[f"{b}_init_done"] = bool(int(s.done.value))
-            self.status[f"{b}_init_error"] = bool(int(s.error.value))
-        self.status["t_init_s"] = _now_s()
-        self.mark("init", "capture")
-        assert all(self.status[f"{b}_init_done"] for b in I2C_BUSES), f"I2C initialisation failed: {self.status}"
-        if self.setup.pix_after_init:
-            await self.route.start_pix(self.ports, self.setup)
-            await self.set_switches()
+    def button(self, pressed):
+        self.ports.button.value = int(pressed)
+        if pressed:
+            self.ports.panel.sw.value = 0
 
-    async def capture(self):
-        captures = {c: getattr(self.ports.capture, f"cam_{c}") for c in CAMERAS}
-        counts0 = {c: int(s.frame_count.value) for c, s in captures.items()}
-        await self.wait_for(lambda: all(int(s.frame_count.value) != counts0[c] for c, s in captures.items()),
-                            "a complete frame from both cameras",
-                            step_ns=20_000 if self.setup.geometry.width > 100 else 1000)
-        for c, s in captures.items():
-            self.status[f"cam_{c}_frame_ok"] = bool(int(s.frame_ok.value))
-        self.status["t_captured_s"] = _now_s()
-        self.mark("capture", "display")
+    async def start_pix(self):
+        await self.route.start_pix(self.ports, self.setup)
+
+    async def pix_out_of_reset(self):
+        await Timer(round(PIX_RESET_S * 1e12), unit="ps")
+
+    async def advance(self, seconds):
+        await Timer(round(seconds * 1e12), unit="ps")
+
+    async def advance_pix(self, clocks):
+        await Timer(clocks * period_ps(self.setup.timing.pixel_hz, 4), unit="ps")
+
+    async def until(self, what, condition, timeout_s):
+        """Poll ``condition`` every step :data:`POLL_NS` gives for ``what`` (1 us otherwise)."""
+        step_ns = POLL_NS.get(what, 1000)
+        if what == CAPTURE and self.setup.geometry.width > 100:
+            step_ns = 20_000
+        start = _now_s()
+        while not condition():
+            if _now_s() - start > timeout_s:
+                raise SystemTimeout(f"{what} did not happen within {timeout_s * 1e3:.3f} ms of simulated time")
+            await Timer(step_ns, unit="ns")
+
+    def set_switches(self, word):
+        self.ports.panel.sw.value = word
+
+    def now(self):
+        return _now_s()
+
+    def locked(self):
+        return int(self.ports.locked.value) == 1
+
+    def init_flags(self):
+        return {b: (int(getattr(self.ports.init, b).done.value), int(getattr(self.ports.init, b).error.value))
+                for b in I2C_BUSES}
+
+    def frame_counts(self):
+        return {c: int(getattr(self.ports.capture, f"cam_{c}").frame_count.value) for c in CAMERAS}
+
+    def frames_ok(self):
+        return {c: int(getattr(self.ports.capture, f"cam_{c}").frame_ok.value) for c in CAMERAS}
+
+    def progress(self, stage):
+        self.stage = stage
+
+    # --- the display phase: the route records one stretch of display frames -----------------------------------
 
     async def display(self):
         ports, setup = self.ports, self.setup
+        self.stage = "display"
         self.route.before_display(ports)
         await RisingEdge(ports.frame_start)
         # Start sampling outside an hsync pulse (the pins lag the raster by DISPLAY_LATENCY clocks, which can put
@@ -202,8 +210,8 @@ class _Run:
         self.status["drive_high"] = {b: bool(int(getattr(ports.bus, b).drive_high.value)) for b in I2C_BUSES}
         self.status["t_end_s"] = _now_s()
         self.status["wall_s"] = time.perf_counter() - self.wall0
-        self.mark("display", "done")
-        self.status["phase_wall_s"] = self.phase_wall
+        mark(self.status, "display", self.wall0)
+        self.stage = "done"
         self.status["replay_checks"] = self.replay_checks
         self.status.update(self.frames.record())
         self.running = False
@@ -232,10 +240,10 @@ class _Run:
 async def end_to_end(dut, params):
     """The whole scenario, phase by phase."""
     run = _Run(dut, params)
-    await run.reset()
-    await run.init()
-    if run.still:
-        await run.capture()
+    run.start()
+    if not await before_display(run, run.setup, still=run.still, deadline_s=run.deadline, status=run.status,
+                                wall0=run.wall0):
+        raise AssertionError(f"I2C initialisation failed: {run.status}")
     await run.display()
     run.check()
 

@@ -2,25 +2,16 @@
 
 It simulates a :class:`sim.testbench.system.setup.SystemSetup` through a *route* (how the cameras and the clocks
 are driven), every clock at its real frequency (``sync`` 100 MHz, ``pix`` from the video timing, each camera's
-PCLK from its sensor model), in the phases a reader can follow in :meth:`AmaranthRun.controller`:
-
-1. **reset**: the reset button is pressed and released; the clocking model locks and releases the domain resets;
-2. **init**: the RTL's three init sequencers configure the two MT9D112 register-file models and the CH7301C model
-   over their I2C buses (``sim.models``, time from the ``cycles`` counter); then the pixel clock starts (with
-   ``setup.pix_after_init``) and the switches are set: SW7 = 1 with the disparity, then SW7 = 0 with the
-   rectification;
-3. **capture** (a still pair): each sensor streams its image once its register file says RGB565 and streaming
-   (see ``sim/testbench/system/setup.py`` for this shortcut), the same image every frame, until both captures
-   complete a frame; a sequence's sensors send its images, one per frame period, then FV low for four display
-   frame periods;
-4. **display**: the HDMI sink model (``sim.models.ch7301c.hdmi_sink``) samples the CH7301C pins from the next
-   display frame start, one display frame period at a time, each frame it completes handed on as a
-   :class:`~sim.testbench.system.result.DisplayFrame` (the bookkeeping of
-   :class:`~sim.testbench.system.result.DisplayFrames`: a sequence up to its settled frame, a still pair until
-   ``on_frame`` returns True or ``max_frames``); a background testbench notes each capture's frame starts and ends
-   and the design's skew meter as they change;
-5. **check** (after the simulation): :func:`sim.testbench.system.result.record_parts`; the display frames' verdict
-   is the run's (:mod:`sim.system.verdict`).
+PCLK from its sensor model). Its controller testbench runs the phases
+(:func:`sim.testbench.system.phases.phases`: reset, I2C init, capture, display frames) with the driver's primitives
+in Amaranth's terms: ``ctx.delay`` and ``ctx.tick``, a wait polling every :data:`POLL_S` step of what it waits for.
+Each sensor streams its image once its register file says RGB565 and streaming (see
+``sim/testbench/system/setup.py`` for this shortcut), the same image every frame; a sequence's sensors send its
+images, one per frame period, then FV low for four display frame periods. The HDMI sink model
+(``sim.models.ch7301c.hdmi_sink``) samples the CH7301C pins one display frame period at a time; a background
+testbench notes each capture's frame starts and ends and the design's skew meter as they change. The check phase
+(after the simulation): :func:`sim.testbench.system.result.record_parts`; the display frames' verdict is the run's
+(:mod:`sim.system.verdict`).
 
 Routes (:data:`ROUTES`): :class:`PythonSensors` drives each camera's pins from the sensor model in a testbench, per
 PCLK (:class:`sim.testbench.system.testbench.SystemTestbench`); :class:`ReplayedSensors` replays each camera's
@@ -32,19 +23,23 @@ import time
 
 from amaranth.sim import Simulator
 
-from hdl.system import CAMERAS, DISPLAY_LATENCY, I2C_BUSES
+from hdl.system import CAMERAS, I2C_BUSES
 from sim.waves.gtkw import recording
-from sim.models.ch7301c.hdmi_sink import HdmiSink, amaranth_sink_testbench
+from sim.models.ch7301c.hdmi_sink import amaranth_sink_testbench
 from sim.models.i2c.bus import amaranth_target_process
 from sim.models.i2c.monitor import I2CBusMonitor
 from sim.models.mt9d112.sensor import drive_amaranth
 from sim.models.mt9d112.config import expected_sensor_config
 from sim.replay.sensor import pack_stream
+from sim.testbench.system.phases import CAPTURE, INIT, LOCK, display_limit, phases
 from sim.testbench.system.testbench import SystemTestbench
 from sim.testbench.system.result import DisplayFrames, sent_frames, SystemTimeout, record_parts
 from sim.testbench.system.rom_testbench import GATED_DOMAINS, RomReplayTestbench, enable_clock
 
 __all__ = ["AmaranthRoute", "PythonSensors", "ReplayedSensors", "ROUTES", "AmaranthRun"]
+
+#: The controller's polling step while it waits (``until``), by what it waits for; 1 us otherwise.
+POLL_S = {LOCK: 50e-9, INIT: 2e-6, CAPTURE: 1e-6, "pixel-domain reset release": 20e-9}
 
 
 class AmaranthRoute:
@@ -150,9 +145,9 @@ ROUTES = {route.name: route for route in (PythonSensors(), ReplayedSensors())}
 
 
 class AmaranthRun:
-    """One run of ``sequence`` along ``route`` in progress: the models, the sink, the status, and the phases (see
-    the module docstring). ``on_frame(DisplayFrame)`` receives each display frame (a still pair's run ends when it
-    returns True, or after ``max_frames``); ``progress(stage, fraction)``."""
+    """One run of ``sequence`` along ``route`` in progress: the models, the sink, the status, and the primitives of the
+    phases (see the module docstring). ``on_frame(DisplayFrame)`` receives each display frame (a still pair's run
+    ends when it returns True, or after ``max_frames``); ``progress(stage, fraction)``."""
 
     def __init__(self, setup, sequence, *, route=ROUTES["python"], on_frame=None, progress=None, deadline_s=None,
                  max_frames=1):
@@ -169,10 +164,9 @@ class AmaranthRun:
         self.pix_running = not setup.pix_after_init
         self.models = setup.i2c_models()
         self.monitors = {bus: I2CBusMonitor() for bus in I2C_BUSES}
-        self.sink = HdmiSink(setup.timing, keep_frames=1)
+        self.sink, self.ctx = None, None       # the display phase's sink; the controller's context
         self.frames = DisplayFrames(setup, CAMERAS, sent_frames(sequence, CAMERAS))
         self.status, self.samples, self.replay_started = {}, {c: 0 for c in CAMERAS}, {}
-        self.elapsed = 0.0                      # simulated time the controller has waited for
         self.top = route.design(self)
         self.domains = {cd.name: cd for cd in self.top.domains}
 
@@ -189,13 +183,6 @@ class AmaranthRun:
         tail_s = 4 * self.setup.timing.clocks_per_frame / self.setup.timing.pixel_hz
         line = sensor.timing.line_time(self.setup.geometry.width)
         yield sensor.blank(max(1, round(tail_s * self.setup.pclk_hz / line)))
-
-    async def wait_for(self, ctx, what, cond, step=1e-6):
-        while not cond():
-            if self.elapsed > self.deadline:
-                raise SystemTimeout(f"{what} did not happen within {self.deadline * 1e3:.3f} ms of simulated time")
-            await ctx.delay(step)
-            self.elapsed += step
 
     @staticmethod
     async def until_configured(ctx, model):
@@ -228,100 +215,84 @@ class AmaranthRun:
                 self.frames.note_skew(now, ctx.get(meter.skew), bool(ctx.get(meter.aligned)))
             last = list(values)
 
-    def settings(self, ctx):
+    # --- the primitives of the phases (sim.testbench.system.phases), the controller's ------------------------------
+
+    async def controller(self, ctx):
+        self.ctx = ctx
+        self.sink = await phases(self, self.setup, still=self.still, frames=self.frames, on_frame=self.on_frame,
+                                 max_frames=self.max_frames, deadline_s=self.deadline,
+                                 limit_frames=display_limit(self.setup, self.sequence, self.max_frames, self.deadline),
+                                 status=self.status)
+
+    def button(self, pressed):
+        self.ctx.set(self.top.button, int(pressed))
+
+    async def start_pix(self):
+        if not self.pix_running:
+            await self.route.start_pix(self, self.ctx)
+
+    async def pix_out_of_reset(self):
+        await self.until("pixel-domain reset release", lambda: not self.ctx.get(self.domains["pix"].rst),
+                         self.deadline)
+
+    async def advance(self, seconds):
+        await self.ctx.delay(seconds)
+
+    async def advance_pix(self, clocks):
+        await self.ctx.delay(clocks * self.pix_period)
+
+    async def until(self, what, condition, timeout_s):
+        """Poll ``condition`` every :data:`POLL_S` step of ``what``."""
+        step, waited = POLL_S.get(what, 1e-6), 0.0
+        while not condition():
+            if waited > timeout_s:
+                raise SystemTimeout(f"{what} did not happen within {timeout_s * 1e3:.3f} ms of simulated time")
+            await self.ctx.delay(step)
+            waited += step
+
+    def set_switches(self, word):
+        self.ctx.set(self.top.panel.sw, word)
+
+    def now(self):
+        return self.ctx.get(self.top.cycles) / self.setup.sys_hz    # sync clocks counted since time 0
+
+    def locked(self):
+        return bool(self.ctx.get(self.top.locked))
+
+    def init_flags(self):
+        return {b: (self.ctx.get(getattr(self.top.init, b).done), self.ctx.get(getattr(self.top.init, b).error))
+                for b in I2C_BUSES}
+
+    def frame_counts(self):
+        return {c: self.ctx.get(getattr(self.top.capture, f"cam_{c}").frame_count) for c in CAMERAS}
+
+    def frames_ok(self):
+        return {c: self.ctx.get(getattr(self.top.capture, f"cam_{c}").frame_ok) for c in CAMERAS}
+
+    def settings(self):
         """The switch settings and the automatic rectification's state the design shows now."""
-        top = self.top
+        ctx, top = self.ctx, self.top
         return {"disparity": ctx.get(top.settings.disparity), "rectification": ctx.get(top.settings.rectification),
                 "auto_rectification": {n: ctx.get(getattr(top.rectification, n))
                                        for n in ("auto", "confident", "held", "locked")}}
 
-    # --- the phases -----------------------------------------------------------------------------------------
+    def panel(self):
+        ctx, top = self.ctx, self.top
+        return {"leds": ctx.get(top.panel.leds),
+                "drive_high": {b: bool(ctx.get(getattr(top.bus, b).drive_high)) for b in I2C_BUSES}}
 
-    async def controller(self, ctx):
-        await self.reset(ctx)
-        if await self.init(ctx):
-            if self.still:
-                await self.capture(ctx)
-            await self.display(ctx)
+    def progress(self, stage):
+        self.report(stage, 1.0 if stage == "done" else min(0.999, self.now() / self.setup.expected_sim_time_s()))
 
-    async def reset(self, ctx):
-        ctx.set(self.top.button, 1)
-        await ctx.delay(50e-9)
-        ctx.set(self.top.button, 0)
-        self.elapsed = 50e-9
-        await self.wait_for(ctx, "clock lock", lambda: ctx.get(self.top.locked), step=50e-9)
-
-    async def init(self, ctx):
-        """The I2C init; then the pixel clock and the switches. False if a bus failed (the caller reports it)."""
-        self.report("i2c", 0.0)
-        init = self.top.init
-        buses = {b: getattr(init, b) for b in I2C_BUSES}
-        await self.wait_for(ctx, "I2C initialisation",
-                            lambda: all(ctx.get(s.done) or ctx.get(s.error) for s in buses.values()), step=2e-6)
-        for b, s in buses.items():
-            self.status[f"{b}_init_done"] = bool(ctx.get(s.done))
-            self.status[f"{b}_init_error"] = bool(ctx.get(s.error))
-        self.status["t_init_s"] = self.elapsed
-        if not all(self.status[f"{b}_init_done"] for b in I2C_BUSES):
-            return False
-        if not self.pix_running:
-            await self.route.start_pix(self, ctx)
-        # The switches: disparity (SW7 = 1) then rectification (SW7 = 0), each held for 30 pixel clocks (more
-        # than the synchroniser and the pending register need); the next frame_start loads both.
-        await self.wait_for(ctx, "pixel-domain reset release", lambda: not ctx.get(self.domains["pix"].rst),
-                            step=20e-9)
-        for word in self.setup.switch_words():
-            ctx.set(self.top.panel.sw, word)
-            await ctx.delay(30 * self.pix_period)
-        return True
-
-    async def capture(self, ctx):
-        self.report("capture", 0.5)
-        status = {c: getattr(self.top.capture, f"cam_{c}") for c in CAMERAS}
-        counts0 = {c: ctx.get(s.frame_count) for c, s in status.items()}
-        await self.wait_for(ctx, "a complete camera frame from both sensors",
-                            lambda: all(ctx.get(s.frame_count) != counts0[c] for c, s in status.items()))
-        for c, s in status.items():
-            self.status[f"cam_{c}_frame_ok"] = bool(ctx.get(s.frame_ok))
-        self.status["t_captured_s"] = self.elapsed
-
-    async def display(self, ctx):
-        self.report("display", 0.8 if self.still else 0.0)
-        top, sink = self.top, self.sink
+    async def display_frame_start(self):
+        ctx, top = self.ctx, self.top
         await ctx.tick("pix").until(top.frame_start)
-        # Start sampling outside an hsync pulse (the pins lag the raster by DISPLAY_LATENCY clocks, which can put
-        # them inside the previous line's pulse): the sink must see whole pulses.
         h_idle = 0 if self.setup.timing.hsync_positive else 1
         while ctx.get(top.ch7301c.hsync) != h_idle:
             await ctx.tick("pix")
-        self.status.update(self.settings(ctx))
-        clocks = self.setup.timing.clocks_per_frame
-        self.frames.start(ctx.get(top.cycles) / self.setup.sys_hz, clocks / self.setup.timing.pixel_hz)
-        limit = self.max_frames + 1 if self.still else 3 * len(self.sequence) + 12
-        recorded = 0
-        for chunk in range(limit):
-            settings, before = self.settings(ctx), sink.frames_completed
-            # The first chunk holds a display frame and the pins' latency: the sink completes frame k in chunk k.
-            sampled = clocks + (DISPLAY_LATENCY + 2 if not chunk else 0)
-            await amaranth_sink_testbench(sink, top.ch7301c, sampled)(ctx)
-            recorded += sampled
-            enough = any([self.frames.completed(self.on_frame, sink.frames[-1].copy(), settings)
-                          for _ in range(before, sink.frames_completed)])
-            done = (chunk + 1) / limit
-            self.report("display", min(0.99, 0.8 + 0.2 * done if self.still else done))
-            if self.frames.finished(enough, self.max_frames):
-                break
-        else:
-            raise SystemTimeout(self.frames.overdue())
-        self.status["recorded_clocks"] = recorded
-        self.status["violations"] = [str(v) for v in sink.violations]
-        self.status["leds"] = ctx.get(top.panel.leds)
-        self.status["drive_high"] = {b: bool(ctx.get(getattr(top.bus, b).drive_high)) for b in I2C_BUSES}
-        self.status["t_end_s"] = ctx.get(top.cycles) / self.setup.sys_hz    # sync clocks counted since time 0
-        self.status.update(self.frames.record())
-        for c, start in self.replay_started.items():     # samples replayed: the PCLK periods since the start
-            self.samples[c] = round((self.status["t_end_s"] - start) * self.setup.pclk_hz)
-        self.report("done", 1.0)
+
+    async def display_frame(self, sink, clocks):
+        await amaranth_sink_testbench(sink, self.top.ch7301c, clocks)(self.ctx)
 
     # --- the simulation -------------------------------------------------------------------------------------
 
@@ -344,6 +315,8 @@ class AmaranthRun:
         else:
             with recording(sim, vcd, gtkw, traces(self.top) if callable(traces) else traces):
                 sim.run()
+        for c, start in self.replay_started.items():     # samples replayed: the PCLK periods since the start
+            self.samples[c] = round((self.status.get("t_end_s", start) - start) * self.setup.pclk_hz)
         self.status["wall_s"] = time.perf_counter() - wall
         return self.status
 

@@ -16,16 +16,14 @@ shows the last pair on buffers no capture writes any more). A camera starts the 
 says RGB565 and streaming, and only if that configuration is exactly the expected one (a
 :class:`~sim.testbench.system.result.SystemTimeout` otherwise: the configuration guard).
 
-Python keeps the models and the phases (reset, I2C init, capture, display frames, check): the simulation runs in
-C++ until something Python must answer -- an I2C line changes (the register-file models answer at that instant;
-the bus monitors see every change of the whole run), a status output changes (a phase waits for it; the captures'
-frame starts and ends are noted all along, with the design's skew meter), or a time a phase set -- so nothing polls
-and no Python runs per clock. The display frames are recorded one display frame period at a time from a display
-frame start (for a still pair the first after both captures completed a frame, for a sequence the first after the
-I2C init), each chunk fed to one HDMI sink, and each frame the sink completes handed to ``on_frame`` at once as a
-:class:`~sim.testbench.system.result.DisplayFrame`. A sequence ends with its settled frame (the first display frame
-that starts after both captures completed the whole sequence); a still pair when ``on_frame`` returns True (enough)
-or after ``max_frames`` display frames.
+Python keeps the models and runs the phases (:func:`sim.testbench.system.phases.phases`: reset, I2C init, capture,
+display frames), the driver's primitives plain calls (the coroutine never suspends,
+:func:`~sim.testbench.system.phases.run_to_end`): the simulation runs in C++ until something Python must answer --
+an I2C line changes (the register-file models answer at that instant; the bus monitors see every change of the whole
+run), a status output changes (a phase waits for it; the captures' frame starts and ends are noted all along, with
+the design's skew meter), or a time a phase set -- so nothing polls and no Python runs per clock. Each display frame
+period of the pins is recorded in one chunk and fed to the phases' HDMI sink; after each, the switch words
+``switch_changes`` gives for that count are scheduled.
 
 The check phase of the driver: what the models and the bus monitors saw
 (:func:`sim.testbench.system.result.record_parts`) and the replay check (every sample each camera's pins carried
@@ -38,12 +36,12 @@ import time
 import numpy as np
 
 from hdl.system import CAMERAS, DISPLAY_LATENCY, I2C_BUSES
-from sim.models.ch7301c.hdmi_sink import HdmiSink
 from sim.models.i2c.monitor import I2CBusMonitor
 from sim.models.mt9d112.config import expected_sensor_config
 from sim.models.mt9d112.sensor import SensorStream
 from sim.replay.sensor import pack_stream
 from sim.testbench.system.cocotb_routes import period_ps
+from sim.testbench.system.phases import PIX_RESET_S, display_limit, phases, run_to_end
 from sim.testbench.system.result import DisplayFrames, sent_frames, SystemTimeout, record_parts
 from sim.runners.verilator.build import build
 from sim.runners.verilator.ctestbench import RECORDED, CTestbench
@@ -120,7 +118,8 @@ class VerilatorRun:
         self.periods = {"sync": period_ps(setup.sys_hz), "pix": period_ps(setup.timing.pixel_hz, 4),
                         **{f"cam_{c}": period_ps(setup.camera_pclk_hz(c)) for c in CAMERAS}}
         self.frame_clocks = setup.timing.clocks_per_frame
-        self.deadline_ps = round((deadline_s or setup.deadline_s()) / _PS)
+        self.deadline_s = deadline_s or setup.deadline_s()
+        self.deadline_ps = round(self.deadline_s / _PS)
         self.report = progress or (lambda stage, fraction: None)
         tail_s = 0 if self.still else len(self.words["a"]) / setup.pclk_hz
         self.total_ps = (setup.expected_sim_time_s() + tail_s) / _PS
@@ -132,7 +131,7 @@ class VerilatorRun:
         # The first chunk holds a display frame and the pins' latency: the sink completes frame k in chunk k.
         self.recording = np.zeros(self.frame_clocks + DISPLAY_LATENCY + 2, dtype=np.uint32)
         self.started, self.activity = {}, {c: -1 for c in CAMERAS}
-        self.status, self.stage = {}, "i2c"
+        self.status, self.stage, self.powered, self.chunks, self.sink = {}, "i2c", False, 0, None
         self.frames = DisplayFrames(setup, CAMERAS, sent_frames(sequence, CAMERAS))
         self.last = {c: (0, 0) for c in CAMERAS}
         self.skew_count = 0
@@ -164,7 +163,7 @@ class VerilatorRun:
 
     def _status_ports(self):
         return [("capture", f"cam_{c}", k) for c in CAMERAS for k in ("in_frame", "frame_count")] + \
-            [("skew", "count")]
+            [("skew", "count"), "locked"] + [("init", b, k) for b in I2C_BUSES for k in ("done", "error")]
 
     def _wake(self):
         """Whatever stopped the simulation: the buses answer, a camera configured by now starts, the captures'
@@ -230,74 +229,68 @@ class VerilatorRun:
         target = self.h.now_ps + ps
         self._until("time", lambda: self.h.now_ps >= target, limit_ps=target)
 
-    # --- the phases -----------------------------------------------------------------------------------------
+    # --- the primitives of the phases (sim.testbench.system.phases) ---------------------------------------------
 
     def run(self):
+        """Simulate the phases; returns the status."""
         wall0 = time.perf_counter()
         cpu0 = time.process_time()
-        self.phase_wall = {}
-        self.reset()
-        if self.init():
-            self.phase_wall["init"] = time.perf_counter() - wall0
-            if self.still:
-                self.capture()
-                self.phase_wall["capture"] = time.perf_counter() - wall0
-            self.display()
-        self.status["wall_s"] = self.phase_wall["display"] = time.perf_counter() - wall0
+        deadline_s = self.deadline_s
+        self.sink = run_to_end(phases(self, self.setup, still=self.still, frames=self.frames, on_frame=self.on_frame,
+                                      max_frames=self.max_frames, deadline_s=deadline_s,
+                                      limit_frames=display_limit(self.setup, self.sequence, self.max_frames,
+                                                                 deadline_s),
+                                      status=self.status))
+        self.status["wall_s"] = time.perf_counter() - wall0
         self.status["cpu_s"] = time.process_time() - cpu0
-        self.status["phase_wall_s"] = self.phase_wall
         self.status["i2c_wakes"], self.status["evals"] = self.buses.wakes, self.h.evals
         return self.status
 
-    def reset(self):
+    def button(self, pressed):
+        """The reset button; its first press powers the board up: the switches and the camera pins at 0, the
+        ``sync`` clock started."""
         h = self.h
-        h["button"], h[("panel", "sw")] = 1, 0
-        for c in CAMERAS:
-            for pin in camera_pins(c):
-                h[pin] = 0
-        h.start_clock("sync", self.periods["sync"] // 2)
-        if not self.setup.pix_after_init:
-            h.start_clock("pix", 0)
-        self._advance(50_000)
-        h["button"] = 0
-        self._until("clock lock", lambda: h["locked"] == 1, ["locked"], timeout_ps=self.deadline_ps)
-        if not self.setup.pix_after_init:
-            self.set_switches()
+        h["button"] = int(pressed)
+        if pressed and not self.powered:
+            self.powered = True
+            h[("panel", "sw")] = 0
+            for c in CAMERAS:
+                for pin in camera_pins(c):
+                    h[pin] = 0
+            h.start_clock("sync", self.periods["sync"] // 2)
 
-    def init(self):
-        """The I2C init; then the pixel clock and the switches. False if a bus failed (the caller reports it)."""
-        h, status = self.h, self.status
-        flags = [("init", b, k) for b in I2C_BUSES for k in ("done", "error")]
-        self._until("I2C initialisation", lambda: all(h[("init", b, "done")] or h[("init", b, "error")]
-                                                      for b in I2C_BUSES), flags, timeout_ps=self.deadline_ps)
-        for b in I2C_BUSES:
-            status[f"{b}_init_done"] = bool(h[("init", b, "done")])
-            status[f"{b}_init_error"] = bool(h[("init", b, "error")])
-        status["t_init_s"] = h.now_ps * _PS
-        if not all(status[f"{b}_init_done"] for b in I2C_BUSES):
-            return False
-        if self.setup.pix_after_init:
-            h.start_clock("pix", h.now_ps)
-            self.set_switches()
-        return True
+    async def start_pix(self):
+        self.h.start_clock("pix", self.h.now_ps)
 
-    def set_switches(self):
-        self._advance(200_000)                      # pix out of reset: 2 synchroniser stages
-        for word in self.setup.switch_words():
-            self.h[("panel", "sw")] = word
-            self._advance(30 * self.periods["pix"])
+    async def pix_out_of_reset(self):
+        self._advance(round(PIX_RESET_S / _PS))
 
-    def capture(self):
-        """Until both captures completed a frame (a still pair's run)."""
-        h = self.h
-        self.stage = "capture"
-        counts = [("capture", f"cam_{c}", "frame_count") for c in CAMERAS]
-        counts0 = {n: h[n] for n in counts}
-        self._until("a complete frame from both cameras", lambda: all(h[n] != counts0[n] for n in counts), counts,
-                    timeout_ps=self.deadline_ps)
-        for c in CAMERAS:
-            self.status[f"cam_{c}_frame_ok"] = bool(h[("capture", f"cam_{c}", "frame_ok")])
-        self.status["t_captured_s"] = h.now_ps * _PS
+    async def advance(self, seconds):
+        self._advance(round(seconds / _PS))
+
+    async def advance_pix(self, clocks):
+        self._advance(clocks * self.periods["pix"])
+
+    async def until(self, what, condition, timeout_s):
+        self._until(what, condition, timeout_ps=round(timeout_s / _PS))
+
+    def set_switches(self, word):
+        self.h[("panel", "sw")] = word
+
+    def now(self):
+        return self.h.now_ps * _PS
+
+    def locked(self):
+        return self.h["locked"] == 1
+
+    def init_flags(self):
+        return {b: (self.h[("init", b, "done")], self.h[("init", b, "error")]) for b in I2C_BUSES}
+
+    def frame_counts(self):
+        return {c: self.h[("capture", f"cam_{c}", "frame_count")] for c in CAMERAS}
+
+    def frames_ok(self):
+        return {c: self.h[("capture", f"cam_{c}", "frame_ok")] for c in CAMERAS}
 
     def settings(self):
         """The switch settings and the automatic rectification's state the design shows now."""
@@ -307,57 +300,37 @@ class VerilatorRun:
                 "rectification": bits - 0x80 if bits & 0x40 else bits,          # two's complement
                 "auto_rectification": {n: h[("rectification", n)] for n in ("auto", "confident", "held", "locked")}}
 
-    def display(self):
-        """The display frames, one display frame period at a time from the next display frame start (see the
-        module docstring)."""
-        h, status = self.h, self.status
-        self.stage = "display"
+    def panel(self):
+        h = self.h
+        return {"leds": h[("panel", "leds")], "drive_high": {b: bool(h[("bus", b, "drive_high")]) for b in I2C_BUSES}}
+
+    def progress(self, stage):
+        self.stage = stage
+        self.report(stage, 1.0 if stage == "done" else min(0.999, self.h.now_ps / self.total_ps))
+
+    async def display_frame_start(self):
+        h = self.h
         last = [h["frame_start"]]
 
         def frame_start_rose():
             rose, last[0] = h["frame_start"] and not last[0], h["frame_start"]
             return rose
         self._until("a display frame start", frame_start_rose, ["frame_start"], timeout_ps=self.deadline_ps)
-        # Start outside an hsync pulse (the pins lag the raster by DISPLAY_LATENCY clocks, which can put them
-        # inside the previous line's pulse): the sink must see whole pulses.
         idle = 0 if self.setup.timing.hsync_positive else 1
         self._until("hsync idle", lambda: h[("ch7301c", "hsync")] == idle, [("ch7301c", "hsync")],
                     timeout_ps=self.deadline_ps)
-        status.update(self.settings())
-        sink = HdmiSink(self.setup.timing, keep_frames=1)
-        self.frames.start(h.now_ps * _PS, self.frame_clocks / self.setup.timing.pixel_hz)
-        limit_ps = h.now_ps + self.deadline_ps + self._frames_ps()
-        recorded, chunk = 0, 0
-        while True:
-            settings = self.settings()
-            h.record(len(self.recording) if chunk == 0 else self.frame_clocks)
-            if self._until("the display frames", lambda: False, limit_ps=limit_ps) != RECORDED:
-                raise SystemTimeout(self.frames.overdue())
-            recorded += h.recorded
-            before = sink.frames_completed
-            feed_sink(self.recording[:h.recorded], sink)
-            chunk += 1
-            enough = any([self.frames.completed(self.on_frame, sink.frames[-1], settings)
-                          for _ in range(before, sink.frames_completed)])
-            self.switch_plan(chunk)
-            if self.frames.finished(enough, self.max_frames):
-                break
-            if not self.frames.shown and chunk > 3:
-                raise SystemTimeout("the HDMI sink rebuilt no frame from three display frame periods of pins")
-        status["recorded_clocks"] = recorded
-        status["violations"] = [str(v) for v in sink.violations]
-        status["leds"] = h[("panel", "leds")]
-        status["drive_high"] = {b: bool(h[("bus", b, "drive_high")]) for b in I2C_BUSES}
-        status["t_end_s"] = h.now_ps * _PS
-        status.update(self.frames.record())
-        self.report("done", 1.0)
 
-    def _frames_ps(self):
-        """Simulated time the display frames may take beyond the deadline: the sequence's stream, or
-        ``max_frames`` display frames of a still pair."""
-        if self.still:
-            return round(self.max_frames * self.frame_clocks / self.setup.timing.pixel_hz / _PS)
-        return round(2 * len(self.words["a"]) / self.setup.pclk_hz / _PS)
+    async def display_frame(self, sink, clocks):
+        """Record ``clocks`` pixel clocks of the CH7301C pins and feed them to ``sink``; then schedule the switch
+        words of this display frame count (:meth:`switch_plan`)."""
+        h = self.h
+        h.record(clocks)
+        if self._until("a display frame", lambda: False, limit_ps=h.now_ps + 2 * clocks * self.periods["pix"]) \
+                != RECORDED:
+            raise SystemTimeout("the CH7301C pins of a display frame were not recorded in time")
+        feed_sink(self.recording[:h.recorded], sink)
+        self.chunks += 1
+        self.switch_plan(self.chunks)
 
     def switch_plan(self, chunk):
         """Schedule the switch words ``switch_changes`` gives after ``chunk`` recorded display frames (a mode
