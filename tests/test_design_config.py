@@ -5,22 +5,21 @@ to); a simulation setup's design is a design preset plus only the simulation's t
 table at a sensor size changes only the four size variables.
 """
 
-import inspect
-from dataclasses import FrozenInstanceError
+from dataclasses import FrozenInstanceError, fields
 
 import pytest
 
 from hdl.config import DesignConfig
 from hdl.init_tables import MT9D112_TABLE, Write
 from hdl.sensor_table import SIZE_VARIABLES, sized_mt9d112_table
-from hdl.system import StereoDepthSystem
+from hdl.system import SystemParameters
 from spec.layout import DisplayLayout
 from spec.sensor import SENSOR, SMALL_SENSOR
 from sim.testbench.system.setup import SystemSetup
 
 
 def test_the_board_design_is_the_systems_defaults():
-    defaults = {name: p.default for name, p in inspect.signature(StereoDepthSystem).parameters.items()}
+    defaults = {f.name: f.default for f in fields(SystemParameters)}     # StereoDepthSystem's parameters
     design = DesignConfig.full()
     for name, value in design.top_kwargs().items():
         if name == "layout":
