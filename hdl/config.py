@@ -20,19 +20,21 @@ Two presets:
   part of the design: ``sim/testbench/system/tables.py``.
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
-from hdl.init_tables import CH7301C_TABLE
 from hdl.sensor_table import sized_mt9d112_table
+from hdl.system import SystemParameters
 from spec.board import CLOCKS
-from spec.depth import DEPTH, SMALL_DEPTH
-from spec.display import DIFF_LEVEL_GREY, DIFF_THRESHOLDS
+from spec.depth import SMALL_DEPTH
 from spec.layout import DisplayLayout
-from spec.rectification import RECTIFICATION, SMALL_RECTIFICATION
-from spec.sensor import SENSOR, SMALL_SENSOR
-from spec.video import CEA_1080P60, SMALL_TIMING
+from spec.rectification import SMALL_RECTIFICATION
+from spec.sensor import SMALL_SENSOR
+from spec.video import SMALL_TIMING
 
 __all__ = ["DesignConfig"]
+
+#: The system's own parameter defaults: the board's design is the design the blocks default to.
+_SYSTEM = {f.name: f.default for f in fields(SystemParameters)}
 
 
 @dataclass(frozen=True)
@@ -70,18 +72,18 @@ class DesignConfig:
     layout, cam_table
         Never ``None``: resolved as above when the configuration is made.
     """
-    geometry: object = SENSOR
-    timing: object = CEA_1080P60
+    geometry: object = _SYSTEM["geometry"]
+    timing: object = _SYSTEM["timing"]
     layout: object = None
-    thresholds: tuple = DIFF_THRESHOLDS
-    level_grey: tuple = DIFF_LEVEL_GREY
-    depth: object = DEPTH
-    auto_rectification: object = RECTIFICATION
+    thresholds: tuple = _SYSTEM["thresholds"]
+    level_grey: tuple = _SYSTEM["level_grey"]
+    depth: object = _SYSTEM["depth"]
+    auto_rectification: object = _SYSTEM["auto_rectification"]
     cam_table: object = None
-    dvi_table: object = CH7301C_TABLE
-    sys_hz: int = CLOCKS.SYS_HZ
-    i2c_hz: int = CLOCKS.I2C_HZ
-    i2c_retry_delay_us: int = 1000
+    dvi_table: object = _SYSTEM["dvi_table"]
+    sys_hz: int = _SYSTEM["clk_hz"]
+    i2c_hz: int = _SYSTEM["i2c_hz"]
+    i2c_retry_delay_us: int = _SYSTEM["i2c_retry_delay_us"]
     pclk_hz: int = CLOCKS.CAM_PCLK_HZ
 
     def __post_init__(self):
