@@ -99,12 +99,12 @@ class Judge:
     def _still(self, shown):
         setup, frame, settings = self.setup, shown.frame, shown.settings or {}
         golden = untorn = self.still_golden(settings)
-        tear = None
+        tear, withheld = None, 0        # a frame equal to its untorn golden frame withholds no row
         if not np.array_equal(frame, golden):
             kwargs = {"in_use": settings.get("rectification"),
                       "held": settings.get("auto_rectification", {}).get("held", False)}
             golden, tear = tear_golden(setup, *self.sequence.pairs[0], frame, golden, **kwargs)
-        withheld = int((self._invalid_rows(frame) & ~self._invalid_rows(untorn)).sum())
+            withheld = int((self._invalid_rows(frame) & ~self._invalid_rows(untorn)).sum())
         locked = setup.rectification != "auto" or bool(settings.get("auto_rectification", {}).get("locked"))
         return golden, {"mismatched_pixels": int(np.any(frame != golden, axis=-1).sum()), "tear": tear,
                         "withheld_rows": withheld, "whole": withheld == 0, "locked": locked}
