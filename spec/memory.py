@@ -1,0 +1,32 @@
+"""The DDR2 memory behind Xilinx MIG 3.x for the Virtex-5 as the design relies on it (docs/memory.md; the facts and
+their sources: the Genesys reference manual, the MIG 3.6.1 core of freecores/genesys_ddr2, Xilinx answer record
+24146, UG190's FIFO flags).
+
+Addresses count 64-bit memory words (``app_af_addr``); one user-interface word is 128 bits (the falling-edge 64
+bits above the rising-edge 64 bits); a BL4 burst is 4 memory words = 2 user words = 32 bytes.
+"""
+
+__all__ = ["MIG"]
+
+
+class MIG:
+    """MIG 3.x DDR2 user interface on the Genesys (MT4HTF3264HY-667, 256 MB, 64-bit, BL4, CL3, 125 MHz)."""
+    CLK0_HZ = 125_000_000          # clk0, the memory clock and the user interface's clock ("mem" domain)
+    DATA_WIDTH = 128               # APPDATA_WIDTH: one user word, {fall 64 bits, rise 64 bits}
+    MASK_WIDTH = 16                # app_wdf_mask_data: one bit per byte of a user word, 1 masks the byte
+    ADDR_WIDTH = 31                # app_af_addr: 64-bit memory words
+    CMD_WIDTH = 3                  # app_af_cmd
+    CMD_WRITE = 0b000
+    CMD_READ = 0b001
+    BURST_LENGTH = 4               # memory words per burst
+    WORDS_PER_BURST = 2            # user words per BL4 burst (written and read)
+    COL_BITS = 10                  # address [9:0]
+    ROW_BITS = 13                  # address [22:10]
+    BANK_BITS = 2                  # address [24:23]
+    MEMORY_WORDS = 1 << (COL_BITS + ROW_BITS + BANK_BITS)   # 2**25 64-bit words = 256 MB
+    AF_DEPTH = 1024                # address FIFO (FIFO36) entries
+    WDF_DEPTH = 512                # write-data FIFO entries (user words)
+    AFULL_OFFSET = 15              # app_af_afull / app_wdf_afull high when this many entries or fewer are free
+    TREFI_CLK = 975                # refresh interval in clk0 (7.8 us at 125 MHz)
+    TRFC_CLK = 14                  # refresh cycle time in clk0 (105 ns)
+    FPGA_RAMB36 = 5                # block RAM the core itself uses (address FIFO, 2 write data, 2 read data)
