@@ -47,9 +47,10 @@ from amaranth.lib.wiring import In, Out
 
 from hdl.reset_tree import add_reset_tree
 from spec.board import CLOCKS
+from spec.memory import MIG
 from spec.video import CEA_1080P60
 
-__all__ = ["ClockPlan", "PLAN", "GenesysClocking"]
+__all__ = ["ClockPlan", "PLAN", "GenesysClocking", "MIGClockPlan", "MIG_PLAN", "MIGClocking"]
 
 # Attribute ranges from the Xilinx unisim simulation models (DCM_ADV.v, PLL_ADV.v; see the module docstring).
 DCM_M_RANGE = (2, 32)
@@ -279,4 +280,136 @@ class GenesysClocking(wiring.Component):
 
         m.d.comb += self.locked.eq(cam_locked & dcm_locked & pix_locked)
         add_reset_tree(m, self.domain_names, self.button | ~self.locked)
+        return m
+
+
+# --- the DDR2 controller's clocks ---------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class MIGClockPlan:
+    """The clocks a MIG 3.x DDR2 core generated with "DCM disabled" takes from the design (its ports ``clk0``,
+    ``clk90``, ``clkdiv0``, ``clk200``, ``locked``): one PLL_BASE ``pll_mem`` from the 100 MHz oscillator.
+
+    The settings are those of the one public MIG design for this board (freecores/genesys_ddr2
+    ``rtl/clkGenPLL.v``: ``CLKIN_PERIOD`` 10 ns, ``DIVCLK_DIVIDE`` 1, ``CLKFBOUT_MULT`` 10 (VCO 1 GHz),
+    ``CLKOUT0_DIVIDE`` 8, ``CLKOUT1_DIVIDE`` 8 at 90 degrees, ``CLKOUT2_DIVIDE`` 16, ``CLKOUT3_DIVIDE`` 5,
+    ``BANDWIDTH`` ``"OPTIMIZED"``, ``COMPENSATION`` ``"SYSTEM_SYNCHRONOUS"``, ``CLKFBOUT`` straight back to
+    ``CLKFBIN``; a BUFG on each output: ``rtl/DDR2_Mem.v``). 1 GHz is the only VCO in 400..1000 MHz that gives both
+    125 MHz and 200 MHz (it must be a multiple of both); it is this project's upper VCO bound (:data:`PLL_VCO_SAFE_MAX_HZ`).
+    """
+    osc_hz: int = CLOCKS.SYS_HZ
+    d: int = 1
+    m: int = 10
+    clk0_o: int = 8
+    clk90_phase_deg: float = 90.0
+    clkdiv0_o: int = 16
+    clk200_o: int = 5
+
+    @property
+    def vco_hz(self):
+        return Fraction(self.osc_hz * self.m, self.d)
+
+    @property
+    def clk0_hz(self):
+        return self.vco_hz / self.clk0_o
+
+    @property
+    def clkdiv0_hz(self):
+        return self.vco_hz / self.clkdiv0_o
+
+    @property
+    def clk200_hz(self):
+        return self.vco_hz / self.clk200_o
+
+    def outputs(self):
+        """``(name, CLKOUTn_DIVIDE, CLKOUTn_PHASE)`` for CLKOUT0..3, in MIG's port names."""
+        return (("clk0", self.clk0_o, 0.0), ("clk90", self.clk0_o, float(self.clk90_phase_deg)),
+                ("clkdiv0", self.clkdiv0_o, 0.0), ("clk200", self.clk200_o, 0.0))
+
+    def check(self):
+        """Raise ``ValueError`` if an attribute is outside the PLL's ranges (as :meth:`ClockPlan.check`) or a clock
+        is not the frequency the core expects (``spec.memory.MIG``: clk0, clkdiv0 = clk0 / 2, clk200)."""
+        for name, value, (lo, hi) in (("pll_mem DIVCLK_DIVIDE", self.d, PLL_D_RANGE),
+                                      ("pll_mem CLKFBOUT_MULT", self.m, PLL_M_RANGE),
+                                      *((f"pll_mem {n} divide", o, PLL_O_RANGE) for n, o, _ in self.outputs())):
+            if not lo <= value <= hi:
+                raise ValueError(f"{name} = {value} is outside {lo}..{hi}")
+        if not PLL_VCO_MIN_HZ <= self.vco_hz <= PLL_VCO_SAFE_MAX_HZ:
+            raise ValueError(f"pll_mem VCO {float(self.vco_hz) / 1e6:.3f} MHz outside 400..1000 MHz")
+        if Fraction(self.osc_hz, self.d) < PLL_PFD_MIN_HZ:
+            raise ValueError("pll_mem PFD below 19 MHz")
+        for name, actual, target in (("clk0", self.clk0_hz, MIG.CLK0_HZ), ("clkdiv0", self.clkdiv0_hz, MIG.CLKDIV0_HZ),
+                                     ("clk200", self.clk200_hz, MIG.CLK200_HZ)):
+            if actual != target:
+                raise ValueError(f"pll_mem {name} = {float(actual) / 1e6:g} MHz, the core needs "
+                                 f"{target / 1e6:g} MHz")
+        return self
+
+    def table(self):
+        """Rows ``(domain, how, frequency_hz, target_hz, error_ppm)`` as :meth:`ClockPlan.table`."""
+        vco = f"PLL_BASE pll_mem /{self.d} x{self.m} (VCO {float(self.vco_hz) / 1e6:g} MHz)"
+        rows = [("mem", f"{vco} /{self.clk0_o}: MIG clk0 (clk0_tb)", self.clk0_hz, MIG.CLK0_HZ),
+                ("clk90", f"pll_mem /{self.clk0_o}, phase {self.clk90_phase_deg:g} deg: MIG clk90", self.clk0_hz,
+                 MIG.CLK0_HZ),
+                ("clkdiv0", f"pll_mem /{self.clkdiv0_o}: MIG clkdiv0", self.clkdiv0_hz, MIG.CLKDIV0_HZ),
+                ("clk200", f"pll_mem /{self.clk200_o}: MIG clk200 (IDELAYCTRL)", self.clk200_hz, MIG.CLK200_HZ)]
+        return [(d, how, float(f), float(t), float((f - t) / t * 1_000_000)) for d, how, f, t in rows]
+
+
+#: The DDR2 controller's clock plan.
+MIG_PLAN = MIGClockPlan().check()
+
+
+class MIGClocking(wiring.Component):
+    """The clocks of a MIG DDR2 core with "DCM disabled": PLL_BASE ``pll_mem`` and a BUFG on each output
+    (:class:`MIGClockPlan`).
+
+    Parameters
+    ----------
+    plan : :class:`MIGClockPlan`
+
+    Attributes
+    ----------
+    clk100 : ``In(1)``
+        The oscillator's global clock (the ``sync`` BUFG).
+    button : ``In(1)``
+        The reset button, active high: resets the PLL.
+    clk0, clk90, clkdiv0, clk200 : ``Out(1)``
+        The BUFG outputs, for the core's ports of the same names.
+    locked : ``Out(1)``
+        The PLL's LOCKED, for the core's ``locked`` (asynchronous).
+    pll_outputs : dict of str to Signal
+        The PLL output nets (before their BUFGs) by port name, named ``pll_mem_clkout<n>``: the UCF's clock groups
+        sit on them (board/ise.py, board/mig_ucf.py).
+
+    Not simulatable in Amaranth (vendor primitives); ``sim/board/xilinx/PLL_BASE.v`` models the PLL.
+
+    Raises
+    ------
+    ValueError
+        A plan outside the PLL's ranges (:meth:`MIGClockPlan.check`).
+    """
+
+    def __init__(self, plan=MIG_PLAN):
+        self.plan = plan.check()
+        super().__init__({"clk100": In(1), "button": In(1), "clk0": Out(1), "clk90": Out(1), "clkdiv0": Out(1),
+                          "clk200": Out(1), "locked": Out(1)})
+        self.pll_outputs = {name: Signal(name=f"pll_mem_clkout{n}") for n, (name, _, _) in enumerate(plan.outputs())}
+
+    def elaborate(self, platform):
+        m = Module()
+        p = self.plan
+        outputs = {}
+        for n, (name, divide, phase) in enumerate(p.outputs()):
+            outputs.update({f"p_CLKOUT{n}_DIVIDE": divide, f"p_CLKOUT{n}_PHASE": phase,
+                            f"p_CLKOUT{n}_DUTY_CYCLE": 0.5, f"o_CLKOUT{n}": self.pll_outputs[name]})
+            m.submodules[f"bufg_{name}"] = Instance("BUFG", i_I=self.pll_outputs[name], o_O=getattr(self, name))
+        feedback = Signal(name="pll_mem_fb")
+        m.submodules.pll_mem = Instance(
+            "PLL_BASE",
+            p_BANDWIDTH="OPTIMIZED", p_COMPENSATION="SYSTEM_SYNCHRONOUS", p_CLKIN_PERIOD=1e9 / p.osc_hz,
+            p_DIVCLK_DIVIDE=p.d, p_CLKFBOUT_MULT=p.m, p_CLKFBOUT_PHASE=0.0, p_REF_JITTER=0.1, **outputs,
+            i_CLKIN=self.clk100, i_CLKFBIN=feedback, o_CLKFBOUT=feedback, o_LOCKED=self.locked, i_RST=self.button,
+        )
         return m

@@ -4,7 +4,9 @@ its VHDC connector, in the manner of amaranth-boards' board files (``amaranth_bo
 Declared: the resources this design uses -- the 100 MHz oscillator, the reset button, SW0..SW7, LD0..LD7, the
 CH7301C DVI transmitter (12-bit dual-edge data, XCLK pair, H/V sync, DE, reset, its I2C bus) -- and the VHDC
 connector (``Connector("vhdc", 0, ...)``, :data:`VHDC`) with the VmodCAM on it as an add-on
-(:func:`board.vmodcam.VmodCAMResources`: the cameras' pins are VHDC connector pins). The ISE build (templates, UCF
+(:func:`board.vmodcam.VmodCAMResources`: the cameras' pins are VHDC connector pins), and the DDR2 SODIMM's 113 pins
+(``ddr2``, :data:`DDR2_SUBSIGNALS`, for the MIG core of board/mig.py; a resource only appears in the UCF once a
+design requests it). The ISE build (templates, UCF
 rendering, options) is :class:`board.ise.ISEFlow`; the ``--pins`` file is read by :mod:`board.pin_file`.
 
 Every pin location carries its source in :data:`PIN_SOURCES`. The sources are public, stored copies read with
@@ -16,6 +18,8 @@ the project's search tool (docs/board.md has the table):
 * ``strfry/nesfpga`` ``build.py`` -- the same project's pin list: SW0..SW7.
 * ``d-hawkins/digilent_genesys`` ``doc/genesys_tutorial/sections/examples.tex`` -- GCLK0 = AG18 (bank 4, 3.3 V,
   LVCMOS33) and LD0..LD7 (bank 22, 3.3 V, LVCMOS33, 4 mA, SLOW): an independent second source that agrees.
+* ``freecores/genesys_ddr2`` ``par/test_DDR2_wb.ucf`` -- the UCF MIG 3.6.1 wrote for a DDR2 design on this board
+  (the one public MIG pinout for the Genesys, reported as run on the board): the DDR2 pins and IO standards.
 
 **Unconfirmed:** the FPGA pin behind each VHDC connector pin. Which connector pin carries which camera signal is
 known (board/vmodcam.py gives the sources); the Genesys's own connector map is not: no stored copy of the Genesys
@@ -35,13 +39,15 @@ from board.ise import UNCONFIRMED_PREFIX, ISEFlow
 from board.vmodcam import VHDC_IO_PINS, VHDC_PINS, VmodCAMResources
 from spec.board import CLOCKS
 
-__all__ = ["GenesysPlatform", "PIN_SOURCES", "VHDC", "UNCONFIRMED", "OSC_HZ"]
+__all__ = ["GenesysPlatform", "PIN_SOURCES", "VHDC", "UNCONFIRMED", "OSC_HZ", "DDR2_SUBSIGNALS"]
 
 # --- Sources ------------------------------------------------------------------------------------------------
 
 _NESFPGA_UCF = "strfry/nesfpga nes_top.ucf (derived from Digilent's 'general .ucf for Genesys rev C board')"
 _NESFPGA_BUILD = "strfry/nesfpga build.py (Genesys pin list)"
 _HAWKINS = "d-hawkins/digilent_genesys doc/genesys_tutorial/sections/examples.tex (table 'blinky pins')"
+_GENESYS_DDR2 = ("freecores/genesys_ddr2 par/test_DDR2_wb.ucf (MIG 3.6.1's UCF of a DDR2 design reported as run on the "
+                 "Genesys)")
 
 #: resource name -> where its locations come from.
 PIN_SOURCES = {
@@ -59,6 +65,8 @@ PIN_SOURCES = {
     "vmodcam": "VHDC connector pins: board/vmodcam.py (Digilent's Atlys VmodCAM UCF through the Atlys VHDC map); "
                "their FPGA pins: as vhdc",
     "vmodcam_vdden": "as vmodcam",
+    "ddr2": f"{_GENESYS_DDR2}: the 113 ddr2_* LOCs (bank 15 address/control, banks 17, 19, 21 data) and their "
+            "IOSTANDARDs (SSTL18_II, SSTL18_II_DCI, DIFF_SSTL18_II_DCI, DIFF_SSTL18_II)",
 }
 
 #: The 100 MHz oscillator, used as the ``sync`` clock and the reference of the DCM/PLLs.
@@ -81,6 +89,38 @@ _LVCMOS33 = Attrs(IOSTANDARD="LVCMOS33")
 #: Check the edges on the first power-up (docs/board.md).
 _DVI_DATA = Attrs(DRIVE="12", SLEW="FAST")
 
+#: The DDR2 SODIMM's pins as MIG's generated top module names them (``ddr2_<name>``): the ``ddr2`` resource's
+#: subsignals in MIG's port order, ``name -> (direction, FPGA pins bit 0 first, IOSTANDARD)``. Source:
+#: :data:`PIN_SOURCES` ``["ddr2"]``. The IO buffers of these pins are inside the MIG core (board/mig.py), so each
+#: pin is a plain single-ended port of the top level, the differential pairs (DQS, CK) included, as MIG's top module
+#: has them (``ddr2_dqs`` and ``ddr2_dqs_n`` are two ports).
+DDR2_SUBSIGNALS = {
+    "dq": ("io", "AF30 AK31 AF31 AD30 AJ30 AF29 AD29 AE29 AH27 AF28 AH28 AA28 AG25 AJ26 AG28 AB28 "
+                 "AC28 AB25 AC27 AA26 AB26 AA24 AB27 AA25 AC29 AB30 W31 V30 AC30 W29 V27 W27 "
+                 "V29 Y27 Y26 W24 V28 W25 W26 V24 R24 P25 N24 P26 T24 N25 P27 N28 "
+                 "M28 L28 F25 H25 K27 K28 H24 G26 G25 M26 J24 L26 J27 M25 L25 L24", "SSTL18_II_DCI"),
+    "a": ("o", "L30 M30 N29 P29 K31 L31 P31 P30 M31 R28 J31 R29 T31", "SSTL18_II"),
+    "ba": ("o", "G31 J30", "SSTL18_II"),
+    "ras_n": ("o", "H30", "SSTL18_II"),
+    "cas_n": ("o", "E31", "SSTL18_II"),
+    "we_n": ("o", "K29", "SSTL18_II"),
+    "cs_n": ("o", "L29", "SSTL18_II"),
+    "odt": ("o", "F31", "SSTL18_II"),
+    "cke": ("o", "T28", "SSTL18_II"),
+    "dm": ("o", "AJ31 AE28 Y24 Y31 V25 P24 F26 J25", "SSTL18_II_DCI"),
+    "dqs": ("io", "AA29 AK28 AK26 AB31 Y28 E26 H28 G27", "DIFF_SSTL18_II_DCI"),
+    "dqs_n": ("io", "AA30 AK27 AJ27 AA31 Y29 E27 G28 H27", "DIFF_SSTL18_II_DCI"),
+    "ck": ("o", "AK29 E28", "DIFF_SSTL18_II"),
+    "ck_n": ("o", "AJ29 F28", "DIFF_SSTL18_II"),
+}
+
+
+def _ddr2_resource():
+    """The ``ddr2`` resource: one subsignal per MIG pin group (:data:`DDR2_SUBSIGNALS`)."""
+    return Resource("ddr2", 0, *(
+        Subsignal(name, Pins(pins, dir=direction), Attrs(IOSTANDARD=standard))
+        for name, (direction, pins, standard) in DDR2_SUBSIGNALS.items()))
+
 
 class GenesysPlatform(ISEFlow, XilinxPlatform):
     """Digilent Genesys: XC5VLX50T, FF1136 package, speed grade -1, built with Xilinx ISE (14.7).
@@ -91,7 +131,7 @@ class GenesysPlatform(ISEFlow, XilinxPlatform):
         FPGA pins for VHDC placeholders (``{"UNCONFIRMED_VHDC_12": "AB12", ...}``), for when the connector's map has
         been read off the Genesys schematic: they replace their placeholders in the connector's map.
     **kwargs
-        For :class:`board.ise.ISEFlow`: ``allow_unconfirmed``, ``files``, ``toolchain``.
+        For :class:`board.ise.ISEFlow`: ``allow_unconfirmed``, ``files``, ``toolchain``, ``mig``.
 
     Raises
     ------
@@ -129,6 +169,7 @@ class GenesysPlatform(ISEFlow, XilinxPlatform):
             Attrs(IOSTANDARD="LVCMOS33", PULLUP="TRUE"),
         ),
         *VmodCAMResources(_VHDC_BANK, vhdc=0),
+        _ddr2_resource(),
     ]
     connectors = [Connector("vhdc", 0, VHDC)]
 

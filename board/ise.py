@@ -12,7 +12,11 @@ from board import ise_templates
 from board.vmodcam import CAM_OFFSET_IN_NS, CAM_VALID_NS
 from spec.video import CEA_1080P60
 
-__all__ = ["ISEFlow", "UNCONFIRMED_PREFIX", "XST_OPTIONS", "TIMING_MET", "MAP_OPTIONS", "PAR_OPTIONS",
+#: Where the build folder holds the MIG core's RTL (copied from the user's core folder).
+MIG_BUILD_FOLDER = "mig"
+MIG_PAR = "user_design/par"
+
+__all__ = ["ISEFlow", "MIG_BUILD_FOLDER", "UNCONFIRMED_PREFIX", "XST_OPTIONS", "TIMING_MET", "MAP_OPTIONS", "PAR_OPTIONS",
            "TRCE_OPTIONS", "DVI_OUT_GROUP", "DVI_OFFSET_OUT_NS", "ucf_net_line"]
 
 #: A pin location starting with this prefix is a placeholder (not confirmed from a source): written as is into the
@@ -60,6 +64,15 @@ class ISEFlow:
         estimate) only when asked for.
     toolchain : str
         ``"ISE"``.
+    mig : :class:`board.mig_core.MIGCoreFiles` or None
+        The user's MIG core (``stereodepth verilog --mig DIR``): its RTL goes into the build folder's ``mig/``,
+        listed in ``top.prj`` and the project TCL; its UCF is merged into ``top.ucf``
+        (:func:`board.mig_ucf.merge_mig_ucf`).
+
+    Raises
+    ------
+    board.mig_ucf.MIGUCFError
+        The core's UCF contradicts the board's DDR2 pins.
     """
 
     xst_options = XST_OPTIONS
@@ -68,11 +81,19 @@ class ISEFlow:
     par_options = PAR_OPTIONS
     trce_options = TRCE_OPTIONS
 
-    def __init__(self, *, allow_unconfirmed=False, files=None, toolchain="ISE"):
+    def __init__(self, *, allow_unconfirmed=False, files=None, toolchain="ISE", mig=None):
         self.allow_unconfirmed = allow_unconfirmed
         self._files = None if files is None else tuple(files)
         self._tig_groups = {}
+        self._mig_clock_nets = {}
         super().__init__(toolchain=toolchain)
+        self.mig = mig
+        self._mig_lines = []
+        if mig is not None:
+            from board.mig_ucf import merge_mig_ucf
+            self._mig_lines = merge_mig_ucf(mig.ucf_text, source=str(mig.folder / MIG_PAR / mig.ucf_name))
+            for file_name, text in mig.rtl:
+                self.add_file(f"{MIG_BUILD_FOLDER}/{file_name}", text)
 
     # --- UCF -------------------------------------------------------------------------------------------------
     # The UCF is rendered by ucf_net_line (one line per port bit, UCF syntax of the ISE Constraints Guide UG625:
@@ -140,6 +161,21 @@ class ISEFlow:
         """Ordered pairs of TIG group names in different families (call inside a build)."""
         groups = self._tig_groups
         return [(f"TIG_{a}", f"TIG_{b}") for a in groups for b in groups if groups[a][1] != groups[b][1]]
+
+    def add_mig_clock_nets(self, nets):
+        """The nets that carry the MIG core's clocks (``{port: signal}``, the PLL output nets of
+        :class:`board.clocking.MIGClocking`): the core UCF's clock constraints go onto them."""
+        self._mig_clock_nets.update(nets)
+
+    def ucf_mig_lines(self):
+        """The MIG core's UCF merged (:func:`board.mig_ucf.merge_mig_ucf`): ``(line, net)`` pairs, ``net`` the
+        signal whose hierarchical name replaces ``@NET@`` in the line, or ``None`` (call inside a build)."""
+        lines = []
+        for line, clock in self._mig_lines:
+            if clock is not None and clock not in self._mig_clock_nets:
+                raise ValueError(f"the MIG core's UCF constrains clock {clock}, which the design does not drive")
+            lines.append((line, None if clock is None else self._mig_clock_nets[clock]))
+        return lines
 
     def ucf_dvi_offset_lines(self):
         """OFFSET OUT of the CH7301C data and syncs (both pixel clock edges) against the oscillator pad, with

@@ -30,6 +30,9 @@ UCF = r"""
     # reference pin, so trce reports each pin's skew to the forwarded clock (docs/board.md).
     {{platform.ucf_dvi_offset_lines()}}
     {{get_override("add_constraints")|default("# (no additional constraints)")}}
+    {% for line, net in platform.ucf_mig_lines() %}
+    {{line if net is none else line.replace("@NET@", net|hierarchy("/"))}}
+    {% endfor %}
 """
 
 VERILOG = r"""
@@ -116,6 +119,9 @@ ISE_PROJECT = r"""
     project set synthesis_tool "XST (VHDL/Verilog)"
     project set "Preferred Language" "Verilog"
     project set "Other XST Command Line Options" "{{platform.xst_options|join(" ")}}" -process "Synthesize - XST"
+    {% for file in platform.iter_files(".v") %}
+    xfile add "{{file}}"
+    {% endfor %}
     xfile add "{{name}}.v"
     xfile add "{{name}}.ucf"
     project set top "{{name}}"

@@ -33,7 +33,8 @@ Open drain: a line is driven low when the system's ``*_oe`` is set with ``*_o`` 
 the board's pull-up makes it high) otherwise; the system never drives a line high (checked in simulation by the
 testbench's bus resolver, ``sim/models/i2c/bus.py``).
 
-Clock domains: ``sync``, ``pix``, ``pix90``, ``mclk``, ``cam_a``, ``cam_b`` (all from :class:`GenesysClocking`).
+Clock domains: ``sync``, ``pix``, ``pix90``, ``mclk``, ``cam_a``, ``cam_b`` (all from :class:`GenesysClocking`);
+with the DDR2 (``memory="ddr2"``) also ``mem`` (:class:`board.mig.GenesysDDR2`: the MIG core's ``clk0_tb``).
 Latency: as :class:`~hdl.system.StereoDepthSystem`; the CH7301C pins follow the video stream by one ``pix`` clock.
 """
 
@@ -43,12 +44,16 @@ from amaranth.lib import io, wiring
 from hdl.ch7301c_output import split_rgb
 from board.clocking import PLAN, GenesysClocking
 from board.export import flat_name
+from board.mig import DEFAULT_CORE_NAME, GenesysDDR2
 from hdl.config import DesignConfig
 from spec.sensor import SENSOR
 from spec.video import CEA_1080P60
 from hdl.system import CAMERAS, StereoDepthSystem, SystemParameters
 
-__all__ = ["GenesysTop", "board_plan"]
+__all__ = ["GenesysTop", "board_plan", "MEMORIES", "MIGCoreMissing"]
+
+#: The ``memory`` options of :class:`GenesysTop`.
+MEMORIES = (None, "ddr2")
 
 
 class GenesysTop(wiring.Component):
@@ -60,6 +65,13 @@ class GenesysTop(wiring.Component):
     geometry, timing
         For :class:`~hdl.system.StereoDepthSystem`.
     plan : :class:`board.clocking.ClockPlan`
+    memory : None or ``"ddr2"``
+        ``"ddr2"``: the DDR2 behind the user's MIG core (:class:`board.mig.GenesysDDR2`, submodule ``ddr2``, domain
+        ``mem``), its user interface connected to the system's ``mig`` port when the system has one (idle
+        otherwise: a build that checks the core's pins, clocks and timing). The build then needs the core's files
+        (``stereodepth verilog --mig DIR``). A system with a ``mig`` port needs ``"ddr2"``.
+    mig_core : str
+        The MIG core's top module name (CoreGen's component name).
     **system_kwargs
         For :class:`~hdl.system.StereoDepthSystem` (``ddr`` is always ``None`` here: the top level builds the
         CH7301C pins).
@@ -77,14 +89,20 @@ class GenesysTop(wiring.Component):
         Elaborated without a platform.
     """
 
-    def __init__(self, geometry=SENSOR, timing=CEA_1080P60, *, plan=PLAN, **system_kwargs):
+    def __init__(self, geometry=SENSOR, timing=CEA_1080P60, *, plan=PLAN, memory=None, mig_core=DEFAULT_CORE_NAME,
+                 **system_kwargs):
         if not (timing.hsync_positive and timing.vsync_positive):
             raise ValueError("the board output stage assumes positive sync polarities (CEA-861 1080p60)")
         if system_kwargs.pop("ddr", None) is not None:
             raise ValueError("GenesysTop builds the CH7301C pins itself (ddr must be None)")
+        if memory not in MEMORIES:
+            raise ValueError(f"memory must be one of {', '.join(map(repr, MEMORIES))}, not {memory!r}")
         self.params = SystemParameters(geometry, timing, ddr=None, **system_kwargs)
         self.plan = plan
+        self.memory = memory
+        self.mig_core = mig_core
         super().__init__({})
+
 
     def elaborate(self, platform):
         if platform is None:
@@ -102,6 +120,10 @@ class GenesysTop(wiring.Component):
         self._output(m, ("control", "cam_vdden"), platform.request("vmodcam_vdden", dir="-"),
                      system.control.cam_vdden)
         self._ch7301c(m, platform, system)
+        if "mig" in system.signature.members and self.memory != "ddr2":
+            raise ValueError("the system has a mig port (the DDR2): build GenesysTop with memory=\"ddr2\"")
+        if self.memory == "ddr2":
+            self._ddr2(m, platform, clocking, system)
         # TIG groups of the clocks (board/ise.py: PERIODs sit on the clock pads only, ngdbuild derives the
         # DCM/PLL outputs; the TIG groups are second groups on the PLL output nets and the PCLK pads).
         if hasattr(platform, "add_tig_group"):
@@ -127,6 +149,15 @@ class GenesysTop(wiring.Component):
     def _output(self, m, path, port, value):
         b = self._buffer(m, path, io.Buffer("o", port))
         m.d.comb += b.o.eq(value)
+
+    def _ddr2(self, m, platform, clocking, system):
+        """The DDR2 (MIG core, its PLL, the ``mem`` domain), its user side on the system's ``mig`` port if any."""
+        ddr2 = GenesysDDR2(self.mig_core)
+        m.domains += ddr2.domains
+        m.submodules.ddr2 = ddr2
+        m.d.comb += [ddr2.clk100.eq(clocking.clock_signals["sync"]), ddr2.button.eq(clocking.button)]
+        if "mig" in system.signature.members:
+            wiring.connect(m, system.mig, ddr2.user)
 
     def _clock_inputs(self, m, platform, clocking):
         clk = self._buffer(m, ("clk100",), io.Buffer("i", platform.request("clk100", dir="-")))
@@ -178,14 +209,33 @@ class GenesysTop(wiring.Component):
         self._open_drain(m, ("i2c", "dvi", "sda"), i2c.sda, sys_.i2c.dvi.sda)
 
 
-def board_plan(*, design=None, pins=None, allow_unconfirmed=False, files=None, name="top", **top_kwargs):
+class MIGCoreMissing(ValueError):
+    """A board design with the DDR2 built without the user's MIG core (one line)."""
+
+
+def board_plan(*, design=None, pins=None, allow_unconfirmed=False, files=None, name="top", mig=None, **top_kwargs):
     """Prepare the ISE build of :class:`GenesysTop` for ``design`` (an :class:`hdl.config.DesignConfig`; ``None``:
     the board's, ``DesignConfig.full()``), nothing run: returns ``(platform, plan)``, ``plan`` an
     ``amaranth.build.BuildPlan`` whose ``files`` are the build directory's contents. ``top_kwargs`` override the
     design's :meth:`~hdl.config.DesignConfig.top_kwargs` (a short simulation's LED blink rates). See
-    :class:`board.genesys.GenesysPlatform` for ``pins``, ``allow_unconfirmed`` and ``files``."""
+    :class:`board.genesys.GenesysPlatform` for ``pins``, ``allow_unconfirmed``, ``files`` and ``mig`` (the user's
+    MIG core, :func:`board.mig_core.read_mig_core`: the top then has the DDR2, ``memory="ddr2"``, with the core's
+    name).
+
+    Raises
+    ------
+    MIGCoreMissing
+        The design has the DDR2 (``memory="ddr2"``: the design's ``top_kwargs`` or given here) and ``mig`` is
+        ``None``.
+    """
     from board.genesys import GenesysPlatform
     top_kwargs = {**(design or DesignConfig.full()).top_kwargs(), **top_kwargs}
-    platform = GenesysPlatform(pins=pins, allow_unconfirmed=allow_unconfirmed, files=files)
+    if mig is not None:
+        top_kwargs.update(memory="ddr2", mig_core=mig.core_name)
+    if mig is None and top_kwargs.get("memory") == "ddr2":
+        raise MIGCoreMissing("this design uses the DDR2 behind Xilinx MIG, whose core is not in the repository: "
+                             "generate it in ISE CoreGen (docs/board.md, \"Generating the MIG core for the Genesys\") "
+                             "and give its folder with --mig DIR")
+    platform = GenesysPlatform(pins=pins, allow_unconfirmed=allow_unconfirmed, files=files, mig=mig)
     plan = platform.prepare(GenesysTop(**top_kwargs), name=name)
     return platform, plan

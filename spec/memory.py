@@ -12,6 +12,8 @@ __all__ = ["MIG"]
 class MIG:
     """MIG 3.x DDR2 user interface on the Genesys (MT4HTF3264HY-667, 256 MB, 64-bit, BL4, CL3, 125 MHz)."""
     CLK0_HZ = 125_000_000          # clk0, the memory clock and the user interface's clock ("mem" domain)
+    CLKDIV0_HZ = CLK0_HZ // 2      # clkdiv0: clk0 / 2, the PHY's calibration clock
+    CLK200_HZ = 200_000_000        # clk200: the IDELAYCTRL reference (the core's u_ddr2_idelay_ctrl)
     DATA_WIDTH = 128               # APPDATA_WIDTH: one user word, {fall 64 bits, rise 64 bits}
     MASK_WIDTH = 16                # app_wdf_mask_data: one bit per byte of a user word, 1 masks the byte
     ADDR_WIDTH = 31                # app_af_addr: 64-bit memory words

@@ -12,6 +12,14 @@ Writes to ``--out`` (default build/genesys/) what Amaranth's ``XilinxPlatform`` 
 * ``build_top.sh``/``.bat`` the command-line flow: xst, ngdbuild, map, par, trce, and bitgen only when timing is met
 * ``top_ise_project.tcl``   ``xtclsh`` script that creates an ISE project (``top.xise``) for Project Navigator
 * ``clocks.txt``            the clock plan (M/D values, frequencies, error)
+* ``mig/*.v``               with ``--mig DIR``: the user's MIG core's RTL (``DIR/user_design/rtl``), listed in
+                            ``top.prj`` and the TCL script; ``top.ucf`` then ends with the core's UCF merged
+                            (``board.mig_ucf``)
+
+``--mig DIR`` gives the board the DDR2 behind the MIG core the user generated in ISE CoreGen (docs/board.md,
+"Generating the MIG core for the Genesys"; ``--mig-name`` if its component name is not ``mig_ddr2``). A design
+with the DDR2 (``--memory ddr2``, or a design with a ``mig`` port) without ``--mig`` stops here with one line
+saying what is missing; so does a core folder that lacks a file or port (``board.mig_core``).
 
 The FPGA pins behind the Genesys's VHDC connector are not confirmed from a source (docs/board.md): the
 connector's map holds placeholders named ``UNCONFIRMED_VHDC_<connector pin>`` that ngdbuild rejects, so no
@@ -32,6 +40,13 @@ def add_arguments(parser):
                         help="FPGA pins for the VHDC connector's placeholders: lines 'UNCONFIRMED_VHDC_<n> <pin>'")
     parser.add_argument("--allow-unconfirmed", action="store_true",
                         help="leave the LOC of still-unconfirmed pins out of the UCF (trial builds only)")
+    parser.add_argument("--mig", metavar="DIR",
+                        help="the MIG DDR2 core generated in ISE CoreGen (its folder: user_design/rtl/*.v, "
+                             "user_design/par/*.ucf; docs/board.md): the board gets the DDR2")
+    parser.add_argument("--mig-name", metavar="NAME", default=None,
+                        help="the core's component name in CoreGen (mig_ddr2)")
+    parser.add_argument("--memory", choices=("ddr2",), default=None,
+                        help="build the board with the DDR2 (needs --mig; implied by it)")
 
 
 def _read_pins(path):
@@ -47,17 +62,40 @@ def _read_pins(path):
         raise UserError(f"{path}: {exc}") from None
 
 
-def write_board_build(out, *, pins=None, allow_unconfirmed=False):
-    """Write the build directory; returns ``(platform, list of written paths)``."""
-    from board.clocking import PLAN
-    from board.top import board_plan
+def _read_mig(folder, name):
+    from board.mig import DEFAULT_CORE_NAME
+    from board.mig_core import MIGCoreError, read_mig_core
+    try:
+        return read_mig_core(folder, name or DEFAULT_CORE_NAME)
+    except MIGCoreError as exc:
+        raise UserError(f"--mig {folder}: {exc}") from None
+
+
+def write_board_build(out, *, pins=None, allow_unconfirmed=False, mig=None, memory=None):
+    """Write the build directory; returns ``(platform, list of written paths)``. ``mig``: the user's MIG core
+    (:func:`board.mig_core.read_mig_core`); ``memory``: ``"ddr2"`` for the board with the DDR2 (needs ``mig``).
+
+    Raises
+    ------
+    UserError
+        The design has the DDR2 and no ``mig`` is given; the core's UCF contradicts the board.
+    """
+    from board.clocking import MIG_PLAN, PLAN
+    from board.mig_ucf import MIGUCFError
+    from board.top import MIGCoreMissing, board_plan
     from hdl.config import DesignConfig
-    platform, plan = board_plan(design=DesignConfig.full(), pins=pins, allow_unconfirmed=allow_unconfirmed)
+    kwargs = {} if memory is None else {"memory": memory}
+    try:
+        platform, plan = board_plan(design=DesignConfig.full(), pins=pins, allow_unconfirmed=allow_unconfirmed,
+                                    mig=mig, **kwargs)
+    except (MIGCoreMissing, MIGUCFError) as exc:
+        raise UserError(str(exc)) from None
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     written = []
     for name, content in plan.files.items():
         path = out / name
+        path.parent.mkdir(parents=True, exist_ok=True)
         if isinstance(content, str):
             path.write_text(content)
         else:
@@ -66,7 +104,8 @@ def write_board_build(out, *, pins=None, allow_unconfirmed=False):
             path.chmod(0o755)
         written.append(path)
     lines = ["domain  frequency (MHz)  target (MHz)  error (ppm)  source"]
-    for domain, how, f, target, ppm in PLAN.table():
+    rows = PLAN.table() + (MIG_PLAN.table() if platform.mig is not None else [])
+    for domain, how, f, target, ppm in rows:
         lines.append(f"{domain:6}  {f / 1e6:15.6f}  {target / 1e6:12.6f}  {ppm:11.3f}  {how}")
     (out / "clocks.txt").write_text("\n".join(lines) + "\n")
     written.append(out / "clocks.txt")
@@ -76,7 +115,11 @@ def write_board_build(out, *, pins=None, allow_unconfirmed=False):
 def run(args):
     prepare_out_dir(args.out)                                   # writable, before any work
     pins = _read_pins(args.pins) if args.pins else None
-    platform, written = write_board_build(args.out, pins=pins, allow_unconfirmed=args.allow_unconfirmed)
+    if args.mig_name is not None and args.mig is None:
+        raise UserError("--mig-name names the core of --mig DIR: give --mig too")
+    mig = _read_mig(args.mig, args.mig_name) if args.mig else None
+    platform, written = write_board_build(args.out, pins=pins, allow_unconfirmed=args.allow_unconfirmed, mig=mig,
+                                          memory=args.memory)
     for path in written:
         print(f"{path}  ({path.stat().st_size:,} bytes)")
     unconfirmed = platform.unconfirmed_in_use
