@@ -296,7 +296,8 @@ class MIGClockPlan:
     ``CLKOUT0_DIVIDE`` 8, ``CLKOUT1_DIVIDE`` 8 at 90 degrees, ``CLKOUT2_DIVIDE`` 16, ``CLKOUT3_DIVIDE`` 5,
     ``BANDWIDTH`` ``"OPTIMIZED"``, ``COMPENSATION`` ``"SYSTEM_SYNCHRONOUS"``, ``CLKFBOUT`` straight back to
     ``CLKFBIN``; a BUFG on each output: ``rtl/DDR2_Mem.v``). 1 GHz is the only VCO in 400..1000 MHz that gives both
-    125 MHz and 200 MHz (it must be a multiple of both); it is this project's upper VCO bound (:data:`PLL_VCO_SAFE_MAX_HZ`).
+    125 MHz and 200 MHz (it must be a multiple of both); it is this project's upper VCO bound
+    (:data:`PLL_VCO_SAFE_MAX_HZ`).
     """
     osc_hz: int = CLOCKS.SYS_HZ
     d: int = 1

