@@ -10,7 +10,11 @@ module                     what
 ``board.ise_templates``    the ISE build's file templates (UCF, XST script, build scripts, project TCL)
 ``board.pin_file``         the ``--pins`` file: FPGA pins for the VHDC placeholders
 ``board.top``              ``GenesysTop``: the system on the board's pins; ``board_plan`` (the build)
-``board.clocking``         the clock plan (DCM_ADV + PLL_ADV), ``GenesysClocking`` and its reset tree
+``board.clocking``         the clock plan (DCM_ADV + PLL_ADV), ``GenesysClocking`` and its reset tree; MIG's clocks
+                           (PLL_BASE, ``MIGClocking``)
+``board.mig``              the DDR2: the user's MIG core as a black box (``MIGCore``), ``GenesysDDR2``, ``mem``
+``board.mig_core``         the ``--mig DIR`` core folder, read and checked
+``board.mig_ucf``          the core's UCF merged into ``top.ucf``
 ``board.export``           Verilog export: flat port names, Amaranth's Verilog and its post-processing
 ``board.memory_init``      memory initial values in the Verilog text
 ``board.resources``        the Yosys ``synth_xilinx -family xc5v`` resource estimate
