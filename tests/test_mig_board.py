@@ -23,6 +23,7 @@ from board.mig_core import MIGCoreError, read_mig_core
 from board.mig_ucf import MIGUCFError, merge_mig_ucf
 from board.top import MIGCoreMissing, board_plan
 from hdl.mig_user import MIGUserSignature
+from test_xst_verilog import check_ucf_names
 
 REPO_ROOT = Path(__file__).resolve().parents[1]
 
@@ -244,6 +245,14 @@ def test_core_ucf_is_merged(fake_build):
     assert "ddr2_dq" not in merged                      # pins: checked against the board's, left out
     assert '# not in this design (no such port): NET "sys_rst_n"' in merged
     assert 'NET "ddr2/mig_clocking/pll_mem_clkout0" TNM_NET = "TIG_mem";' in ucf
+
+
+def test_every_ucf_name_exists_after_xst(fake_build):
+    """The names the merged UCF uses (the PLL output nets, TIG_mem, the DDR2 ports) exist in the netlist as XST
+    sees it (tests/test_xst_verilog.py's check; paths into the core itself are the core's). The template's camera
+    and DVI OFFSET lines name pads this test top does not have: left out."""
+    ucf = "\n".join(line for line in fake_build["top.ucf"].splitlines() if "OFFSET =" not in line)
+    assert check_ucf_names(ucf, fake_build["top.v"]) > 113
 
 
 def test_ucf_with_another_pinout_is_refused():
