@@ -300,3 +300,18 @@ def test_cli_errors_are_one_line(tmp_path, args, message):
     assert proc.returncode == 2
     assert proc.stderr.count("\n") == 1 and message in proc.stderr and "Traceback" not in proc.stderr
     assert not (tmp_path / "out" / "top.v").exists()
+
+
+@pytest.mark.slow
+def test_board_design_with_the_core(tmp_path):
+    """The board's design (GenesysTop, DesignConfig.full()) built as ``stereodepth verilog --mig DIR`` does it: the
+    core under ``ddr2/mig``, the board's other constraints intact, every UCF name in the netlist."""
+    from stereodepth.cmd_verilog import write_board_build
+    core = read_mig_core(_fake_core(tmp_path / "core"))
+    platform, written = write_board_build(tmp_path / "out", mig=core)
+    files = {p.relative_to(tmp_path / "out").as_posix(): p.read_text() for p in written}
+    assert _instance(files["top.v"], "mig_ddr2")[0] == "mig"
+    assert check_ucf_names(files["top.ucf"], files["top.v"]) > 250
+    default = (REPO_ROOT / "constraints" / "genesys.ucf").read_text()
+    assert all(line in files["top.ucf"] for line in default.splitlines() if "TIG" not in line)
+    assert "mem " in files["clocks.txt"] and "clk200" in files["clocks.txt"]
