@@ -7,8 +7,6 @@ lines in MIG's form -- and a small test top with a design that has a ``mig`` por
 """
 
 import re
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -281,25 +279,6 @@ def test_core_folder_errors_name_what_is_missing(tmp_path, damage, message):
     damage(folder)
     with pytest.raises(MIGCoreError, match=re.escape(message)):
         read_mig_core(folder)
-
-
-def _cli(*args, cwd):
-    return subprocess.run([sys.executable, "-m", "stereodepth", "verilog", *args], cwd=cwd, capture_output=True,
-                          text=True, timeout=120)
-
-
-@pytest.mark.parametrize("args, message", [
-    (["--memory", "ddr2"], "this design uses the DDR2 behind Xilinx MIG"),
-    (["--mig", "nothere"], "--mig nothere: no such MIG core folder: nothere"),
-    (["--mig", "empty"], "--mig empty: empty has no user_design/rtl/"),
-    (["--mig-name", "x"], "--mig-name names the core of --mig DIR"),
-])
-def test_cli_errors_are_one_line(tmp_path, args, message):
-    (tmp_path / "empty").mkdir()
-    proc = _cli(*args, "--out", "out", cwd=tmp_path)
-    assert proc.returncode == 2
-    assert proc.stderr.count("\n") == 1 and message in proc.stderr and "Traceback" not in proc.stderr
-    assert not (tmp_path / "out" / "top.v").exists()
 
 
 @pytest.mark.slow
