@@ -164,6 +164,15 @@ def test_ddr2_resource_is_the_source_pinout():
     assert located == source
 
 
+def test_docs_list_the_ddr2_pins():
+    from board.genesys import DDR2_SUBSIGNALS
+    board = (REPO_ROOT / "docs" / "board.md").read_text()
+    section = board[board.index("### DDR2 pins"):board.index("## What ISE is given")]
+    for name, (_, pins, standard) in DDR2_SUBSIGNALS.items():
+        row = next(line for line in section.splitlines() if re.search(rf"`ddr2_{name}[`\[]", line))
+        assert standard in row and all(pin in row for pin in pins.split()), name
+
+
 def test_default_ucf_has_no_ddr2():
     assert "ddr2" not in (REPO_ROOT / "constraints" / "genesys.ucf").read_text()
 
