@@ -80,6 +80,12 @@ MIG_PORTS = {
 }
 
 
+def _checked_core_name(name):
+    if not (name.isidentifier() and name.isascii()):
+        raise ValueError(f"MIG core name {name!r} is not a Verilog identifier")
+    return name
+
+
 class MIGCore(wiring.Component):
     """The user's MIG core as a black box: an instance of its top module ``core_name`` with the board's DDR2 pins.
 
@@ -115,9 +121,7 @@ class MIGCore(wiring.Component):
     """
 
     def __init__(self, core_name=DEFAULT_CORE_NAME, *, sim_only=False):
-        if not core_name.isidentifier() or not core_name.isascii():
-            raise ValueError(f"MIG core name {core_name!r} is not a Verilog identifier")
-        self.core_name = core_name
+        self.core_name = _checked_core_name(core_name)
         self.sim_only = sim_only
         super().__init__({
             "user": In(MIGUserSignature()),
@@ -160,6 +164,11 @@ class GenesysDDR2(wiring.Component):
         For :class:`MIGCore`.
     plan : :class:`board.clocking.MIGClockPlan`
 
+    Raises
+    ------
+    ValueError
+        A plan outside the PLL's ranges; a core name that is not a Verilog identifier.
+
     Attributes
     ----------
     clk100 : ``In(1)``
@@ -170,22 +179,20 @@ class GenesysDDR2(wiring.Component):
         The core's user interface, the controller's side; connect the design's ``Out(MIGUserSignature())`` to it.
     domains : list of ClockDomain
         ``mem`` (clock ``clk0_tb``, reset ``rst0_tb``), which this block drives and the parent adds to its module.
-    clocking, core
-        The two submodules (``clocking.pll_outputs``: the PLL's output nets, for the UCF).
 
     Clock domains: ``mem`` (125 MHz). Latency: ``mem`` leaves reset 25 ``mem`` clocks after the PLL locks and the
     core's IDELAYCTRL is ready; ``user.phy_init_done`` rises after the memory's initialisation and calibration.
     """
 
     def __init__(self, core_name=DEFAULT_CORE_NAME, *, plan=MIG_PLAN):
+        self.core_name = _checked_core_name(core_name)
+        self.plan = plan.check()
         super().__init__({"clk100": In(1), "button": In(1), "user": In(MIGUserSignature())})
-        self.clocking = MIGClocking(plan)
-        self.core = MIGCore(core_name)
         self.domains = [ClockDomain("mem")]
 
     def elaborate(self, platform):
         m = Module()
-        clocking, core = self.clocking, self.core
+        clocking, core = MIGClocking(self.plan), MIGCore(self.core_name)
         m.submodules.mig_clocking = clocking
         m.submodules.mig = core
         m.d.comb += [clocking.clk100.eq(self.clk100), clocking.button.eq(self.button)]
