@@ -37,7 +37,7 @@ import re
 from board.genesys import DDR2_SUBSIGNALS
 from board.mig import MIG_PORTS
 
-__all__ = ["MIGUCFError", "merge_mig_ucf", "INSTANCE_PATH", "CLOCK_NETS", "NET_PLACEHOLDER"]
+__all__ = ["MIGUCFError", "merge_mig_ucf", "pinout_ucf", "INSTANCE_PATH", "CLOCK_NETS", "NET_PLACEHOLDER"]
 
 #: The core's instance path in the board's netlist (``GenesysTop`` submodule ``ddr2``, ``GenesysDDR2``
 #: submodule ``mig``; XST's hierarchy separator ``/``).
@@ -126,3 +126,21 @@ def merge_mig_ucf(text, *, source):
         else:
             lines.append((statement + ";", None))
     return lines
+
+
+def pinout_ucf():
+    """The board's DDR2 pinout as a UCF in MIG's port names (``NET "ddr2_dq[0]" LOC = "AF30" | IOSTANDARD =
+    SSTL18_II_DCI;``), for generating the core with the known pinout (docs/board.md, step 6), from the ``ddr2``
+    resource; :func:`merge_mig_ucf` accepts every line of it."""
+    lines = ["# The Genesys DDR2 pinout in MIG's port names (board/genesys.py DDR2_SUBSIGNALS; source:",
+             "# freecores/genesys_ddr2 par/test_DDR2_wb.ucf, MIG 3.6.1). Written by stereodepth verilog --mig-pinout."]
+    for name, (_, pins, standard) in DDR2_SUBSIGNALS.items():
+        pins = pins.split()
+        for bit, pin in enumerate(pins):
+            port = f"ddr2_{name}" + (f"[{bit}]" if MIG_PORTS[f"ddr2_{name}"][1] > 1 or name in _VECTOR_PINS else "")
+            lines.append(f'NET "{port}" LOC = "{pin}" | IOSTANDARD = {standard};')
+    return "\n".join(lines) + "\n"
+
+
+#: One-bit memory pins that MIG's top module declares as vectors (``[0:0]``) and its UCF names with ``[0]``.
+_VECTOR_PINS = ("cs_n", "odt", "cke")

@@ -19,7 +19,8 @@ Writes to ``--out`` (default build/genesys/) what Amaranth's ``XilinxPlatform`` 
 ``--mig DIR`` gives the board the DDR2 behind the MIG core the user generated in ISE CoreGen (docs/board.md,
 "Generating the MIG core for the Genesys"; ``--mig-name`` if its component name is not ``mig_ddr2``). A design
 with the DDR2 (``--memory ddr2``, or a design with a ``mig`` port) without ``--mig`` stops here with one line
-saying what is missing; so does a core folder that lacks a file or port (``board.mig_core``).
+saying what is missing; so does a core folder that lacks a file or port (``board.mig_core``). ``--mig-pinout FILE``
+only writes the board's DDR2 pinout in MIG's port names, for CoreGen.
 
 The FPGA pins behind the Genesys's VHDC connector are not confirmed from a source (docs/board.md): the
 connector's map holds placeholders named ``UNCONFIRMED_VHDC_<connector pin>`` that ngdbuild rejects, so no
@@ -47,6 +48,9 @@ def add_arguments(parser):
                         help="the core's component name in CoreGen (mig_ddr2)")
     parser.add_argument("--memory", choices=("ddr2",), default=None,
                         help="build the board with the DDR2 (needs --mig; implied by it)")
+    parser.add_argument("--mig-pinout", metavar="FILE",
+                        help="only write the board's DDR2 pinout in MIG's port names (a UCF) to FILE, for "
+                             "generating the core in CoreGen (docs/board.md), and stop")
 
 
 def _read_pins(path):
@@ -112,7 +116,19 @@ def write_board_build(out, *, pins=None, allow_unconfirmed=False, mig=None, memo
     return platform, written
 
 
+def _write_mig_pinout(path):
+    from board.mig_ucf import pinout_ucf
+    try:
+        Path(path).write_text(pinout_ucf())
+    except OSError as exc:
+        raise UserError(f"cannot write {path}: {exc.strerror or exc}") from None
+    print(f"{path}: the DDR2 pinout in MIG's port names (docs/board.md, \"Generating the MIG core for the Genesys\")")
+    return 0
+
+
 def run(args):
+    if args.mig_pinout:
+        return _write_mig_pinout(args.mig_pinout)
     prepare_out_dir(args.out)                                   # writable, before any work
     pins = _read_pins(args.pins) if args.pins else None
     if args.mig_name is not None and args.mig is None:

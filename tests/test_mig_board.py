@@ -262,6 +262,20 @@ def test_every_ucf_name_exists_after_xst(fake_build):
     assert check_ucf_names(ucf, fake_build["top.v"]) > 113
 
 
+def test_pinout_for_coregen_is_the_source_pinout(tmp_path):
+    from stereodepth.cmd_verilog import _write_mig_pinout
+    _write_mig_pinout(tmp_path / "pinout.ucf")
+    text = (tmp_path / "pinout.ucf").read_text()
+    found = {}
+    for m in re.finditer(r'NET "ddr2_(\w+?)(?:\[(\d+)\])?" LOC = "(\w+)" \| IOSTANDARD = (\w+);', text):
+        found[m[1], int(m[2] or 0)] = m[3]
+        assert m[4] == _UCF_STANDARDS[m[1]]
+    assert found == _source_pins()
+    for vector in ("cs_n[0]", "odt[0]", "cke[0]"):        # MIG's [0:0] ports, named with [0] in its UCF
+        assert f'"ddr2_{vector}"' in text
+    assert merge_mig_ucf(text, source="pinout.ucf")[1:] == []     # every line checked against the board's
+
+
 def test_ucf_with_another_pinout_is_refused():
     with pytest.raises(MIGUCFError, match=r"ddr2_dq\[3\] at AB12, the Genesys's is at AD30"):
         merge_mig_ucf('NET "ddr2_dq[3]" LOC = "AB12";', source="x.ucf")
