@@ -15,8 +15,8 @@ import random
 import pytest
 from amaranth.sim import Simulator
 
-from sim.models.mig import (MESSAGES, READ_LATENCY_RANGE, MIGModel, MIGProtocolViolation, Violation, draw_latency,
-                            violation_message, watch_violations)
+from sim.models.mig import (MESSAGES, READ_LATENCY_RANGE, STORAGE_VERILOG, MIGModel, MIGProtocolViolation, Violation,
+                            draw_latency, violation_message, watch_violations)
 from spec.memory import MIG
 
 BASE, WORDS = 0x0080_0000, 4096            # the test window: bank 1 (address bit 23), rows 0..3
@@ -441,7 +441,8 @@ def test_draw_latency_is_per_seed_and_within_the_range():
 
 @pytest.mark.parametrize("params", [dict(af_depth=24), dict(wdf_depth=16), dict(latency_range=(2, 8)),
                                     dict(afull_slack=16), dict(window_words=6), dict(window_base=2),
-                                    dict(window_base=MIG.MEMORY_WORDS - 4, window_words=8), dict(init_clocks=0)])
+                                    dict(window_base=MIG.MEMORY_WORDS - 4, window_words=8), dict(init_clocks=0),
+                                    dict(storage="rom")])
 def test_bad_parameters_are_rejected(params):
     with pytest.raises(ValueError):
         MIGModel(**{**SMALL, **params})
@@ -449,27 +450,29 @@ def test_bad_parameters_are_rejected(params):
 
 # --- the exported model under cocotb (Verilator and Icarus) ------------------------------------------------------
 
-@pytest.mark.parametrize("testcase", ["bursts_read_back", "violation_stops"])
-def test_exported_model_cocotb(simulator, testcase, tmp_path):
-    """The same model as Verilog on both compiled simulators: bursts read back in order and equal to the
-    cocotb module's own reference, the latency from the ``latency`` input (no rebuild per draw), a violation
-    reported by code with the one table's message."""
+@pytest.mark.parametrize("storage", ["verilog", "memory"])
+def test_exported_model_cocotb(simulator, storage, tmp_path):
+    """The same model as Verilog on both compiled simulators, with either storage of its memory window: bursts
+    read back in order and equal to the cocotb module's own reference, the latency from the ``latency`` input (no
+    rebuild per draw), a violation reported by code with the one table's message."""
     import json
 
     from board.export import export_verilog
     from sim.runners.cocotb import run_cocotb
 
     latency = draw_latency(11, READ_LATENCY_RANGE)
-    result = tmp_path / "result.json"
-    name = "mig_model_small"
-    run_cocotb(export_verilog(MIGModel(**SMALL), name), name=name, test_module="cocotb_mig_model",
-               simulator=simulator, testcase=testcase,
-               params=dict(latency=latency, seed=3, base=BASE, words=WORDS, result=str(result)))
-    outcome = json.loads(result.read_text())
-    if testcase == "bursts_read_back":
-        first, repeated = outcome.pop("latencies")
-        assert outcome == dict(words=2 * 26, equal=True, violations=[])
-        assert repeated == latency and first >= latency + MIG.WTR_CLK     # the first read after the writes
-    else:
-        assert (outcome["code"], outcome["addr"]) == (Violation.UNALIGNED_ADDRESS.value, BASE + 2)
-        assert outcome["message"] == violation_message(Violation.UNALIGNED_ADDRESS, BASE + 2, outcome["cycle"])
+    results = {case: tmp_path / f"{case}.json" for case in ("bursts_read_back", "violation_stops")}
+    name = f"mig_model_small_{storage}"
+    verilog = export_verilog(MIGModel(**SMALL, storage=storage), name)
+    if storage == "verilog":
+        verilog += STORAGE_VERILOG
+    run_cocotb(verilog, name=name, test_module="cocotb_mig_model", simulator=simulator,
+               params=dict(latency=latency, seed=3, base=BASE, words=WORDS,
+                           results={case: str(path) for case, path in results.items()}))
+    bursts = json.loads(results["bursts_read_back"].read_text())
+    first, repeated = bursts.pop("latencies")
+    assert bursts == dict(words=2 * 26, equal=True, violations=[])
+    assert repeated == latency and first >= latency + MIG.WTR_CLK     # the first read after the writes
+    stop = json.loads(results["violation_stops"].read_text())
+    assert (stop["code"], stop["addr"]) == (Violation.UNALIGNED_ADDRESS.value, BASE + 2)
+    assert stop["message"] == violation_message(Violation.UNALIGNED_ADDRESS, BASE + 2, stop["cycle"])

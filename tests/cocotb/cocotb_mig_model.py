@@ -3,8 +3,9 @@
 ``bursts_read_back``: after ``phy_init_done``, random BL4 writes (the command with the first data word, some bytes
 masked), then reads; every word comes back in order equal to this module's own reference; the first read's and
 its repetition's latencies (the repetition's is the run's ``latency`` input exactly: open row, no turnaround) and
-the violation codes seen (none expected) go to ``result.json``. ``violation_stops``: an unaligned read address; the model's code, address and
-cycle, and the one-line message of sim.models.mig's table, go to ``result.json``.
+the violation codes seen (none expected) go to its result file. ``violation_stops``: an unaligned read address; the model's code, address and
+cycle, and the one-line message of sim.models.mig's table, go to its result file. Each test resets the model
+(its memory keeps what the first wrote; the second does not read it).
 """
 
 import json
@@ -90,7 +91,7 @@ if cocotb is not None:
             codes.append(await host.step())
         got = [d for _, d in host.returned]
         latencies = [next(c for c, _ in host.returned if c > m) - m for m in marks[:2]]
-        with open(p["result"], "w") as f:
+        with open(p["results"]["bursts_read_back"], "w") as f:
             json.dump(dict(words=len(got), equal=got == expected, latencies=latencies,
                            violations=sorted(set(codes) - {0})), f)
 
@@ -104,5 +105,5 @@ if cocotb is not None:
         for _ in range(4):
             code = code or await host.step()
         addr, cycle = int(dut.violation__addr.value), int(dut.violation__cycle.value)
-        with open(p["result"], "w") as f:
+        with open(p["results"]["violation_stops"], "w") as f:
             json.dump(dict(code=code, addr=addr, cycle=cycle, message=violation_message(code, addr, cycle)), f)

@@ -9,7 +9,7 @@ from spec.memory import MIG
 
 from .checker import ProtocolChecker
 from .controller import Controller
-from .memory_window import MemoryWindow, check_window
+from .memory_window import MemoryWindow, check_storage, check_window
 from .read_return import ReadReturn
 from .user_fifo import UserFifo
 from .violations import ViolationSignature
@@ -69,6 +69,10 @@ class MIGModel(wiring.Component):
         Clocks a write command may wait for its data at the head of the address FIFO.
     trefi, trfc : int
         Refresh interval and refresh cycle time (clocks).
+    storage : str
+        The memory window's storage (:class:`MemoryWindow`): ``"memory"`` (an Amaranth Memory: Amaranth's
+        simulator) or ``"verilog"`` (for the compiled backends: append ``STORAGE_VERILOG`` to the exported
+        Verilog; exporting the full window as an Amaranth Memory takes minutes).
 
     Members
     -------
@@ -96,9 +100,12 @@ class MIGModel(wiring.Component):
 
     def __init__(self, *, af_depth=MIG.AF_DEPTH, wdf_depth=MIG.WDF_DEPTH, window_base=0,
                  window_words=DEFAULT_WINDOW_WORDS, init_clocks=INIT_CLOCKS, latency_range=READ_LATENCY_RANGE,
-                 afull_slack=MIG.AFULL_OFFSET, data_grace=DATA_GRACE, trefi=MIG.TREFI_CLK, trfc=MIG.TRFC_CLK):
+                 afull_slack=MIG.AFULL_OFFSET, data_grace=DATA_GRACE, trefi=MIG.TREFI_CLK, trfc=MIG.TRFC_CLK,
+                 storage="memory"):
         _check(af_depth, wdf_depth, latency_range, afull_slack, init_clocks, data_grace)
         check_window(window_base, window_words)
+        check_storage(storage)
+        self.storage = storage
         self.af_depth, self.wdf_depth = af_depth, wdf_depth
         self.window_base, self.window_words = window_base, window_words
         self.init_clocks, self.latency_range = init_clocks, tuple(latency_range)
@@ -130,7 +137,8 @@ class MIGModel(wiring.Component):
         m.submodules.wdf = wdf = UserFifo(width=MIG.MASK_WIDTH + MIG.DATA_WIDTH, depth=self.wdf_depth)
         m.submodules.controller = ctrl = Controller(
             latency_bits=self._latency_bits, data_grace=self.data_grace, trefi=self.trefi, trfc=self.trfc)
-        m.submodules.memory = memory = MemoryWindow(base=self.window_base, words=self.window_words)
+        m.submodules.memory = memory = MemoryWindow(base=self.window_base, words=self.window_words,
+                                                    storage=self.storage)
         m.submodules.read_return = ret = ReadReturn(depth=1 << (self.latency_range[1] + 4).bit_length())
         m.submodules.checker = checker = ProtocolChecker(
             window_base=self.window_base, window_words=self.window_words, afull_slack=self.afull_slack,
