@@ -271,7 +271,7 @@ def test_phy_init_done_after_the_start_up_delay():
 # --- almost full ------------------------------------------------------------------------------------------------
 
 def fill_data_fifo(extra):
-    """Write-data words only (no command drains them) until app_wdf_afull, then ``extra`` more clocks of
+    """Write-data words only (no command drains them) until app_wdf_afull is seen, then ``extra`` more clocks of
     words."""
     async def bench(ctx, host):
         await host.until_init(ctx)
@@ -279,7 +279,7 @@ def fill_data_fifo(extra):
         while not (host.afull["write"] and host.afull["write"][-1]):
             await host.step(ctx, data=n)
             n += 1
-        host.free_at_afull = 32 - n + 1
+        host.free_at_afull = 32 - n + 1             # before the word of the clock it is first seen on
         for _ in range(extra - 1):
             await host.step(ctx, data=n)
             n += 1
@@ -288,25 +288,27 @@ def fill_data_fifo(extra):
 
 
 def test_data_words_up_to_the_slack_are_legal():
-    """app_wdf_afull rises with 15 entries free (ALMOST_FULL_OFFSET 15); 15 more words in a row fit."""
-    host, violation = run(fill_data_fifo(MIG.AFULL_OFFSET))
+    """app_wdf_afull is ALMOSTFULL of a multirate FIFO36 (ALMOST_FULL_OFFSET 15, asserted one write clock late,
+    UG190): with a word written every clock it is first seen with 14 entries free; 14 more words fit."""
+    host, violation = run(fill_data_fifo(MIG.AFULL_OFFSET - 1))
     assert violation is None
-    assert host.free_at_afull == MIG.AFULL_OFFSET
+    assert host.free_at_afull == MIG.AFULL_OFFSET - 1
 
 
 def test_data_word_past_the_slack_is_a_violation():
-    host, violation = run(fill_data_fifo(MIG.AFULL_OFFSET + 1))
+    host, violation = run(fill_data_fifo(MIG.AFULL_OFFSET))
     assert violation is not None and violation.code == Violation.DATA_AFULL
 
 
 def fill_command_fifo(extra):
-    """Reads every clock (the controller drains one per 2 clocks) until app_af_afull, then ``extra`` more."""
+    """Reads every clock (the controller drains one per 2 clocks) until app_af_afull is seen (a synchronous
+    FIFO36: with 15 entries free or more), then ``extra`` more."""
     async def bench(ctx, host):
         await host.until_init(ctx)
         host.flow_control = False
         while not (host.afull["command"] and host.afull["command"][-1]):
             await host.read_burst(ctx, addr_of())
-        for _ in range(extra - 1):
+        for _ in range(extra - 1):                      # the clock it was first seen on had one
             await host.read_burst(ctx, addr_of())
         await host.drain(ctx)
     return bench
@@ -440,7 +442,7 @@ def test_draw_latency_is_per_seed_and_within_the_range():
 
 
 @pytest.mark.parametrize("params", [dict(af_depth=24), dict(wdf_depth=16), dict(latency_range=(2, 8)),
-                                    dict(afull_slack=16), dict(window_words=6), dict(window_base=2),
+                                    dict(af_slack=16), dict(wdf_slack=15), dict(window_words=6), dict(window_base=2),
                                     dict(window_base=MIG.MEMORY_WORDS - 4, window_words=8), dict(init_clocks=0),
                                     dict(storage="rom")])
 def test_bad_parameters_are_rejected(params):

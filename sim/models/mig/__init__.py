@@ -20,8 +20,8 @@ module              what
 
 from .harness import draw_latency, watch_violations
 from .memory_window import STORAGE_MODULE, STORAGE_VERILOG
-from .model import DATA_GRACE, DEFAULT_WINDOW_WORDS, INIT_CLOCKS, READ_LATENCY_RANGE, MIGModel
+from .model import AF_SLACK, DATA_GRACE, DEFAULT_WINDOW_WORDS, WDF_SLACK, INIT_CLOCKS, READ_LATENCY_RANGE, MIGModel
 from .violations import MESSAGES, MIGProtocolViolation, Violation, violation_message
 
-__all__ = ["MIGModel", "READ_LATENCY_RANGE", "INIT_CLOCKS", "DATA_GRACE", "DEFAULT_WINDOW_WORDS", "Violation",
+__all__ = ["MIGModel", "READ_LATENCY_RANGE", "AF_SLACK", "WDF_SLACK", "INIT_CLOCKS", "DATA_GRACE", "DEFAULT_WINDOW_WORDS", "Violation",
            "MESSAGES", "STORAGE_MODULE", "STORAGE_VERILOG", "violation_message", "MIGProtocolViolation", "draw_latency", "watch_violations"]

@@ -19,9 +19,9 @@ class ProtocolChecker(wiring.Component):
     * before ``phy_init_done``: no command, no write-data word;
     * a command: ``cmd`` 000 or 001; ``addr`` burst-aligned (``addr[1:0]`` = 0), within the part
       (``MIG.MEMORY_WORDS``) and the model's window;
-    * almost full: a command (a data word) may be written on the first ``afull_slack`` clocks of a stretch of
-      ``app_af_afull`` (``app_wdf_afull``) high, not later: one entry per clock fits the ``afull_slack`` <=
-      ``MIG.AFULL_OFFSET`` free entries whatever the controller drains;
+    * almost full: a command (a data word) may be written on the first ``af_slack`` (``wdf_slack``) clocks of a
+      stretch of ``app_af_afull`` (``app_wdf_afull``) high, not later: one entry per clock fits the entries
+      free when the flag is first seen, whatever the controller drains;
     * data before address (AR 24146, BL4): a write command is written no earlier than its burst's first data
       word: the k-th write command (from 0) needs 2 k + 1 data words written by its clock (its own clock
       included);
@@ -34,7 +34,7 @@ class ProtocolChecker(wiring.Component):
         ``app_af_addr``'s width.
     window_base, window_words : int
         The model's memory window (64-bit words).
-    afull_slack : int
+    af_slack, wdf_slack : int
         Clocks of almost full in which a write is still allowed.
     latency_range : (int, int)
         The read latency's allowed range.
@@ -53,10 +53,11 @@ class ProtocolChecker(wiring.Component):
     """
 
     def __init__(self, *, addr_width=MIG.ADDR_WIDTH, window_base=0, window_words=MIG.MEMORY_WORDS,
-                 afull_slack=MIG.AFULL_OFFSET, latency_range=(16, 32), wdf_depth=MIG.WDF_DEPTH, latency_bits=6):
+                 af_slack=MIG.AFULL_OFFSET, wdf_slack=MIG.AFULL_OFFSET - MIG.WDF_AFULL_ASSERT_CLK,
+                 latency_range=(16, 32), wdf_depth=MIG.WDF_DEPTH, latency_bits=6):
         self._addr_width = addr_width
         self._window = (window_base, window_base + window_words)
-        self._slack, self._latency_range, self._wdf_depth = afull_slack, latency_range, wdf_depth
+        self._slacks, self._latency_range, self._wdf_depth = (af_slack, wdf_slack), latency_range, wdf_depth
         super().__init__({
             "init_done": In(1),
             "command": In(Signature({"cmd": Out(MIG.CMD_WIDTH), "addr": Out(addr_width), "wren": Out(1)})),
@@ -66,14 +67,15 @@ class ProtocolChecker(wiring.Component):
             "violation": Out(ViolationSignature(addr_width)),
         })
 
-    def _afull_too_long(self, m, afull, wren):
-        """A write on a clock when ``afull`` has been high for more than the slack."""
-        high_for = Signal(range(self._slack + 1))
+    @staticmethod
+    def _afull_too_long(m, afull, wren, slack):
+        """A write on a clock when ``afull`` has been high for ``slack`` clocks or more before it."""
+        high_for = Signal(range(slack + 1))
         with m.If(~afull):
             m.d.sync += high_for.eq(0)
-        with m.Elif(high_for != self._slack):
+        with m.Elif(high_for != slack):
             m.d.sync += high_for.eq(high_for + 1)
-        return wren & afull & (high_for == self._slack)
+        return wren & afull & (high_for == slack)
 
     def _data_ahead(self, m, write_cmd):
         """The data-before-address rule: a write command without its first data word."""
@@ -98,8 +100,8 @@ class ProtocolChecker(wiring.Component):
             (wren & (addr[:2] != 0), Violation.UNALIGNED_ADDRESS, addr),
             (wren & ~in_part, Violation.ADDRESS_OUTSIDE_PART, addr),
             (wren & ~in_window, Violation.ADDRESS_OUTSIDE_WINDOW, addr),
-            (self._afull_too_long(m, self.af_afull, wren), Violation.COMMAND_AFULL, addr),
-            (self._afull_too_long(m, self.wdf_afull, self.write_wren), Violation.DATA_AFULL, 0),
+            (self._afull_too_long(m, self.af_afull, wren, self._slacks[0]), Violation.COMMAND_AFULL, addr),
+            (self._afull_too_long(m, self.wdf_afull, self.write_wren, self._slacks[1]), Violation.DATA_AFULL, 0),
             (self._data_ahead(m, wren & (cmd == MIG.CMD_WRITE)), Violation.COMMAND_BEFORE_DATA, addr),
             (self.data_missing, Violation.WRITE_DATA_MISSING, self.missing_addr),
             (self.read_valid & ~self.read_ready, Violation.READ_NOT_TAKEN, 0),

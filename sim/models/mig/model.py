@@ -14,13 +14,20 @@ from .read_return import ReadReturn
 from .user_fifo import UserFifo
 from .violations import ViolationSignature
 
-__all__ = ["MIGModel", "READ_LATENCY_RANGE", "INIT_CLOCKS", "DATA_GRACE", "DEFAULT_WINDOW_WORDS"]
+__all__ = ["MIGModel", "READ_LATENCY_RANGE", "INIT_CLOCKS", "DATA_GRACE", "DEFAULT_WINDOW_WORDS", "AF_SLACK",
+           "WDF_SLACK"]
 
 #: The read latency's range in clk0 (docs/memory.md, "The read latency"): a read written into an idle controller
 #: whose row is open returns its first word this many clocks later, drawn per run within the range.
 READ_LATENCY_RANGE = (16, 32)
 #: ``phy_init_done`` after the PHY's 200 us wait at 125 MHz (calibration adds more on the board).
 INIT_CLOCKS = 200 * MIG.CLK0_HZ // 1_000_000
+#: Clocks of ``app_af_afull`` high in which one more command per clock still fits: the 15 free entries it
+#: rises with (synchronous FIFO36: the flag the clock after the write).
+AF_SLACK = MIG.AFULL_OFFSET
+#: The same for ``app_wdf_afull``: its multirate FIFO36 raises the flag a clock late, so a word written on that
+#: clock leaves 14.
+WDF_SLACK = MIG.AFULL_OFFSET - MIG.WDF_AFULL_ASSERT_CLK
 #: Clocks a write command may wait at the head of the address FIFO for its burst's data (the model's; MIG does
 #: not wait, docs/memory.md).
 DATA_GRACE = 4
@@ -28,13 +35,13 @@ DATA_GRACE = 4
 DEFAULT_WINDOW_WORDS = 2 * 3 * 800 * 600 // 8
 
 
-def _check(af_depth, wdf_depth, latency_range, afull_slack, init_clocks, data_grace):
+def _check(af_depth, wdf_depth, latency_range, slacks, init_clocks, data_grace):
     lo, hi = latency_range
     if not 3 <= lo <= hi:
         raise ValueError(f"read latency range {latency_range}: must be 3 <= low <= high")
-    if not 0 <= afull_slack <= MIG.AFULL_OFFSET:
-        raise ValueError(f"almost-full slack {afull_slack}: must be 0 .. {MIG.AFULL_OFFSET} (MIG's room after "
-                         "almost full)")
+    for slack, most in zip(slacks, (AF_SLACK, WDF_SLACK)):
+        if not 0 <= slack <= most:
+            raise ValueError(f"almost-full slack {slack}: must be 0 .. {most} (MIG's room once almost full is seen)")
     if init_clocks < 1 or data_grace < 0:
         raise ValueError("init_clocks must be at least 1 and data_grace at least 0")
     for name, depth in (("af_depth", af_depth), ("wdf_depth", wdf_depth)):
@@ -62,9 +69,9 @@ class MIGModel(wiring.Component):
         Clocks from reset to ``phy_init_done``.
     latency_range : (int, int)
         The allowed read latencies (clocks); the run's own is the ``latency`` input.
-    afull_slack : int
-        Clocks of almost full in which one more command / data word per clock is allowed (at most
-        ``MIG.AFULL_OFFSET``, the room MIG's FIFOs have then).
+    af_slack, wdf_slack : int
+        Clocks of ``app_af_afull`` / ``app_wdf_afull`` high in which one more command / data word per clock is
+        allowed: at most :data:`AF_SLACK` (15) / :data:`WDF_SLACK` (14), the room MIG's FIFOs have then.
     data_grace : int
         Clocks a write command may wait for its data at the head of the address FIFO.
     trefi, trfc : int
@@ -100,16 +107,17 @@ class MIGModel(wiring.Component):
 
     def __init__(self, *, af_depth=MIG.AF_DEPTH, wdf_depth=MIG.WDF_DEPTH, window_base=0,
                  window_words=DEFAULT_WINDOW_WORDS, init_clocks=INIT_CLOCKS, latency_range=READ_LATENCY_RANGE,
-                 afull_slack=MIG.AFULL_OFFSET, data_grace=DATA_GRACE, trefi=MIG.TREFI_CLK, trfc=MIG.TRFC_CLK,
+                 af_slack=AF_SLACK, wdf_slack=WDF_SLACK, data_grace=DATA_GRACE, trefi=MIG.TREFI_CLK, trfc=MIG.TRFC_CLK,
                  storage="memory"):
-        _check(af_depth, wdf_depth, latency_range, afull_slack, init_clocks, data_grace)
+        _check(af_depth, wdf_depth, latency_range, (af_slack, wdf_slack), init_clocks, data_grace)
         check_window(window_base, window_words)
         check_storage(storage)
         self.storage = storage
         self.af_depth, self.wdf_depth = af_depth, wdf_depth
         self.window_base, self.window_words = window_base, window_words
         self.init_clocks, self.latency_range = init_clocks, tuple(latency_range)
-        self.afull_slack, self.data_grace, self.trefi, self.trfc = afull_slack, data_grace, trefi, trfc
+        self.af_slack, self.wdf_slack, self.data_grace = af_slack, wdf_slack, data_grace
+        self.trefi, self.trfc = trefi, trfc
         self._latency_bits = max(latency_range[1].bit_length(), 2)
         super().__init__({
             "user": In(MIGUserSignature()),
@@ -134,14 +142,17 @@ class MIGModel(wiring.Component):
             m.d.sync += latency.eq(self.latency)
 
         m.submodules.af = af = UserFifo(width=MIG.CMD_WIDTH + MIG.ADDR_WIDTH, depth=self.af_depth)
-        m.submodules.wdf = wdf = UserFifo(width=MIG.MASK_WIDTH + MIG.DATA_WIDTH, depth=self.wdf_depth)
+        m.submodules.wdf = wdf = UserFifo(width=MIG.MASK_WIDTH + MIG.DATA_WIDTH, depth=self.wdf_depth,
+                                          assert_latency=MIG.WDF_AFULL_ASSERT_CLK,
+                                          deassert_latency=MIG.WDF_AFULL_DEASSERT_CLK)
         m.submodules.controller = ctrl = Controller(
             latency_bits=self._latency_bits, data_grace=self.data_grace, trefi=self.trefi, trfc=self.trfc)
         m.submodules.memory = memory = MemoryWindow(base=self.window_base, words=self.window_words,
                                                     storage=self.storage)
         m.submodules.read_return = ret = ReadReturn(depth=1 << (self.latency_range[1] + 4).bit_length())
         m.submodules.checker = checker = ProtocolChecker(
-            window_base=self.window_base, window_words=self.window_words, afull_slack=self.afull_slack,
+            window_base=self.window_base, window_words=self.window_words,
+            af_slack=self.af_slack, wdf_slack=self.wdf_slack,
             latency_range=self.latency_range, wdf_depth=self.wdf_depth, latency_bits=self._latency_bits)
 
         m.d.comb += [
