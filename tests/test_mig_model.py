@@ -478,3 +478,31 @@ def test_exported_model_cocotb(simulator, storage, tmp_path):
     stop = json.loads(results["violation_stops"].read_text())
     assert (stop["code"], stop["addr"]) == (Violation.UNALIGNED_ADDRESS.value, BASE + 2)
     assert stop["message"] == violation_message(Violation.UNALIGNED_ADDRESS, BASE + 2, stop["cycle"])
+
+
+# --- behind MIG's generated top-module port names ------------------------------------------------------------------
+
+def test_mig_named_top_cocotb(simulator, tmp_path):
+    """The model as MIG's generated top (``MEMCtrl``, its port names): a masked burst written and read back, the
+    latency set per run by plusarg (no rebuild), and the simulation stopped by the model on an unaligned read
+    with the table's message."""
+    import json
+
+    from board.export import export_verilog
+    from sim.models.mig import LATENCY_PLUSARG, mig_top_verilog
+    from sim.runners.cocotb import run_cocotb
+
+    latency, addr = draw_latency(21, READ_LATENCY_RANGE), addr_of(row=2, col=16)
+    words, masks = [random.Random(9).getrandbits(128) for _ in range(2)], [0x00F0, 0]
+    verilog = (export_verilog(MIGModel(**SMALL, storage="verilog"), "mig_model_core") + STORAGE_VERILOG
+               + mig_top_verilog(core="mig_model_core"))
+    result = tmp_path / "result.json"
+    with pytest.raises(AssertionError) as stop:
+        run_cocotb(verilog, name="MEMCtrl", test_module="cocotb_mig_top", simulator=simulator,
+                   params=dict(addr=addr, words=words, masks=masks, result=str(result)),
+                   plusargs=[f"+{LATENCY_PLUSARG}={latency}"])
+    keep = [sum(0xFF << (8 * b) for b in range(16) if m >> b & 1) for m in masks]
+    outcome = json.loads(result.read_text())
+    assert outcome == dict(words=[w & ~k & MASK128 for w, k in zip(words, keep)], latency=latency + MIG.WTR_CLK)
+    message = violation_message(Violation.UNALIGNED_ADDRESS, addr + 1, 0).rsplit(", clk0 cycle", 1)[0]
+    assert message in str(stop.value)

@@ -15,13 +15,16 @@ module              what
 ``checker``         ``ProtocolChecker``: the violations
 ``violations``      the violation codes, the one table of their messages, the harness's exception
 ``harness``         ``draw_latency``; the Amaranth testbench that stops on a violation
+``mig_top``         ``mig_top_verilog``: the model behind the port names of MIG's generated top module
 ==================  ==========================================================================================
 """
 
 from .harness import draw_latency, watch_violations
 from .memory_window import STORAGE_MODULE, STORAGE_VERILOG
+from .mig_top import LATENCY_PLUSARG, mig_top_verilog
 from .model import AF_SLACK, DATA_GRACE, DEFAULT_WINDOW_WORDS, WDF_SLACK, INIT_CLOCKS, READ_LATENCY_RANGE, MIGModel
 from .violations import MESSAGES, MIGProtocolViolation, Violation, violation_message
 
 __all__ = ["MIGModel", "READ_LATENCY_RANGE", "AF_SLACK", "WDF_SLACK", "INIT_CLOCKS", "DATA_GRACE", "DEFAULT_WINDOW_WORDS", "Violation",
-           "MESSAGES", "STORAGE_MODULE", "STORAGE_VERILOG", "violation_message", "MIGProtocolViolation", "draw_latency", "watch_violations"]
+           "MESSAGES", "STORAGE_MODULE", "STORAGE_VERILOG",
+           "mig_top_verilog", "LATENCY_PLUSARG", "violation_message", "MIGProtocolViolation", "draw_latency", "watch_violations"]

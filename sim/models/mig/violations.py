@@ -11,7 +11,7 @@ from amaranth.lib.wiring import Out, Signature
 
 from spec.memory import MIG
 
-__all__ = ["Violation", "MESSAGES", "ViolationSignature", "violation_message", "MIGProtocolViolation"]
+__all__ = ["Violation", "MESSAGES", "MESSAGE_FORMAT", "ViolationSignature", "violation_message", "MIGProtocolViolation"]
 
 
 class Violation(enum.Enum, shape=4):
@@ -48,6 +48,10 @@ MESSAGES = {
 }
 
 
+#: The one line a harness prints (``violation_message``; the MIG-named Verilog top's ``$display`` is made from it).
+MESSAGE_FORMAT = "MIG model: {text}: app_af_addr 0x{addr:08x}, clk0 cycle {cycle} ({name})"
+
+
 class ViolationSignature(Signature):
     """The model's report, as the model drives it: ``code`` (:class:`Violation`), ``addr`` (``app_af_addr``
     width), ``cycle`` (32 bits, clk0 cycles since reset). Held from the first violation until reset."""
@@ -70,8 +74,8 @@ def violation_message(code, addr, cycle):
         violation = Violation(_number(code))
     except ValueError:
         return f"MIG model: unknown violation code {_number(code)} at clk0 cycle {int(cycle)}"
-    text = MESSAGES.get(violation, "no violation")
-    return f"MIG model: {text}: app_af_addr 0x{int(addr):08x}, clk0 cycle {int(cycle)} ({violation.name})"
+    return MESSAGE_FORMAT.format(text=MESSAGES.get(violation, "no violation"), addr=int(addr), cycle=int(cycle),
+                                 name=violation.name)
 
 
 def _number(code):
