@@ -492,10 +492,10 @@ def test_mig_named_top_cocotb(simulator, tmp_path):
     from sim.models.mig import LATENCY_PLUSARG, mig_top_verilog
     from sim.runners.cocotb import run_cocotb
 
-    latency, addr = draw_latency(21, READ_LATENCY_RANGE), addr_of(row=2, col=16)
+    latency, addr = draw_latency(21, READ_LATENCY_RANGE), addr_of(bank=0, row=2, col=16)
     words, masks = [random.Random(9).getrandbits(128) for _ in range(2)], [0x00F0, 0]
-    verilog = (export_verilog(MIGModel(**SMALL, storage="verilog"), "mig_model_core") + STORAGE_VERILOG
-               + mig_top_verilog(core="mig_model_core"))
+    model = MIGModel(**{**SMALL, "window_base": 0}, storage="verilog")     # a window from 0, as a design's
+    verilog = export_verilog(model, "mig_model_core") + STORAGE_VERILOG + mig_top_verilog(core="mig_model_core")
     result = tmp_path / "result.json"
     with pytest.raises(AssertionError) as stop:
         run_cocotb(verilog, name="MEMCtrl", test_module="cocotb_mig_top", simulator=simulator,
