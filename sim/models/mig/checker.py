@@ -40,6 +40,8 @@ class ProtocolChecker(wiring.Component):
         The read latency's allowed range.
     wdf_depth : int
         The write-data FIFO's depth (the data-before-address count's range).
+    latency_bits : int
+        Width of ``latency``.
 
     Members
     -------
