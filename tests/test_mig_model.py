@@ -73,7 +73,7 @@ class Host:
         while self.flow_control and self.clock and (self.afull["command"][-1] or self.afull["write"][-1]):
             await self.step(ctx)
 
-    def _write_reference(self, addr, words):
+    def write_reference(self, addr, words):
         for i, (data, mask) in enumerate(words):
             old = self.memory.get(addr + 2 * i, 0)
             keep = sum(0xFF << (8 * b) for b in range(16) if mask >> b & 1)
@@ -85,7 +85,7 @@ class Host:
         for i, (data, mask) in enumerate(words):
             await self.step(ctx, data=data, mask=mask,
                             **(dict(cmd=MIG.CMD_WRITE, addr=addr) if i == command_on_word else {}))
-        self._write_reference(addr, words)
+        self.write_reference(addr, words)
 
     async def read_burst(self, ctx, addr):
         await self.wait_room(ctx)
@@ -181,7 +181,7 @@ def test_write_data_ahead_of_commands():
         await host.idle(ctx, 3)
         for addr, words in bursts:
             await host.step(ctx, cmd=MIG.CMD_WRITE, addr=addr)
-            host._write_reference(addr, words)
+            host.write_reference(addr, words)
         for addr, _ in bursts:
             await host.read_burst(ctx, addr)
         await host.drain(ctx)

@@ -97,7 +97,9 @@ class MIGModel(wiring.Component):
     refreshing : Out(1)
         A refresh is in progress (for waveforms).
 
-    Clock domain ``sync`` (clk0); a reset starts the model afresh (memory contents kept, as nothing else is).
+    Clock domain ``sync``: clk0 (a design whose MIG side is in its ``mem`` domain places the model there with
+    ``DomainRenamer``). A reset starts the model afresh; the memory contents are kept (the board's are garbage
+    after a reset: a design must not read what it did not write since).
 
     Raises
     ------
