@@ -8,6 +8,8 @@ package             what
                     configuration
 ``ch7301c``         the DVI transmitter: register file, I2C target, the HDMI sink that reads its pins
 ``i2c``             the open-drain bus, the target state machine, the UM10204 bus monitor, the table player
+``mig``             MIG's DDR2 user interface with the memory behind it (``MIGModel``): gateware for
+                    simulation only, not a Python core (docs/memory.md)
 ``clocking``        the board clocking's simulation model (``SimClocking``)
 ==================  ====================================================================================
 

