@@ -32,6 +32,8 @@ from sim.formal.harnesses.i2c import BUS_HZ, CLK_HZ, TIMEOUT_US, I2CMasterHarnes
 from sim.formal.harnesses.read_arbiter import ReadArbiterHarness
 from sim.formal.harnesses.row_tags import RowTagTrackerHarness
 from sim.formal.harnesses.frame_pairing import FramePairingHarness
+from sim.formal.harnesses.frame_store import FrameStoreOwnershipHarness
+from hdl.frame_store.ownership import BufferOwnership
 from sim.formal.harnesses.segment_band import SegmentBandHarness
 from sim.formal.harnesses.switches import SwitchControlHarness
 from sim.formal.harnesses.sync_gen import SyncGeneratorHarness
@@ -185,6 +187,17 @@ class SegmentBandCentreOneHigher(SegmentBandHarness):
         return dut.rgb, dut.chars.as_value()
 
 
+class OwnershipTwoBuffers(FrameStoreOwnershipHarness):
+    """Two buffers a camera for one reader (the constructor's check skipped): the latest and a held pair leave the
+    writer no buffer of its own."""
+    def dut(self):
+        class Unchecked(BufferOwnership):
+            def __init__(self):
+                BufferOwnership.__init__(self, 2, 1, 3)
+                self.buffers = 2
+        return Unchecked()
+
+
 BITES = {
     "sync_gen": (SyncPulseTooWide, "hsync_window_and_polarity"),
     "switches": (SwitchesLoadAnyTime, "_changes_only_after_frame_start"),
@@ -207,6 +220,7 @@ BITES = {
     "row_tags": (TrackerMoreRows, "busy_exactly_for_row_in_progress"),
     "frame_pairing": (PairingWiderTag, "_by_the_rule"),
     "depth_pairs": (DepthEngineWithoutPairs, "pair_mismatch_in_window_makes_the_row_invalid"),
+    "frame_store_ownership": (OwnershipTwoBuffers, "writes the latest"),
 }
 
 
