@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 from spec.memory import MIG
 
-__all__ = ["FrameStoreLayout", "BURST_BYTES", "WORD_BYTES"]
+__all__ = ["FrameStoreLayout", "SMALL_LAYOUT", "BURST_BYTES", "WORD_BYTES"]
 
 #: Bytes in one BL4 burst (4 memory words of 64 bits) and in one user-interface word (128 bits).
 BURST_BYTES = MIG.BURST_LENGTH * 8
