@@ -29,4 +29,11 @@ class MIG:
     AFULL_OFFSET = 15              # app_af_afull / app_wdf_afull high when this many entries or fewer are free
     TREFI_CLK = 975                # refresh interval in clk0 (7.8 us at 125 MHz)
     TRFC_CLK = 14                  # refresh cycle time in clk0 (105 ns)
+    # The controller's command spacings at 125 MHz: ddr2_ctrl.v's counters (TRP_CYC 3, TRCD_CYC 2, TWTR_CYC 6,
+    # TRTW_CYC 6) plus the offsets its comments give (precharge -> command "- 2", activate -> read/write "- 3",
+    # write -> read and read -> write "- 3").
+    TRP_CLK = 5                    # precharge (all) -> next command
+    TRCD_CLK = 5                   # activate -> read or write
+    WTR_CLK = 9                    # write -> read turnaround
+    RTW_CLK = 9                    # read -> write turnaround
     FPGA_RAMB36 = 5                # block RAM the core itself uses (address FIFO, 2 write data, 2 read data)

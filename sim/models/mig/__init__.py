@@ -1,0 +1,26 @@
+"""Xilinx MIG 3.x's DDR2 user interface (Virtex-5) with the memory behind it, as an Amaranth component for
+simulation only (never built for the FPGA): the same model runs in Amaranth's simulator and, exported to
+Verilog, under cocotb (Verilator, Icarus) and in the Verilator C++ testbench. docs/memory.md describes the
+contract and what the model does.
+
+==================  ==========================================================================================
+module              what
+==================  ==========================================================================================
+``model``           ``MIGModel``: the model (FIFOs, controller, memory window, read return, checker)
+``user_fifo``       ``UserFifo``: the address / write-data FIFO with its almost-full flag
+``controller``      ``Controller``: one BL4 burst per command, in order
+``bank_timing``     ``BankTiming``: open rows, turnarounds, refresh
+``memory_window``   ``MemoryWindow``: the contents over a window of the part
+``read_return``     ``ReadReturn``: read words on their due clocks, no backpressure
+``checker``         ``ProtocolChecker``: the violations
+``violations``      the violation codes, the one table of their messages, the harness's exception
+``harness``         ``draw_latency``; the Amaranth testbench that stops on a violation
+==================  ==========================================================================================
+"""
+
+from .harness import draw_latency, watch_violations
+from .model import DATA_GRACE, DEFAULT_WINDOW_WORDS, INIT_CLOCKS, READ_LATENCY_RANGE, MIGModel
+from .violations import MESSAGES, MIGProtocolViolation, Violation, violation_message
+
+__all__ = ["MIGModel", "READ_LATENCY_RANGE", "INIT_CLOCKS", "DATA_GRACE", "DEFAULT_WINDOW_WORDS", "Violation",
+           "MESSAGES", "violation_message", "MIGProtocolViolation", "draw_latency", "watch_violations"]
