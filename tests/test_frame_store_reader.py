@@ -55,24 +55,24 @@ def run(rows, *, pix_period=6.7e-9, depth=8, slots=3, hold=(True, 1), seed=0, st
         for _ in range(TIMEOUT_CLOCKS):
             if len(got) == len(rows):
                 break
-            if asked < len(rows) and asked - len(got) < slots and ctx.get(reader.fetch.rdy):
-                ctx.set(reader.fetch.row, rows[asked])
-                ctx.set(reader.fetch.en, 1)
+            if asked < len(rows) and asked - len(got) < slots and ctx.get(reader.stream.fetch.rdy):
+                ctx.set(reader.stream.fetch.row, rows[asked])
+                ctx.set(reader.stream.fetch.en, 1)
                 asked += 1
             else:
-                ctx.set(reader.fetch.en, 0)
+                ctx.set(reader.stream.fetch.en, 0)
             await ctx.tick("pix")
-            landed += ctx.get(reader.landed)
-            ctx.set(reader.fetch.en, 0)
+            landed += ctx.get(reader.stream.landed)
+            ctx.set(reader.stream.fetch.en, 0)
             if landed > len(got):
                 slot = len(got) % slots
                 row = []
                 for x in range(LAYOUT.width):              # the byte one clock after its address
-                    ctx.set(reader.read.slot, slot)
-                    ctx.set(reader.read.x, x)
+                    ctx.set(reader.stream.read.slot, slot)
+                    ctx.set(reader.stream.read.x, x)
                     await ctx.tick("pix")
-                    landed += ctx.get(reader.landed)
-                    row.append(ctx.get(reader.read.data))
+                    landed += ctx.get(reader.stream.landed)
+                    row.append(ctx.get(reader.stream.read.data))
                 got.append(row)
 
     sim = Simulator(m)

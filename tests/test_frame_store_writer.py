@@ -10,6 +10,7 @@ from amaranth import ClockDomain, DomainRenamer, Module
 from amaranth.lib import wiring
 from amaranth.sim import Simulator
 
+from frame_store_sources import Camera
 from hdl.frame_store.camera_writer import CameraWriter
 from hdl.frame_store.layout import FrameStoreLayout
 from hdl.frame_store.ownership import BufferOwnership
@@ -29,39 +30,6 @@ def design(layout=LAYOUT):
     return m, writer, own
 
 
-class Camera:
-    """The capture's output protocol (hdl/capture.py's latencies): frame_start, then per row row_start, two clocks,
-    one pixel write per ``gap`` clocks, row_end a clock after the last write; frame_done with frame_ok."""
-
-    def __init__(self, ctx, writer):
-        self.ctx, self.w = ctx, writer
-
-    async def pulse(self, signal, value=1, clocks=1):
-        self.ctx.set(signal, value)
-        await self.ctx.tick("cam_a").repeat(clocks)
-        self.ctx.set(signal, 0)
-
-    async def frame(self, image, *, ok=True, done=True, gap=1):
-        status = self.w.status
-        await self.pulse(status.frame_start)
-        await self.ctx.tick("cam_a").repeat(3)
-        for row in image:
-            await self.pulse(status.row_start)
-            await self.ctx.tick("cam_a")
-            for value in row:
-                self.ctx.set(self.w.write.data, int(value))
-                await self.pulse(self.w.write.en)
-                if gap > 1:
-                    await self.ctx.tick("cam_a").repeat(gap - 1)
-            await self.pulse(status.row_end)
-            await self.ctx.tick("cam_a").repeat(6)
-        if done:
-            self.ctx.set(status.frame_ok, int(ok))
-            await self.pulse(status.frame_done)
-            self.ctx.set(status.frame_ok, 0)
-        await self.ctx.tick("cam_a").repeat(4)
-
-
 def run(frames, layout=LAYOUT, grant_rate=0.5, seed=1, take_after=None):
     """Simulate the writer on ``frames`` (a list of ``(image, kwargs)``); the memory's bytes (address -> 8 bytes),
     the writes' addresses, the buffer a reader takes after each frame (``None``: no pair)."""
@@ -71,7 +39,7 @@ def run(frames, layout=LAYOUT, grant_rate=0.5, seed=1, take_after=None):
     done = []
 
     async def camera(ctx):
-        cam = Camera(ctx, writer)
+        cam = Camera(ctx, writer, "cam_a")
         for image, kwargs in frames:
             await cam.frame(image, **kwargs)
             await ctx.tick("cam_a").repeat(40)

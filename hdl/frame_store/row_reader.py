@@ -18,20 +18,27 @@ from amaranth.lib.fifo import AsyncFIFO
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
+from hdl.signature import ParametricSignature
 from spec.memory import MIG
 
 from .layout import WORD_BYTES, FrameStoreLayout
 from .mem_port import BurstReadSignature
 from .row_fetcher import RowFetcher
 
-__all__ = ["RowReader", "RowReadSignature"]
+__all__ = ["RowReader", "RowStreamSignature"]
 
 
-class RowReadSignature(wiring.Signature):
-    """The ring's read port as the consumer sees it: ``slot``, ``x`` out; ``data`` (8 bits) in, one clock later."""
+class RowStreamSignature(ParametricSignature):
+    """A row reader as its consumer sees it, all in the read domain: ``fetch`` (``row``, ``en`` out, ``rdy`` in: ask
+    for a row), ``landed`` in (a one-clock pulse: the oldest row asked for and not landed is in its slot), ``read``
+    (``slot``, ``x`` out, ``data`` in: the byte, one clock after its address)."""
 
-    def __init__(self, slots, width):
-        super().__init__({"slot": Out(range(slots)), "x": Out(range(width)), "data": In(8)})
+    def __init__(self, height, width, slots):
+        super().__init__({
+            "fetch": Out(wiring.Signature({"row": Out(range(height)), "en": Out(1), "rdy": In(1)})),
+            "landed": In(1),
+            "read": Out(wiring.Signature({"slot": Out(range(slots)), "x": Out(range(width)), "data": In(8)})),
+        }, height=height, width=width, slots=slots)
 
 
 class RowReader(wiring.Component):
@@ -49,11 +56,7 @@ class RowReader(wiring.Component):
 
     Attributes
     ----------
-    fetch : ``In(...)``, ``read_domain``
-        ``row``, ``en`` in (ask for a row); ``rdy`` out (room in the request FIFO).
-    landed : ``Out(1)``, ``read_domain``
-        A one-clock pulse: the oldest row asked for and not landed is in its slot.
-    read : ``In(RowReadSignature(slots, layout.width))``, ``read_domain``
+    stream : ``In(RowStreamSignature(layout.height, layout.width, slots))``, ``read_domain``
     hold : ``In(...)``, ``mem_domain``
         ``valid``, ``buffer``: the held pair's buffer of this camera.
     mem : ``Out(BurstReadSignature())``, ``mem_domain``
@@ -79,9 +82,7 @@ class RowReader(wiring.Component):
         self.read_domain, self.mem_domain = read_domain, mem_domain
         bits = max(1, (layout.buffers - 1).bit_length())
         super().__init__({
-            "fetch": In(wiring.Signature({"row": Out(range(layout.height)), "en": Out(1), "rdy": In(1)})),
-            "landed": Out(1),
-            "read": In(RowReadSignature(slots, layout.width)),
+            "stream": In(RowStreamSignature(layout.height, layout.width, slots)),
             "hold": In(wiring.Signature({"valid": Out(1), "buffer": Out(bits)})),
             "mem": Out(BurstReadSignature()),
         })
@@ -94,7 +95,7 @@ class RowReader(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         lay = self.layout
-        requests = AsyncFIFO(width=len(self.fetch.row), depth=4, w_domain=self.read_domain, r_domain=self.mem_domain)
+        requests = AsyncFIFO(width=len(self.stream.fetch.row), depth=4, w_domain=self.read_domain, r_domain=self.mem_domain)
         words = AsyncFIFO(width=MIG.DATA_WIDTH, depth=self.depth, w_domain=self.mem_domain,
                           r_domain=self.read_domain)
         fetcher = RowFetcher(lay, self.camera, self.depth)
@@ -102,7 +103,7 @@ class RowReader(wiring.Component):
         m.submodules.words = words
         m.submodules.fetcher = DomainRenamer(self.mem_domain)(fetcher)
         m.d.comb += [
-            requests.w_data.eq(self.fetch.row), requests.w_en.eq(self.fetch.en), self.fetch.rdy.eq(requests.w_rdy),
+            requests.w_data.eq(self.stream.fetch.row), requests.w_en.eq(self.stream.fetch.en), self.stream.fetch.rdy.eq(requests.w_rdy),
             fetcher.requests.row.eq(requests.r_data), fetcher.requests.rdy.eq(requests.r_rdy),
             requests.r_en.eq(fetcher.requests.en),
             words.w_data.eq(fetcher.words.data), words.w_en.eq(fetcher.words.en),
@@ -134,8 +135,8 @@ class RowReader(wiring.Component):
                 rd += [word.eq(0), slot.eq(slot + 1)]
                 with m.If(slot == self.slots - 1):
                     rd += slot.eq(0)
-                m.d.comb += self.landed.eq(1)
+                m.d.comb += self.stream.landed.eq(1)
         byte = Signal(4)
-        rd += byte.eq(self.read.x[:4])
-        m.d.comb += [read.addr.eq(self.read.slot * used + self.read.x[4:]),
-                     self.read.data.eq(read.data.word_select(byte, 8))]
+        rd += byte.eq(self.stream.read.x[:4])
+        m.d.comb += [read.addr.eq(self.stream.read.slot * used + self.stream.read.x[4:]),
+                     self.stream.read.data.eq(read.data.word_select(byte, 8))]
