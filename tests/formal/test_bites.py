@@ -1,3 +1,4 @@
+# amaranth: UnusedElaboratable=no
 """Each harness bites: one deliberate bug per block (a mutated parameter or a wrong connection) makes its proof
 fail, names the broken property and leaves a counterexample VCD in ``build/formal/<harness>/``."""
 
@@ -33,6 +34,8 @@ from sim.formal.harnesses.read_arbiter import ReadArbiterHarness
 from sim.formal.harnesses.row_tags import RowTagTrackerHarness
 from sim.formal.harnesses.frame_pairing import FramePairingHarness
 from sim.formal.harnesses.frame_store import FrameStoreOwnershipHarness
+from sim.formal.harnesses.frame_store_credits import DEPTH as CREDIT_DEPTH, LAYOUT as CREDIT_LAYOUT, FrameStoreCreditsHarness
+from hdl.frame_store.row_fetcher import RowFetcher
 from hdl.frame_store.ownership import BufferOwnership
 from sim.formal.harnesses.segment_band import SegmentBandHarness
 from sim.formal.harnesses.switches import SwitchControlHarness
@@ -198,6 +201,12 @@ class OwnershipTwoBuffers(FrameStoreOwnershipHarness):
         return Unchecked()
 
 
+class FetcherCountsADeeperFifo(FrameStoreCreditsHarness):
+    """The fetcher's credits counted for a FIFO two words deeper than the one it writes."""
+    def dut(self):
+        return RowFetcher(CREDIT_LAYOUT, 0, depth=CREDIT_DEPTH + 2)
+
+
 BITES = {
     "sync_gen": (SyncPulseTooWide, "hsync_window_and_polarity"),
     "switches": (SwitchesLoadAnyTime, "_changes_only_after_frame_start"),
@@ -221,6 +230,7 @@ BITES = {
     "frame_pairing": (PairingWiderTag, "_by_the_rule"),
     "depth_pairs": (DepthEngineWithoutPairs, "pair_mismatch_in_window_makes_the_row_invalid"),
     "frame_store_ownership": (OwnershipTwoBuffers, "writes the latest"),
+    "frame_store_credits": (FetcherCountsADeeperFifo, "room"),
 }
 
 
