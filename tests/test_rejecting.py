@@ -51,6 +51,7 @@ from hdl.frame_store.layout import FrameStoreLayout
 from hdl.frame_store.ownership import BufferOwnership
 from hdl.frame_store.row_fetcher import RowFetcher
 from hdl.frame_store.row_reader import RowReader
+from hdl.frame_store.row_window import RowWindow
 
 SMALL = dict(geometry=SMALL_SENSOR, timing=SMALL_TIMING, depth=SMALL_DEPTH, auto_rectification=SMALL_RECTIFICATION)
 
@@ -92,6 +93,7 @@ REJECTED = {
     "RowFetcher": lambda: RowFetcher(depth=1),
     "RowReader": lambda: RowReader(depth=24),
     "FrameStore": lambda: FrameStore(streams=((2, True),)),
+    "RowWindow": lambda: RowWindow(slots=1),
     "FrameStore, a camera writer": lambda: FrameStore(geometry=SensorGeometry(grey_bits=9)),
 }
 
