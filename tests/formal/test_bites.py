@@ -36,6 +36,8 @@ from sim.formal.harnesses.frame_pairing import FramePairingHarness
 from sim.formal.harnesses.frame_store import FrameStoreOwnershipHarness
 from sim.formal.harnesses.frame_store_credits import DEPTH as CREDIT_DEPTH, LAYOUT as CREDIT_LAYOUT, FrameStoreCreditsHarness
 from hdl.frame_store.row_fetcher import RowFetcher
+from sim.formal.harnesses.frame_store_writer import CAMERA as WRITER_CAMERA, LAYOUT as WRITER_LAYOUT, FrameStoreWriterHarness
+from hdl.frame_store.burst_writer import BurstWriter
 from hdl.frame_store.ownership import BufferOwnership
 from sim.formal.harnesses.segment_band import SegmentBandHarness
 from sim.formal.harnesses.switches import SwitchControlHarness
@@ -207,6 +209,18 @@ class FetcherCountsADeeperFifo(FrameStoreCreditsHarness):
         return RowFetcher(CREDIT_LAYOUT, 0, depth=CREDIT_DEPTH + 2)
 
 
+class WriterWithLongerRows(FrameStoreWriterHarness):
+    """The writer built for rows a burst longer apart than the buffers are laid out: its last rows spill over."""
+    def dut(self):
+        return BurstWriter(dataclasses.replace(WRITER_LAYOUT, stride=WRITER_LAYOUT.stride + 32), WRITER_CAMERA)
+
+
+class WriterToldEveryFrameIsWhole(FrameStoreWriterHarness):
+    """The capture's verdict wired high: frames the capture called broken finish complete."""
+    def connect_verdict(self, m, dut, ok):
+        m.d.comb += dut.entries.data.ok.eq(1)
+
+
 BITES = {
     "sync_gen": (SyncPulseTooWide, "hsync_window_and_polarity"),
     "switches": (SwitchesLoadAnyTime, "_changes_only_after_frame_start"),
@@ -231,6 +245,8 @@ BITES = {
     "depth_pairs": (DepthEngineWithoutPairs, "pair_mismatch_in_window_makes_the_row_invalid"),
     "frame_store_ownership": (OwnershipTwoBuffers, "writes the latest"),
     "frame_store_credits": (FetcherCountsADeeperFifo, "room"),
+    "frame_store_writer": (WriterWithLongerRows, "write_inside_the_owned_buffer"),
+    "frame_store_writer_complete": (WriterToldEveryFrameIsWhole, "complete_only_after_exactly_the_frame_s_bursts"),
 }
 
 
