@@ -114,3 +114,52 @@ def test_a_held_pair_is_read_whole_while_the_cameras_write():
     for k in (0, 2):
         for c in range(2):
             assert (reads[k][c] == pairs[k][c]).all(), f"pair {k}, camera {c}"
+
+
+def simulate_cameras(frames, delays, reads_after):
+    """Both cameras send ``frames[c]`` (``(image, kwargs)`` each) starting ``delays[c]`` camera clocks late; once
+    every frame is sent, the display takes a pair and reads it."""
+    m, store, mig = design()
+    sent, out = [], {}
+
+    def camera(c, domain):
+        async def run(ctx):
+            cam = Camera(ctx, store.cameras[c], domain)
+            await ctx.tick(domain).repeat(delays[c])
+            for image, kwargs in frames[c]:
+                await cam.frame(image, **kwargs)
+                await ctx.tick(domain).repeat(200)
+            sent.append(c)
+        return run
+
+    async def display(ctx):
+        while len(sent) < 2:
+            await ctx.tick("pix")
+        await ctx.tick("pix").repeat(reads_after)
+        out["pair"] = await read_pair(ctx, store, [0, 0])
+
+    async def latency(ctx):
+        ctx.set(mig.latency, 24)
+
+    sim = Simulator(m)
+    sim.add_clock(6.7e-9, domain="pix")
+    sim.add_clock(8e-9, domain="mem")
+    sim.add_clock(12.5e-9, domain="cam_a")
+    sim.add_clock(12.5e-9, domain="cam_b")
+    for c, domain in enumerate(("cam_a", "cam_b")):
+        sim.add_testbench(camera(c, domain), background=True)
+    sim.add_testbench(watch_violations(mig), background=True)
+    sim.add_testbench(latency)
+    sim.add_testbench(display)
+    sim.run()
+    return out["pair"]
+
+
+def test_a_dropped_frame_does_not_shift_the_pairs():
+    """Camera A (starting, and so finishing, a little before B) breaks its frame 1: frame 2 of A must be paired
+    with frame 2 of B, not with B's frame 1 that was waiting for a partner."""
+    pairs = [images(10 + k) for k in range(3)]
+    a = [(pairs[0][0], {}), (pairs[1][0][:-1], {}), (pairs[2][0], {})]      # frame 1 of A a row short
+    b = [(pair[1], {}) for pair in pairs]
+    left, right = simulate_cameras([a, b], delays=[10, 40], reads_after=100)
+    assert (left == pairs[2][0]).all() and (right == pairs[2][1]).all()

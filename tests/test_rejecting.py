@@ -94,6 +94,7 @@ REJECTED = {
     "RowReader": lambda: RowReader(depth=24),
     "FrameStore": lambda: FrameStore(streams=((2, True),)),
     "RowWindow": lambda: RowWindow(slots=1),
+    "FrameStore, three cameras": lambda: FrameStore(FrameStoreLayout(cameras=3), cam_domains=("a", "b", "c")),
     "FrameStore, a camera writer": lambda: FrameStore(geometry=SensorGeometry(grey_bits=9)),
 }
 

@@ -23,7 +23,7 @@ from .arbiter import MemoryArbiter
 from .burst_packer import check_grey
 from .camera_writer import CameraWriter
 from .layout import FrameStoreLayout
-from .ownership import BufferOwnership
+from .ownership import BufferOwnership, check_ownership
 from .row_reader import RowReader, RowStreamSignature
 
 __all__ = ["FrameStore", "CameraFeedSignature"]
@@ -72,7 +72,8 @@ class FrameStore(wiring.Component):
     Raises
     ------
     ValueError
-        No stream, a stream's camera outside the layout, ``cam_domains`` not one a camera, the parts' checks.
+        No stream, a stream's camera outside the layout, ``cam_domains`` not one a camera, more than two cameras,
+        the parts' checks.
     """
 
     def __init__(self, layout=FrameStoreLayout(), geometry=SENSOR, *, streams=((0, True), (1, True)), slots=4,
@@ -83,6 +84,7 @@ class FrameStore(wiring.Component):
         if len(cam_domains) != layout.cameras:
             raise ValueError(f"{layout.cameras} cameras need as many domains, got {cam_domains}")
         check_grey(geometry)
+        check_ownership(layout.cameras, 1, layout.buffers)
         self.layout, self.geometry, self.stream_list, self.slots = layout, geometry, streams, slots
         self.cam_domains, self.read_domain, self.mem_domain = tuple(cam_domains), read_domain, mem_domain
         self.fifo_depth, self.read_depth = fifo_depth, read_depth

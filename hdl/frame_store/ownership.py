@@ -14,10 +14,13 @@ Rules, applied in this order within a clock (each step sees the previous steps' 
 
 1. A writer's ``finish`` ends its frame: a ``complete`` frame becomes the camera's pending frame (an older pending
    frame of that camera is dropped, freed); an incomplete one is freed. A ``finish`` with no frame does nothing.
-2. Pairs: when every camera has a pending frame, the pending frames together become the latest pair (the pair's
-   previous frames are freed unless held) and nothing is pending. Frames completed in the same round -- frame *k* of
-   each synchronised camera -- so form a pair; a camera that drops a frame has its next frame paired with the
-   others' pending ones; a camera that stops leaves the latest pair as it is (readers keep reading it whole).
+2. Pairs: when every camera has a pending frame and, with two cameras, both frames carry the same pair tag, the
+   pending frames together become the latest pair (the pair's previous frames are freed unless held) and nothing
+   is pending. A frame's tag is the one :class:`hdl.frame_pairing.FramePairing` gives its start (docs/capture.md,
+   "Frame pairs": frame *k* of synchronised cameras shares a tag, in whichever order they start). A camera that
+   drops a frame leaves the other's frame pending with an older tag, replaced by that camera's next frame, which
+   pairs with the dropping camera's next one; a camera that stops leaves the latest pair as it is (readers keep
+   reading it whole).
 3. A reader's ``take`` holds the latest pair as it was before this clock (registered), or nothing when there is no
    pair yet; ``release`` holds nothing.
 4. A writer's ``start`` frees the buffer it was writing (a frame without ``finish`` is abandoned) and takes the
@@ -39,9 +42,22 @@ from amaranth.hdl import Assert
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
+from hdl.frame_pairing import FramePairing
 from hdl.signature import ParametricSignature
+from spec.sensor import ROW_TAG_BITS
 
-__all__ = ["BufferOwnership", "WriterOwnershipSignature", "ReaderHoldSignature"]
+__all__ = ["BufferOwnership", "WriterOwnershipSignature", "ReaderHoldSignature", "check_ownership"]
+
+
+def check_ownership(cameras, readers, buffers, pair_bits=ROW_TAG_BITS):
+    """``ValueError`` unless a :class:`BufferOwnership` can be built: 1 or 2 cameras, a reader, ``readers + 2``
+    buffers, a tag bit."""
+    if cameras not in (1, 2) or readers < 1:
+        raise ValueError(f"cameras must be 1 or 2 and readers at least 1, got {cameras} and {readers}")
+    if buffers < readers + 2:
+        raise ValueError(f"{readers} reader(s) need at least {readers + 2} buffers per camera, got {buffers}")
+    if pair_bits < 1:
+        raise ValueError(f"pair_bits must be at least 1, got {pair_bits}")
 
 
 def _bits(buffers):
@@ -73,6 +89,9 @@ class BufferOwnership(wiring.Component):
     Parameters
     ----------
     cameras : int
+        1 or 2 (two are paired by :class:`hdl.frame_pairing.FramePairing`'s tags).
+    pair_bits : int
+        The pair tags' width.
     readers : int
         Independent holders (the display with the depth engine is one: both read the pair taken at the display frame's
         start).
@@ -91,14 +110,12 @@ class BufferOwnership(wiring.Component):
     Raises
     ------
     ValueError
-        ``cameras`` or ``readers`` below 1, or ``buffers`` below ``readers + 2``.
+        ``cameras`` not 1 or 2, ``readers`` below 1, ``buffers`` below ``readers + 2``, the pairing's check.
     """
 
-    def __init__(self, cameras=2, readers=1, buffers=3):
-        if cameras < 1 or readers < 1:
-            raise ValueError(f"cameras and readers must be at least 1, got {cameras} and {readers}")
-        if buffers < readers + 2:
-            raise ValueError(f"{readers} reader(s) need at least {readers + 2} buffers per camera, got {buffers}")
+    def __init__(self, cameras=2, readers=1, buffers=3, *, pair_bits=ROW_TAG_BITS):
+        check_ownership(cameras, readers, buffers, pair_bits)
+        self.pair_bits = pair_bits
         self.cameras, self.n_readers, self.buffers = cameras, readers, buffers
         super().__init__({
             "writers": In(WriterOwnershipSignature(buffers)).array(cameras),
@@ -113,6 +130,7 @@ class BufferOwnership(wiring.Component):
         pending_valid = [Signal(name=f"pending_valid_{c}") for c in range(self.cameras)]
         pending = [Signal(bits, name=f"pending_{c}") for c in range(self.cameras)]
 
+        tags, pending_tags_1 = self._tags(m)
         # 1. finish: the pending frames after this clock's finishes.
         pending_valid_1, pending_1 = [], []
         for c, w in enumerate(self.writers):
@@ -121,9 +139,13 @@ class BufferOwnership(wiring.Component):
             m.d.comb += [pv.eq(pending_valid[c] | publish), p.eq(Mux(publish, w.buffer, pending[c]))]
             pending_valid_1.append(pv)
             pending_1.append(p)
+            if tags:
+                m.d.comb += pending_tags_1[c].eq(Mux(publish, tags["frame"][c], tags["pending"][c]))
+                m.d.sync += tags["pending"][c].eq(pending_tags_1[c])
         # 2. pairs.
         promote = Signal()
-        m.d.comb += promote.eq(Cat(*pending_valid_1).all())
+        same_pair = pending_tags_1[0] == pending_tags_1[1] if tags else 1
+        m.d.comb += promote.eq(Cat(*pending_valid_1).all() & same_pair)
         latest_valid_2 = latest_valid | promote
         latest_2 = [Mux(promote, pending_1[c], latest[c]) for c in range(self.cameras)]
         pending_valid_2 = [pv & ~promote for pv in pending_valid_1]
@@ -166,11 +188,27 @@ class BufferOwnership(wiring.Component):
         m.d.sync += latest_valid.eq(latest_valid_2)
 
         if platform == "formal":
-            self._invariants(m, latest_valid, latest, pending_valid, pending)
+            self._invariants(m, latest_valid, latest, pending_valid, pending, tags)
         return m
 
-    def _invariants(self, m, latest_valid, latest, pending_valid, pending):
-        """The roles are disjoint (a held buffer may be the latest); every pending pair is incomplete."""
+    def _tags(self, m):
+        """Two cameras: the pairing, each writer's frame tag (taken at its start) and each pending frame's; the
+        pending tags after this clock's finishes are returned for the caller to drive. One camera: none."""
+        if self.cameras == 1:
+            return None, [None]
+        m.submodules.pairing = pairing = FramePairing(self.pair_bits)
+        tags = {"frame": [], "pending": []}
+        for c, (w, side) in enumerate(zip(self.writers, (pairing.a, pairing.b))):
+            frame, pending = Signal(self.pair_bits, name=f"frame_tag_{c}"), Signal(self.pair_bits, name=f"pending_tag_{c}")
+            m.d.comb += side.started.eq(w.start)
+            with m.If(w.start):
+                m.d.sync += frame.eq(side.tag)
+            tags["frame"].append(frame)
+            tags["pending"].append(pending)
+        return tags, [Signal(self.pair_bits, name=f"pending_tag_1_{c}") for c in range(2)]
+
+    def _invariants(self, m, latest_valid, latest, pending_valid, pending, tags):
+        """The roles are disjoint (a held buffer may be the latest); no pair is left pending."""
         for c, w in enumerate(self.writers):
             m.d.comb += [
                 Assert(w.buffer < self.buffers, f"writer {c} owns an existing buffer"),
@@ -185,4 +223,5 @@ class BufferOwnership(wiring.Component):
                     Assert(~(pending_valid[c] & reader.valid & (pending[c] == reader.buffer[c])),
                            f"camera {c} pending held by reader {r}"),
                 ]
-        m.d.comb += Assert(~Cat(*pending_valid).all(), "a whole pair is left pending")
+        same = tags["pending"][0] == tags["pending"][1] if tags else 1
+        m.d.comb += Assert(~(Cat(*pending_valid).all() & same), "a whole pair is left pending")
