@@ -42,6 +42,16 @@ from sim.replay.sensor import SensorReplay
 from sim.testbench.system.testbench import SystemTestbench
 from sim.testbench.system.rom_testbench import RomReplayTestbench
 from sim.testbench.system.verilog_testbench import VerilogReplayTestbench
+from hdl.frame_store.arbiter import MemoryArbiter
+from hdl.frame_store.burst_packer import BurstPacker
+from hdl.frame_store.burst_writer import BurstWriter
+from hdl.frame_store.camera_writer import CameraWriter
+from hdl.frame_store.frame_store import FrameStore
+from hdl.frame_store.layout import FrameStoreLayout
+from hdl.frame_store.ownership import BufferOwnership
+from hdl.frame_store.row_fetcher import RowFetcher
+from hdl.frame_store.row_reader import RowReader
+from hdl.frame_store.row_window import RowWindow
 
 SMALL = dict(geometry=SMALL_SENSOR, timing=SMALL_TIMING, depth=SMALL_DEPTH, auto_rectification=SMALL_RECTIFICATION)
 
@@ -74,6 +84,18 @@ REJECTED = {
     "RomReplayTestbench": lambda: RomReplayTestbench(replay_words={"a": [0]}, **SMALL),
     "VerilogReplayTestbench": lambda: VerilogReplayTestbench(replay_depth=1, periods_ps={"sync": 3, "pix": 4, "cam": 2},
                                                      **SMALL),
+    "FrameStoreLayout": lambda: FrameStoreLayout(width=40, stride=48),
+    "BufferOwnership": lambda: BufferOwnership(readers=2, buffers=3),
+    "BurstPacker": lambda: BurstPacker(geometry=SensorGeometry(grey_bits=9)),
+    "BurstWriter": lambda: BurstWriter(camera=2),
+    "CameraWriter": lambda: CameraWriter(fifo_depth=6),
+    "MemoryArbiter": lambda: MemoryArbiter(readers=1, urgent=2),
+    "RowFetcher": lambda: RowFetcher(depth=1),
+    "RowReader": lambda: RowReader(depth=24),
+    "FrameStore": lambda: FrameStore(streams=((2, True),)),
+    "RowWindow": lambda: RowWindow(slots=1),
+    "FrameStore, three cameras": lambda: FrameStore(FrameStoreLayout(cameras=3), cam_domains=("a", "b", "c")),
+    "FrameStore, a camera writer": lambda: FrameStore(geometry=SensorGeometry(grey_bits=9)),
 }
 
 

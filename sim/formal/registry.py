@@ -12,6 +12,9 @@ from sim.formal.harnesses.depth_codes import MedianCodesHarness, SubpixelCodesHa
 from sim.formal.harnesses.disparity import DisparityHarness
 from sim.formal.harnesses.frame_buffer import FrameBufferHarness
 from sim.formal.harnesses.frame_pairing import FramePairingHarness
+from sim.formal.harnesses.frame_store import FrameStoreOwnershipHarness
+from sim.formal.harnesses.frame_store_credits import FrameStoreCreditsHarness
+from sim.formal.harnesses.frame_store_writer import FrameStoreWriterHarness
 from sim.formal.harnesses.i2c import I2CMasterHarness, InitSequencerHarness
 from sim.formal.harnesses.read_arbiter import ReadArbiterHarness
 from sim.formal.harnesses.row_tags import RowTagTrackerHarness
@@ -42,6 +45,9 @@ DEFAULT = {
     "segment_band": SegmentBandHarness,
     "row_tags": RowTagTrackerHarness,
     "frame_pairing": FramePairingHarness,
+    "frame_store_ownership": FrameStoreOwnershipHarness,
+    "frame_store_credits": FrameStoreCreditsHarness,
+    "frame_store_writer": FrameStoreWriterHarness,
 }
 
 

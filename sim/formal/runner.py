@@ -117,6 +117,14 @@ class FormalHarness:
         m.submodules[name] = module
         return module
 
+    def open_formal(self, m, name, dut):
+        """As :meth:`open`, with ``platform="formal"``: the block adds its own invariants (``Assert`` s under
+        ``if platform == "formal":``, as ``amaranth.lib.fifo`` does), proven with the harness's properties; a
+        counterexample to one names it by its message."""
+        module = dut.elaborate("formal")
+        m.submodules[name] = module
+        return module
+
     def past(self, m, value, clocks=1, *, name=None, reset_less=False):
         """``value`` as it was ``clocks`` clocks ago (registers, reset with the design unless ``reset_less``:
         guard the use with :meth:`past_valid`)."""
@@ -188,7 +196,10 @@ def replay(harness, frames, vcd):
     writing every signal to ``vcd``; the value of each property wire on each clock, ``[{name: 0/1}]``.
 
     The proof engines work on Yosys's model of the design; this replay is Amaranth's own semantics, so a
-    trace that does not make the same property fail here points at a tool problem, not at the design."""
+    trace that does not make the same property fail here points at a tool problem, not at the design.
+
+    A block opened with :meth:`FormalHarness.open_formal` asserts its own invariants; the simulator stops at the
+    first that fails, and the second value returned is its message (``None`` when none fails)."""
     harness._select = "replay"               # no Assert/Assume cells: the simulator would raise on them
     try:
         m = harness.elaborate(None)
@@ -212,9 +223,13 @@ def replay(harness, frames, vcd):
     vcd = Path(vcd)
     vcd.parent.mkdir(parents=True, exist_ok=True)
     traces = [harness._domain.rst, *harness._free, *wires.values()]
-    with sim.write_vcd(str(vcd), str(vcd.with_suffix(".gtkw")), traces=traces):
-        sim.run()
-    return seen
+    block_failure = None
+    try:
+        with sim.write_vcd(str(vcd), str(vcd.with_suffix(".gtkw")), traces=traces):
+            sim.run()
+    except AssertionError as exc:            # a block's own assertion (platform "formal")
+        block_failure = f"{str(exc).removeprefix('Assertion violated: ')} (the block's own)"
+    return seen, block_failure
 
 
 def _violations(seen, kind, names, value):
@@ -300,9 +315,11 @@ def _run_group(harness, bound, names, workdir, outdir):
     if outcome.status == "failed":
         label = "unbounded" if bound is None else f"bounded_{bound}"
         result.vcd = outdir / f"{label}.vcd"
-        seen = replay(harness, outcome.frames, result.vcd)
+        seen, block_failure = replay(harness, outcome.frames, result.vcd)
         _check_assumptions(harness, seen, result.vcd)
         _, result.failed = _violations(seen, "assert", names, 0)
+        if block_failure and not result.failed:
+            result.failed = [block_failure]
         if not result.failed:
             raise engines.FormalToolError(f"{harness.name}: the {engine} counterexample does not make any "
                                           f"assertion fail in Amaranth's simulator (see {result.vcd})")
@@ -344,7 +361,7 @@ def check(harness, *, outdir=DEFAULT_OUTDIR, covers=True):
         for n, o in cover_results.items():
             if o.status == "reached":
                 cover_vcds[n] = vcd = outdir / f"cover_{n}.vcd"
-                seen = replay(harness, o.frames, vcd)
+                seen, _ = replay(harness, o.frames, vcd)
                 _check_assumptions(harness, seen, vcd)
                 if _violations(seen, "cover", [n], 1)[0] is None:
                     raise engines.FormalToolError(f"{harness.name}: the trace of cover {n} does not reach it "

@@ -1,3 +1,4 @@
+# amaranth: UnusedElaboratable=no
 """Each harness bites: one deliberate bug per block (a mutated parameter or a wrong connection) makes its proof
 fail, names the broken property and leaves a counterexample VCD in ``build/formal/<harness>/``."""
 
@@ -32,6 +33,12 @@ from sim.formal.harnesses.i2c import BUS_HZ, CLK_HZ, TIMEOUT_US, I2CMasterHarnes
 from sim.formal.harnesses.read_arbiter import ReadArbiterHarness
 from sim.formal.harnesses.row_tags import RowTagTrackerHarness
 from sim.formal.harnesses.frame_pairing import FramePairingHarness
+from sim.formal.harnesses.frame_store import FrameStoreOwnershipHarness
+from sim.formal.harnesses.frame_store_credits import DEPTH as CREDIT_DEPTH, LAYOUT as CREDIT_LAYOUT, FrameStoreCreditsHarness
+from hdl.frame_store.row_fetcher import RowFetcher
+from sim.formal.harnesses.frame_store_writer import CAMERA as WRITER_CAMERA, LAYOUT as WRITER_LAYOUT, FrameStoreWriterHarness
+from hdl.frame_store.burst_writer import BurstWriter
+from hdl.frame_store.ownership import BufferOwnership
 from sim.formal.harnesses.segment_band import SegmentBandHarness
 from sim.formal.harnesses.switches import SwitchControlHarness
 from sim.formal.harnesses.sync_gen import SyncGeneratorHarness
@@ -185,6 +192,35 @@ class SegmentBandCentreOneHigher(SegmentBandHarness):
         return dut.rgb, dut.chars.as_value()
 
 
+class OwnershipTwoBuffers(FrameStoreOwnershipHarness):
+    """Two buffers a camera for one reader (the constructor's check skipped): the latest and a held pair leave the
+    writer no buffer of its own."""
+    def dut(self):
+        class Unchecked(BufferOwnership):
+            def __init__(self):
+                BufferOwnership.__init__(self, 2, 1, 3)
+                self.buffers = 2
+        return Unchecked()
+
+
+class FetcherCountsADeeperFifo(FrameStoreCreditsHarness):
+    """The fetcher's credits counted for a FIFO two words deeper than the one it writes."""
+    def dut(self):
+        return RowFetcher(CREDIT_LAYOUT, 0, depth=CREDIT_DEPTH + 2)
+
+
+class WriterWithLongerRows(FrameStoreWriterHarness):
+    """The writer built for rows a burst longer apart than the buffers are laid out: its last rows spill over."""
+    def dut(self):
+        return BurstWriter(dataclasses.replace(WRITER_LAYOUT, stride=WRITER_LAYOUT.stride + 32), WRITER_CAMERA)
+
+
+class WriterToldEveryFrameIsWhole(FrameStoreWriterHarness):
+    """The capture's verdict wired high: frames the capture called broken finish complete."""
+    def connect_verdict(self, m, dut, ok):
+        m.d.comb += dut.entries.data.ok.eq(1)
+
+
 BITES = {
     "sync_gen": (SyncPulseTooWide, "hsync_window_and_polarity"),
     "switches": (SwitchesLoadAnyTime, "_changes_only_after_frame_start"),
@@ -207,6 +243,10 @@ BITES = {
     "row_tags": (TrackerMoreRows, "busy_exactly_for_row_in_progress"),
     "frame_pairing": (PairingWiderTag, "_by_the_rule"),
     "depth_pairs": (DepthEngineWithoutPairs, "pair_mismatch_in_window_makes_the_row_invalid"),
+    "frame_store_ownership": (OwnershipTwoBuffers, "writes the latest"),
+    "frame_store_credits": (FetcherCountsADeeperFifo, "room"),
+    "frame_store_writer": (WriterWithLongerRows, "write_inside_the_owned_buffer"),
+    "frame_store_writer_complete": (WriterToldEveryFrameIsWhole, "complete_only_after_exactly_the_frame_s_bursts"),
 }
 
 

@@ -1,0 +1,126 @@
+"""MemoryArbiter: the frame store's writers and readers sharing MIG's user interface, in the ``mem`` domain.
+
+One burst a grant, by fixed priority: the *urgent* readers first (the display's: a display line cannot wait), then
+the camera writers (a camera cannot be held back either, but its FIFO absorbs a wait of several bursts), then the
+other readers (the depth engine's, which waits; docs/frame_store.md, "Arbitration", has the worst case).
+
+* Nothing is granted before ``phy_init_done``, nor while MIG's address or write-data FIFO is almost full
+  (``afull``: 15 or fewer entries free; the arbiter adds at most 2 data words and 1 command after the clock it
+  sees the flag low, so it never overfills them).
+* A write burst takes two clocks: its first data word in the clock after the grant, its second with the write
+  command in the next (data before command, AR 24146). No grant in the first of them.
+* A read burst's command goes out in the clock after the grant; the reader's number goes into a FIFO of
+  ``read_tags`` entries (a read is granted only when there is room), and the two words MIG returns for it, in
+  command order, are handed to that reader (``valid`` for one clock each: no backpressure).
+
+Outputs to MIG are registered. The arbiter does not count a reader's credits: a reader requests a burst only when
+it has room for its words (:class:`~hdl.frame_store.row_fetcher.RowFetcher`).
+"""
+
+from amaranth import Module, Signal
+from amaranth.lib import wiring
+from amaranth.lib.fifo import SyncFIFO
+from amaranth.lib.wiring import In, Out
+
+from hdl.mig_user import MIGUserSignature
+from spec.memory import MIG
+
+from .mem_port import BurstReadSignature, BurstWriteSignature
+
+__all__ = ["MemoryArbiter"]
+
+
+class MemoryArbiter(wiring.Component):
+    """See the module docstring.
+
+    Parameters
+    ----------
+    writers : int
+        Burst writers (the cameras').
+    readers : int
+        Burst readers.
+    urgent : int
+        The first ``urgent`` readers come before the writers; the rest after them.
+    read_tags : int
+        Read bursts in flight at most (the tag FIFO's depth).
+
+    Attributes
+    ----------
+    writers : ``In(BurstWriteSignature()).array(writers)``
+    readers : ``In(BurstReadSignature()).array(readers)``
+    mig : ``Out(MIGUserSignature())``
+
+    Clock domain: ``sync`` (the frame store renames it to ``mem``, MIG's ``clk0``). Latency: a granted command
+    reaches MIG one clock (read) or two clocks (write, with its second word) after its grant; a read's words reach
+    their reader in the clock MIG returns them.
+
+    Raises
+    ------
+    ValueError
+        No client, ``urgent`` above ``readers``, ``read_tags`` below 1.
+    """
+
+    def __init__(self, writers=2, readers=2, urgent=1, read_tags=32):
+        if writers + readers < 1 or writers < 0 or readers < 0:
+            raise ValueError(f"the arbiter needs a client, got {writers} writers and {readers} readers")
+        if not 0 <= urgent <= readers:
+            raise ValueError(f"urgent must be in 0..{readers}, got {urgent}")
+        if read_tags < 1:
+            raise ValueError(f"read_tags must be at least 1, got {read_tags}")
+        self.n_writers, self.n_readers, self.urgent, self.read_tags = writers, readers, urgent, read_tags
+        super().__init__({
+            "writers": In(BurstWriteSignature()).array(writers),
+            "readers": In(BurstReadSignature()).array(readers),
+            "mig": Out(MIGUserSignature()),
+        })
+
+    def _order(self):
+        """The clients by priority: ``("read", i)`` / ``("write", i)``."""
+        return ([("read", i) for i in range(self.urgent)] + [("write", i) for i in range(self.n_writers)] +
+                [("read", i) for i in range(self.urgent, self.n_readers)])
+
+    def elaborate(self, platform):
+        m = Module()
+        mig = self.mig
+        tag_bits = max(1, (self.n_readers - 1).bit_length())
+        m.submodules.tags = tags = SyncFIFO(width=tag_bits, depth=self.read_tags)
+
+        second = Signal()                       # the second clock of a write burst
+        word1, mask1 = Signal(MIG.DATA_WIDTH), Signal(MIG.MASK_WIDTH)
+        write_addr = Signal(MIG.ADDR_WIDTH)
+        ready = Signal()
+        m.d.comb += ready.eq(mig.phy_init_done & ~mig.command.afull & ~mig.write.afull & ~second)
+
+        # Registered outputs, idle unless set below.
+        m.d.sync += [mig.command.wren.eq(0), mig.write.wren.eq(0)]
+        with m.If(second):
+            m.d.sync += [second.eq(0), mig.write.data.eq(word1), mig.write.mask.eq(mask1), mig.write.wren.eq(1),
+                         mig.command.cmd.eq(MIG.CMD_WRITE), mig.command.addr.eq(write_addr),
+                         mig.command.wren.eq(1)]
+
+        for n, (kind, i) in enumerate(self._order()):      # one If/Elif chain: the first request wins
+            branch = m.If if n == 0 else m.Elif
+            if kind == "write":
+                client = self.writers[i]
+                with branch(ready & client.request):
+                    m.d.comb += client.grant.eq(1)
+                    m.d.sync += [second.eq(1), write_addr.eq(client.addr),
+                                 mig.write.data.eq(client.data[:MIG.DATA_WIDTH]),
+                                 mig.write.mask.eq(client.mask[:MIG.MASK_WIDTH]), mig.write.wren.eq(1),
+                                 word1.eq(client.data[MIG.DATA_WIDTH:]), mask1.eq(client.mask[MIG.MASK_WIDTH:])]
+            else:
+                client = self.readers[i]
+                with branch(ready & tags.w_rdy & client.request):
+                    m.d.comb += [client.grant.eq(1), tags.w_en.eq(1), tags.w_data.eq(i)]
+                    m.d.sync += [mig.command.cmd.eq(MIG.CMD_READ), mig.command.addr.eq(client.addr),
+                                 mig.command.wren.eq(1)]
+
+        # Read data to the reader whose command it answers: two words a tag.
+        second_word = Signal()
+        with m.If(mig.read.valid & tags.r_rdy):
+            m.d.sync += second_word.eq(~second_word)
+            m.d.comb += tags.r_en.eq(second_word)
+        for i, client in enumerate(self.readers):
+            m.d.comb += [client.data.eq(mig.read.data),
+                         client.valid.eq(mig.read.valid & tags.r_rdy & (tags.r_data == i))]
+        return m

@@ -1,0 +1,164 @@
+"""BurstPacker: a camera's captured grey pixels packed into the frame store's BL4 bursts, in the camera's domain.
+
+The capture (:class:`hdl.capture.CameraCapture`) writes its kept pixels in raster order between ``row_start`` and
+``row_end`` strobes, framed by ``frame_start`` and ``frame_done`` (with ``frame_ok``). The packer counts them itself
+-- the column from the row's start, the row from the frame's start, both saturating at the layout's size -- and
+places each pixel's grey value, one byte (zero-extended), at its column in a burst register of 32 bytes. It sends
+one entry per event (:data:`ENTRY_KINDS`):
+
+* ``BURST``: a burst's 32 bytes with its row, its index in the row and its byte mask (a 1 masks a byte no pixel
+  was written to, as MIG's mask does), when the row's 32nd pixel of the burst is written or the row ends;
+* ``START``: a frame starts (a burst in progress is dropped);
+* ``END``: a frame ends; ``ok`` = the capture's ``frame_ok`` and no entry of the frame was lost.
+
+Entries are ``Out`` on ``entry`` (a FIFO's write side: ``en`` when ``rdy``). The packer never waits: a burst it
+cannot send (the FIFO is full, or a ``START``/``END`` is still waiting to be sent before it) is dropped and its frame
+ends not ``ok``; a ``START``/``END`` waits in its own flag until it is sent, ahead of later bursts. Pixels beyond
+the layout's width and rows beyond its height are dropped, and their frame ends not ``ok``.
+"""
+
+from amaranth import Cat, Const, Module, Signal
+from amaranth.lib import data, wiring
+from amaranth.lib.wiring import In, Out
+
+from hdl.capture import CaptureStatusSignature
+from hdl.frame_buffer import FrameBufferWriteSignature
+from spec.sensor import SENSOR
+
+from .layout import BURST_BYTES, FrameStoreLayout
+
+__all__ = ["BurstPacker", "burst_entry_layout", "check_grey", "ENTRY_KINDS"]
+
+#: The entry kinds: a burst of pixels, a frame's start, a frame's end.
+ENTRY_KINDS = {"BURST": 0, "START": 1, "END": 2}
+
+
+def check_grey(geometry):
+    """``ValueError`` unless a pixel's grey fits its byte (``geometry.grey_bits`` at most 8)."""
+    if geometry.grey_bits > 8:
+        raise ValueError(f"one byte a pixel holds at most 8 bits of grey, got {geometry.grey_bits}")
+
+
+def burst_entry_layout(layout):
+    """The entry's fields: ``kind`` (:data:`ENTRY_KINDS`), ``ok`` (an END's verdict), ``row``, ``burst``, ``data``
+    (32 bytes, byte ``k`` the pixel at column ``32 * burst + k``), ``mask`` (a 1 per byte not written)."""
+    return data.StructLayout({
+        "kind": 2, "ok": 1,
+        "row": range(layout.height), "burst": range(layout.bursts_per_row),
+        "data": 8 * BURST_BYTES, "mask": BURST_BYTES,
+    })
+
+
+class BurstPacker(wiring.Component):
+    """See the module docstring.
+
+    Parameters
+    ----------
+    layout : :class:`hdl.frame_store.layout.FrameStoreLayout`
+        ``width`` x ``height`` pixels a frame.
+    geometry : :class:`spec.sensor.SensorGeometry`
+        The capture's write port (``grey_bits`` of grey, at most 8).
+
+    Attributes
+    ----------
+    write : ``In(FrameBufferWriteSignature(geometry))``
+        The capture's pixel writes (``addr`` is not used: the packer counts).
+    status : ``In(CaptureStatusSignature)``
+        The capture's strobes.
+    entry : ``Out(...)``
+        ``data`` (:func:`burst_entry_layout`), ``en`` out; ``rdy`` in (room in the FIFO).
+
+    Clock domain: ``sync`` (the writer renames it to the camera's). Latency: a burst's entry is sent in the clock
+    after the write that fills it or after ``row_end``; ``START`` / ``END`` in the clock after their strobe when
+    nothing else is sent then.
+
+    Raises
+    ------
+    ValueError
+        ``geometry.grey_bits`` above 8.
+    """
+
+    def __init__(self, layout=FrameStoreLayout(), geometry=SENSOR):
+        check_grey(geometry)
+        self.layout, self.geometry = layout, geometry
+        super().__init__({
+            "write": In(FrameBufferWriteSignature(geometry)),
+            "status": In(CaptureStatusSignature),
+            "entry": Out(wiring.Signature({"data": Out(burst_entry_layout(layout)), "en": Out(1), "rdy": In(1)})),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        lay = self.layout
+        width, height = lay.width, lay.height
+        status, write, entry = self.status, self.write, self.entry
+
+        column = Signal(range(width + 1))       # saturating at width: no pixel
+        row = Signal(range(height + 1))         # saturating at height: no row
+        in_row = Signal()
+        burst_data = Signal(8 * BURST_BYTES)
+        written = Signal(BURST_BYTES)           # bytes of the burst register written in this burst
+        lost = Signal()                         # an entry of this frame could not be sent
+        start_waiting, end_waiting, end_ok = Signal(), Signal(), Signal()
+
+        # The pixel: its byte in the burst register; a full burst or the row's end sends it.
+        offset = column[:5]                     # the byte in the burst (BURST_BYTES = 32)
+        keep = write.en & in_row & (column < width) & (row < height)
+        filled = Signal()                       # the burst register holds a burst to send (registered)
+        full_row, full_burst = Signal(range(height)), Signal(range(lay.bursts_per_row))
+        full_data, full_mask = Signal(8 * BURST_BYTES), Signal(BURST_BYTES)
+        m.d.sync += filled.eq(0)
+        with m.If(keep):
+            m.d.sync += column.eq(column + 1)
+            byte = Cat(write.data, Const(0, 8 - len(write.data)))
+            new_data = Signal.like(burst_data)
+            new_written = Signal.like(written)
+            m.d.comb += [new_data.eq(burst_data), new_written.eq(written)]
+            m.d.comb += [new_data.word_select(offset, 8).eq(byte), new_written.bit_select(offset, 1).eq(1)]
+            with m.If((offset == BURST_BYTES - 1) | (column == width - 1)):
+                m.d.sync += [filled.eq(1), full_row.eq(row), full_burst.eq(column[5:]),
+                             full_data.eq(new_data), full_mask.eq(~new_written), written.eq(0)]
+            with m.Else():
+                m.d.sync += [burst_data.eq(new_data), written.eq(new_written)]
+        with m.If(write.en & in_row & ~keep):   # a pixel beyond the width or a row beyond the height
+            m.d.sync += lost.eq(1)
+        with m.If(status.row_end & in_row):
+            m.d.sync += [in_row.eq(0), column.eq(0)]
+            with m.If(row != height):
+                m.d.sync += row.eq(row + 1)
+            with m.If(written.any() & ~keep):      # a short row's last, partly written burst
+                m.d.sync += [filled.eq(1), full_row.eq(row), full_burst.eq(column[5:]),
+                             full_data.eq(burst_data), full_mask.eq(~written), written.eq(0)]
+        with m.If(status.row_start):
+            m.d.sync += [in_row.eq(1), column.eq(0), written.eq(0)]
+        with m.If(status.frame_start):
+            m.d.sync += [row.eq(0), column.eq(0), in_row.eq(0), written.eq(0), filled.eq(0),
+                         start_waiting.eq(1), lost.eq(0)]
+        with m.If(status.frame_done):
+            m.d.sync += [end_waiting.eq(1), end_ok.eq(status.frame_ok)]
+
+        self._send(m, filled, full_row, full_burst, full_data, full_mask, start_waiting, end_waiting, end_ok, lost)
+        return m
+
+    def _send(self, m, filled, full_row, full_burst, full_data, full_mask, start_waiting, end_waiting, end_ok, lost):
+        """One entry a clock: a filled burst (unless an END or START waits before it), else the END, else the
+        START. The flags are set by this clock's strobes after (so over) what is sent here."""
+        entry = self.entry
+        kinds = ENTRY_KINDS
+        with m.If(filled & ~start_waiting & ~end_waiting):
+            m.d.comb += [entry.data.kind.eq(kinds["BURST"]), entry.data.row.eq(full_row),
+                         entry.data.burst.eq(full_burst), entry.data.data.eq(full_data),
+                         entry.data.mask.eq(full_mask), entry.en.eq(entry.rdy)]
+            with m.If(~entry.rdy):
+                m.d.sync += lost.eq(1)
+        with m.Elif(end_waiting):
+            m.d.comb += [entry.data.kind.eq(kinds["END"]), entry.data.ok.eq(end_ok & ~lost & ~filled),
+                         entry.en.eq(entry.rdy)]
+            with m.If(entry.rdy):
+                m.d.sync += end_waiting.eq(0)
+        with m.Elif(start_waiting):
+            m.d.comb += [entry.data.kind.eq(kinds["START"]), entry.en.eq(entry.rdy)]
+            with m.If(entry.rdy):
+                m.d.sync += start_waiting.eq(0)
+            with m.If(filled):
+                m.d.sync += lost.eq(1)

@@ -1,0 +1,112 @@
+"""RowFetcher: a reader's rows fetched from the buffer it holds, burst by burst, in the ``mem`` domain, never more
+than its receiving FIFO can take (docs/frame_store.md, "Readers").
+
+Requests (row numbers) come from a FIFO; for each, the fetcher asks the arbiter for the row's bursts in order
+(``buffer base + row * stride + burst * 32 bytes``) and writes the words MIG returns, two a burst, into ``words``
+(the write side of a FIFO of ``depth`` words). MIG cannot be held back, so a read is requested only when the FIFO
+has room for every word outstanding and the burst's two (*credits*): ``level + outstanding + 2 <= depth``, with
+``level`` the FIFO's own count, which only overstates the words in it while the other side's reads reach it.
+While the reader holds no pair (before the first complete pair), a row's bursts are not read: two zero words each
+go into the FIFO instead, once nothing is outstanding, so the words still come one row after another.
+"""
+
+from amaranth import Array, Const, Module, Signal
+from amaranth.lib import wiring
+from amaranth.lib.wiring import In, Out
+
+from spec.memory import MIG
+
+from .layout import FrameStoreLayout
+from .mem_port import BurstReadSignature
+
+__all__ = ["RowFetcher"]
+
+
+class RowFetcher(wiring.Component):
+    """See the module docstring.
+
+    Parameters
+    ----------
+    layout : :class:`hdl.frame_store.layout.FrameStoreLayout`
+    camera : int
+        Whose buffers it reads.
+    depth : int
+        The receiving FIFO's depth in words (at least 2).
+
+    Attributes
+    ----------
+    requests : ``In(...)``
+        A FIFO's read side: ``row`` and ``rdy`` in, ``en`` out.
+    hold : ``In(...)``
+        ``valid`` and ``buffer``: the pair the reader holds, this camera's buffer (the ownership's reader port).
+    mem : ``Out(BurstReadSignature())``
+    words : ``Out(...)``
+        A FIFO's write side: ``data``, ``en`` out; ``level`` (its word count) in.
+    outstanding : ``Out(range(depth + 1))``
+        Words requested and not yet returned.
+
+    Clock domain: ``sync`` (the reader renames it to ``mem``). Latency: a request is taken in the clock after the
+    previous row's last burst is granted; words go into the FIFO in the clock MIG returns them.
+
+    Raises
+    ------
+    ValueError
+        ``camera`` outside the layout, ``depth`` below 2.
+    """
+
+    def __init__(self, layout=FrameStoreLayout(), camera=0, depth=32):
+        if not 0 <= camera < layout.cameras:
+            raise ValueError(f"camera must be in 0..{layout.cameras - 1}, got {camera}")
+        if depth < MIG.WORDS_PER_BURST:
+            raise ValueError(f"depth must hold a burst's {MIG.WORDS_PER_BURST} words, got {depth}")
+        self.layout, self.camera, self.depth = layout, camera, depth
+        bits = max(1, (layout.buffers - 1).bit_length())
+        super().__init__({
+            "requests": In(wiring.Signature({"row": Out(range(layout.height)), "rdy": Out(1), "en": In(1)})),
+            "hold": In(wiring.Signature({"valid": Out(1), "buffer": Out(bits)})),
+            "mem": Out(BurstReadSignature()),
+            "words": Out(wiring.Signature({"data": Out(MIG.DATA_WIDTH), "en": Out(1),
+                                           "level": In(range(depth + 1))})),
+            "outstanding": Out(range(depth + 1)),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        lay, mem, words = self.layout, self.mem, self.words
+        busy = Signal()
+        row = Signal(range(lay.height))
+        burst = Signal(range(lay.bursts_per_row))
+        zero_second = Signal()                  # the second zero word of a burst not read
+        outstanding = self.outstanding
+        bases = Array(Const(lay.buffer_base(self.camera, b), MIG.ADDR_WIDTH) for b in range(lay.buffers))
+        room = Signal()
+        m.d.comb += [
+            room.eq(words.level + outstanding + MIG.WORDS_PER_BURST <= self.depth),
+            mem.addr.eq(bases[self.hold.buffer] + row * lay.stride_words + burst * MIG.BURST_LENGTH),
+            self.requests.en.eq(~busy & self.requests.rdy),
+        ]
+        with m.If(self.requests.en):
+            m.d.sync += [busy.eq(1), row.eq(self.requests.row), burst.eq(0)]
+
+        last = burst == lay.bursts_per_row - 1
+        done = Signal()                         # the burst is granted (or its zero words are in)
+        with m.If(busy & ~zero_second):
+            with m.If(self.hold.valid):
+                m.d.comb += mem.request.eq(room)
+                m.d.comb += done.eq(mem.grant)
+            with m.Elif(room & (outstanding == 0)):
+                m.d.comb += [words.data.eq(0), words.en.eq(1)]
+                m.d.sync += zero_second.eq(1)
+        with m.If(zero_second):
+            m.d.comb += [words.data.eq(0), words.en.eq(1), done.eq(1)]
+            m.d.sync += zero_second.eq(0)
+        with m.If(done):
+            m.d.sync += burst.eq(burst + 1)
+            with m.If(last):
+                m.d.sync += busy.eq(0)
+
+        with m.If(mem.valid):
+            m.d.comb += [words.data.eq(mem.data), words.en.eq(1)]
+        granted = mem.request & mem.grant
+        m.d.sync += outstanding.eq(outstanding + (granted << 1) - mem.valid)
+        return m

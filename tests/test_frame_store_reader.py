@@ -1,0 +1,98 @@
+"""The frame store's row reader (request FIFO, fetcher with credits, returning FIFO, ring of row slots) behind the
+memory arbiter and the behavioural MIG model (tests/frame_store_memory.py): the rows a consumer asks for land in
+their slots with the bytes the layout puts in the held buffer, whatever the ratio of the clocks."""
+
+import random
+
+import numpy as np
+import pytest
+from amaranth import ClockDomain, DomainRenamer, Module
+from amaranth.lib import wiring
+from amaranth.sim import Simulator
+
+from frame_store_memory import MemoryModel
+from hdl.frame_store.arbiter import MemoryArbiter
+from hdl.frame_store.layout import FrameStoreLayout
+from hdl.frame_store.row_reader import RowReader
+
+LAYOUT = FrameStoreLayout(width=48, height=7, cameras=2, buffers=3, base=128)
+#: Pix clocks the consumer waits, at most, for its rows (a row lost in a FIFO never lands).
+TIMEOUT_CLOCKS = 5000
+
+
+def fill(model, layout, camera, buffer, image):
+    """Put ``image`` into a buffer of the model's memory the way the layout says (one byte a pixel)."""
+    for y, row in enumerate(image):
+        for x, value in enumerate(row):
+            address = layout.buffer_base(camera, buffer) * 8 + y * layout.stride + x
+            model.words.setdefault(address // 8, [0] * 8)[address % 8] = int(value)
+
+
+def run(rows, *, pix_period=6.7e-9, depth=8, slots=3, hold=(True, 1), seed=0, stall_rate=0.1):
+    """Ask for ``rows`` of camera 1 one after another (at most ``slots`` ahead of the ones read), read every pixel
+    of each landed row; the rows read."""
+    m = Module()
+    m.domains.pix, m.domains.mem = ClockDomain("pix"), ClockDomain("mem")
+    m.submodules.reader = reader = RowReader(LAYOUT, 1, slots=slots, depth=depth)
+    arbiter = MemoryArbiter(writers=0, readers=1, urgent=1)
+    m.submodules.arbiter = DomainRenamer("mem")(arbiter)
+    wiring.connect(m, reader.mem, arbiter.readers[0])
+    model = MemoryModel(seed=seed, stall_rate=stall_rate, latency=13)
+    images = {b: np.random.default_rng(b).integers(0, 256, (LAYOUT.height, LAYOUT.width), dtype=np.uint8)
+              for b in range(LAYOUT.buffers)}
+    for b, image in images.items():
+        fill(model, LAYOUT, 1, b, image)
+        fill(model, LAYOUT, 0, b, 255 - image)
+    got = []
+
+    async def memory(ctx):
+        ctx.set(reader.hold.valid, int(hold[0]))
+        ctx.set(reader.hold.buffer, hold[1])
+        await model.run(ctx, arbiter.mig)
+
+    async def consumer(ctx):
+        asked, landed = 0, 0
+        for _ in range(TIMEOUT_CLOCKS):
+            if len(got) == len(rows):
+                break
+            if asked < len(rows) and asked - len(got) < slots and ctx.get(reader.stream.fetch.rdy):
+                ctx.set(reader.stream.fetch.row, rows[asked])
+                ctx.set(reader.stream.fetch.en, 1)
+                asked += 1
+            else:
+                ctx.set(reader.stream.fetch.en, 0)
+            await ctx.tick("pix")
+            landed += ctx.get(reader.stream.landed)
+            ctx.set(reader.stream.fetch.en, 0)
+            if landed > len(got):
+                slot = len(got) % slots
+                row = []
+                for x in range(LAYOUT.width):              # the byte one clock after its address
+                    ctx.set(reader.stream.read.slot, slot)
+                    ctx.set(reader.stream.read.x, x)
+                    await ctx.tick("pix")
+                    landed += ctx.get(reader.stream.landed)
+                    row.append(ctx.get(reader.stream.read.data))
+                got.append(row)
+
+    sim = Simulator(m)
+    sim.add_clock(pix_period, domain="pix")
+    sim.add_clock(8e-9, domain="mem")
+    sim.add_testbench(memory, background=True)
+    sim.add_testbench(consumer)
+    sim.run()
+    assert model.violations == []
+    assert len(got) == len(rows), f"{len(rows) - len(got)} rows never landed"
+    return np.array(got, np.uint8), images
+
+
+@pytest.mark.parametrize("pix_period", [6.7e-9, 40e-9], ids=["pix_fast", "pix_slow"])
+def test_rows_land_with_the_held_buffer_s_bytes(pix_period):
+    rows = [0, 1, 2, 3, 6, 5, 6, 0]
+    got, images = run(rows, pix_period=pix_period)
+    assert (got == images[1][rows]).all()
+
+
+def test_no_pair_held_reads_zeros():
+    got, _ = run([2, 3], hold=(False, 0))
+    assert (got == 0).all()

@@ -1,0 +1,156 @@
+"""A frame buffer's read port served from a frame-store stream (RowWindow on a RowReader, behind the arbiter and the
+small MIG model of tests/frame_store_memory.py): the bytes a consumer reads are the image's -- what the block-RAM
+frame buffer would give at the same addresses -- for the display's pattern (each row on several lines, never
+refused) and the depth engine's (a clamped row offset, waiting for its grants)."""
+
+import numpy as np
+import pytest
+from amaranth import ClockDomain, DomainRenamer, Module
+from amaranth.lib import wiring
+from amaranth.sim import Simulator
+
+from frame_store_memory import MemoryModel
+from hdl.frame_store.arbiter import MemoryArbiter
+from hdl.frame_store.layout import FrameStoreLayout
+from hdl.frame_store.row_reader import RowReader
+from hdl.frame_store.row_window import RowWindow
+from spec.sensor import SensorGeometry
+from test_frame_store_reader import fill
+
+#: 20 x 10 buffer pixels: a row is not a power of two of bytes, nor a whole number of 16-byte words.
+G = SensorGeometry(width=80, height=40)
+LAYOUT = FrameStoreLayout(width=G.buf_width, height=G.buf_height, cameras=1, buffers=3)
+SLOTS = 3
+#: Pix clocks a read waits for its grant at most (a row lands in tens of clocks).
+GRANT_TIMEOUT = 2000
+
+
+def simulate(consumer_bench, *, seed=0):
+    m = Module()
+    m.domains += [ClockDomain("pix"), ClockDomain("mem")]
+    m.submodules.reader = reader = RowReader(LAYOUT, 0, slots=SLOTS, depth=16)
+    m.submodules.window = window = DomainRenamer("pix")(RowWindow(G, slots=SLOTS))
+    arbiter = MemoryArbiter(writers=0, readers=1, urgent=1)
+    m.submodules.arbiter = DomainRenamer("mem")(arbiter)
+    wiring.connect(m, reader.mem, arbiter.readers[0])
+    wiring.connect(m, window.stream, reader.stream)
+    model = MemoryModel(seed=seed, latency=19, stall_rate=0.1)
+    image = np.random.default_rng(seed).integers(0, 1 << G.grey_bits, (G.buf_height, G.buf_width), dtype=np.uint8)
+    fill(model, LAYOUT, 0, 2, image)
+
+    async def memory(ctx):
+        ctx.set(reader.hold.valid, 1)
+        ctx.set(reader.hold.buffer, 2)
+        await model.run(ctx, arbiter.mig)
+
+    result = {}
+
+    async def consumer(ctx):
+        result.update(await consumer_bench(ctx, window))
+
+    sim = Simulator(m)
+    sim.add_clock(6.7e-9, domain="pix")
+    sim.add_clock(8e-9, domain="mem")
+    sim.add_testbench(memory, background=True)
+    sim.add_testbench(consumer)
+    sim.run()
+    assert model.violations == []
+    return image, result
+
+
+async def restart(ctx, window, first_row):
+    ctx.set(window.first_row, first_row)
+    ctx.set(window.restart, 1)
+    await ctx.tick("pix")
+    ctx.set(window.restart, 0)
+
+
+def test_display_pattern_is_never_refused():
+    """Rows 0..H-1, each read on 2 lines of W active clocks and 40 blanking clocks, after a vertical blanking of 10
+    lines: every read granted, every byte the image's."""
+    scale, blank, lines_before = 2, 40, 10
+
+    async def bench(ctx, window):
+        await restart(ctx, window, 0)
+        await ctx.tick("pix").repeat(lines_before * (G.buf_width * scale + blank))
+        port, out, missed = window.consumer, [], 0
+        for y in range(G.buf_height):
+            for _ in range(scale):
+                row = []
+                for x in range(G.buf_width):
+                    for _ in range(scale):
+                        ctx.set(port.port.addr, y * G.buf_width + x)
+                        ctx.set(port.request, 1)
+                        await ctx.tick("pix")
+                        missed += ctx.get(window.missed)
+                        row.append(ctx.get(port.port.data))
+                ctx.set(port.request, 0)
+                ctx.set(port.port.addr, 0)
+                await ctx.tick("pix").repeat(blank)
+                out.append(row[::scale])
+        return {"rows": out, "missed": missed}
+
+    image, result = simulate(bench)
+    assert result["missed"] == 0
+    assert (np.array(result["rows"]) == np.repeat(image, 2, axis=0)).all()
+
+
+@pytest.mark.parametrize("offset", [-3, 0, 4])
+def test_engine_pattern_waits_for_its_rows(offset):
+    """Rows min(max(y + offset, 0), H - 1) for y = 0..H-1, each pixel requested until granted: the image's rows."""
+    h, w = G.buf_height, G.buf_width
+    sources = [min(max(y + offset, 0), h - 1) for y in range(h)]
+
+    async def bench(ctx, window):
+        await restart(ctx, window, sources[0])
+        port, out = window.consumer, []
+        for source in sources:
+            row = []
+            for x in range(w):
+                ctx.set(port.port.addr, source * w + x)
+                ctx.set(port.request, 1)
+                for _ in range(GRANT_TIMEOUT):
+                    granted = ctx.get(port.grant)
+                    await ctx.tick("pix")
+                    if granted:
+                        break
+                else:
+                    raise AssertionError(f"row {source} column {x} never granted")
+                row.append(ctx.get(port.port.data))
+            out.append(row)
+        ctx.set(port.request, 0)
+        return {"rows": out}
+
+    image, result = simulate(bench, seed=abs(offset))
+    assert (np.array(result["rows"]) == image[sources]).all()
+
+
+def test_restart_in_the_middle_starts_a_new_window():
+    """A consumer reads rows 0..3, restarts from row 5 at once (rows of the first window still arriving) and reads
+    5..H-1, then restarts from row 1 and reads 1..3: every byte the image's."""
+    h, w = G.buf_height, G.buf_width
+    plan = [(0, [0, 1, 2, 3]), (5, list(range(5, h))), (1, [1, 2, 3])]
+
+    async def bench(ctx, window):
+        port, out = window.consumer, []
+        for first, rows in plan:
+            await restart(ctx, window, first)
+            for source in rows:
+                row = []
+                for x in range(w):
+                    ctx.set(port.port.addr, source * w + x)
+                    ctx.set(port.request, 1)
+                    for _ in range(GRANT_TIMEOUT):
+                        granted = ctx.get(port.grant)
+                        await ctx.tick("pix")
+                        if granted:
+                            break
+                    else:
+                        raise AssertionError(f"row {source} column {x} never granted")
+                    row.append(ctx.get(port.port.data))
+                out.append(row)
+            ctx.set(port.request, 0)
+        return {"rows": out}
+
+    image, result = simulate(bench, seed=7)
+    assert (np.array(result["rows"]) == image[[r for _, rows in plan for r in rows]]).all()
