@@ -50,6 +50,10 @@ __all__ = ["FormalHarness", "Property", "Report", "check", "replay", "format_tab
 DEFAULT_OUTDIR = build_dir("formal")
 #: Clock period of the replayed traces (the VCDs): 10 ns, one clock per proof step.
 PERIOD = 10e-9
+#: The platform a proof elaborates the harness (and so every block in it) for: a block's own invariants live under
+#: ``if platform == "formal":`` (as in ``amaranth.lib.fifo``) and are proven with the harness's properties, as
+#: assertions named by their message. Simulation and Verilog export never elaborate them.
+PLATFORM = "formal"
 
 
 @dataclass(frozen=True)
@@ -75,6 +79,7 @@ class FormalHarness:
 
     def __init__(self):
         self._select = None
+        self._platform = None
         self._reset()
 
     def _reset(self):
@@ -112,8 +117,8 @@ class FormalHarness:
         not elaborated again); returns the ``Module``, so that properties can use the ports of its submodules
         (``module.submodules.<name>``), not only its own. ``dut`` itself is then never elaborated by Amaranth: a
         harness file carries Amaranth's ``# amaranth: UnusedElaboratable=no`` linter comment for the blocks it
-        creates."""
-        module = dut.elaborate(None)
+        creates. ``dut`` is elaborated for the harness's platform (:data:`PLATFORM` in a proof)."""
+        module = dut.elaborate(self._platform)
         m.submodules[name] = module
         return module
 
@@ -152,6 +157,7 @@ class FormalHarness:
 
     def elaborate(self, platform):
         self._reset()
+        self._platform = platform
         m = Module()
         m.domains.sync = self._domain = ClockDomain("sync")
         self.build(m)
@@ -176,9 +182,9 @@ class FormalHarness:
         ``("bound", k)``) or, for ``"covers"``, the covers only."""
         self._select = select
         try:
-            m = self.elaborate(None)
+            m = self.elaborate(PLATFORM)
             ports = [self._domain.clk, self._domain.rst, *self._free]
-            return rtlil.convert(m, name="top", ports=ports)
+            return rtlil.convert(m, name="top", platform=PLATFORM, ports=ports)
         finally:
             self._select = None
 
@@ -215,6 +221,41 @@ def replay(harness, frames, vcd):
     with sim.write_vcd(str(vcd), str(vcd.with_suffix(".gtkw")), traces=traces):
         sim.run()
     return seen
+
+
+def broken_invariant(harness, frames):
+    """The first of the blocks' own invariants (``platform == "formal"``) that a trace breaks in Amaranth's
+    simulator, as ``(clock, message)``, or None: the simulator raises ``AssertionError("Assertion violated:
+    <message>")`` on the clock a block's ``Assert`` fails."""
+    harness._select = "replay"               # the harness's own properties as wires only; the blocks' Asserts in
+    try:
+        m = harness.elaborate(PLATFORM)
+        fragment = Fragment.get(m, PLATFORM)
+    finally:
+        harness._select = None
+    ports = {s.name: s for s in (harness._domain.rst, *harness._free)}
+    clock = [0]
+
+    async def testbench(ctx):
+        for frame in frames:
+            clock[0] += 1
+            for name, value in frame.items():
+                if name in ports:
+                    ctx.set(ports[name], value)
+            await ctx.tick()
+
+    sim = Simulator(fragment)
+    sim.add_clock(PERIOD)
+    sim.add_testbench(testbench)
+    try:
+        sim.run()
+    except AssertionError as exc:
+        message = str(exc)
+        prefix = "Assertion violated: "
+        if message.startswith(prefix):
+            return clock[0], message[len(prefix):]
+        raise
+    return None
 
 
 def _violations(seen, kind, names, value):
@@ -303,6 +344,10 @@ def _run_group(harness, bound, names, workdir, outdir):
         seen = replay(harness, outcome.frames, result.vcd)
         _check_assumptions(harness, seen, result.vcd)
         _, result.failed = _violations(seen, "assert", names, 0)
+        if not result.failed:
+            invariant = broken_invariant(harness, outcome.frames)
+            if invariant is not None:
+                result.failed = [f"{invariant[1]} (a block's invariant, clock {invariant[0]})"]
         if not result.failed:
             raise engines.FormalToolError(f"{harness.name}: the {engine} counterexample does not make any "
                                           f"assertion fail in Amaranth's simulator (see {result.vcd})")
