@@ -210,7 +210,7 @@ class RowRing(wiring.Component):
         slot, addr, source, row_start = fetch
         pending, pending_slot, pending_last = in_flight
         allowed, row_done, ending = gates
-        count, take, write = samples
+        count, take, write, end_row, end_slot = samples
         last_in_flight = pending & pending_last
         invariants = {
             "row_in_flight_is_fetched": self.fetch_row == self.fetched + last_in_flight,
@@ -224,6 +224,9 @@ class RowRing(wiring.Component):
                                       & (source < g.buf_height),
             "end_sample_pending": ending == ((count != 0) | take | write),
             "end_sample_count": count <= self.tag_margin,
+            # The pending end sample is row ``tagged``'s: its bits go into that row's slot.
+            "end_sample_of_next_tagged_row": ~ending | ((end_slot == self.tagged[:bits]) & (end_row < g.buf_height)),
+            "tag_row_in_image": self.tags.row < g.buf_height,
         }
         for name, test in invariants.items():
             m.d.sync += Assert(test, name)
@@ -275,4 +278,4 @@ class RowRing(wiring.Component):
         with m.If(self.start):
             m.d.sync += [count.eq(0), sampled.eq(0), ending.eq(0), take.eq(0), write.eq(0), prev_torn.eq(0),
                          first.eq(1), self.tagged.eq(0)]
-        return count, take, write
+        return count, take, write, end_row, end_slot

@@ -29,6 +29,13 @@ Every property becomes a wire ``assert_<name>`` / ``assume_<name>`` / ``cover_<n
 the traces show each one) and an Amaranth ``Assert`` / ``Assume`` / ``Cover`` on it, in the combinational domain
 (checked on every clock). The harness's ``sync`` reset is an input like any other: properties must hold
 across resets, and registers start at their ``init`` values. See :mod:`sim.formal.engines` for the engines.
+
+A proof elaborates the harness, and so every block in it, for the platform ``"formal"`` (:data:`PLATFORM`): a
+block's own invariants, under ``if platform == "formal":`` as in ``amaranth.lib.fifo``, are asserted with the
+harness's properties in every proof group (an ``Assert`` named by its message), so that the proof is inductive
+without the harness reaching into the block's state. Simulation and Verilog export never elaborate them. A
+counterexample that breaks only a block's invariant is named by replaying it for the formal platform in Amaranth's
+simulator (:func:`broken_invariant`).
 """
 
 import keyword
@@ -45,7 +52,8 @@ from sim.runners import build_dir
 
 from . import engines
 
-__all__ = ["FormalHarness", "Property", "Report", "check", "replay", "format_table", "DEFAULT_OUTDIR"]
+__all__ = ["FormalHarness", "Property", "Report", "check", "replay", "broken_invariant", "format_table",
+           "DEFAULT_OUTDIR", "PLATFORM"]
 
 DEFAULT_OUTDIR = build_dir("formal")
 #: Clock period of the replayed traces (the VCDs): 10 ns, one clock per proof step.
@@ -62,6 +70,7 @@ class Property:
     name: str
     wire: Signal
     bound: int | None = None
+    group: str | None = None
 
 
 class FormalHarness:
@@ -98,9 +107,12 @@ class FormalHarness:
         self._free.append(Value.cast(signal))          # the port is the plain signal under an enum/struct view
         return signal
 
-    def prove(self, m, name, test, *, bound=None):
-        """Assert ``test`` on every clock (for all time, or for the first ``bound`` clocks)."""
-        return self._property(m, "assert", name, test, bound)
+    def prove(self, m, name, test, *, bound=None, group=None):
+        """Assert ``test`` on every clock (for all time, or for the first ``bound`` clocks). Properties with the
+        same ``bound`` and ``group`` are proven together, in one run of the engine; a ``group`` (a label) splits
+        off properties that are not each other's lemmas: PDR on two unrelated cones at once is slower than on
+        each alone."""
+        return self._property(m, "assert", name, test, bound, group)
 
     def assume(self, m, name, test):
         """Restrict the environment to traces where ``test`` holds on every clock (an interface contract)."""
@@ -142,7 +154,7 @@ class FormalHarness:
 
     # --- what the runner uses -----------------------------------------------------------------------------
 
-    def _property(self, m, kind, name, test, bound):
+    def _property(self, m, kind, name, test, bound, group=None):
         if not name.isidentifier() or keyword.iskeyword(name):
             raise ValueError(f"property name {name!r} must be an identifier")
         if any(p.name == name for p in self._properties):
@@ -151,7 +163,7 @@ class FormalHarness:
             raise ValueError(f"bound of {name!r} must be a positive number of clocks, not {bound!r}")
         wire = Signal(name=f"{kind}_{name}")
         m.d.comb += wire.eq(test)
-        prop = Property(kind, name, wire, bound)
+        prop = Property(kind, name, wire, bound, group)
         self._properties.append(prop)
         return wire
 
@@ -164,7 +176,7 @@ class FormalHarness:
         for p in self._properties:
             if p.kind == "assume" and self._select != "replay":
                 m.d.comb += Assume(p.wire, p.name)
-            elif p.kind == "assert" and self._select == ("bound", p.bound):
+            elif p.kind == "assert" and self._select == ("bound", p.bound, p.group):
                 m.d.comb += Assert(p.wire, p.name)
             elif p.kind == "cover" and self._select == "covers":
                 # For the search: an assertion that the cover never happens, whose counterexample is the trace.
@@ -178,8 +190,8 @@ class FormalHarness:
         return [p for p in self._properties if kind is None or p.kind == kind]
 
     def rtlil(self, select):
-        """RTLIL of the harness with the assertions of one group (``("bound", None)`` for the unbounded ones,
-        ``("bound", k)``) or, for ``"covers"``, the covers only."""
+        """RTLIL of the harness with the assertions of one group (``("bound", None, group)`` for the unbounded
+        ones, ``("bound", k, group)``) or, for ``"covers"``, the covers only; the blocks' own invariants in each."""
         self._select = select
         try:
             m = self.elaborate(PLATFORM)
@@ -226,8 +238,10 @@ def replay(harness, frames, vcd):
 def broken_invariant(harness, frames):
     """The first of the blocks' own invariants (``platform == "formal"``) that a trace breaks in Amaranth's
     simulator, as ``(clock, message)``, or None: the simulator raises ``AssertionError("Assertion violated:
-    <message>")`` on the clock a block's ``Assert`` fails."""
-    harness._select = "replay"               # the harness's own properties as wires only; the blocks' Asserts in
+    <message>")`` at the edge that ends the clock whose values break a block's ``Assert`` (a block states its
+    invariants in its ``sync`` domain, so the simulator checks settled values, not a combinational update in
+    progress)."""
+    harness._select = "replay"               # the harness's properties as wires only, the blocks' Asserts kept
     try:
         m = harness.elaborate(PLATFORM)
         fragment = Fragment.get(m, PLATFORM)
@@ -270,6 +284,7 @@ def _violations(seen, kind, names, value):
 @dataclass
 class GroupResult:
     bound: int | None
+    group: str | None
     engine: str
     names: list
     outcome: engines.Outcome
@@ -283,7 +298,14 @@ class GroupResult:
 
     @property
     def proof(self):
-        return "unbounded" if self.bound is None else f"bounded, {self.bound} clocks"
+        proof = "unbounded" if self.bound is None else f"bounded, {self.bound} clocks"
+        return proof if self.group is None else f"{proof} ({self.group})"
+
+    @property
+    def label(self):
+        """The group's directory and trace name."""
+        label = "unbounded" if self.bound is None else f"bounded_{self.bound}"
+        return label if self.group is None else f"{label}_{self.group}"
 
 
 @dataclass
@@ -325,9 +347,9 @@ class Report:
         return out
 
 
-def _run_group(harness, bound, names, workdir, outdir):
+def _run_group(harness, bound, group, names, workdir, outdir):
     start = time.perf_counter()
-    text = harness.rtlil(("bound", bound))
+    text = harness.rtlil(("bound", bound, group))
     if bound is not None:
         engine, outcome = "bmc", engines.bmc(text, workdir, depth=bound, timeout=harness.timeout)
     elif harness.engine == "pdr":
@@ -337,17 +359,16 @@ def _run_group(harness, bound, names, workdir, outdir):
         outcome = engines.prove_induction(text, workdir, max_steps=harness.max_steps, timeout=harness.timeout)
     else:
         raise ValueError(f"unknown engine {harness.engine!r} in {type(harness).__name__}")
-    result = GroupResult(bound, engine, names, outcome, 0.0)
+    result = GroupResult(bound, group, engine, names, outcome, 0.0)
     if outcome.status == "failed":
-        label = "unbounded" if bound is None else f"bounded_{bound}"
-        result.vcd = outdir / f"{label}.vcd"
+        result.vcd = outdir / f"{result.label}.vcd"
         seen = replay(harness, outcome.frames, result.vcd)
         _check_assumptions(harness, seen, result.vcd)
-        _, result.failed = _violations(seen, "assert", names, 0)
-        if not result.failed:
-            invariant = broken_invariant(harness, outcome.frames)
-            if invariant is not None:
-                result.failed = [f"{invariant[1]} (a block's invariant, clock {invariant[0]})"]
+        step, result.failed = _violations(seen, "assert", names, 0)
+        # The first to fail: the harness's properties, and a block's invariant if it fails no later.
+        invariant = broken_invariant(harness, outcome.frames)
+        if invariant is not None and (step is None or invariant[0] <= step):
+            result.failed.append(f"{invariant[1]} (a block's invariant, clock {invariant[0]})")
         if not result.failed:
             raise engines.FormalToolError(f"{harness.name}: the {engine} counterexample does not make any "
                                           f"assertion fail in Amaranth's simulator (see {result.vcd})")
@@ -374,10 +395,12 @@ def check(harness, *, outdir=DEFAULT_OUTDIR, covers=True):
     asserts = harness.properties("assert")
     if not asserts:
         raise ValueError(f"{harness.name} declares no assertion")
-    bounds = sorted({p.bound for p in asserts}, key=lambda b: -1 if b is None else b)
-    groups = [_run_group(harness, b, [p.name for p in asserts if p.bound == b],
-                         workdir / ("unbounded" if b is None else f"bounded_{b}"), outdir)
-              for b in bounds]
+    keys = sorted({(p.bound, p.group) for p in asserts}, key=lambda k: (-1 if k[0] is None else k[0], k[1] or ""))
+    groups = []
+    for bound, group in keys:
+        label = GroupResult(bound, group, "", [], None, 0.0).label
+        names = [p.name for p in asserts if (p.bound, p.group) == (bound, group)]
+        groups.append(_run_group(harness, bound, group, names, workdir / label, outdir))
     cover_results, cover_vcds = {}, {}
     # Covers make a passing proof meaningful; a failing one already has its counterexample.
     proved = all(g.ok for g in groups)

@@ -107,7 +107,10 @@ class SequencerShortTable(InitSequencerHarness):
 
 
 class DepthEngineWiderImage(DepthEngineHarness):
-    """The engine built for a buffer one pixel wider than the one it reads: its row addresses run ahead."""
+    """The engine built for a buffer one pixel wider than the one it reads: its row addresses run ahead (the input
+    rows' proof only)."""
+    parts = ("reads",)
+
     def dut(self):
         g = self.geometry
         wider = dataclasses.replace(g, width=g.width + g.scale)
@@ -121,6 +124,9 @@ class EngineWithoutPairs(DepthEngine):
 
 
 class DepthEngineWithoutPairs(DepthEngineHarness):
+    """The engine without ``_pair_bits`` (the row tags' proof only)."""
+    parts = ("tags",)
+
     def dut(self):
         return EngineWithoutPairs(self.geometry, self.config, out_rows=self.out_rows)
 
