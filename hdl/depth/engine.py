@@ -219,7 +219,7 @@ class DepthEngine(wiring.Component):
             clamped = Mux(row < 0, 0, Mux(row > h - 1, h - 1, row))
             m.d.sync += [ring_row[j].eq(clamped[:(RING_ROWS - 1).bit_length()]),
                          inner[j].eq((row >= 1) & (row <= h - 1))]
-        row_invalid, restart, window = self._row_flags(m, (left_ring, right_ring), ring_row, inner, first, y)
+        row_invalid, restart = self._row_flags(m, (left_ring, right_ring), ring_row, inner, first, y)
         limit = Signal(range(h + 1))            # rows that may be fetched: none while idle; late is safe
         m.d.sync += limit.eq(Mux(~self.busy, 0, Mux(y + RING_ROWS - ry < h, y + RING_ROWS - ry, h)))
         m.d.comb += [left_ring.limit.eq(limit), right_ring.limit.eq(limit),
@@ -230,7 +230,6 @@ class DepthEngine(wiring.Component):
         if platform == "formal":
             self._invariants(m, fsm, (left_ring, right_ring), y, (step, clock, drain), (need, first, before),
                              can_start, limit)
-            self._window_invariants(m, fsm, y, (step, clock), ring_row, inner, window)
 
         left_sig, right_sig = self._census(m, left_ring, right_ring, ring_row, step, clock, in_run)
         token, right_cen, left_sel, inside = self._issue(m, left_sig, right_sig, step, clock, in_run)
@@ -243,27 +242,20 @@ class DepthEngine(wiring.Component):
         different camera frames"), registered in two stages, recomputed every clock: a pass uses them from its
         step 0's clock 5 on, and its rows' bits are in the slots a clock before the pass starts."""
         ry = self.config.census_height // 2
-        picked, sources, edge_y = [], [], []        # the window's registered bits, what each is registered from
+        picked, edge_y = [], []
         for ring in rings:
             for j in range(len(ring_row)):
                 bit = Signal(name=f"window_torn{len(picked)}")
-                source = ring.torn.bit_select(ring_row[j], 1)
-                m.d.sync += bit.eq(source)
+                m.d.sync += bit.eq(ring.torn.bit_select(ring_row[j], 1))
                 picked.append(bit)
-                sources.append(source)
                 if j or ry == 0:
                     bit = Signal(name=f"window_edge{len(picked)}")
-                    source = ring.edge.bit_select(ring_row[j], 1) & inner[j]
-                    m.d.sync += bit.eq(source)
+                    m.d.sync += bit.eq(ring.edge.bit_select(ring_row[j], 1) & inner[j])
                     if j:
                         picked.append(bit)
-                        sources.append(source)
                     if j == ry:                  # the edge into row y itself
                         edge_y.append(bit)
-        pairs = self._pair_bits(m, rings, ring_row)
-        picked += pairs
-        left_ring, right_ring = rings
-        sources += [left_ring.slot_tags[ring_row[j]] != right_ring.slot_tags[ring_row[j]] for j in range(len(pairs))]
+        picked += self._pair_bits(m, rings, ring_row)
         row_invalid, prev_invalid, restart = self.row_invalid, Signal(), self.restart
         first_late = Signal()
         m.d.sync += [row_invalid.eq(Cat(*picked).any()), first_late.eq(first),
@@ -273,7 +265,7 @@ class DepthEngine(wiring.Component):
         m.d.sync += y_seen.eq(y)
         with m.If(y != y_seen):
             m.d.sync += prev_invalid.eq(row_invalid)
-        return row_invalid, restart, (picked, sources)
+        return row_invalid, restart
 
     def _pair_bits(self, m, rings, ring_row):
         """Per census window row, registered: its left and right slot tags differ (two camera frame pairs)."""
@@ -368,27 +360,6 @@ class DepthEngine(wiring.Component):
             invariants[f"{side}_admitted_rows_tagged"] = ~(fsm.ongoing("WAIT") & can_start) | (ring.tagged >= need)
             invariants[f"{side}_running_pass_rows_tagged"] = ~running | (ring.tagged >= rows_needed)
             invariants[f"{side}_fetch_within_limit"] = fsm.ongoing("IDLE") | (ring.fetch_row <= rows_allowed)
-        for name, test in invariants.items():
-            m.d.sync += Assert(test, name)
-
-    def _window_invariants(self, m, fsm, y, step_clock, ring_row, inner, window):
-        """The census window's invariants (formal platform only): from WAIT on, the slots and inner-edge flags are
-        those of rows clamp(y + j - ry); in a pass, the window's slots do not change (rows arriving go to other
-        slots), so each registered bit is its slot's bit, and ``row_invalid`` their OR from step 0's clock 1 on (the
-        slots are known from WAIT on, which may last one clock)."""
-        h, ry, bits = self.geometry.buf_height, self.config.census_height // 2, (RING_ROWS - 1).bit_length()
-        picked, sources = window
-        placed = fsm.ongoing("WAIT") | fsm.ongoing("RUN") | fsm.ongoing("DRAIN")
-        invariants = {}
-        for j in range(len(ring_row)):
-            row = y + j - ry
-            clamped = Mux(row < 0, 0, Mux(row > h - 1, h - 1, row))
-            invariants[f"census_row{j}_of_pass"] = ~placed | ((ring_row[j] == clamped[:bits])
-                                                              & (inner[j] == ((row >= 1) & (row <= h - 1))))
-        invariants["window_bits_of_slots"] = ~fsm.ongoing("RUN") | (Cat(*picked) == Cat(*sources))
-        step, clock = step_clock
-        settled = fsm.ongoing("RUN") & ((step != 0) | (clock != 0))
-        invariants["row_invalid_of_window"] = ~settled | (self.row_invalid == Cat(*picked).any())
         for name, test in invariants.items():
             m.d.sync += Assert(test, name)
 

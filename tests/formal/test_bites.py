@@ -4,6 +4,7 @@ fail, names the broken property and leaves a counterexample VCD in ``build/forma
 import dataclasses
 
 import pytest
+from amaranth import Signal
 
 from hdl.depth.engine import DepthEngine
 from hdl.depth.subpixel import Subpixel
@@ -24,7 +25,7 @@ from sim.formal.runner import check
 
 from sim.formal.harnesses.capture import CaptureHarness
 from sim.formal.harnesses.compositor import CompositorHarness
-from sim.formal.harnesses.depth import DepthEngineHarness
+from sim.formal.harnesses.depth import DepthEngineHarness, DepthMapHarness
 from sim.formal.harnesses.depth_codes import SubpixelCodesHarness, WinnerCodesHarness
 from sim.formal.harnesses.disparity import DisparityHarness
 from sim.formal.harnesses.frame_buffer import FrameBufferHarness
@@ -115,6 +116,22 @@ class DepthEngineWiderImage(DepthEngineHarness):
         g = self.geometry
         wider = dataclasses.replace(g, width=g.width + g.scale)
         return DepthEngine(wider, self.config, out_rows=self.out_rows)
+
+
+class EngineWrappingPassCounter(DepthEngine):
+    """The pass counter one value short (``range(H + 1)``): on the 3-row buffer (H + 1 = 4) it wraps to 0 once the
+    map is done."""
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.pass_row = Signal(range(self.geometry.buf_height + 1), name="y")
+
+
+class DepthMapWrappingPassCounter(DepthMapHarness):
+    """The map harness's results proof on the engine whose pass counter wraps."""
+    parts = ("results",)
+
+    def dut(self):
+        return EngineWrappingPassCounter(self.geometry, self.config, out_rows=self.out_rows)
 
 
 class EngineWithoutPairs(DepthEngine):
@@ -213,6 +230,7 @@ BITES = {
     "row_tags": (TrackerMoreRows, "busy_exactly_for_row_in_progress"),
     "frame_pairing": (PairingWiderTag, "_by_the_rule"),
     "depth_pairs": (DepthEngineWithoutPairs, "pair_mismatch_in_window_makes_the_row_invalid"),
+    "depth_pass_counter": (DepthMapWrappingPassCounter, "rows_ready_counts_finished_passes"),
 }
 
 

@@ -119,7 +119,7 @@ class DepthEngineHarness(FormalHarness):
         for slot in self._window_slots(y):
             torn_in_window = torn_in_window | ring.torn.bit_select(slot, 1)
         self.prove(m, f"{side}_torn_window_row_makes_the_row_invalid",
-                   ~census_shift | ~torn_in_window | dut.row_invalid)
+                   ~census_shift | ~torn_in_window | dut.row_invalid, group="window")
 
     def _window_slots(self, y):
         """The ring slots of the pass's census window: rows clamp(y - 3 .. y + 3), slot = row mod 8."""
@@ -134,7 +134,8 @@ class DepthEngineHarness(FormalHarness):
         mismatch = 0
         for slot in self._window_slots(y):
             mismatch = mismatch | (left_ring.slot_tags[slot] != right_ring.slot_tags[slot])
-        self.prove(m, "pair_mismatch_in_window_makes_the_row_invalid", ~census_shift | ~mismatch | dut.row_invalid)
+        self.prove(m, "pair_mismatch_in_window_makes_the_row_invalid", ~census_shift | ~mismatch | dut.row_invalid,
+                   group="window")
 
     def _reader_contract(self, m, start, rows_released, rows_ready):
         pv = self.past_valid(m)
