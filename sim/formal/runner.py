@@ -93,6 +93,7 @@ class FormalHarness:
 
     def _reset(self):
         self._properties = []
+        self._tests = {}
         self._free = []
         self._past_valid = {}
 
@@ -162,7 +163,7 @@ class FormalHarness:
         if bound is not None and (not isinstance(bound, int) or bound < 1):
             raise ValueError(f"bound of {name!r} must be a positive number of clocks, not {bound!r}")
         wire = Signal(name=f"{kind}_{name}")
-        m.d.comb += wire.eq(test)
+        self._tests[name] = test                     # driven in elaborate if the selection needs it
         prop = Property(kind, name, wire, bound, group)
         self._properties.append(prop)
         return wire
@@ -174,6 +175,12 @@ class FormalHarness:
         m.domains.sync = self._domain = ClockDomain("sync")
         self.build(m)
         for p in self._properties:
+            # A proof group's model holds its own assertions' cones only: the other groups' property wires (kept
+            # for the traces) would keep theirs, and PDR is slower with them.
+            group = isinstance(self._select, tuple) and p.kind != "assume" and self._select != ("bound", p.bound,
+                                                                                                 p.group)
+            if not (group or (self._select == "covers" and p.kind == "assert")):
+                m.d.comb += p.wire.eq(self._tests[p.name])
             if p.kind == "assume" and self._select != "replay":
                 m.d.comb += Assume(p.wire, p.name)
             elif p.kind == "assert" and self._select == ("bound", p.bound, p.group):
