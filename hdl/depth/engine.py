@@ -125,6 +125,13 @@ class DepthEngine(wiring.Component):
     row_invalid, restart : Signal
         The running pass's row is invalid; its vertical path restarts (both valid from the pass's first census
         column on).
+    pass_row : Signal(range(height + 2))
+        The pass running or waiting to run (y): 0 .. height while a map runs (pass y writes row y - 1), height + 1
+        once it is done, 0 before the first.
+
+    Elaborated for the platform ``"formal"`` (sim/formal/runner.py), the engine and its row rings also assert
+    their invariants (pass control, fetch, tag samples: docs/formal.md), in ``sync``; never in simulation or
+    Verilog otherwise.
 
     Clock domain: ``sync`` (the parent renames it to ``pix``).
 

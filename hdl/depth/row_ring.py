@@ -73,6 +73,8 @@ class RowRing(wiring.Component):
     write_en : Signal(rows)
         One bit per slot: the slot whose memory is written this clock (at most one bit is set).
 
+    Elaborated for the platform ``"formal"``, the ring asserts its fetch and tag-sample invariants (docs/formal.md).
+
     The ring and its copy are the submodules ``ring`` and ``ring_shadow``: one word per column, ``grey_bits`` per
     slot (slot ``k`` in bits ``k * grey_bits`` up).
 
