@@ -1,3 +1,4 @@
+# amaranth: UnusedElaboratable=no
 """Each harness bites: one deliberate bug per block (a mutated parameter or a wrong connection) makes its proof
 fail, names the broken property and leaves a counterexample VCD in ``build/formal/<harness>/``."""
 
