@@ -17,7 +17,7 @@ from golden.depth import depth_map
 from golden.depth_display import engine_left
 from hdl.depth import DepthEngine, schedule
 from spec.depth import DEPTH, SMALL_DEPTH, DepthConfig
-from spec.sensor import ROW_TAG_BITS, SENSOR, SMALL_SENSOR
+from spec.sensor import ROW_TAG_BITS, SENSOR, SMALL_SENSOR, SensorGeometry
 from sim.runners.amaranth import simulate
 from board.export import export_verilog
 from sim.runners.cocotb import run_cocotb
@@ -36,10 +36,11 @@ def random_pair(seed, shape=SHAPE, top=32):
 
 
 def run_engine(left, right, *, geometry=G, config=CFG, grant_mask=0, restart_after=None, hold_clocks=0,
-               row_offset=0, timeout=200_000, tag_tables=None, flips=None):
+               row_offset=0, timeout=200_000, tag_tables=None, flips=None, platform=None):
     """One map from the testbench in Amaranth's simulator: returns (codes, clocks, reads, rows_ready seen while
     the reader held back). ``tag_tables``: (left, right) per buffer row, tag | busy << ROW_TAG_BITS; ``flips``:
-    (left row, right row) whose tag flips at the first ask (None: none)."""
+    (left row, right row) whose tag flips at the first ask (None: none). ``platform="formal"`` elaborates the
+    blocks' formal invariants too: the simulator raises ``AssertionError`` on the clock one fails."""
     dut = DepthTestbench(geometry, config)
     out = {}
 
@@ -91,7 +92,7 @@ def run_engine(left, right, *, geometry=G, config=CFG, grant_mask=0, restart_aft
             codes[a] = ctx.get(dut.read_data)
         out["codes"] = codes.reshape(geometry.buf_height, geometry.buf_width)
 
-    simulate(dut, clocks={"sync": 148.5e6}, testbenches=[bench])
+    simulate(dut if platform is None else Fragment.get(dut, platform), clocks={"sync": 148.5e6}, testbenches=[bench])
     return out["codes"], out["clocks"], out["reads"], out.get("held")
 
 
@@ -161,6 +162,17 @@ def test_synthetic_scene_bit_exact():
     assert_same(codes, expected)
     card = object_footprint(scene, rig, index=1)
     assert card.sum() >= 12 and abs(np.median(expected[card]) / CFG.fraction - 5) <= 1 / 8
+
+
+def test_three_row_buffer_with_formal_invariants():
+    """A 3-row buffer: H + 1 = 4 is a power of two, and the pass counter counts to H + 1 once the map is done
+    (then it must not wrap to 0). The map equals the golden one, and the engine's formal invariants, elaborated for
+    the formal platform and checked by the simulator on every clock, hold through the map and the reads after it
+    (``rows_ready_trails_pass``: rows_ready = y - 1)."""
+    geometry = SensorGeometry(width=G.width, height=3 * G.scale)
+    left, right = random_pair(5, (geometry.buf_height, geometry.buf_width))
+    codes, *_ = run_engine(left, right, geometry=geometry, grant_mask=0b1, platform="formal")
+    assert_same(codes, depth_map(left, right, CFG))
 
 
 def test_restart_and_slow_reader():

@@ -3,6 +3,7 @@
 from typing import NamedTuple
 
 from amaranth import Cat, Module, Mux, Signal, signed, unsigned
+from amaranth.hdl import Assert
 from amaranth.lib import data, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
@@ -124,6 +125,13 @@ class DepthEngine(wiring.Component):
     row_invalid, restart : Signal
         The running pass's row is invalid; its vertical path restarts (both valid from the pass's first census
         column on).
+    pass_row : Signal(range(height + 2))
+        The pass running or waiting to run (y): 0 .. height while a map runs (pass y writes row y - 1), height + 1
+        once it is done, 0 before the first.
+
+    Elaborated for the platform ``"formal"`` (sim/formal/runner.py), the engine and its row rings also assert
+    their invariants (pass control, fetch, tag samples: docs/formal.md), in ``sync``; never in simulation or
+    Verilog otherwise.
 
     Clock domain: ``sync`` (the parent renames it to ``pix``).
 
@@ -166,6 +174,7 @@ class DepthEngine(wiring.Component):
         self.step_clocks, self.steps, self.drain_clocks = plan.step_clocks, plan.steps, plan.drain_clocks
         self.lead = plan.steps - w
         self.row_invalid, self.restart = Signal(), Signal()
+        self.pass_row = Signal(range(h + 2), name="y")
         super().__init__({
             "start": In(1),
             "left_row_offset": In(range(-(h - 1), h)),
@@ -191,7 +200,7 @@ class DepthEngine(wiring.Component):
         wiring.connect(m, wiring.flipped(self.right_tags), right_ring.tags)
 
         # --- Pass control ---------------------------------------------------------------------------
-        y = Signal(range(h + 1))                   # the pass running or waiting to run
+        y = self.pass_row                          # the pass running or waiting to run; h + 1 once the map is done
         step = Signal(range(self.steps))
         clock = Signal(range(self.step_clocks))
         in_run = Signal()
@@ -224,7 +233,10 @@ class DepthEngine(wiring.Component):
                      left_ring.row_offset.eq(self.left_row_offset),
                      left_ring.start.eq(self.start), right_ring.start.eq(self.start)]
 
-        self._passes(m, y, step, clock, can_start, in_run, out_base)
+        fsm, drain = self._passes(m, y, step, clock, can_start, in_run, out_base)
+        if platform == "formal":
+            self._invariants(m, fsm, (left_ring, right_ring), y, (step, clock, drain), (need, first, before),
+                             can_start, limit)
 
         left_sig, right_sig = self._census(m, left_ring, right_ring, ring_row, step, clock, in_run)
         token, right_cen, left_sel, inside = self._issue(m, left_sig, right_sig, step, clock, in_run)
@@ -276,7 +288,7 @@ class DepthEngine(wiring.Component):
         """The pass state machine: wait for rows and room, run the steps, drain, next pass."""
         w, h = self.geometry.buf_width, self.geometry.buf_height
         drain = Signal(range(self.drain_clocks + 1))
-        with m.FSM(name="engine"):
+        with m.FSM(name="engine") as fsm:
             with m.State("IDLE"):
                 with m.If(self.start):
                     m.next = "SETTLE"
@@ -325,6 +337,38 @@ class DepthEngine(wiring.Component):
                     m.next = "SETTLE"
         with m.If(self.start):
             m.d.sync += [y.eq(0), self.result.rows_ready.eq(0), out_base.eq(0)]
+        return fsm, drain
+
+    def _invariants(self, m, fsm, rings, y, counters, registered, can_start, limit):
+        """The pass control's invariants (elaborated for the formal platform only): what makes the safety
+        properties of sim/formal/harnesses/depth.py inductive. Each is an ``Assert`` named by its message."""
+        h, ry, w = self.geometry.buf_height, self.config.census_height // 2, self.geometry.buf_width
+        step, clock, drain = counters
+        need, first, before = registered
+        running = fsm.ongoing("RUN") | fsm.ongoing("DRAIN")
+        settled = fsm.ongoing("SETTLE2") | fsm.ongoing("WAIT") | running
+        rows_needed = Mux(y + ry + 1 < h, y + ry + 1, h)            # rows up to min(y + ry, h - 1)
+        rows_allowed = Mux(y + RING_ROWS - ry < h, y + RING_ROWS - ry, h)
+        invariants = {
+            # The pass counter: 0 .. h while a map runs, h + 1 once it is done; rows_ready trails it by one.
+            "pass_in_map": Mux(fsm.ongoing("IDLE"), (y == 0) | (y == h + 1), y <= h),
+            "rows_ready_trails_pass": self.result.rows_ready == Mux(y == 0, 0, y - 1),
+            "step_in_pass": ~fsm.ongoing("RUN") | ((step < self.steps) & (clock < self.step_clocks)),
+            "drain_in_range": ~fsm.ongoing("DRAIN") | (drain <= self.drain_clocks),
+            # SETTLE and SETTLE2 give the registers a clock each to see the pass's y.
+            "admission_sees_pass": ~settled | ((need == rows_needed) & (first == (y == 0))
+                                               & (before == (y - 1)[:len(before)])),
+            # The fetch limit is registered from y: one clock late after a start, never ahead of the pass.
+            "fetch_limit_of_pass": fsm.ongoing("SETTLE") | (limit <= rows_allowed),
+        }
+        for i, ring in enumerate(rings):
+            side = ("left", "right")[i]
+            # Rows only arrive while a map runs: what can_start saw is still there in WAIT, and in the pass.
+            invariants[f"{side}_admitted_rows_tagged"] = ~(fsm.ongoing("WAIT") & can_start) | (ring.tagged >= need)
+            invariants[f"{side}_running_pass_rows_tagged"] = ~running | (ring.tagged >= rows_needed)
+            invariants[f"{side}_fetch_within_limit"] = fsm.ongoing("IDLE") | (ring.fetch_row <= rows_allowed)
+        for name, test in invariants.items():
+            m.d.sync += Assert(test, name)
 
     def _census(self, m, left_ring, right_ring, ring_row, step, clock, in_run):
         """Step clocks 0-3: ring reads, census windows, the left census shift register (newest first)."""

@@ -1,6 +1,7 @@
 """RowRing: fetches a frame buffer's rows, in order, into a ring of line buffers (docs/depth.md, "Input rows")."""
 
 from amaranth import C, Cat, Module, Mux, Signal, unsigned
+from amaranth.hdl import Assert
 from amaranth.lib import data, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
@@ -71,6 +72,8 @@ class RowRing(wiring.Component):
         row_offset, 0), height - 1) * width + fetch_col, counted).
     write_en : Signal(rows)
         One bit per slot: the slot whose memory is written this clock (at most one bit is set).
+
+    Elaborated for the platform ``"formal"``, the ring asserts its fetch and tag-sample invariants (docs/formal.md).
 
     The ring and its copy are the submodules ``ring`` and ``ring_shadow``: one word per column, ``grey_bits`` per
     slot (slot ``k`` in bits ``k * grey_bits`` up).
@@ -163,7 +166,7 @@ class RowRing(wiring.Component):
         m.d.sync += [pending.eq(granted), row_done.eq(last_read)]
         with m.If(granted):
             m.d.sync += col_last.eq(col == g.buf_width - 2)
-        self._tag_samples(m, source, slot, allowed, row_done, sampled, ending, last_read)
+        samples = self._tag_samples(m, source, slot, allowed, row_done, sampled, ending, last_read)
         with m.If(granted):
             m.d.sync += [
                 pending_col.eq(col),
@@ -196,7 +199,39 @@ class RowRing(wiring.Component):
             m.d.sync += [issued.eq(0), slot.eq(0), col.eq(0), addr.eq(offset_addr), row_start.eq(offset_addr),
                          source.eq(first_source), above.eq(first_above), pending.eq(0), self.fetched.eq(0),
                          allowed.eq(0), col_last.eq(0)]
+        if platform == "formal":
+            self._invariants(m, (slot, addr, source, row_start), (pending, pending_slot, pending_last),
+                             (allowed, row_done, ending), samples)
         return m
+
+    def _invariants(self, m, fetch, in_flight, gates, samples):
+        """The fetch's and the tag samples' invariants (elaborated for the formal platform only), each an
+        ``Assert`` named by its message: a row is counted in ``fetched`` the clock after its last pixel is written,
+        in ``tagged`` when its end sample's bits go in."""
+        g, bits = self.geometry, (self.rows - 1).bit_length()
+        slot, addr, source, row_start = fetch
+        pending, pending_slot, pending_last = in_flight
+        allowed, row_done, ending = gates
+        count, take, write, end_row, end_slot = samples
+        last_in_flight = pending & pending_last
+        invariants = {
+            "row_in_flight_is_fetched": self.fetch_row == self.fetched + last_in_flight,
+            "fetched_row_is_tagged": self.fetched + last_in_flight == self.tagged + ending,
+            "fetched_in_image": self.fetch_row <= g.buf_height,
+            "allowed_row_in_image": ~allowed | row_done | (self.fetch_row < g.buf_height),
+            "slot_of_fetch_row": slot == self.fetch_row[:bits],
+            "slot_of_pending_pixel": ~pending | (pending_slot == self.fetched[:bits]),
+            "column_in_row": self.fetch_col < g.buf_width,
+            "address_counts_columns": (addr == row_start + self.fetch_col) & (row_start == source * g.buf_width)
+                                      & (source < g.buf_height),
+            "end_sample_pending": ending == ((count != 0) | take | write),
+            "end_sample_count": count <= self.tag_margin,
+            # The pending end sample is row ``tagged``'s: its bits go into that row's slot.
+            "end_sample_of_next_tagged_row": ~ending | ((end_slot == self.tagged[:bits]) & (end_row < g.buf_height)),
+            "tag_row_in_image": self.tags.row < g.buf_height,
+        }
+        for name, test in invariants.items():
+            m.d.sync += Assert(test, name)
 
     def _tag_samples(self, m, source, slot, allowed, row_done, sampled, ending, last_read):
         """The start and end samples of each row's tag through the one ``tags`` port, and the slot bits."""
@@ -245,3 +280,4 @@ class RowRing(wiring.Component):
         with m.If(self.start):
             m.d.sync += [count.eq(0), sampled.eq(0), ending.eq(0), take.eq(0), write.eq(0), prev_torn.eq(0),
                          first.eq(1), self.tagged.eq(0)]
+        return count, take, write, end_row, end_slot

@@ -29,6 +29,13 @@ Every property becomes a wire ``assert_<name>`` / ``assume_<name>`` / ``cover_<n
 the traces show each one) and an Amaranth ``Assert`` / ``Assume`` / ``Cover`` on it, in the combinational domain
 (checked on every clock). The harness's ``sync`` reset is an input like any other: properties must hold
 across resets, and registers start at their ``init`` values. See :mod:`sim.formal.engines` for the engines.
+
+A proof elaborates the harness, and so every block in it, for the platform ``"formal"`` (:data:`PLATFORM`): a
+block's own invariants, under ``if platform == "formal":`` as in ``amaranth.lib.fifo``, are asserted with the
+harness's properties in every proof group (an ``Assert`` named by its message), so that the proof is inductive
+without the harness reaching into the block's state. Simulation and Verilog export never elaborate them. A
+counterexample that breaks only a block's invariant is named by replaying it for the formal platform in Amaranth's
+simulator (:func:`broken_invariant`).
 """
 
 import keyword
@@ -45,11 +52,16 @@ from sim.runners import build_dir
 
 from . import engines
 
-__all__ = ["FormalHarness", "Property", "Report", "check", "replay", "format_table", "DEFAULT_OUTDIR"]
+__all__ = ["FormalHarness", "Property", "Report", "check", "replay", "broken_invariant", "format_table",
+           "DEFAULT_OUTDIR", "PLATFORM"]
 
 DEFAULT_OUTDIR = build_dir("formal")
 #: Clock period of the replayed traces (the VCDs): 10 ns, one clock per proof step.
 PERIOD = 10e-9
+#: The platform a proof elaborates the harness (and so every block in it) for: a block's own invariants live under
+#: ``if platform == "formal":`` (as in ``amaranth.lib.fifo``) and are proven with the harness's properties, as
+#: assertions named by their message. Simulation and Verilog export never elaborate them.
+PLATFORM = "formal"
 
 
 @dataclass(frozen=True)
@@ -58,6 +70,7 @@ class Property:
     name: str
     wire: Signal
     bound: int | None = None
+    group: str | None = None
 
 
 class FormalHarness:
@@ -75,10 +88,12 @@ class FormalHarness:
 
     def __init__(self):
         self._select = None
+        self._platform = None
         self._reset()
 
     def _reset(self):
         self._properties = []
+        self._tests = {}
         self._free = []
         self._past_valid = {}
 
@@ -93,9 +108,12 @@ class FormalHarness:
         self._free.append(Value.cast(signal))          # the port is the plain signal under an enum/struct view
         return signal
 
-    def prove(self, m, name, test, *, bound=None):
-        """Assert ``test`` on every clock (for all time, or for the first ``bound`` clocks)."""
-        return self._property(m, "assert", name, test, bound)
+    def prove(self, m, name, test, *, bound=None, group=None):
+        """Assert ``test`` on every clock (for all time, or for the first ``bound`` clocks). Properties with the
+        same ``bound`` and ``group`` are proven together, in one run of the engine; a ``group`` (a label) splits
+        off properties that are not each other's lemmas: PDR on two unrelated cones at once is slower than on
+        each alone."""
+        return self._property(m, "assert", name, test, bound, group)
 
     def assume(self, m, name, test):
         """Restrict the environment to traces where ``test`` holds on every clock (an interface contract)."""
@@ -112,16 +130,8 @@ class FormalHarness:
         not elaborated again); returns the ``Module``, so that properties can use the ports of its submodules
         (``module.submodules.<name>``), not only its own. ``dut`` itself is then never elaborated by Amaranth: a
         harness file carries Amaranth's ``# amaranth: UnusedElaboratable=no`` linter comment for the blocks it
-        creates."""
-        module = dut.elaborate(None)
-        m.submodules[name] = module
-        return module
-
-    def open_formal(self, m, name, dut):
-        """As :meth:`open`, with ``platform="formal"``: the block adds its own invariants (``Assert`` s under
-        ``if platform == "formal":``, as ``amaranth.lib.fifo`` does), proven with the harness's properties; a
-        counterexample to one names it by its message."""
-        module = dut.elaborate("formal")
+        creates. ``dut`` is elaborated for the harness's platform (:data:`PLATFORM` in a proof)."""
+        module = dut.elaborate(self._platform)
         m.submodules[name] = module
         return module
 
@@ -145,7 +155,7 @@ class FormalHarness:
 
     # --- what the runner uses -----------------------------------------------------------------------------
 
-    def _property(self, m, kind, name, test, bound):
+    def _property(self, m, kind, name, test, bound, group=None):
         if not name.isidentifier() or keyword.iskeyword(name):
             raise ValueError(f"property name {name!r} must be an identifier")
         if any(p.name == name for p in self._properties):
@@ -153,20 +163,27 @@ class FormalHarness:
         if bound is not None and (not isinstance(bound, int) or bound < 1):
             raise ValueError(f"bound of {name!r} must be a positive number of clocks, not {bound!r}")
         wire = Signal(name=f"{kind}_{name}")
-        m.d.comb += wire.eq(test)
-        prop = Property(kind, name, wire, bound)
+        self._tests[name] = test                     # driven in elaborate if the selection needs it
+        prop = Property(kind, name, wire, bound, group)
         self._properties.append(prop)
         return wire
 
     def elaborate(self, platform):
         self._reset()
+        self._platform = platform
         m = Module()
         m.domains.sync = self._domain = ClockDomain("sync")
         self.build(m)
         for p in self._properties:
+            # A proof group's model holds its own assertions' cones only: the other groups' property wires (kept
+            # for the traces) would keep theirs, and PDR is slower with them.
+            group = isinstance(self._select, tuple) and p.kind != "assume" and self._select != ("bound", p.bound,
+                                                                                                 p.group)
+            if not (group or (self._select == "covers" and p.kind == "assert")):
+                m.d.comb += p.wire.eq(self._tests[p.name])
             if p.kind == "assume" and self._select != "replay":
                 m.d.comb += Assume(p.wire, p.name)
-            elif p.kind == "assert" and self._select == ("bound", p.bound):
+            elif p.kind == "assert" and self._select == ("bound", p.bound, p.group):
                 m.d.comb += Assert(p.wire, p.name)
             elif p.kind == "cover" and self._select == "covers":
                 # For the search: an assertion that the cover never happens, whose counterexample is the trace.
@@ -180,13 +197,13 @@ class FormalHarness:
         return [p for p in self._properties if kind is None or p.kind == kind]
 
     def rtlil(self, select):
-        """RTLIL of the harness with the assertions of one group (``("bound", None)`` for the unbounded ones,
-        ``("bound", k)``) or, for ``"covers"``, the covers only."""
+        """RTLIL of the harness with the assertions of one group (``("bound", None, group)`` for the unbounded
+        ones, ``("bound", k, group)``) or, for ``"covers"``, the covers only; the blocks' own invariants in each."""
         self._select = select
         try:
-            m = self.elaborate(None)
+            m = self.elaborate(PLATFORM)
             ports = [self._domain.clk, self._domain.rst, *self._free]
-            return rtlil.convert(m, name="top", ports=ports)
+            return rtlil.convert(m, name="top", platform=PLATFORM, ports=ports)
         finally:
             self._select = None
 
@@ -196,10 +213,7 @@ def replay(harness, frames, vcd):
     writing every signal to ``vcd``; the value of each property wire on each clock, ``[{name: 0/1}]``.
 
     The proof engines work on Yosys's model of the design; this replay is Amaranth's own semantics, so a
-    trace that does not make the same property fail here points at a tool problem, not at the design.
-
-    A block opened with :meth:`FormalHarness.open_formal` asserts its own invariants; the simulator stops at the
-    first that fails, and the second value returned is its message (``None`` when none fails)."""
+    trace that does not make the same property fail here points at a tool problem, not at the design."""
     harness._select = "replay"               # no Assert/Assume cells: the simulator would raise on them
     try:
         m = harness.elaborate(None)
@@ -223,13 +237,46 @@ def replay(harness, frames, vcd):
     vcd = Path(vcd)
     vcd.parent.mkdir(parents=True, exist_ok=True)
     traces = [harness._domain.rst, *harness._free, *wires.values()]
-    block_failure = None
+    with sim.write_vcd(str(vcd), str(vcd.with_suffix(".gtkw")), traces=traces):
+        sim.run()
+    return seen
+
+
+def broken_invariant(harness, frames):
+    """The first of the blocks' own invariants (``platform == "formal"``) that a trace breaks in Amaranth's
+    simulator, as ``(clock, message)``, or None: the simulator raises ``AssertionError("Assertion violated:
+    <message>")`` at the edge that ends the clock whose values break a block's ``Assert`` (a block states its
+    invariants in its ``sync`` domain, so the simulator checks settled values, not a combinational update in
+    progress)."""
+    harness._select = "replay"               # the harness's properties as wires only, the blocks' Asserts kept
     try:
-        with sim.write_vcd(str(vcd), str(vcd.with_suffix(".gtkw")), traces=traces):
-            sim.run()
-    except AssertionError as exc:            # a block's own assertion (platform "formal")
-        block_failure = f"{str(exc).removeprefix('Assertion violated: ')} (the block's own)"
-    return seen, block_failure
+        m = harness.elaborate(PLATFORM)
+        fragment = Fragment.get(m, PLATFORM)
+    finally:
+        harness._select = None
+    ports = {s.name: s for s in (harness._domain.rst, *harness._free)}
+    clock = [0]
+
+    async def testbench(ctx):
+        for frame in frames:
+            clock[0] += 1
+            for name, value in frame.items():
+                if name in ports:
+                    ctx.set(ports[name], value)
+            await ctx.tick()
+
+    sim = Simulator(fragment)
+    sim.add_clock(PERIOD)
+    sim.add_testbench(testbench)
+    try:
+        sim.run()
+    except AssertionError as exc:
+        message = str(exc)
+        prefix = "Assertion violated: "
+        if message.startswith(prefix):
+            return clock[0], message[len(prefix):]
+        raise
+    return None
 
 
 def _violations(seen, kind, names, value):
@@ -244,6 +291,7 @@ def _violations(seen, kind, names, value):
 @dataclass
 class GroupResult:
     bound: int | None
+    group: str | None
     engine: str
     names: list
     outcome: engines.Outcome
@@ -257,7 +305,14 @@ class GroupResult:
 
     @property
     def proof(self):
-        return "unbounded" if self.bound is None else f"bounded, {self.bound} clocks"
+        proof = "unbounded" if self.bound is None else f"bounded, {self.bound} clocks"
+        return proof if self.group is None else f"{proof} ({self.group})"
+
+    @property
+    def label(self):
+        """The group's directory and trace name."""
+        label = "unbounded" if self.bound is None else f"bounded_{self.bound}"
+        return label if self.group is None else f"{label}_{self.group}"
 
 
 @dataclass
@@ -299,9 +354,9 @@ class Report:
         return out
 
 
-def _run_group(harness, bound, names, workdir, outdir):
+def _run_group(harness, bound, group, names, workdir, outdir):
     start = time.perf_counter()
-    text = harness.rtlil(("bound", bound))
+    text = harness.rtlil(("bound", bound, group))
     if bound is not None:
         engine, outcome = "bmc", engines.bmc(text, workdir, depth=bound, timeout=harness.timeout)
     elif harness.engine == "pdr":
@@ -311,15 +366,16 @@ def _run_group(harness, bound, names, workdir, outdir):
         outcome = engines.prove_induction(text, workdir, max_steps=harness.max_steps, timeout=harness.timeout)
     else:
         raise ValueError(f"unknown engine {harness.engine!r} in {type(harness).__name__}")
-    result = GroupResult(bound, engine, names, outcome, 0.0)
+    result = GroupResult(bound, group, engine, names, outcome, 0.0)
     if outcome.status == "failed":
-        label = "unbounded" if bound is None else f"bounded_{bound}"
-        result.vcd = outdir / f"{label}.vcd"
-        seen, block_failure = replay(harness, outcome.frames, result.vcd)
+        result.vcd = outdir / f"{result.label}.vcd"
+        seen = replay(harness, outcome.frames, result.vcd)
         _check_assumptions(harness, seen, result.vcd)
-        _, result.failed = _violations(seen, "assert", names, 0)
-        if block_failure and not result.failed:
-            result.failed = [block_failure]
+        step, result.failed = _violations(seen, "assert", names, 0)
+        # The first to fail: the harness's properties, and a block's invariant if it fails no later.
+        invariant = broken_invariant(harness, outcome.frames)
+        if invariant is not None and (step is None or invariant[0] <= step):
+            result.failed.append(f"{invariant[1]} (a block's invariant, clock {invariant[0]})")
         if not result.failed:
             raise engines.FormalToolError(f"{harness.name}: the {engine} counterexample does not make any "
                                           f"assertion fail in Amaranth's simulator (see {result.vcd})")
@@ -346,10 +402,12 @@ def check(harness, *, outdir=DEFAULT_OUTDIR, covers=True):
     asserts = harness.properties("assert")
     if not asserts:
         raise ValueError(f"{harness.name} declares no assertion")
-    bounds = sorted({p.bound for p in asserts}, key=lambda b: -1 if b is None else b)
-    groups = [_run_group(harness, b, [p.name for p in asserts if p.bound == b],
-                         workdir / ("unbounded" if b is None else f"bounded_{b}"), outdir)
-              for b in bounds]
+    keys = sorted({(p.bound, p.group) for p in asserts}, key=lambda k: (-1 if k[0] is None else k[0], k[1] or ""))
+    groups = []
+    for bound, group in keys:
+        label = GroupResult(bound, group, "", [], None, 0.0).label
+        names = [p.name for p in asserts if (p.bound, p.group) == (bound, group)]
+        groups.append(_run_group(harness, bound, group, names, workdir / label, outdir))
     cover_results, cover_vcds = {}, {}
     # Covers make a passing proof meaningful; a failing one already has its counterexample.
     proved = all(g.ok for g in groups)
@@ -361,7 +419,7 @@ def check(harness, *, outdir=DEFAULT_OUTDIR, covers=True):
         for n, o in cover_results.items():
             if o.status == "reached":
                 cover_vcds[n] = vcd = outdir / f"cover_{n}.vcd"
-                seen, _ = replay(harness, o.frames, vcd)
+                seen = replay(harness, o.frames, vcd)
                 _check_assumptions(harness, seen, vcd)
                 if _violations(seen, "cover", [n], 1)[0] is None:
                     raise engines.FormalToolError(f"{harness.name}: the trace of cover {n} does not reach it "

@@ -5,6 +5,7 @@ fail, names the broken property and leaves a counterexample VCD in ``build/forma
 import dataclasses
 
 import pytest
+from amaranth import Signal
 
 from hdl.depth.engine import DepthEngine
 from hdl.depth.subpixel import Subpixel
@@ -25,7 +26,7 @@ from sim.formal.runner import check
 
 from sim.formal.harnesses.capture import CaptureHarness
 from sim.formal.harnesses.compositor import CompositorHarness
-from sim.formal.harnesses.depth import DepthEngineHarness
+from sim.formal.harnesses.depth import DepthEngineHarness, DepthMapHarness
 from sim.formal.harnesses.depth_codes import SubpixelCodesHarness, WinnerCodesHarness
 from sim.formal.harnesses.disparity import DisparityHarness
 from sim.formal.harnesses.frame_buffer import FrameBufferHarness
@@ -114,11 +115,30 @@ class SequencerShortTable(InitSequencerHarness):
 
 
 class DepthEngineWiderImage(DepthEngineHarness):
-    """The engine built for a buffer one pixel wider than the one it reads: its row addresses run ahead."""
+    """The engine built for a buffer one pixel wider than the one it reads: its row addresses run ahead (the input
+    rows' proof only)."""
+    parts = ("reads",)
+
     def dut(self):
         g = self.geometry
         wider = dataclasses.replace(g, width=g.width + g.scale)
         return DepthEngine(wider, self.config, out_rows=self.out_rows)
+
+
+class EngineWrappingPassCounter(DepthEngine):
+    """The pass counter one value short (``range(H + 1)``): on the 3-row buffer (H + 1 = 4) it wraps to 0 once the
+    map is done."""
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.pass_row = Signal(range(self.geometry.buf_height + 1), name="y")
+
+
+class DepthMapWrappingPassCounter(DepthMapHarness):
+    """The map harness's results proof on the engine whose pass counter wraps."""
+    parts = ("results",)
+
+    def dut(self):
+        return EngineWrappingPassCounter(self.geometry, self.config, out_rows=self.out_rows)
 
 
 class EngineWithoutPairs(DepthEngine):
@@ -128,6 +148,9 @@ class EngineWithoutPairs(DepthEngine):
 
 
 class DepthEngineWithoutPairs(DepthEngineHarness):
+    """The engine without ``_pair_bits`` (the row tags' proof only)."""
+    parts = ("tags",)
+
     def dut(self):
         return EngineWithoutPairs(self.geometry, self.config, out_rows=self.out_rows)
 
@@ -247,6 +270,7 @@ BITES = {
     "frame_store_credits": (FetcherCountsADeeperFifo, "room"),
     "frame_store_writer": (WriterWithLongerRows, "write_inside_the_owned_buffer"),
     "frame_store_writer_complete": (WriterToldEveryFrameIsWhole, "complete_only_after_exactly_the_frame_s_bursts"),
+    "depth_pass_counter": (DepthMapWrappingPassCounter, "rows_ready_counts_finished_passes"),
 }
 
 

@@ -11,7 +11,7 @@ The engine is a tiny configuration of the same RTL (D = 2, 7 x 7 census) on a 3 
 ring: not a power of two wide, deep or long, so no address bound holds by its width alone (27 words behind 5
 address bits, a 9-word result ring behind 4), and taller than the 8-row input rings, so ring slots are reused.
 A whole map there is about 980 clocks, too deep for a cover search in minutes: :class:`DepthMapHarness` completes
-one on a smaller engine (2 x 4 buffer, 3 x 3 census, 2-row result ring: about 370 clocks) and proves the result
+one on a smaller engine (2 x 3 buffer, 3 x 3 census, 2-row result ring: about 300 clocks) and proves the result
 ring's properties and the invalid row's codes there (the codes' cone is the whole datapath, so they are not in
 the larger harness's proof).
 """
@@ -48,9 +48,6 @@ class DepthEngineHarness(FormalHarness):
     default_covers = DEFAULT_COVERS
     parts = ("reads", "tags", "results")
     map_cover_bound = None          # map_completes by PDR (the slow variant)
-    #: The PDR proof of the 28 properties takes 5 minutes of CPU or more; on the shared machine (load average 5-7)
-    #: that is more than the default 600 s of wall clock.
-    timeout = 1800
 
     def __init__(self, geometry=GEOMETRY, config=CONFIG, out_rows=OUT_ROWS):
         super().__init__()
@@ -63,9 +60,9 @@ class DepthEngineHarness(FormalHarness):
         if self.all_covers or name in self.default_covers:
             super().cover(m, name, test, bound=bound)
 
-    def prove(self, m, name, test, *, bound=None):
+    def prove(self, m, name, test, *, bound=None, group=None):
         if self._part in self.parts:
-            return super().prove(m, name, test, bound=bound)
+            return super().prove(m, name, test, bound=bound, group=group or self._part)
 
     def build(self, m):
         g, cfg = self.geometry, self.config
@@ -75,7 +72,8 @@ class DepthEngineHarness(FormalHarness):
         dut = self.dut()
         module = self.open(m, "dut", dut)
         # The block's ports and its submodules' (the one place to adapt when the signature changes): the pass
-        # counter is the median's ``y``, the rings' writes and the result ring's write are their memories' ports.
+        # counter is the engine's ``pass_row``, the rings' writes and the result ring's write are their memories'
+        # ports.
         m.d.comb += [dut.start.eq(start), dut.result.rows_released.eq(rows_released), dut.left_row_offset.eq(0),
                      dut.result.addr.eq(self.free("result_addr", len(dut.result.addr)))]
         reads = {}
@@ -89,7 +87,7 @@ class DepthEngineHarness(FormalHarness):
             ring = module.submodules[f"{side}_ring"]
             reads[side] = (port, ring, ring.write_en,
                            module.submodules[f"{side}_census"].shift)
-        y = module.submodules.median.y
+        y = dut.pass_row
         median = module.submodules.median
         result_write = module.submodules.results.write_ports[0]
         rows_ready, busy = dut.result.rows_ready, dut.busy
@@ -121,7 +119,7 @@ class DepthEngineHarness(FormalHarness):
         for slot in self._window_slots(y):
             torn_in_window = torn_in_window | ring.torn.bit_select(slot, 1)
         self.prove(m, f"{side}_torn_window_row_makes_the_row_invalid",
-                   ~census_shift | ~torn_in_window | dut.row_invalid)
+                   ~census_shift | ~torn_in_window | dut.row_invalid, group="window")
 
     def _window_slots(self, y):
         """The ring slots of the pass's census window: rows clamp(y - 3 .. y + 3), slot = row mod 8."""
@@ -136,7 +134,8 @@ class DepthEngineHarness(FormalHarness):
         mismatch = 0
         for slot in self._window_slots(y):
             mismatch = mismatch | (left_ring.slot_tags[slot] != right_ring.slot_tags[slot])
-        self.prove(m, "pair_mismatch_in_window_makes_the_row_invalid", ~census_shift | ~mismatch | dut.row_invalid)
+        self.prove(m, "pair_mismatch_in_window_makes_the_row_invalid", ~census_shift | ~mismatch | dut.row_invalid,
+                   group="window")
 
     def _reader_contract(self, m, start, rows_released, rows_ready):
         pv = self.past_valid(m)
@@ -193,20 +192,20 @@ class DepthEngineHarness(FormalHarness):
         self.cover(m, "map_completes", rows_ready == h, bound=self.map_cover_bound)
 
 
-#: The map harness's engine: D = 2 and a 3 x 3 census on a 2 x 4 buffer, a 2-row result ring. A whole map
-#: (5 passes) is about 370 clocks, within BMC's reach in a minute or two. Not 3 rows: with H + 1 a power of two the
-#: pass counter (``range(H + 1)``) wraps to 0 after the last pass, and ``rows_ready_counts_finished_passes`` fails
-#: once a map is complete (docs/formal.md, "Not covered").
-MAP_GEOMETRY = SensorGeometry(width=8, height=16)
+#: The map harness's engine: D = 2 and a 3 x 3 census on a 2 x 3 buffer, a 2-row result ring. A whole map
+#: (4 passes) is about 300 clocks, within BMC's reach in a minute. H + 1 = 4 is a power of two: the pass counter
+#: counts to H + 1 once the map is done, and ``rows_ready_counts_finished_passes`` fails there if it wraps (PDR
+#: finds that 303-clock counterexample in seconds).
+MAP_GEOMETRY = SensorGeometry(width=8, height=12)
 MAP_CONFIG = DepthConfig(disparities=2, lanes=2, census_width=3, census_height=3)
 MAP_OUT_ROWS = 2
-#: BMC's bound for ``map_completes`` on the map harness (clocks; the shortest trace is about 370).
-MAP_COVER_BOUND = 400
+#: BMC's bound for ``map_completes`` on the map harness (clocks; the shortest trace is about 300).
+MAP_COVER_BOUND = 340
 
 
 class DepthMapHarness(DepthEngineHarness):
     """A smaller engine that completes a whole map (``map_completes``, by BMC) with the result ring's properties
-    and the invalid row's codes: 4 rows through a 2-row result ring (so it wraps, and a pass waits for the reader's
+    and the invalid row's codes: 3 rows through a 2-row result ring (so it wraps, and a pass waits for the reader's
     release), the census window clamped at both edges of every row and column, D = 2 = the width."""
     name = "depth_map"
     parts = ("results", "codes")

@@ -25,7 +25,7 @@ class FrameStoreOwnershipHarness(FormalHarness):
 
     def build(self, m):
         dut = self.dut()
-        self.open_formal(m, "dut", dut)
+        self.open(m, "dut", dut)
         cameras, buffers = dut.cameras, dut.buffers
         for c, w in enumerate(dut.writers):
             m.d.comb += [w.start.eq(self.free(f"start_{c}")), w.finish.eq(self.free(f"finish_{c}")),
