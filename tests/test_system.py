@@ -5,8 +5,9 @@ panels, the depth map with its colour bar, labels, crosshair and centre distance
 
 Every run goes through ``sim.system.simulate`` with a still pair. Default run: the small preset (64 x 48 sensor,
 112 x 52 display, D = 8; sim/testbench/system/setup.py) on Amaranth's simulator and through cocotb on Verilator and
-Icarus, along every route (tests/test_verilator_route.py runs the Verilator backend with the C++ testbench). Slow:
-the full 1600 x 1200 -> 1080p run (tests marked ``slow``), parametrized over the backends.
+Icarus, along every route (tests/test_verilator_route.py runs the Verilator backend with the C++ testbench; the
+Amaranth Python-model route runs through the command line, tests/test_cli_outputs.py's complete run, with this
+file's checks). Slow: the full 1600 x 1200 -> 1080p run (tests marked ``slow``), parametrized over the backends.
 """
 
 import numpy as np
