@@ -28,30 +28,29 @@ def simulator(request):
     return name
 
 
-#: The longest tests of the default run (roughly 10-70 s each on the project's 2-core machine, longest first; a
+#: The longest tests of the default run (roughly 10-150 s each on the project's 2-core machine, longest first; a
 #: parametrised test is named without its parameters). They start first, and pytest-xdist hands out one test at a
 #: time (``--maxschedchunk=1`` in pyproject.toml), so the two workers finish together instead of one running a
 #: long test alone at the end. Ordering only: a name missing here, or no longer a test, changes nothing else.
 LONG_FIRST = (
-    "tests/test_compositor.py::test_display_path_amaranth",
+    "tests/test_cli_outputs.py::test_complete_run_replaces_every_output_and_records_its_provenance",
+    "tests/test_system.py::test_end_to_end_amaranth",
+    "tests/test_system.py::test_end_to_end_cocotb_python_models",
     "tests/test_board_top.py::test_board_top_small",
+    "tests/test_compositor.py::test_display_path_amaranth",
     "tests/test_compositor.py::test_segmentation_cocotb",
     "tests/formal/test_proofs.py::test_proof[i2c_init]",
-    "tests/test_cli_outputs.py::test_complete_run_replaces_every_output_and_records_its_provenance",
-    "tests/test_system.py::test_end_to_end_cocotb_python_models",
     "tests/test_cocotb_waves.py::test_a_cocotb_run_with_waves_leaves_a_save_file_gtkwave_opens",
     "tests/test_cocotb_runner.py::test_verilator_fast_failure_is_reported",
     "tests/test_install.py::test_small_demo_from_outside_the_checkout",
-    "tests/test_display_path.py::test_display_path_cocotb",
     "tests/formal/test_proofs.py::test_proof[segment_band]",
     "tests/test_compositor.py::test_segmentation_amaranth",
     "tests/test_compositor.py::test_display_path_cocotb",
     "tests/formal/test_bites.py::test_bug_is_caught[depth]",
     "tests/formal/test_bites.py::test_bug_is_caught[capture]",
-    "tests/test_system.py::test_end_to_end_amaranth",
     "tests/test_compositor.py::test_display_path_other_layout_amaranth",
+    "tests/test_display_path.py::test_display_path_cocotb",
     "tests/test_verilator_route.py::test_raw_model_replays_the_run_exactly",
-    "tests/test_cli_outputs.py::test_segment_run_records_its_band",
     "tests/test_frames.py::test_moving_card_frames_on_verilator",
     "tests/formal/test_proofs.py::test_proof[median_codes]",
     "tests/test_system.py::test_in_simulator_route_is_equivalent",

@@ -20,6 +20,7 @@ from golden.image_file import read_image
 from golden.stereo_pair import load_default_pair
 from sim.testbench.system.run_cocotb import DEFAULT_PAIR
 from stereodepth.outputs import RunOutputs, partial_name
+from test_system import check_golden_is_interesting, check_status
 
 ROOT = Path(__file__).resolve().parents[1]
 EARLIER = ("result.json", "hdmi_frame.png", "golden_frame.png", "difference.png", "system.vcd", "system.gtkw",
@@ -34,9 +35,9 @@ def earlier_run(out):
     (out / "notes.txt").write_text("the user's own file\n")
 
 
-def start_run(out, *extra, vcd=True):
+def start_run(out, *extra, vcd=True, simulator="amaranth"):
     return subprocess.Popen([sys.executable, "-m", "stereodepth", "run", *map(str, DEFAULT_PAIR), "--small",
-                             "--simulator", "amaranth", *(["--vcd"] if vcd else []), "--out", str(out), *extra],
+                             "--simulator", simulator, *(["--vcd"] if vcd else []), "--out", str(out), *extra],
                             cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
 
@@ -66,7 +67,10 @@ def _sha256(path):
 
 def test_complete_run_replaces_every_output_and_records_its_provenance(tmp_path):
     """... and its GTKWave save file opens on its VCD with every signal it lists (where GTKWave is installed; the
-    one Amaranth run with waveforms of the default suite: tests/test_system.py's end-to-end run writes none)."""
+    one Amaranth run with waveforms of the default suite). It is also the default suite's end-to-end run of
+    Amaranth's simulator along the Python-model route: the checks of tests/test_system.py::test_end_to_end_amaranth
+    on what result.json and the frames hold (that test's ``python`` route is slow: the same simulation
+    in-process with other switch settings, one display frame fewer)."""
     from sim.waves import gtkwave_check
     out = tmp_path / "out"
     earlier_run(out)
@@ -101,6 +105,30 @@ def test_complete_run_replaces_every_output_and_records_its_provenance(tmp_path)
     started, ended = (datetime.fromisoformat(record[k].replace("Z", "+00:00")) for k in ("started_utc", "ended_utc"))
     assert re.fullmatch(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ", record["ended_utc"])
     assert before.replace(microsecond=0) <= started <= ended <= datetime.now().astimezone()
+    _check_end_to_end(out, result)
+
+
+def _check_end_to_end(out, status):
+    """tests/test_system.py::test_end_to_end_amaranth's checks on a run's outputs: the frame shown is the golden
+    frame of the pair (no depth row withheld), the parts end configured, the buses clean."""
+    from sim.models.mt9d112.config import expected_sensor_config
+    from sim.testbench.system.setup import SystemSetup
+    setup = SystemSetup.small(disparity=3, rectification=0)
+    check_status(status, (3, 0))
+    golden = read_image(out / "golden_frame.png")
+    check_golden_is_interesting(golden, setup)
+    assert status["violations"] == [] and status["verdict"]["ok"] and status["mismatched_pixels"] == 0
+    np.testing.assert_array_equal(read_image(out / "hdmi_frame.png"), golden)
+    np.testing.assert_array_equal(golden, setup.golden_frame(*load_default_pair(setup.geometry.width,
+                                                                                 setup.geometry.height)))
+    for bus in ("cam_a", "cam_b"):
+        assert status["sensor_config"][bus] == repr(expected_sensor_config(setup.geometry))
+        assert status["mt9d112_problems"][bus] == []
+    dvi = status["dvi_config"]
+    assert dvi["dvi_on"] and dvi["idf"] == 0 and dvi["hsync_positive"] and dvi["vsync_positive"] \
+        and dvi["pll_range"] == "high"
+    for bus, errors in status["i2c_protocol_errors"].items():
+        assert not errors and status["i2c_transactions"][bus], (bus, errors[:3])
 
 
 def test_segment_run_records_its_band(tmp_path):
@@ -108,10 +136,11 @@ def test_segment_run_records_its_band(tmp_path):
     the segmentation view, the band in result.json and the summary (the small layout has no room for its text).
     The frame shown is also rebuilt here from the golden model (the offset in use and the tear that result.json
     records): the segmentation view differs from the difference map it replaces, and nothing else changes (the
-    checks of tests/test_system.py::test_end_to_end_amaranth_segmentation, now slow: the same run in-process).
-    Without ``--vcd`` (a third of the time; the waveform outputs are the complete run's test)."""
+    checks of tests/test_system.py::test_end_to_end_amaranth_segmentation, slow: the same run in Amaranth's
+    simulator). On Verilator (the command line's default simulator: seconds; Amaranth's simulator runs the whole
+    system in the complete run above)."""
     out = tmp_path / "out"
-    run = start_run(out, "--disparity", "3", "--segment", vcd=False)
+    run = start_run(out, "--disparity", "3", "--segment", vcd=False, simulator="verilator")
     stdout, stderr = run.communicate(timeout=600)
     assert run.returncode == 0, stderr
     result = json.loads((out / "result.json").read_text())

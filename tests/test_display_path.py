@@ -2,9 +2,9 @@
 
 * Amaranth simulator: the whole path through the HDMI sink (small modes), the pattern generator at 1080p
   positions, the CH7301C output stage bit by bit against the datasheet's IDF 0 table.
-* cocotb: one run per simulator. Verilator: a full 1080p frame rebuilt from the dual-edge bus equals the
-  golden frame bit for bit, and both the sink and the edge timestamps measure exactly the CEA-861 1080p60
-  intervals. Icarus: the same on the small mode (two frames).
+* cocotb: one run per simulator on the small mode (two frames) rebuilt from the dual-edge bus equals the golden
+  frame bit for bit, and both the sink and the edge timestamps measure exactly the mode's intervals. Slow: a full
+  1080p frame on Verilator, against the CEA-861 1080p60 intervals.
 * The Virtex-5 board variant: it elaborates to ODDR/OBUFDS primitives, and with behavioural models of those
   two primitives (written below from the Virtex-5 documentation) it carries the same frames on Icarus.
 """
@@ -205,17 +205,24 @@ def test_board_variant_carries_the_same_frames_on_icarus(tmp_path):
     assert_ran(test_dir, {"sink_frames"})
 
 
-# -- cocotb on Verilator (full 1080p frame) and Icarus (small mode) -----------------------------------------
+# -- cocotb on Verilator and Icarus (small mode); the full 1080p frame on Verilator (slow) ---------------------
 
-def test_display_path_cocotb(simulator):
-    """From reset to the first pixel of the next frame: the sink rebuilds the frame(s) bit for bit and
-    measures the intervals clock by clock; the edge timestamps of the same run give the same intervals."""
-    if simulator == "verilator":
-        # The one full 1080p frame of the default suite, checked against the CEA-861 numbers.
-        timing, expected, frames = CEA_1080P60, CEA_1080P60_INTERVALS, 1
-    else:
-        timing, expected, frames = SMALL_TIMING, intervals(SMALL_TIMING), 2
+def _run_cocotb_frames(timing, expected, frames, simulator):
     test_dir = run_display_cocotb(
         DisplayPath(timing), timing, simulator=simulator, sink_clocks=frames * timing.clocks_per_frame + 16,
         min_frames=frames, expect_values=expected, expect_edges=expected)
     assert_ran(test_dir, {"sink_frames"})
+
+
+def test_display_path_cocotb(simulator):
+    """From reset to the first pixel of the next frame, two small-mode frames: the sink rebuilds them bit for bit
+    and measures the intervals clock by clock; the edge timestamps of the same run give the same intervals."""
+    _run_cocotb_frames(SMALL_TIMING, intervals(SMALL_TIMING), 2, simulator)
+
+
+@pytest.mark.slow
+def test_display_path_1080p_cocotb():
+    """The full 1080p frame on Verilator, checked against the CEA-861 numbers written out above (slow: 2.5 M
+    pixel clocks sampled from Python; the default run checks the same path on the small mode,
+    :func:`test_display_path_cocotb`, and three whole 1080p lines in tests/test_sync_gen.py)."""
+    _run_cocotb_frames(CEA_1080P60, CEA_1080P60_INTERVALS, 1, "verilator")

@@ -5,8 +5,9 @@ panels, the depth map with its colour bar, labels, crosshair and centre distance
 
 Every run goes through ``sim.system.simulate`` with a still pair. Default run: the small preset (64 x 48 sensor,
 112 x 52 display, D = 8; sim/testbench/system/setup.py) on Amaranth's simulator and through cocotb on Verilator and
-Icarus, along every route (tests/test_verilator_route.py runs the Verilator backend with the C++ testbench). Slow:
-the full 1600 x 1200 -> 1080p run (tests marked ``slow``), parametrized over the backends.
+Icarus, along every route (tests/test_verilator_route.py runs the Verilator backend with the C++ testbench; the
+Amaranth Python-model route runs through the command line, tests/test_cli_outputs.py's complete run, with this
+file's checks). Slow: the full 1600 x 1200 -> 1080p run (tests marked ``slow``), parametrized over the backends.
 """
 
 import numpy as np
@@ -62,7 +63,7 @@ def test_derived_tables_keep_the_board_table_but_size_and_time():
     assert len(mt9d112_table(SMALL_SENSOR, quick=False)) == len(MT9D112_TABLE)
 
 
-def _check_golden_is_interesting(golden, setup):
+def check_golden_is_interesting(golden, setup):
     """The comparison would be weak if the golden frame were flat: require several disparity levels and the
     no-data colour in the difference map, several depth colours in the depth map and a distance (digits, not
     dashes) in the readout."""
@@ -82,28 +83,31 @@ def _run(setup, backend):
     return simulate(setup, still_pair(left, right, setup), backend)
 
 
-def _check_status(status):
+def check_status(status, settings=(DISPARITY, RECTIFICATION)):
+    """The parts configured, the buses released, both captures whole, the switches' ``settings`` (disparity,
+    rectification) read back and the LEDs: a run's status (in-process, or a command line run's result.json)."""
     for bus in ("cam_a", "cam_b", "dvi"):
         assert status[f"{bus}_init_done"] and not status[f"{bus}_init_error"], status
         assert not status["drive_high"][bus]
     assert status["cam_a_frame_ok"] and status["cam_b_frame_ok"]
-    assert (status["disparity"], status["rectification"]) == (DISPARITY, RECTIFICATION)
+    assert (status["disparity"], status["rectification"]) == settings
     assert status["auto_rectification"]["auto"] == 0                 # a manual value
     assert status["leds"] & 0b111111 == 0b010101          # init done on all three buses, no error
 
 
-@pytest.mark.parametrize("route", ["python", "replay"])
+@pytest.mark.parametrize("route", [pytest.param("python", marks=pytest.mark.slow), "replay"])
 def test_end_to_end_amaranth(route):
     """The small system end to end in Amaranth's simulator, along each route: the Python sensor models per PCLK, and
     the full-size route (sim/testbench/system/rom_testbench.py: each camera's stream, made by the sensor model before
     the run, replayed from a ROM; gated simulator clocks), whose every sample of the replayed frame period was sent.
     The frame equals the golden frame, the parts end configured, the buses clean. No waveforms (they cost twice the
-    run): the demo's waveforms of the same run and their GTKWave save file are checked by tests/test_cli_outputs.py's
-    complete run (``stereodepth run --small --simulator amaranth --vcd``: the same backend with ``system_waves``)."""
+    run). The ``python`` route is slow: the default suite runs the same simulation through the command line,
+    tests/test_cli_outputs.py's complete run (``stereodepth run --small --simulator amaranth --vcd``: the same
+    backend with ``system_waves``), with these checks on its result.json and frames."""
     setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION)
     result = _run(setup, Amaranth(route))
-    _check_status(result.status)
-    _check_golden_is_interesting(result.golden, setup)
+    check_status(result.status)
+    check_golden_is_interesting(result.golden, setup)
     assert not result.sink.violations, result.sink.violations[:5]
     assert result.frame is not None and result.ok
     assert result.mismatched_pixels == 0
@@ -127,8 +131,8 @@ def test_end_to_end_amaranth(route):
 def test_end_to_end_amaranth_segmentation():
     """The switches on 1000001 (automatic rectification + the segmentation view): the frame equals the golden frame
     with the segmentation view in the difference map's place, which differs from the difference map. Slow: the
-    default suite runs the same simulation through the CLI, tests/test_cli_outputs.py::
-    test_segment_run_records_its_band, with these checks on the frame it shows."""
+    default suite makes these checks through the command line on Verilator, tests/test_cli_outputs.py::
+    test_segment_run_records_its_band."""
     setup = SystemSetup.small(disparity=DISPARITY, rectification="auto", segment=True)
     assert setup.switch_words() == [0x80 | DISPARITY, 0b1000001]
     left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
@@ -169,8 +173,8 @@ def test_end_to_end_cocotb_python_models(tmp_path):
     setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION, pix_after_init=False)
     result = _run(setup, Cocotb("icarus", PythonModels(), out_dir=tmp_path))
     status = result.status
-    _check_status(status)
-    _check_golden_is_interesting(result.golden, SystemSetup.small(disparity=DISPARITY,
+    check_status(status)
+    check_golden_is_interesting(result.golden, SystemSetup.small(disparity=DISPARITY,
                                                                   rectification=RECTIFICATION))
     assert status["violations"] == []
     assert result.mismatched_pixels == 0
@@ -188,7 +192,7 @@ def test_in_simulator_route_is_equivalent(simulator, tmp_path):
     setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION)
     result = _run(setup, Cocotb(simulator, InSimulator(cross_check=5000), out_dir=tmp_path))
     status = result.status
-    _check_status(status)
+    check_status(status)
     assert status["replay_checks"]["a"] == {"samples": 5000, "mismatches": 0}
     assert status["replay_checks"]["b"] == {"samples": 5000, "mismatches": 0}
     assert status["recorded_clocks"] == SystemSetup.small().timing.clocks_per_frame + 9
