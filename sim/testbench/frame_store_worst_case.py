@@ -38,6 +38,8 @@ __all__ = ["WorstCase", "WorstCaseResult", "run_worst_case", "CameraSource", "Di
 
 #: Pix clocks from both cameras' ``frame_done`` to the take: their last bursts and ends written, the pair formed.
 PAIR_CLOCKS = 300
+#: Bytes in a DRAM row (a column address's 1024 words of 8 bytes).
+DRAM_ROW_BYTES = (1 << MIG.COL_BITS) * 8
 #: PCLK clocks per kept pixel: two bytes a pixel, every 4th pixel kept.
 CAMERA_GAP = 2 * 4
 
@@ -230,7 +232,9 @@ class WorstCase:
     before the writers (the design) or after them; ``display_columns``: one display stream per entry, its panel's
     first column, cameras alternating; ``engine_streams``: greedy readers, cameras alternating, listed first (so
     they come before non-urgent display streams); ``mig_fifo_depth``: the model's address FIFO's depth (MIG's
-    1024; the write-data FIFO's is at most MIG's 512)."""
+    1024; the write-data FIFO's is at most MIG's 512); ``stride``: bytes from a buffer row to the next, by default
+    a DRAM row (8 KB), so every buffer row lies in its own DRAM row: two streams never share an open row, as in the
+    full-size layout, whose buffers (125 kB) lie in different DRAM rows of the one bank they all use."""
     rows: int = 6
     frames: int = 3
     blank_lines: int = 2
@@ -242,6 +246,7 @@ class WorstCase:
     slots: int = 2
     camera_gap: int = CAMERA_GAP
     mig_fifo_depth: int = MIG.AF_DEPTH
+    stride: int = DRAM_ROW_BYTES
 
     @property
     def geometry(self):
@@ -249,7 +254,7 @@ class WorstCase:
 
     @property
     def layout(self):
-        return FrameStoreLayout(width=self.geometry.buf_width, height=self.rows)
+        return FrameStoreLayout(width=self.geometry.buf_width, height=self.rows, stride=self.stride)
 
     @property
     def streams(self):
