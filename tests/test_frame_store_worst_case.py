@@ -17,7 +17,7 @@ def test_the_display_is_never_refused_in_the_worst_case():
     assert r.missed == [0, 0, 0, 0], r.report()
     assert r.late == [0, 0, 0, 0], r.report()
     # every row landed at least half a line before its first pixel (it was asked for one line before it)
-    assert min(r.slack_clocks) > r.line_clocks // 2, r.report()
+    assert r.least_slack > r.line_clocks // 2, r.report()
     assert r.refreshes >= 2, r.report()
     # the cameras' writes all reached MIG at their rate (13 bursts every 40 us row each: 10.4 MB/s)
     assert all(9.5 < x < 11 for x in r.camera_mbps), r.report()
@@ -26,11 +26,11 @@ def test_the_display_is_never_refused_in_the_worst_case():
 
 
 @pytest.mark.slow
-def test_a_display_served_after_the_engine_loses_its_margin():
+def test_a_display_served_after_the_engine_is_refused():
     """A bite kept as a test: the display's streams not urgent (after the writers and, listed later, after the
-    engine's greedy streams) land their rows barely ahead of the line (the default test's margin fails)."""
+    engine's greedy streams): their rows come late and the display is refused."""
     r = run_worst_case(WorstCase(rows=3, frames=1, blank_lines=1, mig_fifo_depth=64, display_urgent=False))
-    assert min(r.slack_clocks) < r.line_clocks // 2, r.report()
+    assert max(r.missed) > 0 and max(r.late) > 0, r.report()
 
 
 @pytest.mark.slow

@@ -1,8 +1,9 @@
 """The frame store's worst case (docs/frame_store.md, "The worst case"): ``FrameStore`` on the MIG model with the
 largest read latency and a refresh every tREFI, both cameras writing at their full rate, the depth engine's streams
 reading as fast as they are granted and the display's streams reading a 1080p line's pattern, every clock domain at
-its real frequency. Everything per clock is gateware (sources, consumers, counters); Python only takes the pair,
-notes when rows land and reads the counters at the end.
+its real frequency. Everything per clock is gateware (sources, consumers, the landing times, counters); Python
+only starts the cameras, takes the pair and reads the counters at the end. A MIG violation stops the run
+(:class:`sim.models.mig.MIGProtocolViolation`), so a result's report says "none".
 
 * **Cameras** (:class:`CameraSource`): the capture's output protocol with a kept pixel every ``gap`` PCLK: 8 is the
   capture's rate (1600-pixel lines of two bytes a pixel at 80 MHz, every 4th pixel kept: 100 ns a pixel), and here
@@ -14,7 +15,7 @@ notes when rows land and reads the counters at the end.
 * **Engine** (:class:`GreedyRows`): each engine stream asks for its next row whenever its request FIFO has room.
 """
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from amaranth import Array, ClockDomain, DomainRenamer, Module, Mux, Signal
 from amaranth.lib import wiring
@@ -26,7 +27,6 @@ from hdl.frame_store.frame_store import CameraFeedSignature, FrameStore
 from hdl.frame_store.layout import BURST_BYTES, FrameStoreLayout
 from hdl.frame_store.row_reader import RowStreamSignature
 from hdl.frame_store.row_window import RowWindow
-from hdl.mig_user import MIGUserSignature
 from sim.models.mig import READ_LATENCY_RANGE, MIGModel, watch_violations
 from spec.board import CLOCKS
 from spec.memory import MIG
@@ -272,21 +272,26 @@ class WorstCaseResult:
     late: list                  # per display stream: rows not landed at their first pixel
     slack_clocks: list          # per display stream: the least pix clocks a row landed before its first pixel
     lead_rows: list             # per display stream: the fewest rows landed beyond the one starting to show
+                                # (both None for a stream whose rows all came late)
     display_mbps: list
     engine_mbps: list
     camera_mbps: list
     efficiency: float           # (read words + written words) / clk0 clocks at MIG's user interface
     refreshes: int
     clocks: int = 0
-    notes: dict = field(default_factory=dict)
+
+    @property
+    def least_slack(self):
+        """The least slack of all display streams in pix clocks (0 when a stream had no row land in time)."""
+        return min(0 if c is None else c for c in self.slack_clocks)
 
     def report(self):
         pix = CLOCKS.PIXEL_HZ
         lines = [
             f"simulated {self.seconds * 1e6:.1f} us ({self.clocks} clk0, {self.refreshes} refreshes)",
             f"display streams: refused reads {self.missed}, rows late {self.late}; least slack "
-            f"{[round(c / pix * 1e6, 2) for c in self.slack_clocks]} us "
-            f"({min(self.slack_clocks) / self.line_clocks:.0%} of a line); fewest rows landed ahead {self.lead_rows}",
+            f"{[None if c is None else round(c / pix * 1e6, 2) for c in self.slack_clocks]} us "
+            f"({self.least_slack / self.line_clocks:.0%} of a line); fewest rows landed ahead {self.lead_rows}",
             f"DDR2 MB/s: display {[round(x, 1) for x in self.display_mbps]}, engine "
             f"{[round(x, 1) for x in self.engine_mbps]}, cameras (writes) {[round(x, 1) for x in self.camera_mbps]}",
             f"efficiency (data clocks / clocks): {self.efficiency:.1%}; MIG violations: none",
@@ -381,6 +386,11 @@ def run_worst_case(case=WorstCase()):
     return _result(case, p["displays"][0].line_clocks, marks)
 
 
+def _measured(value, bits):
+    """A least-value register's reading, ``None`` while it holds its initial all-ones (no row landed in time)."""
+    return None if value == (1 << bits) - 1 else value
+
+
 def _result(case, line, marks):
     """The figures from the counters."""
     counts, display = marks["counts"], marks["display"]
@@ -388,7 +398,8 @@ def _result(case, line, marks):
     row_bytes = case.layout.bursts_per_row * BURST_BYTES
     return WorstCaseResult(
         seconds=seconds, line_clocks=line, missed=[d["missed"] for d in display], late=[d["late"] for d in display],
-        slack_clocks=[d["least_slack"] for d in display], lead_rows=[d["least_lead"] for d in display],
+        slack_clocks=[_measured(d["least_slack"], 32) for d in display],
+        lead_rows=[_measured(d["least_lead"], 8) for d in display],
         display_mbps=[d["rows"] * row_bytes / seconds / 1e6 for d in display],
         engine_mbps=[n * row_bytes / seconds / 1e6 for n in marks["engine_rows"]],
         camera_mbps=[n * BURST_BYTES / seconds / 1e6 for n in marks["camera_bursts"]],
