@@ -199,8 +199,10 @@ class StereoDisplay(wiring.Component):
     def _store_windows(self, m, comp, engine, delayed_start, row_offset):
         """The frame store's side: the windows, ``take``, and the engine's start once the delay has passed and the
         pair is taken (whichever comes last). Returns the engine's start."""
-        windows = add_reset_subtree(m, "store_windows", StoreWindows(
-            self.geometry, self.layout, slots=self.slots, rectification_bits=len(self.settings.rectification)))
+        # In the display's reset, not a subtree of its own: a window asks for rows combinationally, so it must leave
+        # reset in the clock its stream does (the system puts the frame store in a ``pix`` reset subtree too).
+        m.submodules.store_windows = windows = StoreWindows(
+            self.geometry, self.layout, slots=self.slots, rectification_bits=len(self.settings.rectification))
         for side in ("left", "right"):
             wiring.connect(m, getattr(comp, side), getattr(windows, f"display_{side}"))
             wiring.connect(m, getattr(engine, side), getattr(windows, f"engine_{side}"))

@@ -387,9 +387,10 @@ class StereoDepthSystem(wiring.Component):
         """The DDR2 build: the captures into the frame store, its streams to the display, its memory side on
         ``mig``."""
         p = self.params
-        m.submodules.frame_store = store = FrameStore(
+        # Its read side in a pix reset subtree as the display's windows are: they leave reset in the same clock.
+        store = add_reset_subtree(m, "frame_store", FrameStore(
             p.store_layout, p.geometry, streams=STREAMS, slots=p.store_slots,
-            cam_domains=tuple(f"cam_{c}" for c in CAMERAS), read_domain="pix", mem_domain="mem")
+            cam_domains=tuple(f"cam_{c}" for c in CAMERAS), read_domain="pix", mem_domain="mem"), "pix")
         for i, c in enumerate(CAMERAS):
             port = capture.port(c)
             wiring.connect(m, port.write, store.cameras[i].write)
