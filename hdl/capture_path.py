@@ -21,16 +21,17 @@ __all__ = ["CapturePortSignature", "CapturePath"]
 class CapturePortSignature(ParametricSignature):
     """Everything of one camera's capture path, as the path presents it: ``pins`` (``In(CameraSignature)``, the
     sensor pins), ``write`` (``Out(FrameBufferWriteSignature)``, the write port the capture drives into its buffer,
-    for testbenches to watch), ``status`` (``Out(CaptureStatusSignature)``), all in the camera's domain, and
-    ``read`` (``In(FrameBufferReadSignature)``, the buffer's read port, in the read domain)."""
+    for testbenches to watch, or into the frame store), ``status`` (``Out(CaptureStatusSignature)``), all in the
+    camera's domain, and with ``buffered`` ``read`` (``In(FrameBufferReadSignature)``, the buffer's read port, in
+    the read domain)."""
 
-    def __init__(self, geometry):
+    def __init__(self, geometry, buffered=True):
         super().__init__({
             "pins": In(CameraSignature),
             "write": Out(FrameBufferWriteSignature(geometry)),
             "status": Out(CaptureStatusSignature),
-            "read": In(FrameBufferReadSignature(geometry)),
-        }, geometry=geometry)
+            **({"read": In(FrameBufferReadSignature(geometry))} if buffered else {}),
+        }, geometry=geometry, buffered=buffered)
 
 
 class CapturePath(wiring.Component):
@@ -47,6 +48,9 @@ class CapturePath(wiring.Component):
         Domain of the buffers' read ports.
     init : sequence of int
         Initial contents of every buffer.
+    buffers : bool
+        The frame buffers; without them the path is the captures alone, their ``write`` ports for the parent to
+        take (the frame store: docs/frame_store.md).
 
     Attributes
     ----------
@@ -63,7 +67,8 @@ class CapturePath(wiring.Component):
         Camera names that are not distinct, or a geometry the captures reject.
     """
 
-    def __init__(self, geometry=SENSOR, *, cameras=("a", "b"), r_byte_first=True, read_domain="pix", init=()):
+    def __init__(self, geometry=SENSOR, *, cameras=("a", "b"), r_byte_first=True, read_domain="pix", init=(),
+                 buffers=True):
         if not cameras or len(set(cameras)) != len(cameras):
             raise ValueError(f"cameras must be distinct names, got {cameras!r}")
         check_capture(geometry)
@@ -72,7 +77,8 @@ class CapturePath(wiring.Component):
         self.r_byte_first = r_byte_first
         self.read_domain = read_domain
         self.init = tuple(init)
-        super().__init__({f"cam_{c}": Out(CapturePortSignature(geometry)) for c in self.cameras})
+        self.buffers = buffers
+        super().__init__({f"cam_{c}": Out(CapturePortSignature(geometry, buffers)) for c in self.cameras})
 
     def port(self, camera):
         """The member of camera ``camera``."""
@@ -82,12 +88,15 @@ class CapturePath(wiring.Component):
         m = Module()
         for c in self.cameras:
             capture = CameraCapture(self.geometry, r_byte_first=self.r_byte_first)
-            buffer = FrameBuffer(self.geometry, write_domain=f"cam_{c}", read_domain=self.read_domain, init=self.init)
             m.submodules[f"capture_{c}"] = DomainRenamer(f"cam_{c}")(capture)
-            m.submodules[f"buffer_{c}"] = buffer
             port = self.port(c)
             for name in ("pins", "status"):
                 wiring.connect(m, wiring.flipped(getattr(port, name)), getattr(capture, name))
+            if not self.buffers:
+                wiring.connect(m, capture.write, wiring.flipped(port.write))
+                continue
+            buffer = FrameBuffer(self.geometry, write_domain=f"cam_{c}", read_domain=self.read_domain, init=self.init)
+            m.submodules[f"buffer_{c}"] = buffer
             wiring.connect(m, capture.write, buffer.write, wiring.flipped(port.write))
             wiring.connect(m, wiring.flipped(port.read), buffer.read)
         return m

@@ -1,4 +1,5 @@
-"""StereoDisplay: the pixel-clock side of the system: compositor, depth engine and the two read arbiters."""
+"""StereoDisplay: the pixel-clock side of the system: compositor, depth engine and the read ports they share: two
+read arbiters on the block-RAM buffers, or the frame store's read streams through their windows."""
 
 from amaranth import Module, Mux, Signal
 from amaranth.lib import wiring
@@ -14,13 +15,15 @@ from spec.depth import DEPTH
 from spec.display import DIFF_LEVEL_GREY, DIFF_THRESHOLDS
 from spec.sensor import SENSOR
 from spec.video import CEA_1080P60
+from hdl.frame_store.row_reader import RowStreamSignature
 from hdl.read_arbiter import ReadArbiter
+from hdl.store_windows import STREAMS, StoreWindows, check_store_windows
 from hdl.rectification_text import RectificationModeSignature
 from hdl.reset_tree import add_reset_subtree
 from hdl.switches import SettingsSignature
 from hdl.video_bus import TimingSignature, VideoSignature
 
-__all__ = ["StereoDisplay", "LATENCY", "ENGINE_START_DELAY", "check_engine_keeps_up", "check_display"]
+__all__ = ["StereoDisplay", "LATENCY", "ENGINE_START_DELAY", "MEMORIES", "check_engine_keeps_up", "check_display"]
 
 #: Clocks from ``timing`` in to ``video`` out (the compositor's).
 LATENCY = COMPOSITOR_LATENCY
@@ -28,6 +31,8 @@ LATENCY = COMPOSITOR_LATENCY
 #: start) have settled, and so has the engine's row offset (the clamped rectification, registered: one clock
 #: more), so the map uses this frame's rectification.
 ENGINE_START_DELAY = SETTLE_CLOCKS + 1
+#: Where the camera frames are: ``"bram"`` a block-RAM frame buffer per camera, ``"ddr2"`` the frame store.
+MEMORIES = ("bram", "ddr2")
 
 
 def check_engine_keeps_up(timing, layout, geometry, config, segmentation=False):
@@ -59,12 +64,17 @@ def check_engine_keeps_up(timing, layout, geometry, config, segmentation=False):
 
 
 def check_display(timing, geometry, layout, *, config=DEPTH, out_rows=4, thresholds=DIFF_THRESHOLDS,
-                  level_grey=DIFF_LEVEL_GREY):
+                  level_grey=DIFF_LEVEL_GREY, memory="bram"):
     """The layout (``None``: centred) of a :class:`StereoDisplay`; ``ValueError`` for what it rejects (the
-    compositor's and the engine's checks, :func:`check_engine_keeps_up`)."""
+    compositor's and the engine's checks, :func:`check_engine_keeps_up`, a ``memory`` not in :data:`MEMORIES`,
+    with ``"ddr2"`` :func:`hdl.store_windows.check_store_windows`)."""
+    if memory not in MEMORIES:
+        raise ValueError(f"memory must be one of {', '.join(map(repr, MEMORIES))}, not {memory!r}")
     layout = check_parameters(timing, geometry, layout, config, thresholds, level_grey)[0]
     check_engine(geometry, config, out_rows)
     check_engine_keeps_up(timing, layout, geometry, config, segmentation_fits(layout))
+    if memory == "ddr2":
+        check_store_windows(layout)
     return layout
 
 
@@ -76,6 +86,12 @@ class StereoDisplay(wiring.Component):
     left image moved up by the rectification register (signed, clamped to the image: row y is row min(max(y + r, 0), H - 1));
     the compositor shows the finished rows from the engine's result ring and releases them.
 
+    With ``memory="ddr2"`` the frames are in the frame store (docs/frame_store.md): the two arbiters give way to
+    :class:`hdl.store_windows.StoreWindows` (a read stream and a window per consumer and camera), ``take`` pulses
+    at every ``timing.frame_start``, and the engine starts its map once both :data:`ENGINE_START_DELAY` clocks
+    have passed and the frame store has answered the take (``taken``), so the map reads the display frame's pair.
+    A held pair is whole: the engine's row tags read 0, never busy.
+
     Parameters
     ----------
     timing, geometry, layout, thresholds, level_grey
@@ -83,6 +99,11 @@ class StereoDisplay(wiring.Component):
     config : :class:`spec.depth.DepthConfig`
     out_rows : int
         Rows in the engine's result ring.
+    memory : str
+        One of :data:`MEMORIES`: ``"bram"`` (the ports ``left``, ``right``, ``left_tags``, ``right_tags``) or
+        ``"ddr2"`` (the ports ``streams``, ``take``, ``taken``).
+    slots : int
+        With ``"ddr2"``: each read stream's ring slots.
 
     Attributes
     ----------
@@ -96,6 +117,12 @@ class StereoDisplay(wiring.Component):
         To the frame buffers' read ports.
     left_tags, right_tags : ``Out(RowTagReadSignature(buf_height))``
         The engine's, to each buffer's row tags (:class:`hdl.row_tags.RowTagTracker`).
+    streams : ``Out(RowStreamSignature(buf_height, buf_width, slots)).array(4)``
+        With ``"ddr2"``: to the frame store's read streams, in :data:`hdl.store_windows.STREAMS` order.
+    take : ``Out(1)``, taken : ``In(1)``
+        With ``"ddr2"``: the frame store's hold of a pair (``take`` = ``timing.frame_start``).
+    display_missed : ``Out(1)``
+        With ``"ddr2"``: a compositor read its window refused (:class:`hdl.store_windows.StoreWindows`).
     video : ``Out(VideoSignature)``
 
     Clock domain: ``sync`` (the parent renames it to ``pix``). Latency: :data:`LATENCY` clocks.
@@ -108,20 +135,31 @@ class StereoDisplay(wiring.Component):
     """
 
     def __init__(self, timing=CEA_1080P60, geometry=SENSOR, layout=None, *, config=DEPTH, out_rows=4,
-                 thresholds=DIFF_THRESHOLDS, level_grey=DIFF_LEVEL_GREY):
+                 thresholds=DIFF_THRESHOLDS, level_grey=DIFF_LEVEL_GREY, memory="bram", slots=4):
         layout = check_display(timing, geometry, layout, config=config, out_rows=out_rows, thresholds=thresholds,
-                               level_grey=level_grey)
+                               level_grey=level_grey, memory=memory)
         self.video_timing, self.geometry, self.layout, self.config, self.out_rows = timing, geometry, layout, config, out_rows
-        self.thresholds, self.level_grey = thresholds, level_grey
+        self.thresholds, self.level_grey, self.memory, self.slots = thresholds, level_grey, memory, slots
+        if memory == "bram":
+            ports = {
+                "left": Out(FrameBufferReadSignature(geometry)),
+                "right": Out(FrameBufferReadSignature(geometry)),
+                "left_tags": Out(RowTagReadSignature(geometry.buf_height)),
+                "right_tags": Out(RowTagReadSignature(geometry.buf_height)),
+            }
+        else:
+            ports = {
+                "streams": Out(RowStreamSignature(geometry.buf_height, geometry.buf_width, slots)).array(len(STREAMS)),
+                "take": Out(1),
+                "taken": In(1),
+                "display_missed": Out(1),
+            }
         super().__init__({
             "timing": In(TimingSignature),
             "settings": In(SettingsSignature),
             "segment": In(1),
             "rectification_mode": In(RectificationModeSignature),
-            "left": Out(FrameBufferReadSignature(geometry)),
-            "right": Out(FrameBufferReadSignature(geometry)),
-            "left_tags": Out(RowTagReadSignature(geometry.buf_height)),
-            "right_tags": Out(RowTagReadSignature(geometry.buf_height)),
+            **ports,
             "video": Out(VideoSignature),
         })
 
@@ -135,12 +173,13 @@ class StereoDisplay(wiring.Component):
         for name in ("timing", "settings", "rectification_mode", "video"):
             wiring.connect(m, wiring.flipped(getattr(self, name)), getattr(comp, name))
         m.d.comb += comp.segment.eq(self.segment)
-        for side in ("left", "right"):
-            arbiter = add_reset_subtree(m, f"{side}_arbiter", ReadArbiter(self.geometry))
-            wiring.connect(m, getattr(comp, side), arbiter.display)
-            wiring.connect(m, getattr(engine, side), arbiter.engine)
-            wiring.connect(m, wiring.flipped(getattr(self, side)), arbiter.buffer)
-            wiring.connect(m, wiring.flipped(getattr(self, f"{side}_tags")), getattr(engine, f"{side}_tags"))
+        if self.memory == "bram":
+            for side in ("left", "right"):
+                arbiter = add_reset_subtree(m, f"{side}_arbiter", ReadArbiter(self.geometry))
+                wiring.connect(m, getattr(comp, side), arbiter.display)
+                wiring.connect(m, getattr(engine, side), arbiter.engine)
+                wiring.connect(m, wiring.flipped(getattr(self, side)), arbiter.buffer)
+                wiring.connect(m, wiring.flipped(getattr(self, f"{side}_tags")), getattr(engine, f"{side}_tags"))
         wiring.connect(m, comp.depth, engine.result)
         start = self.timing.frame_start
         for i in range(ENGINE_START_DELAY):
@@ -152,5 +191,42 @@ class StereoDisplay(wiring.Component):
         # The clamp registered: not in one clock with the row ring's offset multiply (ENGINE_START_DELAY).
         row_offset = Signal(range(-(h - 1), h), name="engine_row_offset")
         m.d.sync += row_offset.eq(Mux(rect >= h, h - 1, Mux(rect <= -h, -(h - 1), rect)))
+        if self.memory == "ddr2":
+            start = self._store_windows(m, comp, engine, start, row_offset)
         m.d.comb += [engine.start.eq(start), engine.left_row_offset.eq(row_offset)]
         return m
+
+    def _store_windows(self, m, comp, engine, delayed_start, row_offset):
+        """The frame store's side: the windows, ``take``, and the engine's start once the delay has passed and the
+        pair is taken (whichever comes last). Returns the engine's start."""
+        # In the display's reset, not a subtree of its own: a window asks for rows combinationally, so it must leave
+        # reset in the clock its stream does (the system puts the frame store in a ``pix`` reset subtree too).
+        m.submodules.store_windows = windows = StoreWindows(
+            self.geometry, self.layout, slots=self.slots, rectification_bits=len(self.settings.rectification))
+        for side in ("left", "right"):
+            wiring.connect(m, getattr(comp, side), getattr(windows, f"display_{side}"))
+            wiring.connect(m, getattr(engine, side), getattr(windows, f"engine_{side}"))
+        for i in range(len(STREAMS)):
+            wiring.connect(m, windows.streams[i], wiring.flipped(self.streams[i]))
+        wiring.connect(m, wiring.flipped(self.timing), windows.timing)
+        delay_done, taken = Signal(name="engine_delay_done"), Signal(name="engine_pair_taken")
+        start = Signal(name="engine_start")
+        m.d.comb += start.eq((delay_done | delayed_start) & (taken | self.taken))
+        with m.If(self.timing.frame_start):
+            m.d.sync += [delay_done.eq(0), taken.eq(0)]
+        with m.Elif(start):
+            m.d.sync += [delay_done.eq(0), taken.eq(0)]
+        with m.Else():
+            with m.If(delayed_start):
+                m.d.sync += delay_done.eq(1)
+            with m.If(self.taken):
+                m.d.sync += taken.eq(1)
+        m.d.comb += [
+            self.take.eq(self.timing.frame_start),
+            windows.rectification.eq(self.settings.rectification),
+            windows.taken.eq(self.taken),
+            windows.engine_start.eq(start),
+            windows.engine_left_row.eq(Mux(row_offset < 0, 0, row_offset)),
+            self.display_missed.eq(windows.display_missed),
+        ]
+        return start

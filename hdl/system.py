@@ -27,7 +27,16 @@ simulation testbench with :class:`~sim.models.clocking.SimClocking` in simulatio
            the vertical-offset search and the rectification select, the row-tag trackers and their frame pairing, LED 6
 ``cam_a``  camera A's PCLK: its capture and frame-buffer write port, its row sums, its tracker's strobe toggles, LED 7
 ``cam_b``  camera B's PCLK: its capture and frame-buffer write port, its row sums, its tracker's strobe toggles
+``mem``    with ``memory="ddr2"`` only: MIG's ``clk0`` (125 MHz), the frame store's memory side and ``mig``
 =========  ================================================================================================
+
+Frame memory (``memory``): ``"bram"`` (the default, the thesis design) keeps each camera's frame in a block-RAM
+frame buffer that its capture overwrites while the display reads it (below). ``"ddr2"`` puts the frames in the
+board's DDR2 behind Xilinx MIG: the captures write into a :class:`~hdl.frame_store.frame_store.FrameStore`
+(docs/frame_store.md), which the system reaches through its ``mig`` port (MIG's user interface, ``mem``); the
+display takes the latest complete pair at every display frame's start and its compositor and depth engine read it
+through four read streams (:class:`~hdl.store_windows.StoreWindows`). A held pair is whole, so that build has no
+row-tag trackers and no frame pairing in ``pix`` (the frame store pairs the frames by its own tags).
 
 CH7301C output stage: with ``ddr="behavioural"`` (simulation, Verilog export) the system ends in
 :class:`~hdl.ch7301c_output.CH7301COutput`'s behavioural dual-edge model and has the CH7301C pins (``ch7301c``).
@@ -87,6 +96,11 @@ from hdl.video_bus import VideoSignature
 from hdl.reset_tree import add_reset_subtree
 from hdl.row_tags import RowTagTracker
 from hdl.frame_pairing import FramePairing
+from hdl.frame_store.frame_store import FrameStore
+from hdl.frame_store.layout import FrameStoreLayout
+from hdl.mig_user import MIGUserSignature
+from hdl.stereo_display import MEMORIES
+from hdl.store_windows import STREAMS
 
 __all__ = ["StereoDepthSystem", "SystemParameters", "PanelSignature", "ControlSignature", "DISPLAY_LATENCY", "CAMERAS",
            "I2C_BUSES"]
@@ -140,11 +154,16 @@ class SystemParameters:
         LED blink rates.
     skew_line_clocks : int or None
         One sensor line in ``sync`` clocks, the frame-skew goal (default: see the module docstring).
+    memory : str
+        Where the frames are: ``"bram"`` (block-RAM buffers) or ``"ddr2"`` (the frame store behind ``mig``).
+    store_slots : int
+        With ``"ddr2"``: the row slots of each read stream.
 
     Raises
     ------
     ValueError
-        Any block's parameter check; ``ddr`` other than ``"behavioural"`` or ``None``.
+        Any block's parameter check; ``ddr`` other than ``"behavioural"`` or ``None``; ``memory`` not one of
+        :data:`hdl.stereo_display.MEMORIES`.
     TypeError
         An init table that is not an ``InitTable``.
     """
@@ -166,13 +185,17 @@ class SystemParameters:
     heartbeat_log2: int = 5
     cam_heartbeat_log2: int = 3
     skew_line_clocks: object = None
+    memory: str = "bram"
+    store_slots: int = 4
 
     def __post_init__(self):
         if self.ddr not in ("behavioural", None):
             raise ValueError(f"ddr must be 'behavioural' or None (board: pins built by board.top), not {self.ddr!r}")
+        if self.memory not in MEMORIES:
+            raise ValueError(f"memory must be one of {', '.join(map(repr, MEMORIES))}, not {self.memory!r}")
         check_capture(self.geometry)
         check_display(self.timing, self.geometry, self.layout, config=self.depth, thresholds=self.thresholds,
-                      level_grey=self.level_grey)
+                      level_grey=self.level_grey, memory=self.memory)
         check_timing(self.timing)
         self.auto_rectification.check(self.geometry.buf_height)
         skew_bits(*self.skew_clocks)
@@ -209,7 +232,14 @@ class SystemParameters:
         }
         if self.ddr is not None:
             members["ch7301c"] = Out(CH7301CSignature)
+        if self.memory == "ddr2":
+            members["mig"] = Out(MIGUserSignature())
         return wiring.Signature(members)
+
+    @property
+    def store_layout(self):
+        """With ``memory="ddr2"``: the frame store's layout (a buffer of the capture's size per frame)."""
+        return FrameStoreLayout(width=self.geometry.buf_width, height=self.geometry.buf_height)
 
 
 class StereoDepthSystem(wiring.Component):
@@ -248,6 +278,8 @@ class StereoDepthSystem(wiring.Component):
         The settings in use (``pix``): the switch registers, or in automatic mode the estimator's rectification.
     rectification : ``Out``: ``auto``, ``confident``, ``held``, ``locked``
         The automatic rectification's mode and the estimator's last verdict (``pix``).
+    mig : ``Out(MIGUserSignature())``
+        With ``memory="ddr2"`` only: MIG's user interface (``mem``).
 
     Each member is connected to the block that drives or reads it (``wiring.connect``, flipped).
 
@@ -267,7 +299,7 @@ class StereoDepthSystem(wiring.Component):
         p = self.params
         sequencers = self._init(m)
         capture = add_reset_subtree(m, "capture", CapturePath(p.geometry, cameras=CAMERAS, r_byte_first=p.r_byte_first,
-                                                              read_domain="pix"), "pix")
+                                                              read_domain="pix", buffers=p.memory == "bram"), "pix")
         for c in CAMERAS:
             port = capture.port(c)
             wiring.connect(m, wiring.flipped(getattr(self, f"cam_{c}")), port.pins)
@@ -314,7 +346,8 @@ class StereoDepthSystem(wiring.Component):
         sync_gen = add_reset_subtree(m, "sync_gen", pix(SyncGenerator(p.timing)), "pix")
         switches = add_reset_subtree(m, "switches", SwitchControl(domain="pix"), "pix")
         display = add_reset_subtree(m, "display", pix(StereoDisplay(
-            p.timing, p.geometry, p.layout, config=p.depth, thresholds=p.thresholds, level_grey=p.level_grey)), "pix")
+            p.timing, p.geometry, p.layout, config=p.depth, thresholds=p.thresholds, level_grey=p.level_grey,
+            memory=p.memory, slots=p.store_slots)), "pix")
         m.d.comb += [switches.sw.eq(self.panel.sw), switches.frame_start.eq(sync_gen.frame_start),
                      self.frame_start.eq(sync_gen.frame_start)]
         wiring.connect(m, sync_gen, display.timing)
@@ -323,6 +356,21 @@ class StereoDepthSystem(wiring.Component):
         wiring.connect(m, select.settings, display.settings, wiring.flipped(self.settings))
         m.d.comb += display.segment.eq(select.segment)
         wiring.connect(m, select.mode, display.rectification_mode)
+        if p.memory == "ddr2":
+            self._frame_store(m, capture, display)
+        else:
+            self._buffers(m, capture, display, pix)
+        if p.ddr is None:
+            wiring.connect(m, wiring.flipped(self.video), display.video)
+        else:
+            output = add_reset_subtree(m, "output", pix(CH7301COutput(p.timing, ddr=p.ddr)), "pix")
+            wiring.connect(m, display.video, output.video, wiring.flipped(self.video))
+            wiring.connect(m, wiring.flipped(self.ch7301c), output.pins)
+        return sync_gen
+
+    def _buffers(self, m, capture, display, pix):
+        """The block-RAM build: the display on the buffers' read ports, the row tags and the frame pairing."""
+        p = self.params
         wiring.connect(m, display.left, capture.cam_a.read)       # camera A = left
         wiring.connect(m, display.right, capture.cam_b.read)      # camera B = right
         pairing = add_reset_subtree(m, "frame_pairing", pix(FramePairing()), "pix")
@@ -334,13 +382,23 @@ class StereoDepthSystem(wiring.Component):
                          for strobe in ("frame_start", "row_start", "row_end")]
             wiring.connect(m, getattr(display, f"{side}_tags"), tracker.read)
             wiring.connect(m, tracker.pair, getattr(pairing, c))
-        if p.ddr is None:
-            wiring.connect(m, wiring.flipped(self.video), display.video)
-        else:
-            output = add_reset_subtree(m, "output", pix(CH7301COutput(p.timing, ddr=p.ddr)), "pix")
-            wiring.connect(m, display.video, output.video, wiring.flipped(self.video))
-            wiring.connect(m, wiring.flipped(self.ch7301c), output.pins)
-        return sync_gen
+
+    def _frame_store(self, m, capture, display):
+        """The DDR2 build: the captures into the frame store, its streams to the display, its memory side on
+        ``mig``."""
+        p = self.params
+        # Its read side in a pix reset subtree as the display's windows are: they leave reset in the same clock.
+        store = add_reset_subtree(m, "frame_store", FrameStore(
+            p.store_layout, p.geometry, streams=STREAMS, slots=p.store_slots,
+            cam_domains=tuple(f"cam_{c}" for c in CAMERAS), read_domain="pix", mem_domain="mem"), "pix")
+        for i, c in enumerate(CAMERAS):
+            port = capture.port(c)
+            wiring.connect(m, port.write, store.cameras[i].write)
+            wiring.connect(m, port.status, store.cameras[i].status)
+        for i in range(len(STREAMS)):
+            wiring.connect(m, display.streams[i], store.streams[i])
+        m.d.comb += [store.take.eq(display.take), display.taken.eq(store.taken)]
+        wiring.connect(m, wiring.flipped(self.mig), store.mig)
 
     def _rectification(self, m, capture, pix, sync_gen):
         """The estimator watches both captures' writes (camera A = left); the select picks manual or automatic.

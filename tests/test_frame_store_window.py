@@ -1,5 +1,5 @@
 """A frame buffer's read port served from a frame-store stream (RowWindow on a RowReader, behind the arbiter and the
-small MIG model of tests/frame_store_memory.py): the bytes a consumer reads are the image's -- what the block-RAM
+MIG model of sim/models/mig, its checker stopping the run on any violation): the bytes a consumer reads are the image's -- what the block-RAM
 frame buffer would give at the same addresses -- for the display's pattern (each row on several lines, never
 refused) and the depth engine's (a clamped row offset, waiting for its grants)."""
 
@@ -9,13 +9,12 @@ from amaranth import ClockDomain, DomainRenamer, Module
 from amaranth.lib import wiring
 from amaranth.sim import Simulator
 
-from frame_store_memory import MemoryModel
 from hdl.frame_store.arbiter import MemoryArbiter
 from hdl.frame_store.layout import FrameStoreLayout
 from hdl.frame_store.row_reader import RowReader
 from hdl.frame_store.row_window import RowWindow
 from spec.sensor import SensorGeometry
-from test_frame_store_reader import fill
+from test_frame_store_reader import fill, mig_model
 
 #: 20 x 10 buffer pixels: a row is not a power of two of bytes, nor a whole number of 16-byte words.
 G = SensorGeometry(width=80, height=40)
@@ -34,14 +33,16 @@ def simulate(consumer_bench, *, seed=0):
     m.submodules.arbiter = DomainRenamer("mem")(arbiter)
     wiring.connect(m, reader.mem, arbiter.readers[0])
     wiring.connect(m, window.stream, reader.stream)
-    model = MemoryModel(seed=seed, latency=19, stall_rate=0.1)
     image = np.random.default_rng(seed).integers(0, 1 << G.grey_bits, (G.buf_height, G.buf_width), dtype=np.uint8)
-    fill(model, LAYOUT, 0, 2, image)
+    contents = {}
+    fill(contents, LAYOUT, 0, 2, image)
+    model, set_latency, violations = mig_model(LAYOUT, contents, latency=19)
+    m.submodules.mig = DomainRenamer("mem")(model)
+    wiring.connect(m, arbiter.mig, model.user)
 
     async def memory(ctx):
         ctx.set(reader.hold.valid, 1)
         ctx.set(reader.hold.buffer, 2)
-        await model.run(ctx, arbiter.mig)
 
     result = {}
 
@@ -51,10 +52,11 @@ def simulate(consumer_bench, *, seed=0):
     sim = Simulator(m)
     sim.add_clock(6.7e-9, domain="pix")
     sim.add_clock(8e-9, domain="mem")
-    sim.add_testbench(memory, background=True)
+    sim.add_testbench(memory)
+    sim.add_testbench(set_latency)
+    sim.add_testbench(violations, background=True)
     sim.add_testbench(consumer)
     sim.run()
-    assert model.violations == []
     return image, result
 
 

@@ -516,3 +516,12 @@ def test_mig_named_top_cocotb(simulator, tmp_path):
     assert outcome == dict(words=[w & ~k & MASK128 for w, k in zip(words, keep)], latency=latency + MIG.WTR_CLK)
     message = violation_message(Violation.UNALIGNED_ADDRESS, addr + 1, 0).rsplit(", clk0 cycle", 1)[0]
     assert message in str(stop.value)
+
+
+def test_initial_contents_must_lie_in_the_window_of_the_memory_storage():
+    from sim.models.mig import memory_words
+    assert memory_words({8: 0x12, 9: 0x34, 17: 0xFF}) == {1: 0x3412, 2: 0xFF00}
+    with pytest.raises(ValueError, match="outside the window"):
+        MIGModel(window_base=64, window_words=64, init={128: 1})
+    with pytest.raises(ValueError, match="memory"):
+        MIGModel(window_base=64, window_words=64, init={64: 1}, storage="verilog")

@@ -68,6 +68,11 @@ def _installed(simulator):
         raise UserError(f"{simulator} is not installed ({hint})")
 
 
+def _ddr2_on_amaranth(setup, name):
+    if setup.memory == "ddr2":
+        raise UserError(f"the DDR2 build (memory 'ddr2') runs on the Amaranth simulator only, not {name}")
+
+
 class Verilator(Backend):
     """Verilator with the C++ testbench. ``keep_stimulus`` keeps the stimulus log for the raw model;
     ``switch_changes``: ``{display frames recorded: [SW words]}`` set mid-stream; ``deadline_s``: the simulated-time
@@ -79,6 +84,7 @@ class Verilator(Backend):
         self.keep_stimulus, self.switch_changes, self.deadline_s = keep_stimulus, switch_changes, deadline_s
 
     def require(self, setup, sequence):
+        _ddr2_on_amaranth(setup, self.name)
         _installed("verilator")
 
     def run(self, setup, sequence, *, on_frame, progress, max_frames):
@@ -112,6 +118,8 @@ class Amaranth(Backend):
         return ROUTES[self.route or ("python" if setup.preset == "small" else "replay")]
 
     def require(self, setup, sequence):
+        if setup.memory == "ddr2" and self._route(setup).name != "python":
+            raise UserError("the DDR2 build runs along the Amaranth python route only")
         if not getattr(sequence, "still", False):
             if setup.preset != "small":
                 raise UserError("multi-frame runs on the Amaranth simulator are small only: add --small")
@@ -143,6 +151,7 @@ class Cocotb(Backend):
         self.name, self.route, self.out_dir, self.waves = simulator, route, out_dir, waves
 
     def require(self, setup, sequence):
+        _ddr2_on_amaranth(setup, self.name)
         _installed(self.name)
         if not getattr(sequence, "still", False):
             if setup.preset != "small":

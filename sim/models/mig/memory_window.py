@@ -55,6 +55,17 @@ def check_window(base, words):
                          f"the part's {MIG.MEMORY_WORDS} words")
 
 
+def check_init(base, words, storage, init):
+    """Initial contents (memory word address -> value) as a dict; ``ValueError`` for a word outside the window
+    ``base`` .. ``base + words - 1`` or contents with a storage other than ``"memory"``."""
+    init = dict(init or {})
+    if init and storage != "memory":
+        raise ValueError("initial contents need the \"memory\" storage")
+    if any(not base <= a < base + words for a in init):
+        raise ValueError(f"initial contents outside the window {base}+{words}")
+    return init
+
+
 class MemoryPortsSignature(wiring.Signature):
     """The memory window's ports as its user (the controller) drives them: ``raddr`` (its word on ``rdata`` the
     next clock), ``waddr``, ``wdata``, ``wmask`` (a 1 leaves its byte unwritten), ``we``."""
@@ -69,7 +80,7 @@ class MemoryWindow(wiring.Component):
     """The memory words ``base`` .. ``base + words - 1`` (64-bit words, ``app_af_addr``'s unit) as 128-bit user
     words, each stored as it is written and read: {the falling-edge 64 bits, the rising-edge 64 bits}. User word
     ``i`` of the burst at ``addr`` covers memory words ``addr + 2 i`` (rise) and ``addr + 2 i + 1`` (fall).
-    Contents start at 0 (the board's DRAM holds garbage after a reset).
+    Contents start at 0 (the board's DRAM holds garbage after a reset), or with ``"memory"`` storage at ``init``.
 
     Parameters
     ----------
@@ -81,6 +92,9 @@ class MemoryWindow(wiring.Component):
         ``"memory"``: an Amaranth Memory (Amaranth's simulator; a small window anywhere); ``"verilog"``: an
         instance of :data:`STORAGE_MODULE`, whose text :data:`STORAGE_VERILOG` the compiled backends append
         (the full window).
+    init : dict
+        With ``"memory"`` storage: initial contents, 64-bit memory word address (inside the window) -> its value
+        (byte ``k`` of the word in bits ``8 k .. 8 k + 7``); other words 0.
 
     Members
     -------
@@ -95,12 +109,14 @@ class MemoryWindow(wiring.Component):
     ------
     ValueError
         ``base`` or ``words`` not burst-aligned, ``words`` 0, the window beyond the part, an unknown
-        ``storage``.
+        ``storage``; ``init`` outside the window or with ``"verilog"`` storage.
     """
 
-    def __init__(self, *, base, words, addr_width=MIG.ADDR_WIDTH, data_width=MIG.DATA_WIDTH, storage="memory"):
+    def __init__(self, *, base, words, addr_width=MIG.ADDR_WIDTH, data_width=MIG.DATA_WIDTH, storage="memory",
+                 init=None):
         check_window(base, words)
         check_storage(storage)
+        self._init = check_init(base, words, storage, init)
         self._base, self._words, self._storage = base, words, storage
         self._data_width = data_width
         super().__init__({"port": In(MemoryPortsSignature(addr_width, data_width))})
@@ -128,7 +144,12 @@ class MemoryWindow(wiring.Component):
             port.rdata.eq(rdata & r_valid.replicate(width)),
         ]
         if self._storage == "memory":
-            m.submodules.storage = storage = Memory(shape=width, depth=depth, init=[])
+            half = width // 2                           # a user word: {fall (odd word), rise (even word)}
+            init = [0] * depth
+            for addr, value in self._init.items():
+                i = (addr - self._base) >> 1
+                init[i] |= value << (half * ((addr - self._base) & 1))
+            m.submodules.storage = storage = Memory(shape=width, depth=depth, init=init)
             write, read = storage.write_port(granularity=8), storage.read_port()
             m.d.comb += [write.addr.eq(waddr), write.data.eq(port.wdata), write.en.eq(wen),
                          read.addr.eq(raddr), rdata.eq(read.data)]

@@ -9,12 +9,12 @@ from spec.memory import MIG
 
 from .checker import ProtocolChecker
 from .controller import Controller
-from .memory_window import MemoryWindow, check_storage, check_window
+from .memory_window import MemoryWindow, check_init, check_storage, check_window
 from .read_return import ReadReturn
 from .user_fifo import UserFifo
 from .violations import ViolationSignature
 
-__all__ = ["MIGModel", "READ_LATENCY_RANGE", "INIT_CLOCKS", "DATA_GRACE", "DEFAULT_WINDOW_WORDS", "AF_SLACK",
+__all__ = ["MIGModel", "memory_words", "READ_LATENCY_RANGE", "INIT_CLOCKS", "DATA_GRACE", "DEFAULT_WINDOW_WORDS", "AF_SLACK",
            "WDF_SLACK"]
 
 #: The read latency's range in clk0 (docs/memory.md, "The read latency"): a read written into an idle controller
@@ -80,6 +80,9 @@ class MIGModel(wiring.Component):
         The memory window's storage (:class:`MemoryWindow`): ``"memory"`` (an Amaranth Memory: Amaranth's
         simulator) or ``"verilog"`` (for the compiled backends: append ``STORAGE_VERILOG`` to the exported
         Verilog; exporting the full window as an Amaranth Memory takes minutes).
+    init : dict
+        With ``"memory"`` storage: the window's initial contents, 64-bit memory word address -> value (byte ``k``
+        in bits ``8 k`` up; :func:`memory_words` makes it from bytes); other words 0.
 
     Members
     -------
@@ -110,11 +113,11 @@ class MIGModel(wiring.Component):
     def __init__(self, *, af_depth=MIG.AF_DEPTH, wdf_depth=MIG.WDF_DEPTH, window_base=0,
                  window_words=DEFAULT_WINDOW_WORDS, init_clocks=INIT_CLOCKS, latency_range=READ_LATENCY_RANGE,
                  af_slack=AF_SLACK, wdf_slack=WDF_SLACK, data_grace=DATA_GRACE, trefi=MIG.TREFI_CLK, trfc=MIG.TRFC_CLK,
-                 storage="memory"):
+                 storage="memory", init=None):
         _check(af_depth, wdf_depth, latency_range, (af_slack, wdf_slack), init_clocks, data_grace)
         check_window(window_base, window_words)
         check_storage(storage)
-        self.storage = storage
+        self.storage, self.init = storage, check_init(window_base, window_words, storage, init)
         self.af_depth, self.wdf_depth = af_depth, wdf_depth
         self.window_base, self.window_words = window_base, window_words
         self.init_clocks, self.latency_range = init_clocks, tuple(latency_range)
@@ -150,7 +153,7 @@ class MIGModel(wiring.Component):
         m.submodules.controller = ctrl = Controller(
             latency_bits=self._latency_bits, data_grace=self.data_grace, trefi=self.trefi, trfc=self.trfc)
         m.submodules.memory = memory = MemoryWindow(base=self.window_base, words=self.window_words,
-                                                    storage=self.storage)
+                                                    storage=self.storage, init=self.init)
         m.submodules.read_return = ret = ReadReturn(depth=1 << (self.latency_range[1] + 4).bit_length())
         m.submodules.checker = checker = ProtocolChecker(
             window_base=self.window_base, window_words=self.window_words,
@@ -179,3 +182,12 @@ class MIGModel(wiring.Component):
         m.d.comb += [checker.command.cmd.eq(user.command.cmd), checker.command.addr.eq(user.command.addr),
                      checker.command.wren.eq(user.command.wren)]
         return m
+
+
+def memory_words(contents):
+    """``MIGModel``'s ``init`` from bytes: ``contents`` maps a byte address to its byte; the words they fall in
+    (64-bit memory words, ``app_af_addr``'s unit), the other bytes of a word 0."""
+    words = {}
+    for address, value in contents.items():
+        words[address // 8] = words.get(address // 8, 0) | (int(value) & 0xFF) << (8 * (address % 8))
+    return words

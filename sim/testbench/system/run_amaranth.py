@@ -25,6 +25,8 @@ from amaranth.sim import Simulator
 
 from hdl.system import CAMERAS, I2C_BUSES
 from sim.waves.gtkw import recording
+from sim.models.mig import READ_LATENCY_RANGE, draw_latency, watch_violations
+from spec.memory import MIG
 from sim.models.ch7301c.hdmi_sink import amaranth_sink_testbench
 from sim.models.i2c.bus import amaranth_target_process
 from sim.models.i2c.monitor import I2CBusMonitor
@@ -38,6 +40,9 @@ from sim.testbench.system.rom_testbench import GATED_DOMAINS, RomReplayTestbench
 
 __all__ = ["AmaranthRoute", "PythonSensors", "ReplayedSensors", "ROUTES", "AmaranthRun"]
 
+#: The DDR2 build: time from a capture's last pixel to its frame published in the frame store, at most (the
+#: camera writer's 8 bursts in flight, each a few ``mem`` clocks, and the FIFO crossings: well under a microsecond).
+PUBLISH_S = 2e-6
 #: The controller's polling step while it waits (``until``), by what it waits for; 1 us otherwise.
 POLL_S = {LOCK: 50e-9, INIT: 2e-6, CAPTURE: 1e-6, "pixel-domain reset release": 20e-9}
 
@@ -82,6 +87,8 @@ class PythonSensors(AmaranthRoute):
             sim.add_clock(run.pix_period, domain="pix")
         else:
             sim.add_testbench(run.pix_clock, background=True)
+        if "mem" in run.domains:
+            sim.add_clock(1 / MIG.CLK0_HZ, domain="mem")
 
     async def start_pix(self, run, ctx):
         run.pix_running = True
@@ -286,6 +293,10 @@ class AmaranthRun:
 
     async def display_frame_start(self):
         ctx, top = self.ctx, self.top
+        if "memory" in top.signature.members:
+            # The DDR2 build shows the pair the frame store holds, taken at the frame's start: a frame the captures
+            # have just completed is published once its last bursts are written (PUBLISH_S).
+            await ctx.delay(PUBLISH_S)
         await ctx.tick("pix").until(top.frame_start)
         h_idle = 0 if self.setup.timing.hsync_positive else 1
         while ctx.get(top.ch7301c.hsync) != h_idle:
@@ -309,6 +320,14 @@ class AmaranthRun:
         for seed, c in enumerate(CAMERAS):
             sim.add_testbench(self.route.camera(self, c, seed), background=True)
         sim.add_testbench(self.watch_captures, background=True)
+        if "memory" in self.top.signature.members:        # the DDR2 build: the MIG model's latency and checker
+            latency = draw_latency(0, READ_LATENCY_RANGE)
+            self.status["mig_latency"] = latency
+
+            async def set_latency(ctx):
+                ctx.set(self.top.memory.latency, latency)
+            sim.add_testbench(set_latency)
+            sim.add_testbench(watch_violations(self.top.memory), background=True)
         sim.add_testbench(self.controller)
         if vcd is None:
             sim.run()

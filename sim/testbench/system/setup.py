@@ -12,8 +12,10 @@ replaced and written as JSON field by field; the design's MT9D112 table is :attr
 simulation's own: the switch settings (``disparity``, ``rectification``, ``segment``), the table's speed-ups
 (``time_scale``, ``quick_table``: ``sim/testbench/system/tables.py``), the cameras' phase and PCLK error
 (``cam_phase_s``, ``cam_clock_ppm``), the I2C models' faults (``i2c_faults``), the simulated clock lock
-(``lock_cycles``), when the pixel clock starts (``pix_after_init``) and the sensor models' timing
-(``sensor_timing``).
+(``lock_cycles``), when the pixel clock starts (``pix_after_init``), the sensor models' timing
+(``sensor_timing``) and where the frames are (``memory``: ``"bram"``, the design's block-RAM buffers, or
+``"ddr2"``, the system's DDR2 build with the MIG model, ``sim/testbench/system/testbench.py``; Amaranth's
+simulator, Python sensor models only).
 
 Two presets:
 
@@ -103,6 +105,7 @@ class SystemSetup:
     lock_cycles: int = 16
     pix_after_init: bool = False       # start the pixel clock only once the I2C init is done (see below)
     sensor_timing: object = None       # sim.models.mt9d112.sensor.SensorTiming; None: SENSOR_TIMING / SMALL_SENSOR_TIMING
+    memory: str = "bram"               # the frames in block RAM or, "ddr2", in the frame store with the MIG model
 
     @classmethod
     def small(cls, **kw):
@@ -175,7 +178,7 @@ class SystemSetup:
         """Keyword arguments for ``sim.testbench.system.testbench.SystemTestbench`` (and from there
         ``hdl.system.StereoDepthSystem``): the design's (``DesignConfig.top_kwargs``) and the simulated clocks'
         lock time."""
-        return {**self.board_kwargs(), "lock_cycles": self.lock_cycles}
+        return {**self.board_kwargs(), "lock_cycles": self.lock_cycles, "memory": self.memory}
 
     def board_kwargs(self):
         """Keyword arguments for ``board.top.GenesysTop`` with this setup's design (the board has no lock counter)."""

@@ -6,25 +6,44 @@ board clocking's simulation model: same domains and reset tree, clocks from the 
 system is the bench's own too, connected to the system's (``wiring.connect``), so the exported Verilog's ports are
 the system's members under the bench's flat names.
 
-Clock domains: ``sync``, ``pix``, ``cam_a``, ``cam_b``, defined here (unless ``define_domains=False``: then the
+With a system of ``memory="ddr2"`` the bench also holds the MIG model (:class:`sim.models.mig.MIGModel`, submodule
+``mig``) on the system's ``mig`` port, in the ``mem`` domain (125 MHz, MIG's ``clk0``; its reset the clocking
+model's, synchronised to it), its window the frame store's buffers; the model's ``latency`` and ``violation`` are the
+bench's ``memory`` member.
+
+Clock domains: ``sync``, ``pix``, ``cam_a``, ``cam_b`` (and ``mem`` with the DDR2), defined here (unless ``define_domains=False``: then the
 parent adds ``bench.domains`` and drives their clocks). A domain's clock comes from the simulator: in Amaranth's
 simulator ``add_clock`` or a testbench drives it; for exported Verilog, ``clock_ports=True`` adds the inputs
 ``clocks.<domain>``. There is no reset port: ``button`` is the reset button, and every domain's
 reset comes from the clocking model's reset tree. Latency: the bus resolution is combinational.
 """
 
-from amaranth import ClockDomain, Module, Signal
+from amaranth import ClockDomain, DomainRenamer, Module, Signal
 from amaranth.lib import wiring
+from amaranth.lib.cdc import ResetSynchronizer
 from amaranth.lib.wiring import In, Out
 
 from sim.models.clocking import SimClocking
 from hdl.system import CAMERAS, I2C_BUSES, StereoDepthSystem, SystemParameters
 from sim.models.i2c.bus import OpenDrainBus, ResolvedBusSignature
+from sim.models.mig import READ_LATENCY_RANGE, MIGModel
+from sim.models.mig.violations import ViolationSignature
 
-__all__ = ["SystemTestbench", "bench_members", "pass_through", "DOMAINS"]
+__all__ = ["SystemTestbench", "bench_members", "pass_through", "domains_of", "DOMAINS", "MemoryModelSignature"]
 
-#: The system's clock domains.
+#: The system's clock domains (the block-RAM build).
 DOMAINS = ("sync", "pix", *(f"cam_{c}" for c in CAMERAS))
+
+#: The MIG model as the bench presents it: ``latency`` in (the run's read latency, clk0 clocks), ``violation`` out.
+MemoryModelSignature = wiring.Signature({
+    "latency": In(range(READ_LATENCY_RANGE[1] + 1), init=READ_LATENCY_RANGE[0]),
+    "violation": Out(ViolationSignature()),
+})
+
+
+def domains_of(params):
+    """The clock domains of a system with parameters ``params``: :data:`DOMAINS`, and ``mem`` with the DDR2."""
+    return DOMAINS + (("mem",) if params.memory == "ddr2" else ())
 
 
 def pass_through(m, outer, inner):
@@ -44,14 +63,16 @@ def pass_through(m, outer, inner):
 def bench_members(params, *, cycle_bits=40, clock_ports=False):
     """The members of a :class:`SystemTestbench` of a system with parameters ``params``
     (:class:`hdl.system.SystemParameters`)."""
-    members = {name: member for name, member in params.signature().members.items() if name != "i2c"}
+    members = {name: member for name, member in params.signature().members.items() if name not in ("i2c", "mig")}
     members.update({
         "button": In(1), "locked": Out(1),
         "bus": Out(wiring.Signature({b: Out(ResolvedBusSignature()) for b in I2C_BUSES})),
         "cycles": Out(cycle_bits),
     })
+    if params.memory == "ddr2":
+        members["memory"] = Out(MemoryModelSignature)
     if clock_ports:
-        members["clocks"] = In(wiring.Signature({name: Out(1) for name in DOMAINS}))
+        members["clocks"] = In(wiring.Signature({name: Out(1) for name in domains_of(params)}))
     return members
 
 
@@ -76,7 +97,7 @@ class SystemTestbench(wiring.Component):
     params : :class:`hdl.system.SystemParameters`
         The system's parameters (``geometry``, ``video_timing``: its ``geometry`` and ``timing``).
     domains : list of ClockDomain
-        ``sync``, ``pix``, ``cam_a``, ``cam_b``.
+        ``sync``, ``pix``, ``cam_a``, ``cam_b`` (and ``mem`` with the DDR2).
     (every member of the system but ``i2c``)
         The system's own interfaces: ``cam_a``, ``cam_b``, ``capture``, ``init``, ``panel``, ``control``, ``video``,
         ``ch7301c``, ``frame_start``, ``settings``.
@@ -85,6 +106,8 @@ class SystemTestbench(wiring.Component):
     bus : ``Out``, per I2C bus a :class:`sim.models.i2c.bus.ResolvedBusSignature`
         The resolved lines, the device models' pull-downs and the sticky ``drive_high`` check.
     clocks : ``In``, one bit per domain (with ``clock_ports``)
+    memory : ``Out(MemoryModelSignature)``
+        With the DDR2: the MIG model's ``latency`` (set it before ``phy_init_done``) and ``violation``.
     cycles : ``Out(cycle_bits)``
         ``sync`` clocks since the simulation started (reset-less: it counts while ``sync`` is in reset too); the
         time base of the Python I2C models.
@@ -108,7 +131,7 @@ class SystemTestbench(wiring.Component):
         self.params = SystemParameters(**self.system_kwargs)
         self.geometry, self.video_timing = self.params.geometry, self.params.timing
         #: The clock domains, driven by the clocking model's reset tree.
-        self.domains = [ClockDomain(name) for name in DOMAINS]
+        self.domains = [ClockDomain(name) for name in domains_of(self.params)]
         super().__init__(bench_members(self.params, cycle_bits=cycle_bits, clock_ports=clock_ports))
 
     def elaborate(self, platform):
@@ -122,6 +145,8 @@ class SystemTestbench(wiring.Component):
         m.d.comb += [clocking.button.eq(self.button), self.locked.eq(clocking.locked)]
         m.submodules.system = system = StereoDepthSystem(**self.system_kwargs)
         pass_through(m, self, system)
+        if self.params.memory == "ddr2":
+            self._memory(m, system, clocking)
         for b in I2C_BUSES:
             m.submodules[f"bus_{b}"] = bus = OpenDrainBus()
             wiring.connect(m, getattr(system.i2c, b), bus.pins)
@@ -130,3 +155,13 @@ class SystemTestbench(wiring.Component):
         m.d.sync += cycles.eq(cycles + 1)
         m.d.comb += self.cycles.eq(cycles)
         return m
+
+    def _memory(self, m, system, clocking):
+        """The MIG model on the system's ``mig`` port, in ``mem``, reset with the clocking model's domains."""
+        layout = self.params.store_layout
+        m.submodules.mem_reset = ResetSynchronizer(self.button | ~clocking.locked, domain="mem")
+        mig = MIGModel(window_base=layout.base, window_words=layout.end - layout.base)
+        m.submodules.mig = DomainRenamer("mem")(mig)
+        wiring.connect(m, system.mig, mig.user)
+        wiring.connect(m, wiring.flipped(self.memory.violation), mig.violation)
+        m.d.comb += mig.latency.eq(self.memory.latency)
