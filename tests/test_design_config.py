@@ -35,7 +35,7 @@ def test_a_setups_design_is_the_preset_with_the_table_speed_ups(preset):
     design = getattr(DesignConfig, preset)()
     assert setup.design == DesignConfig(**{**vars(design), "cam_table": setup.cam_table})
     assert setup.board_kwargs() == setup.design.top_kwargs()
-    assert setup.system_kwargs() == {**setup.board_kwargs(), "lock_cycles": setup.lock_cycles}
+    assert setup.system_kwargs() == {**setup.board_kwargs(), "lock_cycles": setup.lock_cycles, "memory": "bram"}
     as_built = getattr(SystemSetup, preset)(time_scale=1.0, quick_table=False)
     assert as_built.design == design and as_built.cam_table == design.cam_table
 

@@ -150,7 +150,8 @@ def test_build_key_follows_the_design(tmp_path, monkeypatch):
     assert not any(n.startswith(("golden", "sim.testbench.system.run_", "sim.runners.verilator", "bench")) for n in files)
     copies = {}
     for name, path in files.items():                # the same sources elsewhere: the same key
-        copies[name] = tmp_path / path.name.replace(".py", f".{name}.py")
+        copies[name] = tmp_path / name / path.name        # the file's own name: an __init__ stays a package's
+        copies[name].parent.mkdir()
         shutil.copy(path, copies[name])
     found = build._module_file
     monkeypatch.setattr(build, "_module_file", lambda n: (n, copies[n]) if n in copies else found(n))
