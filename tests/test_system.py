@@ -95,15 +95,18 @@ def check_status(status, settings=(DISPARITY, RECTIFICATION)):
     assert status["leds"] & 0b111111 == 0b010101          # init done on all three buses, no error
 
 
-@pytest.mark.parametrize("route", [pytest.param("python", marks=pytest.mark.slow), "replay"])
+@pytest.mark.parametrize("route", [pytest.param("python", marks=pytest.mark.slow),
+                                   pytest.param("replay", marks=pytest.mark.slow)])
 def test_end_to_end_amaranth(route):
     """The small system end to end in Amaranth's simulator, along each route: the Python sensor models per PCLK, and
     the full-size route (sim/testbench/system/rom_testbench.py: each camera's stream, made by the sensor model before
     the run, replayed from a ROM; gated simulator clocks), whose every sample of the replayed frame period was sent.
     The frame equals the golden frame, the parts end configured, the buses clean. No waveforms (they cost twice the
-    run). The ``python`` route is slow: the default suite runs the same simulation through the command line,
+    run). Both routes are slow. The default suite runs the ``python`` route's simulation through the command line,
     tests/test_cli_outputs.py's complete run (``stereodepth run --small --simulator amaranth --vcd``: the same
-    backend with ``system_waves``), with these checks on its result.json and frames."""
+    backend with ``system_waves``), with these checks on its result.json and frames; the ``replay`` route as far as
+    the I2C init in test_replayed_sensors_need_the_configuration_their_stream_was_made_for, and replayed camera
+    pins to a whole frame on Verilator and Icarus in test_in_simulator_route_is_equivalent."""
     setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION)
     result = _run(setup, Amaranth(route))
     check_status(result.status)
