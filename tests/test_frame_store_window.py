@@ -97,6 +97,28 @@ def test_display_pattern_is_never_refused():
     assert (np.array(result["rows"]) == np.repeat(image, 2, axis=0)).all()
 
 
+async def read_rows_granted(ctx, port, sources, width):
+    """Read rows ``sources`` of ``width`` pixels through ``port``, each pixel requested until granted (failing after
+    ``GRANT_TIMEOUT`` clocks); the request is dropped after the last. Returns the rows read."""
+    out = []
+    for source in sources:
+        row = []
+        for x in range(width):
+            ctx.set(port.port.addr, source * width + x)
+            ctx.set(port.request, 1)
+            for _ in range(GRANT_TIMEOUT):
+                granted = ctx.get(port.grant)
+                await ctx.tick("pix")
+                if granted:
+                    break
+            else:
+                raise AssertionError(f"row {source} column {x} never granted")
+            row.append(ctx.get(port.port.data))
+        out.append(row)
+    ctx.set(port.request, 0)
+    return out
+
+
 @pytest.mark.parametrize("offset", [-3, 0, 4])
 def test_engine_pattern_waits_for_its_rows(offset):
     """Rows min(max(y + offset, 0), H - 1) for y = 0..H-1, each pixel requested until granted: the image's rows."""
@@ -105,22 +127,7 @@ def test_engine_pattern_waits_for_its_rows(offset):
 
     async def bench(ctx, window):
         await restart(ctx, window, sources[0])
-        port, out = window.consumer, []
-        for source in sources:
-            row = []
-            for x in range(w):
-                ctx.set(port.port.addr, source * w + x)
-                ctx.set(port.request, 1)
-                for _ in range(GRANT_TIMEOUT):
-                    granted = ctx.get(port.grant)
-                    await ctx.tick("pix")
-                    if granted:
-                        break
-                else:
-                    raise AssertionError(f"row {source} column {x} never granted")
-                row.append(ctx.get(port.port.data))
-            out.append(row)
-        ctx.set(port.request, 0)
+        out = await read_rows_granted(ctx, window.consumer, sources, w)
         return {"rows": out}
 
     image, result = simulate(bench, seed=abs(offset))
@@ -134,24 +141,10 @@ def test_restart_in_the_middle_starts_a_new_window():
     plan = [(0, [0, 1, 2, 3]), (5, list(range(5, h))), (1, [1, 2, 3])]
 
     async def bench(ctx, window):
-        port, out = window.consumer, []
+        out = []
         for first, rows in plan:
             await restart(ctx, window, first)
-            for source in rows:
-                row = []
-                for x in range(w):
-                    ctx.set(port.port.addr, source * w + x)
-                    ctx.set(port.request, 1)
-                    for _ in range(GRANT_TIMEOUT):
-                        granted = ctx.get(port.grant)
-                        await ctx.tick("pix")
-                        if granted:
-                            break
-                    else:
-                        raise AssertionError(f"row {source} column {x} never granted")
-                    row.append(ctx.get(port.port.data))
-                out.append(row)
-            ctx.set(port.request, 0)
+            out += await read_rows_granted(ctx, window.consumer, rows, w)
         return {"rows": out}
 
     image, result = simulate(bench, seed=7)
