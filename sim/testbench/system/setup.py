@@ -14,8 +14,7 @@ simulation's own: the switch settings (``disparity``, ``rectification``, ``segme
 (``cam_phase_s``, ``cam_clock_ppm``), the I2C models' faults (``i2c_faults``), the simulated clock lock
 (``lock_cycles``), when the pixel clock starts (``pix_after_init``), the sensor models' timing
 (``sensor_timing``) and where the frames are (``memory``: ``"bram"``, the design's block-RAM buffers, or
-``"ddr2"``, the system's DDR2 build with the MIG model, ``sim/testbench/system/testbench.py``; Amaranth's
-simulator, Python sensor models only).
+``"ddr2"``, the system's DDR2 build with the MIG model, ``sim/testbench/system/testbench.py``).
 
 Two presets:
 
