@@ -3,6 +3,7 @@ its ports, its parameter checks, and the small whole-system run with the MIG mod
 (sim/testbench/system/testbench.py) on Amaranth's simulator and on the Verilator C++ testbench, whose display
 frame must equal the golden frame bit for bit, and whose model's violation stops the run with its message."""
 
+import json
 from dataclasses import replace
 
 import numpy as np
@@ -16,7 +17,7 @@ from hdl.system import StereoDepthSystem
 from sim import SimulationFailed, UserError
 from sim.models.mig import INIT_CLOCKS, MESSAGES, READ_LATENCY_RANGE, MIGProtocolViolation, Violation, \
     draw_latency, violation_message
-from sim.system.backends import Amaranth, Verilator
+from sim.system.backends import Amaranth, Cocotb, Verilator
 from sim.system.run import simulate, still_pair
 from sim.testbench.system.run_verilator import VerilatorRun
 from sim.testbench.system.setup import SystemSetup
@@ -43,12 +44,14 @@ def test_windows_need_a_line_between_the_panels_and_the_maps():
         check_store_windows(touching)
 
 
-def test_ddr2_runs_on_the_amaranth_python_route_not_the_replay_route():
+def test_every_backend_takes_the_ddr2_build_but_the_amaranth_replay_route(tmp_path):
     setup = SystemSetup.small(memory="ddr2")
-    left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
-    Verilator().require(setup, still_pair(left, right, setup))
+    pair = still_pair(*load_default_pair(setup.geometry.width, setup.geometry.height), setup)
+    for backend in (Verilator(), Amaranth("python"), Cocotb("verilator", out_dir=tmp_path),
+                    Cocotb("icarus", out_dir=tmp_path)):
+        backend.require(setup, pair)
     with pytest.raises(UserError, match="DDR2"):
-        Amaranth("replay").require(setup, still_pair(left, right, setup))
+        Amaranth("replay").require(setup, pair)
 
 
 class _Pins:
@@ -161,3 +164,59 @@ def test_end_to_end_ddr2_amaranth():
     assert result.verdict["withheld_rows"] == [0]
     assert result.mismatched_pixels == 0
     np.testing.assert_array_equal(result.frame, result.golden)
+
+
+def test_cocotb_in_simulator_route_clocks_mem_and_a_violation_file_stops_with_its_message(tmp_path, monkeypatch):
+    """The cocotb side of the DDR2 build without a simulation: the in-simulator route's bench generates ``mem``
+    (8 ns; the block-RAM build has no such clock), and a run the scenario stopped on the model's violation (its
+    file written) raises the model's one-line message."""
+    from sim.testbench.system import run_cocotb
+    from sim.testbench.system.cocotb_routes import InSimulator
+    setup = SystemSetup.small(memory="ddr2")
+    bench = InSimulator().design(setup)
+    assert bench.periods_ps["mem"] == 8000 and "mem" in bench.signature.members["clock_en"].signature.members
+    bram = InSimulator().design(SystemSetup.small())
+    assert "mem" not in bram.periods_ps and "mem" not in bram.signature.members["clock_en"].signature.members
+    code = Violation.READ_NOT_TAKEN
+
+    def stopped(route, setup, simulator, params, **kwargs):
+        (tmp_path / run_cocotb.VIOLATION_FILE).write_text(f'{{"violation": [{code.value}, 0, 77], "t_ps": 1}}')
+        raise AssertionError("cocotb tests failed: ['end_to_end']")
+    monkeypatch.setattr(run_cocotb, "run_scenario", stopped)
+    pair = still_pair(*load_default_pair(setup.geometry.width, setup.geometry.height), setup)
+    with pytest.raises(SimulationFailed) as failed:
+        simulate(setup, pair, Cocotb("icarus", out_dir=tmp_path))
+    assert str(failed.value) == violation_message(code, 0, 77)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("route", ["in_simulator", "python"])
+def test_end_to_end_ddr2_cocotb(simulator, route, tmp_path):
+    """The small DDR2 build through cocotb (the model's storage in Verilog, ``mem`` from the route's clocks):
+    the display frame equals the golden frame, no row withheld (about a minute each, Verilator's build longer)."""
+    from sim.testbench.system.cocotb_routes import ROUTES
+    setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION, memory="ddr2")
+    pair = still_pair(*load_default_pair(setup.geometry.width, setup.geometry.height), setup)
+    result = simulate(setup, pair, Cocotb(simulator, ROUTES[route](), out_dir=tmp_path))
+    assert result.status["mig_latency"] == draw_latency(0, READ_LATENCY_RANGE)
+    assert result.status["violations"] == [] and "mig_violation" not in result.status
+    assert result.ok, result.verdict
+    assert result.verdict["withheld_rows"] == [0] and result.mismatched_pixels == 0
+    np.testing.assert_array_equal(result.frame, result.golden)
+
+
+@pytest.mark.slow
+def test_a_violation_stops_the_cocotb_run_with_its_message(tmp_path):
+    """On Icarus along the in-simulator route (the cheapest cocotb run, about 20 s): a read latency outside the
+    model's range stops the run on the mem clock edge the model reports it, with the table's one line."""
+    from sim.testbench.system.run_cocotb import VIOLATION_FILE
+    setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION, memory="ddr2")
+    pair = still_pair(*load_default_pair(setup.geometry.width, setup.geometry.height), setup)
+    with pytest.raises(SimulationFailed) as failed:
+        simulate(setup, pair, Cocotb("icarus", out_dir=tmp_path, mig_latency=READ_LATENCY_RANGE[1] + 1))
+    assert isinstance(failed.value.__cause__, MIGProtocolViolation)
+    assert MESSAGES[Violation.LATENCY_OUT_OF_RANGE] in str(failed.value)
+    seen = json.loads((tmp_path / VIOLATION_FILE).read_text())
+    code, _, cycle = seen["violation"]
+    assert code == Violation.LATENCY_OUT_OF_RANGE.value and cycle == INIT_CLOCKS
+    assert (seen["t_ps"] - 4000) % 8000 == 0 and 0 <= seen["t_ps"] - cycle * 8000 <= 250_000
