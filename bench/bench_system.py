@@ -27,8 +27,8 @@ camera, one 1080p display frame, the rebuilt frame compared bit for bit with the
   ``--amaranth-whole`` measures the whole run instead.
 
 "Cycles" counts the rising edges of every clock domain of the design (sync 100 MHz, pix 148.5 MHz, two 80 MHz
-PCLKs; the DDR2 build's mem 125 MHz too) in the simulated time. Wall times are on this shared 2-core machine (usually loaded): pessimistic; CPU
-times are given beside them for the ratio.
+PCLKs; the DDR2 build's mem 125 MHz too) in the simulated time. Wall times are on this shared 2-core machine
+(usually loaded): pessimistic; CPU times are given beside them for the ratio.
 """
 
 import argparse
