@@ -11,7 +11,7 @@ from amaranth.sim import Simulator
 from frame_store_sources import Camera
 from hdl.frame_store.frame_store import FrameStore
 from hdl.frame_store.layout import FrameStoreLayout
-from sim.models.mig import MIGModel, watch_violations
+from sim.models.mig import MIGModel, layout_window, watch_violations
 from spec.sensor import SMALL_SENSOR
 
 LAYOUT = FrameStoreLayout(width=40, height=5, base=1024)
@@ -27,7 +27,7 @@ def design():
     m = Module()
     m.domains += [ClockDomain(d) for d in ("pix", "mem", "cam_a", "cam_b")]
     m.submodules.store = store = FrameStore(LAYOUT, SMALL_SENSOR, slots=SLOTS, read_depth=16)
-    mig = MIGModel(af_depth=32, wdf_depth=32, window_base=LAYOUT.base, window_words=LAYOUT.end - LAYOUT.base,
+    mig = MIGModel(af_depth=32, wdf_depth=32, **layout_window(LAYOUT),
                    init_clocks=40)
     m.submodules.mig = DomainRenamer("mem")(mig)
     wiring.connect(m, store.mig, mig.user)

@@ -26,7 +26,7 @@ from amaranth.lib.wiring import In, Out
 from sim.models.clocking import SimClocking
 from hdl.system import CAMERAS, I2C_BUSES, StereoDepthSystem, SystemParameters
 from sim.models.i2c.bus import OpenDrainBus, ResolvedBusSignature
-from sim.models.mig import READ_LATENCY_RANGE, MIGModel
+from sim.models.mig import READ_LATENCY_RANGE, MIGModel, layout_window
 from sim.models.mig.violations import ViolationSignature
 
 __all__ = ["SystemTestbench", "bench_members", "pass_through", "domains_of", "DOMAINS", "MemoryModelSignature"]
@@ -160,7 +160,7 @@ class SystemTestbench(wiring.Component):
         """The MIG model on the system's ``mig`` port, in ``mem``, reset with the clocking model's domains."""
         layout = self.params.store_layout
         m.submodules.mem_reset = ResetSynchronizer(self.button | ~clocking.locked, domain="mem")
-        mig = MIGModel(window_base=layout.base, window_words=layout.end - layout.base)
+        mig = MIGModel(**layout_window(layout))
         m.submodules.mig = DomainRenamer("mem")(mig)
         wiring.connect(m, system.mig, mig.user)
         wiring.connect(m, wiring.flipped(self.memory.violation), mig.violation)
