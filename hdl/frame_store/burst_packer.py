@@ -14,7 +14,9 @@ one entry per event (:data:`ENTRY_KINDS`):
 Entries are ``Out`` on ``entry`` (a FIFO's write side: ``en`` when ``rdy``). The packer never waits: a burst it
 cannot send (the FIFO is full, or a ``START``/``END`` is still waiting to be sent before it) is dropped and its frame
 ends not ``ok``; a ``START``/``END`` waits in its own flag until it is sent, ahead of later bursts. Pixels beyond
-the layout's width and rows beyond its height are dropped, and their frame ends not ``ok``.
+the layout's width and rows beyond its height are dropped, and their frame ends not ``ok``; so does a frame with a
+row that ends short of the width (its bursts may all be there, the last one masked short, so the writer's count
+of bursts alone would not see it).
 """
 
 from amaranth import Cat, Const, Module, Signal
@@ -124,6 +126,8 @@ class BurstPacker(wiring.Component):
             m.d.sync += lost.eq(1)
         with m.If(status.row_end & in_row):
             m.d.sync += [in_row.eq(0), column.eq(0)]
+            with m.If(column + keep != width):     # a short row (its last burst is sent, masked)
+                m.d.sync += lost.eq(1)
             with m.If(row != height):
                 m.d.sync += row.eq(row + 1)
             with m.If(written.any() & ~keep):      # a short row's last, partly written burst
