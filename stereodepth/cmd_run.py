@@ -235,6 +235,8 @@ def summarise(setup, simulator, frame, golden, status, wall, verdict=None):
                      f"{status.get('t_captured_s', 0) * 1e3:.2f} ms)")
     if status.get("violations"):
         lines.append(f"  HDMI timing violations: {len(status['violations'])}, first: {status['violations'][0]}")
+    if "display_missed" in status:
+        lines.append(f"  DDR2 frame store: display reads refused in {status['display_missed']} pixel clocks")
     if frame is None:
         lines.append("  no frame was rebuilt")
     elif status.get("mismatched_pixels") == 0:

@@ -57,5 +57,6 @@ def test_end_to_end_ddr2_amaranth():
     assert not result.sink.violations, result.sink.violations[:5]
     assert result.frame is not None and result.ok, result.verdict
     assert result.verdict["withheld_rows"] == [0]
+    assert result.status["display_missed"] == 0
     assert result.mismatched_pixels == 0
     np.testing.assert_array_equal(result.frame, result.golden)

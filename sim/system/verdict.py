@@ -155,7 +155,8 @@ class Judge:
 
     def run_verdict(self, frames, status):
         """The run's verdict from its judged display ``frames`` and the driver's ``status``."""
-        clean = not status.get("violations")
+        # no HDMI timing violation, and (the DDR2 build) no display read the frame store refused
+        clean = not status.get("violations") and not status.get("display_missed")
         if self.still:
             return self._still_verdict(frames, clean)
         last = frames[-1].verdict if frames else None
@@ -173,9 +174,9 @@ class Judge:
 
     def _still_verdict(self, frames, clean):
         """A still pair's run: the frame it shows (``chosen``, the first the policy accepts, else the last), the
-        withheld rows of every frame run, ``ok`` (the chosen frame equal to its golden frame, no timing violation,
-        and with the ``whole`` policy accepted by it); in automatic rectification the offset in use on the chosen
-        frame (``auto_offset``) and the first display frame that used it locked (``auto_offset_first_frame``)."""
+        withheld rows of every frame run, ``ok`` (the chosen frame equal to its golden frame, no timing violation
+        nor refused display read, and with the ``whole`` policy accepted by it); in automatic rectification the
+        offset in use on the chosen frame (``auto_offset``) and the first display frame that used it locked (``auto_offset_first_frame``)."""
         chosen = next((f.index for f in frames if self.enough(f)), frames[-1].index if frames else None)
         out = {"chosen": chosen, "policy": self.policy, "display_frames": len(frames),
                "withheld_rows": [f.verdict["withheld_rows"] for f in frames]}
