@@ -5,9 +5,9 @@ fast as they are granted and four display streams each showing a 400-pixel buffe
 the 1080p raster; pix 148.5 MHz, mem 125 MHz, cam 80 MHz.
 
 Printed: whether the display was ever refused, the least time a display row landed before its first pixel and the
-fewest rows landed beyond the one starting to show, the DDR2 bandwidth of every stream and of the cameras' writes,
-the user interface's efficiency (read and written words per clk0), the refreshes covered; MIG violations stop the
-run. ``--rows``, ``--frames``: the buffer's rows and the display frames measured (2 blank lines + ``rows`` lines
+fewest rows landed beyond the one starting to show, the DDR2 bandwidth each stream needs and gets (the display's,
+the cameras' writes, the engine's), all streams' and the user interface's efficiency (read and written words per
+clk0), the refreshes covered; MIG violations stop the run. ``--rows``, ``--frames``: the buffer's rows and the display frames measured (2 blank lines + ``rows`` lines
 each); ``--latency``; ``--fifo-depth``: the MIG model's address FIFO; ``--banks``: the banks the buffers are spread over (1: all in bank
 0, to compare); ``--not-urgent``: the display's streams served after the writers and the engine (the bite).
 """

@@ -77,6 +77,10 @@ def add_arguments(parser):
                              "automatic rectification; docs/display.md)")
     parser.add_argument("--simulator", choices=SIMULATORS, default="verilator",
                         help="verilator (default), icarus, or amaranth (hours at full size; quick with --small)")
+    parser.add_argument("--memory", choices=("bram", "ddr2"), default="bram",
+                        help="where the camera frames are: bram (default, the thesis's block-RAM buffers) or ddr2 "
+                             "(the frame store behind MIG, simulated with the MIG model; --simulator amaranth "
+                             "--small)")
     parser.add_argument("--out", type=Path, default=Path("build/run"), help="output directory (build/run)")
     parser.add_argument("--small", action="store_true",
                         help="small configuration: 64x48 sensors, 112x52 display (fast; for a quick look)")
@@ -102,10 +106,10 @@ def switch_value(name, text, low=0, high=127):
     return value
 
 
-def make_setup(small, disparity, rectification, segment=False):
+def make_setup(small, disparity, rectification, segment=False, memory="bram"):
     from sim.testbench.system.setup import SystemSetup
     return (SystemSetup.small if small else SystemSetup.full)(disparity=disparity, rectification=rectification,
-                                                              segment=segment)
+                                                              segment=segment, memory=memory)
 
 
 def switch_settings(args):
@@ -258,7 +262,7 @@ def run(args):
     from stereodepth.provenance import utc_now
     started = utc_now()
     disparity, rectification, segment = switch_settings(args)
-    setup = make_setup(args.small, disparity, rectification, segment)
+    setup = make_setup(args.small, disparity, rectification, segment, args.memory)
     if args.frames is not None or args.scene is not None:
         if args.vcd:
             raise UserError("--vcd is for one frame: drop --frames / --scene")
