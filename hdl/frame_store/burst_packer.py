@@ -9,7 +9,8 @@ one entry per event (:data:`ENTRY_KINDS`):
 * ``BURST``: a burst's 32 bytes with its row, its index in the row and its byte mask (a 1 masks a byte no pixel
   was written to, as MIG's mask does), when the row's 32nd pixel of the burst is written or the row ends;
 * ``START``: a frame starts (a burst in progress is dropped);
-* ``END``: a frame ends; ``ok`` = the capture's ``frame_ok`` and no entry of the frame was lost.
+* ``END``: a frame ends; ``ok`` = the capture's ``frame_ok`` and no entry of the frame was lost (also when the
+  next frame starts before the ``END`` could be sent).
 
 Entries are ``Out`` on ``entry`` (a FIFO's write side: ``en`` when ``rdy``). The packer never waits: a burst it
 cannot send (the FIFO is full, or a ``START``/``END`` is still waiting to be sent before it) is dropped and its frame
@@ -138,6 +139,8 @@ class BurstPacker(wiring.Component):
         with m.If(status.frame_start):
             m.d.sync += [row.eq(0), column.eq(0), in_row.eq(0), written.eq(0), filled.eq(0),
                          start_waiting.eq(1), lost.eq(0)]
+            with m.If(end_waiting):             # the last frame's END not sent yet: its verdict keeps its losses
+                m.d.sync += end_ok.eq(end_ok & ~lost & ~filled)
         with m.If(status.frame_done):
             m.d.sync += [end_waiting.eq(1), end_ok.eq(status.frame_ok)]
 
