@@ -15,6 +15,8 @@ from hdl.system import StereoDepthSystem
 from sim import UserError
 from sim.system.backends import Amaranth, Verilator
 from sim.system.run import simulate, still_pair
+from sim.system.verdict import Judge
+from sim.testbed.sequence import moving_card
 from sim.testbench.system.setup import SystemSetup
 
 DISPARITY, RECTIFICATION = 2, 1
@@ -60,3 +62,34 @@ def test_end_to_end_ddr2_amaranth():
     assert result.status["display_missed"] == 0
     assert result.mismatched_pixels == 0
     np.testing.assert_array_equal(result.frame, result.golden)
+
+
+class _Shown:
+    def __init__(self, index, pair):
+        self.index, self.verdict = index, {"equals_pair": pair}
+
+
+def test_ddr2_sequence_verdict_asks_every_display_frame_from_one_pair():
+    """The DDR2 build's sequence verdict (sim/system/verdict.py): every display frame equal to one pair's golden
+    frame (-1: the empty buffers), or not."""
+    assert Judge._whole_pairs([_Shown(0, -1), _Shown(1, 0), _Shown(2, 2)]) == {
+        "pairs_shown": [-1, 0, 2], "display_frames_from_one_pair": True}
+    assert not Judge._whole_pairs([_Shown(0, 0), _Shown(1, None)])["display_frames_from_one_pair"]
+    assert not Judge._whole_pairs([])["display_frames_from_one_pair"]
+
+
+@pytest.mark.slow
+def test_ddr2_frame_sequence_amaranth():
+    """Three camera frames of the moving card on the small DDR2 build (Python sensor models, the MIG model, its
+    checker stopping the run on any violation): every display frame equals the golden frame of one camera-frame pair
+    -- no withheld row, no mixed row, the images and both maps of one pair -- the settled one the last pair's, and
+    no display read refused."""
+    setup = SystemSetup.small(memory="ddr2")
+    sequence = moving_card(setup, 3)
+    result = simulate(setup, sequence, Amaranth("python"))
+    verdict, status = result.verdict, result.status
+    assert status["violations"] == [] and status["display_missed"] == 0, status
+    assert verdict["display_frames_from_one_pair"], verdict
+    assert verdict["pairs_shown"][-1] == 2 and verdict["ok"], verdict
+    assert all(f.verdict["depth_rows_mixed"] == 0 and f.verdict.get("depth_rows_withheld", 0) == 0
+               and f.verdict["left_rows_mixed"] == 0 and f.verdict["right_rows_mixed"] == 0 for f in result.frames)
