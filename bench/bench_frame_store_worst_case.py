@@ -7,9 +7,10 @@ the 1080p raster; pix 148.5 MHz, mem 125 MHz, cam 80 MHz.
 Printed: whether the display was ever refused, the least time a display row landed before its first pixel and the
 fewest rows landed beyond the one starting to show, the DDR2 bandwidth each stream needs and gets (the display's,
 the cameras' writes, the engine's), all streams' and the user interface's efficiency (read and written words per
-clk0), the refreshes covered; MIG violations stop the run. ``--rows``, ``--frames``: the buffer's rows and the display frames measured (2 blank lines + ``rows`` lines
-each); ``--latency``; ``--fifo-depth``: the MIG model's address FIFO; ``--banks``: the banks the buffers are spread over (1: all in bank
-0, to compare); ``--not-urgent``: the display's streams served after the writers and the engine (the bite).
+clk0), the refreshes covered; MIG violations stop the run. ``--rows``, ``--frames``: the buffer's rows and the
+display frames measured (2 blank lines + ``rows`` lines each); ``--latency``; ``--fifo-depth``: the MIG model's
+address FIFO; ``--banks``: the banks the buffers are spread over (1: all in bank 0, to compare); ``--not-urgent``:
+the display's streams served after the writers and the engine (the bite).
 """
 
 import argparse
@@ -31,8 +32,8 @@ def main(argv=None):
     args = parser.parse_args(argv or [])
     lo, hi = READ_LATENCY_RANGE
     case = WorstCase(rows=args.rows, frames=args.frames, latency=args.latency,
-                     latency_range=(lo, max(hi, args.latency)), display_urgent=not args.not_urgent, mig_fifo_depth=args.fifo_depth,
-                     banks=args.banks)
+                     latency_range=(lo, max(hi, args.latency)), display_urgent=not args.not_urgent,
+                     mig_fifo_depth=args.fifo_depth, banks=args.banks)
     wall = time.perf_counter()
     result = run_worst_case(case)
     print(f"{args.frames} display frames of {case.blank_lines} + {args.rows} lines, read latency {args.latency} clk0, "

@@ -2,14 +2,14 @@
 
 Each camera has ``buffers`` frame buffers spread over the DDR2's banks (each bank keeps a row of its own open, so
 streams in different banks do not close each other's rows): with ``banks`` banks and ``cameras`` cameras, camera
-``c`` has the ``banks // cameras`` banks from ``c * (banks // cameras)`` (at least one), its buffer ``b`` in the
-``b mod (banks // cameras)``-th of them; the buffers of one bank lie one after another from ``base`` in it. So the
-two cameras' frames -- the held pair every reader reads, the frames the writers write -- never share a bank, and
-a writer shares a bank with its camera's held frame for one buffer pair in three (2 cameras x 3 buffers in 4
-banks: camera 0 in banks 0, 1, 0; camera 1 in banks 2, 3, 2). A buffer holds ``height`` rows ``stride`` bytes apart; a row holds ``width`` pixels, one
-byte each (the grey value in the low bits), so an 8-bit 800 x 600 build needs only other sizes. ``stride`` is a
-whole number of BL4 bursts (32 bytes), so every row starts a burst and no burst spans two rows; the bytes of a
-row's last burst beyond ``width`` are masked when written and ignored when read.
+``c`` has the ``n = banks // cameras`` banks from ``c * n`` (at least one), its buffer ``b`` in the
+``(b mod n)``-th of them; the buffers of one bank lie one after another from ``base`` in it. So the two cameras'
+frames -- the held pair every reader reads, the frames the writers write -- never share a bank, and a writer shares
+a bank with its camera's held frame for one buffer pair in three (2 cameras x 3 buffers in 4 banks: camera 0 in
+banks 0, 1, 0; camera 1 in banks 2, 3, 2). A buffer holds ``height`` rows ``stride`` bytes apart; a row holds
+``width`` pixels, one byte each (the grey value in the low bits), so an 8-bit 800 x 600 build needs only other
+sizes. ``stride`` is a whole number of BL4 bursts (32 bytes), so every row starts a burst and no burst spans two
+rows; the bytes of a row's last burst beyond ``width`` are masked when written and ignored when read.
 
 Addresses count 64-bit memory words, as MIG's ``app_af_addr`` does (:class:`spec.memory.MIG`).
 """

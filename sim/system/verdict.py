@@ -188,7 +188,8 @@ class Judge:
         """A still pair's run: the frame it shows (``chosen``, the first the policy accepts, else the last), the
         withheld rows of every frame run, ``ok`` (the chosen frame equal to its golden frame, no timing violation
         nor refused display read, and with the ``whole`` policy accepted by it); in automatic rectification the
-        offset in use on the chosen frame (``auto_offset``) and the first display frame that used it locked (``auto_offset_first_frame``)."""
+        offset in use on the chosen frame (``auto_offset``) and the first display frame that used it locked
+        (``auto_offset_first_frame``)."""
         chosen = next((f.index for f in frames if self.enough(f)), frames[-1].index if frames else None)
         out = {"chosen": chosen, "policy": self.policy, "display_frames": len(frames),
                "withheld_rows": [f.verdict["withheld_rows"] for f in frames]}

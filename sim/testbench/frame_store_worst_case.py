@@ -33,8 +33,8 @@ from spec.memory import MIG
 from spec.sensor import SENSOR, SensorGeometry
 from spec.video import CEA_1080P60
 
-__all__ = ["WorstCase", "WorstCaseResult", "run_worst_case", "CameraSource", "camera_frame_clocks", "DisplayReads", "GreedyRows",
-           "PortCounters", "CAMERA_GAP"]
+__all__ = ["WorstCase", "WorstCaseResult", "run_worst_case", "CameraSource", "camera_frame_clocks",
+           "DisplayReads", "GreedyRows", "PortCounters", "CAMERA_GAP", "PEAK_MBPS"]
 
 #: Pix clocks from both cameras' ``frame_done`` to the take: their last bursts and ends written, the pair formed.
 PAIR_CLOCKS = 300

@@ -37,7 +37,8 @@ from sim.formal.harnesses.frame_pairing import FramePairingHarness
 from sim.formal.harnesses.frame_store import FrameStoreOwnershipHarness
 from sim.formal.harnesses.frame_store_credits import DEPTH as CREDIT_DEPTH, LAYOUT as CREDIT_LAYOUT, FrameStoreCreditsHarness
 from hdl.frame_store.row_fetcher import RowFetcher
-from sim.formal.harnesses.frame_store_packer import GEOMETRY as PACKER_GEOMETRY, LAYOUT as PACKER_LAYOUT, FrameStorePackerHarness
+from sim.formal.harnesses.frame_store_packer import (GEOMETRY as PACKER_GEOMETRY, LAYOUT as PACKER_LAYOUT,
+                                                     FrameStorePackerHarness)
 from sim.formal.harnesses.frame_store_writer import CAMERA as WRITER_CAMERA, LAYOUT as WRITER_LAYOUT, FrameStoreWriterHarness
 from hdl.frame_store.burst_writer import BurstWriter
 from hdl.frame_store.ownership import BufferOwnership

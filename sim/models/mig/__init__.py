@@ -26,6 +26,7 @@ from .model import (AF_SLACK, DATA_GRACE, DEFAULT_WINDOW_WORDS, INIT_CLOCKS, REA
                     layout_window, memory_words)
 from .violations import MESSAGES, MIGProtocolViolation, Violation, violation_message
 
-__all__ = ["MIGModel", "memory_words", "layout_window", "READ_LATENCY_RANGE", "AF_SLACK", "WDF_SLACK", "INIT_CLOCKS", "DATA_GRACE", "DEFAULT_WINDOW_WORDS", "Violation",
-           "MESSAGES", "STORAGE_MODULE", "STORAGE_VERILOG",
-           "mig_top_verilog", "LATENCY_PLUSARG", "violation_message", "MIGProtocolViolation", "draw_latency", "watch_violations"]
+__all__ = ["MIGModel", "memory_words", "layout_window", "READ_LATENCY_RANGE", "AF_SLACK", "WDF_SLACK", "INIT_CLOCKS",
+           "DATA_GRACE", "DEFAULT_WINDOW_WORDS", "Violation", "MESSAGES", "STORAGE_MODULE", "STORAGE_VERILOG",
+           "mig_top_verilog", "LATENCY_PLUSARG", "violation_message", "MIGProtocolViolation", "draw_latency",
+           "watch_violations"]

@@ -115,11 +115,12 @@ class MemoryPortsSignature(wiring.Signature):
 
 
 class MemoryWindow(wiring.Component):
-    """The memory words ``base`` .. ``base + words - 1`` (64-bit words, ``app_af_addr``'s unit) -- with ``banks``
-    > 1 those words of each of banks 0 .. ``banks - 1`` (a bank is ``MIG.BANK_WORDS`` words from ``bank *
-    MIG.BANK_WORDS``), for a design that spreads its buffers over the banks -- as 128-bit user words, each stored as it is written and read: {the falling-edge 64 bits, the rising-edge 64 bits}. User word
-    ``i`` of the burst at ``addr`` covers memory words ``addr + 2 i`` (rise) and ``addr + 2 i + 1`` (fall).
-    Contents start at 0 (the board's DRAM holds garbage after a reset), or with ``"memory"`` storage at ``init``.
+    """The memory words ``base`` .. ``base + words - 1`` (64-bit words, ``app_af_addr``'s unit) -- with
+    ``banks`` > 1 those words of each of banks 0 .. ``banks - 1`` (bank ``k`` is the ``MIG.BANK_WORDS`` words from
+    ``k * MIG.BANK_WORDS``), for a design that spreads its buffers over the banks -- as 128-bit user words, each
+    stored as it is written and read: {the falling-edge 64 bits, the rising-edge 64 bits}. User word ``i`` of the
+    burst at ``addr`` covers memory words ``addr + 2 i`` (rise) and ``addr + 2 i + 1`` (fall). Contents start at 0
+    (the board's DRAM holds garbage after a reset), or with ``"memory"`` storage at ``init``.
 
     Parameters
     ----------

@@ -14,8 +14,8 @@ from .read_return import ReadReturn
 from .user_fifo import UserFifo
 from .violations import ViolationSignature
 
-__all__ = ["MIGModel", "memory_words", "layout_window", "READ_LATENCY_RANGE", "INIT_CLOCKS", "DATA_GRACE", "DEFAULT_WINDOW_WORDS", "AF_SLACK",
-           "WDF_SLACK"]
+__all__ = ["MIGModel", "memory_words", "layout_window", "READ_LATENCY_RANGE", "INIT_CLOCKS", "DATA_GRACE",
+           "DEFAULT_WINDOW_WORDS", "AF_SLACK", "WDF_SLACK"]
 
 #: The read latency's range in clk0 (docs/memory.md, "The read latency"): a read written into an idle controller
 #: whose row is open returns its first word this many clocks later, drawn per run within the range.
@@ -114,9 +114,9 @@ class MIGModel(wiring.Component):
     """
 
     def __init__(self, *, af_depth=MIG.AF_DEPTH, wdf_depth=MIG.WDF_DEPTH, window_base=0,
-                 window_words=DEFAULT_WINDOW_WORDS, window_banks=1, init_clocks=INIT_CLOCKS, latency_range=READ_LATENCY_RANGE,
-                 af_slack=AF_SLACK, wdf_slack=WDF_SLACK, data_grace=DATA_GRACE, trefi=MIG.TREFI_CLK, trfc=MIG.TRFC_CLK,
-                 storage="memory", init=None):
+                 window_words=DEFAULT_WINDOW_WORDS, window_banks=1, init_clocks=INIT_CLOCKS,
+                 latency_range=READ_LATENCY_RANGE, af_slack=AF_SLACK, wdf_slack=WDF_SLACK, data_grace=DATA_GRACE,
+                 trefi=MIG.TREFI_CLK, trfc=MIG.TRFC_CLK, storage="memory", init=None):
         _check(af_depth, wdf_depth, latency_range, (af_slack, wdf_slack), init_clocks, data_grace)
         check_window(window_base, window_words, window_banks)
         check_storage(storage)
