@@ -175,13 +175,12 @@ def test_a_dropped_frame_does_not_shift_the_pairs():
 
 
 def test_a_camera_with_bad_frames_never_leaves_a_reader_a_half_written_buffer():
-    """After a good pair, camera A sends a frame of short lines (38 of 40 pixels: only its last burst short), one of
-    short lines missing a whole burst (20 pixels), a frame short of a line, then half a frame and stops; camera B
-    sends good frames all along. Any of A's bad frames published would pair with B's frame of its number; the
-    display must read pair 0, whole, and every write must lie inside a buffer."""
-    pairs = [images(20 + k) for k in range(5)]
-    a = [(pairs[0][0], {}), (pairs[1][0][:, :38], {}), (pairs[2][0][:, :20], {}), (pairs[3][0][:-1], {}),
-         (pairs[4][0][:2], {"done": False})]
+    """After a good pair, camera A sends a frame of short lines (38 of 40 pixels: only its last burst short, every
+    burst there), then half a frame and stops; camera B sends good frames all along. Either of A's bad frames
+    published would pair with B's frame of its number; the display must read pair 0, whole, and every write must
+    lie inside a buffer. (A frame a line short: the dropped-frame test above.)"""
+    pairs = [images(20 + k) for k in range(3)]
+    a = [(pairs[0][0], {}), (pairs[1][0][:, :38], {}), (pairs[2][0][:2], {"done": False})]
     b = [(pair[1], {}) for pair in pairs]
     writes = []
     left, right = simulate_cameras([a, b], delays=[10, 40], reads_after=100, writes=writes)
