@@ -29,7 +29,8 @@ from board.genesys import DDR2_SUBSIGNALS
 from hdl.mig_user import MIGUserSignature
 from spec.memory import MIG
 
-__all__ = ["DEFAULT_CORE_NAME", "MIG_PARAMETERS", "MIG_PORTS", "MIG_CLOCK_PORTS", "MIGCore", "GenesysDDR2"]
+__all__ = ["DEFAULT_CORE_NAME", "MIG_PARAMETERS", "MIG_PORTS", "MIG_CLOCK_PORTS", "MIG_USER_PORTS", "MIGCore",
+           "GenesysDDR2", "black_box_rtlil"]
 
 #: The core's component name when none is given (CoreGen's "Component Name"; the top module's name).
 DEFAULT_CORE_NAME = "mig_ddr2"
@@ -78,6 +79,22 @@ MIG_PORTS = {
     "clk0_tb": ("output", 1), "rst0_tb": ("output", 1),
     **{name: (direction, width) for name, (direction, width, _) in _USER_PORTS.items()},
 }
+
+
+#: The user interface's ports (all synchronous to ``clk0``/``clk0_tb``): MIG's name -> the member's path in
+#: :class:`~hdl.mig_user.MIGUserSignature`.
+MIG_USER_PORTS = {name: path for name, (_, _, path) in _USER_PORTS.items()}
+
+
+def black_box_rtlil(core_name=DEFAULT_CORE_NAME):
+    """An RTLIL declaration of the core's top module as a black box (its ports, :data:`MIG_PORTS`, and the
+    parameters :class:`MIGCore` sets), for Yosys runs of a DDR2 build without the core's files (the resource and
+    timing estimates, ``board.resources.board_rtlil``): the core's cells are not counted by Yosys."""
+    lines = ["attribute \\blackbox 1", f"module \\{_checked_core_name(core_name)}"]
+    lines += [f"  parameter \\{name}" for name in ("SIM_ONLY", *MIG_PARAMETERS)]
+    for index, (name, (direction, width)) in enumerate(MIG_PORTS.items(), start=1):
+        lines.append(f"  wire width {width} {direction} {index} \\{name}")
+    return "\n".join(lines + ["end", ""])
 
 
 def _checked_core_name(name):

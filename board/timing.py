@@ -41,7 +41,14 @@ LUT_RAMS = {"RAM32M", "RAM64M", "RAM32X1D", "RAM64X1D", "RAM128X1D", "RAM32X1S",
             "RAM256X1S"}
 #: Cells with no register-to-register timing: pads, clock buffers and clock generators, constants.
 UNTIMED = {"IBUF", "IBUFG", "OBUF", "OBUFT", "IOBUF", "BUFG", "BUFGCE", "BUFGMUX", "BUFGCTRL", "BUFR", "BUFIO",
-           "DCM_ADV", "PLL_ADV", "GND", "VCC", "$scopeinfo"}
+           "DCM_ADV", "PLL_ADV", "PLL_BASE", "GND", "VCC", "$scopeinfo"}
+#: The MIG core's user-interface outputs as its RTL drives them (MIG 3.6.1, ECC off: freecores/genesys_ddr2
+#: ``ddr2_usr_addr_fifo.v``, ``ddr2_usr_wr.v``, ``ddr2_usr_rd.v``): the FIFO36 ALMOSTFULL flags straight out, the
+#: rest from flip-flops. Its inputs go straight into the FIFOs' DI/DIP and WREN.
+MIG_CORE_OUTPUTS = {"app_af_afull": "bram_cko", "app_wdf_afull": "bram_cko", "rd_data_fifo_out": "ff_cko",
+                    "rd_data_valid": "ff_cko", "phy_init_done": "ff_cko"}
+MIG_CORE_INPUTS = {"app_af_cmd": "bram_di", "app_af_addr": "bram_di", "app_af_wren": "bram_en",
+                   "app_wdf_data": "bram_di", "app_wdf_mask_data": "bram_di", "app_wdf_wren": "bram_en"}
 OUTPUT_BUFFERS = {"OBUF", "OBUFT", "IOBUF"}
 
 
@@ -49,14 +56,17 @@ class ModelError(ValueError):
     """The netlist holds a cell the delay model has no figures for."""
 
 
-def clock_periods():
+def clock_periods(memory="bram"):
     """``{domain: period in ns}`` from the board's clock plan (``board.clocking.PLAN``; the camera domains at the PCLK
-    frequency the UCF constrains, ``board.vmodcam.CAM_PCLK_MAX_HZ``): the figures the PERIOD constraints carry."""
-    from board.clocking import PLAN
+    frequency the UCF constrains, ``board.vmodcam.CAM_PCLK_MAX_HZ``; with ``memory="ddr2"`` the ``mem`` domain at
+    MIG's ``clk0``, ``board.clocking.MIG_PLAN``): the figures the PERIOD constraints carry."""
+    from board.clocking import MIG_PLAN, PLAN
     from board.vmodcam import CAM_PCLK_MAX_HZ
     from hdl.system import CAMERAS
     periods = {domain: 1e9 / float(hz) for domain, _, hz, _, _ in PLAN.table()}
     periods.update({f"cam_{c}": 1e9 / CAM_PCLK_MAX_HZ for c in CAMERAS})
+    if memory == "ddr2":
+        periods["mem"] = 1e9 / float(MIG_PLAN.clk0_hz)
     return periods
 
 
@@ -213,6 +223,22 @@ def _oddr(cell, t, m):
         t.captures += [(port, b, clk, m["oddr_setup"].ns, fraction) for b in _bits(cell, port)]
 
 
+def _mig_core(cell, t, m):
+    """The MIG core (a black box in the estimate): its user interface launched and captured by its ``clk0_tb``
+    (the ``mem`` domain's clock) as :data:`MIG_CORE_OUTPUTS` / :data:`MIG_CORE_INPUTS` say; the memory pins and
+    the clock inputs are not timed here (the core's own UCF constrains them)."""
+    clk = _bits(cell, "clk0_tb")[0]
+    for port, key in MIG_CORE_OUTPUTS.items():
+        t.launches += [(port, b, clk, m[key].ns) for b in _bits(cell, port)]
+    for port, key in MIG_CORE_INPUTS.items():
+        t.captures += [(port, b, clk, m[key].ns, 1.0) for b in _bits(cell, port)]
+
+
+def is_mig_core(cell):
+    """Whether a netlist cell is the MIG core's black box (it has MIG's user-interface ports)."""
+    return set(MIG_CORE_OUTPUTS) | set(MIG_CORE_INPUTS) | {"clk0_tb"} <= set(cell["connections"])
+
+
 def cell_timing(cell, m=MODEL, *, drives_pad=False):
     """The :class:`_CellTiming` of one Yosys JSON cell under the delay model ``m`` (``drives_pad``: its output
     feeds an output buffer, i.e. an IOB output flip-flop). Raises :class:`ModelError` for an unknown cell type."""
@@ -243,6 +269,8 @@ def cell_timing(cell, m=MODEL, *, drives_pad=False):
         _dsp(cell, t, m)
     elif kind == "ODDR":
         _oddr(cell, t, m)
+    elif is_mig_core(cell):
+        _mig_core(cell, t, m)
     else:
         raise ModelError(f"no delay model for cell type {kind}")
     return t
@@ -573,11 +601,13 @@ class TimingReport:
 
 
 def estimate(out, *, top_kwargs=None, net_ns=NET_NS, paths=10, fanout=5, keep_netlist=False):
-    """Synthesise the board design (``small``: the small test configuration on the same board) with Yosys in
-    ``out`` and time it; returns ``(TimingReport, yosys_seconds)``. ``net.json`` (tens of MB) is removed unless
-    ``keep_netlist``."""
-    from board.resources import board_rtlil, run_yosys
-    _, netlist, seconds = run_yosys(board_rtlil(**(top_kwargs or {})), out)
+    """Synthesise the board design ``GenesysTop(**top_kwargs)`` (none: the board's; a DDR2 build with the MIG core
+    a black box, ``board.resources.board_rtlil``) with Yosys in ``out`` and time it; returns ``(TimingReport,
+    yosys_seconds)``. ``net.json`` (tens of MB) is removed unless ``keep_netlist``."""
+    from board.resources import board_memory, board_rtlil, run_yosys
+    top_kwargs = top_kwargs or {}
+    _, netlist, seconds = run_yosys(board_rtlil(**top_kwargs), out)
     if not keep_netlist:
         (_FilePath(out) / "net.json").unlink()
-    return analyse(netlist, clock_periods(), net_ns=net_ns, paths=paths, fanout=fanout), seconds
+    periods = clock_periods(board_memory(top_kwargs))
+    return analyse(netlist, periods, net_ns=net_ns, paths=paths, fanout=fanout), seconds

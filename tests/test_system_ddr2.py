@@ -21,12 +21,11 @@ DISPARITY, RECTIFICATION = 2, 1
 
 
 def test_ddr2_build_has_the_mig_port_and_the_default_has_none():
-    kwargs = DesignConfig.small().top_kwargs()
-    ddr2 = StereoDepthSystem(**kwargs, memory="ddr2")
+    ddr2 = StereoDepthSystem(**DesignConfig.small(memory="ddr2").top_kwargs())
     assert ddr2.signature.members["mig"].signature == MIGUserSignature()
-    assert "mig" not in StereoDepthSystem(**kwargs).signature.members
+    assert "mig" not in StereoDepthSystem(**DesignConfig.small().top_kwargs()).signature.members
     with pytest.raises(ValueError, match="memory must be one of"):
-        StereoDepthSystem(**kwargs, memory="sram")
+        StereoDepthSystem(**DesignConfig.small(memory="sram").top_kwargs())
 
 
 def test_windows_need_a_line_between_the_panels_and_the_maps():
