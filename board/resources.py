@@ -12,6 +12,10 @@ figure (section 4.2.1: 1200 Kb of frame data in 2160 Kb of block RAM). Per clock
 logic levels between two sequential elements (flip-flop, block RAM, DSP, ODDR, IO boundary), counting LUTs and
 MUXF7/MUXF8 as one level each and reporting the CARRY4 cells on that chain separately.
 
+The DDR2 build (``memory="ddr2"``): the MIG core is not in the repository, so :func:`board_rtlil` declares it a
+black box (:func:`board.mig.black_box_rtlil`); its own block RAM (``spec.memory.MIG.FPGA_RAMB36``, read in its
+RTL) is added to the count, its LUTs and flip-flops are not counted, and the budget is :data:`DDR2_BUDGET`.
+
 Limits, stated: Yosys's Virtex-5 support is experimental (its own help says so), it maps carry chains to
 7-series-style CARRY4 cells, and XST will map differently; the level count is a topological estimate without
 routing or cell delays -- a sanity check of the pipelining, not a timing sign-off (ISE's trce is). Cross-domain

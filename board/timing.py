@@ -14,6 +14,11 @@ constraints carry). Paths from one domain to another are not timed (they end in 
 the dual-clock RAMs, and the UCF declares them TIG); neither are pad-to-register or register-to-pad paths (the
 UCF's OFFSET constraints), clock skew, jitter, or hold.
 
+The DDR2 build (``clock_periods("ddr2")``) adds the ``mem`` domain at MIG's ``clk0``; the MIG core, a black box
+in the netlist (``board.resources.board_rtlil``), launches its user-interface outputs and captures its inputs on
+``clk0_tb`` with the delays of what drives them in its RTL (:data:`MIG_CORE_OUTPUTS`, :data:`MIG_CORE_INPUTS`);
+its memory side is the core's own UCF's business.
+
 Limits: no placement (every net costs the same, whatever its fanout or length), Yosys's mapping and not XST's (XST
 packs, replicates and maps carry chains differently), a delay model whose values are assumptions (the data sheet
 could not be read): an estimate that shows where the margin is, not a sign-off -- ISE's trce is.
@@ -28,7 +33,7 @@ from board.resources import bit_names, domain_of_clock, top_module
 from .virtex5_delays import MODEL, NET_NS
 
 __all__ = ["analyse", "estimate", "clock_periods", "cell_timing", "TimingReport", "DomainTiming", "Path",
-           "ModelError"]
+           "ModelError", "is_mig_core", "MIG_CORE_OUTPUTS", "MIG_CORE_INPUTS"]
 
 LUTS = {f"LUT{i}" for i in range(1, 7)} | {"INV"}
 LEVELS = LUTS | {"MUXF7", "MUXF8"}
