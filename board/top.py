@@ -54,7 +54,6 @@ from hdl.system import CAMERAS, StereoDepthSystem, SystemParameters
 __all__ = ["GenesysTop", "board_plan", "MEMORIES", "MIGCoreMissing"]
 
 
-
 class GenesysTop(wiring.Component):
     """The Genesys board design: see the module docstring for the pins. Elaborate it with a
     :class:`board.genesys.GenesysPlatform` (``platform.prepare(GenesysTop())``); it has no ports of its own.
@@ -221,7 +220,7 @@ def board_plan(*, design=None, pins=None, allow_unconfirmed=False, files=None, n
     MIG core, :func:`board.mig_core.read_mig_core`: the top then has the DDR2, ``memory="ddr2"``, with the core's
     name). ``mig_black_box``: a DDR2 build without the core's files, the core left an instance of its top module
     (``mig_core``, default :data:`board.mig.DEFAULT_CORE_NAME`) that nothing defines: for the Yosys estimates
-    (given :func:`board.mig.black_box_verilog`) and the board-top simulation (given the MIG model behind MIG's
+    (given :func:`board.mig.black_box_rtlil`) and the board-top simulation (given the MIG model behind MIG's
     port names, sim/board/top.py); never for ISE.
 
     Raises
