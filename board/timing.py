@@ -55,6 +55,8 @@ MIG_CORE_OUTPUTS = {"app_af_afull": "bram_cko", "app_wdf_afull": "bram_cko", "rd
 MIG_CORE_INPUTS = {"app_af_cmd": "bram_di", "app_af_addr": "bram_di", "app_af_wren": "bram_en",
                    "app_wdf_data": "bram_di", "app_wdf_mask_data": "bram_di", "app_wdf_wren": "bram_en"}
 OUTPUT_BUFFERS = {"OBUF", "OBUFT", "IOBUF"}
+#: Global clock buffers (their output ``O``).
+_GLOBAL_BUFFERS = {"BUFG", "BUFGCE", "BUFGMUX", "BUFGCTRL"}
 
 
 class ModelError(ValueError):
@@ -375,7 +377,12 @@ def _collect(nl, periods, model):
 
     def domain(clk):
         if clk not in domain_of:
-            domain_of[clk] = domain_of_clock(clk, nl.names, periods, driver_name, nl.cells)
+            found = domain_of_clock(clk, nl.names, periods, driver_name, nl.cells)
+            # a clock a black box drives (the MIG core's clk0_tb): Yosys puts a BUFG on it, named after the domain
+            for name, _ in nl.sinks.get(clk, ()) if found is None else ():
+                if nl.cells[name]["type"] in _GLOBAL_BUFFERS and found is None:
+                    found = domain_of_clock(_bits(nl.cells[name], "O")[0], nl.names, periods, driver_name, nl.cells)
+            domain_of[clk] = found
         return domain_of[clk]
 
     for name, cell in nl.cells.items():
@@ -609,9 +616,9 @@ def estimate(out, *, top_kwargs=None, net_ns=NET_NS, paths=10, fanout=5, keep_ne
     """Synthesise the board design ``GenesysTop(**top_kwargs)`` (none: the board's; a DDR2 build with the MIG core
     a black box, ``board.resources.board_rtlil``) with Yosys in ``out`` and time it; returns ``(TimingReport,
     yosys_seconds)``. ``net.json`` (tens of MB) is removed unless ``keep_netlist``."""
-    from board.resources import board_memory, board_rtlil, run_yosys
+    from board.resources import board_black_boxes, board_memory, board_rtlil, run_yosys
     top_kwargs = top_kwargs or {}
-    _, netlist, seconds = run_yosys(board_rtlil(**top_kwargs), out)
+    _, netlist, seconds = run_yosys(board_rtlil(**top_kwargs), out, black_boxes=board_black_boxes(top_kwargs))
     if not keep_netlist:
         (_FilePath(out) / "net.json").unlink()
     periods = clock_periods(board_memory(top_kwargs))

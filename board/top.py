@@ -220,7 +220,7 @@ def board_plan(*, design=None, pins=None, allow_unconfirmed=False, files=None, n
     MIG core, :func:`board.mig_core.read_mig_core`: the top then has the DDR2, ``memory="ddr2"``, with the core's
     name). ``mig_black_box``: a DDR2 build without the core's files, the core left an instance of its top module
     (``mig_core``, default :data:`board.mig.DEFAULT_CORE_NAME`) that nothing defines: for the Yosys estimates
-    (given :func:`board.mig.black_box_rtlil`) and the board-top simulation (given the MIG model behind MIG's
+    (given :func:`board.resources.board_black_boxes`) and the board-top simulation (given the MIG model behind MIG's
     port names, sim/board/top.py); never for ISE.
 
     Raises
