@@ -34,7 +34,8 @@ from pathlib import Path
 from board.memory_report import lines as memory_lines, mapped_blocks, memories
 
 __all__ = ["Report", "estimate", "synthesize", "run_yosys", "top_module", "longest_paths", "frame_buffer_blocks",
-           "reset_fanout", "yosys_available", "board_rtlil", "board_black_boxes", "board_memory", "mig_core_blocks", "BUDGET", "DDR2_BUDGET"]
+           "reset_fanout", "yosys_available", "board_rtlil", "board_black_boxes", "board_memory", "mig_core_blocks",
+           "BUDGET", "DDR2_BUDGET"]
 
 #: XC5VLX50T capacity (spec: 28,800 LUTs and flip-flops, 60 RAMB36 = 2160 Kb; Digilent reference manual: 12
 #: DCMs, 6 PLLs; the Virtex-5 family has 32 global clock buffers; 48 DSP48E slices).
