@@ -3,10 +3,10 @@ Virtex-5 primitive models and, in place of the user's MIG core, the MIG model be
 (``sim.board.top.mig_core_verilog``), at the small sizes of ``SystemSetup.small()`` as tests/test_board_top.py
 runs the block-RAM build.
 
-Default run: the design as the board build makes it (the system of the board top is the DDR2 build, its ``mig``
-port on the core's user interface; the block-RAM build has neither). Slow: the whole board top under cocotb on
-Verilator, the display frame bit-exact to the golden model with no tear, at two read latencies of the model.
-"""
+Default run: the design as the board build elaborates it (the system of the board top is the DDR2 build, its
+``mig`` port on the core's user interface) and the build's refusal without the core. Slow: the whole board top
+under cocotb on Verilator, the display frame bit-exact to the golden model with no tear, at both ends of the
+model's read-latency range (about 2.5 minutes each here)."""
 
 import re
 
