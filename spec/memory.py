@@ -45,4 +45,7 @@ class MIG:
     TRCD_CLK = 5                   # activate -> read or write
     WTR_CLK = 9                    # write -> read turnaround
     RTW_CLK = 9                    # read -> write turnaround
-    FPGA_RAMB36 = 5                # block RAM the core itself uses (address FIFO, 2 write data, 2 read data)
+    # block RAM the core itself uses without ECC (ECC_ENABLE = 0): the address FIFO (a FIFO36) and the write-data
+    # FIFO (2 FIFO36_72: 128 data + 16 mask bits); its read data leave through registers, the two read FIFO36_72
+    # exist only with ECC (MIG 3.6.1's ddr2_usr_addr_fifo.v, ddr2_usr_wr.v, ddr2_usr_rd.v, freecores/genesys_ddr2)
+    FPGA_RAMB36 = 3

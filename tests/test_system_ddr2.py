@@ -1,7 +1,9 @@
 """The system's DDR2 build (``memory="ddr2"``: the frames in the frame store behind MIG, docs/frame_store.md):
-its ports, its parameter checks, and the small whole-system run on Amaranth's simulator with the MIG model
-(sim/testbench/system/testbench.py), whose display frame must equal the golden frame bit for bit."""
+its ports, its parameter checks, and the small whole-system run with the MIG model
+(sim/testbench/system/testbench.py) on Amaranth's simulator and on the Verilator C++ testbench, whose display
+frame must equal the golden frame bit for bit, and whose model's violation stops the run with its message."""
 
+import json
 from dataclasses import replace
 
 import numpy as np
@@ -12,23 +14,25 @@ from hdl.config import DesignConfig
 from hdl.mig_user import MIGUserSignature
 from hdl.store_windows import check_store_windows
 from hdl.system import StereoDepthSystem
-from sim import UserError
-from sim.system.backends import Amaranth, Verilator
+from sim import SimulationFailed, UserError
+from sim.models.mig import INIT_CLOCKS, MESSAGES, READ_LATENCY_RANGE, MIGProtocolViolation, Violation, \
+    draw_latency, violation_message
+from sim.system.backends import Amaranth, Cocotb, Verilator
 from sim.system.run import simulate, still_pair
 from sim.system.verdict import Judge
 from sim.testbed.sequence import moving_card
+from sim.testbench.system.run_verilator import VerilatorRun
 from sim.testbench.system.setup import SystemSetup
 
 DISPARITY, RECTIFICATION = 2, 1
 
 
 def test_ddr2_build_has_the_mig_port_and_the_default_has_none():
-    kwargs = DesignConfig.small().top_kwargs()
-    ddr2 = StereoDepthSystem(**kwargs, memory="ddr2")
+    ddr2 = StereoDepthSystem(**DesignConfig.small(memory="ddr2").top_kwargs())
     assert ddr2.signature.members["mig"].signature == MIGUserSignature()
-    assert "mig" not in StereoDepthSystem(**kwargs).signature.members
+    assert "mig" not in StereoDepthSystem(**DesignConfig.small().top_kwargs()).signature.members
     with pytest.raises(ValueError, match="memory must be one of"):
-        StereoDepthSystem(**kwargs, memory="sram")
+        StereoDepthSystem(**DesignConfig.small(memory="sram").top_kwargs())
 
 
 def test_windows_need_a_line_between_the_panels_and_the_maps():
@@ -41,12 +45,112 @@ def test_windows_need_a_line_between_the_panels_and_the_maps():
         check_store_windows(touching)
 
 
-def test_ddr2_runs_on_the_amaranth_python_route_only():
+def test_every_backend_takes_the_ddr2_build_but_the_amaranth_replay_route(tmp_path):
     setup = SystemSetup.small(memory="ddr2")
-    left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
-    for backend in (Verilator(), Amaranth("replay")):
-        with pytest.raises(UserError, match="DDR2"):
-            backend.require(setup, still_pair(left, right, setup))
+    pair = still_pair(*load_default_pair(setup.geometry.width, setup.geometry.height), setup)
+    for backend in (Verilator(), Amaranth("python"), Cocotb("verilator", out_dir=tmp_path),
+                    Cocotb("icarus", out_dir=tmp_path)):
+        backend.require(setup, pair)
+    with pytest.raises(UserError, match="DDR2"):
+        Amaranth("replay").require(setup, pair)
+
+
+class _Pins:
+    """The C++ testbench as the DDR2 driver uses it, without a build: ports, clocks and cameras noted."""
+
+    def __init__(self, *args, **kwargs):
+        self.values, self.clocks, self.now_ps = {}, {}, 0
+
+    def __getitem__(self, port):
+        return self.values.get(port, 0)
+
+    def __setitem__(self, port, value):
+        self.values[port] = value
+
+    def bind_clock(self, clock, port, half_ps):
+        self.clocks[clock] = (port, half_ps, None)
+
+    def start_clock(self, clock, first_rise_ps):
+        port, half, _ = self.clocks[clock]
+        self.clocks[clock] = (port, half, first_rise_ps)
+
+    def bind_camera(self, *args):
+        pass
+
+    def bind_recorder(self, *args):
+        pass
+
+
+@pytest.fixture
+def unbuilt_run(monkeypatch):
+    """A Verilator driver of the small DDR2 build over :class:`_Pins` (no Verilator build: the driver's own logic)."""
+    from sim.testbench.system import run_verilator
+    monkeypatch.setattr(run_verilator, "build", lambda setup: None)
+    monkeypatch.setattr(run_verilator, "CTestbench", _Pins)
+    setup = SystemSetup.small(memory="ddr2")
+    return run_verilator.VerilatorRun(setup, still_pair(*load_default_pair(setup.geometry.width,
+                                                                           setup.geometry.height), setup))
+
+
+def test_verilator_driver_clocks_mem_sets_the_latency_and_stops_on_a_violation(unbuilt_run):
+    """The DDR2 build's part of the Verilator driver: ``mem`` clocked at 8 ns from power-up, the drawn read latency
+    set then, the violation code watched, and a code other than 0 stopping the run with the table's message."""
+    run, h = unbuilt_run, unbuilt_run.h
+    assert h.clocks["mem"][:2] == (("clocks", "mem"), 4000)
+    assert ("memory", "violation", "code") in run._status_ports()
+    run.button(True)
+    assert h.clocks["mem"][2] == 4000 and h.clocks["sync"][2] == 5000
+    assert h[("memory", "latency")] == run.status["mig_latency"] == draw_latency(0, READ_LATENCY_RANGE)
+    run._wake()                                          # no violation: the run goes on
+    code = Violation.ADDRESS_OUTSIDE_WINDOW
+    h.values.update({("memory", "violation", "code"): code.value, ("memory", "violation", "addr"): 0x40,
+                     ("memory", "violation", "cycle"): 1234})
+    with pytest.raises(MIGProtocolViolation) as stop:
+        run._wake()
+    assert str(stop.value) == violation_message(code, 0x40, 1234)
+    assert MESSAGES[code] in str(stop.value)
+
+
+@pytest.fixture(scope="module")
+def ddr2_verilator():
+    """The small DDR2 build on the Verilator C++ testbench (the model's storage in Verilog), the default pair."""
+    setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION, memory="ddr2")
+    pair = still_pair(*load_default_pair(setup.geometry.width, setup.geometry.height), setup)
+    return setup, pair, simulate(setup, pair, Verilator())
+
+
+@pytest.mark.slow
+def test_end_to_end_ddr2_verilator(ddr2_verilator):
+    """The small DDR2 build on Verilator (a build of about a minute, then a fraction of a second): the display
+    frame equals the golden frame, no row withheld, the latency drawn as on the Amaranth simulator."""
+    _, _, result = ddr2_verilator
+    assert result.status["mig_latency"] == draw_latency(0, READ_LATENCY_RANGE)
+    assert result.status["violations"] == []
+    assert result.frame is not None and result.ok, result.verdict
+    assert result.verdict["withheld_rows"] == [0] and result.mismatched_pixels == 0
+    np.testing.assert_array_equal(result.frame, result.golden)
+
+
+@pytest.mark.slow
+def test_a_violation_stops_the_verilator_run_with_its_message(ddr2_verilator):
+    """A read latency outside the model's range (a harness set-up the model's checker reports at
+    ``phy_init_done``) stops the run at that instant, through ``simulate`` with the table's one line."""
+    setup, pair, _ = ddr2_verilator
+    late = READ_LATENCY_RANGE[1] + 1
+    with pytest.raises(SimulationFailed) as failed:
+        simulate(setup, pair, Verilator(mig_latency=late))
+    assert isinstance(failed.value.__cause__, MIGProtocolViolation)
+    assert str(failed.value) == str(failed.value.__cause__)
+    assert MESSAGES[Violation.LATENCY_OUT_OF_RANGE] in str(failed.value)
+    run = VerilatorRun(setup, pair, mig_latency=late)
+    with pytest.raises(MIGProtocolViolation):
+        run.run()
+    code, _, cycle = run.status["mig_violation"]
+    assert code == Violation.LATENCY_OUT_OF_RANGE.value and cycle == INIT_CLOCKS
+    # Stopped on the mem clock edge that set the code: the model's cycles since its reset, which is released
+    # after the 50 ns button press, the clocking model's lock (16 sync clocks) and the 2-stage synchroniser.
+    assert (run.h.now_ps - 4000) % 8000 == 0
+    assert 0 <= run.h.now_ps - cycle * 8000 <= 250_000
 
 
 @pytest.mark.slow
@@ -62,6 +166,62 @@ def test_end_to_end_ddr2_amaranth():
     assert result.status["display_missed"] == 0
     assert result.mismatched_pixels == 0
     np.testing.assert_array_equal(result.frame, result.golden)
+
+
+def test_cocotb_in_simulator_route_clocks_mem_and_a_violation_file_stops_with_its_message(tmp_path, monkeypatch):
+    """The cocotb side of the DDR2 build without a simulation: the in-simulator route's bench generates ``mem``
+    (8 ns; the block-RAM build has no such clock), and a run the scenario stopped on the model's violation (its
+    file written) raises the model's one-line message."""
+    from sim.testbench.system import run_cocotb
+    from sim.testbench.system.cocotb_routes import InSimulator
+    setup = SystemSetup.small(memory="ddr2")
+    bench = InSimulator().design(setup)
+    assert bench.periods_ps["mem"] == 8000 and "mem" in bench.signature.members["clock_en"].signature.members
+    bram = InSimulator().design(SystemSetup.small())
+    assert "mem" not in bram.periods_ps and "mem" not in bram.signature.members["clock_en"].signature.members
+    code = Violation.READ_NOT_TAKEN
+
+    def stopped(route, setup, simulator, params, **kwargs):
+        (tmp_path / run_cocotb.VIOLATION_FILE).write_text(f'{{"violation": [{code.value}, 0, 77], "t_ps": 1}}')
+        raise AssertionError("cocotb tests failed: ['end_to_end']")
+    monkeypatch.setattr(run_cocotb, "run_scenario", stopped)
+    pair = still_pair(*load_default_pair(setup.geometry.width, setup.geometry.height), setup)
+    with pytest.raises(SimulationFailed) as failed:
+        simulate(setup, pair, Cocotb("icarus", out_dir=tmp_path))
+    assert str(failed.value) == violation_message(code, 0, 77)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("route", ["in_simulator", "python"])
+def test_end_to_end_ddr2_cocotb(simulator, route, tmp_path):
+    """The small DDR2 build through cocotb (the model's storage in Verilog, ``mem`` from the route's clocks):
+    the display frame equals the golden frame, no row withheld (about a minute each, Verilator's build longer)."""
+    from sim.testbench.system.cocotb_routes import ROUTES
+    setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION, memory="ddr2")
+    pair = still_pair(*load_default_pair(setup.geometry.width, setup.geometry.height), setup)
+    result = simulate(setup, pair, Cocotb(simulator, ROUTES[route](), out_dir=tmp_path))
+    assert result.status["mig_latency"] == draw_latency(0, READ_LATENCY_RANGE)
+    assert result.status["violations"] == [] and "mig_violation" not in result.status
+    assert result.ok, result.verdict
+    assert result.verdict["withheld_rows"] == [0] and result.mismatched_pixels == 0
+    np.testing.assert_array_equal(result.frame, result.golden)
+
+
+@pytest.mark.slow
+def test_a_violation_stops_the_cocotb_run_with_its_message(tmp_path):
+    """On Icarus along the in-simulator route (the cheapest cocotb run, about 20 s): a read latency outside the
+    model's range stops the run on the mem clock edge the model reports it, with the table's one line."""
+    from sim.testbench.system.run_cocotb import VIOLATION_FILE
+    setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION, memory="ddr2")
+    pair = still_pair(*load_default_pair(setup.geometry.width, setup.geometry.height), setup)
+    with pytest.raises(SimulationFailed) as failed:
+        simulate(setup, pair, Cocotb("icarus", out_dir=tmp_path, mig_latency=READ_LATENCY_RANGE[1] + 1))
+    assert isinstance(failed.value.__cause__, MIGProtocolViolation)
+    assert MESSAGES[Violation.LATENCY_OUT_OF_RANGE] in str(failed.value)
+    seen = json.loads((tmp_path / VIOLATION_FILE).read_text())
+    code, _, cycle = seen["violation"]
+    assert code == Violation.LATENCY_OUT_OF_RANGE.value and cycle == INIT_CLOCKS
+    assert (seen["t_ps"] - 4000) % 8000 == 0 and 0 <= seen["t_ps"] - cycle * 8000 <= 250_000
 
 
 class _Shown:

@@ -50,9 +50,10 @@ SIMULATORS = ("verilator", "icarus")
 TIMESCALE = ("1ns", "1ps")
 PARAMS_ENV = "STEREO_TEST_PARAMS"
 #: Verilator lint warnings that Amaranth's Verilog raises (width extension and truncation in generated arithmetic,
-#: `!` on a vector, incomplete ``casez`` on FSM states); they are not design errors, and Verilator makes warnings
-#: fatal by default. The one list: every Verilator build gets it here.
-VERILATOR_LINT_OFF = ("-Wno-WIDTHEXPAND", "-Wno-WIDTHTRUNC", "-Wno-CASEINCOMPLETE")
+#: `!` on a vector, incomplete ``casez`` on FSM states, ``[-1:0]`` declarations of unused zero-width signals);
+#: they are not design errors, and Verilator makes warnings fatal by default. The one list: every Verilator build
+#: gets it here (the C++ testbench's too, sim/runners/verilator/build.py).
+VERILATOR_LINT_OFF = ("-Wno-WIDTHEXPAND", "-Wno-WIDTHTRUNC", "-Wno-CASEINCOMPLETE", "-Wno-ASCRANGE")
 
 
 def _verilator_root():

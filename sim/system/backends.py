@@ -68,23 +68,19 @@ def _installed(simulator):
         raise UserError(f"{simulator} is not installed ({hint})")
 
 
-def _ddr2_on_amaranth(setup, name):
-    if setup.memory == "ddr2":
-        raise UserError(f"the DDR2 build (memory 'ddr2') runs on the Amaranth simulator only, not {name}")
-
-
 class Verilator(Backend):
     """Verilator with the C++ testbench. ``keep_stimulus`` keeps the stimulus log for the raw model;
     ``switch_changes``: ``{display frames recorded: [SW words]}`` set mid-stream; ``deadline_s``: the simulated-time
-    budget of a phase (default ``setup.deadline_s()``)."""
+    budget of a phase (default ``setup.deadline_s()``); ``mig_latency``: the DDR2 build's read latency (default
+    drawn per run)."""
 
     name = "verilator"
 
-    def __init__(self, *, keep_stimulus=False, switch_changes=None, deadline_s=None):
+    def __init__(self, *, keep_stimulus=False, switch_changes=None, deadline_s=None, mig_latency=None):
         self.keep_stimulus, self.switch_changes, self.deadline_s = keep_stimulus, switch_changes, deadline_s
+        self.mig_latency = mig_latency
 
     def require(self, setup, sequence):
-        _ddr2_on_amaranth(setup, self.name)
         _installed("verilator")
 
     def run(self, setup, sequence, *, on_frame, progress, max_frames):
@@ -92,7 +88,7 @@ class Verilator(Backend):
         t0 = time.perf_counter()
         run = VerilatorRun(setup, sequence, on_frame=on_frame, progress=progress, deadline_s=self.deadline_s,
                            keep_stimulus=self.keep_stimulus, switch_changes=self.switch_changes,
-                           max_frames=max_frames)
+                           max_frames=max_frames, mig_latency=self.mig_latency)
         t_run = time.perf_counter()
         status = run.run()
         t_check = time.perf_counter()
@@ -145,13 +141,14 @@ class Cocotb(Backend):
     ``route`` (a :class:`~sim.testbench.system.cocotb_routes.CocotbRoute`; default the in-simulator route), a
     sequence with the Python models (small size, no faults); ``waves`` as ``sim.runners.cocotb.run_cocotb``'s. The
     frames come back when the simulation has ended, so a still pair's run cannot stop at the frame its caller
-    accepts: it records ``max_frames`` display frames."""
+    accepts: it records ``max_frames`` display frames. ``mig_latency``: the DDR2 build's read latency (default
+    drawn per run)."""
 
-    def __init__(self, simulator, route=None, *, out_dir, waves=None):
+    def __init__(self, simulator, route=None, *, out_dir, waves=None, mig_latency=None):
         self.name, self.route, self.out_dir, self.waves = simulator, route, out_dir, waves
+        self.mig_latency = mig_latency
 
     def require(self, setup, sequence):
-        _ddr2_on_amaranth(setup, self.name)
         _installed(self.name)
         if not getattr(sequence, "still", False):
             if setup.preset != "small":
@@ -163,7 +160,7 @@ class Cocotb(Backend):
         from sim.testbench.system.run_cocotb import run_cocotb_system
         status, frames, test_dir = run_cocotb_system(setup, self.name, sequence, route=self.route,
                                                      out_dir=self.out_dir, progress=progress, waves=self.waves,
-                                                     max_frames=max_frames)
+                                                     max_frames=max_frames, mig_latency=self.mig_latency)
         for shown in frames:
             on_frame(shown)
         return Outcome(status, figures={"wall_s": status.get("wall_s")}, test_dir=test_dir)

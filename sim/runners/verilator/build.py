@@ -29,13 +29,14 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from sim.runners import build_dir
+from sim.runners.cocotb import VERILATOR_LINT_OFF
 
 __all__ = ["Build", "build", "cache_key", "once", "verilate", "ports_inc", "wide_ports", "SOURCE_DIR", "CXX_OPTS"]
 
 SOURCE_DIR = Path(__file__).resolve().parent
 TOP = "system_bench"
-#: Verilator switches: Amaranth's Verilog style raises these lint warnings by design (see sim/system_cocotb.py).
-VERILATOR_ARGS = ("-Wno-WIDTHEXPAND", "-Wno-WIDTHTRUNC", "-Wno-CASEINCOMPLETE")
+#: Verilator switches: the lint warnings Amaranth's Verilog raises by design, off (the one list).
+VERILATOR_ARGS = VERILATOR_LINT_OFF
 #: Compiler optimisation of the model (the wheel's verilated.mk uses -Os) and of the testbench.
 MAKE_OPTS = ("OPT_FAST=-O2", "OPT_SLOW=-O1", "OPT_GLOBAL=-O2")
 CXX_OPTS = ("-O2", "-std=c++17")
@@ -180,10 +181,9 @@ def verilate(directory, mdir, *args):
 
 
 def _build(setup, directory):
-    from board.export import export_verilog
-    from sim.testbench.system.testbench import SystemTestbench
-    design = SystemTestbench(clock_ports=True, **setup.system_kwargs())
-    (directory / f"{TOP}.v").write_text(export_verilog(design, TOP))
+    from sim.testbench.system.testbench import SystemTestbench, export_text
+    design = SystemTestbench(clock_ports=True, mig_storage="verilog", **setup.system_kwargs())
+    (directory / f"{TOP}.v").write_text(export_text(design, TOP))
     (directory / "build.log").write_text("")
     obj = directory / "obj"
     verilate(directory, obj, "-CFLAGS", " ".join(PIC_OPTS))

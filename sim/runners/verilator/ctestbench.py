@@ -15,8 +15,8 @@ from board.export import flat_name
 
 __all__ = ["CTestbench", "STIMULUS", "CLOCKS", "LIMIT", "WATCH", "RECORDED", "RECORD_BITS"]
 
-#: The testbench's clocks, in its order.
-CLOCKS = ("sync", "pix", "cam_a", "cam_b")
+#: The testbench's clocks, in its order (``mem``: MIG's clk0, bound in the DDR2 build only).
+CLOCKS = ("sync", "pix", "cam_a", "cam_b", "mem")
 #: :meth:`CTestbench.run`'s reasons to stop.
 LIMIT, WATCH, RECORDED = 0, 1, 2
 #: A stimulus record of the log (testbench.h ``Stimulus``).

@@ -187,9 +187,10 @@ struct Engine {
     VerilatedContext context;
     Vsystem* top;
     std::vector<Port> ports;
-    Clock clocks[4];          // sync, pix, cam_a, cam_b
+    // sync, pix, cam_a, cam_b, mem (MIG's clk0: the DDR2 build only; a clock never started has no edges)
+    static constexpr int CLOCKS = 5, PIX = 1, CAM = 2;
+    Clock clocks[CLOCKS];
     Camera cameras[2];        // on the clocks cam_a, cam_b
-    static constexpr int PIX = 1, CAM = 2;
     Recorder recorder;
     Watches watches;
     // Watched outputs are compared after evaluations with a rising clock edge or changed inputs: the design's
@@ -254,7 +255,7 @@ struct Engine {
         }
         for (;;) {
             uint64_t t = clocks[0].next;
-            for (int i = 1; i < 4; ++i)
+            for (int i = 1; i < CLOCKS; ++i)
                 if (clocks[i].next < t) t = clocks[i].next;
             if (recorder.next != NEVER && recorder.next <= t) {
                 if (recorder.next > limit) break;
@@ -266,14 +267,14 @@ struct Engine {
             if (t > limit || t == NEVER) break;
             now = t;
             bool rising = watch_falling_edges;
-            for (int i = 0; i < 4; ++i) {
+            for (int i = 0; i < CLOCKS; ++i) {
                 Clock& c = clocks[i];
                 if (c.next != t) continue;
                 c.level ^= 1;
                 *c.pin = c.level;
                 c.next += c.half;
                 rising |= c.level;
-                if (i >= CAM && cameras[i - CAM].running) {
+                if (i >= CAM && i < CAM + 2 && cameras[i - CAM].running) {
                     if (c.level) cameras[i - CAM].rising(); else cameras[i - CAM].falling();
                 }
             }

@@ -26,6 +26,7 @@ from sim.models.ch7301c.hdmi_sink import CocotbSink, HdmiSink
 from sim.replay.pins import read_recording, replay_recording
 from sim.replay.sensor import pack_stream, write_hex
 from sim.testbench.system.testbench import SystemTestbench
+from spec.memory import MIG
 from sim.testbench.system.verilog_testbench import VerilogReplayTestbench, write_sources
 
 __all__ = ["CocotbRoute", "PythonModels", "InSimulator", "ROUTES", "route_from_spec", "period_ps"]
@@ -99,7 +100,7 @@ class PythonModels(CocotbRoute):
     name = "python"
 
     def design(self, setup):
-        return SystemTestbench(clock_ports=True, **setup.system_kwargs())
+        return SystemTestbench(clock_ports=True, mig_storage="verilog", **setup.system_kwargs())
 
     def start(self, ports, setup):
         from cocotb.clock import Clock
@@ -108,6 +109,8 @@ class PythonModels(CocotbRoute):
             pins.data.value = pins.lv.value = pins.fv.value = 0
             getattr(ports.clocks, f"cam_{c}").value = 0
         Clock(ports.clocks.sync, period_ps(setup.sys_hz), unit="ps").start()
+        if setup.memory == "ddr2":
+            Clock(ports.clocks.mem, period_ps(MIG.CLK0_HZ), unit="ps").start()
         ports.clocks.pix.value = 0
         self._pix_clock = Clock(ports.clocks.pix, period_ps(setup.timing.pixel_hz, 4), unit="ps")
 
@@ -165,7 +168,8 @@ class InSimulator(CocotbRoute):
 
     def design(self, setup):
         periods = {"sync": period_ps(setup.sys_hz), "pix": period_ps(setup.timing.pixel_hz, 4),
-                   "cam": period_ps(setup.pclk_hz)}
+                   "cam": period_ps(setup.pclk_hz), **({"mem": period_ps(MIG.CLK0_HZ)} if setup.memory == "ddr2"
+                                                        else {})}
         return VerilogReplayTestbench(replay_depth=setup.frame_period_samples(), periods_ps=periods,
                                   **setup.system_kwargs())
 
@@ -183,6 +187,8 @@ class InSimulator(CocotbRoute):
         for name in ("pix", "rec", *(f"cam_{c}" for c in CAMERAS)):
             getattr(ports.clock_en, name).value = 0
         ports.clock_en.sync.value = 1
+        if setup.memory == "ddr2":
+            ports.clock_en.mem.value = 1
 
     async def start_pix(self, ports, setup):
         ports.clock_en.pix.value = 1

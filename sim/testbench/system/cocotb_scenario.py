@@ -15,7 +15,12 @@ Parameters (``sim.runners.cocotb.test_params()``): ``setup`` (``SystemSetup.to_s
 (``CocotbRoute.spec()``), ``sequence`` (an ``.npz`` of ``left`` and ``right``, N x H x W x 3, fitted to the
 sensor), ``still`` (the one pair sent for ever), ``max_frames``, ``out_dir`` (``frames.npz``: the display frames,
 their start times and the frames captured before each; ``result.json``: the status), ``progress_file`` (optional:
-``"<done> 1000 <stage>"`` as simulated time passes).
+``"<done> 1000 <stage>"`` as simulated time passes), ``mig_latency`` (the DDR2 build's read latency, or None: drawn).
+
+The DDR2 build: the MIG model's read latency is drawn per run (:func:`sim.models.mig.draw_latency`, as on every
+backend; ``status["mig_latency"]``) and set before time advances; a coroutine watches the model's violation code
+and, on the clock it leaves 0, writes ``{"violation": [code, addr, cycle], "t_ps": now}`` to ``out_dir``'s
+:data:`~sim.testbench.system.run_cocotb.VIOLATION_FILE` and stops the run with the model's one-line message.
 """
 
 import json
@@ -28,11 +33,12 @@ from cocotb.triggers import First, ReadOnly, RisingEdge, Timer
 from cocotb.utils import get_sim_time
 
 from hdl.system import CAMERAS, DISPLAY_LATENCY, I2C_BUSES
+from sim.models.mig import READ_LATENCY_RANGE, MIGProtocolViolation, Violation, draw_latency
 from sim.runners.cocotb import TopPorts
 from sim.models.i2c.bus import start_cocotb_targets
 from sim.models.i2c.monitor import I2CBusMonitor
 from sim.testbench.system.cocotb_routes import period_ps, route_from_spec
-from sim.testbench.system.phases import CAPTURE, INIT, LOCK, PIX_RESET_S, before_display, mark
+from sim.testbench.system.phases import CAPTURE, INIT, LOCK, PIX_RESET_S, PUBLISH_S, before_display, mark
 from sim.testbench.system.result import DisplayFrames, SystemTimeout, record_parts
 from sim.testbench.system.setup import SystemSetup
 
@@ -58,7 +64,7 @@ class _Run:
     """One run in progress (see the module docstring for the phases)."""
 
     def __init__(self, dut, params):
-        self.ports = TopPorts(dut)
+        self.ports, self.params = TopPorts(dut), params
         self.setup = SystemSetup.from_spec(params["setup"])
         self.route = route_from_spec(params["route"])
         self.out_dir = Path(params["out_dir"])
@@ -111,6 +117,18 @@ class _Run:
                 self.frames.note_skew(now, ports.skew.skew.value.to_signed(), bool(int(ports.skew.aligned.value)))
             last = values
 
+    async def watch_violation(self):
+        """The DDR2 build: stop the run on the MIG model's first violation (see the module docstring)."""
+        from sim.testbench.system.run_cocotb import VIOLATION_FILE
+        report = self.ports.memory.violation
+        while not (report.code.value.is_resolvable and int(report.code.value) != Violation.NONE.value):
+            await report.code.value_change
+        await ReadOnly()
+        seen = [int(report.code.value), int(report.addr.value), int(report.cycle.value)]
+        self.status["mig_violation"] = seen
+        (self.out_dir / VIOLATION_FILE).write_text(json.dumps({"violation": seen, "t_ps": get_sim_time("ps")}))
+        raise MIGProtocolViolation(*seen)
+
     def settings(self):
         ports = self.ports
         return {"disparity": int(ports.settings.disparity.value),
@@ -122,6 +140,11 @@ class _Run:
         """Before time advances: the route's idle inputs and clocks, the I2C targets, the cameras (each starts
         once configured), the progress file and the captures' watch."""
         self.route.start(self.ports, self.setup)
+        if self.setup.memory == "ddr2":
+            latency = self.params.get("mig_latency")
+            self.status["mig_latency"] = draw_latency(0, READ_LATENCY_RANGE) if latency is None else int(latency)
+            self.ports.memory.latency.value = self.status["mig_latency"]
+            cocotb.start_soon(self.watch_violation())
         for bus in I2C_BUSES:
             start_cocotb_targets(getattr(self.ports.bus, bus), self.models[bus], self.monitors[bus])
         for seed, c in enumerate(CAMERAS):
@@ -187,6 +210,8 @@ class _Run:
         ports, setup = self.ports, self.setup
         self.stage = "display"
         self.route.before_display(ports)
+        if setup.memory == "ddr2":
+            await Timer(round(PUBLISH_S * 1e12), unit="ps")
         await RisingEdge(ports.frame_start)
         # Start sampling outside an hsync pulse (the pins lag the raster by DISPLAY_LATENCY clocks, which can put
         # them inside the previous line's pulse): the sink must see whole pulses.

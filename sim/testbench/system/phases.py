@@ -8,7 +8,9 @@
    (:meth:`~sim.testbench.system.setup.SystemSetup.switch_words`, each held for 30 pixel clocks: SW7 = 1 with the
    disparity, then SW7 = 0 with the rectification; the next frame start loads both);
 3. **capture** (a still pair): until both captures complete a frame;
-4. **display**: from the next display frame start, outside an hsync pulse, the CH7301C pins one display frame
+4. **display**: from the next display frame start (in the DDR2 build, one that starts at least
+   :data:`PUBLISH_S` after the capture phase: a display frame shows the pair the frame store holds at its start),
+   outside an hsync pulse, the CH7301C pins one display frame
    period at a time into the HDMI sink model, each frame it completes handed to ``on_frame`` as a
    :class:`~sim.testbench.system.result.DisplayFrame` (:class:`~sim.testbench.system.result.DisplayFrames`: a
    sequence up to its settled frame, a still pair until ``on_frame`` returns True or ``max_frames``);
@@ -44,13 +46,16 @@ from sim.models.ch7301c.hdmi_sink import HdmiSink
 from sim.testbench.system.result import SystemTimeout
 
 __all__ = ["phases", "before_display", "display", "mark", "display_limit", "run_to_end", "RESET_PRESS_S",
-           "PIX_RESET_S", "SWITCH_HOLD_CLOCKS", "LOCK", "INIT", "CAPTURE"]
+           "PIX_RESET_S", "PUBLISH_S", "SWITCH_HOLD_CLOCKS", "LOCK", "INIT", "CAPTURE"]
 
 #: How long the reset button is held.
 RESET_PRESS_S = 50e-9
 #: The pixel domain's reset release after its clock starts (two synchroniser stages, generously): for drivers that
 #: cannot see the domain's reset.
 PIX_RESET_S = 200e-9
+#: The DDR2 build: time from a capture's last pixel to its frame published in the frame store, at most (the
+#: camera writer's 8 bursts in flight, each a few ``mem`` clocks, and the FIFO crossings: well under a microsecond).
+PUBLISH_S = 2e-6
 #: Pixel clocks each switch word is held (more than the synchroniser and the pending register need).
 SWITCH_HOLD_CLOCKS = 30
 #: What the phases wait for (``until``'s ``what``: a polling driver chooses its step by it).
@@ -155,6 +160,8 @@ async def capture(sim, deadline_s, status):
 async def display(sim, setup, sink, frames, on_frame, max_frames, limit, status):
     """The display frames, one display frame period at a time from the next display frame start."""
     sim.progress("display")
+    if setup.memory == "ddr2":
+        await sim.advance(PUBLISH_S)
     await sim.display_frame_start()
     status.update(sim.settings())
     clocks = setup.timing.clocks_per_frame

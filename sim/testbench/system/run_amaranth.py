@@ -40,9 +40,6 @@ from sim.testbench.system.rom_testbench import GATED_DOMAINS, RomReplayTestbench
 
 __all__ = ["AmaranthRoute", "PythonSensors", "ReplayedSensors", "ROUTES", "AmaranthRun"]
 
-#: The DDR2 build: time from a capture's last pixel to its frame published in the frame store, at most (the
-#: camera writer's 8 bursts in flight, each a few ``mem`` clocks, and the FIFO crossings: well under a microsecond).
-PUBLISH_S = 2e-6
 #: The controller's polling step while it waits (``until``), by what it waits for; 1 us otherwise.
 POLL_S = {LOCK: 50e-9, INIT: 2e-6, CAPTURE: 1e-6, "pixel-domain reset release": 20e-9}
 
@@ -296,10 +293,6 @@ class AmaranthRun:
 
     async def display_frame_start(self):
         ctx, top = self.ctx, self.top
-        if "memory" in top.signature.members:
-            # The DDR2 build shows the pair the frame store holds, taken at the frame's start: a frame the captures
-            # have just completed is published once its last bursts are written (PUBLISH_S).
-            await ctx.delay(PUBLISH_S)
         await ctx.tick("pix").until(top.frame_start)
         h_idle = 0 if self.setup.timing.hsync_positive else 1
         while ctx.get(top.ch7301c.hsync) != h_idle:

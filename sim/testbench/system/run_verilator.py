@@ -5,7 +5,7 @@ The route of the full-size runs (``make demo``, ``stereodepth run``, the slow te
 VPI (:mod:`sim.runners.verilator.build`); the testbench around it is C++ (``sim/runners/verilator/testbench.h``):
 the four clocks at the edge times of the cocotb in-simulator route's generators (``sync`` from time 0, its first
 rising edge half a period in; the pixel clock rising when it starts; each PCLK half a period after its camera
-starts), each camera's stream on its pins (the next sample at every falling PCLK edge, from word 0 again after the
+starts) and, in the DDR2 build, MIG's ``clk0`` for ``mem`` (8 ns, from time 0 like ``sync``), each camera's stream on its pins (the next sample at every falling PCLK edge, from word 0 again after the
 last), and the CH7301C pins sampled a quarter pixel period after each pixel-clock edge.
 
 Each camera's stream is made before the run by the sensor model for the configuration the I2C init must produce
@@ -15,6 +15,11 @@ by the sequence's ``faults``), then FV low for the rest of the run (the sensors 
 shows the last pair on buffers no capture writes any more). A camera starts the instant its register-file model
 says RGB565 and streaming, and only if that configuration is exactly the expected one (a
 :class:`~sim.testbench.system.result.SystemTimeout` otherwise: the configuration guard).
+
+The DDR2 build's MIG model (:class:`sim.models.mig.MIGModel`, its storage in Verilog) gets the run's read latency
+at power-up (drawn per run, :func:`sim.models.mig.draw_latency`, as on every backend; ``status["mig_latency"]``),
+and its violation code is one of the watched status outputs: the run stops with the model's one-line message
+(:class:`sim.models.mig.MIGProtocolViolation`) at the instant the code leaves 0.
 
 Python keeps the models and runs the phases (:func:`sim.testbench.system.phases.phases`: reset, I2C init, capture,
 display frames), the driver's primitives plain calls (the coroutine never suspends,
@@ -36,6 +41,7 @@ import time
 import numpy as np
 
 from hdl.system import CAMERAS, DISPLAY_LATENCY, I2C_BUSES
+from sim.models.mig import READ_LATENCY_RANGE, MIGProtocolViolation, Violation, draw_latency
 from sim.models.i2c.monitor import I2CBusMonitor
 from sim.models.mt9d112.config import expected_sensor_config
 from sim.models.mt9d112.sensor import SensorStream
@@ -46,13 +52,16 @@ from sim.testbench.system.result import DisplayFrames, sent_frames, SystemTimeou
 from sim.runners.verilator.build import build
 from sim.runners.verilator.ctestbench import RECORDED, CTestbench
 from sim.runners.verilator.recording import feed_sink
+from spec.memory import MIG
 
 __all__ = ["VerilatorRun", "camera_pins", "CH7301C_PINS"]
 
 _PS = 1e-12
-#: The testbench's clocks and the ports they drive.
+#: The testbench's clocks and the ports they drive (``mem``: the DDR2 build's).
 CLOCK_PORTS = {"sync": ("clocks", "sync"), "pix": ("clocks", "pix"), "cam_a": ("clocks", "cam_a"),
-               "cam_b": ("clocks", "cam_b")}
+               "cam_b": ("clocks", "cam_b"), "mem": ("clocks", "mem")}
+#: The MIG model's ports in the DDR2 build.
+MIG_LATENCY, MIG_VIOLATION = ("memory", "latency"), tuple(("memory", "violation", k) for k in ("code", "addr", "cycle"))
 CH7301C_PINS = tuple(("ch7301c", p) for p in ("data", "hsync", "vsync", "de", "xclk_p", "xclk_n"))
 
 
@@ -103,10 +112,12 @@ class VerilatorRun:
     testbench, the streams, the recording and the models stay here for the check and for the raw model
     (:mod:`bench.raw_model`, with ``keep_stimulus``). ``on_frame(DisplayFrame)`` receives each display frame (a
     still pair's run ends when it returns True); ``progress(stage, fraction)``; ``switch_changes``: ``{display
-    frames recorded: [SW words]}`` set mid-stream (:meth:`switch_plan`)."""
+    frames recorded: [SW words]}`` set mid-stream (:meth:`switch_plan`); ``mig_latency``: the DDR2 build's read
+    latency in clk0 clocks (default drawn, see the module docstring; one outside the model's range is a harness
+    violation the model reports at ``phy_init_done``)."""
 
     def __init__(self, setup, sequence, *, on_frame=None, progress=None, deadline_s=None, keep_stimulus=False,
-                 switch_changes=None, max_frames=1):
+                 switch_changes=None, max_frames=1, mig_latency=None):
         self.setup, self.sequence = setup, sequence
         self.still = bool(getattr(sequence, "still", False))
         self.on_frame = on_frame or (lambda frame: None)
@@ -115,8 +126,12 @@ class VerilatorRun:
         self.build = build(setup)
         self.expected_config = expected_sensor_config(setup.geometry)
         self.words = self.streams()
+        self.ddr2 = setup.memory == "ddr2"
+        self.mig_latency = (draw_latency(0, READ_LATENCY_RANGE) if mig_latency is None else mig_latency) \
+            if self.ddr2 else None
         self.periods = {"sync": period_ps(setup.sys_hz), "pix": period_ps(setup.timing.pixel_hz, 4),
-                        **{f"cam_{c}": period_ps(setup.camera_pclk_hz(c)) for c in CAMERAS}}
+                        **{f"cam_{c}": period_ps(setup.camera_pclk_hz(c)) for c in CAMERAS},
+                        **({"mem": period_ps(MIG.CLK0_HZ)} if self.ddr2 else {})}
         self.frame_clocks = setup.timing.clocks_per_frame
         self.deadline_s = deadline_s or setup.deadline_s()
         self.deadline_ps = round(self.deadline_s / _PS)
@@ -135,8 +150,8 @@ class VerilatorRun:
         self.frames = DisplayFrames(setup, CAMERAS, sent_frames(sequence, CAMERAS))
         self.last = {c: (0, 0) for c in CAMERAS}
         self.skew_count = 0
-        for clock, port in CLOCK_PORTS.items():
-            self.h.bind_clock(clock, port, self.periods[clock] // 2)
+        for clock in self.periods:
+            self.h.bind_clock(clock, CLOCK_PORTS[clock], self.periods[clock] // 2)
         for i, c in enumerate(CAMERAS):
             self.h.bind_camera(i, camera_pins(c), self.words[c], self.seen[c])
         self.h.bind_recorder(CH7301C_PINS, self.recording)
@@ -163,11 +178,15 @@ class VerilatorRun:
 
     def _status_ports(self):
         return [("capture", f"cam_{c}", k) for c in CAMERAS for k in ("in_frame", "frame_count")] + \
-            [("skew", "count"), "locked"] + [("init", b, k) for b in I2C_BUSES for k in ("done", "error")]
+            [("skew", "count"), "locked"] + [("init", b, k) for b in I2C_BUSES for k in ("done", "error")] + \
+            ([MIG_VIOLATION[0]] if self.ddr2 else [])
 
     def _wake(self):
-        """Whatever stopped the simulation: the buses answer, a camera configured by now starts, the captures'
-        status changes are noted."""
+        """Whatever stopped the simulation: the MIG model's violation stops the run, the buses answer, a camera
+        configured by now starts, the captures' status changes are noted."""
+        if self.ddr2 and self.h[MIG_VIOLATION[0]] != Violation.NONE.value:
+            self.status["mig_violation"] = [self.h[port] for port in MIG_VIOLATION]
+            raise MIGProtocolViolation(*self.status["mig_violation"])
         self.buses.service()
         for i, c in enumerate(CAMERAS):
             if c not in self.started:
@@ -248,7 +267,7 @@ class VerilatorRun:
 
     def button(self, pressed):
         """The reset button; its first press powers the board up: the switches and the camera pins at 0, the
-        ``sync`` clock started."""
+        ``sync`` clock started (and in the DDR2 build ``mem``, with the MIG model's read latency)."""
         h = self.h
         h["button"] = int(pressed)
         if pressed and not self.powered:
@@ -258,6 +277,10 @@ class VerilatorRun:
                 for pin in camera_pins(c):
                     h[pin] = 0
             h.start_clock("sync", self.periods["sync"] // 2)
+            if self.ddr2:
+                h[MIG_LATENCY] = self.mig_latency
+                self.status["mig_latency"] = self.mig_latency
+                h.start_clock("mem", self.periods["mem"] // 2)
 
     async def start_pix(self):
         self.h.start_clock("pix", self.h.now_ps)

@@ -9,7 +9,9 @@ the system's members under the bench's flat names.
 With a system of ``memory="ddr2"`` the bench also holds the MIG model (:class:`sim.models.mig.MIGModel`, submodule
 ``mig``) on the system's ``mig`` port, in the ``mem`` domain (125 MHz, MIG's ``clk0``; its reset the clocking
 model's, synchronised to it), its window the frame store's buffers; the model's ``latency`` and ``violation`` are the
-bench's ``memory`` member.
+bench's ``memory`` member. Its storage is an Amaranth memory for Amaranth's simulator, or for exported Verilog
+(``mig_storage="verilog"``) an instance of :data:`sim.models.mig.STORAGE_MODULE`, whose text the exporter appends
+(:func:`export_text`).
 
 Clock domains: ``sync``, ``pix``, ``cam_a``, ``cam_b`` (and ``mem`` with the DDR2), defined here (unless ``define_domains=False``: then the
 parent adds ``bench.domains`` and drives their clocks). A domain's clock comes from the simulator: in Amaranth's
@@ -26,10 +28,11 @@ from amaranth.lib.wiring import In, Out
 from sim.models.clocking import SimClocking
 from hdl.system import CAMERAS, I2C_BUSES, StereoDepthSystem, SystemParameters
 from sim.models.i2c.bus import OpenDrainBus, ResolvedBusSignature
-from sim.models.mig import READ_LATENCY_RANGE, MIGModel, layout_window
+from sim.models.mig import READ_LATENCY_RANGE, STORAGE_VERILOG, MIGModel, layout_window
 from sim.models.mig.violations import ViolationSignature
 
-__all__ = ["SystemTestbench", "bench_members", "pass_through", "domains_of", "DOMAINS", "MemoryModelSignature"]
+__all__ = ["SystemTestbench", "bench_members", "pass_through", "domains_of", "export_text", "DOMAINS",
+           "MemoryModelSignature"]
 
 #: The system's clock domains (the block-RAM build).
 DOMAINS = ("sync", "pix", *(f"cam_{c}" for c in CAMERAS))
@@ -44,6 +47,14 @@ MemoryModelSignature = wiring.Signature({
 def domains_of(params):
     """The clock domains of a system with parameters ``params``: :data:`DOMAINS`, and ``mem`` with the DDR2."""
     return DOMAINS + (("mem",) if params.memory == "ddr2" else ())
+
+
+def export_text(design, name):
+    """Verilog of ``design`` (a component holding a :class:`SystemTestbench`) as module ``name``, with the MIG
+    model's storage module appended when the design has the DDR2 (``mig_storage="verilog"``)."""
+    from board.export import export_verilog
+    text = export_verilog(design, name)
+    return text + STORAGE_VERILOG if "memory" in design.signature.members else text
 
 
 def pass_through(m, outer, inner):
@@ -89,6 +100,9 @@ class SystemTestbench(wiring.Component):
         Define the clock domains here (else the parent adds ``domains``).
     clock_ports : bool
         With ``define_domains``: each domain's clock from the input ``clocks.<domain>`` (for Verilog export).
+    mig_storage : str
+        With the DDR2: the MIG model's storage, ``"memory"`` (Amaranth's simulator) or ``"verilog"`` (exported
+        Verilog: :func:`export_text` appends its module).
     **system_kwargs
         For :class:`hdl.system.StereoDepthSystem`.
 
@@ -118,7 +132,8 @@ class SystemTestbench(wiring.Component):
         ``clock_ports`` without ``define_domains``, ``lock_cycles`` below 1, the system's parameter checks.
     """
 
-    def __init__(self, *, lock_cycles=16, cycle_bits=40, define_domains=True, clock_ports=False, **system_kwargs):
+    def __init__(self, *, lock_cycles=16, cycle_bits=40, define_domains=True, clock_ports=False,
+                 mig_storage="memory", **system_kwargs):
         if clock_ports and not define_domains:
             raise ValueError("clock_ports needs define_domains: the clocks of domains defined elsewhere are "
                              "driven there")
@@ -127,6 +142,7 @@ class SystemTestbench(wiring.Component):
         self.define_domains = define_domains
         self.clock_ports = clock_ports
         self.lock_cycles = lock_cycles
+        self.mig_storage = mig_storage
         self.system_kwargs = dict(ddr="behavioural", **system_kwargs)
         self.params = SystemParameters(**self.system_kwargs)
         self.geometry, self.video_timing = self.params.geometry, self.params.timing
@@ -160,7 +176,7 @@ class SystemTestbench(wiring.Component):
         """The MIG model on the system's ``mig`` port, in ``mem``, reset with the clocking model's domains."""
         layout = self.params.store_layout
         m.submodules.mem_reset = ResetSynchronizer(self.button | ~clocking.locked, domain="mem")
-        mig = MIGModel(**layout_window(layout))
+        mig = MIGModel(**layout_window(layout), storage=self.mig_storage)
         m.submodules.mig = DomainRenamer("mem")(mig)
         wiring.connect(m, system.mig, mig.user)
         wiring.connect(m, wiring.flipped(self.memory.violation), mig.violation)

@@ -5,7 +5,7 @@ HDMI sink sampling per pixel clock in Python, a full-resolution run spends nearl
 million sensor samples and 2.5 million pixel clocks). This bench puts small behavioural Verilog modules next to
 :class:`sim.testbench.system.testbench.SystemTestbench` so those loops run inside the simulator:
 
-* clocks: ``clock_gen`` per domain and ``pix_rec_gen`` for the pixel clock and the recorder's sample clock
+* clocks: ``clock_gen`` per domain (``mem`` too in the DDR2 build) and ``pix_rec_gen`` for the pixel clock and the recorder's sample clock
   (behavioural ``#`` delays, so Verilator builds with ``--timing``), each started by its ``clock_en`` input, whose
   rising time sets the clock's phase; ``clocks`` mirrors them for the test to wait on;
 * each camera's pins from a ``sensor_replay`` module (:mod:`sim.replay.sensor`), controlled through ``replay.<cam>``;
@@ -100,7 +100,8 @@ class VerilogReplayTestbench(wiring.Component):
     replay_depth : int
         ROM depth (words) of each replay module.
     periods_ps : dict
-        Clock periods in picoseconds: ``"sync"``, ``"pix"`` (a multiple of 4), ``"cam"`` (even).
+        Clock periods in picoseconds: ``"sync"``, ``"pix"`` (a multiple of 4), ``"cam"`` (even); with the DDR2
+        build ``"mem"`` (even) too.
     **system_kwargs
         For :class:`sim.testbench.system.testbench.SystemTestbench`.
 
@@ -109,7 +110,7 @@ class VerilogReplayTestbench(wiring.Component):
     params : :class:`hdl.system.SystemParameters`
         The system's parameters (``video_timing``: its ``timing``).
     (every member of the system testbench but the camera pins)
-    clock_en : ``In``, per clock ``sync``, ``pix``, ``rec``, ``cam_a``, ``cam_b``
+    clock_en : ``In``, per clock ``sync``, ``pix``, ``rec``, ``cam_a``, ``cam_b`` (and ``mem`` with the DDR2)
     clocks : ``Out``, the same clocks
     replay : ``Out``, per camera ``cam_a``, ``cam_b`` a :data:`ReplayControlSignature`
     recorder : ``Out(RecorderSignature)``
@@ -121,7 +122,7 @@ class VerilogReplayTestbench(wiring.Component):
     """
 
     def __init__(self, *, replay_depth, periods_ps, **system_kwargs):
-        if periods_ps["pix"] % 4 or periods_ps["sync"] % 2 or periods_ps["cam"] % 2:
+        if periods_ps["pix"] % 4 or any(periods_ps[name] % 2 for name in periods_ps):
             raise ValueError("clock periods must be even (the pixel period a multiple of 4) in picoseconds")
         self.replay_depth = int(replay_depth)
         self.periods_ps = dict(periods_ps)
@@ -131,7 +132,10 @@ class VerilogReplayTestbench(wiring.Component):
         self.video_timing = self.params.timing
         cam_pins = {f"cam_{c}" for c in CAMERAS}
         members = {name: member for name, member in bench_members(self.params).items() if name not in cam_pins}
-        clocks = wiring.Signature({name: Out(1) for name in _CLOCKS})
+        self.ddr2 = self.params.memory == "ddr2"
+        if self.ddr2 and "mem" not in periods_ps:
+            raise ValueError("the DDR2 build needs the mem clock's period")
+        clocks = wiring.Signature({name: Out(1) for name in _CLOCKS + (("mem",) if self.ddr2 else ())})
         members.update({
             "clock_en": In(clocks), "clocks": Out(clocks),
             "replay": Out(wiring.Signature({f"cam_{c}": Out(ReplayControlSignature) for c in CAMERAS})),
@@ -141,7 +145,8 @@ class VerilogReplayTestbench(wiring.Component):
 
     def elaborate(self, platform):
         m = Module()
-        m.submodules.bench = bench = SystemTestbench(define_domains=False, **self.system_kwargs)
+        m.submodules.bench = bench = SystemTestbench(define_domains=False, mig_storage="verilog",
+                                                     **self.system_kwargs)
         m.domains += bench.domains
         pass_through(m, self, bench)
         domains = {cd.name: cd for cd in bench.domains}
@@ -151,6 +156,9 @@ class VerilogReplayTestbench(wiring.Component):
                                          o_clk=domains["sync"].clk)
         m.submodules.pix_gen = Instance("pix_rec_gen", p_QUARTER_PS=p["pix"] // 4, i_en=en.pix, i_rec_en=en.rec,
                                         o_pix=domains["pix"].clk, o_rec=clocks.rec)
+        if self.ddr2:
+            m.submodules.mem_gen = Instance("clock_gen", p_HALF_PS=p["mem"] // 2, i_en=en.mem,
+                                            o_clk=domains["mem"].clk)
         for c in CAMERAS:
             name = f"cam_{c}"
             m.submodules[f"{name}_gen"] = Instance("clock_gen", p_HALF_PS=p["cam"] // 2,
