@@ -125,7 +125,7 @@ def test_end_to_end_ddr2_verilator(ddr2_verilator):
     frame equals the golden frame, no row withheld, the latency drawn as on the Amaranth simulator."""
     _, _, result = ddr2_verilator
     assert result.status["mig_latency"] == draw_latency(0, READ_LATENCY_RANGE)
-    assert result.status["violations"] == []
+    assert result.status["violations"] == [] and result.status["display_missed"] == 0
     assert result.frame is not None and result.ok, result.verdict
     assert result.verdict["withheld_rows"] == [0] and result.mismatched_pixels == 0
     np.testing.assert_array_equal(result.frame, result.golden)
@@ -202,6 +202,7 @@ def test_end_to_end_ddr2_cocotb(simulator, route, tmp_path):
     result = simulate(setup, pair, Cocotb(simulator, ROUTES[route](), out_dir=tmp_path))
     assert result.status["mig_latency"] == draw_latency(0, READ_LATENCY_RANGE)
     assert result.status["violations"] == [] and "mig_violation" not in result.status
+    assert result.status["display_missed"] == 0
     assert result.ok, result.verdict
     assert result.verdict["withheld_rows"] == [0] and result.mismatched_pixels == 0
     np.testing.assert_array_equal(result.frame, result.golden)
