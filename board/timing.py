@@ -14,6 +14,11 @@ constraints carry). Paths from one domain to another are not timed (they end in 
 the dual-clock RAMs, and the UCF declares them TIG); neither are pad-to-register or register-to-pad paths (the
 UCF's OFFSET constraints), clock skew, jitter, or hold.
 
+The DDR2 build (``clock_periods("ddr2")``) adds the ``mem`` domain at MIG's ``clk0``; the MIG core, a black box
+in the netlist (``board.resources.board_rtlil``), launches its user-interface outputs and captures its inputs on
+``clk0_tb`` with the delays of what drives them in its RTL (:data:`MIG_CORE_OUTPUTS`, :data:`MIG_CORE_INPUTS`);
+its memory side is the core's own UCF's business.
+
 Limits: no placement (every net costs the same, whatever its fanout or length), Yosys's mapping and not XST's (XST
 packs, replicates and maps carry chains differently), a delay model whose values are assumptions (the data sheet
 could not be read): an estimate that shows where the margin is, not a sign-off -- ISE's trce is.
@@ -28,7 +33,7 @@ from board.resources import bit_names, domain_of_clock, top_module
 from .virtex5_delays import MODEL, NET_NS
 
 __all__ = ["analyse", "estimate", "clock_periods", "cell_timing", "TimingReport", "DomainTiming", "Path",
-           "ModelError"]
+           "ModelError", "is_mig_core", "MIG_CORE_OUTPUTS", "MIG_CORE_INPUTS"]
 
 LUTS = {f"LUT{i}" for i in range(1, 7)} | {"INV"}
 LEVELS = LUTS | {"MUXF7", "MUXF8"}
@@ -41,22 +46,34 @@ LUT_RAMS = {"RAM32M", "RAM64M", "RAM32X1D", "RAM64X1D", "RAM128X1D", "RAM32X1S",
             "RAM256X1S"}
 #: Cells with no register-to-register timing: pads, clock buffers and clock generators, constants.
 UNTIMED = {"IBUF", "IBUFG", "OBUF", "OBUFT", "IOBUF", "BUFG", "BUFGCE", "BUFGMUX", "BUFGCTRL", "BUFR", "BUFIO",
-           "DCM_ADV", "PLL_ADV", "GND", "VCC", "$scopeinfo"}
+           "DCM_ADV", "PLL_ADV", "PLL_BASE", "GND", "VCC", "$scopeinfo"}
+#: The MIG core's user-interface outputs as its RTL drives them (MIG 3.6.1, ECC off: freecores/genesys_ddr2
+#: ``ddr2_usr_addr_fifo.v``, ``ddr2_usr_wr.v``, ``ddr2_usr_rd.v``): the FIFO36 ALMOSTFULL flags straight out, the
+#: rest from flip-flops. Its inputs go straight into the FIFOs' DI/DIP and WREN.
+MIG_CORE_OUTPUTS = {"app_af_afull": "bram_cko", "app_wdf_afull": "bram_cko", "rd_data_fifo_out": "ff_cko",
+                    "rd_data_valid": "ff_cko", "phy_init_done": "ff_cko"}
+MIG_CORE_INPUTS = {"app_af_cmd": "bram_di", "app_af_addr": "bram_di", "app_af_wren": "bram_en",
+                   "app_wdf_data": "bram_di", "app_wdf_mask_data": "bram_di", "app_wdf_wren": "bram_en"}
 OUTPUT_BUFFERS = {"OBUF", "OBUFT", "IOBUF"}
+#: Global clock buffers (their output ``O``).
+_GLOBAL_BUFFERS = {"BUFG", "BUFGCE", "BUFGMUX", "BUFGCTRL"}
 
 
 class ModelError(ValueError):
     """The netlist holds a cell the delay model has no figures for."""
 
 
-def clock_periods():
+def clock_periods(memory="bram"):
     """``{domain: period in ns}`` from the board's clock plan (``board.clocking.PLAN``; the camera domains at the PCLK
-    frequency the UCF constrains, ``board.vmodcam.CAM_PCLK_MAX_HZ``): the figures the PERIOD constraints carry."""
-    from board.clocking import PLAN
+    frequency the UCF constrains, ``board.vmodcam.CAM_PCLK_MAX_HZ``; with ``memory="ddr2"`` the ``mem`` domain at
+    MIG's ``clk0``, ``board.clocking.MIG_PLAN``): the figures the PERIOD constraints carry."""
+    from board.clocking import MIG_PLAN, PLAN
     from board.vmodcam import CAM_PCLK_MAX_HZ
     from hdl.system import CAMERAS
     periods = {domain: 1e9 / float(hz) for domain, _, hz, _, _ in PLAN.table()}
     periods.update({f"cam_{c}": 1e9 / CAM_PCLK_MAX_HZ for c in CAMERAS})
+    if memory == "ddr2":
+        periods["mem"] = 1e9 / float(MIG_PLAN.clk0_hz)
     return periods
 
 
@@ -213,6 +230,22 @@ def _oddr(cell, t, m):
         t.captures += [(port, b, clk, m["oddr_setup"].ns, fraction) for b in _bits(cell, port)]
 
 
+def _mig_core(cell, t, m):
+    """The MIG core (a black box in the estimate): its user interface launched and captured by its ``clk0_tb``
+    (the ``mem`` domain's clock) as :data:`MIG_CORE_OUTPUTS` / :data:`MIG_CORE_INPUTS` say; the memory pins and
+    the clock inputs are not timed here (the core's own UCF constrains them)."""
+    clk = _bits(cell, "clk0_tb")[0]
+    for port, key in MIG_CORE_OUTPUTS.items():
+        t.launches += [(port, b, clk, m[key].ns) for b in _bits(cell, port)]
+    for port, key in MIG_CORE_INPUTS.items():
+        t.captures += [(port, b, clk, m[key].ns, 1.0) for b in _bits(cell, port)]
+
+
+def is_mig_core(cell):
+    """Whether a netlist cell is the MIG core's black box (it has MIG's user-interface ports)."""
+    return set(MIG_CORE_OUTPUTS) | set(MIG_CORE_INPUTS) | {"clk0_tb"} <= set(cell["connections"])
+
+
 def cell_timing(cell, m=MODEL, *, drives_pad=False):
     """The :class:`_CellTiming` of one Yosys JSON cell under the delay model ``m`` (``drives_pad``: its output
     feeds an output buffer, i.e. an IOB output flip-flop). Raises :class:`ModelError` for an unknown cell type."""
@@ -243,6 +276,8 @@ def cell_timing(cell, m=MODEL, *, drives_pad=False):
         _dsp(cell, t, m)
     elif kind == "ODDR":
         _oddr(cell, t, m)
+    elif is_mig_core(cell):
+        _mig_core(cell, t, m)
     else:
         raise ModelError(f"no delay model for cell type {kind}")
     return t
@@ -342,7 +377,12 @@ def _collect(nl, periods, model):
 
     def domain(clk):
         if clk not in domain_of:
-            domain_of[clk] = domain_of_clock(clk, nl.names, periods, driver_name, nl.cells)
+            found = domain_of_clock(clk, nl.names, periods, driver_name, nl.cells)
+            # a clock a black box drives (the MIG core's clk0_tb): Yosys puts a BUFG on it, named after the domain
+            for name, _ in nl.sinks.get(clk, ()) if found is None else ():
+                if nl.cells[name]["type"] in _GLOBAL_BUFFERS and found is None:
+                    found = domain_of_clock(_bits(nl.cells[name], "O")[0], nl.names, periods, driver_name, nl.cells)
+            domain_of[clk] = found
         return domain_of[clk]
 
     for name, cell in nl.cells.items():
@@ -573,11 +613,13 @@ class TimingReport:
 
 
 def estimate(out, *, top_kwargs=None, net_ns=NET_NS, paths=10, fanout=5, keep_netlist=False):
-    """Synthesise the board design (``small``: the small test configuration on the same board) with Yosys in
-    ``out`` and time it; returns ``(TimingReport, yosys_seconds)``. ``net.json`` (tens of MB) is removed unless
-    ``keep_netlist``."""
-    from board.resources import board_rtlil, run_yosys
-    _, netlist, seconds = run_yosys(board_rtlil(**(top_kwargs or {})), out)
+    """Synthesise the board design ``GenesysTop(**top_kwargs)`` (none: the board's; a DDR2 build with the MIG core
+    a black box, ``board.resources.board_rtlil``) with Yosys in ``out`` and time it; returns ``(TimingReport,
+    yosys_seconds)``. ``net.json`` (tens of MB) is removed unless ``keep_netlist``."""
+    from board.resources import board_black_boxes, board_memory, board_rtlil, run_yosys
+    top_kwargs = top_kwargs or {}
+    _, netlist, seconds = run_yosys(board_rtlil(**top_kwargs), out, black_boxes=board_black_boxes(top_kwargs))
     if not keep_netlist:
         (_FilePath(out) / "net.json").unlink()
-    return analyse(netlist, clock_periods(), net_ns=net_ns, paths=paths, fanout=fanout), seconds
+    periods = clock_periods(board_memory(top_kwargs))
+    return analyse(netlist, periods, net_ns=net_ns, paths=paths, fanout=fanout), seconds

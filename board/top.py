@@ -48,12 +48,10 @@ from board.mig import DEFAULT_CORE_NAME, GenesysDDR2
 from hdl.config import DesignConfig
 from spec.sensor import SENSOR
 from spec.video import CEA_1080P60
+from hdl.stereo_display import MEMORIES
 from hdl.system import CAMERAS, StereoDepthSystem, SystemParameters
 
 __all__ = ["GenesysTop", "board_plan", "MEMORIES", "MIGCoreMissing"]
-
-#: The ``memory`` options of :class:`GenesysTop`.
-MEMORIES = (None, "ddr2")
 
 
 class GenesysTop(wiring.Component):
@@ -65,11 +63,12 @@ class GenesysTop(wiring.Component):
     geometry, timing
         For :class:`~hdl.system.StereoDepthSystem`.
     plan : :class:`board.clocking.ClockPlan`
-    memory : None or ``"ddr2"``
-        ``"ddr2"``: the DDR2 behind the user's MIG core (:class:`board.mig.GenesysDDR2`, submodule ``ddr2``, domain
-        ``mem``), its user interface connected to the system's ``mig`` port when the system has one (idle
-        otherwise: a build that checks the core's pins, clocks and timing). The build then needs the core's files
-        (``stereodepth verilog --mig DIR``). A system with a ``mig`` port needs ``"ddr2"``.
+    memory : ``"bram"`` or ``"ddr2"``
+        Where the system keeps the camera frames (:class:`~hdl.system.StereoDepthSystem`'s ``memory``, the design's
+        :attr:`hdl.config.DesignConfig.memory`). ``"ddr2"``: the system's frame store on the DDR2 behind the user's
+        MIG core (:class:`board.mig.GenesysDDR2`, submodule ``ddr2``, domain ``mem``), the system's ``mig`` port
+        connected to the core's user interface. The build then needs the core's files (``stereodepth verilog
+        --mig DIR``).
     mig_core : str
         The MIG core's top module name (CoreGen's component name).
     **system_kwargs
@@ -84,12 +83,13 @@ class GenesysTop(wiring.Component):
     Raises
     ------
     ValueError
-        Negative sync polarities (the output stage assumes CEA-861 1080p60's), a ``ddr``, the system's checks.
+        Negative sync polarities (the output stage assumes CEA-861 1080p60's), a ``ddr``, a ``memory`` not in
+        :data:`MEMORIES`, the system's checks.
     TypeError
         Elaborated without a platform.
     """
 
-    def __init__(self, geometry=SENSOR, timing=CEA_1080P60, *, plan=PLAN, memory=None, mig_core=DEFAULT_CORE_NAME,
+    def __init__(self, geometry=SENSOR, timing=CEA_1080P60, *, plan=PLAN, memory="bram", mig_core=DEFAULT_CORE_NAME,
                  **system_kwargs):
         if not (timing.hsync_positive and timing.vsync_positive):
             raise ValueError("the board output stage assumes positive sync polarities (CEA-861 1080p60)")
@@ -97,7 +97,7 @@ class GenesysTop(wiring.Component):
             raise ValueError("GenesysTop builds the CH7301C pins itself (ddr must be None)")
         if memory not in MEMORIES:
             raise ValueError(f"memory must be one of {', '.join(map(repr, MEMORIES))}, not {memory!r}")
-        self.params = SystemParameters(geometry, timing, ddr=None, **system_kwargs)
+        self.params = SystemParameters(geometry, timing, ddr=None, memory=memory, **system_kwargs)
         self.plan = plan
         self.memory = memory
         self.mig_core = mig_core
@@ -120,8 +120,6 @@ class GenesysTop(wiring.Component):
         self._output(m, ("control", "cam_vdden"), platform.request("vmodcam_vdden", dir="-"),
                      system.control.cam_vdden)
         self._ch7301c(m, platform, system)
-        if "mig" in system.signature.members and self.memory != "ddr2":
-            raise ValueError("the system has a mig port (the DDR2): build GenesysTop with memory=\"ddr2\"")
         if self.memory == "ddr2":
             self._ddr2(m, platform, clocking, system)
         # TIG groups of the clocks (board/ise.py: PERIODs sit on the clock pads only, ngdbuild derives the
@@ -151,13 +149,12 @@ class GenesysTop(wiring.Component):
         m.d.comb += b.o.eq(value)
 
     def _ddr2(self, m, platform, clocking, system):
-        """The DDR2 (MIG core, its PLL, the ``mem`` domain), its user side on the system's ``mig`` port if any."""
+        """The DDR2 (MIG core, its PLL, the ``mem`` domain), its user side on the system's ``mig`` port."""
         ddr2 = GenesysDDR2(self.mig_core)
         m.domains += ddr2.domains
         m.submodules.ddr2 = ddr2
         m.d.comb += [ddr2.clk100.eq(clocking.clock_signals["sync"]), ddr2.button.eq(clocking.button)]
-        if "mig" in system.signature.members:
-            wiring.connect(m, system.mig, ddr2.user)
+        wiring.connect(m, system.mig, ddr2.user)
 
     def _clock_inputs(self, m, platform, clocking):
         clk = self._buffer(m, ("clk100",), io.Buffer("i", platform.request("clk100", dir="-")))
@@ -213,26 +210,30 @@ class MIGCoreMissing(ValueError):
     """A board design with the DDR2 built without the user's MIG core (one line)."""
 
 
-def board_plan(*, design=None, pins=None, allow_unconfirmed=False, files=None, name="top", mig=None, **top_kwargs):
+def board_plan(*, design=None, pins=None, allow_unconfirmed=False, files=None, name="top", mig=None,
+               mig_black_box=False, **top_kwargs):
     """Prepare the ISE build of :class:`GenesysTop` for ``design`` (an :class:`hdl.config.DesignConfig`; ``None``:
     the board's, ``DesignConfig.full()``), nothing run: returns ``(platform, plan)``, ``plan`` an
     ``amaranth.build.BuildPlan`` whose ``files`` are the build directory's contents. ``top_kwargs`` override the
     design's :meth:`~hdl.config.DesignConfig.top_kwargs` (a short simulation's LED blink rates). See
     :class:`board.genesys.GenesysPlatform` for ``pins``, ``allow_unconfirmed``, ``files`` and ``mig`` (the user's
     MIG core, :func:`board.mig_core.read_mig_core`: the top then has the DDR2, ``memory="ddr2"``, with the core's
-    name).
+    name). ``mig_black_box``: a DDR2 build without the core's files, the core left an instance of its top module
+    (``mig_core``, default :data:`board.mig.DEFAULT_CORE_NAME`) that nothing defines: for the Yosys estimates
+    (given :func:`board.resources.board_black_boxes`) and the board-top simulation (given the MIG model behind MIG's
+    port names, sim/board/top.py); never for ISE.
 
     Raises
     ------
     MIGCoreMissing
-        The design has the DDR2 (``memory="ddr2"``: the design's ``top_kwargs`` or given here) and ``mig`` is
-        ``None``.
+        The design has the DDR2 (``memory="ddr2"``: the design's ``top_kwargs`` or given here), ``mig`` is
+        ``None`` and ``mig_black_box`` is not set.
     """
     from board.genesys import GenesysPlatform
     top_kwargs = {**(design or DesignConfig.full()).top_kwargs(), **top_kwargs}
     if mig is not None:
         top_kwargs.update(memory="ddr2", mig_core=mig.core_name)
-    if mig is None and top_kwargs.get("memory") == "ddr2":
+    if mig is None and top_kwargs.get("memory") == "ddr2" and not mig_black_box:
         raise MIGCoreMissing("this design uses the DDR2 behind Xilinx MIG, whose core is not in the repository: "
                              "generate it in ISE CoreGen (docs/board.md, \"Generating the MIG core for the Genesys\") "
                              "and give its folder with --mig DIR")

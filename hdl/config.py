@@ -2,7 +2,9 @@
 
 A :class:`DesignConfig` names one design of :class:`hdl.system.StereoDepthSystem`: its sizes (sensor geometry,
 video timing, display layout), the difference map's thresholds and level greys, the depth engine's and the
-vertical-offset estimator's configurations, the I2C init tables its sequencers hold in ROM, and its clocks.
+vertical-offset estimator's configurations, the I2C init tables its sequencers hold in ROM, its clocks, and where
+the camera frames are (``memory``: ``"bram"``, the thesis's block-RAM frame buffers, or ``"ddr2"``, the frame store
+in the board's DDR2 behind Xilinx MIG, docs/memory.md).
 :meth:`DesignConfig.top_kwargs` gives the keyword arguments of ``hdl.system.StereoDepthSystem`` and of
 ``board.top.GenesysTop`` for it. The board build (``board.top.board_plan``, ``stereodepth verilog``,
 ``resources``, ``timing``) reads it from here; a whole-system simulation
@@ -66,6 +68,10 @@ class DesignConfig:
         The sequencers' pause before retrying a NACKed transaction.
     pclk_hz : int
         The sensors' PCLK as ``cam_table`` programs it: the ``cam_a``/``cam_b`` domains' clock.
+    memory : str
+        Where the camera frames are: ``"bram"`` (block-RAM frame buffers) or ``"ddr2"`` (the frame store behind
+        MIG's user interface, the system's ``mig`` port; a board build then needs the user's MIG core,
+        ``stereodepth verilog --mig DIR``).
 
     Attributes
     ----------
@@ -85,6 +91,7 @@ class DesignConfig:
     i2c_hz: int = _SYSTEM["i2c_hz"]
     i2c_retry_delay_us: int = _SYSTEM["i2c_retry_delay_us"]
     pclk_hz: int = CLOCKS.CAM_PCLK_HZ
+    memory: str = _SYSTEM["memory"]
 
     def __post_init__(self):
         # frozen: the resolved defaults are set the way dataclasses' own __init__ sets fields
@@ -110,4 +117,4 @@ class DesignConfig:
         return dict(geometry=self.geometry, timing=self.timing, layout=self.layout, thresholds=self.thresholds,
                     level_grey=self.level_grey, depth=self.depth, auto_rectification=self.auto_rectification,
                     cam_table=self.cam_table, dvi_table=self.dvi_table, clk_hz=self.sys_hz, i2c_hz=self.i2c_hz,
-                    i2c_retry_delay_us=self.i2c_retry_delay_us)
+                    i2c_retry_delay_us=self.i2c_retry_delay_us, memory=self.memory)

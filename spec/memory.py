@@ -26,6 +26,8 @@ class MIG:
     ROW_BITS = 13                  # address [22:10]
     BANK_BITS = 2                  # address [24:23]
     MEMORY_WORDS = 1 << (COL_BITS + ROW_BITS + BANK_BITS)   # 2**25 64-bit words = 256 MB
+    BANKS = 1 << BANK_BITS         # each with a row of its own open (ddr2_ctrl.v's bank management)
+    BANK_WORDS = 1 << (COL_BITS + ROW_BITS)                 # one bank: 2**23 words = 64 MB, at bank * BANK_WORDS
     AF_DEPTH = 1024                # address FIFO (FIFO36) entries
     WDF_DEPTH = 512                # write-data FIFO entries (user words)
     AFULL_OFFSET = 15              # app_af_afull / app_wdf_afull high when this many entries or fewer are free
@@ -43,4 +45,7 @@ class MIG:
     TRCD_CLK = 5                   # activate -> read or write
     WTR_CLK = 9                    # write -> read turnaround
     RTW_CLK = 9                    # read -> write turnaround
-    FPGA_RAMB36 = 5                # block RAM the core itself uses (address FIFO, 2 write data, 2 read data)
+    # block RAM the core itself uses without ECC (ECC_ENABLE = 0): the address FIFO (a FIFO36) and the write-data
+    # FIFO (2 FIFO36_72: 128 data + 16 mask bits); its read data leave through registers, the two read FIFO36_72
+    # exist only with ECC (MIG 3.6.1's ddr2_usr_addr_fifo.v, ddr2_usr_wr.v, ddr2_usr_rd.v, freecores/genesys_ddr2)
+    FPGA_RAMB36 = 3

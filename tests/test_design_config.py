@@ -40,6 +40,15 @@ def test_a_setups_design_is_the_preset_with_the_table_speed_ups(preset):
     assert as_built.design == design and as_built.cam_table == design.cam_table
 
 
+def test_where_the_frames_are_is_the_designs():
+    """``memory`` is a field of the design: a setup's is its design's, and the board build and the simulated system
+    both get it from there."""
+    setup = SystemSetup.small(memory="ddr2")
+    assert setup.design == DesignConfig.small(memory="ddr2", cam_table=setup.cam_table)
+    assert setup.board_kwargs()["memory"] == setup.system_kwargs()["memory"] == "ddr2"
+    assert DesignConfig.full().memory == "bram"
+
+
 def test_the_small_design_programs_its_output_size():
     table = DesignConfig.small().cam_table
     assert len(table) == len(MT9D112_TABLE)

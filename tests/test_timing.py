@@ -253,6 +253,38 @@ def test_the_clock_plan_gives_each_board_domain_its_period():
     assert periods["mclk"] == pytest.approx(1e3 / 24)
 
 
+def test_the_ddr2_build_adds_the_mem_domain_at_migs_clk0():
+    assert "mem" not in clock_periods()
+    assert clock_periods("ddr2")["mem"] == pytest.approx(8.0)
+
+
+def test_the_mig_core_black_box_launches_and_captures_on_its_clk0_tb():
+    """The MIG core (a black box with MIG's ports): ``rd_data_valid`` launched from a flip-flop and
+    ``app_af_afull`` from a FIFO36 flag, ``app_af_wren`` captured with a FIFO's WREN setup, all on ``clk0_tb``
+    (the ``mem`` domain's clock net); the memory pins not timed."""
+    from board.mig import MIG_PORTS
+    nl = Netlist()
+    nl.netnames["mem_clk"] = {"bits": [9]}
+    ports = {name: [nl.bit() for _ in range(width)] for name, (_, width) in MIG_PORTS.items()}
+    ports["clk0_tb"] = [9]
+    core = cell("mig_ddr2", **ports)
+    core["port_directions"] = {name: direction for name, (direction, _) in MIG_PORTS.items()}
+    nl.cells["mig"] = core
+    nl.clock["mem"] = 9
+    nl.ff("valid_seen", "mem", nl.lut_chain(ports["rd_data_valid"][0], 2, "v"))
+    nl.ff("stop", "mem", nl.lut_chain(ports["app_af_afull"][0], 1, "a"))
+    wren = nl.ff("wren_q", "mem", nl.bit())
+    nl.cells["w"] = cell("LUT2", I0=[wren], I1=[wren], O=ports["app_af_wren"])
+    report = analyse(nl.json(), {**PERIODS, "mem": 8.0}, net_ns=0.5, paths=5)
+    paths = {(p.start, p.end): p.delay_ns for p in report.domains["mem"].paths}
+    assert paths["mig_ddr2 mig.rd_data_valid", "FDRE valid_seen.D"] == pytest.approx(
+        M["ff_cko"] + 2 * (M["lut"] + 0.5) + 0.5 + M["ff_d"])
+    assert paths["mig_ddr2 mig.app_af_afull", "FDRE stop.D"] == pytest.approx(
+        M["bram_cko"] + M["lut"] + 0.5 + 0.5 + M["ff_d"])
+    assert paths["FDRE wren_q.Q", "mig_ddr2 mig.app_af_wren"] == pytest.approx(
+        M["ff_cko"] + M["lut"] + 0.5 + 0.5 + M["bram_en"])
+
+
 def _run_cli(tmp_path, nl, *extra):
     path = tmp_path / "net.json"
     path.write_text(json.dumps(nl.json()))

@@ -14,7 +14,13 @@ read through the board's pins.
   which resolves a design's ``o``/``oe`` pins; the driver that runs the models on it is the same
   (``sim.models.i2c.bus.start_cocotb_targets``).
 * :data:`BOARD_PRIMITIVES`, :data:`BOARD_VERILATOR_ARGS`: the primitive models to build beside it and the Verilator
-  switches they need.
+  switches they need (:func:`board_primitives`: with the DDR2, MIG's PLL_BASE too).
+* :func:`mig_core_verilog`: for a DDR2 build (``memory="ddr2"``), the implementation of the MIG core that ``top.v``
+  instantiates as a black box (``board.mig.MIGCore``, the module named after the core): the MIG model
+  (``sim.models.mig``) behind MIG's port names (``sim.models.mig.mig_top_verilog``), its memory window the frame
+  store's buffers, its read latency the middle of its range unless the run's ``+mig_read_latency=N`` plusarg sets
+  it. The DDR2 pins stay idle (the model has the memory inside): what is simulated is the core's user interface
+  as the design sees it, not MIG's PHY, calibration or the DRAM's timing (docs/memory.md).
 
 tests/test_board_top.py runs it under cocotb (its test module ``tests/cocotb/cocotb_board_top.py``) with the
 sensor, I2C and HDMI-sink models on the pins and compares the frame with the golden model's.
@@ -25,8 +31,8 @@ of the DCM/PLL models, PCLK from the sensor models. Time unit 1 ns, precision 1 
 
 from sim.board.xilinx import VERILATOR_ARGS
 
-__all__ = ["board_setup", "board_top_kwargs", "board_verilog", "TESTBENCH", "BOARD_PRIMITIVES",
-           "BOARD_VERILATOR_ARGS"]
+__all__ = ["board_setup", "board_top_kwargs", "board_verilog", "mig_core_verilog", "board_primitives", "TESTBENCH",
+           "BOARD_PRIMITIVES", "BOARD_VERILATOR_ARGS", "MIG_MODEL_MODULE"]
 
 TESTBENCH = """
 module board_tb (
@@ -73,10 +79,20 @@ module board_tb (
 endmodule
 """
 
-#: Verilator switches for the board: the primitive models' (timing, time base) and Amaranth's Verilog style.
-BOARD_VERILATOR_ARGS = (*VERILATOR_ARGS, "-Wno-CASEINCOMPLETE")
+#: Verilator switches for the board: the primitive models' (timing, time base) and Amaranth's Verilog style
+#: (-Wno-ASCRANGE: Yosys writes a zero-width signal, a field the small DDR2 build's frame store does not need, as
+#: ``[-1:0]``; nothing reads it).
+BOARD_VERILATOR_ARGS = (*VERILATOR_ARGS, "-Wno-CASEINCOMPLETE", "-Wno-ASCRANGE")
 #: The Xilinx primitives the board top instantiates.
 BOARD_PRIMITIVES = ("IBUF", "OBUFT", "IOBUF", "BUFG", "FDCE", "FDPE", "ODDR", "DCM_ADV", "PLL_ADV")
+#: The Verilog module of the exported MIG model inside the core's stand-in (:func:`mig_core_verilog`).
+MIG_MODEL_MODULE = "mig_model_core"
+
+
+def board_primitives(memory="bram"):
+    """The Xilinx primitives the board top of a design with ``memory`` instantiates: :data:`BOARD_PRIMITIVES`, and
+    with the DDR2 MIG's PLL_BASE (``board.clocking.MIGClocking``)."""
+    return BOARD_PRIMITIVES + (("PLL_BASE",) if memory == "ddr2" else ())
 
 
 def board_setup(spec):
@@ -100,7 +116,27 @@ def board_top_kwargs(setup, *, heartbeat_log2=1, cam_heartbeat_log2=1, **overrid
 
 def board_verilog(top_kwargs=None, *, pins=None):
     """The ``top.v`` the board build writes for ``board.top.GenesysTop(**top_kwargs)`` (``None``: the board's
-    defaults, i.e. exactly ``make verilog``'s file)."""
+    defaults, i.e. exactly ``make verilog``'s file). A DDR2 build's MIG core is left the black box it is in the
+    board's file (append :func:`mig_core_verilog` to simulate it)."""
     from board.top import board_plan
-    _, plan = board_plan(pins=pins, files=(".v",), **(top_kwargs or {}))
+    _, plan = board_plan(pins=pins, files=(".v",), mig_black_box=True, **(top_kwargs or {}))
     return plan.files["top.v"]
+
+
+def mig_core_verilog(top_kwargs):
+    """The stand-in for the MIG core of ``GenesysTop(**top_kwargs)`` (a DDR2 build): a Verilog module named after
+    the core (``mig_core``, default ``board.mig.DEFAULT_CORE_NAME``) with MIG's ports and parameters, holding the
+    exported MIG model (:data:`MIG_MODEL_MODULE`, its storage module appended) whose window is the system's frame
+    store (``SystemParameters.store_layout``). See the module docstring."""
+    from board.export import export_verilog
+    from board.mig import DEFAULT_CORE_NAME
+    from board.top import GenesysTop
+    from sim.models.mig import STORAGE_VERILOG, MIGModel, layout_window, mig_top_verilog
+    top = GenesysTop(**top_kwargs)
+    top._MustUse__silence = True                        # made for its parameters only, never elaborated
+    if top.memory != "ddr2":
+        raise ValueError("mig_core_verilog is for a board top with the DDR2 (memory=\"ddr2\")")
+    layout = top.params.store_layout
+    model = MIGModel(**layout_window(layout), storage="verilog")
+    return (export_verilog(model, MIG_MODEL_MODULE) + STORAGE_VERILOG
+            + mig_top_verilog(module=top_kwargs.get("mig_core", DEFAULT_CORE_NAME), core=MIG_MODEL_MODULE))

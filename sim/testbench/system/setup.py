@@ -7,14 +7,15 @@ line, so every route simulates the same configuration and compares against the s
 A setup is a design (:attr:`SystemSetup.design`, an ``hdl.config.DesignConfig``: what a board build of the same
 design is made from) plus the simulation's own settings. The design's fields are fields of the setup under the
 design's names (``geometry``, ``timing``, ``layout``, ``thresholds``, ``level_grey``, ``depth``,
-``auto_rectification``, ``sys_hz``, ``i2c_hz``, ``i2c_retry_delay_us``, ``pclk_hz``), so a setup is made,
+``auto_rectification``, ``sys_hz``, ``i2c_hz``, ``i2c_retry_delay_us``, ``pclk_hz``, ``memory``: where the frames
+are, ``"bram"``, the design's block-RAM buffers, or ``"ddr2"``, the system's DDR2 build, simulated with the MIG model,
+``sim/testbench/system/testbench.py``), so a setup is made,
 replaced and written as JSON field by field; the design's MT9D112 table is :attr:`SystemSetup.cam_table`. The
 simulation's own: the switch settings (``disparity``, ``rectification``, ``segment``), the table's speed-ups
 (``time_scale``, ``quick_table``: ``sim/testbench/system/tables.py``), the cameras' phase and PCLK error
 (``cam_phase_s``, ``cam_clock_ppm``), the I2C models' faults (``i2c_faults``), the simulated clock lock
-(``lock_cycles``), when the pixel clock starts (``pix_after_init``), the sensor models' timing
-(``sensor_timing``) and where the frames are (``memory``: ``"bram"``, the design's block-RAM buffers, or
-``"ddr2"``, the system's DDR2 build with the MIG model, ``sim/testbench/system/testbench.py``).
+(``lock_cycles``), when the pixel clock starts (``pix_after_init``) and the sensor models' timing
+(``sensor_timing``).
 
 Two presets:
 
@@ -64,7 +65,7 @@ __all__ = ["SystemSetup"]
 _FULL = DesignConfig.full()
 #: The setup's fields that are the design's (``hdl.config.DesignConfig``'s of the same names).
 DESIGN_FIELDS = ("geometry", "timing", "layout", "thresholds", "level_grey", "depth", "auto_rectification", "sys_hz",
-                 "i2c_hz", "i2c_retry_delay_us", "pclk_hz")
+                 "i2c_hz", "i2c_retry_delay_us", "pclk_hz", "memory")
 #: The simulation's speed-ups of the small preset (sim/testbench/system/tables.py).
 _SMALL_SPEED_UPS = {"time_scale": 0.02, "quick_table": True}
 
@@ -105,7 +106,7 @@ class SystemSetup:
     lock_cycles: int = 16
     pix_after_init: bool = False       # start the pixel clock only once the I2C init is done (see below)
     sensor_timing: object = None       # sim.models.mt9d112.sensor.SensorTiming; None: SENSOR_TIMING / SMALL_SENSOR_TIMING
-    memory: str = "bram"               # the frames in block RAM or, "ddr2", in the frame store with the MIG model
+    memory: str = _FULL.memory         # the frames in block RAM or, "ddr2", in the frame store with the MIG model
 
     @classmethod
     def small(cls, **kw):
@@ -178,7 +179,7 @@ class SystemSetup:
         """Keyword arguments for ``sim.testbench.system.testbench.SystemTestbench`` (and from there
         ``hdl.system.StereoDepthSystem``): the design's (``DesignConfig.top_kwargs``) and the simulated clocks'
         lock time."""
-        return {**self.board_kwargs(), "lock_cycles": self.lock_cycles, "memory": self.memory}
+        return {**self.board_kwargs(), "lock_cycles": self.lock_cycles}
 
     def board_kwargs(self):
         """Keyword arguments for ``board.top.GenesysTop`` with this setup's design (the board has no lock counter)."""
