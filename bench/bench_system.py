@@ -13,6 +13,10 @@ camera, one 1080p display frame, the rebuilt frame compared bit for bit with the
   the project's Python side. Both run twice (best of two: the machine is shared). Also the whole Verilator step
   of ``make demo`` (``stereodepth run`` on the bundled pair with a cached build: start-up, sensor streams,
   simulation, sink, golden frame, PNGs), and the build apart when there is none yet.
+* The DDR2 build on Verilator (``memory="ddr2"``: the frame store with the MIG model, its storage in Verilog, on
+  MIG's 125 MHz ``clk0``), measured the same way beside its own raw model (the same DDR2 design, the ``mem``
+  clock driven by the same C++ testbench): its project / raw ratio (goal: at most 1.3) and its cost beside the
+  block-RAM build. ``--no-ddr2`` leaves it out.
 * ``--cocotb``: Verilator through cocotb along the in-simulator route too (the route before the C++ testbench).
 * Icarus: the whole run along cocotb's in-simulator route (``sim/testbench/system/verilog_testbench.py``: clocks, sensor replay
   and pin recording inside the simulator); ``--quick`` replaces it (the longest) by a probe.
@@ -23,8 +27,8 @@ camera, one 1080p display frame, the rebuilt frame compared bit for bit with the
   ``--amaranth-whole`` measures the whole run instead.
 
 "Cycles" counts the rising edges of every clock domain of the design (sync 100 MHz, pix 148.5 MHz, two 80 MHz
-PCLKs) in the simulated time. Wall times are on this shared 2-core machine (usually loaded): pessimistic; CPU
-times are given beside them for the ratio.
+PCLKs; the DDR2 build's mem 125 MHz too) in the simulated time. Wall times are on this shared 2-core machine
+(usually loaded): pessimistic; CPU times are given beside them for the ratio.
 """
 
 import argparse
@@ -38,6 +42,8 @@ PROBE_US = {"icarus": 200, "amaranth": 4}
 #: Targets: the project's simulation within 1.5 times the raw model's (beyond: 1.2), the whole
 #: Verilator step of make demo under 15 s with a cached build.
 RATIO_TARGET, RATIO_BEYOND, STEP_TARGET_S = 1.5, 1.2, 15.0
+#: The DDR2 build's goal: the project's simulation within 1.3 times the raw model's on the same design.
+DDR2_RATIO_TARGET = 1.3
 REPEAT = 2
 
 
@@ -50,23 +56,23 @@ def demo_fields():
     return {"disparity": s.disparity, "rectification": s.rectification}
 
 
-def _setup():
+def _setup(memory="bram"):
     from sim.testbench.system.setup import SystemSetup
-    return SystemSetup.full(**demo_fields())
+    return SystemSetup.full(**demo_fields(), memory=memory)
 
 
-def _cycles(t_end, t_pix_start, t_cam_start):
-    return _setup().clock_edges(t_end, t_pix_start, t_cam_start)
+def _cycles(t_end, t_pix_start, t_cam_start, memory="bram"):
+    return _setup(memory).clock_edges(t_end, t_pix_start, t_cam_start)
 
 
-def bench_verilator(repeat=REPEAT):
-    """The project's Verilator route and the raw model, alternately, ``repeat`` times each (see the module
-    docstring); the build first, timed apart when there was none."""
+def bench_verilator(repeat=REPEAT, memory="bram"):
+    """The project's Verilator route and the raw model of the ``memory`` build, alternately, ``repeat`` times each
+    (see the module docstring); the build first, timed apart when there was none."""
     import numpy as np
     from golden.stereo_pair import load_default_pair
     from sim.system import Verilator, simulate, still_pair
     from bench.raw_model import build_raw, run_raw
-    setup = _setup()
+    setup = _setup(memory)
     fresh = []
     start = time.perf_counter()
     build_raw(setup, log=fresh.append)
@@ -88,7 +94,7 @@ def bench_verilator(repeat=REPEAT):
             "raw_wall_s": min(f["wall_s"] for f in raw), "raw_cpu_s": min(f["cpu_s"] for f in raw),
             "raw_walls": [f["wall_s"] for f in raw], "same": same,
             "build_s": time.perf_counter() - start - sum(r.status["wall_s"] for r in project) if fresh else None,
-            "cycles": _cycles(s["t_end_s"], s["t_init_s"], t_cam), "phases": s["phase_wall_s"]}
+            "cycles": _cycles(s["t_end_s"], s["t_init_s"], t_cam, memory), "phases": s["phase_wall_s"]}
 
 
 def bench_step(tmp):
@@ -126,6 +132,23 @@ def _print_verilator(v, step_s):
     print(f"whole Verilator step of make demo (stereodepth run {demo_fields()}, cached build; its frame equals the "
           f"golden frame, or the bench stops): {step_s:.1f} s -- target "
           f"{STEP_TARGET_S:.0f} s: {'met' if step_s < STEP_TARGET_S else 'NOT met'}", flush=True)
+
+
+def _print_ddr2(d, v):
+    """The DDR2 build's run beside its raw model and beside the block-RAM build's (``v``)."""
+    build = f"; build {d['build_s']:.0f} s (first run only)" if d["build_s"] else ""
+    print(f"verilator, DDR2 build (frame store + MIG model on mem 125 MHz): frame "
+          f"{'equals' if d['ok'] else 'DIFFERS from'} the golden frame; simulated {d['sim_s'] * 1e3:.1f} ms; "
+          f"simulation {d['run_wall_s']:.1f} s wall, {d['cpu_s']:.1f} s CPU; runs "
+          f"{', '.join(f'{w:.1f}' for w in d['walls'])} s{build}", flush=True)
+    print(f"raw verilator, DDR2 build (the same DDR2 design and testbench, no Python): {d['raw_wall_s']:.1f} s wall, "
+          f"{d['raw_cpu_s']:.1f} s CPU; runs {', '.join(f'{w:.1f}' for w in d['raw_walls'])} s; {d['evals']:,} "
+          f"evaluations; recorded pins {'equal' if d['same'] else 'DIFFER from'} the project's")
+    wall_ratio, cpu_ratio = d["run_wall_s"] / d["raw_wall_s"], d["cpu_s"] / d["raw_cpu_s"]
+    print(f"DDR2 project / DDR2 raw: {wall_ratio:.2f} wall, {cpu_ratio:.2f} CPU -- goal {DDR2_RATIO_TARGET}: "
+          f"{'met' if wall_ratio <= DDR2_RATIO_TARGET else 'NOT met'}; DDR2 / block-RAM build: "
+          f"{d['run_wall_s'] / v['run_wall_s']:.2f} wall, {d['cpu_s'] / v['cpu_s']:.2f} CPU (project), "
+          f"{d['raw_cpu_s'] / v['raw_cpu_s']:.2f} CPU (raw)", flush=True)
 
 
 def bench_cocotb(simulator, tmp):
@@ -213,6 +236,7 @@ def _args(argv):
                         help="Verilator through cocotb (the in-simulator route) too")
     parser.add_argument("--amaranth-whole", action="store_true",
                         help="Amaranth: measure the whole run (hours) instead of extrapolating from a probe")
+    parser.add_argument("--no-ddr2", action="store_true", help="leave out the DDR2 build on Verilator")
     return parser.parse_args([] if argv is None else argv)
 
 
@@ -225,6 +249,12 @@ def main(argv=None):
         rows.append(_row("verilator", "C++ testbench (project)", v))
         rows.append(_row("verilator", "raw C++ main (reference)", dict(v, run_wall_s=v["raw_wall_s"])))
         failed += [] if v["ok"] and v["same"] else ["verilator"]
+        if not args.no_ddr2:
+            d = bench_verilator(memory="ddr2")
+            _print_ddr2(d, v)
+            rows.append(_row("verilator", "DDR2 build, C++ testbench", d))
+            rows.append(_row("verilator", "DDR2 build, raw C++ main", dict(d, run_wall_s=d["raw_wall_s"])))
+            failed += [] if d["ok"] and d["same"] else ["verilator (DDR2 build)"]
         sim_s = v["sim_s"]
         total_cycles = sum(v["cycles"].values())
         per_s = total_cycles / sim_s            # design clock cycles per simulated second (for the probes)

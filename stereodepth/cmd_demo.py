@@ -17,7 +17,8 @@
 4. The golden pictures of the disparity display at the matching and at a wrong disparity
    (``sim.analysis.disparity_pictures.write_pictures``).
 
-``--small`` runs step 2 at the small size too. README's table gives the run times. As with ``run``, an earlier
+``--small`` runs step 2 at the small size too; ``--memory ddr2`` runs it on the DDR2 build (the frame store
+behind MIG, with the MIG model). README's table gives the run times. As with ``run``, an earlier
 run's outputs are removed at the start, each output appears under its own name only when complete, and
 ``result.json`` records the provenance (``stereodepth/outputs.py``, ``stereodepth/provenance.py``).
 """
@@ -26,6 +27,7 @@ import sys
 import time
 from pathlib import Path
 
+from .cmd_run import add_memory_argument
 from .errors import prepare_out_dir
 from .outputs import RunOutputs
 
@@ -43,6 +45,7 @@ def add_arguments(parser):
                         help="run the end-to-end step at the small test size (64x48 sensors, 112x52 display)")
     parser.add_argument("--out", type=Path, default=Path("build/demo"), help="output directory (build/demo)")
     parser.add_argument("--no-waves", action="store_true", help="skip the VCD / GTKWave step")
+    add_memory_argument(parser)
 
 
 def small_disparity(disparity, setup_small):
@@ -102,7 +105,8 @@ def run(args):
 
     small = SystemSetup.small()
     ds = small_disparity(d, small)
-    setup = cmd_run.make_setup(args.small, ds if args.small else d, r if not args.small else 0)
+    setup = cmd_run.make_setup(args.small, ds if args.small else d, r if not args.small else 0,
+                               memory=args.memory)
     g, t = setup.geometry, setup.timing
     print(f"whole system on {args.simulator}: {g.width}x{g.height} sensors -> {g.buf_width}x{g.buf_height} "
           f"buffers -> {t.h_active}x{t.v_active} display", flush=True)

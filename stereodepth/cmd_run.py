@@ -28,7 +28,9 @@ streams and the pin recorder in C++, the Python models answering the I2C buses);
 along the in-simulator route (the sensors replayed and the pins recorded inside the simulator); ``amaranth`` runs
 Amaranth's own simulator: at full size along its replay route (the sensor streams replayed from ROMs in the
 simulated design), with ``--small`` with the sensor models driven from Python per PCLK. ``--frames N``:
-``stereodepth/run_frames.py``.
+``stereodepth/run_frames.py``. ``--memory ddr2`` runs the DDR2 build (the frames in the frame store behind MIG, its
+simulation model in place of the DDR2: docs/frame_store.md) instead of the block-RAM buffers, on Verilator,
+Icarus, or Amaranth's simulator with ``--small``.
 """
 
 import json
@@ -90,6 +92,13 @@ def add_arguments(parser):
                              "view as sim/analysis/truth.py does for the motorcycle)")
     parser.add_argument("--vcd", action="store_true",
                         help="write system.vcd + system.gtkw (Amaranth simulator, --small only)")
+    add_memory_argument(parser)
+
+
+def add_memory_argument(parser):
+    parser.add_argument("--memory", choices=("bram", "ddr2"), default="bram",
+                        help="where the frames are: bram (default, the block-RAM buffers of the thesis design) or "
+                             "ddr2 (the frame store in the DDR2 behind MIG, simulated with the MIG model)")
 
 
 def switch_value(name, text, low=0, high=127):
@@ -102,10 +111,10 @@ def switch_value(name, text, low=0, high=127):
     return value
 
 
-def make_setup(small, disparity, rectification, segment=False):
+def make_setup(small, disparity, rectification, segment=False, memory="bram"):
     from sim.testbench.system.setup import SystemSetup
     return (SystemSetup.small if small else SystemSetup.full)(disparity=disparity, rectification=rectification,
-                                                              segment=segment)
+                                                              segment=segment, memory=memory)
 
 
 def switch_settings(args):
@@ -220,7 +229,9 @@ def summarise(setup, simulator, frame, golden, status, wall, verdict=None):
         frame is not None and status.get("mismatched_pixels") == 0 and not status.get("violations")
     lines = [f"whole system, {g.width}x{g.height} sensors -> {g.buf_width}x{g.buf_height} buffers -> "
              f"{t.h_active}x{t.v_active} display, disparity {setup.disparity}, rectification "
-             f"{setup.rectification}{', segmentation on' if setup.segment else ''}, on {simulator}: {wall:.1f} s wall time"
+             f"{setup.rectification}{', segmentation on' if setup.segment else ''}"
+             f"{', frames in the DDR2 (MIG model)' if setup.memory == 'ddr2' else ''}, on {simulator}: "
+             f"{wall:.1f} s wall time"
              + (f" (the simulation {status['wall_s']:.1f} s)" if status.get("wall_s") else "")]
     if setup.segment:
         band = segmentation_record(setup)
@@ -256,7 +267,7 @@ def run(args):
     from stereodepth.provenance import utc_now
     started = utc_now()
     disparity, rectification, segment = switch_settings(args)
-    setup = make_setup(args.small, disparity, rectification, segment)
+    setup = make_setup(args.small, disparity, rectification, segment, args.memory)
     if args.frames is not None or args.scene is not None:
         if args.vcd:
             raise UserError("--vcd is for one frame: drop --frames / --scene")

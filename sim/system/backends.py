@@ -115,7 +115,8 @@ class Amaranth(Backend):
 
     def require(self, setup, sequence):
         if setup.memory == "ddr2" and self._route(setup).name != "python":
-            raise UserError("the DDR2 build runs along the Amaranth python route only")
+            hint = ": add --small, or use verilator" if self.route is None else ""
+            raise UserError(f"the DDR2 build runs along the Amaranth python route only{hint}")
         if not getattr(sequence, "still", False):
             if setup.preset != "small":
                 raise UserError("multi-frame runs on the Amaranth simulator are small only: add --small")

@@ -6,8 +6,8 @@ display frames: the cocotb backend's driver.
 ``sim/testbench/system/system_cocotb.py`` (the scenario of ``sim/testbench/system/cocotb_scenario.py``) on it with
 ``sim.runners.cocotb.run_cocotb`` (builds are cached by Verilog text) and returns the status and the display
 frames. A failed scenario raises ``AssertionError`` from the runner with the log tail; one the DDR2 build's MIG
-model stopped raises :class:`sim.models.mig.MIGProtocolViolation` (its one-line message) instead. With ``progress``, the run
-goes on in a thread while the scenario's progress file is polled.
+model stopped raises :class:`sim.models.mig.MIGProtocolViolation` (its one-line message) instead. With
+``progress``, the run goes on in a thread while the scenario's progress file is polled.
 """
 
 import json

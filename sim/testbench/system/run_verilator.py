@@ -5,8 +5,9 @@ The route of the full-size runs (``make demo``, ``stereodepth run``, the slow te
 VPI (:mod:`sim.runners.verilator.build`); the testbench around it is C++ (``sim/runners/verilator/testbench.h``):
 the four clocks at the edge times of the cocotb in-simulator route's generators (``sync`` from time 0, its first
 rising edge half a period in; the pixel clock rising when it starts; each PCLK half a period after its camera
-starts) and, in the DDR2 build, MIG's ``clk0`` for ``mem`` (8 ns, from time 0 like ``sync``), each camera's stream on its pins (the next sample at every falling PCLK edge, from word 0 again after the
-last), and the CH7301C pins sampled a quarter pixel period after each pixel-clock edge.
+starts) and, in the DDR2 build, MIG's ``clk0`` for ``mem`` (8 ns, from time 0 like ``sync``), each camera's stream
+on its pins (the next sample at every falling PCLK edge, from word 0 again after the last), and the CH7301C pins
+sampled a quarter pixel period after each pixel-clock edge.
 
 Each camera's stream is made before the run by the sensor model for the configuration the I2C init must produce
 (:func:`sim.models.mt9d112.config.expected_sensor_config`): for a still pair (``sequence.still``) one frame period

@@ -58,6 +58,7 @@ from sim.models.ch7301c.target import CH7301CModel
 from sim.models.mt9d112.target import MT9D112Model
 from sim.models.mt9d112.sensor import MT9D112, SENSOR_TIMING, SMALL_SENSOR_TIMING
 from sim.testbench.system.tables import model_timing, mt9d112_table
+from spec.memory import MIG
 
 __all__ = ["SystemSetup"]
 
@@ -259,11 +260,13 @@ class SystemSetup:
 
     def clock_edges(self, t_end_s, t_pix_start_s, t_cam_start_s):
         """Rising edges of each clock domain in a run that ends at ``t_end_s`` (the pixel clock from
-        ``t_pix_start_s``, the PCLKs from ``t_cam_start_s``): ``{domain: edges}``."""
+        ``t_pix_start_s``, the PCLKs from ``t_cam_start_s``; the DDR2 build's ``mem`` from time 0):
+        ``{domain: edges}``."""
         return {"sync": t_end_s * self.sys_hz,
                 "pix": max(0.0, t_end_s - t_pix_start_s) * self.timing.pixel_hz,
                 "cam_a": max(0.0, t_end_s - t_cam_start_s) * self.pclk_hz,
-                "cam_b": max(0.0, t_end_s - t_cam_start_s) * self.pclk_hz}
+                "cam_b": max(0.0, t_end_s - t_cam_start_s) * self.pclk_hz,
+                **({"mem": t_end_s * MIG.CLK0_HZ} if self.memory == "ddr2" else {})}
 
     def frame_period_samples(self):
         """PCLK samples of one sensor frame period (vertical blanking + frame): the replay ROMs' depth."""

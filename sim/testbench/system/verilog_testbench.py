@@ -5,9 +5,9 @@ HDMI sink sampling per pixel clock in Python, a full-resolution run spends nearl
 million sensor samples and 2.5 million pixel clocks). This bench puts small behavioural Verilog modules next to
 :class:`sim.testbench.system.testbench.SystemTestbench` so those loops run inside the simulator:
 
-* clocks: ``clock_gen`` per domain (``mem`` too in the DDR2 build) and ``pix_rec_gen`` for the pixel clock and the recorder's sample clock
-  (behavioural ``#`` delays, so Verilator builds with ``--timing``), each started by its ``clock_en`` input, whose
-  rising time sets the clock's phase; ``clocks`` mirrors them for the test to wait on;
+* clocks: ``clock_gen`` per domain (``mem`` too in the DDR2 build) and ``pix_rec_gen`` for the pixel clock and
+  the recorder's sample clock (behavioural ``#`` delays, so Verilator builds with ``--timing``), each started by
+  its ``clock_en`` input, whose rising time sets the clock's phase; ``clocks`` mirrors them for the test to wait on;
 * each camera's pins from a ``sensor_replay`` module (:mod:`sim.replay.sensor`), controlled through ``replay.<cam>``;
   ``replay.<cam>.seen`` is what the capture sees, ``{fv, lv, d}``, for the replay's equivalence check;
 * the CH7301C pins recorded by ``ch7301c_recorder`` (:mod:`sim.replay.pins`), controlled through ``recorder``.
