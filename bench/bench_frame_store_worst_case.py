@@ -5,10 +5,12 @@ fast as they are granted and four display streams each showing a 400-pixel buffe
 the 1080p raster; pix 148.5 MHz, mem 125 MHz, cam 80 MHz.
 
 Printed: whether the display was ever refused, the least time a display row landed before its first pixel and the
-fewest rows landed beyond the one starting to show, the DDR2 bandwidth of every stream and of the cameras' writes,
-the user interface's efficiency (read and written words per clk0), the refreshes covered; MIG violations stop the
-run. ``--rows``, ``--frames``: the buffer's rows and the display frames measured (2 blank lines + ``rows`` lines
-each); ``--latency``; ``--fifo-depth``: the MIG model's address FIFO; ``--not-urgent``: the display's streams served after the writers and the engine (the bite).
+fewest rows landed beyond the one starting to show, the DDR2 bandwidth each stream needs and gets (the display's,
+the cameras' writes, the engine's), all streams' and the user interface's efficiency (read and written words per
+clk0), the refreshes covered; MIG violations stop the run. ``--rows``, ``--frames``: the buffer's rows and the
+display frames measured (2 blank lines + ``rows`` lines each); ``--latency``; ``--fifo-depth``: the MIG model's
+address FIFO; ``--banks``: the banks the buffers are spread over (1: all in bank 0, to compare); ``--not-urgent``:
+the display's streams served after the writers and the engine (the bite).
 """
 
 import argparse
@@ -18,19 +20,24 @@ import time
 def main(argv=None):
     from sim.models.mig import READ_LATENCY_RANGE
     from sim.testbench.frame_store_worst_case import WorstCase, run_worst_case
+    from spec.memory import MIG
     parser = argparse.ArgumentParser(prog="python -m bench frame_store_worst_case", description=__doc__)
     parser.add_argument("--rows", type=int, default=6)
     parser.add_argument("--frames", type=int, default=2)
     parser.add_argument("--latency", type=int, default=READ_LATENCY_RANGE[1])
     parser.add_argument("--not-urgent", action="store_true")
     parser.add_argument("--fifo-depth", type=int, default=1024, help="the MIG model's address FIFO (MIG: 1024)")
+    parser.add_argument("--banks", type=int, default=MIG.BANKS,
+                        help="banks the buffers are spread over (1: all in bank 0)")
     args = parser.parse_args(argv or [])
     lo, hi = READ_LATENCY_RANGE
     case = WorstCase(rows=args.rows, frames=args.frames, latency=args.latency,
-                     latency_range=(lo, max(hi, args.latency)), display_urgent=not args.not_urgent, mig_fifo_depth=args.fifo_depth)
+                     latency_range=(lo, max(hi, args.latency)), display_urgent=not args.not_urgent,
+                     mig_fifo_depth=args.fifo_depth, banks=args.banks)
     wall = time.perf_counter()
     result = run_worst_case(case)
     print(f"{args.frames} display frames of {case.blank_lines} + {args.rows} lines, read latency {args.latency} clk0, "
-          f"display {'urgent' if case.display_urgent else 'after the writers and the engine'}")
+          f"display {'urgent' if case.display_urgent else 'after the writers and the engine'}, buffers in "
+          f"{case.layout.banks_used} bank(s)")
     print(result.report())
     print(f"wall {time.perf_counter() - wall:.1f} s")

@@ -13,9 +13,13 @@ port, 3 its right port. Each window is restarted where its consumer begins a new
 * the engine's two windows at ``engine_start`` (the engine's ``start``): left first row ``engine_left_row``, right
   first row 0.
 
-The subtractor drives address 0 for a shifted pixel outside the left image; the window refuses such a read when row
-0 is not in it, which costs nothing (its data is not used). ``display_missed`` is the compositor's refused reads
-as they are, not qualified by the subtractor's no-data.
+``display_missed`` is a compositor read refused whose byte the picture would use: a panel's or the difference
+map's pixel shown with a byte the block-RAM build would have had (the compositor cannot wait). The subtractor drives
+address 0 for a shifted pixel outside the left image (its no-data pixels: :mod:`hdl.disparity`); the left window
+refuses such a read when row 0 lies before its first row, which costs nothing, so a refused read of address 0
+*below* the left window is not a miss. No read the picture uses looks so: the subtractor reads the left rows in
+order from the window's first row, so once the window has moved past row 0 (or starts below it) it never reads row
+0 again in that map.
 """
 
 from amaranth import Module, Mux, Signal, signed
@@ -74,7 +78,7 @@ class StoreWindows(wiring.Component):
     streams : ``Out(RowStreamSignature(buf_height, buf_width, slots)).array(4)``
         To the frame store's streams, in :data:`STREAMS` order.
     display_missed : ``Out(1)``
-        A compositor read refused in this clock.
+        A compositor read refused in this clock, but for the subtractor's no-data reads (above).
 
     Clock domain: ``sync`` (the parent renames it to ``pix``). Latency: as :class:`RowWindow`.
 
@@ -114,12 +118,14 @@ class StoreWindows(wiring.Component):
             (self.engine_left, self.engine_start, self.engine_left_row),
             (self.engine_right, self.engine_start, 0),
         )
-        missed = []
+        windows = []
         for i, (consumer, restart, first_row) in enumerate(restarts):
             m.submodules[f"window_{i}"] = window = RowWindow(self.geometry, self.slots)
             wiring.connect(m, wiring.flipped(consumer), window.consumer)
             wiring.connect(m, window.stream, wiring.flipped(self.streams[i]))
             m.d.comb += [window.restart.eq(restart), window.first_row.eq(first_row)]
-            missed.append(window.missed)
-        m.d.comb += self.display_missed.eq(missed[0] | missed[1])
+            windows.append(window)
+        left, right = windows[:2]
+        no_data = left.below & (self.display_left.port.addr == 0)
+        m.d.comb += self.display_missed.eq((left.missed & ~no_data) | right.missed)
         return m

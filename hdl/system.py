@@ -103,7 +103,7 @@ from hdl.stereo_display import MEMORIES
 from hdl.store_windows import STREAMS
 
 __all__ = ["StereoDepthSystem", "SystemParameters", "PanelSignature", "ControlSignature", "DISPLAY_LATENCY", "CAMERAS",
-           "I2C_BUSES"]
+           "I2C_BUSES", "DISPLAY_MISSED_BITS"]
 
 #: Pixel clocks from a sync-generator raster position to that pixel on the CH7301C pins.
 DISPLAY_LATENCY = COMPOSITOR_LATENCY + 1
@@ -111,6 +111,8 @@ DISPLAY_LATENCY = COMPOSITOR_LATENCY + 1
 CAMERAS = ("a", "b")
 #: The I2C buses: one per camera, one for the CH7301C.
 I2C_BUSES = ("cam_a", "cam_b", "dvi")
+#: The DDR2 build's ``display_missed`` count: pix clocks with a compositor read refused, saturating.
+DISPLAY_MISSED_BITS = 16
 
 #: The board's user panel as the design sees it: the eight slide switches in (asynchronous), the eight LEDs out.
 PanelSignature = wiring.Signature({"sw": In(8), "leds": Out(8)})
@@ -234,6 +236,7 @@ class SystemParameters:
             members["ch7301c"] = Out(CH7301CSignature)
         if self.memory == "ddr2":
             members["mig"] = Out(MIGUserSignature())
+            members["display_missed"] = Out(DISPLAY_MISSED_BITS)
         return wiring.Signature(members)
 
     @property
@@ -280,6 +283,9 @@ class StereoDepthSystem(wiring.Component):
         The automatic rectification's mode and the estimator's last verdict (``pix``).
     mig : ``Out(MIGUserSignature())``
         With ``memory="ddr2"`` only: MIG's user interface (``mem``).
+    display_missed : ``Out(DISPLAY_MISSED_BITS)``
+        With ``memory="ddr2"`` only: ``pix`` clocks since reset in which the frame store refused a compositor read
+        the picture uses (:class:`hdl.store_windows.StoreWindows`), saturating; 0 in a sound run.
 
     Each member is connected to the block that drives or reads it (``wiring.connect``, flipped).
 
@@ -399,6 +405,9 @@ class StereoDepthSystem(wiring.Component):
             wiring.connect(m, display.streams[i], store.streams[i])
         m.d.comb += [store.take.eq(display.take), display.taken.eq(store.taken)]
         wiring.connect(m, wiring.flipped(self.mig), store.mig)
+        missed = self.display_missed
+        with m.If(display.display_missed & ~missed.all()):
+            m.d.pix += missed.eq(missed + 1)
 
     def _rectification(self, m, capture, pix, sync_gen):
         """The estimator watches both captures' writes (camera A = left); the select picks manual or automatic.

@@ -26,6 +26,8 @@ class MIG:
     ROW_BITS = 13                  # address [22:10]
     BANK_BITS = 2                  # address [24:23]
     MEMORY_WORDS = 1 << (COL_BITS + ROW_BITS + BANK_BITS)   # 2**25 64-bit words = 256 MB
+    BANKS = 1 << BANK_BITS         # each with a row of its own open (ddr2_ctrl.v's bank management)
+    BANK_WORDS = 1 << (COL_BITS + ROW_BITS)                 # one bank: 2**23 words = 64 MB, at bank * BANK_WORDS
     AF_DEPTH = 1024                # address FIFO (FIFO36) entries
     WDF_DEPTH = 512                # write-data FIFO entries (user words)
     AFULL_OFFSET = 15              # app_af_afull / app_wdf_afull high when this many entries or fewer are free

@@ -79,6 +79,10 @@ def add_arguments(parser):
                              "automatic rectification; docs/display.md)")
     parser.add_argument("--simulator", choices=SIMULATORS, default="verilator",
                         help="verilator (default), icarus, or amaranth (hours at full size; quick with --small)")
+    parser.add_argument("--memory", choices=("bram", "ddr2"), default="bram",
+                        help="where the camera frames are: bram (default, the thesis's block-RAM buffers) or ddr2 "
+                             "(the frame store behind MIG, simulated with the MIG model; --simulator amaranth "
+                             "--small)")
     parser.add_argument("--out", type=Path, default=Path("build/run"), help="output directory (build/run)")
     parser.add_argument("--small", action="store_true",
                         help="small configuration: 64x48 sensors, 112x52 display (fast; for a quick look)")
@@ -246,6 +250,8 @@ def summarise(setup, simulator, frame, golden, status, wall, verdict=None):
                      f"{status.get('t_captured_s', 0) * 1e3:.2f} ms)")
     if status.get("violations"):
         lines.append(f"  HDMI timing violations: {len(status['violations'])}, first: {status['violations'][0]}")
+    if "display_missed" in status:
+        lines.append(f"  DDR2 frame store: display reads refused in {status['display_missed']} pixel clocks")
     if frame is None:
         lines.append("  no frame was rebuilt")
     elif status.get("mismatched_pixels") == 0:

@@ -65,34 +65,39 @@ def _sha256(path):
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
-def test_complete_run_replaces_every_output_and_records_its_provenance(tmp_path):
-    """... and its GTKWave save file opens on its VCD with every signal it lists (where GTKWave is installed; the
-    one Amaranth run with waveforms of the default suite). It is also the default suite's end-to-end run of
-    Amaranth's simulator along the Python-model route: the checks of tests/test_system.py::test_end_to_end_amaranth
-    on what result.json and the frames hold (that test's ``python`` route is slow: the same simulation
-    in-process with other switch settings, one display frame fewer)."""
+@pytest.mark.parametrize("vcd", [False, pytest.param(True, marks=pytest.mark.slow)])
+def test_complete_run_replaces_every_output_and_records_its_provenance(tmp_path, vcd):
+    """... and, with ``--vcd``, its GTKWave save file opens on its VCD with every signal it lists (where GTKWave
+    is installed; slow: the VCD writer more than doubles the run's time. The default suite's waveform checks are
+    the interrupted run above, which writes the CLI's VCD, and tests/test_gtkw_files.py's save file of the same
+    system). It is also the default suite's end-to-end run of Amaranth's simulator along the Python-model route:
+    the checks of tests/test_system.py::test_end_to_end_amaranth on what result.json and the frames hold (that
+    test's ``python`` route is slow: the same simulation in-process with other switch settings, one display
+    frame fewer)."""
     from sim.waves import gtkwave_check
     out = tmp_path / "out"
     earlier_run(out)
     before = datetime.now().astimezone()
-    run = start_run(out, "--disparity", "3")
+    run = start_run(out, "--disparity", "3", vcd=vcd)
     stdout, stderr = run.communicate(timeout=600)
     assert run.returncode == 0, stderr
     names = sorted(p.name for p in out.iterdir() if not p.name.startswith("."))
-    assert names == ["depth_map.png", "golden_frame.png", "hdmi_frame.png", "notes.txt", "result.json",
-                     "system.gtkw", "system.vcd"], names
-    assert f'[dumpfile] "{(out / "system.vcd").resolve()}"' in (out / "system.gtkw").read_text()
-    if gtkwave_check.available():
-        want = gtkwave_check.listed(out / "system.gtkw")
-        assert len(want) >= 30
-        assert gtkwave_check.displayed(out / "system.gtkw")[0] == want
+    waves = ["system.gtkw", "system.vcd"] if vcd else []
+    assert names == ["depth_map.png", "golden_frame.png", "hdmi_frame.png", "notes.txt", "result.json", *waves], \
+        names
+    if vcd:
+        assert f'[dumpfile] "{(out / "system.vcd").resolve()}"' in (out / "system.gtkw").read_text()
+        if gtkwave_check.available():
+            want = gtkwave_check.listed(out / "system.gtkw")
+            assert len(want) >= 30
+            assert gtkwave_check.displayed(out / "system.gtkw")[0] == want
     result = json.loads((out / "result.json").read_text())
     record = result["provenance"]
     assert [i["path"] for i in record["inputs"]] == [str(p.resolve()) for p in DEFAULT_PAIR]
     assert [i["sha256"] for i in record["inputs"]] == [_sha256(p) for p in DEFAULT_PAIR]
     params = record["parameters"]
     assert (params["disparity"], params["rectification"], params["simulator"], params["small"], params["vcd"]) \
-        == (3, 0, "amaranth", True, True)
+        == (3, 0, "amaranth", True, vcd)
     assert params["out"] == str(out) and params["setup"]["preset"] == "small"
     assert result["segmentation"] == {"on": False}
     import amaranth

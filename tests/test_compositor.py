@@ -338,8 +338,10 @@ def run_cocotb_display(timing, geometry, schedule, simulator, tmp_path, layout=N
                            schedule=schedule, clock_ps=CLOCK_PS, segment=segment))
 
 
+@pytest.mark.parametrize("simulator", [pytest.param("verilator", marks=pytest.mark.slow), "icarus"])
 def test_segmentation_cocotb(simulator, tmp_path):
-    """The segmentation view and its band text on the exported Verilog (Verilator and Icarus)."""
+    """The segmentation view and its band text on the exported Verilog (Icarus; Verilator in the slow set: its
+    build is most of the test, and the same compositor runs on Verilator in :func:`test_display_path_cocotb`)."""
     layout = DisplayLayout.centred(SEGMENT_TIMING, SMALL_SENSOR, SMALL_DEPTH, gap=9)
     run_cocotb_display(SEGMENT_TIMING, SMALL_SENSOR, SEGMENT_SCHEDULE, simulator, tmp_path, layout, segment=True)
 

@@ -11,7 +11,8 @@ from amaranth.sim import Simulator
 from frame_store_sources import Camera
 from hdl.frame_store.frame_store import FrameStore
 from hdl.frame_store.layout import FrameStoreLayout
-from sim.models.mig import MIGModel, watch_violations
+from sim.models.mig import MIGModel, layout_window, watch_violations
+from spec.memory import MIG
 from spec.sensor import SMALL_SENSOR
 
 LAYOUT = FrameStoreLayout(width=40, height=5, base=1024)
@@ -27,7 +28,7 @@ def design():
     m = Module()
     m.domains += [ClockDomain(d) for d in ("pix", "mem", "cam_a", "cam_b")]
     m.submodules.store = store = FrameStore(LAYOUT, SMALL_SENSOR, slots=SLOTS, read_depth=16)
-    mig = MIGModel(af_depth=32, wdf_depth=32, window_base=LAYOUT.base, window_words=LAYOUT.end - LAYOUT.base,
+    mig = MIGModel(af_depth=32, wdf_depth=32, **layout_window(LAYOUT),
                    init_clocks=40)
     m.submodules.mig = DomainRenamer("mem")(mig)
     wiring.connect(m, store.mig, mig.user)
@@ -116,11 +117,18 @@ def test_a_held_pair_is_read_whole_while_the_cameras_write():
             assert (reads[k][c] == pairs[k][c]).all(), f"pair {k}, camera {c}"
 
 
-def simulate_cameras(frames, delays, reads_after):
+def simulate_cameras(frames, delays, reads_after, writes=None):
     """Both cameras send ``frames[c]`` (``(image, kwargs)`` each) starting ``delays[c]`` camera clocks late; once
-    every frame is sent, the display takes a pair and reads it."""
+    every frame is sent, the display takes a pair and reads it. ``writes``: a list that gets the address of every
+    write command the store gives MIG."""
     m, store, mig = design()
     sent, out = [], {}
+
+    async def commands(ctx):
+        command = store.mig.command
+        async for _, _, wren, cmd, addr in ctx.tick("mem").sample(command.wren, command.cmd, command.addr):
+            if wren and cmd == MIG.CMD_WRITE and writes is not None:
+                writes.append(addr)
 
     def camera(c, domain):
         async def run(ctx):
@@ -149,6 +157,7 @@ def simulate_cameras(frames, delays, reads_after):
     for c, domain in enumerate(("cam_a", "cam_b")):
         sim.add_testbench(camera(c, domain), background=True)
     sim.add_testbench(watch_violations(mig), background=True)
+    sim.add_testbench(commands, background=True)
     sim.add_testbench(latency)
     sim.add_testbench(display)
     sim.run()
@@ -163,3 +172,18 @@ def test_a_dropped_frame_does_not_shift_the_pairs():
     b = [(pair[1], {}) for pair in pairs]
     left, right = simulate_cameras([a, b], delays=[10, 40], reads_after=100)
     assert (left == pairs[2][0]).all() and (right == pairs[2][1]).all()
+
+
+def test_a_camera_with_bad_frames_never_leaves_a_reader_a_half_written_buffer():
+    """After a good pair, camera A sends a frame of short lines (38 of 40 pixels: only its last burst short, every
+    burst there), then half a frame and stops; camera B sends good frames all along. Either of A's bad frames
+    published would pair with B's frame of its number; the display must read pair 0, whole, and every write must
+    lie inside a buffer. (A frame a line short: the dropped-frame test above.)"""
+    pairs = [images(20 + k) for k in range(3)]
+    a = [(pairs[0][0], {}), (pairs[1][0][:, :38], {}), (pairs[2][0][:2], {"done": False})]
+    b = [(pair[1], {}) for pair in pairs]
+    writes = []
+    left, right = simulate_cameras([a, b], delays=[10, 40], reads_after=100, writes=writes)
+    assert (left == pairs[0][0]).all() and (right == pairs[0][1]).all()
+    assert writes and all(LAYOUT.buffer_of(w) is not None and LAYOUT.buffer_of(w + 3) == LAYOUT.buffer_of(w)
+                          for w in writes)

@@ -2,65 +2,29 @@
 memory arbiter and the MIG model (sim/models/mig, its checker stopping the run on any violation): the rows a consumer asks for land in
 their slots with the bytes the layout puts in the held buffer, whatever the ratio of the clocks."""
 
-import random
-
 import numpy as np
 import pytest
-from amaranth import ClockDomain, DomainRenamer, Module
-from amaranth.lib import wiring
-from amaranth.sim import Simulator
 
-from hdl.frame_store.arbiter import MemoryArbiter
+from frame_store_on_model import ReaderOnModel, fill
 from hdl.frame_store.layout import FrameStoreLayout
-from hdl.frame_store.row_reader import RowReader
-from sim.models.mig import MIGModel, memory_words, watch_violations
 
 LAYOUT = FrameStoreLayout(width=48, height=7, cameras=2, buffers=3, base=128)
 #: Pix clocks the consumer waits, at most, for its rows (a row lost in a FIFO never lands).
 TIMEOUT_CLOCKS = 5000
 
 
-def fill(contents, layout, camera, buffer, image):
-    """Put ``image`` into ``contents`` (byte address -> byte) where the layout puts a buffer (one byte a pixel)."""
-    for y, row in enumerate(image):
-        for x, value in enumerate(row):
-            contents[layout.buffer_base(camera, buffer) * 8 + y * layout.stride + x] = int(value)
-
-
-def mig_model(layout, contents, latency):
-    """The MIG model over ``layout``'s buffers holding ``contents``, and the testbenches that set its read
-    ``latency`` and stop the run on its first violation."""
-    model = MIGModel(af_depth=32, wdf_depth=32, window_base=layout.base, window_words=layout.end - layout.base,
-                     init_clocks=20, init=memory_words(contents))
-
-    async def set_latency(ctx):
-        ctx.set(model.latency, latency)
-    return model, set_latency, watch_violations(model)
-
-
 def run(rows, *, pix_period=6.7e-9, depth=8, slots=3, hold=(True, 1), seed=0):
     """Ask for ``rows`` of camera 1 one after another (at most ``slots`` ahead of the ones read), read every pixel
     of each landed row; the rows read."""
-    m = Module()
-    m.domains.pix, m.domains.mem = ClockDomain("pix"), ClockDomain("mem")
-    m.submodules.reader = reader = RowReader(LAYOUT, 1, slots=slots, depth=depth)
-    arbiter = MemoryArbiter(writers=0, readers=1, urgent=1)
-    m.submodules.arbiter = DomainRenamer("mem")(arbiter)
-    wiring.connect(m, reader.mem, arbiter.readers[0])
     images = {b: np.random.default_rng(b).integers(0, 256, (LAYOUT.height, LAYOUT.width), dtype=np.uint8)
               for b in range(LAYOUT.buffers)}
     contents = {}
     for b, image in images.items():
         fill(contents, LAYOUT, 1, b, image)
         fill(contents, LAYOUT, 0, b, 255 - image)
-    model, set_latency, violations = mig_model(LAYOUT, contents, latency=16 + seed % 17)
-    m.submodules.mig = DomainRenamer("mem")(model)
-    wiring.connect(m, arbiter.mig, model.user)
+    bench = ReaderOnModel(LAYOUT, 1, contents, hold=hold, latency=16 + seed % 17, slots=slots, depth=depth)
+    reader = bench.reader
     got = []
-
-    async def memory(ctx):
-        ctx.set(reader.hold.valid, int(hold[0]))
-        ctx.set(reader.hold.buffer, hold[1])
 
     async def consumer(ctx):
         asked, landed = 0, 0
@@ -87,14 +51,7 @@ def run(rows, *, pix_period=6.7e-9, depth=8, slots=3, hold=(True, 1), seed=0):
                     row.append(ctx.get(reader.stream.read.data))
                 got.append(row)
 
-    sim = Simulator(m)
-    sim.add_clock(pix_period, domain="pix")
-    sim.add_clock(8e-9, domain="mem")
-    sim.add_testbench(memory)
-    sim.add_testbench(set_latency)
-    sim.add_testbench(violations, background=True)
-    sim.add_testbench(consumer)
-    sim.run()
+    bench.run(consumer, pix_period=pix_period)
     assert len(got) == len(rows), f"{len(rows) - len(got)} rows never landed"
     return np.array(got, np.uint8), images
 

@@ -5,16 +5,13 @@ refused) and the depth engine's (a clamped row offset, waiting for its grants)."
 
 import numpy as np
 import pytest
-from amaranth import ClockDomain, DomainRenamer, Module
+from amaranth import DomainRenamer
 from amaranth.lib import wiring
-from amaranth.sim import Simulator
 
-from hdl.frame_store.arbiter import MemoryArbiter
+from frame_store_on_model import ReaderOnModel, fill
 from hdl.frame_store.layout import FrameStoreLayout
-from hdl.frame_store.row_reader import RowReader
 from hdl.frame_store.row_window import RowWindow
 from spec.sensor import SensorGeometry
-from test_frame_store_reader import fill, mig_model
 
 #: 20 x 10 buffer pixels: a row is not a power of two of bytes, nor a whole number of 16-byte words.
 G = SensorGeometry(width=80, height=40)
@@ -25,38 +22,18 @@ GRANT_TIMEOUT = 2000
 
 
 def simulate(consumer_bench, *, seed=0):
-    m = Module()
-    m.domains += [ClockDomain("pix"), ClockDomain("mem")]
-    m.submodules.reader = reader = RowReader(LAYOUT, 0, slots=SLOTS, depth=16)
-    m.submodules.window = window = DomainRenamer("pix")(RowWindow(G, slots=SLOTS))
-    arbiter = MemoryArbiter(writers=0, readers=1, urgent=1)
-    m.submodules.arbiter = DomainRenamer("mem")(arbiter)
-    wiring.connect(m, reader.mem, arbiter.readers[0])
-    wiring.connect(m, window.stream, reader.stream)
     image = np.random.default_rng(seed).integers(0, 1 << G.grey_bits, (G.buf_height, G.buf_width), dtype=np.uint8)
     contents = {}
     fill(contents, LAYOUT, 0, 2, image)
-    model, set_latency, violations = mig_model(LAYOUT, contents, latency=19)
-    m.submodules.mig = DomainRenamer("mem")(model)
-    wiring.connect(m, arbiter.mig, model.user)
-
-    async def memory(ctx):
-        ctx.set(reader.hold.valid, 1)
-        ctx.set(reader.hold.buffer, 2)
-
+    bench = ReaderOnModel(LAYOUT, 0, contents, hold=(True, 2), latency=19, slots=SLOTS, depth=16)
+    bench.m.submodules.window = window = DomainRenamer("pix")(RowWindow(G, slots=SLOTS))
+    wiring.connect(bench.m, window.stream, bench.reader.stream)
     result = {}
 
     async def consumer(ctx):
         result.update(await consumer_bench(ctx, window))
 
-    sim = Simulator(m)
-    sim.add_clock(6.7e-9, domain="pix")
-    sim.add_clock(8e-9, domain="mem")
-    sim.add_testbench(memory)
-    sim.add_testbench(set_latency)
-    sim.add_testbench(violations, background=True)
-    sim.add_testbench(consumer)
-    sim.run()
+    bench.run(consumer)
     return image, result
 
 

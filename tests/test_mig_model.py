@@ -388,6 +388,37 @@ def test_edges_of_the_window_are_legal():
     check_reads(host, READ_LATENCY_RANGE[0])
 
 
+#: A window over three banks: the same 64 words from 0x100 in banks 0, 1 and 2 (a frame store's buffers).
+BANKED = dict(window_base=0x100, window_words=64, window_banks=3)
+
+
+def test_a_window_over_banks_keeps_each_bank_s_words():
+    """The same offset in three banks: three words of their own; each bank's window edges legal."""
+    async def bench(ctx, host):
+        await host.until_init(ctx)
+        for bank in range(3):
+            for offset in (0x100, 0x100 + 60):
+                addr = addr_of(bank=bank) + offset
+                await host.write_burst(ctx, addr, random_words(random.Random(addr)))
+        for bank in range(3):
+            for offset in (0x100, 0x100 + 60):
+                await host.read_burst(ctx, addr_of(bank=bank) + offset)
+        await host.drain(ctx)
+    host, violation = run(bench, **BANKED)
+    assert violation is None
+    check_reads(host, READ_LATENCY_RANGE[0])
+
+
+@pytest.mark.parametrize("addr", [addr_of(bank=3) + 0x100, addr_of(bank=1) + 0x100 + 64, addr_of(bank=2) + 0xFC])
+def test_outside_a_window_over_banks_is_a_violation(addr):
+    async def bench(ctx, host):
+        await host.until_init(ctx)
+        await host.step(ctx, cmd=MIG.CMD_READ, addr=addr)
+        await host.idle(ctx, 5)
+    violation = violation_of(bench, **BANKED)
+    assert (violation.code, violation.addr) == (Violation.ADDRESS_OUTSIDE_WINDOW, addr)
+
+
 @pytest.mark.parametrize("what, code", [("command", Violation.COMMAND_BEFORE_INIT),
                                         ("data", Violation.DATA_BEFORE_INIT)])
 def test_traffic_before_phy_init_done_is_a_violation(what, code):
@@ -444,7 +475,8 @@ def test_draw_latency_is_per_seed_and_within_the_range():
 @pytest.mark.parametrize("params", [dict(af_depth=24), dict(wdf_depth=16), dict(latency_range=(2, 8)),
                                     dict(af_slack=16), dict(wdf_slack=15), dict(window_words=6), dict(window_base=2),
                                     dict(window_base=MIG.MEMORY_WORDS - 4, window_words=8), dict(init_clocks=0),
-                                    dict(storage="rom")])
+                                    dict(storage="rom"), dict(window_banks=5),
+                                    dict(window_banks=2, window_base=MIG.BANK_WORDS - 4, window_words=8)])
 def test_bad_parameters_are_rejected(params):
     with pytest.raises(ValueError):
         MIGModel(**{**SMALL, **params})

@@ -85,6 +85,7 @@ REJECTED = {
     "VerilogReplayTestbench": lambda: VerilogReplayTestbench(replay_depth=1, periods_ps={"sync": 3, "pix": 4, "cam": 2},
                                                      **SMALL),
     "FrameStoreLayout": lambda: FrameStoreLayout(width=40, stride=48),
+    "FrameStoreLayout, banks": lambda: FrameStoreLayout(banks=5),
     "BufferOwnership": lambda: BufferOwnership(readers=2, buffers=3),
     "BurstPacker": lambda: BurstPacker(geometry=SensorGeometry(grey_bits=9)),
     "BurstWriter": lambda: BurstWriter(camera=2),

@@ -103,8 +103,9 @@ def test_end_to_end_amaranth(route):
     the run, replayed from a ROM; gated simulator clocks), whose every sample of the replayed frame period was sent.
     The frame equals the golden frame, the parts end configured, the buses clean. No waveforms (they cost twice the
     run). Both routes are slow. The default suite runs the ``python`` route's simulation through the command line,
-    tests/test_cli_outputs.py's complete run (``stereodepth run --small --simulator amaranth --vcd``: the same
-    backend with ``system_waves``), with these checks on its result.json and frames; the ``replay`` route as far as
+    tests/test_cli_outputs.py's complete run (``stereodepth run --small --simulator amaranth``: the same backend;
+    with ``--vcd`` and ``system_waves`` in its slow variant), with these checks on its result.json and frames; the
+    ``replay`` route as far as
     the I2C init in test_replayed_sensors_need_the_configuration_their_stream_was_made_for, and replayed camera
     pins to a whole frame on Verilator and Icarus in test_in_simulator_route_is_equivalent."""
     setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION)
@@ -168,13 +169,14 @@ def test_replayed_sensors_need_the_configuration_their_stream_was_made_for(monke
         _run(setup, Amaranth("replay"))
 
 
-def test_end_to_end_cocotb_python_models(tmp_path):
-    """cocotb with the Python models driven per clock (sensor pins per PCLK, the HDMI sink per pixel clock) on
-    Icarus, in the real start-up order: the pixel clock (and the display) runs from time 0, during the I2C init
-    (``pix_after_init=False``; the other routes start it after the init). Verilator runs the same scenario through
-    the in-simulator route below. (One run: this was two, the second only for the start-up order.)"""
+@pytest.mark.parametrize("simulator", ["verilator", pytest.param("icarus", marks=pytest.mark.slow)])
+def test_end_to_end_cocotb_python_models(simulator, tmp_path):
+    """cocotb with the Python models driven per clock (sensor pins per PCLK, the HDMI sink per pixel clock), in the
+    real start-up order: the pixel clock (and the display) runs from time 0, during the I2C init
+    (``pix_after_init=False``; the other routes start it after the init). Icarus is slow here (twice Verilator's
+    time: its VPI callbacks per clock); the default suite runs Icarus through the in-simulator route below."""
     setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION, pix_after_init=False)
-    result = _run(setup, Cocotb("icarus", PythonModels(), out_dir=tmp_path))
+    result = _run(setup, Cocotb(simulator, PythonModels(), out_dir=tmp_path))
     status = result.status
     check_status(status)
     check_golden_is_interesting(result.golden, SystemSetup.small(disparity=DISPARITY,

@@ -19,6 +19,8 @@ from sim.models.mig import INIT_CLOCKS, MESSAGES, READ_LATENCY_RANGE, MIGProtoco
     draw_latency, violation_message
 from sim.system.backends import Amaranth, Cocotb, Verilator
 from sim.system.run import simulate, still_pair
+from sim.system.verdict import Judge
+from sim.testbed.sequence import moving_card
 from sim.testbench.system.run_verilator import VerilatorRun
 from sim.testbench.system.setup import SystemSetup
 
@@ -123,7 +125,7 @@ def test_end_to_end_ddr2_verilator(ddr2_verilator):
     frame equals the golden frame, no row withheld, the latency drawn as on the Amaranth simulator."""
     _, _, result = ddr2_verilator
     assert result.status["mig_latency"] == draw_latency(0, READ_LATENCY_RANGE)
-    assert result.status["violations"] == []
+    assert result.status["violations"] == [] and result.status["display_missed"] == 0
     assert result.frame is not None and result.ok, result.verdict
     assert result.verdict["withheld_rows"] == [0] and result.mismatched_pixels == 0
     np.testing.assert_array_equal(result.frame, result.golden)
@@ -161,6 +163,7 @@ def test_end_to_end_ddr2_amaranth():
     assert not result.sink.violations, result.sink.violations[:5]
     assert result.frame is not None and result.ok, result.verdict
     assert result.verdict["withheld_rows"] == [0]
+    assert result.status["display_missed"] == 0
     assert result.mismatched_pixels == 0
     np.testing.assert_array_equal(result.frame, result.golden)
 
@@ -199,6 +202,7 @@ def test_end_to_end_ddr2_cocotb(simulator, route, tmp_path):
     result = simulate(setup, pair, Cocotb(simulator, ROUTES[route](), out_dir=tmp_path))
     assert result.status["mig_latency"] == draw_latency(0, READ_LATENCY_RANGE)
     assert result.status["violations"] == [] and "mig_violation" not in result.status
+    assert result.status["display_missed"] == 0
     assert result.ok, result.verdict
     assert result.verdict["withheld_rows"] == [0] and result.mismatched_pixels == 0
     np.testing.assert_array_equal(result.frame, result.golden)
@@ -219,3 +223,34 @@ def test_a_violation_stops_the_cocotb_run_with_its_message(tmp_path):
     code, _, cycle = seen["violation"]
     assert code == Violation.LATENCY_OUT_OF_RANGE.value and cycle == INIT_CLOCKS
     assert (seen["t_ps"] - 4000) % 8000 == 0 and 0 <= seen["t_ps"] - cycle * 8000 <= 250_000
+
+
+class _Shown:
+    def __init__(self, index, pair):
+        self.index, self.verdict = index, {"equals_pair": pair}
+
+
+def test_ddr2_sequence_verdict_asks_every_display_frame_from_one_pair():
+    """The DDR2 build's sequence verdict (sim/system/verdict.py): every display frame equal to one pair's golden
+    frame (-1: the empty buffers), or not."""
+    assert Judge._whole_pairs([_Shown(0, -1), _Shown(1, 0), _Shown(2, 2)]) == {
+        "pairs_shown": [-1, 0, 2], "display_frames_from_one_pair": True}
+    assert not Judge._whole_pairs([_Shown(0, 0), _Shown(1, None)])["display_frames_from_one_pair"]
+    assert not Judge._whole_pairs([])["display_frames_from_one_pair"]
+
+
+@pytest.mark.slow
+def test_ddr2_frame_sequence_amaranth():
+    """Three camera frames of the moving card on the small DDR2 build (Python sensor models, the MIG model, its
+    checker stopping the run on any violation): every display frame equals the golden frame of one camera-frame pair
+    -- no withheld row, no mixed row, the images and both maps of one pair -- the settled one the last pair's, and
+    no display read refused."""
+    setup = SystemSetup.small(memory="ddr2")
+    sequence = moving_card(setup, 3)
+    result = simulate(setup, sequence, Amaranth("python"))
+    verdict, status = result.verdict, result.status
+    assert status["violations"] == [] and status["display_missed"] == 0, status
+    assert verdict["display_frames_from_one_pair"], verdict
+    assert verdict["pairs_shown"][-1] == 2 and verdict["ok"], verdict
+    assert all(f.verdict["depth_rows_mixed"] == 0 and f.verdict.get("depth_rows_withheld", 0) == 0
+               and f.verdict["left_rows_mixed"] == 0 and f.verdict["right_rows_mixed"] == 0 for f in result.frames)

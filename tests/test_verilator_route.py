@@ -57,15 +57,19 @@ def test_small_run_is_bit_exact_and_every_check_holds(base):
     assert status["dvi_config"]["dvi_on"] and status["dvi_config"]["idf"] == 0
 
 
+@pytest.mark.slow
 def test_raw_model_replays_the_run_exactly(base):
     """The raw model (raw_main.cpp, no Python) given the run's stimulus log evaluates the design as often and
-    records the same pins, word for word."""
+    records the same pins, word for word. Slow, with the next test: the raw model is the system benchmark's
+    reference (``python -m bench system`` checks the same equality on every run it measures) and its build
+    compiles the Verilated design a second time."""
     run = base.driver
     figures, recording = run_raw(run)
     assert figures["complete"] and figures["evals"] == base.status["evals"]
     np.testing.assert_array_equal(recording, run.recording[:run.h.recorded])
 
 
+@pytest.mark.slow
 def test_raw_model_sees_a_changed_stimulus(base):
     """Bites: the same log with the disparity switch word changed records different pins."""
     run = base.driver

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from sim.runners.cocotb import SIMULATORS, run_cocotb, simulator_available
+from sim.runners.cocotb import run_cocotb, simulator_available
 
 REPO_ROOT = Path(__file__).resolve().parents[1]
 from sim.board.xilinx import PRIMITIVES, VERILATOR_ARGS, model_sources
@@ -61,8 +61,10 @@ def _run(simulator, sources, testcase=None):
                       build_args=VERILATOR_ARGS if simulator == "verilator" else ())
 
 
-@pytest.mark.parametrize("simulator", SIMULATORS)
+@pytest.mark.parametrize("simulator", [pytest.param("verilator", marks=pytest.mark.slow), "icarus"])
 def test_primitive_models(simulator):
+    """Each group's checks (Verilator in the slow set: the default suite runs these models on Verilator inside
+    the board top, tests/test_board_top.py)."""
     _skip_unless(simulator)
     _run(simulator, model_sources())
 

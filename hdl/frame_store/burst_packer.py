@@ -9,12 +9,15 @@ one entry per event (:data:`ENTRY_KINDS`):
 * ``BURST``: a burst's 32 bytes with its row, its index in the row and its byte mask (a 1 masks a byte no pixel
   was written to, as MIG's mask does), when the row's 32nd pixel of the burst is written or the row ends;
 * ``START``: a frame starts (a burst in progress is dropped);
-* ``END``: a frame ends; ``ok`` = the capture's ``frame_ok`` and no entry of the frame was lost.
+* ``END``: a frame ends; ``ok`` = the capture's ``frame_ok`` and no entry of the frame was lost (also when the
+  next frame starts before the ``END`` could be sent).
 
 Entries are ``Out`` on ``entry`` (a FIFO's write side: ``en`` when ``rdy``). The packer never waits: a burst it
 cannot send (the FIFO is full, or a ``START``/``END`` is still waiting to be sent before it) is dropped and its frame
 ends not ``ok``; a ``START``/``END`` waits in its own flag until it is sent, ahead of later bursts. Pixels beyond
-the layout's width and rows beyond its height are dropped, and their frame ends not ``ok``.
+the layout's width and rows beyond its height are dropped, and their frame ends not ``ok``; so does a frame with a
+row that ends short of the width (its bursts may all be there, the last one masked short, so the writer's count
+of bursts alone would not see it).
 """
 
 from amaranth import Cat, Const, Module, Signal
@@ -124,6 +127,8 @@ class BurstPacker(wiring.Component):
             m.d.sync += lost.eq(1)
         with m.If(status.row_end & in_row):
             m.d.sync += [in_row.eq(0), column.eq(0)]
+            with m.If(column + keep != width):     # a short row (its last burst is sent, masked)
+                m.d.sync += lost.eq(1)
             with m.If(row != height):
                 m.d.sync += row.eq(row + 1)
             with m.If(written.any() & ~keep):      # a short row's last, partly written burst
@@ -134,6 +139,8 @@ class BurstPacker(wiring.Component):
         with m.If(status.frame_start):
             m.d.sync += [row.eq(0), column.eq(0), in_row.eq(0), written.eq(0), filled.eq(0),
                          start_waiting.eq(1), lost.eq(0)]
+            with m.If(end_waiting):             # the last frame's END not sent yet: its verdict keeps its losses
+                m.d.sync += end_ok.eq(end_ok & ~lost & ~filled)
         with m.If(status.frame_done):
             m.d.sync += [end_waiting.eq(1), end_ok.eq(status.frame_ok)]
 

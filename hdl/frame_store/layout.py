@@ -1,10 +1,15 @@
 """FrameStoreLayout: where the camera frames live in the DDR2 (docs/frame_store.md, "Layout").
 
-Each camera has ``buffers`` frame buffers, one after another from ``base``; camera ``c``'s buffer ``b`` is buffer
-number ``c * buffers + b``. A buffer holds ``height`` rows ``stride`` bytes apart; a row holds ``width`` pixels, one
-byte each (the grey value in the low bits), so an 8-bit 800 x 600 build needs only other sizes. ``stride`` is a
-whole number of BL4 bursts (32 bytes), so every row starts a burst and no burst spans two rows; the bytes of a
-row's last burst beyond ``width`` are masked when written and ignored when read.
+Each camera has ``buffers`` frame buffers spread over the DDR2's banks (each bank keeps a row of its own open, so
+streams in different banks do not close each other's rows): with ``banks`` banks and ``cameras`` cameras, camera
+``c`` has the ``n = banks // cameras`` banks from ``c * n`` (at least one), its buffer ``b`` in the
+``(b mod n)``-th of them; the buffers of one bank lie one after another from ``base`` in it. So the two cameras'
+frames -- the held pair every reader reads, the frames the writers write -- never share a bank, and a writer shares
+a bank with its camera's held frame for one buffer pair in three (2 cameras x 3 buffers in 4 banks: camera 0 in
+banks 0, 1, 0; camera 1 in banks 2, 3, 2). A buffer holds ``height`` rows ``stride`` bytes apart; a row holds
+``width`` pixels, one byte each (the grey value in the low bits), so an 8-bit 800 x 600 build needs only other
+sizes. ``stride`` is a whole number of BL4 bursts (32 bytes), so every row starts a burst and no burst spans two
+rows; the bytes of a row's last burst beyond ``width`` are masked when written and ignored when read.
 
 Addresses count 64-bit memory words, as MIG's ``app_af_addr`` does (:class:`spec.memory.MIG`).
 """
@@ -35,13 +40,15 @@ class FrameStoreLayout:
     stride : int or None
         Bytes from one row's start to the next's; ``None``: ``width`` rounded up to a whole burst.
     base : int
-        Memory word address of the first buffer (burst-aligned).
+        Memory word address, within each bank, of the bank's first buffer (burst-aligned).
+    banks : int
+        Banks the buffers are spread over, 1 .. ``MIG.BANKS`` (1: all in bank 0, one after another).
 
     Raises
     ------
     ValueError
         A size below 1, a stride that is not a whole number of bursts or shorter than a row, a base that is not
-        burst-aligned, or buffers that do not fit in the memory.
+        burst-aligned, a number of banks the part does not have, or buffers that do not fit in a bank.
     """
     width: int = 400
     height: int = 300
@@ -49,6 +56,7 @@ class FrameStoreLayout:
     buffers: int = 3
     stride: int | None = None
     base: int = 0
+    banks: int = MIG.BANKS
 
     def __post_init__(self):
         for name in ("width", "height", "cameras", "buffers"):
@@ -61,9 +69,19 @@ class FrameStoreLayout:
                              f"({self.width}), got {self.stride}")
         if self.base < 0 or self.base % MIG.BURST_LENGTH:
             raise ValueError(f"base must be a burst-aligned memory word address, got {self.base}")
-        if self.end > MIG.MEMORY_WORDS:
-            raise ValueError(f"{self.cameras} x {self.buffers} buffers of {self.buffer_words} memory words from "
-                             f"{self.base} do not fit in {MIG.MEMORY_WORDS} memory words")
+        if not 1 <= self.banks <= MIG.BANKS:
+            raise ValueError(f"banks must be in 1..{MIG.BANKS}, got {self.banks}")
+        per_camera = max(1, self.banks // self.cameras)
+        places, filled = {}, [0] * self.banks
+        for c in range(self.cameras):
+            for b in range(self.buffers):
+                bank = (c * per_camera + b % per_camera) % self.banks
+                places[c, b] = (bank, filled[bank])
+                filled[bank] += 1
+        object.__setattr__(self, "_places", places)
+        if self.base + self.bank_words > MIG.BANK_WORDS:
+            raise ValueError(f"{max(filled)} buffers of {self.buffer_words} memory words from {self.base} do not "
+                             f"fit in a bank's {MIG.BANK_WORDS} memory words")
 
     @property
     def bursts_per_row(self):
@@ -86,13 +104,24 @@ class FrameStoreLayout:
         return self.stride_words * self.height
 
     @property
-    def end(self):
-        """The memory word address after the last buffer."""
-        return self.base + self.cameras * self.buffers * self.buffer_words
+    def bank_words(self):
+        """The memory words from ``base`` that the fullest bank's buffers take (in every bank used, the same
+        window holds its buffers: a memory model keeps these words of banks 0 .. ``banks_used`` - 1)."""
+        return max(slot + 1 for _, slot in self._places.values()) * self.buffer_words
+
+    @property
+    def banks_used(self):
+        """Banks 0 .. ``banks_used`` - 1 hold the buffers."""
+        return max(bank for bank, _ in self._places.values()) + 1
+
+    def bank_of(self, camera, buffer):
+        """The bank holding camera ``camera``'s buffer ``buffer``."""
+        return self._places[camera, buffer][0]
 
     def buffer_base(self, camera, buffer):
         """Memory word address of camera ``camera``'s buffer ``buffer``."""
-        return self.base + (camera * self.buffers + buffer) * self.buffer_words
+        bank, slot = self._places[camera, buffer]
+        return bank * MIG.BANK_WORDS + self.base + slot * self.buffer_words
 
     def burst_address(self, camera, buffer, row, burst):
         """Memory word address of burst ``burst`` of row ``row`` in a buffer."""
@@ -100,10 +129,11 @@ class FrameStoreLayout:
 
     def buffer_of(self, address):
         """``(camera, buffer)`` whose words hold memory word ``address``, or ``None`` outside the buffers."""
-        if not self.base <= address < self.end:
+        bank, offset = divmod(address, MIG.BANK_WORDS)
+        if not self.base <= offset < self.base + self.bank_words:
             return None
-        number = (address - self.base) // self.buffer_words
-        return divmod(number, self.buffers)
+        place = (bank, (offset - self.base) // self.buffer_words)
+        return next((key for key, value in self._places.items() if value == place), None)
 
 
 #: Small sizes for the tests: 40 x 6 (2 bursts a row, the second partly masked), 3 buffers.

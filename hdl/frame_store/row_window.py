@@ -47,6 +47,8 @@ class RowWindow(wiring.Component):
     stream : ``Out(RowStreamSignature(buf_height, buf_width, slots))``
     missed : ``Out(1)``
         A request not granted in this clock.
+    below : ``Out(1)``
+        The request's address lies before the window's first row (a read this window will never grant).
 
     Clock domain: ``sync`` (the parent renames it to the read domain). Latency: ``grant`` combinational from the
     request; ``port.data`` one clock after a granted address; rows asked for from the clock after ``restart``.
@@ -70,6 +72,7 @@ class RowWindow(wiring.Component):
             "first_row": In(range(h)),
             "stream": Out(RowStreamSignature(h, w, slots)),
             "missed": Out(1),
+            "below": Out(1),
         })
 
     def elaborate(self, platform):
@@ -112,6 +115,7 @@ class RowWindow(wiring.Component):
             slot.eq(Mux(first_slot + j >= n, first_slot + j - n, first_slot + j)),
             consumer.grant.eq(grant),
             self.missed.eq(consumer.request & ~grant),
+            self.below.eq(consumer.port.addr < base),
             self.stream.read.slot.eq(slot),
             self.stream.read.x.eq(x),
             consumer.port.data.eq(self.stream.read.data[:g.grey_bits]),

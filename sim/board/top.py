@@ -131,12 +131,12 @@ def mig_core_verilog(top_kwargs):
     from board.export import export_verilog
     from board.mig import DEFAULT_CORE_NAME
     from board.top import GenesysTop
-    from sim.models.mig import STORAGE_VERILOG, MIGModel, mig_top_verilog
+    from sim.models.mig import STORAGE_VERILOG, MIGModel, layout_window, mig_top_verilog
     top = GenesysTop(**top_kwargs)
     top._MustUse__silence = True                        # made for its parameters only, never elaborated
     if top.memory != "ddr2":
         raise ValueError("mig_core_verilog is for a board top with the DDR2 (memory=\"ddr2\")")
     layout = top.params.store_layout
-    model = MIGModel(window_base=layout.base, window_words=layout.end - layout.base, storage="verilog")
+    model = MIGModel(**layout_window(layout), storage="verilog")
     return (export_verilog(model, MIG_MODEL_MODULE) + STORAGE_VERILOG
             + mig_top_verilog(module=top_kwargs.get("mig_core", DEFAULT_CORE_NAME), core=MIG_MODEL_MODULE))

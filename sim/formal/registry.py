@@ -14,6 +14,7 @@ from sim.formal.harnesses.frame_buffer import FrameBufferHarness
 from sim.formal.harnesses.frame_pairing import FramePairingHarness
 from sim.formal.harnesses.frame_store import FrameStoreOwnershipHarness
 from sim.formal.harnesses.frame_store_credits import FrameStoreCreditsHarness
+from sim.formal.harnesses.frame_store_packer import FrameStorePackerHarness
 from sim.formal.harnesses.frame_store_writer import FrameStoreWriterHarness
 from sim.formal.harnesses.i2c import I2CMasterHarness, InitSequencerHarness
 from sim.formal.harnesses.read_arbiter import ReadArbiterHarness
@@ -48,6 +49,7 @@ DEFAULT = {
     "frame_store_ownership": FrameStoreOwnershipHarness,
     "frame_store_credits": FrameStoreCreditsHarness,
     "frame_store_writer": FrameStoreWriterHarness,
+    "frame_store_packer": FrameStorePackerHarness,
 }
 
 

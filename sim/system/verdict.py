@@ -22,7 +22,8 @@ The run's verdict (:meth:`Judge.run_verdict`): for a still pair the frame shown 
 by the run's policy, :meth:`Judge.enough`), the withheld rows of each frame run, in automatic rectification the
 offset found and the display frame it was first used on, and ``ok``; for a sequence the settled frame (the last) against the
 last pair's golden frame, ``image_rows_from_camera_frames`` (at most the one row being written mixed in an image
-panel), the automatic rectification's record, and ``ok``.
+panel), the automatic rectification's record, with the DDR2 build (``setup.memory == "ddr2"``) ``pairs_shown`` and
+``display_frames_from_one_pair`` (every display frame equal to one pair's golden frame), and ``ok``.
 """
 
 import numpy as np
@@ -155,7 +156,8 @@ class Judge:
 
     def run_verdict(self, frames, status):
         """The run's verdict from its judged display ``frames`` and the driver's ``status``."""
-        clean = not status.get("violations")
+        # no HDMI timing violation, and (the DDR2 build) no display read the frame store refused
+        clean = not status.get("violations") and not status.get("display_missed")
         if self.still:
             return self._still_verdict(frames, clean)
         last = frames[-1].verdict if frames else None
@@ -169,13 +171,25 @@ class Judge:
             out["auto_rectification_run"] = self._auto_record(frames)
             out["settled_equals_last_pair"] = settled_ok and out["auto_rectification_run"]["settled_shows_expected"]
         out["ok"] = out["settled_equals_last_pair"] and image_rows_ok and clean
+        if self.setup.memory == "ddr2":
+            out.update(self._whole_pairs(frames))
+            out["ok"] = out["ok"] and out["display_frames_from_one_pair"]
         return out
+
+    @staticmethod
+    def _whole_pairs(frames):
+        """The DDR2 build's promise (whole camera frames only): every display frame equals the golden frame of one
+        pair (or of the empty buffers before the first pair) -- its image panels, difference map and depth map
+        all from that pair, no row withheld, none mixed. ``pairs_shown``: the pair of each display frame."""
+        shown = [f.verdict.get("equals_pair") for f in frames]
+        return {"pairs_shown": shown, "display_frames_from_one_pair": bool(frames) and None not in shown}
 
     def _still_verdict(self, frames, clean):
         """A still pair's run: the frame it shows (``chosen``, the first the policy accepts, else the last), the
-        withheld rows of every frame run, ``ok`` (the chosen frame equal to its golden frame, no timing violation,
-        and with the ``whole`` policy accepted by it); in automatic rectification the offset in use on the chosen
-        frame (``auto_offset``) and the first display frame that used it locked (``auto_offset_first_frame``)."""
+        withheld rows of every frame run, ``ok`` (the chosen frame equal to its golden frame, no timing violation
+        nor refused display read, and with the ``whole`` policy accepted by it); in automatic rectification the
+        offset in use on the chosen frame (``auto_offset``) and the first display frame that used it locked
+        (``auto_offset_first_frame``)."""
         chosen = next((f.index for f in frames if self.enough(f)), frames[-1].index if frames else None)
         out = {"chosen": chosen, "policy": self.policy, "display_frames": len(frames),
                "withheld_rows": [f.verdict["withheld_rows"] for f in frames]}

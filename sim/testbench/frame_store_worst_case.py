@@ -17,7 +17,7 @@ only starts the cameras, takes the pair and reads the counters at the end. A MIG
 
 from dataclasses import dataclass
 
-from amaranth import Array, ClockDomain, DomainRenamer, Module, Mux, Signal
+from amaranth import Array, Cat, ClockDomain, DomainRenamer, Module, Mux, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 from amaranth.sim import Simulator
@@ -27,14 +27,14 @@ from hdl.frame_store.frame_store import CameraFeedSignature, FrameStore
 from hdl.frame_store.layout import BURST_BYTES, FrameStoreLayout
 from hdl.frame_store.row_reader import RowStreamSignature
 from hdl.frame_store.row_window import RowWindow
-from sim.models.mig import READ_LATENCY_RANGE, MIGModel, watch_violations
+from sim.models.mig import READ_LATENCY_RANGE, MIGModel, layout_window, watch_violations
 from spec.board import CLOCKS
 from spec.memory import MIG
-from spec.sensor import SensorGeometry
+from spec.sensor import SENSOR, SensorGeometry
 from spec.video import CEA_1080P60
 
-__all__ = ["WorstCase", "WorstCaseResult", "run_worst_case", "CameraSource", "DisplayReads", "GreedyRows",
-           "PortCounters", "CAMERA_GAP"]
+__all__ = ["WorstCase", "WorstCaseResult", "run_worst_case", "CameraSource", "camera_frame_clocks",
+           "DisplayReads", "GreedyRows", "PortCounters", "CAMERA_GAP", "PEAK_MBPS"]
 
 #: Pix clocks from both cameras' ``frame_done`` to the take: their last bursts and ends written, the pair formed.
 PAIR_CLOCKS = 300
@@ -42,6 +42,15 @@ PAIR_CLOCKS = 300
 DRAM_ROW_BYTES = (1 << MIG.COL_BITS) * 8
 #: PCLK clocks per kept pixel: two bytes a pixel, every 4th pixel kept.
 CAMERA_GAP = 2 * 4
+#: MIG's user interface at its full rate: a 128-bit word every clk0, in MB/s.
+PEAK_MBPS = MIG.CLK0_HZ * MIG.DATA_WIDTH // 8 / 1e6
+
+
+def camera_frame_clocks(geometry, gap):
+    """Clocks a :class:`CameraSource` frame takes at a pixel every ``gap`` clocks: ``frame_start`` and 4 clocks,
+    per row ``row_start``, the pixels and ``row_end``, 6 clocks between rows, ``frame_done``."""
+    rows = geometry.buf_height
+    return 1 + 4 + rows * (2 + geometry.buf_width * gap) + (rows - 1) * 6 + 1
 
 
 class CameraSource(wiring.Component):
@@ -218,8 +227,8 @@ class PortCounters(wiring.Component):
                          self.refreshes.eq(self.refreshes + (self.refreshing & ~was_refreshing))]
             write = self.cmd_wren & (self.cmd == MIG.CMD_WRITE)
             for c in range(lay.cameras):
-                lo, hi = lay.buffer_base(c, 0), lay.buffer_base(c, lay.buffers)
-                mine = write & (self.addr >= lo) & (self.addr < hi)
+                bases = [lay.buffer_base(c, b) for b in range(lay.buffers)]
+                mine = write & Cat((self.addr >= lo) & (self.addr < lo + lay.buffer_words) for lo in bases).any()
                 m.d.sync += self.camera_bursts[c].eq(self.camera_bursts[c] + mine)
         return m
 
@@ -233,8 +242,9 @@ class WorstCase:
     first column, cameras alternating; ``engine_streams``: greedy readers, cameras alternating, listed first (so
     they come before non-urgent display streams); ``mig_fifo_depth``: the model's address FIFO's depth (MIG's
     1024; the write-data FIFO's is at most MIG's 512); ``stride``: bytes from a buffer row to the next, by default
-    a DRAM row (8 KB), so every buffer row lies in its own DRAM row: two streams never share an open row, as in the
-    full-size layout, whose buffers (125 kB) lie in different DRAM rows of the one bank they all use."""
+    a DRAM row (8 KB), so every buffer row lies in its own DRAM row: two streams of one bank never share an open
+    row (at full size, a 416-byte stride, rows up to 19 apart may); ``banks``: the banks the layout spreads the
+    buffers over (1: all in bank 0)."""
     rows: int = 6
     frames: int = 3
     blank_lines: int = 2
@@ -247,6 +257,7 @@ class WorstCase:
     camera_gap: int = CAMERA_GAP
     mig_fifo_depth: int = MIG.AF_DEPTH
     stride: int = DRAM_ROW_BYTES
+    banks: int = MIG.BANKS
 
     @property
     def geometry(self):
@@ -254,7 +265,8 @@ class WorstCase:
 
     @property
     def layout(self):
-        return FrameStoreLayout(width=self.geometry.buf_width, height=self.rows, stride=self.stride)
+        return FrameStoreLayout(width=self.geometry.buf_width, height=self.rows, stride=self.stride,
+                                banks=self.banks)
 
     @property
     def streams(self):
@@ -279,6 +291,10 @@ class WorstCaseResult:
     efficiency: float           # (read words + written words) / clk0 clocks at MIG's user interface
     refreshes: int
     clocks: int = 0
+    display_need_mbps: float = 0.0      # what each display stream needs: its rows over the frame's lines
+    display_peak_mbps: float = 0.0      # ... on a line that shows a row: a row a line
+    camera_need_mbps: float = 0.0       # what each camera writes at its rate
+    engine_need_mbps: float = 0.0       # the design's engine: every row once per map, a map per display frame
 
     @property
     def least_slack(self):
@@ -292,11 +308,20 @@ class WorstCaseResult:
             f"display streams: refused reads {self.missed}, rows late {self.late}; least slack "
             f"{[None if c is None else round(c / pix * 1e6, 2) for c in self.slack_clocks]} us "
             f"({self.least_slack / self.line_clocks:.0%} of a line); fewest rows landed ahead {self.lead_rows}",
-            f"DDR2 MB/s: display {[round(x, 1) for x in self.display_mbps]}, engine "
-            f"{[round(x, 1) for x in self.engine_mbps]}, cameras (writes) {[round(x, 1) for x in self.camera_mbps]}",
-            f"efficiency (data clocks / clocks): {self.efficiency:.1%}; MIG violations: none",
+            "DDR2 bandwidth per stream, MB/s needed -> delivered:",
+            f"  display (read) {self.display_need_mbps:.1f} ({self.display_peak_mbps:.1f} on a line showing a row) "
+            f"-> {_rounded(self.display_mbps)}",
+            f"  cameras (write) {self.camera_need_mbps:.1f} -> {_rounded(self.camera_mbps)}",
+            f"  engine (read) {self.engine_need_mbps:.1f} (a full-size map per display frame; here as fast as "
+            f"granted) -> {_rounded(self.engine_mbps)}",
+            f"all streams {self.efficiency * PEAK_MBPS:.0f} MB/s of the interface's {PEAK_MBPS:.0f}: efficiency "
+            f"(data clocks / clocks) {self.efficiency:.1%}; MIG violations: none",
         ]
         return "\n".join(lines)
+
+
+def _rounded(rates):
+    return [round(x, 1) for x in rates]
 
 
 def _design(case):
@@ -305,7 +330,7 @@ def _design(case):
     lay, g = case.layout, case.geometry
     m.submodules.store = store = FrameStore(lay, g, streams=case.streams, slots=case.slots)
     depth = case.mig_fifo_depth
-    mig = MIGModel(af_depth=depth, wdf_depth=min(depth, MIG.WDF_DEPTH), window_base=0, window_words=lay.end,
+    mig = MIGModel(af_depth=depth, wdf_depth=min(depth, MIG.WDF_DEPTH), **layout_window(lay),
                    init_clocks=40, latency_range=case.latency_range)
     m.submodules.mig = DomainRenamer("mem")(mig)
     wiring.connect(m, store.mig, mig.user)
@@ -396,7 +421,14 @@ def _result(case, line, marks):
     counts, display = marks["counts"], marks["display"]
     seconds = counts["clocks"] / MIG.CLK0_HZ
     row_bytes = case.layout.bursts_per_row * BURST_BYTES
+    line_s = line / CLOCKS.PIXEL_HZ
+    camera_s = camera_frame_clocks(case.geometry, case.camera_gap) / CLOCKS.CAM_PCLK_HZ
+    full_row_bytes = FrameStoreLayout(width=SENSOR.buf_width, height=SENSOR.buf_height).bursts_per_row * BURST_BYTES
     return WorstCaseResult(
+        display_need_mbps=case.rows * row_bytes / ((case.blank_lines + case.rows) * line_s) / 1e6,
+        display_peak_mbps=row_bytes / line_s / 1e6,
+        camera_need_mbps=case.rows * row_bytes / camera_s / 1e6,
+        engine_need_mbps=SENSOR.buf_height * full_row_bytes * CEA_1080P60.frame_hz / 1e6,
         seconds=seconds, line_clocks=line, missed=[d["missed"] for d in display], late=[d["late"] for d in display],
         slack_clocks=[_measured(d["least_slack"], 32) for d in display],
         lead_rows=[_measured(d["least_lead"], 8) for d in display],

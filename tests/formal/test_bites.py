@@ -37,6 +37,8 @@ from sim.formal.harnesses.frame_pairing import FramePairingHarness
 from sim.formal.harnesses.frame_store import FrameStoreOwnershipHarness
 from sim.formal.harnesses.frame_store_credits import DEPTH as CREDIT_DEPTH, LAYOUT as CREDIT_LAYOUT, FrameStoreCreditsHarness
 from hdl.frame_store.row_fetcher import RowFetcher
+from sim.formal.harnesses.frame_store_packer import (GEOMETRY as PACKER_GEOMETRY, LAYOUT as PACKER_LAYOUT,
+                                                     FrameStorePackerHarness)
 from sim.formal.harnesses.frame_store_writer import CAMERA as WRITER_CAMERA, LAYOUT as WRITER_LAYOUT, FrameStoreWriterHarness
 from hdl.frame_store.burst_writer import BurstWriter
 from hdl.frame_store.ownership import BufferOwnership
@@ -44,6 +46,7 @@ from sim.formal.harnesses.segment_band import SegmentBandHarness
 from sim.formal.harnesses.switches import SwitchControlHarness
 from sim.formal.harnesses.sync_gen import SyncGeneratorHarness
 from sim.formal.harnesses.vertical_offset import VerticalOffsetHarness
+from hdl.frame_store.burst_packer import BurstPacker
 from hdl.vertical_offset import VerticalOffsetEstimator
 
 
@@ -244,6 +247,12 @@ class WriterToldEveryFrameIsWhole(FrameStoreWriterHarness):
         m.d.comb += dut.entries.data.ok.eq(1)
 
 
+class PackerForShorterRows(FrameStorePackerHarness):
+    """The packer built for rows a pixel shorter than the frames are: a row one pixel short looks whole to it."""
+    def dut(self):
+        return BurstPacker(dataclasses.replace(PACKER_LAYOUT, width=PACKER_LAYOUT.width - 1), PACKER_GEOMETRY)
+
+
 BITES = {
     "sync_gen": (SyncPulseTooWide, "hsync_window_and_polarity"),
     "switches": (SwitchesLoadAnyTime, "_changes_only_after_frame_start"),
@@ -272,6 +281,7 @@ BITES = {
     "frame_store_credits": (FetcherCountsADeeperFifo, "room"),
     "frame_store_writer": (WriterWithLongerRows, "write_inside_the_owned_buffer"),
     "frame_store_writer_complete": (WriterToldEveryFrameIsWhole, "complete_only_after_exactly_the_frame_s_bursts"),
+    "frame_store_packer": (PackerForShorterRows, "end_ok_only_for_a_frame_of_whole_rows"),
     "depth_pass_counter": (DepthMapWrappingPassCounter, "rows_ready_counts_finished_passes"),
 }
 

@@ -22,9 +22,11 @@ module              what
 from .harness import draw_latency, watch_violations
 from .memory_window import STORAGE_MODULE, STORAGE_VERILOG
 from .mig_top import LATENCY_PLUSARG, mig_top_verilog
-from .model import AF_SLACK, DATA_GRACE, DEFAULT_WINDOW_WORDS, WDF_SLACK, INIT_CLOCKS, READ_LATENCY_RANGE, MIGModel, memory_words
+from .model import (AF_SLACK, DATA_GRACE, DEFAULT_WINDOW_WORDS, INIT_CLOCKS, READ_LATENCY_RANGE, WDF_SLACK, MIGModel,
+                    layout_window, memory_words)
 from .violations import MESSAGES, MIGProtocolViolation, Violation, violation_message
 
-__all__ = ["MIGModel", "memory_words", "READ_LATENCY_RANGE", "AF_SLACK", "WDF_SLACK", "INIT_CLOCKS", "DATA_GRACE", "DEFAULT_WINDOW_WORDS", "Violation",
-           "MESSAGES", "STORAGE_MODULE", "STORAGE_VERILOG",
-           "mig_top_verilog", "LATENCY_PLUSARG", "violation_message", "MIGProtocolViolation", "draw_latency", "watch_violations"]
+__all__ = ["MIGModel", "memory_words", "layout_window", "READ_LATENCY_RANGE", "AF_SLACK", "WDF_SLACK", "INIT_CLOCKS",
+           "DATA_GRACE", "DEFAULT_WINDOW_WORDS", "Violation", "MESSAGES", "STORAGE_MODULE", "STORAGE_VERILOG",
+           "mig_top_verilog", "LATENCY_PLUSARG", "violation_message", "MIGProtocolViolation", "draw_latency",
+           "watch_violations"]

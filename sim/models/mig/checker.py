@@ -7,6 +7,7 @@ from amaranth.lib.wiring import In, Out, Signature
 
 from spec.memory import MIG
 
+from .memory_window import window_index
 from .violations import Violation, ViolationSignature
 
 __all__ = ["ProtocolChecker"]
@@ -32,8 +33,8 @@ class ProtocolChecker(wiring.Component):
     ----------
     addr_width : int
         ``app_af_addr``'s width.
-    window_base, window_words : int
-        The model's memory window (64-bit words).
+    window_base, window_words, window_banks : int
+        The model's memory window (64-bit words; :class:`~sim.models.mig.memory_window.MemoryWindow`).
     af_slack, wdf_slack : int
         Clocks of almost full in which a write is still allowed.
     latency_range : (int, int)
@@ -54,11 +55,11 @@ class ProtocolChecker(wiring.Component):
     Clock domain ``sync`` (clk0).
     """
 
-    def __init__(self, *, addr_width=MIG.ADDR_WIDTH, window_base=0, window_words=MIG.MEMORY_WORDS,
+    def __init__(self, *, addr_width=MIG.ADDR_WIDTH, window_base=0, window_words=MIG.MEMORY_WORDS, window_banks=1,
                  af_slack=MIG.AFULL_OFFSET, wdf_slack=MIG.AFULL_OFFSET - MIG.WDF_AFULL_ASSERT_CLK,
                  latency_range=(16, 32), wdf_depth=MIG.WDF_DEPTH, latency_bits=6):
         self._addr_width = addr_width
-        self._window = (window_base, window_base + window_words)
+        self._window = (window_base, window_words, window_banks)
         self._slacks, self._latency_range, self._wdf_depth = (af_slack, wdf_slack), latency_range, wdf_depth
         super().__init__({
             "init_done": In(1),
@@ -91,9 +92,7 @@ class ProtocolChecker(wiring.Component):
         cmd, addr, wren = self.command.cmd, self.command.addr, self.command.wren
         known = (cmd == MIG.CMD_WRITE) | (cmd == MIG.CMD_READ)
         in_part = addr < MIG.MEMORY_WORDS
-        in_window = addr < self._window[1]
-        if self._window[0]:                             # (no constant comparison: a Verilator warning)
-            in_window &= addr >= self._window[0]
+        in_window, _ = window_index(addr, *self._window)
         init_prev = Signal()
         m.d.sync += init_prev.eq(self.init_done)
         lo, hi = self._latency_range

@@ -7,7 +7,8 @@ from amaranth.lib.wiring import In, Out
 
 from spec.memory import MIG
 
-__all__ = ["MemoryWindow", "MemoryPortsSignature", "check_window", "STORAGE_MODULE", "STORAGE_VERILOG"]
+__all__ = ["MemoryWindow", "MemoryPortsSignature", "check_window", "window_index", "STORAGE_MODULE",
+           "STORAGE_VERILOG"]
 
 #: The Verilog module of the compiled backends' storage (``storage="verilog"``): the same array as the Amaranth
 #: Memory of ``storage="memory"`` -- zeros at start, a read word one clock after its address (the old word when
@@ -46,24 +47,61 @@ def check_storage(storage):
         raise ValueError(f"storage {storage!r}: must be 'memory' or 'verilog'")
 
 
-def check_window(base, words):
+def check_window(base, words, banks=1):
     """Raise ``ValueError`` unless the window ``base`` .. ``base + words - 1`` (64-bit memory words) is
-    burst-aligned, non-empty and within the part."""
+    burst-aligned, non-empty and within the part, and, over ``banks`` > 1 banks, within a bank (1 .. 4)."""
     if base % MIG.BURST_LENGTH or words % MIG.BURST_LENGTH or words <= 0 \
             or base < 0 or base + words > MIG.MEMORY_WORDS:
         raise ValueError(f"memory window {base}+{words} words: must be burst-aligned, non-empty and within "
                          f"the part's {MIG.MEMORY_WORDS} words")
+    if not 1 <= banks <= MIG.BANKS or (banks > 1 and base + words > MIG.BANK_WORDS):
+        raise ValueError(f"memory window {base}+{words} words in {banks} banks: 1 .. {MIG.BANKS} banks, a window "
+                         f"of several within a bank's {MIG.BANK_WORDS} words")
 
 
-def check_init(base, words, storage, init):
+def in_window(address, base, words, banks=1):
+    """Whether memory word ``address`` lies in the window (Python integers)."""
+    if banks == 1:
+        return base <= address < base + words
+    bank, offset = divmod(address, MIG.BANK_WORDS)
+    return bank < banks and base <= offset < base + words
+
+
+def window_index(addr, base, words, banks=1):
+    """Gateware: whether the address ``addr`` (a value) lies in the window -- ``base`` .. ``base + words - 1``,
+    or with ``banks`` > 1 the same words of each of banks 0 .. ``banks - 1`` -- and its user word's index in a
+    storage of ``banks * words // 2`` user words (the banks' windows one after another)."""
+    if banks == 1:
+        inside = addr < base + words
+        if base:                                        # (no constant comparison: a Verilator warning)
+            inside &= addr >= base
+        return inside, (addr - base)[1:]
+    bank_bits = (MIG.BANK_WORDS - 1).bit_length()
+    offset, bank = addr[:bank_bits], addr[bank_bits:]
+    inside = (bank < banks) & (offset < base + words)
+    if base:
+        inside &= offset >= base
+    return inside, bank * (words // 2) + (offset - base)[1:]
+
+
+def check_init(base, words, storage, init, banks=1):
     """Initial contents (memory word address -> value) as a dict; ``ValueError`` for a word outside the window
-    ``base`` .. ``base + words - 1`` or contents with a storage other than ``"memory"``."""
+    or contents with a storage other than ``"memory"``."""
     init = dict(init or {})
     if init and storage != "memory":
         raise ValueError("initial contents need the \"memory\" storage")
-    if any(not base <= a < base + words for a in init):
-        raise ValueError(f"initial contents outside the window {base}+{words}")
+    if any(not in_window(a, base, words, banks) for a in init):
+        raise ValueError(f"initial contents outside the window {base}+{words} ({banks} banks)")
     return init
+
+
+def storage_index(address, base, words, banks=1):
+    """The storage index of memory word ``address`` in the window (Python integers): its user word's index
+    times 2, plus 1 for the falling-edge half."""
+    if banks == 1:
+        return address - base
+    bank, offset = divmod(address, MIG.BANK_WORDS)
+    return bank * words + offset - base
 
 
 class MemoryPortsSignature(wiring.Signature):
@@ -77,15 +115,20 @@ class MemoryPortsSignature(wiring.Signature):
 
 
 class MemoryWindow(wiring.Component):
-    """The memory words ``base`` .. ``base + words - 1`` (64-bit words, ``app_af_addr``'s unit) as 128-bit user
-    words, each stored as it is written and read: {the falling-edge 64 bits, the rising-edge 64 bits}. User word
-    ``i`` of the burst at ``addr`` covers memory words ``addr + 2 i`` (rise) and ``addr + 2 i + 1`` (fall).
-    Contents start at 0 (the board's DRAM holds garbage after a reset), or with ``"memory"`` storage at ``init``.
+    """The memory words ``base`` .. ``base + words - 1`` (64-bit words, ``app_af_addr``'s unit) -- with
+    ``banks`` > 1 those words of each of banks 0 .. ``banks - 1`` (bank ``k`` is the ``MIG.BANK_WORDS`` words from
+    ``k * MIG.BANK_WORDS``), for a design that spreads its buffers over the banks -- as 128-bit user words, each
+    stored as it is written and read: {the falling-edge 64 bits, the rising-edge 64 bits}. User word ``i`` of the
+    burst at ``addr`` covers memory words ``addr + 2 i`` (rise) and ``addr + 2 i + 1`` (fall). Contents start at 0
+    (the board's DRAM holds garbage after a reset), or with ``"memory"`` storage at ``init``.
 
     Parameters
     ----------
     base, words : int
         The window, in 64-bit memory words; both multiples of the burst (4).
+    banks : int
+        1: the window is ``base`` .. ``base + words - 1`` of the part; 2 .. 4: the same words within each of the
+        first ``banks`` banks (then within a bank).
     addr_width, data_width : int
         ``app_af_addr``'s and a user word's widths.
     storage : str
@@ -112,25 +155,22 @@ class MemoryWindow(wiring.Component):
         ``storage``; ``init`` outside the window or with ``"verilog"`` storage.
     """
 
-    def __init__(self, *, base, words, addr_width=MIG.ADDR_WIDTH, data_width=MIG.DATA_WIDTH, storage="memory",
-                 init=None):
-        check_window(base, words)
+    def __init__(self, *, base, words, banks=1, addr_width=MIG.ADDR_WIDTH, data_width=MIG.DATA_WIDTH,
+                 storage="memory", init=None):
+        check_window(base, words, banks)
         check_storage(storage)
-        self._init = check_init(base, words, storage, init)
-        self._base, self._words, self._storage = base, words, storage
+        self._init = check_init(base, words, storage, init, banks)
+        self._base, self._words, self._banks, self._storage = base, words, banks, storage
         self._data_width = data_width
         super().__init__({"port": In(MemoryPortsSignature(addr_width, data_width))})
 
     def _index(self, addr):
         """Whether ``addr`` is in the window, and its user word's index in the storage."""
-        inside = addr < self._base + self._words
-        if self._base:                                  # (no constant comparison: a Verilator warning)
-            inside &= addr >= self._base
-        return inside, (addr - self._base)[1:]
+        return window_index(addr, self._base, self._words, self._banks)
 
     def elaborate(self, platform):
         m = Module()
-        depth, width = self._words // 2, self._data_width
+        depth, width = self._banks * self._words // 2, self._data_width
         port = self.port
         w_inside, w_index = self._index(port.waddr)
         r_inside, r_index = self._index(port.raddr)
@@ -147,8 +187,8 @@ class MemoryWindow(wiring.Component):
             half = width // 2                           # a user word: {fall (odd word), rise (even word)}
             init = [0] * depth
             for addr, value in self._init.items():
-                i = (addr - self._base) >> 1
-                init[i] |= value << (half * ((addr - self._base) & 1))
+                i = storage_index(addr, self._base, self._words, self._banks)
+                init[i >> 1] |= value << (half * (i & 1))
             m.submodules.storage = storage = Memory(shape=width, depth=depth, init=init)
             write, read = storage.write_port(granularity=8), storage.read_port()
             m.d.comb += [write.addr.eq(waddr), write.data.eq(port.wdata), write.en.eq(wen),

@@ -14,8 +14,8 @@ from .read_return import ReadReturn
 from .user_fifo import UserFifo
 from .violations import ViolationSignature
 
-__all__ = ["MIGModel", "memory_words", "READ_LATENCY_RANGE", "INIT_CLOCKS", "DATA_GRACE", "DEFAULT_WINDOW_WORDS", "AF_SLACK",
-           "WDF_SLACK"]
+__all__ = ["MIGModel", "memory_words", "layout_window", "READ_LATENCY_RANGE", "INIT_CLOCKS", "DATA_GRACE",
+           "DEFAULT_WINDOW_WORDS", "AF_SLACK", "WDF_SLACK"]
 
 #: The read latency's range in clk0 (docs/memory.md, "The read latency"): a read written into an idle controller
 #: whose row is open returns its first word this many clocks later, drawn per run within the range.
@@ -65,6 +65,9 @@ class MIGModel(wiring.Component):
         The FIFOs' depths (MIG: 1024 and 512); powers of 2 above ``MIG.AFULL_OFFSET`` + 1.
     window_base, window_words : int
         The memory window, in 64-bit memory words (burst-aligned).
+    window_banks : int
+        1: the window is ``window_base`` .. ``window_base + window_words - 1``; 2 .. 4: those words of each of the
+        first ``window_banks`` banks (:class:`MemoryWindow`), for a design whose buffers lie in several banks.
     init_clocks : int
         Clocks from reset to ``phy_init_done``.
     latency_range : (int, int)
@@ -111,15 +114,15 @@ class MIGModel(wiring.Component):
     """
 
     def __init__(self, *, af_depth=MIG.AF_DEPTH, wdf_depth=MIG.WDF_DEPTH, window_base=0,
-                 window_words=DEFAULT_WINDOW_WORDS, init_clocks=INIT_CLOCKS, latency_range=READ_LATENCY_RANGE,
-                 af_slack=AF_SLACK, wdf_slack=WDF_SLACK, data_grace=DATA_GRACE, trefi=MIG.TREFI_CLK, trfc=MIG.TRFC_CLK,
-                 storage="memory", init=None):
+                 window_words=DEFAULT_WINDOW_WORDS, window_banks=1, init_clocks=INIT_CLOCKS,
+                 latency_range=READ_LATENCY_RANGE, af_slack=AF_SLACK, wdf_slack=WDF_SLACK, data_grace=DATA_GRACE,
+                 trefi=MIG.TREFI_CLK, trfc=MIG.TRFC_CLK, storage="memory", init=None):
         _check(af_depth, wdf_depth, latency_range, (af_slack, wdf_slack), init_clocks, data_grace)
-        check_window(window_base, window_words)
+        check_window(window_base, window_words, window_banks)
         check_storage(storage)
-        self.storage, self.init = storage, check_init(window_base, window_words, storage, init)
+        self.storage, self.init = storage, check_init(window_base, window_words, storage, init, window_banks)
         self.af_depth, self.wdf_depth = af_depth, wdf_depth
-        self.window_base, self.window_words = window_base, window_words
+        self.window_base, self.window_words, self.window_banks = window_base, window_words, window_banks
         self.init_clocks, self.latency_range = init_clocks, tuple(latency_range)
         self.af_slack, self.wdf_slack, self.data_grace = af_slack, wdf_slack, data_grace
         self.trefi, self.trfc = trefi, trfc
@@ -153,10 +156,10 @@ class MIGModel(wiring.Component):
         m.submodules.controller = ctrl = Controller(
             latency_bits=self._latency_bits, data_grace=self.data_grace, trefi=self.trefi, trfc=self.trfc)
         m.submodules.memory = memory = MemoryWindow(base=self.window_base, words=self.window_words,
-                                                    storage=self.storage, init=self.init)
+                                                    banks=self.window_banks, storage=self.storage, init=self.init)
         m.submodules.read_return = ret = ReadReturn(depth=1 << (self.latency_range[1] + 4).bit_length())
         m.submodules.checker = checker = ProtocolChecker(
-            window_base=self.window_base, window_words=self.window_words,
+            window_base=self.window_base, window_words=self.window_words, window_banks=self.window_banks,
             af_slack=self.af_slack, wdf_slack=self.wdf_slack,
             latency_range=self.latency_range, wdf_depth=self.wdf_depth, latency_bits=self._latency_bits)
 
@@ -182,6 +185,12 @@ class MIGModel(wiring.Component):
         m.d.comb += [checker.command.cmd.eq(user.command.cmd), checker.command.addr.eq(user.command.addr),
                      checker.command.wren.eq(user.command.wren)]
         return m
+
+
+def layout_window(layout):
+    """``MIGModel``'s window keywords for a frame store's buffers (:class:`hdl.frame_store.layout.FrameStoreLayout`:
+    the same words from ``base`` in each bank it uses)."""
+    return dict(window_base=layout.base, window_words=layout.bank_words, window_banks=layout.banks_used)
 
 
 def memory_words(contents):

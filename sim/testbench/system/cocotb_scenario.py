@@ -232,6 +232,8 @@ class _Run:
             self.sink = await self.route.display_frames(ports, setup, self.frames, keep, self.settings)
         self.status["violations"] = [str(v) for v in self.sink.violations]
         self.status["leds"] = int(ports.panel.leds.value)
+        if setup.memory == "ddr2":                 # display reads the frame store refused (hdl/system.py)
+            self.status["display_missed"] = int(ports.display_missed.value)
         self.status["drive_high"] = {b: bool(int(getattr(ports.bus, b).drive_high.value)) for b in I2C_BUSES}
         self.status["t_end_s"] = _now_s()
         self.status["wall_s"] = time.perf_counter() - self.wall0

@@ -282,8 +282,11 @@ class AmaranthRun:
 
     def panel(self):
         ctx, top = self.ctx, self.top
-        return {"leds": ctx.get(top.panel.leds),
-                "drive_high": {b: bool(ctx.get(getattr(top.bus, b).drive_high)) for b in I2C_BUSES}}
+        out = {"leds": ctx.get(top.panel.leds),
+               "drive_high": {b: bool(ctx.get(getattr(top.bus, b).drive_high)) for b in I2C_BUSES}}
+        if "display_missed" in top.signature.members:     # the DDR2 build: display reads the frame store refused
+            out["display_missed"] = ctx.get(top.display_missed)
+        return out
 
     def progress(self, stage):
         self.report(stage, 1.0 if stage == "done" else min(0.999, self.now() / self.setup.expected_sim_time_s()))

@@ -326,7 +326,10 @@ class VerilatorRun:
 
     def panel(self):
         h = self.h
-        return {"leds": h[("panel", "leds")], "drive_high": {b: bool(h[("bus", b, "drive_high")]) for b in I2C_BUSES}}
+        out = {"leds": h[("panel", "leds")], "drive_high": {b: bool(h[("bus", b, "drive_high")]) for b in I2C_BUSES}}
+        if self.ddr2:                               # display reads the frame store refused (hdl/system.py)
+            out["display_missed"] = h[("display_missed",)]
+        return out
 
     def progress(self, stage):
         self.stage = stage

@@ -28,7 +28,7 @@ from amaranth.lib.wiring import In, Out
 from sim.models.clocking import SimClocking
 from hdl.system import CAMERAS, I2C_BUSES, StereoDepthSystem, SystemParameters
 from sim.models.i2c.bus import OpenDrainBus, ResolvedBusSignature
-from sim.models.mig import READ_LATENCY_RANGE, STORAGE_VERILOG, MIGModel
+from sim.models.mig import READ_LATENCY_RANGE, STORAGE_VERILOG, MIGModel, layout_window
 from sim.models.mig.violations import ViolationSignature
 
 __all__ = ["SystemTestbench", "bench_members", "pass_through", "domains_of", "export_text", "DOMAINS",
@@ -176,7 +176,7 @@ class SystemTestbench(wiring.Component):
         """The MIG model on the system's ``mig`` port, in ``mem``, reset with the clocking model's domains."""
         layout = self.params.store_layout
         m.submodules.mem_reset = ResetSynchronizer(self.button | ~clocking.locked, domain="mem")
-        mig = MIGModel(window_base=layout.base, window_words=layout.end - layout.base, storage=self.mig_storage)
+        mig = MIGModel(**layout_window(layout), storage=self.mig_storage)
         m.submodules.mig = DomainRenamer("mem")(mig)
         wiring.connect(m, system.mig, mig.user)
         wiring.connect(m, wiring.flipped(self.memory.violation), mig.violation)
