@@ -79,10 +79,6 @@ def add_arguments(parser):
                              "automatic rectification; docs/display.md)")
     parser.add_argument("--simulator", choices=SIMULATORS, default="verilator",
                         help="verilator (default), icarus, or amaranth (hours at full size; quick with --small)")
-    parser.add_argument("--memory", choices=("bram", "ddr2"), default="bram",
-                        help="where the camera frames are: bram (default, the thesis's block-RAM buffers) or ddr2 "
-                             "(the frame store behind MIG, simulated with the MIG model; --simulator amaranth "
-                             "--small)")
     parser.add_argument("--out", type=Path, default=Path("build/run"), help="output directory (build/run)")
     parser.add_argument("--small", action="store_true",
                         help="small configuration: 64x48 sensors, 112x52 display (fast; for a quick look)")
