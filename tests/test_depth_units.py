@@ -129,7 +129,7 @@ def test_horizontal_path_line(data):
 
     simulate(dut, clocks={"sync": 1e8}, testbenches=[bench])
     parts = [cost[:, None, :restart], cost[:, None, restart:]] if restart else [cost[:, None, :]]
-    expected = np.concatenate([path_cost(part, "horizontal", cfg)[:, 0] for part in parts], axis=1)
+    expected = np.concatenate([path_cost(part, "left_to_right", cfg)[:, 0] for part in parts], axis=1)
     assert (got == expected).all()
 
 
@@ -144,7 +144,7 @@ def run_winner(cfg, lh, lv, x=7):
             if i < groups:
                 ctx.set(dut.token, token(i, i == groups - 1, x=x))
                 for k in range(cfg.lanes):
-                    ctx.set(dut.horizontal[k], lh[i * cfg.lanes + k])
+                    ctx.set(dut.paths["left_to_right"][k], lh[i * cfg.lanes + k])
                     ctx.set(dut.vertical[k], lv[i * cfg.lanes + k])
             else:
                 ctx.set(dut.token, token(0, 0, go=0))
