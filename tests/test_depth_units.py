@@ -144,7 +144,7 @@ def run_winner(cfg, lh, lv, x=7):
             if i < groups:
                 ctx.set(dut.token, token(i, i == groups - 1, x=x))
                 for k in range(cfg.lanes):
-                    ctx.set(dut.paths["left_to_right"][k], lh[i * cfg.lanes + k])
+                    ctx.set(dut.horizontal[k], lh[i * cfg.lanes + k])
                     ctx.set(dut.vertical[k], lv[i * cfg.lanes + k])
             else:
                 ctx.set(dut.token, token(0, 0, go=0))
