@@ -9,7 +9,7 @@ only. Beside each, OpenCV's StereoSGBM in its full 8-path mode (``STEREO_SGBM_MO
 
 Figures at the buffers, over every pixel with a ground truth, an invalid pixel counted bad, errors in 400-pixel
 units (an 800 x 600 map's disparities halved) so that the builds compare on one scale: bad > 0.5 / 1 / 2 and the
-density. The goals (issue: motorcycle bad > 0.5 <= 17 %, bad > 1 <= 13.5 %, bad > 2 <= 11 %, density >= 97 %) are
+density. The goals (motorcycle bad > 0.5 <= 17 %, bad > 1 <= 13.5 %, bad > 2 <= 11 %, density >= 97 %) are
 checked for the 800 x 600 build.
 """
 
@@ -41,7 +41,7 @@ class Build:
 
 BUILDS = (Build("thesis: 400 x 300, 5-bit, one pixel kept; D 64, 2 paths", SENSOR, DEPTH),
           Build("800 x 600, 8-bit 2 x 2 mean; D 128, 3 paths", SENSOR_800, DEPTH_800))
-#: The issue's goals for the motorcycle: (bad > 0.5, bad > 1, bad > 2) at most, density at least (fractions).
+#: The 800 x 600 build's goals, motorcycle: (bad > 0.5, bad > 1, bad > 2) at most, density at least (fractions).
 GOALS = ((0.17, 0.135, 0.11), 0.97)
 
 
