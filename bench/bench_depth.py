@@ -14,6 +14,11 @@ the same buffers shifted to 8 bits, all with the right image as reference (OpenC
 Motorcycle ground truth: the right view made from Middlebury's left map (sim/analysis/truth.py), and, to compare
 with the probe of the engine's goals, the mirrored pair against Middlebury's own left map ("left view").
 
+First section (bench/depth_builds.py): the thesis build against the 800 x 600 build (8-bit 2 x 2 averaged buffers,
+128 disparities, 3 paths; golden model only), with OpenCV's StereoSGBM in its full 8-path mode on the same buffers,
+errors in 400-pixel units, the goals checked; when they are not met, the 800 x 600 build's lever table
+(bench_depth_levers.levers_800: a fourth path, the confidence threshold). Then the thesis build in detail.
+
 Writes build/bench/depth.md and build/bench/depth_motorcycle.png (right image, ground truth, the four maps;
 one colour scale with a legend; invalid / unknown in grey). Run: ``python -m bench depth``.
 """
@@ -184,7 +189,9 @@ def main():
     t = min(_timed(lambda: depth_map(left, right, DEPTH)) for _ in range(3))
     plan = schedule(SENSOR, DEPTH)
     per_map = 4 * SENSOR.buf_width + (SENSOR.buf_height + 1) * (plan.pass_clocks + 3) + tag_delay(DEPTH)
-    lines = ["## Depth engine (census 7x7, SGM horizontal + vertical, P1 16, P2 96, WTA, equiangular 1/16 pixel, "
+    lines = ["## Depth engine: the two builds", ""]
+    lines += builds_section()
+    lines += ["## Depth engine (census 7x7, SGM horizontal + vertical, P1 16, P2 96, WTA, equiangular 1/16 pixel, "
              f"uniqueness {DEPTH.uniqueness}, 3x3 median)", "",
              f"golden model, full 400 x 300 map: {t:.2f} s (best of 3)",
              f"RTL schedule: {plan.steps} steps x {plan.step_clocks} clocks + {plan.drain_clocks} per row pass = "
@@ -210,6 +217,19 @@ def main():
     text = "\n".join(lines)
     print(text)
     (OUT_DIR / "depth.md").write_text(text + "\n")
+
+
+def builds_section():
+    """The builds table, the goals, and the lever table when the goals are not met."""
+    from bench.bench_depth_levers import levers_800
+    from bench.depth_builds import BUILDS, builds_table, goal_lines, pairs
+    pairs_of_build = {build: pairs(build) for build in BUILDS}
+    lines, results = builds_table(pairs_of_build)
+    goals, met = goal_lines(results)
+    lines += goals
+    if not met:
+        lines += levers_800(pairs_of_build[BUILDS[1]])
+    return lines
 
 
 def _timed(fn):

@@ -13,7 +13,8 @@ Levers:
   the median): uniqueness (second-best S away from d* +- 1 against S*), the cost curve's sharpness
   (min(a, c) - b, free with the sub-pixel stage's inputs), a left-right check (a second, left-referenced map);
   bad > 2 among the valid pixels against density at a few thresholds;
-* penalties P1 / P2.
+* penalties P1 / P2;
+* for the 800 x 600 build (``DEPTH_800``, :func:`levers_800`): a fourth path and the confidence threshold.
 
 Figures: bad > 0.5 / 1 / 2 px over every pixel with a truth (invalid counts bad), mean absolute error of the
 valid pixels, density. Run: ``python -m bench depth_levers``; writes build/bench/depth_levers.md.
@@ -98,10 +99,7 @@ def among_valid(disparity, valid, truth):
 
 
 def paths(cost, config):
-    h = path_cost(cost, "horizontal", config)
-    v = path_cost(cost, "vertical", config)
-    rl = path_cost(cost[:, :, ::-1], "horizontal", config)[:, :, ::-1]
-    return h, v, rl
+    return tuple(path_cost(cost, p, config) for p in ("left_to_right", "top_to_bottom", "right_to_left"))
 
 
 def second_best(total, d):
@@ -141,7 +139,7 @@ def study(name, left, right, truth, lines):
     lines.append(row("3 paths + parabola", *finish(d3, valid3, offset(total3, d3, "parabola")), truth))
     for p1, p2 in ((8, 64), (16, 64), (16, 128), (24, 96), (32, 128)):
         pc = DEPTH.__class__(**{**DEPTH.__dict__, "p1": p1, "p2": p2})
-        hp, vp = path_cost(cost, "horizontal", pc), path_cost(cost, "vertical", pc)
+        hp, vp = path_cost(cost, "left_to_right", pc), path_cost(cost, "top_to_bottom", pc)
         dp, _, validp = _winner(hp + vp, config.max_cost)
         lines.append(row(f"P1 {p1} / P2 {p2} (integer)", *finish(dp, validp), truth))
     lines.append("")
@@ -195,6 +193,7 @@ def main():
     for name, left, right, truth in pairs():
         study(name, left, right, truth, lines)
     lines += costs()
+    lines += levers_800()
     text = "\n".join(lines)
     print(text)
     OUT_DIR.mkdir(parents=True, exist_ok=True)
@@ -203,3 +202,47 @@ def main():
 
 if __name__ == "__main__":
     main()
+
+
+# --- The 800 x 600 build's levers (bench depth prints them when its goals are not met) --------------------------
+
+def levers_800(build_pairs=None):
+    """Lines of a table: the 800 x 600 build (``DEPTH_800``) and one lever changed at a time, each through the golden
+    model's own stages (golden.depth: paths, winner with its fit and confidence, median), on every pair of bench
+    depth, errors in 400-pixel units, invalid counted bad. Levers: a fourth path (either diagonal from above, the
+    paths a row-by-row engine can add; ``max_cost`` kept at 60 per path) and the confidence threshold
+    (``uniqueness`` k < 64)."""
+    import dataclasses
+    from bench.depth_builds import BUILDS, pairs as build_pairs_of
+    from golden.depth import winner
+    from spec.depth import DEPTH_800, PATH_STEPS, THREE_PATHS
+    build = BUILDS[1]
+    per_path = DEPTH_800.max_cost // len(DEPTH_800.paths)
+    variants = [("built: 3 paths, k = 64 (off)", DEPTH_800)]
+    for extra in ("top_left_to_bottom_right", "top_right_to_bottom_left"):
+        paths4 = THREE_PATHS + (extra,)
+        variants.append((f"+ fourth path {extra.replace('_', ' ')}",
+                         dataclasses.replace(DEPTH_800, paths=paths4, max_cost=per_path * len(paths4))))
+    variants += [(f"3 paths, uniqueness k = {k}", dataclasses.replace(DEPTH_800, uniqueness=k)) for k in (62, 60, 56)]
+    results = {name: [] for name, _ in variants}
+    pair_names = []
+    for pair_name, left, right, truth in build_pairs or build_pairs_of(build):
+        pair_names.append(pair_name)
+        cost = matching_cost(left, right, DEPTH_800)
+        needed = sorted({p for _, config in variants for p in config.paths}, key=list(PATH_STEPS).index)
+        volumes = {p: path_cost(cost, p, dataclasses.replace(DEPTH_800, paths=tuple(needed))) for p in needed}
+        del cost
+        for name, config in variants:
+            total = sum(volumes[p] for p in config.paths)
+            raw, _ = winner(total, config)
+            codes = median3x3(raw)
+            disparity = codes.astype(np.float64) / config.fraction * build.to_400
+            results[name].append(error_figures(disparity, codes != config.invalid, truth))
+        del volumes
+    lines = ["### The 800 x 600 build's levers (golden model; 400-pixel units, invalid counted bad; "
+             "bad > 0.5 / 1 / 2 %, density %)", "",
+             "| lever | " + " | ".join(pair_names) + " |", "|---|" + "---|" * len(pair_names)]
+    for name, figures in results.items():
+        cells = [f"{100 * f[0]:.1f} / {100 * f[1]:.1f} / {100 * f[2]:.1f}, {100 * f[4]:.1f}" for f in figures]
+        lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    return lines + [""]

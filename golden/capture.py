@@ -5,7 +5,11 @@ Two levels:
 * **Image level** -- :func:`capture_frame`: what a well-formed frame leaves in a frame buffer. RGB 8:8:8 is
   packed to RGB565 by truncation (:func:`rgb888_to_rgb565`), the pixel at (``scale*i``, ``scale*j``) of every
   ``scale`` x ``scale`` block is kept (:func:`downscale`), and converted to grey with
-  ``grey5 = (R5 + (G6 >> 1) + B5) // 3`` (:func:`grey5`), exact integer division.
+  ``grey5 = (R5 + (G6 >> 1) + B5) // 3`` (:func:`grey5`), exact integer division. With
+  ``geometry.downscale == "average"`` (the 800 x 600 build, docs/capture.md "The averaging capture") the buffer
+  pixel is instead the mean of the whole block, 8-bit: ``T`` = the sum of ``2 R5 + G6 + 2 B5`` over the block,
+  ``grey8 = floor((510 T + 187 s^2) / (374 s^2))`` (:func:`average_downscale`, :func:`grey8_of_sum`), rounded half
+  up.
 * **Stream level** -- :func:`capture_stream`: the spec's counting rules applied sample by sample to a
   camera's (FV, LV, D[7:0]) samples, one per PCLK rising edge, malformed streams included. It returns every
   frame-buffer write in order (address, grey), the status of every frame, and the resulting buffer. The RTL's
@@ -36,7 +40,8 @@ from pathlib import Path
 import numpy as np
 
 __all__ = [
-    "rgb888_to_rgb565", "rgb565_to_bytes", "grey5", "to_rgb565", "downscale", "capture_frame", "assemble_line",
+    "rgb888_to_rgb565", "rgb565_to_bytes", "grey5", "to_rgb565", "downscale", "grey8_of_sum", "average_downscale",
+    "capture_frame", "assemble_line",
     "FrameStatus", "StreamCapture", "capture_stream"
 ]
 
@@ -105,9 +110,39 @@ def downscale(array, geometry):
     return array[::s, ::s][:geometry.buf_height, :geometry.buf_width]
 
 
+def grey8_of_sum(total, scale):
+    """The averaging capture's 8-bit grey of a block sum ``total`` = the sum of ``2 R5 + G6 + 2 B5`` over a
+    ``scale`` x ``scale`` block: ``floor((510 T + 187 s^2) / (374 s^2))``, i.e. 255 T / (187 s^2) (the block's
+    mean grey, 0..187 per pixel, scaled to 0..255) rounded half up (docs/capture.md, "The averaging capture")."""
+    total = np.asarray(total).astype(np.int64)
+    block = scale * scale
+    if total.size and (total.min() < 0 or total.max() > 187 * block):
+        raise ValueError(f"a {scale} x {scale} block sum lies in 0..{187 * block}")
+    return ((510 * total + 187 * block) // (374 * block)).astype(np.uint8)
+
+
+def average_downscale(words, geometry):
+    """The averaging capture of RGB565 ``words`` (``(height, width)``): each buffer pixel the 8-bit mean grey of
+    its ``scale`` x ``scale`` block (:func:`grey8_of_sum`); ``(buf_height, buf_width)`` uint8."""
+    words = np.asarray(words)
+    if words.shape[:2] != (geometry.height, geometry.width):
+        raise ValueError(f"image is {words.shape[1]}x{words.shape[0]}, sensor is "
+                         f"{geometry.width}x{geometry.height}")
+    s, bh, bw = geometry.scale, geometry.buf_height, geometry.buf_width
+    r, g, b = rgb565_fields(words[:s * bh, :s * bw])
+    per_pixel = 2 * r.astype(np.int64) + g + 2 * b
+    total = per_pixel.reshape(bh, s, bw, s).sum(axis=(1, 3))
+    return grey8_of_sum(total, s)
+
+
 def capture_frame(image, geometry):
     """What one well-formed frame of ``image`` leaves in a frame buffer: uint8 ``(buf_height, buf_width)``
-    grey values of ``geometry.grey_bits`` (= 5) bits."""
+    grey values of ``geometry.grey_bits`` bits: 5 for the thesis's capture (``downscale = "keep"``), 8 for the
+    averaging one (``downscale = "average"``)."""
+    if geometry.downscale == "average":
+        if geometry.grey_bits != 8:
+            raise ValueError("the averaging capture gives 8-bit grey; geometry.grey_bits must be 8")
+        return average_downscale(to_rgb565(image), geometry)
     if geometry.grey_bits != 5:
         raise ValueError("the spec's grey conversion gives 5 bits; geometry.grey_bits must be 5")
     return grey5(downscale(to_rgb565(image), geometry)).astype(np.uint8)
@@ -152,6 +187,9 @@ def capture_stream(fv, lv, data, geometry, *, r_byte_first=True, initial=None):
     data = np.asarray(data, dtype=np.uint8).tolist()
     if not len(fv) == len(lv) == len(data):
         raise ValueError("fv, lv and data must have the same length")
+    if geometry.downscale != "keep":
+        raise ValueError("the stream-level rules are the thesis's capture (downscale 'keep'); the averaging "
+                         "capture is defined at the image level only (capture_frame)")
     s = geometry.scale
     bw, bh = geometry.buf_width, geometry.buf_height
     line_len = 2 * geometry.width

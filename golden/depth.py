@@ -8,11 +8,12 @@ disparity in 1 / 2**F pixel (F = ``fraction_bits``), or ``config.invalid`` = D 2
    the centre; window positions outside the image take the nearest image pixel (coordinates clamped).
 2. :func:`matching_cost`: C[d, y, x] = popcount(census_R(y, x) XOR census_L(y, x + d)); ``census_bits`` where
    x + d leaves the image.
-3. :func:`path_cost`: semi-global aggregation along one path (left to right along a row, or top to bottom
-   along a column): L = C + min(L'[d], L'[d - 1] + P1, L'[d + 1] + P1, M' + P2) - M', where L' is the previous
-   pixel's vector on the path and M' its minimum; before the first pixel L' = 0, M' = 0 (so L = C there).
-   0 <= L <= census_bits + P2.
-4. :func:`winner`: S = L_horizontal + L_vertical; d* = the smallest d with the smallest S; the code
+3. :func:`path_cost`: semi-global aggregation along one path of ``config.paths`` (``spec.depth.PATH_STEPS``:
+   left to right or right to left along a row, top to bottom along a column, or down a diagonal): L = C +
+   min(L'[d], L'[d - 1] + P1, L'[d + 1] + P1, M' + P2) - M', where L' is the previous pixel's vector on the path
+   and M' its minimum; before the first pixel (the previous one outside the image) L' = 0, M' = 0 (so L = C
+   there). 0 <= L <= census_bits + P2.
+4. :func:`winner`: S = the sum of the paths' L; d* = the smallest d with the smallest S; the code
    2**F d* + q in 1 / 2**F pixel, q the equiangular fit through S(d* - 1), S(d*), S(d* + 1)
    (:func:`subpixel`); invalid (code D 2**F) when that S is above ``max_cost``, d* = D - 1 (the match may
    lie beyond the search range), or 64 S* > ``uniqueness`` S2, S2 the best sum 2 or more disparities away
@@ -28,7 +29,7 @@ constants come from ``spec``.
 
 import numpy as np
 
-from spec.depth import DEPTH
+from spec.depth import DEPTH, PATH_STEPS
 
 __all__ = ["census", "matching_cost", "path_step", "path_cost", "subpixel", "second_best", "winner", "median3x3",
            "row_flags", "depth_map", "DepthResult"]
@@ -42,6 +43,9 @@ def _check_pair(left, right, config):
         raise ValueError("grey images must hold integers")
     if min(left.min(initial=0), right.min(initial=0)) < 0:
         raise ValueError("grey values must not be negative")
+    top = (1 << config.pixel_bits) - 1
+    if max(left.max(initial=0), right.max(initial=0)) > top:
+        raise ValueError(f"grey values must be 0..{top} (pixel_bits = {config.pixel_bits})")
     if config.disparities > left.shape[1]:
         raise ValueError(f"D = {config.disparities} is more than the image width {left.shape[1]}")
     return left.astype(np.int32), right.astype(np.int32)
@@ -87,26 +91,42 @@ def path_step(cost, prev, p1, p2):
     return cost + best - m
 
 
-def path_cost(cost, axis, config=DEPTH, restart=None):
-    """Path costs (int32, D x H x W) along ``axis``: ``"horizontal"`` (left to right along each row) or
-    ``"vertical"`` (top to bottom along each column). ``restart`` (vertical only: H booleans, or None for row 0
-    only) marks the rows where the vertical path starts afresh (previous vector 0, as before row 0)."""
-    cost = np.asarray(cost, dtype=np.int32)
-    if restart is not None and axis != "vertical":
-        raise ValueError("restart applies to the vertical path only")
+def _path_dtype(config):
+    """The smallest signed integer type that holds every summed cost (no stage overflows: docs/depth.md)."""
+    return np.int16 if config.sum_max < 2 ** 15 else np.int32
+
+
+def path_cost(cost, path, config=DEPTH, restart=None):
+    """Path costs (D x H x W) along ``path``, a name of ``spec.depth.PATH_STEPS`` (``"left_to_right"``,
+    ``"top_to_bottom"``, ``"right_to_left"``, ``"top_left_to_bottom_right"``, ``"top_right_to_bottom_left"``).
+    ``restart`` (paths that step down a row only: H booleans, or None for row 0 only) marks the rows where the
+    path starts afresh (previous vector 0, as before row 0)."""
+    if path not in PATH_STEPS:
+        raise ValueError(f"path must be one of {', '.join(PATH_STEPS)}, not {path!r}")
+    dx, dy = PATH_STEPS[path]
+    dtype = _path_dtype(config)
+    cost = np.asarray(cost).astype(dtype)
+    if restart is not None and dy == 0:
+        raise ValueError("restart applies to the paths that step down a row only")
     out = np.empty_like(cost)
-    if axis == "horizontal":
-        prev = np.zeros(cost[:, :, 0].shape, dtype=np.int32)
-        for x in range(cost.shape[2]):
+    if dy == 0:
+        prev = np.zeros(cost[:, :, 0].shape, dtype=dtype)
+        columns = range(cost.shape[2]) if dx < 0 else range(cost.shape[2] - 1, -1, -1)
+        for x in columns:
             prev = out[:, :, x] = path_step(cost[:, :, x], prev, config.p1, config.p2)
-    elif axis == "vertical":
-        prev = np.zeros(cost[:, 0, :].shape, dtype=np.int32)
-        for y in range(cost.shape[1]):
-            if restart is not None and restart[y]:
-                prev = np.zeros_like(prev)
-            prev = out[:, y, :] = path_step(cost[:, y, :], prev, config.p1, config.p2)
-    else:
-        raise ValueError(f"axis must be 'horizontal' or 'vertical', not {axis!r}")
+        return out
+    above = np.zeros(cost[:, 0, :].shape, dtype=dtype)       # the previous row's vectors (0 before row 0)
+    for y in range(cost.shape[1]):
+        if restart is not None and restart[y]:
+            above = np.zeros_like(above)
+        prev = np.zeros_like(above)                           # p' = (x + dx, y - 1), 0 outside the image
+        if dx == 0:
+            prev[:] = above
+        elif dx < 0:
+            prev[:, 1:] = above[:, :-1]
+        else:
+            prev[:, :-1] = above[:, 1:]
+        above = out[:, y, :] = path_step(cost[:, y, :], prev, config.p1, config.p2)
     return out
 
 
@@ -115,12 +135,12 @@ def subpixel(total, d, config=DEPTH):
     with a, b, c = S(d - 1), S(d), S(d + 1), e = max(a, c) - b and n = a - c, q = floor((2**F n + e) / (2 e))
     (the equiangular fit n / (2 e) rounded half up), -2**(F - 1) <= q <= 2**(F - 1); q = 0 for d = 0,
     d = D - 1 or F = 0."""
-    total = np.asarray(total).astype(np.int64)
+    total = np.asarray(total)
     d = np.asarray(d)
     top = total.shape[0] - 1
-    a = np.take_along_axis(total, np.clip(d - 1, 0, top)[None], axis=0)[0]
-    b = np.take_along_axis(total, d[None], axis=0)[0]
-    c = np.take_along_axis(total, np.clip(d + 1, 0, top)[None], axis=0)[0]
+    a = np.take_along_axis(total, np.clip(d - 1, 0, top)[None], axis=0)[0].astype(np.int64)
+    b = np.take_along_axis(total, d[None], axis=0)[0].astype(np.int64)
+    c = np.take_along_axis(total, np.clip(d + 1, 0, top)[None], axis=0)[0].astype(np.int64)
     inner = (d > 0) & (d < top) & (config.fraction_bits > 0)
     e = np.where(inner, np.maximum(a, c) - b, 1)        # a > b (ties go to the smaller d), so e >= 1
     return np.where(inner, (config.fraction * (a - c) + e) // (2 * e), 0)
@@ -129,9 +149,12 @@ def subpixel(total, d, config=DEPTH):
 def second_best(total, d, config=DEPTH):
     """S2: the smallest summed cost at a disparity 2 or more away from ``d`` (2**sum_bits - 1 where there is
     none)."""
-    total = np.asarray(total).astype(np.int64)
-    far = np.abs(np.arange(total.shape[0]).reshape(-1, *[1] * (total.ndim - 1)) - np.asarray(d)[None]) >= 2
-    return np.where(far, total, (1 << config.sum_bits) - 1).min(axis=0)
+    total = np.asarray(total)
+    d = np.asarray(d)
+    out = np.full(d.shape, (1 << config.sum_bits) - 1, dtype=np.int64)
+    for k in range(total.shape[0]):                 # one disparity at a time: no D x H x W temporaries
+        np.minimum(out, np.where(np.abs(k - d) >= 2, total[k], out), out=out)
+    return out
 
 
 def winner(total, config=DEPTH):
@@ -201,11 +224,11 @@ def row_flags(row_tags, height, config=DEPTH):
 
 
 class DepthResult:
-    """Every intermediate of :func:`depth_map` (for tests and pictures); ``invalid_rows`` and ``restart_rows``
-    are :func:`row_flags`."""
+    """Every intermediate of :func:`depth_map` (for tests and pictures): ``paths`` maps each path's name to its
+    costs; ``invalid_rows`` and ``restart_rows`` are :func:`row_flags`."""
 
-    def __init__(self, cost, horizontal, vertical, raw, best, codes, config, invalid_rows=None, restart_rows=None):
-        self.cost, self.horizontal, self.vertical = cost, horizontal, vertical
+    def __init__(self, cost, paths, raw, best, codes, config, invalid_rows=None, restart_rows=None):
+        self.cost, self.paths = cost, paths
         self.raw, self.best, self.codes, self.config = raw, best, codes, config
         self.invalid_rows, self.restart_rows = invalid_rows, restart_rows
 
@@ -222,11 +245,16 @@ def depth_map(left, right, config=DEPTH, *, details=False, row_tags=None):
     with the intermediates instead."""
     cost = matching_cost(left, right, config)
     invalid_rows, restart_rows = row_flags(row_tags, cost.shape[1], config)
-    horizontal = path_cost(cost, "horizontal", config)
-    vertical = path_cost(cost, "vertical", config, restart=restart_rows)
-    raw, best = winner(horizontal + vertical, config)
+    paths, total = {}, None
+    for name in config.paths:
+        steps_down = PATH_STEPS[name][1] != 0
+        paths[name] = path_cost(cost, name, config, restart=restart_rows if steps_down else None)
+        total = paths[name].copy() if total is None else np.add(total, paths[name], out=total)
+        if not details:
+            del paths[name]                             # the sum is all the winner needs
+    raw, best = winner(total, config)
     raw[invalid_rows] = config.invalid
     codes = median3x3(raw)
     if details:
-        return DepthResult(cost, horizontal, vertical, raw, best, codes, config, invalid_rows, restart_rows)
+        return DepthResult(cost, paths, raw, best, codes, config, invalid_rows, restart_rows)
     return codes

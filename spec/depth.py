@@ -2,16 +2,34 @@
 
 from dataclasses import dataclass
 
-__all__ = ["DepthConfig", "DEPTH", "SMALL_DEPTH"]
+from spec.sensor import SENSOR, SENSOR_800
+
+__all__ = ["PATH_STEPS", "TWO_PATHS", "THREE_PATHS", "DepthConfig", "DEPTH", "DEPTH_800", "SMALL_DEPTH"]
+
+#: The aggregation paths (docs/depth.md, "Paths"): for each, the step (dx, dy) from a pixel p to the previous
+#: pixel p' on the path. Every path runs along rows or down the image, so a row-by-row engine can compute it.
+PATH_STEPS = {
+    "left_to_right": (-1, 0),
+    "top_to_bottom": (0, -1),
+    "right_to_left": (1, 0),
+    "top_left_to_bottom_right": (-1, -1),
+    "top_right_to_bottom_left": (1, -1),
+}
+#: The board's engine today (the RTL computes these two).
+TWO_PATHS = ("left_to_right", "top_to_bottom")
+#: The 800 x 600 build's paths: + right to left along the row.
+THREE_PATHS = TWO_PATHS + ("right_to_left",)
 
 
 @dataclass(frozen=True)
 class DepthConfig:
-    """The dense matcher's constants: census transform, semi-global aggregation on two paths, winner-take-all,
+    """The dense matcher's constants: census transform, semi-global aggregation on ``paths``, winner-take-all,
     sub-pixel fit, validity rule and 3 x 3 median (docs/depth.md). The widths follow from them: no stage can
-    overflow. Codes count 1 / 2**fraction_bits pixel; ``invalid`` is D in those steps.
+    overflow. Codes count 1 / 2**fraction_bits pixel; ``invalid`` is D in those steps. ``pixel_bits`` is the
+    width of the grey values the engine reads (the capture's ``grey_bits``).
 
-    ``lanes`` disparities are computed per clock (the RTL's parallelism); it does not change the result.
+    ``lanes`` disparities are computed per clock (the RTL's parallelism); it does not change the result. The RTL
+    (hdl/depth/) computes ``TWO_PATHS`` only; the golden model computes any set of ``PATH_STEPS``.
     """
     disparities: int = 64       # D: candidates 0..D-1 (right image = reference, match left(x + d, y))
     census_width: int = 7       # census window, odd x odd, centred
@@ -22,6 +40,13 @@ class DepthConfig:
     fraction_bits: int = 4      # sub-pixel: codes in 1 / 2**fraction_bits pixel (equiangular fit); 0 = whole pixels
     uniqueness: int = 64        # confidence: invalid when 64 S* > uniqueness x S2 (S2: best at |d - d*| >= 2); 64 = off
     lanes: int = 16             # disparities per clock in the RTL (divides D)
+    pixel_bits: int = SENSOR.grey_bits      # grey values 0 .. 2**pixel_bits - 1
+    paths: tuple = TWO_PATHS    # aggregation paths (names of PATH_STEPS), summed
+
+    def __post_init__(self):
+        unknown = [p for p in self.paths if p not in PATH_STEPS]
+        if unknown or not self.paths or len(set(self.paths)) != len(self.paths):
+            raise ValueError(f"paths must be distinct names of {', '.join(PATH_STEPS)}, not {self.paths!r}")
 
     @property
     def census_bits(self):
@@ -42,8 +67,13 @@ class DepthConfig:
         return self.path_max.bit_length()
 
     @property
+    def sum_max(self):
+        """Largest summed cost: one path_max per path."""
+        return len(self.paths) * self.path_max
+
+    @property
     def sum_bits(self):
-        return (2 * self.path_max).bit_length()
+        return self.sum_max.bit_length()
 
     @property
     def fraction(self):
@@ -62,5 +92,9 @@ class DepthConfig:
 
 #: The board's engine: D = 64, 7 x 7 census, P1 = 16, P2 = 96, 16 disparities per clock.
 DEPTH = DepthConfig()
+#: The 800 x 600 build (golden model only): 8-bit averaged buffers (SENSOR_800), D = 128 (the same 0.43 m near
+#: limit at twice the resolution), three paths, max_cost the board's 60 per path; everything else as DEPTH.
+DEPTH_800 = DepthConfig(disparities=128, pixel_bits=SENSOR_800.grey_bits, paths=THREE_PATHS,
+                        max_cost=DepthConfig.max_cost * len(THREE_PATHS) // len(TWO_PATHS))
 #: A reduced engine for fast tests of the same RTL on SMALL_SENSOR's 16 x 12 buffers.
 SMALL_DEPTH = DepthConfig(disparities=8, lanes=4, uniqueness=60)

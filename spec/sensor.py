@@ -3,20 +3,34 @@
 
 from dataclasses import dataclass
 
-__all__ = ["SensorGeometry", "SENSOR", "SMALL_SENSOR", "VMODCAM_RIG", "disparity_of_distance", "ROW_TAG_BITS"]
+__all__ = ["SensorGeometry", "DOWNSCALES", "SENSOR", "SENSOR_800", "SMALL_SENSOR", "VMODCAM_RIG",
+           "disparity_of_distance", "ROW_TAG_BITS"]
+
+#: How a ``scale`` x ``scale`` sensor block becomes one buffer pixel (docs/capture.md, "Downscale and grey"):
+#: ``"keep"`` the pixel at (scale i, scale j), the thesis's capture (5-bit grey); ``"average"`` the mean of the
+#: block (8-bit grey).
+DOWNSCALES = ("keep", "average")
 
 
 @dataclass(frozen=True)
 class SensorGeometry:
     """Sensor output size and the downscale into the frame buffer.
 
-    The capture keeps the pixel at (``scale``*i, ``scale``*j) of each ``scale`` x ``scale`` block (thesis
-    figure 4.4), converts it to ``grey_bits`` of grey and writes it at ``A = y * buf_width + x`` (eq. 4.1).
+    ``downscale = "keep"`` (the thesis): the capture keeps the pixel at (``scale``*i, ``scale``*j) of each
+    ``scale`` x ``scale`` block (thesis figure 4.4) and converts it to ``grey_bits`` (5) of grey;
+    ``downscale = "average"``: the buffer pixel is the rounded mean grey of the whole block, ``grey_bits`` (8)
+    wide (golden model only: the capture's RTL keeps pixels). Either way it is written at
+    ``A = y * buf_width + x`` (eq. 4.1).
     """
     width: int = 1600
     height: int = 1200
     scale: int = 4
     grey_bits: int = 5
+    downscale: str = "keep"
+
+    def __post_init__(self):
+        if self.downscale not in DOWNSCALES:
+            raise ValueError(f"downscale must be one of {', '.join(DOWNSCALES)}, not {self.downscale!r}")
 
     @property
     def buf_width(self):
@@ -41,6 +55,8 @@ ROW_TAG_BITS = 4
 
 #: The VmodCAM's MT9D112 at full resolution -> 400 x 300 x 5-bit buffers (2 x 120,000 words).
 SENSOR = SensorGeometry()
+#: The 800 x 600 build: each buffer pixel the mean of its 2 x 2 sensor block, 8-bit grey (2 x 480,000 words).
+SENSOR_800 = SensorGeometry(scale=2, grey_bits=8, downscale="average")
 #: A small sensor for fast tests: 64 x 48 -> 16 x 12 buffers.
 SMALL_SENSOR = SensorGeometry(width=64, height=48)
 

@@ -60,7 +60,7 @@ def _path_loop(cost, p1, p2):
 def test_paths_equal_a_loop_formulation():
     cost = np.random.default_rng(3).integers(0, 49, (8, 5, 7))
     cfg = DepthConfig(disparities=8, lanes=4)
-    horizontal, vertical = path_cost(cost, "horizontal", cfg), path_cost(cost, "vertical", cfg)
+    horizontal, vertical = path_cost(cost, "left_to_right", cfg), path_cost(cost, "top_to_bottom", cfg)
     for y in range(5):
         assert (horizontal[:, y, :] == _path_loop(cost[:, y, :], cfg.p1, cfg.p2)).all()
     for x in range(7):
@@ -155,10 +155,10 @@ def test_path_values_never_leave_their_width(data):
     rng = np.random.default_rng(data.draw(st.integers(0, 2**32 - 1)))
     cost = {"random": rng.integers(0, n + 1, shape), "zero": np.zeros(shape, int),
             "max": np.full(shape, n), "alternating": (np.indices(shape).sum(0) % 2) * n}[extreme]
-    for axis in ("horizontal", "vertical"):
+    for axis in ("left_to_right", "top_to_bottom"):
         values = path_cost(cost, axis, cfg)
         assert values.min() >= 0 and values.max() <= cfg.path_max < 2 ** cfg.path_bits
-    total = path_cost(cost, "horizontal", cfg) + path_cost(cost, "vertical", cfg)
+    total = path_cost(cost, "left_to_right", cfg) + path_cost(cost, "top_to_bottom", cfg)
     assert total.max() < 2 ** cfg.sum_bits
 
 
@@ -176,7 +176,7 @@ def test_bad_input_is_rejected():
         depth_map(np.zeros((4, 5), int), np.zeros((4, 6), int), SMALL)
     with pytest.raises(ValueError, match="width"):
         depth_map(np.zeros((4, 3), int), np.zeros((4, 3), int), SMALL)
-    with pytest.raises(ValueError, match="axis"):
+    with pytest.raises(ValueError, match="path must be"):
         path_cost(np.zeros((2, 2, 2)), "diagonal", SMALL)
 
 
@@ -265,8 +265,8 @@ def test_a_tag_change_invalidates_the_window_rows(k):
     assert (got.raw[:max(above, 0)] == today.raw[:max(above, 0)]).all()
     below = k + TAG_H
     if below < h:
-        fresh = path_cost(today.cost[:, below:], "vertical", SMALL_DEPTH)   # rows below, path from row k + h
-        raw, _ = winner(today.horizontal[:, below:] + fresh, SMALL_DEPTH)
+        fresh = path_cost(today.cost[:, below:], "top_to_bottom", SMALL_DEPTH)   # rows below, path from row k + h
+        raw, _ = winner(today.paths["left_to_right"][:, below:] + fresh, SMALL_DEPTH)
         assert (got.raw[below:] == raw).all()
     assert (got.codes == median3x3(got.raw)).all()
 
@@ -280,8 +280,8 @@ def test_restart_matters_below_the_band():
     got = depth_map(left, right, SMALL_DEPTH, row_tags=(changed, changed), details=True)
     at_k = np.zeros(h, dtype=bool)
     at_k[[0, k]] = True
-    vertical = path_cost(got.cost, "vertical", SMALL_DEPTH, restart=at_k)
-    raw, _ = winner(got.horizontal + vertical, SMALL_DEPTH)
+    vertical = path_cost(got.cost, "top_to_bottom", SMALL_DEPTH, restart=at_k)
+    raw, _ = winner(got.paths["left_to_right"] + vertical, SMALL_DEPTH)
     assert (raw[k + TAG_H:] != got.raw[k + TAG_H:]).any()
 
 

@@ -129,7 +129,7 @@ def test_horizontal_path_line(data):
 
     simulate(dut, clocks={"sync": 1e8}, testbenches=[bench])
     parts = [cost[:, None, :restart], cost[:, None, restart:]] if restart else [cost[:, None, :]]
-    expected = np.concatenate([path_cost(part, "horizontal", cfg)[:, 0] for part in parts], axis=1)
+    expected = np.concatenate([path_cost(part, "left_to_right", cfg)[:, 0] for part in parts], axis=1)
     assert (got == expected).all()
 
 

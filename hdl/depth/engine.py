@@ -8,7 +8,7 @@ from amaranth.lib import data, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
-from spec.depth import DEPTH
+from spec.depth import DEPTH, TWO_PATHS
 from spec.sensor import SENSOR
 from hdl.depth.census import CensusWindow
 from hdl.depth.matching_cost import MatchingCost
@@ -67,6 +67,8 @@ def check_parameters(geometry, config, out_rows=4, tag_margin=8):
     if (config.census_width % 2 == 0 or config.census_height % 2 == 0
             or config.census_height > RING_ROWS - 1):
         raise ValueError(f"the census window must be odd x odd and at most {RING_ROWS - 1} rows high")
+    if config.paths != TWO_PATHS:
+        raise ValueError(f"the RTL aggregates {' and '.join(TWO_PATHS)} only, not {', '.join(config.paths)}")
     if out_rows < 2:
         raise ValueError(f"out_rows must be at least 2, not {out_rows}")
     if tag_margin < 2:
@@ -158,8 +160,8 @@ class DepthEngine(wiring.Component):
     Raises
     ------
     ValueError
-        If ``lanes`` does not divide D, D is more than the width, the census window is not odd, or ``tag_margin``
-        is less than 2.
+        If ``lanes`` does not divide D, D is more than the width, the census window is not odd, the paths are not
+        ``spec.depth.TWO_PATHS`` (the golden model's other paths have no RTL yet), or ``tag_margin`` is less than 2.
     """
 
     def __init__(self, geometry=SENSOR, config=DEPTH, *, out_rows=4, tag_margin=8):

@@ -11,6 +11,8 @@
   made. Original disparities are scaled to buffer pixels by the fit's horizontal factor (1600 / 667 / 4).
 * :func:`right_view`: the same conversion for any left-view map at its own resolution (every original column).
 * :func:`scene_truth`: the disparity of a synthetic scene (sim/testbed/scene.py) at the buffer pixels of one camera.
+  Every map's sample point is the kept pixel's centre, or the block's centre for an averaging capture
+  (:func:`sample_centre`).
 * :func:`bad_pixel_rates`: bad > 1 and bad > 2 over every pixel with a truth (an invalid pixel counts bad),
   and the density (valid share of those pixels).
 * :func:`error_figures`: bad > 0.5, bad > 1, bad > 2 (invalid counts bad), the mean absolute error of the valid
@@ -26,10 +28,17 @@ __all__ = ["motorcycle_truth", "scene_truth", "bad_pixel_rates", "error_figures"
 SAME_SURFACE = 2.0      # original pixels: neighbours closer than this in disparity lie on one surface
 
 
+def sample_centre(geometry):
+    """Where a buffer pixel's sample lies in its ``scale`` x ``scale`` block (sensor pixels from the block's
+    corner): the kept pixel's centre (0.5), or the block's centre for the averaging capture."""
+    return geometry.scale / 2 if geometry.downscale == "average" else 0.5
+
+
 def _sample_grid(geometry, crop_w, crop_h):
     i, j = np.arange(geometry.buf_height), np.arange(geometry.buf_width)
-    rows = np.rint((geometry.scale * i + 0.5) * crop_h / geometry.height - 0.5).astype(int).clip(0, crop_h - 1)
-    cols = (geometry.scale * j + 0.5) * crop_w / geometry.width - 0.5       # continuous original columns
+    c = sample_centre(geometry)
+    rows = np.rint((geometry.scale * i + c) * crop_h / geometry.height - 0.5).astype(int).clip(0, crop_h - 1)
+    cols = (geometry.scale * j + c) * crop_w / geometry.width - 0.5       # continuous original columns
     return rows, cols
 
 
@@ -91,7 +100,8 @@ def scene_truth(scene, rig, geometry=SENSOR, side="right"):
     objects = _as_objects(scene)
     truth = np.full((geometry.buf_height, geometry.buf_width), np.nan)
     for index, obj in enumerate(objects):
-        mask = object_footprint(objects, rig, side=side, scale=geometry.scale, index=index)
+        mask = object_footprint(objects, rig, side=side, scale=geometry.scale, index=index,
+                                centre=sample_centre(geometry))
         truth[mask] = rig.disparity_px(obj.distance_m) / geometry.scale
     return truth
 

@@ -337,12 +337,14 @@ def render_pair(scene, rig=VMODCAM, supersample=1):
     return (render_view(scene, rig, "left", supersample), render_view(scene, rig, "right", supersample))
 
 
-def object_footprint(scene, rig=VMODCAM, side="right", scale=SENSOR.scale, index=0):
+def object_footprint(scene, rig=VMODCAM, side="right", scale=SENSOR.scale, index=0, centre=0.5):
     """Where object ``index`` of ``scene`` is seen at the capture's sample points: a boolean
     (height // scale, width // scale) mask, True where the sensor pixel (scale*i, scale*j) that the 1/16
-    downscale keeps shows that object (point sampling at the pixel centre; hidden parts excluded)."""
+    downscale keeps shows that object (point sampling at the pixel centre; hidden parts excluded). ``centre``:
+    the sample point's offset in the block, 0.5 for the kept pixel's centre, ``scale / 2`` for the block's centre
+    (the averaging capture)."""
     objects = _as_objects(scene)
-    cols = np.arange(0, rig.width - scale + 1, scale)[: rig.width // scale] + 0.5
-    rows = np.arange(0, rig.height - scale + 1, scale)[: rig.height // scale] + 0.5
+    cols = np.arange(0, rig.width - scale + 1, scale)[: rig.width // scale] + centre
+    rows = np.arange(0, rig.height - scale + 1, scale)[: rig.height // scale] + centre
     _, label = _shade(objects, rig, side, cols, rows)
     return label == index
