@@ -15,7 +15,7 @@ for its grant; the display, always granted from the block-RAM buffer, must have 
 misses (the window holds the row shown and the next ones: docs/frame_store.md, "Arbitration").
 """
 
-from amaranth import Module, Mux, Signal
+from amaranth import Module, Mux, Signal, signed
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
@@ -51,7 +51,8 @@ class RowWindow(wiring.Component):
         The request's address lies before the window's first row (a read this window will never grant).
 
     Clock domain: ``sync`` (the parent renames it to the read domain). Latency: ``grant`` combinational from the
-    request; ``port.data`` one clock after a granted address; rows asked for from the clock after ``restart``.
+    request (the address compared with every row's start at once: one carry chain, then a few LUTs); ``port.data``
+    one clock after a granted address; rows asked for from the clock after ``restart``, nothing granted in it.
 
     Raises
     ------
@@ -84,7 +85,10 @@ class RowWindow(wiring.Component):
         first = Signal(range(h + n))                    # the window's first row
         first_index = Signal(count_bits)                # its request number
         first_slot = Signal(range(n))                   # its slot
-        base = Signal(g.addr_bits + 1)                  # first * width
+        # bounds[k] = (first + k) * width: where the window's k-th row starts (bounds[n]: where the window ends),
+        # set in the clock after a restart (``settling``: nothing is granted in it) and moved a row at a time.
+        bounds = [Signal(g.addr_bits + 1, name=f"bound_{k}") for k in range(n + 1)]
+        settling = Signal()
         next_row = Signal(range(h + n + 1))             # the row asked for next
         next_slot = Signal(range(n))                    # the slot it lands in (request number mod n)
 
@@ -95,35 +99,49 @@ class RowWindow(wiring.Component):
         with m.If(ask):
             m.d.sync += [next_row.eq(next_row + 1), next_slot.eq(Mux(next_slot == n - 1, 0, next_slot + 1))]
 
-        # The read: its row in the window (j), its column, whether it has landed.
+        # The read: the address against every row's start at once (at or after bounds[k]: ge[k]), its row in the
+        # window (j: the last k with ge[k]), its column (the difference to that row's start), whether it has landed.
         consumer = self.consumer
-        offset = Signal(g.addr_bits + 1)
-        m.d.comb += offset.eq(consumer.port.addr - base)
+        diffs = [Signal(signed(g.addr_bits + 2), name=f"offset_{k}") for k in range(n + 1)]
+        m.d.comb += [d.eq(consumer.port.addr - b) for d, b in zip(diffs, bounds)]
+        ge = [~d[-1] for d in diffs]
         j = Signal(range(n))
         for k in range(1, n):
-            with m.If(offset >= k * w):
+            with m.If(ge[k]):
                 m.d.comb += j.eq(k)
         x = Signal(range(w))
-        m.d.comb += x.eq(offset - times(j, w))
-        in_window = offset < n * w
+        with m.Switch(j):
+            for k in range(n):
+                with m.Case(k):
+                    m.d.comb += x.eq(diffs[k])
+        in_window = ge[0] & ~ge[n]
         ready = Signal(count_bits)                      # rows of the window landed (mod 2**count_bits)
         m.d.comb += ready.eq(landed - first_index)
-        landed_ok = ~ready[-1] & (ready > j)            # a negative difference: rows of an earlier window pending
-        grant = consumer.request & in_window & landed_ok
+        # Row k has landed: a negative difference means rows of an earlier window are pending.
+        has = [~ready[-1] & (ready > k) for k in range(n)]
+        landed_ok = has[0]
+        for k in range(1, n):
+            landed_ok &= ~ge[k] | has[k]
+        grant = consumer.request & in_window & landed_ok & ~settling
         slot = Signal(range(n))
         m.d.comb += [
             slot.eq(Mux(first_slot + j >= n, first_slot + j - n, first_slot + j)),
             consumer.grant.eq(grant),
             self.missed.eq(consumer.request & ~grant),
-            self.below.eq(consumer.port.addr < base),
+            self.below.eq(~ge[0]),
             self.stream.read.slot.eq(slot),
             self.stream.read.x.eq(x),
             consumer.port.data.eq(self.stream.read.data[:g.grey_bits]),
         ]
+        m.d.sync += settling.eq(0)
         with m.If(self.restart):
-            m.d.sync += [first.eq(self.first_row), next_row.eq(self.first_row), base.eq(times(self.first_row, w)),
-                         first_index.eq(asked), first_slot.eq(next_slot)]
-        with m.Elif(grant & (j != 0)):
-            m.d.sync += [first.eq(first + 1), base.eq(base + w), first_index.eq(first_index + 1),
+            m.d.sync += [first.eq(self.first_row), next_row.eq(self.first_row), bounds[0].eq(times(self.first_row, w)),
+                         settling.eq(1), first_index.eq(asked), first_slot.eq(next_slot)]
+        with m.Elif(settling):
+            m.d.sync += [bounds[k].eq(bounds[0] + k * w) for k in range(1, n + 1)]
+        with m.Elif(grant & ge[1]):
+            m.d.sync += [first.eq(first + 1), first_index.eq(first_index + 1),
                          first_slot.eq(Mux(first_slot == n - 1, 0, first_slot + 1))]
+            m.d.sync += [bounds[k].eq(bounds[k + 1]) for k in range(n)]
+            m.d.sync += bounds[n].eq(bounds[n] + w)
         return m
