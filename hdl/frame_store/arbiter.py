@@ -4,9 +4,10 @@ One burst a grant, by fixed priority: the *urgent* readers first (the display's:
 the camera writers (a camera cannot be held back either, but its FIFO absorbs a wait of several bursts), then the
 other readers (the depth engine's, which waits; docs/frame_store.md, "Arbitration", has the worst case).
 
-* Nothing is granted before ``phy_init_done``, nor while MIG's address or write-data FIFO is almost full
-  (``afull``: 15 or fewer entries free; the arbiter adds at most 2 data words and 1 command after the clock it
-  sees the flag low, so it never overfills them).
+* Nothing is granted before ``phy_init_done``, nor while MIG's address or write-data FIFO was almost full in the
+  clock before (``afull``: 15 or fewer entries free; the flags are registered here, as MIG drives them straight
+  from its FIFO36s; from the clock a flag rises, the arbiter writes at most 3 more data words and 3 more commands,
+  so it never overfills them).
 * A write burst takes two clocks: its first data word in the clock after the grant, its second with the write
   command in the next (data before command, AR 24146). No grant in the first of them.
 * A read burst's command goes out in the clock after the grant; the reader's number goes into a FIFO of
@@ -89,7 +90,9 @@ class MemoryArbiter(wiring.Component):
         word1, mask1 = Signal(MIG.DATA_WIDTH), Signal(MIG.MASK_WIDTH)
         write_addr = Signal(MIG.ADDR_WIDTH)
         ready = Signal()
-        m.d.comb += ready.eq(mig.phy_init_done & ~mig.command.afull & ~mig.write.afull & ~second)
+        afull = Signal()                        # either almost-full flag, a clock late
+        m.d.sync += afull.eq(mig.command.afull | mig.write.afull)
+        m.d.comb += ready.eq(mig.phy_init_done & ~afull & ~second)
 
         # Registered outputs, idle unless set below.
         m.d.sync += [mig.command.wren.eq(0), mig.write.wren.eq(0)]
