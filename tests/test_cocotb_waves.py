@@ -49,7 +49,10 @@ def values(dump, full_name):
 
 
 @needs_gtkwave
+@pytest.mark.parametrize("simulator", [pytest.param("verilator", marks=pytest.mark.slow), "icarus"])
 def test_a_cocotb_run_with_waves_leaves_a_save_file_gtkwave_opens(simulator, monkeypatch):
+    """(Verilator in the slow set: its traced build is most of the test; its dump names are checked without a build
+    by :func:`test_verilator_dump_names_leaves_plain_names_alone`.)"""
     monkeypatch.setenv("STEREO_WAVES", "1")
     test_dir = nack_run(simulator)
     gtkw, dump = test_dir / "dump.gtkw", test_dir / ("dump.fst" if simulator == "icarus" else "dump.vcd")

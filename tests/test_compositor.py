@@ -346,7 +346,10 @@ def test_segmentation_cocotb(simulator, tmp_path):
     run_cocotb_display(SEGMENT_TIMING, SMALL_SENSOR, SEGMENT_SCHEDULE, simulator, tmp_path, layout, segment=True)
 
 
+@pytest.mark.parametrize("simulator", ["verilator", pytest.param("icarus", marks=pytest.mark.slow)])
 def test_display_path_cocotb(simulator, tmp_path):
+    """The whole :data:`SMALL_SCHEDULE` on the exported Verilog (Verilator; Icarus in the slow set: the default
+    suite runs the compositor on Icarus in :func:`test_segmentation_cocotb`)."""
     run_cocotb_display(SMALL_TIMING, SMALL_SENSOR, SMALL_SCHEDULE, simulator, tmp_path)
 
 

@@ -227,6 +227,22 @@ def test_top_has_the_pll_base_with_the_plan(fake_build):
     assert [params[f"CLKOUT{n}_DIVIDE"] for n in range(4)] == ["32'd8", "32'd8", "32'd16", "32'd5"]
 
 
+def test_the_black_box_declares_what_the_instance_sets():
+    """The estimates' black box of the core (``board.mig.black_box_verilog``) declares every port of the top's
+    instance with MIG's direction and width, and every parameter the instance sets (the slow test below takes it
+    through Yosys)."""
+    from board.mig import MIG_PARAMETERS, black_box_verilog
+    text = black_box_verilog("mem_ctrl")
+    assert text.startswith("(* blackbox *)\nmodule mem_ctrl #(")
+    parameters = re.findall(r"parameter (\w+) = (\d+)", text)
+    assert dict(parameters) == {"SIM_ONLY": "0", **{k: str(v) for k, v in MIG_PARAMETERS.items()}}
+    ports = {m[3]: (m[1], int(m[2]) + 1) for m in re.finditer(r"^  (input|output|inout) \[(\d+):0\] (\w+)", text, re.M)}
+    stub = {name: (direction, int(hi) + 1 if hi else 1) for direction, hi, name in re.findall(
+        r"(input|output|inout)\s*(?:\[(\d+):0\])?\s*(\w+)", _STUB_PORTS)}
+    assert ports == stub                        # the facts sheet's port table, transcribed above
+
+
+@pytest.mark.slow
 def test_the_estimates_synthesise_and_time_a_top_with_the_core_as_a_black_box(tmp_path):
     """The estimates' black box of the core (``board.mig.black_box_verilog``) takes the top's instance with every
     port and parameter through the whole ``synth_xilinx`` flow (ABC9 derives every instance); the timing estimate
