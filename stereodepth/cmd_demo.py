@@ -122,7 +122,10 @@ class Background:
     def result(self):
         """``fn``'s value; raises RuntimeError if it raised or its process died."""
         if self.proc is None:
-            return self.fn(*self.args)
+            try:
+                return self.fn(*self.args)
+            except Exception as exc:
+                raise RuntimeError(f"{type(exc).__name__}: {exc}") from exc
         try:
             kind, value = self.conn.recv()
         except EOFError:
