@@ -97,10 +97,9 @@ def add_arguments(parser):
 
 def add_memory_argument(parser, default="bram"):
     """``--memory bram|ddr2``; ``default``: the command's choice."""
-    mark = {"bram": (" (default)", ""), "ddr2": ("", " (default)")}[default]
     parser.add_argument("--memory", choices=("bram", "ddr2"), default=default,
-                        help=f"where the frames are: bram{mark[0]} (the block-RAM buffers of the thesis design) or "
-                             f"ddr2{mark[1]} (the frame store in the DDR2 behind MIG, simulated with the MIG model)")
+                        help="where the frames are: bram (the block-RAM buffers of the thesis design) or ddr2 (the "
+                             f"frame store in the DDR2 behind MIG, simulated with the MIG model); default {default}")
 
 
 def switch_value(name, text, low=0, high=127):
