@@ -10,15 +10,15 @@
    golden model. The frame shown is the first display frame whose depth map comes from complete camera frames
    (the DDR2 build's first; the block-RAM build's may withhold rows at a tear where a capture was overwriting its
    buffers: the summary says which one it was). The depth panel the pins carried is read back (its colours
-   inverted) and scored against the
-   motorcycle's ground truth (``sim.analysis.truth``): bad > 1, bad > 2, density; the readout gives the centre
-   distance. -> ``hdmi_frame.png`` (the frame from the simulated pins), ``golden_frame.png``,
+   inverted) and scored against the motorcycle's ground truth (``sim.analysis.truth``): bad > 1, bad > 2,
+   density; the readout gives the centre distance. -> ``hdmi_frame.png`` (the frame from the simulated pins), ``golden_frame.png``,
    ``depth_map.png`` (the depth map alone, buffer size, with its colour bar), ``result.json``.
 3. Waveforms of the whole system at the small test size in Amaranth's simulator (I2C init, capture, one display
-   frame; the block-RAM build, which the waveform views follow) -> ``system.vcd`` and ``system.gtkw`` (GTKWave
-   save file with the buses, cameras, switches, video stream and CH7301C pins grouped), and that run's frame as
-   ``hdmi_frame_small.png``. It runs in a second process beside step 2 (two cores: Verilator's build and run on
-   one, Amaranth's simulator on the other) and reports after it.
+   frame; the block-RAM build: the DDR2 build with its MIG model takes minutes in Amaranth's simulator) ->
+   ``system.vcd`` and ``system.gtkw`` (GTKWave save file with the buses, cameras, switches, video stream and
+   CH7301C pins grouped), and that run's frame as ``hdmi_frame_small.png``. It runs in a second process beside
+   step 2, so that the machine's two cores share the demo (Amaranth's simulator is one process, Verilator's run
+   another), and reports after it.
 4. The golden pictures of the disparity display at the matching and at a wrong disparity
    (``sim.analysis.disparity_pictures.write_pictures``).
 
