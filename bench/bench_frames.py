@@ -10,6 +10,10 @@ frame-start skew (the
 captures' ``in_frame`` in simulation, the design's skew meter in ``sync`` clocks); whether the settled frame equals
 the golden frame of the last pair. ``--frames N`` (default 3), ``--ppm P`` and ``--delay-us T`` put camera B's PCLK
 off by P ppm and its start T microseconds late (the sensor model's knobs for the synchronisation figures).
+``--memory ddr2`` runs the DDR2 build (the camera frames in the frame store behind the MIG model) instead of the
+block-RAM build (``bram``, the default) and prints its promise too: the pair each display frame shows and whether
+every display frame is made from one camera-frame pair (``display_frames_from_one_pair``: no row withheld, none
+mixed).
 """
 
 import argparse
@@ -22,6 +26,7 @@ def main(argv=None):
     parser.add_argument("--ppm", type=float, default=0.0)
     parser.add_argument("--delay-us", type=float, default=0.0)
     parser.add_argument("--disparity", type=int, default=20)
+    parser.add_argument("--memory", choices=("bram", "ddr2"), default="bram")
     args = parser.parse_args(argv or [])
     from sim.analysis.depth_panel import depth_summary
     from sim.runners.verilator.build import build
@@ -29,7 +34,7 @@ def main(argv=None):
     from sim.testbed.sequence import moving_card
     from sim.testbench.system.setup import SystemSetup
     setup = SystemSetup.full(disparity=args.disparity, cam_phase_s={"a": 0.0, "b": args.delay_us * 1e-6},
-                             cam_clock_ppm={"b": args.ppm})
+                             cam_clock_ppm={"b": args.ppm}, memory=args.memory)
     t = time.perf_counter()
     build(setup)
     print(f"build (cached or made now): {time.perf_counter() - t:.1f} s")
@@ -38,7 +43,7 @@ def main(argv=None):
     result = simulate(setup, sequence, Verilator())
     wall = time.perf_counter() - t
     status, shown = result.status, result.frames
-    print(f"{args.frames} camera frames -> {len(shown)} display frames: {wall:.1f} s wall, "
+    print(f"{args.memory} build: {args.frames} camera frames -> {len(shown)} display frames: {wall:.1f} s wall, "
           f"{status['t_end_s'] * 1e3:.1f} ms simulated, {wall / len(shown):.1f} s a display frame")
     layout, g = setup.display_layout, setup.geometry
     for s in shown:
@@ -61,3 +66,10 @@ def main(argv=None):
     print(f"display frames computed across a tear: {len(torn)}, mixed rows against the torn golden "
           f"{[t['depth_rows_mixed'] for t in torn]}, withheld at the tear {[t['depth_rows_withheld'] for t in torn]}")
     print(f"settled frame equals the last pair's golden frame: {result.verdict['settled_equals_last_pair']}")
+    if "pairs_shown" in result.verdict:
+        withheld = sum(s.verdict.get("depth_rows_withheld") or 0 for s in shown)
+        print(f"DDR2 frame store: pair shown per display frame {result.verdict['pairs_shown']} (-1: the empty "
+              f"buffers); every display frame from one camera-frame pair: "
+              f"{result.verdict['display_frames_from_one_pair']}; withheld depth rows in all: {withheld}; display "
+              f"reads refused in {status.get('display_missed')} pixel clocks")
+    print(f"verdict ok: {result.verdict['ok']}")

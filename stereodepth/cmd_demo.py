@@ -2,23 +2,28 @@
 
 1. The switch settings: the disparity at which the bundled pair's motorcycle matches (and fades to black) and the
    rectification, found from the pair (``sim.analysis.disparity_pictures.find_settings``, Middlebury ground truth beside).
-2. The whole system end to end at the board's size -- 1600 x 1200 sensors, 400 x 300 frame buffers, one
-   1920 x 1080 frame -- on Verilator (``stereodepth run`` does the same with your own pair): both MT9D112 models
+2. The whole system end to end at the board's size -- 1600 x 1200 sensors, 400 x 300 camera frames, one
+   1920 x 1080 frame -- on Verilator (``stereodepth run`` does the same with your own pair), the DDR2 build: the
+   camera frames in the DDR2 frame store behind MIG, simulated with the MIG model; both MT9D112 models
    configured over I2C by the RTL, both cameras captured, the depth map computed by the engine, the four panels
    composited and driven onto the CH7301C pins, rebuilt by the HDMI sink model and compared bit for bit with the
-   golden model. The frame shown is the first display frame whose depth map comes from complete camera frames (no
-   rows withheld at a tear where a capture was overwriting the buffers; the summary says which one it was). The depth panel the pins carried is read back (its colours inverted) and scored against the
-   motorcycle's ground truth (``sim.analysis.truth``): bad > 1, bad > 2, density; the readout gives the centre
-   distance. -> ``hdmi_frame.png`` (the frame from the simulated pins), ``golden_frame.png``,
+   golden model. The frame shown is the first display frame whose depth map comes from complete camera frames
+   (the DDR2 build's first; the block-RAM build's may withhold rows at a tear where a capture was overwriting its
+   buffers: the summary says which one it was). The depth panel the pins carried is read back (its colours
+   inverted) and scored against the motorcycle's ground truth (``sim.analysis.truth``): bad > 1, bad > 2,
+   density; the readout gives the centre distance. -> ``hdmi_frame.png`` (the frame from the simulated pins), ``golden_frame.png``,
    ``depth_map.png`` (the depth map alone, buffer size, with its colour bar), ``result.json``.
 3. Waveforms of the whole system at the small test size in Amaranth's simulator (I2C init, capture, one display
-   frame) -> ``system.vcd`` and ``system.gtkw`` (GTKWave save file with the buses, cameras, switches, video
-   stream and CH7301C pins grouped), and that run's frame as ``hdmi_frame_small.png``.
+   frame; the block-RAM build: the DDR2 build with its MIG model takes minutes in Amaranth's simulator) ->
+   ``system.vcd`` and ``system.gtkw`` (GTKWave save file with the buses, cameras, switches, video stream and
+   CH7301C pins grouped), and that run's frame as ``hdmi_frame_small.png``. It runs in a second process beside
+   step 2, so that the machine's two cores share the demo (Amaranth's simulator is one process, Verilator's run
+   another), and reports after it.
 4. The golden pictures of the disparity display at the matching and at a wrong disparity
    (``sim.analysis.disparity_pictures.write_pictures``).
 
-``--small`` runs step 2 at the small size too; ``--memory ddr2`` runs it on the DDR2 build (the frame store
-behind MIG, with the MIG model). README's table gives the run times. As with ``run``, an earlier
+``--small`` runs step 2 at the small size too; ``--memory bram`` runs it on the thesis's build (the camera frames in
+block-RAM buffers): :data:`THESIS_COMMAND`. README's table gives the run times. As with ``run``, an earlier
 run's outputs are removed at the start, each output appears under its own name only when complete, and
 ``result.json`` records the provenance (``stereodepth/outputs.py``, ``stereodepth/provenance.py``).
 """
@@ -45,7 +50,7 @@ def add_arguments(parser):
                         help="run the end-to-end step at the small test size (64x48 sensors, 112x52 display)")
     parser.add_argument("--out", type=Path, default=Path("build/demo"), help="output directory (build/demo)")
     parser.add_argument("--no-waves", action="store_true", help="skip the VCD / GTKWave step")
-    add_memory_argument(parser)
+    add_memory_argument(parser, default="ddr2")
 
 
 def small_disparity(disparity, setup_small):
@@ -54,45 +59,93 @@ def small_disparity(disparity, setup_small):
     return max(1, round(disparity * setup_small.geometry.buf_width / SENSOR.buf_width))
 
 
-def waves_step(setup, outputs, files):
-    """Step 3: the bundled pair at the small ``setup`` in Amaranth's simulator with waveforms; adds its files to
-    ``files``. Returns whether its frame equals the golden frame, or None when the run failed."""
+#: The command of the thesis's build (the camera frames in block-RAM buffers), which the demo's printout names.
+THESIS_COMMAND = "python -m stereodepth demo --memory bram"
+
+
+def waves_step(setup, out_dir):
+    """Step 3: the bundled pair at the small ``setup`` in Amaranth's simulator with waveforms, into ``out_dir``
+    (``system.vcd``, ``system.gtkw``, ``hdmi_frame_small.png``). Returns ``(ok, files, lines)``: whether its frame
+    equals the golden frame (None when the run failed), the files written ({label: path}) and the lines to print.
+    It prints nothing itself: it runs in a second process beside the full-size step (:class:`Background`)."""
     from golden.stereo_pair import load_default_pair
     from sim import SimulationFailed
     from sim.models.ch7301c.hdmi_sink import write_png
-    from sim.system import Amaranth, still_pair
+    from sim.system import Amaranth, simulate, still_pair
     from sim.testbench.system.waves import system_waves
-    from . import cmd_run
-    print("waveforms: the whole system at the small size in Amaranth's simulator ...", flush=True)
+    outputs = RunOutputs(out_dir, OUTPUTS, stale=STALE_PATTERNS)         # started by the parent
     left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
     backend = Amaranth(vcd=outputs.partial("system.vcd"), gtkw=outputs.partial("system.gtkw"), traces=system_waves)
     try:
-        result = cmd_run.simulate_still(setup, still_pair(left, right, setup), backend, "amaranth", policy="first")
+        result = simulate(setup, still_pair(left, right, setup), backend, policy="first")
     except SimulationFailed as exc:
-        print(f"stereodepth demo: waveform run failed: {exc}", file=sys.stderr)
-        return None
+        return None, {}, [f"stereodepth demo: waveform run failed: {exc}"]
     outputs.commit("system.vcd")
     outputs.commit_save_file("system.gtkw", "system.vcd")
+    files = {}
     frame = result.frame
     if frame is not None:
         files["small-size HDMI frame (the waveform run)"] = outputs.write("hdmi_frame_small.png",
                                                                           lambda p: write_png(frame, p))
-    print(f"  small-size frame {'equals' if result.ok else 'DIFFERS from'} the golden frame "
-          f"({result.figures.get('wall_s', 0):.0f} s)")
     files["VCD (whole system, small size)"] = outputs.dir / "system.vcd"
     files[f"GTKWave save file: gtkwave {outputs.dir / 'system.gtkw'}"] = outputs.dir / "system.gtkw"
-    return result.ok
+    lines = [f"waveforms (the whole system at the small size in Amaranth's simulator, block-RAM build, beside the "
+             f"full-size run): the small-size frame {'equals' if result.ok else 'DIFFERS from'} the golden frame "
+             f"({result.figures.get('wall_s', 0):.0f} s)"]
+    return result.ok, files, lines
+
+
+def _call(conn, fn, args):
+    try:
+        conn.send(("value", fn(*args)))
+    except BaseException as exc:                    # handed to the parent, which reports it
+        conn.send(("error", f"{type(exc).__name__}: {exc}"))
+    finally:
+        conn.close()
+
+
+class Background:
+    """``fn(*args)`` in a second process (forked), so that it uses the second core while this process works;
+    :meth:`result` waits for its value, :meth:`stop` ends it. Where ``fork`` is not available it runs in
+    :meth:`result`, after this process's work."""
+
+    def __init__(self, fn, *args):
+        import multiprocessing
+        self.fn, self.args, self.proc = fn, args, None
+        if "fork" in multiprocessing.get_all_start_methods():
+            ctx = multiprocessing.get_context("fork")
+            self.conn, child = ctx.Pipe(duplex=False)
+            self.proc = ctx.Process(target=_call, args=(child, fn, args), daemon=True)
+            self.proc.start()
+            child.close()
+
+    def result(self):
+        """``fn``'s value; raises RuntimeError if it raised or its process died."""
+        if self.proc is None:
+            try:
+                return self.fn(*self.args)
+            except Exception as exc:
+                raise RuntimeError(f"{type(exc).__name__}: {exc}") from exc
+        try:
+            kind, value = self.conn.recv()
+        except EOFError:
+            kind, value = "error", f"the process ended with exit status {self.proc.exitcode}"
+        self.proc.join()
+        if kind == "error":
+            raise RuntimeError(value)
+        return value
+
+    def stop(self):
+        if self.proc is not None and self.proc.is_alive():
+            self.proc.terminate()
+            self.proc.join()
 
 
 def run(args):
     from . import cmd_run
     from sim.analysis.disparity_pictures import bundled_pair_settings
-    from sim import SimulationFailed
-    from sim.system import backend_named, still_pair
-    from sim.testbench.system.run_cocotb import DEFAULT_PAIR
     from sim.testbench.system.setup import SystemSetup
-
-    from stereodepth.provenance import provenance, utc_now
+    from stereodepth.provenance import utc_now
     started = utc_now()
     out = prepare_out_dir(args.out)
     outputs = RunOutputs(out, OUTPUTS, stale=STALE_PATTERNS).start()
@@ -108,8 +161,58 @@ def run(args):
     setup = cmd_run.make_setup(args.small, ds if args.small else d, r if not args.small else 0,
                                memory=args.memory)
     g, t = setup.geometry, setup.timing
-    print(f"whole system on {args.simulator}: {g.width}x{g.height} sensors -> {g.buf_width}x{g.buf_height} "
-          f"buffers -> {t.h_active}x{t.v_active} display", flush=True)
+    build_name = ("the DDR2 build (camera frames in the DDR2 frame store behind the MIG model)"
+                  if args.memory == "ddr2" else "the thesis's build (camera frames in block-RAM buffers)")
+    print(f"whole system on {args.simulator}, {build_name}: {g.width}x{g.height} sensors -> "
+          f"{g.buf_width}x{g.buf_height} frames -> {t.h_active}x{t.v_active} display", flush=True)
+    waves = None
+    if not args.no_waves:
+        print("waveforms: the whole system at the small size in Amaranth's simulator, in a second process ...",
+              flush=True)
+        sys.stdout.flush()
+        waves = Background(waves_step, SystemSetup.small(disparity=ds, rectification=0), out)
+    try:
+        ok, files = _full_step(args, setup, out, outputs, started)
+    except BaseException:
+        if waves is not None:
+            waves.stop()
+        raise
+    if ok is None:
+        if waves is not None:
+            waves.stop()
+        return 1
+
+    if waves is not None:
+        try:
+            small_ok, small_files, lines = waves.result()
+        except RuntimeError as exc:
+            small_ok, small_files, lines = None, {}, [f"stereodepth demo: waveform run failed: {exc}"]
+        print("\n".join(lines), file=sys.stdout if small_ok is not None else sys.stderr, flush=True)
+        if small_ok is None:
+            return 1
+        files.update(small_files)
+        ok = ok and small_ok
+
+    from sim.analysis.disparity_pictures import write_pictures
+    for path in write_pictures(out):
+        files[f"golden disparity display picture ({'matched' if 'matched' in path.name else 'wrong'} disparity)"] \
+            = path
+    print(f"total {time.perf_counter() - t0:.0f} s")
+    cmd_run.print_files(files)
+    if args.memory == "ddr2":
+        print(f"the thesis's build (camera frames in block-RAM buffers): {THESIS_COMMAND}")
+    print("OK" if ok else "FAILED")
+    return 0 if ok else 1
+
+
+def _full_step(args, setup, out, outputs, started):
+    """Step 2 on ``setup``: the run, its files and its summary. Returns ``(ok, files)``, ok None when the run
+    failed."""
+    from . import cmd_run
+    from sim import SimulationFailed
+    from sim.system import backend_named, still_pair
+    from sim.testbench.system.run_cocotb import DEFAULT_PAIR
+    from stereodepth.provenance import provenance
     files = {}
     t_step = time.perf_counter()
     try:
@@ -119,7 +222,7 @@ def run(args):
         result = cmd_run.simulate_still(setup, sequence, backend, args.simulator)
     except SimulationFailed as exc:
         print(f"stereodepth demo: simulation failed: {exc}", file=sys.stderr)
-        return 1
+        return None, files
     frame, golden, status = result.frame, result.golden, dict(result.status, **result.figures)
     record = provenance(DEFAULT_PAIR, dict(vars(args), setup=setup.to_spec()), started)
     from sim.analysis.depth_panel import depth_outputs, summary_lines
@@ -136,18 +239,4 @@ def run(args):
         lines.insert(-1, f"  {edges / 1e6:.1f} M clock edges (all domains) in {status['wall_s']:.1f} s of "
                          f"simulation: {edges / status['wall_s'] / 1e6:.2f} M edges/s")
     print("\n".join(lines[:-1] + summary_lines(depth) + lines[-1:]), flush=True)
-
-    if not args.no_waves:
-        small_ok = waves_step(SystemSetup.small(disparity=ds, rectification=0), outputs, files)
-        if small_ok is None:
-            return 1
-        ok = ok and small_ok
-
-    from sim.analysis.disparity_pictures import write_pictures
-    for path in write_pictures(out):
-        files[f"golden disparity display picture ({'matched' if 'matched' in path.name else 'wrong'} disparity)"] \
-            = path
-    print(f"total {time.perf_counter() - t0:.0f} s")
-    cmd_run.print_files(files)
-    print("OK" if ok else "FAILED")
-    return 0 if ok else 1
+    return ok, files

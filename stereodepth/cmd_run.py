@@ -95,10 +95,11 @@ def add_arguments(parser):
     add_memory_argument(parser)
 
 
-def add_memory_argument(parser):
-    parser.add_argument("--memory", choices=("bram", "ddr2"), default="bram",
-                        help="where the frames are: bram (default, the block-RAM buffers of the thesis design) or "
-                             "ddr2 (the frame store in the DDR2 behind MIG, simulated with the MIG model)")
+def add_memory_argument(parser, default="bram"):
+    """``--memory bram|ddr2``; ``default``: the command's choice."""
+    parser.add_argument("--memory", choices=("bram", "ddr2"), default=default,
+                        help="where the frames are: bram (the block-RAM buffers of the thesis design) or ddr2 (the "
+                             f"frame store in the DDR2 behind MIG, simulated with the MIG model); default {default}")
 
 
 def switch_value(name, text, low=0, high=127):

@@ -382,6 +382,26 @@ def test_a_video_pair_runs_to_a_video(tmp_path):
     assert int(video.get(cv2.CAP_PROP_FRAME_COUNT)) == len(rows) >= 3
 
 
+@pytest.mark.slow
+def test_a_video_pair_on_the_ddr2_build_shows_whole_pairs_only(tmp_path):
+    """``stereodepth run L.avi R.avi --small --frames 2 --memory ddr2`` on Verilator (the small DDR2 build, about a
+    minute to build): every display frame equals the golden frame of one camera-frame pair (or of the empty
+    buffers), none with a withheld or mixed depth row, the last shows the last pair."""
+    import json
+    from stereodepth.cli import main
+    left, right = _moving_pair(2, (256, 192))
+    _write_video(tmp_path / "L.avi", left)
+    _write_video(tmp_path / "R.avi", right)
+    out = tmp_path / "out"
+    assert main(["run", str(tmp_path / "L.avi"), str(tmp_path / "R.avi"), "--small", "--frames", "2",
+                 "--memory", "ddr2", "--out", str(out)]) == 0
+    result = json.loads((out / "result.json").read_text())
+    rows = result["frames"]
+    assert result["display_frames_from_one_pair"] and result["pairs_shown"][-1] == 1, result["pairs_shown"]
+    assert len(rows) == len(result["pairs_shown"]) >= 3
+    assert all(r["depth_rows_mixed"] == 0 and not r["depth_rows_withheld"] and r["consistent"] for r in rows)
+
+
 @pytest.mark.parametrize("case, message", [
     ("count", "the left video has 3 frames, the right video 2"),
     ("size", "the left video is 160x120, the right video 200x150"),
