@@ -235,10 +235,11 @@ class FetcherCountsADeeperFifo(FrameStoreCreditsHarness):
         return RowFetcher(CREDIT_LAYOUT, 0, depth=CREDIT_DEPTH + 2)
 
 
-class WriterWithLongerRows(FrameStoreWriterHarness):
-    """The writer built for rows a burst longer apart than the buffers are laid out: its last rows spill over."""
+class WriterForBuffersARowOn(FrameStoreWriterHarness):
+    """The writer built for buffers a row further on than they are laid out: its last row spills over."""
     def dut(self):
-        return BurstWriter(dataclasses.replace(WRITER_LAYOUT, stride=WRITER_LAYOUT.stride + 32), WRITER_CAMERA)
+        return BurstWriter(dataclasses.replace(WRITER_LAYOUT, base=WRITER_LAYOUT.base + WRITER_LAYOUT.stride_words),
+                           WRITER_CAMERA)
 
 
 class WriterToldEveryFrameIsWhole(FrameStoreWriterHarness):
@@ -279,7 +280,7 @@ BITES = {
     "depth_pairs": (DepthEngineWithoutPairs, "pair_mismatch_in_window_makes_the_row_invalid"),
     "frame_store_ownership": (OwnershipTwoBuffers, "writes the latest"),
     "frame_store_credits": (FetcherCountsADeeperFifo, "room"),
-    "frame_store_writer": (WriterWithLongerRows, "write_inside_the_owned_buffer"),
+    "frame_store_writer": (WriterForBuffersARowOn, "write_inside_the_owned_buffer"),
     "frame_store_writer_complete": (WriterToldEveryFrameIsWhole, "complete_only_after_exactly_the_frame_s_bursts"),
     "frame_store_packer": (PackerForShorterRows, "end_ok_only_for_a_frame_of_whole_rows"),
     "depth_pass_counter": (DepthMapWrappingPassCounter, "rows_ready_counts_finished_passes"),
