@@ -239,6 +239,19 @@ def test_end_to_end_full_size(backend, tmp_path):
         assert check["mismatches"] == 0 and check["samples"] > 4_000_000
 
 
+@pytest.mark.slow
+def test_end_to_end_full_size_ddr2():
+    """The DDR2 build at full size on Verilator (the route of ``make demo``): the first display frame equals the
+    golden frame bit for bit, no depth row withheld, no display read refused (the small DDR2 runs of
+    tests/test_system_ddr2.py do not load the store as the 1080p display and the 400 x 300 engine do)."""
+    from dataclasses import replace
+    result = _run(replace(FULL_SETUP, memory="ddr2"), Verilator())
+    _check_full_size_status(result.status)
+    assert result.status["violations"] == [] and result.mismatched_pixels == 0
+    assert result.status["display_missed"] == 0 and not result.chosen.verdict["tear"]
+    assert result.frame.shape == (1080, 1920, 3) and result.ok
+
+
 def test_run_command_rejects_bad_input(tmp_path, capsys):
     from PIL import Image
     from stereodepth.cli import main
