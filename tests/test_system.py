@@ -105,9 +105,8 @@ def test_end_to_end_amaranth(route):
     run). Both routes are slow. The default suite runs the ``python`` route's simulation through the command line,
     tests/test_cli_outputs.py's complete run (``stereodepth run --small --simulator amaranth``: the same backend;
     with ``--vcd`` and ``system_waves`` in its slow variant), with these checks on its result.json and frames; the
-    ``replay`` route as far as
-    the I2C init in test_replayed_sensors_need_the_configuration_their_stream_was_made_for, and replayed camera
-    pins to a whole frame on Verilator and Icarus in test_in_simulator_route_is_equivalent."""
+    ``replay`` route as far as the I2C init in test_replayed_sensors_need_the_configuration_their_stream_was_made_for,
+    and replayed camera pins to a whole frame on Verilator and Icarus in test_in_simulator_route_is_equivalent."""
     setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION)
     result = _run(setup, Amaranth(route))
     check_status(result.status)
