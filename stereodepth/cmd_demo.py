@@ -169,7 +169,6 @@ def run(args):
     if not args.no_waves:
         print("waveforms: the whole system at the small size in Amaranth's simulator, in a second process ...",
               flush=True)
-        sys.stdout.flush()
         waves = Background(waves_step, SystemSetup.small(disparity=ds, rectification=0), out)
     try:
         ok, files = _full_step(args, setup, out, outputs, started)
