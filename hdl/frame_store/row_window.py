@@ -84,7 +84,7 @@ class RowWindow(wiring.Component):
         count_bits = (4 * n).bit_length() + 1          # request and landing counts, compared modulo 2**count_bits
         asked, landed = Signal(count_bits), Signal(count_bits)
         first = Signal(range(h + n))                    # the window's first row
-        start_index = Signal(count_bits)                # the request number of the row asked first after restart
+        counted = Signal(count_bits)                    # the request number of the window's next row to land
         first_slot = Signal(range(n))                   # its slot
         # bounds[k] = (first + k) * width: where the window's k-th row starts, set in the clock after a restart
         # (``settling``: nothing is granted in it) and moved a row at a time.
@@ -132,17 +132,18 @@ class RowWindow(wiring.Component):
             consumer.port.data.eq(self.stream.read.data[:g.grey_bits]),
         ]
         # A landing counts for this window once the rows asked before its restart have all landed (a negative
-        # difference: rows of an earlier window pending).
-        since_start = Signal(count_bits)
-        m.d.comb += since_start.eq(landed - start_index)
+        # difference: rows of an earlier window pending); each one counted moves ``counted`` on with ``landed``,
+        # so the difference stays between -slots and 0 however many rows the window reads.
+        pending = Signal(count_bits)
+        m.d.comb += pending.eq(landed - counted)
         m.d.sync += settling.eq(0)
         with m.If(self.restart):
             start = times(self.first_row, w)
             m.d.sync += [first.eq(self.first_row), next_row.eq(self.first_row), bounds[0].eq(start),
-                         limit.eq(start), settling.eq(1), start_index.eq(asked), first_slot.eq(next_slot)]
+                         limit.eq(start), settling.eq(1), counted.eq(asked), first_slot.eq(next_slot)]
         with m.Else():
-            with m.If(self.stream.landed & ~since_start[-1]):
-                m.d.sync += limit.eq(limit + w)
+            with m.If(self.stream.landed & ~pending[-1]):
+                m.d.sync += [limit.eq(limit + w), counted.eq(counted + 1)]
             with m.If(settling):
                 m.d.sync += [bounds[k].eq(bounds[0] + k * w) for k in range(1, n)]
             with m.Elif(grant & ge[1]):
