@@ -26,6 +26,7 @@ def main(argv=None):
     parser.add_argument("--frames", type=int, default=2)
     parser.add_argument("--latency", type=int, default=READ_LATENCY_RANGE[1])
     parser.add_argument("--not-urgent", action="store_true")
+    parser.add_argument("--engine-streams", type=int, default=2, help="greedy engine readers (the design: 2)")
     parser.add_argument("--fifo-depth", type=int, default=1024, help="the MIG model's address FIFO (MIG: 1024)")
     parser.add_argument("--banks", type=int, default=MIG.BANKS,
                         help="banks the buffers are spread over (1: all in bank 0)")
@@ -33,11 +34,12 @@ def main(argv=None):
     lo, hi = READ_LATENCY_RANGE
     case = WorstCase(rows=args.rows, frames=args.frames, latency=args.latency,
                      latency_range=(lo, max(hi, args.latency)), display_urgent=not args.not_urgent,
-                     mig_fifo_depth=args.fifo_depth, banks=args.banks)
+                     mig_fifo_depth=args.fifo_depth, banks=args.banks, engine_streams=args.engine_streams)
     wall = time.perf_counter()
     result = run_worst_case(case)
     print(f"{args.frames} display frames of {case.blank_lines} + {args.rows} lines, read latency {args.latency} clk0, "
-          f"display {'urgent' if case.display_urgent else 'after the writers and the engine'}, buffers in "
+          f"display {'urgent' if case.display_urgent else 'after the writers and the engine'}, "
+          f"{case.engine_streams} greedy engine streams, buffers in "
           f"{case.layout.banks_used} bank(s)")
     print(result.report())
     print(f"wall {time.perf_counter() - wall:.1f} s")

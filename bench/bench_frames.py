@@ -13,7 +13,9 @@ off by P ppm and its start T microseconds late (the sensor model's knobs for the
 ``--memory ddr2`` runs the DDR2 build (the camera frames in the frame store behind the MIG model) instead of the
 block-RAM build (``bram``, the default) and prints its promise too: the pair each display frame shows and whether
 every display frame is made from one camera-frame pair (``display_frames_from_one_pair``: no row withheld, none
-mixed).
+mixed). ``--video`` sends the same card through the video input: the rendered pairs written as two lossless (FFV1)
+video files and read back by ``sim.testbed.sequence.sequence_from_videos``, the path of ``stereodepth run L.avi R.avi
+--frames N``, the scene's truth kept.
 """
 
 import argparse
@@ -27,6 +29,7 @@ def main(argv=None):
     parser.add_argument("--delay-us", type=float, default=0.0)
     parser.add_argument("--disparity", type=int, default=20)
     parser.add_argument("--memory", choices=("bram", "ddr2"), default="bram")
+    parser.add_argument("--video", action="store_true", help="the card through two lossless video files")
     args = parser.parse_args(argv or [])
     from sim.analysis.depth_panel import depth_summary
     from sim.runners.verilator.build import build
@@ -39,11 +42,13 @@ def main(argv=None):
     build(setup)
     print(f"build (cached or made now): {time.perf_counter() - t:.1f} s")
     sequence = moving_card(setup, args.frames)
+    if args.video:
+        sequence = through_videos(sequence, setup)
     t = time.perf_counter()
     result = simulate(setup, sequence, Verilator())
     wall = time.perf_counter() - t
     status, shown = result.status, result.frames
-    print(f"{args.memory} build: {args.frames} camera frames -> {len(shown)} display frames: {wall:.1f} s wall, "
+    print(f"{args.memory} build, {'video files' if args.video else 'rendered frames'}: {args.frames} camera frames -> {len(shown)} display frames: {wall:.1f} s wall, "
           f"{status['t_end_s'] * 1e3:.1f} ms simulated, {wall / len(shown):.1f} s a display frame")
     layout, g = setup.display_layout, setup.geometry
     for s in shown:
@@ -73,3 +78,30 @@ def main(argv=None):
               f"{result.verdict['display_frames_from_one_pair']}; withheld depth rows in all: {withheld}; display "
               f"reads refused in {status.get('display_missed')} pixel clocks")
     print(f"verdict ok: {result.verdict['ok']}")
+
+
+def through_videos(sequence, setup):
+    """``sequence``'s pairs written as two lossless video files (FFV1 in AVI) and read back as the command line
+    reads a video pair; the truth, centre distances and names carried over. Exits if OpenCV has no FFV1 encoder."""
+    import tempfile
+    from pathlib import Path
+
+    import cv2
+
+    from sim.testbed.sequence import sequence_from_videos
+    with tempfile.TemporaryDirectory() as tmp:
+        paths = [Path(tmp) / "left.avi", Path(tmp) / "right.avi"]
+        height, width = sequence.pairs[0][0].shape[:2]
+        for side, path in enumerate(paths):
+            writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"FFV1"), 15, (width, height))
+            if not writer.isOpened():
+                raise SystemExit("--video: OpenCV has no FFV1 encoder here")
+            for pair in sequence.pairs:
+                writer.write(cv2.cvtColor(pair[side], cv2.COLOR_RGB2BGR))
+            writer.release()
+        read = sequence_from_videos(*paths, setup, frames=len(sequence.pairs))
+    if any((a != b).any() for p, q in zip(read.pairs, sequence.pairs) for a, b in zip(p, q)):
+        raise SystemExit("--video: the frames read back differ from those written (the codec is not lossless)")
+    read.truth, read.centre_m, read.names = sequence.truth, sequence.centre_m, sequence.names
+    return read
+

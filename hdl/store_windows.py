@@ -7,9 +7,10 @@ port, 3 its right port. Each window is restarted where its consumer begins a new
 
 * the compositor's two windows after ``taken`` (the display frame's pair is held), first row 0: the left and
   right panels;
-* the compositor's two windows again at the start of the first line after the panels (``x = 0``), before the
-  difference map's (or the segmentation view's) first line: left first row ``min(max(r, 0), H - 1)`` (``r`` the
-  rectification: the subtractor reads the left image ``r`` rows lower), right first row 0;
+* the compositor's two windows again at the start of the first line after the panels (the clock after ``x = 0``:
+  the line's start and the rectification registered), before the difference map's (or the segmentation view's)
+  first line: left first row ``min(max(r, 0), H - 1)`` (``r`` the rectification: the subtractor reads the left
+  image ``r`` rows lower), right first row 0;
 * the engine's two windows at ``engine_start`` (the engine's ``start``): left first row ``engine_left_row``, right
   first row 0.
 
@@ -108,10 +109,11 @@ class StoreWindows(wiring.Component):
         m = Module()
         h = self.geometry.buf_height
         r = self.rectification
+        # The maps' restart and its first row, registered: the windows restart in the line's second clock.
         shifted = Signal(range(h), name="shifted_first_row")
-        m.d.comb += shifted.eq(Mux(r < 0, 0, Mux(r >= h, h - 1, r)))
         maps = Signal(name="maps_restart")
-        m.d.comb += maps.eq((self.timing.y == self.panels_end) & (self.timing.x == 0))
+        m.d.sync += [shifted.eq(Mux(r < 0, 0, Mux(r >= h, h - 1, r))),
+                     maps.eq((self.timing.y == self.panels_end) & (self.timing.x == 0))]
         restarts = (
             (self.display_left, self.taken | maps, Mux(self.taken, 0, shifted)),
             (self.display_right, self.taken | maps, 0),

@@ -67,7 +67,7 @@ def waves_step(setup, out_dir):
     """Step 3: the bundled pair at the small ``setup`` in Amaranth's simulator with waveforms, into ``out_dir``
     (``system.vcd``, ``system.gtkw``, ``hdmi_frame_small.png``). Returns ``(ok, files, lines)``: whether its frame
     equals the golden frame (None when the run failed), the files written ({label: path}) and the lines to print.
-    It prints nothing itself: it runs in a second process beside the full-size step (:class:`Background`)."""
+    It prints nothing itself: it runs in a second process beside the full-size step (:class:`sim.runners.background.Background`)."""
     from golden.stereo_pair import load_default_pair
     from sim import SimulationFailed
     from sim.models.ch7301c.hdmi_sink import write_png
@@ -95,56 +95,11 @@ def waves_step(setup, out_dir):
     return result.ok, files, lines
 
 
-def _call(conn, fn, args):
-    try:
-        conn.send(("value", fn(*args)))
-    except BaseException as exc:                    # handed to the parent, which reports it
-        conn.send(("error", f"{type(exc).__name__}: {exc}"))
-    finally:
-        conn.close()
-
-
-class Background:
-    """``fn(*args)`` in a second process (forked), so that it uses the second core while this process works;
-    :meth:`result` waits for its value, :meth:`stop` ends it. Where ``fork`` is not available it runs in
-    :meth:`result`, after this process's work."""
-
-    def __init__(self, fn, *args):
-        import multiprocessing
-        self.fn, self.args, self.proc = fn, args, None
-        if "fork" in multiprocessing.get_all_start_methods():
-            ctx = multiprocessing.get_context("fork")
-            self.conn, child = ctx.Pipe(duplex=False)
-            self.proc = ctx.Process(target=_call, args=(child, fn, args), daemon=True)
-            self.proc.start()
-            child.close()
-
-    def result(self):
-        """``fn``'s value; raises RuntimeError if it raised or its process died."""
-        if self.proc is None:
-            try:
-                return self.fn(*self.args)
-            except Exception as exc:
-                raise RuntimeError(f"{type(exc).__name__}: {exc}") from exc
-        try:
-            kind, value = self.conn.recv()
-        except EOFError:
-            kind, value = "error", f"the process ended with exit status {self.proc.exitcode}"
-        self.proc.join()
-        if kind == "error":
-            raise RuntimeError(value)
-        return value
-
-    def stop(self):
-        if self.proc is not None and self.proc.is_alive():
-            self.proc.terminate()
-            self.proc.join()
-
-
 def run(args):
     from . import cmd_run
     from sim.analysis.disparity_pictures import bundled_pair_settings
     from sim.testbench.system.setup import SystemSetup
+    from sim.runners.background import Background
     from stereodepth.provenance import utc_now
     started = utc_now()
     out = prepare_out_dir(args.out)

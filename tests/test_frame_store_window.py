@@ -15,18 +15,21 @@ from spec.sensor import SensorGeometry
 
 #: 20 x 10 buffer pixels: a row is not a power of two of bytes, nor a whole number of 16-byte words.
 G = SensorGeometry(width=80, height=40)
-LAYOUT = FrameStoreLayout(width=G.buf_width, height=G.buf_height, cameras=1, buffers=3)
+#: 4 x 40 buffer pixels: more rows than the window's request and landing counters count before they wrap.
+TALL = SensorGeometry(width=16, height=160)
 SLOTS = 3
 #: Pix clocks a read waits for its grant at most (a row lands in tens of clocks).
 GRANT_TIMEOUT = 2000
 
 
-def simulate(consumer_bench, *, seed=0):
-    image = np.random.default_rng(seed).integers(0, 1 << G.grey_bits, (G.buf_height, G.buf_width), dtype=np.uint8)
+def simulate(consumer_bench, *, seed=0, geometry=G):
+    g = geometry
+    layout = FrameStoreLayout(width=g.buf_width, height=g.buf_height, cameras=1, buffers=3)
+    image = np.random.default_rng(seed).integers(0, 1 << g.grey_bits, (g.buf_height, g.buf_width), dtype=np.uint8)
     contents = {}
-    fill(contents, LAYOUT, 0, 2, image)
-    bench = ReaderOnModel(LAYOUT, 0, contents, hold=(True, 2), latency=19, slots=SLOTS, depth=16)
-    bench.m.submodules.window = window = DomainRenamer("pix")(RowWindow(G, slots=SLOTS))
+    fill(contents, layout, 0, 2, image)
+    bench = ReaderOnModel(layout, 0, contents, hold=(True, 2), latency=19, slots=SLOTS, depth=16)
+    bench.m.submodules.window = window = DomainRenamer("pix")(RowWindow(g, slots=SLOTS))
     wiring.connect(bench.m, window.stream, bench.reader.stream)
     result = {}
 
@@ -109,6 +112,19 @@ def test_engine_pattern_waits_for_its_rows(offset):
 
     image, result = simulate(bench, seed=abs(offset))
     assert (np.array(result["rows"]) == image[sources]).all()
+
+
+def test_a_frame_taller_than_the_counters_wrap():
+    """Rows 0..H-1 of a 40-row buffer, straight through: the window's counters (request numbers modulo a few times
+    its slots) wrap several times in one frame, and every row is still granted and the image's."""
+    h, w = TALL.buf_height, TALL.buf_width
+
+    async def bench(ctx, window):
+        await restart(ctx, window, 0)
+        return {"rows": await read_rows_granted(ctx, window.consumer, range(h), w)}
+
+    image, result = simulate(bench, seed=3, geometry=TALL)
+    assert (np.array(result["rows"]) == image).all()
 
 
 def test_restart_in_the_middle_starts_a_new_window():

@@ -4,9 +4,10 @@ One burst a grant, by fixed priority: the *urgent* readers first (the display's:
 the camera writers (a camera cannot be held back either, but its FIFO absorbs a wait of several bursts), then the
 other readers (the depth engine's, which waits; docs/frame_store.md, "Arbitration", has the worst case).
 
-* Nothing is granted before ``phy_init_done``, nor while MIG's address or write-data FIFO is almost full
-  (``afull``: 15 or fewer entries free; the arbiter adds at most 2 data words and 1 command after the clock it
-  sees the flag low, so it never overfills them).
+* Nothing is granted before ``phy_init_done``, nor while MIG's address or write-data FIFO was almost full in the
+  clock before (``afull``: 15 or fewer entries free; the flags are registered here, as MIG drives them straight
+  from its FIFO36s; from the clock a flag rises, the arbiter writes at most 3 more data words and 3 more commands,
+  so it never overfills them).
 * A write burst takes two clocks: its first data word in the clock after the grant, its second with the write
   command in the next (data before command, AR 24146). No grant in the first of them.
 * A read burst's command goes out in the clock after the grant; the reader's number goes into a FIFO of
@@ -17,7 +18,10 @@ Outputs to MIG are registered. The arbiter does not count a reader's credits: a 
 it has room for its words (:class:`~hdl.frame_store.row_fetcher.RowFetcher`).
 """
 
-from amaranth import Module, Signal
+import operator
+from functools import reduce
+
+from amaranth import Cat, Module, Mux, Signal
 from amaranth.lib import wiring
 from amaranth.lib.fifo import SyncFIFO
 from amaranth.lib.wiring import In, Out
@@ -89,7 +93,9 @@ class MemoryArbiter(wiring.Component):
         word1, mask1 = Signal(MIG.DATA_WIDTH), Signal(MIG.MASK_WIDTH)
         write_addr = Signal(MIG.ADDR_WIDTH)
         ready = Signal()
-        m.d.comb += ready.eq(mig.phy_init_done & ~mig.command.afull & ~mig.write.afull & ~second)
+        afull = Signal()                        # either almost-full flag, a clock late
+        m.d.sync += afull.eq(mig.command.afull | mig.write.afull)
+        m.d.comb += ready.eq(mig.phy_init_done & ~afull & ~second)
 
         # Registered outputs, idle unless set below.
         m.d.sync += [mig.command.wren.eq(0), mig.write.wren.eq(0)]
@@ -98,22 +104,38 @@ class MemoryArbiter(wiring.Component):
                          mig.command.cmd.eq(MIG.CMD_WRITE), mig.command.addr.eq(write_addr),
                          mig.command.wren.eq(1)]
 
-        for n, (kind, i) in enumerate(self._order()):      # one If/Elif chain: the first request wins
-            branch = m.If if n == 0 else m.Elif
-            if kind == "write":
-                client = self.writers[i]
-                with branch(ready & client.request):
-                    m.d.comb += client.grant.eq(1)
-                    m.d.sync += [second.eq(1), write_addr.eq(client.addr),
-                                 mig.write.data.eq(client.data[:MIG.DATA_WIDTH]),
-                                 mig.write.mask.eq(client.mask[:MIG.MASK_WIDTH]), mig.write.wren.eq(1),
-                                 word1.eq(client.data[MIG.DATA_WIDTH:]), mask1.eq(client.mask[MIG.MASK_WIDTH:])]
-            else:
-                client = self.readers[i]
-                with branch(ready & tags.w_rdy & client.request):
-                    m.d.comb += [client.grant.eq(1), tags.w_en.eq(1), tags.w_data.eq(i)]
-                    m.d.sync += [mig.command.cmd.eq(MIG.CMD_READ), mig.command.addr.eq(client.addr),
-                                 mig.command.wren.eq(1)]
+        # The winner: each client's request against the OR of those before it, side by side (not a chain), and
+        # what goes to MIG as an AND-OR of the clients' values under their one-hot wins.
+        wins, requests = [], []
+        for kind, i in self._order():
+            request = self.writers[i].request if kind == "write" else self.readers[i].request & tags.w_rdy
+            win = Signal(name=f"win_{kind}_{i}")
+            m.d.comb += win.eq(ready & request & ~Cat(*requests).any() if requests else ready & request)
+            wins.append((kind, i, win))
+            requests.append(request)
+
+        def pick(kind, value):
+            return reduce(operator.or_, [Mux(win, value(i), 0) for k, i, win in wins if k == kind])
+
+        read_wins = [win for kind, _, win in wins if kind == "read"]
+        write_wins = [win for kind, _, win in wins if kind == "write"]
+        for kind, i, win in wins:
+            m.d.comb += (self.writers[i] if kind == "write" else self.readers[i]).grant.eq(win)
+        if write_wins:
+            with m.If(Cat(*write_wins).any()):
+                w = self.writers
+                m.d.sync += [second.eq(1), write_addr.eq(pick("write", lambda i: w[i].addr)),
+                             mig.write.data.eq(pick("write", lambda i: w[i].data[:MIG.DATA_WIDTH])),
+                             mig.write.mask.eq(pick("write", lambda i: w[i].mask[:MIG.MASK_WIDTH])),
+                             mig.write.wren.eq(1),
+                             word1.eq(pick("write", lambda i: w[i].data[MIG.DATA_WIDTH:])),
+                             mask1.eq(pick("write", lambda i: w[i].mask[MIG.MASK_WIDTH:]))]
+        if read_wins:
+            m.d.comb += [tags.w_en.eq(Cat(*read_wins).any()), tags.w_data.eq(pick("read", lambda i: i))]
+            with m.If(Cat(*read_wins).any()):
+                m.d.sync += [mig.command.cmd.eq(MIG.CMD_READ),
+                             mig.command.addr.eq(pick("read", lambda i: self.readers[i].addr)),
+                             mig.command.wren.eq(1)]
 
         # Read data to the reader whose command it answers: two words a tag.
         second_word = Signal()

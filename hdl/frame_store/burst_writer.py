@@ -3,13 +3,14 @@
 It takes the :class:`~hdl.frame_store.burst_packer.BurstPacker`'s entries from a FIFO, one at a time:
 
 * ``START``: asks the ownership for a buffer (``own.start``) and expects row 0, burst 0;
-* ``BURST``: when the writer owns a buffer and the entry's row and burst are inside the layout, asks the arbiter to
-  write it (``mem``) at ``buffer base + row * stride + burst * 32 bytes`` and takes the next entry when granted;
-  otherwise drops it. A burst other than the expected one (the next in raster order) spoils the frame;
+* ``BURST``: when the writer owns a buffer and the entry is the expected burst (the next in raster order, inside
+  the layout), asks the arbiter to write it (``mem``) at ``buffer base + row * stride + burst * 32 bytes`` (the
+  expected burst's offset in the buffer is a register, stepped with the expected row and burst) and takes the next
+  entry when granted; otherwise drops it and spoils the frame;
 * ``END``: ends the frame (``own.finish``), ``complete`` when the entry says ``ok``, nothing spoiled it and every
   burst of every row came in order -- so a published buffer holds one frame's every burst, each written once.
 
-Addresses are built only from the owned buffer's base and in-range row and burst numbers, so nothing a camera
+Addresses are built only from the owned buffer's base and the expected (in-range) row and burst, so nothing a camera
 sends lands outside the buffer the ownership gave the writer, and nothing is written while it owns none.
 """
 
@@ -76,9 +77,11 @@ class BurstWriter(wiring.Component):
         expect_burst = Signal(range(lay.bursts_per_row))
         spoiled = Signal()
         bases = Array(Const(lay.buffer_base(self.camera, b), MIG.ADDR_WIDTH) for b in range(lay.buffers))
-        in_range = own.writing & (entry.row < lay.height) & (entry.burst < lay.bursts_per_row)
+        offset = Signal(range(lay.buffer_words + 1))      # the expected burst's memory word in the buffer
+        expected = (entry.row == expect_row) & (entry.burst == expect_burst)
+        writable = own.writing & expected & (expect_row < lay.height)
         m.d.comb += [
-            mem.addr.eq(bases[own.buffer] + entry.row * lay.stride_words + entry.burst * MIG.BURST_LENGTH),
+            mem.addr.eq(bases[own.buffer] + offset),
             mem.data.eq(entry.data),
             mem.mask.eq(entry.mask),
         ]
@@ -86,20 +89,21 @@ class BurstWriter(wiring.Component):
             with m.Switch(entry.kind):
                 with m.Case(ENTRY_KINDS["START"]):
                     m.d.comb += [own.start.eq(1), self.entries.en.eq(1)]
-                    m.d.sync += [expect_row.eq(0), expect_burst.eq(0), spoiled.eq(0)]
+                    m.d.sync += [expect_row.eq(0), expect_burst.eq(0), offset.eq(0), spoiled.eq(0)]
                 with m.Case(ENTRY_KINDS["END"]):
                     m.d.comb += [own.finish.eq(1), self.entries.en.eq(1),
                                  own.complete.eq(entry.ok & ~spoiled & (expect_row == lay.height))]
                 with m.Case(ENTRY_KINDS["BURST"]):
-                    m.d.comb += [mem.request.eq(in_range), self.entries.en.eq(~in_range | mem.grant)]
-                    expected = (entry.row == expect_row) & (entry.burst == expect_burst)
-                    with m.If(~in_range | ~expected):
+                    m.d.comb += [mem.request.eq(writable), self.entries.en.eq(~writable | mem.grant)]
+                    with m.If(~writable):
                         m.d.sync += spoiled.eq(1)
                     with m.Elif(mem.grant):
                         with m.If(expect_burst == lay.bursts_per_row - 1):
-                            m.d.sync += [expect_burst.eq(0), expect_row.eq(expect_row + 1)]
+                            m.d.sync += [expect_burst.eq(0), expect_row.eq(expect_row + 1),
+                                         offset.eq(offset + lay.stride_words
+                                                   - (lay.bursts_per_row - 1) * MIG.BURST_LENGTH)]
                         with m.Else():
-                            m.d.sync += expect_burst.eq(expect_burst + 1)
+                            m.d.sync += [expect_burst.eq(expect_burst + 1), offset.eq(offset + MIG.BURST_LENGTH)]
                 with m.Default():
                     m.d.comb += self.entries.en.eq(1)
                     m.d.sync += spoiled.eq(1)

@@ -2,10 +2,13 @@
 than its receiving FIFO can take (docs/frame_store.md, "Readers").
 
 Requests (row numbers) come from a FIFO; for each, the fetcher asks the arbiter for the row's bursts in order
-(``buffer base + row * stride + burst * 32 bytes``) and writes the words MIG returns, two a burst, into ``words``
-(the write side of a FIFO of ``depth`` words). MIG cannot be held back, so a read is requested only when the FIFO
-has room for every word outstanding and the burst's two (*credits*): ``level + outstanding + 2 <= depth``, with
-``level`` the FIFO's own count, which only overstates the words in it while the other side's reads reach it.
+(``buffer base + row * stride + burst * 32 bytes``: the row's offset in the buffer, a register set when the request
+is taken and stepped a burst at a time, plus the held buffer's base) and writes the words MIG returns, two a burst,
+into ``words`` (the write side of a FIFO of ``depth`` words). MIG cannot be held back, so a read is requested only
+when the FIFO has room for every word outstanding and the burst's two (*credits*), decided a clock ahead (a
+register): ``level + outstanding + 4 <= depth`` in the clock before, which allows for the 2 words a burst granted in
+that clock adds; ``level`` is the FIFO's own count, which only overstates the words in it while the other side's
+reads reach it.
 While the reader holds no pair (before the first complete pair), a row's bursts are not read: two zero words each
 go into the FIFO instead, once nothing is outstanding, so the words still come one row after another.
 """
@@ -14,6 +17,7 @@ from amaranth import Array, Const, Module, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
+from hdl.shift_add import times
 from spec.memory import MIG
 
 from .layout import FrameStoreLayout
@@ -46,7 +50,7 @@ class RowFetcher(wiring.Component):
         Words requested and not yet returned.
 
     Clock domain: ``sync`` (the reader renames it to ``mem``). Latency: a request is taken in the clock after the
-    previous row's last burst is granted; words go into the FIFO in the clock MIG returns them.
+    previous row's last burst is granted; a burst is asked for a clock after the room for it is seen; words go into the FIFO in the clock MIG returns them.
 
     Raises
     ------
@@ -74,19 +78,22 @@ class RowFetcher(wiring.Component):
         m = Module()
         lay, mem, words = self.layout, self.mem, self.words
         busy = Signal()
-        row = Signal(range(lay.height))
+        offset = Signal(range(lay.buffer_words + 1))  # the burst's memory word in the buffer: row * stride + burst * 4
         burst = Signal(range(lay.bursts_per_row))
         zero_second = Signal()                  # the second zero word of a burst not read
         outstanding = self.outstanding
         bases = Array(Const(lay.buffer_base(self.camera, b), MIG.ADDR_WIDTH) for b in range(lay.buffers))
+        # Room for a burst, a clock late: the words outstanding and in the FIFO grow by at most 2 in a clock (a
+        # burst granted, or a zero word written), so room for that much more and the burst's own 2 then means
+        # room for the burst's 2 now.
         room = Signal()
+        m.d.sync += room.eq(words.level + outstanding + 2 * MIG.WORDS_PER_BURST <= self.depth)
         m.d.comb += [
-            room.eq(words.level + outstanding + MIG.WORDS_PER_BURST <= self.depth),
-            mem.addr.eq(bases[self.hold.buffer] + row * lay.stride_words + burst * MIG.BURST_LENGTH),
+            mem.addr.eq(bases[self.hold.buffer] + offset),
             self.requests.en.eq(~busy & self.requests.rdy),
         ]
         with m.If(self.requests.en):
-            m.d.sync += [busy.eq(1), row.eq(self.requests.row), burst.eq(0)]
+            m.d.sync += [busy.eq(1), offset.eq(times(self.requests.row, lay.stride_words)), burst.eq(0)]
 
         last = burst == lay.bursts_per_row - 1
         done = Signal()                         # the burst is granted (or its zero words are in)
@@ -101,7 +108,7 @@ class RowFetcher(wiring.Component):
             m.d.comb += [words.data.eq(0), words.en.eq(1), done.eq(1)]
             m.d.sync += zero_second.eq(0)
         with m.If(done):
-            m.d.sync += burst.eq(burst + 1)
+            m.d.sync += [burst.eq(burst + 1), offset.eq(offset + MIG.BURST_LENGTH)]
             with m.If(last):
                 m.d.sync += busy.eq(0)
 

@@ -12,7 +12,7 @@ words outstanding than the returning FIFO has room for), the words come back in 
 filler writes each row's words (the padding words of the row's last burst dropped) into its slot.
 """
 
-from amaranth import DomainRenamer, Module, Signal
+from amaranth import Cat, DomainRenamer, Module, Signal
 from amaranth.lib import wiring
 from amaranth.lib.fifo import AsyncFIFO
 from amaranth.lib.memory import Memory
@@ -25,7 +25,11 @@ from .layout import WORD_BYTES, FrameStoreLayout
 from .mem_port import BurstReadSignature
 from .row_fetcher import RowFetcher
 
-__all__ = ["RowReader", "RowStreamSignature"]
+__all__ = ["RowReader", "RowStreamSignature", "PIECE_BITS"]
+
+#: The ring's width: a word from MIG is written into it in ``MIG.DATA_WIDTH // PIECE_BITS`` clocks, and a slot of
+#: a 400-pixel row (100 pieces, 128 entries) x 4 slots fills one RAMB18 (512 x 36) instead of four.
+PIECE_BITS = 32
 
 
 class RowStreamSignature(ParametricSignature):
@@ -115,28 +119,45 @@ class RowReader(wiring.Component):
         return m
 
     def _fill(self, m, words):
-        """The filler and the ring, in ``read_domain``."""
+        """The filler and the ring, in ``read_domain``: each word taken from the FIFO into a register and written
+        into the ring a piece (:data:`PIECE_BITS`) a clock, so the ring is a block RAM of one narrow port per side;
+        a slot's pieces start at a power of two (the read address is the slot and the column's high bits)."""
         lay, used = self.layout, self.used_words
+        pieces = MIG.DATA_WIDTH // PIECE_BITS
+        piece_bytes = PIECE_BITS // 8
+        col_bits = max(1, (used * pieces - 1).bit_length())   # a slot's pieces: 2**col_bits entries
         rd = m.d[self.read_domain]
-        m.submodules.ring = ring = Memory(shape=MIG.DATA_WIDTH, depth=self.slots * used, init=[])
+        m.submodules.ring = ring = Memory(shape=PIECE_BITS, depth=self.slots << col_bits, init=[])
         write = ring.write_port(domain=self.read_domain)
         read = ring.read_port(domain=self.read_domain)
         slot = Signal(range(self.slots))
         word = Signal(range(lay.words_per_row))
+        held = Signal(MIG.DATA_WIDTH)                   # the word being written
+        full = Signal()
+        piece = Signal(range(pieces))
+        last_piece = (piece == pieces - 1) | (word >= used)   # a padding word is dropped in one clock
         m.d.comb += [
-            words.r_en.eq(1),
-            write.addr.eq(slot * used + word),
-            write.data.eq(words.r_data),
-            write.en.eq(words.r_rdy & (word < used)),
+            words.r_en.eq(~full | last_piece),
+            write.addr.eq(Cat(piece, word, slot) if col_bits == len(piece) + len(word)
+                          else (slot << col_bits) + word * pieces + piece),
+            write.data.eq(held.word_select(piece, PIECE_BITS)),
+            write.en.eq(full & (word < used)),
         ]
-        with m.If(words.r_rdy):
-            rd += word.eq(word + 1)
-            with m.If(word == lay.words_per_row - 1):
-                rd += [word.eq(0), slot.eq(slot + 1)]
-                with m.If(slot == self.slots - 1):
-                    rd += slot.eq(0)
-                m.d.comb += self.stream.landed.eq(1)
-        byte = Signal(4)
-        rd += byte.eq(self.stream.read.x[:4])
-        m.d.comb += [read.addr.eq(self.stream.read.slot * used + self.stream.read.x[4:]),
+        with m.If(full):
+            rd += piece.eq(piece + 1)
+            with m.If(last_piece):
+                rd += [piece.eq(0), full.eq(0), word.eq(word + 1)]
+                with m.If(word == lay.words_per_row - 1):
+                    rd += [word.eq(0), slot.eq(slot + 1)]
+                    with m.If(slot == self.slots - 1):
+                        rd += slot.eq(0)
+                    m.d.comb += self.stream.landed.eq(1)
+        with m.If(words.r_en & words.r_rdy):
+            rd += [held.eq(words.r_data), full.eq(1)]
+        x = self.stream.read.x
+        byte = Signal(range(piece_bytes))
+        column = Signal(col_bits)
+        rd += byte.eq(x[:len(byte)])
+        m.d.comb += [column.eq(x[len(byte):]),
+                     read.addr.eq(Cat(column, self.stream.read.slot)),
                      self.stream.read.data.eq(read.data.word_select(byte, 8))]

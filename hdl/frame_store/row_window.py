@@ -15,7 +15,7 @@ for its grant; the display, always granted from the block-RAM buffer, must have 
 misses (the window holds the row shown and the next ones: docs/frame_store.md, "Arbitration").
 """
 
-from amaranth import Module, Mux, Signal
+from amaranth import Module, Mux, Signal, signed
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
@@ -51,7 +51,9 @@ class RowWindow(wiring.Component):
         The request's address lies before the window's first row (a read this window will never grant).
 
     Clock domain: ``sync`` (the parent renames it to the read domain). Latency: ``grant`` combinational from the
-    request; ``port.data`` one clock after a granted address; rows asked for from the clock after ``restart``.
+    request (the address compared with the window's start and the landed rows' end: two carry chains side by side,
+    then a LUT); ``port.data``
+    one clock after a granted address; rows asked for from the clock after ``restart``, nothing granted in it.
 
     Raises
     ------
@@ -82,9 +84,14 @@ class RowWindow(wiring.Component):
         count_bits = (4 * n).bit_length() + 1          # request and landing counts, compared modulo 2**count_bits
         asked, landed = Signal(count_bits), Signal(count_bits)
         first = Signal(range(h + n))                    # the window's first row
-        first_index = Signal(count_bits)                # its request number
+        counted = Signal(count_bits)                    # the request number of the window's next row to land
         first_slot = Signal(range(n))                   # its slot
-        base = Signal(g.addr_bits + 1)                  # first * width
+        # bounds[k] = (first + k) * width: where the window's k-th row starts, set in the clock after a restart
+        # (``settling``: nothing is granted in it) and moved a row at a time.
+        bounds = [Signal(g.addr_bits + 1, name=f"bound_{k}") for k in range(n)]
+        settling = Signal()
+        # limit = (first + rows of the window landed) * width: the landed rows' addresses end there.
+        limit = Signal(g.addr_bits + 1)
         next_row = Signal(range(h + n + 1))             # the row asked for next
         next_slot = Signal(range(n))                    # the slot it lands in (request number mod n)
 
@@ -95,35 +102,52 @@ class RowWindow(wiring.Component):
         with m.If(ask):
             m.d.sync += [next_row.eq(next_row + 1), next_slot.eq(Mux(next_slot == n - 1, 0, next_slot + 1))]
 
-        # The read: its row in the window (j), its column, whether it has landed.
+        # The read: the address against every row's start at once (at or after bounds[k]: ge[k]), its row in the
+        # window (j: the last k with ge[k]), its column (the difference to that row's start); granted inside the
+        # window's landed rows (from bounds[0] up to limit).
         consumer = self.consumer
-        offset = Signal(g.addr_bits + 1)
-        m.d.comb += offset.eq(consumer.port.addr - base)
+        diffs = [Signal(signed(g.addr_bits + 2), name=f"offset_{k}") for k in range(n)]
+        m.d.comb += [d.eq(consumer.port.addr - b) for d, b in zip(diffs, bounds)]
+        ge = [~d[-1] for d in diffs]
         j = Signal(range(n))
         for k in range(1, n):
-            with m.If(offset >= k * w):
+            with m.If(ge[k]):
                 m.d.comb += j.eq(k)
         x = Signal(range(w))
-        m.d.comb += x.eq(offset - times(j, w))
-        in_window = offset < n * w
-        ready = Signal(count_bits)                      # rows of the window landed (mod 2**count_bits)
-        m.d.comb += ready.eq(landed - first_index)
-        landed_ok = ~ready[-1] & (ready > j)            # a negative difference: rows of an earlier window pending
-        grant = consumer.request & in_window & landed_ok
+        with m.Switch(j):
+            for k in range(n):
+                with m.Case(k):
+                    m.d.comb += x.eq(diffs[k])
+        below_limit = Signal()
+        m.d.comb += below_limit.eq(consumer.port.addr < limit)
+        grant = consumer.request & ge[0] & below_limit & ~settling
         slot = Signal(range(n))
         m.d.comb += [
             slot.eq(Mux(first_slot + j >= n, first_slot + j - n, first_slot + j)),
             consumer.grant.eq(grant),
             self.missed.eq(consumer.request & ~grant),
-            self.below.eq(consumer.port.addr < base),
+            self.below.eq(~ge[0]),
             self.stream.read.slot.eq(slot),
             self.stream.read.x.eq(x),
             consumer.port.data.eq(self.stream.read.data[:g.grey_bits]),
         ]
+        # A landing counts for this window once the rows asked before its restart have all landed (a negative
+        # difference: rows of an earlier window pending); each one counted moves ``counted`` on with ``landed``,
+        # so the difference stays between -slots and 0 however many rows the window reads.
+        pending = Signal(count_bits)
+        m.d.comb += pending.eq(landed - counted)
+        m.d.sync += settling.eq(0)
         with m.If(self.restart):
-            m.d.sync += [first.eq(self.first_row), next_row.eq(self.first_row), base.eq(times(self.first_row, w)),
-                         first_index.eq(asked), first_slot.eq(next_slot)]
-        with m.Elif(grant & (j != 0)):
-            m.d.sync += [first.eq(first + 1), base.eq(base + w), first_index.eq(first_index + 1),
-                         first_slot.eq(Mux(first_slot == n - 1, 0, first_slot + 1))]
+            start = times(self.first_row, w)
+            m.d.sync += [first.eq(self.first_row), next_row.eq(self.first_row), bounds[0].eq(start),
+                         limit.eq(start), settling.eq(1), counted.eq(asked), first_slot.eq(next_slot)]
+        with m.Else():
+            with m.If(self.stream.landed & ~pending[-1]):
+                m.d.sync += [limit.eq(limit + w), counted.eq(counted + 1)]
+            with m.If(settling):
+                m.d.sync += [bounds[k].eq(bounds[0] + k * w) for k in range(1, n)]
+            with m.Elif(grant & ge[1]):
+                m.d.sync += [first.eq(first + 1), first_slot.eq(Mux(first_slot == n - 1, 0, first_slot + 1))]
+                m.d.sync += [bounds[k].eq(bounds[k + 1]) for k in range(n - 1)]
+                m.d.sync += bounds[n - 1].eq(bounds[n - 1] + w)
         return m
