@@ -192,8 +192,12 @@ class CameraCapture(wiring.Component):
                 m.d.comb += getattr(self.status, name).eq(
                     delayed(m, getattr(status, name), EXTRA_LATENCY, f"status_{name}"))
 
-        # Pixel path.
-        if averaging:
+        self._pixel_path(m, assembler, None if averaging else grey, downscaler, row)
+        return m
+
+    def _pixel_path(self, m, assembler, grey, downscaler, row):
+        """The assembler's pixels into the downscaler, through ``grey`` when there is one (keeping)."""
+        if grey is None:
             m.d.comb += [
                 downscaler.pixel.eq(assembler.pixel),
                 downscaler.valid.eq(assembler.valid),
@@ -208,7 +212,6 @@ class CameraCapture(wiring.Component):
             downscaler.column.eq(assembler.column),
             downscaler.row.eq(row),
         ]
-        return m
 
     def _row_strobes(self, m, status, lv_gated, fv_rise, line_end, row):
         """``status.row_start`` / ``row_end`` (counting rule 7, kept buffer rows only: keeping, the rows ``r %
