@@ -12,7 +12,9 @@ docs/capture.md, "The averaging capture").
   exhaustively against the golden formula at scales 1, 2, 4 and 8;
 * malformed input: arbitrary valid/column/row on the block's ports and the sensor model's fault cases through the
   capture path: no write outside the buffer, the frames' verdicts as the golden stream model's, the next good frame
-  exact, every write inside its row's strobes.
+  exact, every write inside its row's strobes;
+* slow: the exported two-camera path with cocotb on Verilator and Icarus (sim/testbench/capture_average_cocotb.py):
+  the stereo pair and every fault case.
 """
 
 import numpy as np
@@ -22,12 +24,14 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from golden.capture import average_downscale, capture_frame, capture_stream, grey8_of_sum, to_rgb565
+from golden.stereo_pair import load_default_pair
 from hdl.averaging_downscaler import LATENCY, AveragingDownscaler, rounding_reciprocal
 from hdl.capture import CameraCapture
 from hdl.capture_path import CapturePath
 from sim.models.mt9d112.config import SensorConfig
-from sim.models.mt9d112.sensor import MT9D112, SensorStream, SensorTiming, fault_cases
-from sim.testbench.capture import run_capture_amaranth
+from sim.models.mt9d112.sensor import MT9D112, SMALL_SENSOR_TIMING, SensorStream, SensorTiming, fault_cases
+from sim.runners.cocotb import run_cocotb
+from sim.testbench.capture import playback_design, run_capture_amaranth
 from spec.sensor import SensorGeometry
 
 
@@ -242,3 +246,16 @@ def test_garbage_streams_never_write_outside(stream):
     verdicts those of the golden stream model."""
     record, _ = run_path(stream, read=False)
     assert record.frames == [f.ok for f in capture_stream(stream.fv, stream.lv, stream.data, KEEP).frames]
+
+
+@pytest.mark.slow
+def test_averaging_capture_cocotb(simulator):
+    """cocotb on the exported two-camera path at ``downscale="average"`` (64 x 48 -> 32 x 24, 8-bit): the stereo pair
+    and every fault case against the golden model (sim/testbench/capture_average_cocotb.py)."""
+    g = averaging(64, 48, 2)
+    left, right = load_default_pair(g.width, g.height)
+    config = SensorConfig(width=g.width, height=g.height)
+    streams = {"a": MT9D112(config, timing=SMALL_SENSOR_TIMING, seed=1).stream([left]),
+               "b": MT9D112(config, timing=SMALL_SENSOR_TIMING, seed=2).stream([right])}
+    run_cocotb(playback_design(g, streams), name="capture_path", test_module="sim.testbench.capture_average_cocotb",
+               simulator=simulator, params={"width": g.width, "height": g.height, "scale": g.scale})
