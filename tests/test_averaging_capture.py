@@ -29,7 +29,7 @@ from hdl.averaging_downscaler import LATENCY, AveragingDownscaler, rounding_reci
 from hdl.capture import CameraCapture
 from hdl.capture_path import CapturePath
 from sim.models.mt9d112.config import SensorConfig
-from sim.models.mt9d112.sensor import MT9D112, SMALL_SENSOR_TIMING, SensorStream, SensorTiming, fault_cases
+from sim.models.mt9d112.sensor import MT9D112, SMALL_SENSOR_TIMING, Faults, SensorStream, SensorTiming, fault_cases
 from sim.runners.cocotb import run_cocotb
 from sim.testbench.capture import playback_design, run_capture_amaranth
 from spec.sensor import SensorGeometry
@@ -170,7 +170,7 @@ def test_refusals():
 
 # --- The capture path at downscale="average" ---------------------------------------------------------------
 
-TINY = averaging(16, 8, 2)                          # 8 x 4 buffer
+TINY = averaging(17, 9, 2)              # 8 x 4 buffer; the last column and row in no block
 KEEP = SensorGeometry(width=TINY.width, height=TINY.height, scale=2)      # the same frames, for their verdicts
 TIMING = SensorTiming(h_blank=4, v_blank_lines=1, frame_start=2, frame_end=3)
 CONFIG = SensorConfig(width=TINY.width, height=TINY.height)
@@ -185,12 +185,19 @@ def run_path(stream, read=True):
 
 
 def check_writes_inside_rows(record):
-    """Row strobes come in start/end pairs, and every write lies strictly between a pair's start and its end."""
+    """Row strobes come in start/end pairs, every write lies strictly between a pair's start and its end, and the
+    writes between one pair's strobes are to one buffer row, each pixel once."""
     kinds = [kind for kind, _ in record.rows]
     assert kinds == ["start", "end"] * (len(kinds) // 2)
     spans = [(record.rows[k][1], record.rows[k + 1][1]) for k in range(0, len(kinds), 2)]
-    for cycle in record.write_cycles:
-        assert any(start < cycle < end for start, end in spans), f"write at {cycle} outside its row's strobes"
+    rows = {}
+    for cycle, (addr, _) in zip(record.write_cycles, record.writes):
+        inside = [k for k, (start, end) in enumerate(spans) if start < cycle < end]
+        assert inside, f"write at {cycle} outside its row's strobes"
+        rows.setdefault(inside[0], []).append(addr)
+    for addresses in rows.values():
+        assert len({a // TINY.buf_width for a in addresses}) == 1, f"one row's strobes around writes to {addresses}"
+        assert len(set(addresses)) == len(addresses), f"a pixel written twice in one row: {addresses}"
 
 
 def pictures(seed, n=2):
@@ -216,12 +223,18 @@ def test_capture_path_writes_the_golden_frame():
     np.testing.assert_array_equal(buffer, capture_frame(second, TINY))
 
 
-@pytest.mark.parametrize("case", list(fault_cases(TINY.width, TINY.height)))
+def averaging_fault_cases():
+    """The robustness tests' cases and one of the averaging capture's own: a long line in a block's last row (its
+    pixels past the width complete a block past the buffer's edge, which must not be written)."""
+    return {**fault_cases(TINY.width, TINY.height), "long_last_row": Faults(line_bytes={3: 2 * TINY.width + 6})}
+
+
+@pytest.mark.parametrize("case", list(averaging_fault_cases()))
 def test_bad_frame_then_good_frame(case):
     """A faulty frame (the robustness tests' cases), then a good one: no write outside the buffer, every write inside
     its row's strobes, the frames' verdicts those of the golden stream model, the good frame captured exactly."""
     first, second = pictures(3)
-    faults = fault_cases(TINY.width, TINY.height)[case]
+    faults = averaging_fault_cases()[case]
     stream = MT9D112(CONFIG, timing=TIMING, seed=7).stream([first, second], faults=[faults, None])
     record, buffer = run_path(stream)
     assert record.frames == [f.ok for f in capture_stream(stream.fv, stream.lv, stream.data, KEEP).frames]
