@@ -27,9 +27,9 @@ Anything past the configured size is discarded, never wrapped: a pixel counts on
 buf_width`` and ``y = row / s < buf_height`` (the capture's column and row counters saturate at the sensor's width
 and height, which lie past the buffer), so ``write.addr`` is below ``buf_depth`` whenever ``write.en`` is high,
 whatever the stream. A malformed stream can only put wrong values at valid addresses: a block whose first rows
-were cut short (a short line, a frame started mid-block) adds the line buffer's older partial sums; a short frame
-leaves the blocks it did not finish unwritten (the buffer keeps the older frame's pixels there, as with the
-thesis's capture); a line cut inside a block's row writes nothing for that block.
+were cut short adds the line buffer's older partial sums; a block's last row cut short writes nothing for the
+blocks it did not reach; a short frame leaves the blocks it did not finish unwritten (the buffer keeps the older
+frame's pixels there, as with the thesis's capture).
 
 Inputs: ``valid``, ``pixel`` (RGB565: R in bits 15:11, G 10:5, B 4:0), ``column`` and ``row`` (its sensor
 position; consecutive pixels of a row have consecutive columns, as the capture's assembler gives them).
