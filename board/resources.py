@@ -409,9 +409,10 @@ def run_yosys(rtlil_text, workdir, *, black_boxes=None):
 DOMAINS = ("sync", "pix", "pix90", "mclk", "cam_a", "cam_b")
 
 
-def synthesize(rtlil_text, workdir, *, domains=DOMAINS, black_boxes=None):
+def synthesize(rtlil_text, workdir, *, domains=DOMAINS, black_boxes=None, keep_netlist=False):
     """Run Yosys on ``rtlil_text`` (and ``black_boxes``, :func:`run_yosys`) in ``workdir``; returns a
-    :class:`Report`."""
+    :class:`Report`. ``net.json`` (the mapped netlist, for :func:`board.timing.analyse`) is removed unless
+    ``keep_netlist``."""
     workdir = Path(workdir)
     cells, netlist, seconds = run_yosys(rtlil_text, workdir, black_boxes=black_boxes)
     report = Report(
@@ -427,7 +428,8 @@ def synthesize(rtlil_text, workdir, *, domains=DOMAINS, black_boxes=None):
     )
     report.memories = memories(rtlil_text)
     report.memory_blocks = mapped_blocks(netlist, report.memories)
-    (workdir / "net.json").unlink()                     # tens of MB; the stat and the log stay
+    if not keep_netlist:
+        (workdir / "net.json").unlink()                 # tens of MB; the stat and the log stay
     return report
 
 

@@ -40,6 +40,8 @@ class CapturePath(wiring.Component):
     Parameters
     ----------
     geometry : :class:`spec.sensor.SensorGeometry`
+        Its ``downscale`` chooses each capture's block (:class:`~hdl.capture.CameraCapture`): the thesis's kept pixel
+        of each block in 5-bit grey, or the block's 8-bit mean.
     cameras : tuple of str
         Camera names; camera ``c`` is captured in domain ``cam_<c>`` and has the member ``cam_<c>``.
     r_byte_first : bool

@@ -19,7 +19,7 @@ class SensorGeometry:
     ``downscale = "keep"`` (the thesis): the capture keeps the pixel at (``scale``*i, ``scale``*j) of each
     ``scale`` x ``scale`` block (thesis figure 4.4) and converts it to ``grey_bits`` (5) of grey;
     ``downscale = "average"``: the buffer pixel is the rounded mean grey of the whole block, ``grey_bits`` (8)
-    wide (golden model only: the capture's RTL keeps pixels). Either way it is written at
+    wide (docs/capture.md, "The averaging capture"). Either way it is written at
     ``A = y * buf_width + x`` (eq. 4.1).
     """
     width: int = 1600

@@ -12,6 +12,7 @@ import warnings
 import pytest
 from amaranth.hdl import Fragment, UnusedElaboratable
 
+from hdl.averaging_downscaler import AveragingDownscaler
 from hdl.capture import CameraCapture
 from hdl.capture_path import CapturePath
 from hdl.ch7301c_output import CH7301COutput
@@ -57,7 +58,10 @@ SMALL = dict(geometry=SMALL_SENSOR, timing=SMALL_TIMING, depth=SMALL_DEPTH, auto
 
 REJECTED = {
     "CameraCapture": lambda: CameraCapture(SensorGeometry(width=64, height=48, grey_bits=6)),
+    "CameraCapture, averaging": lambda: CameraCapture(SensorGeometry(width=64, height=48, downscale="average")),
     "Downscaler": lambda: Downscaler(SensorGeometry(width=30, height=30, scale=3)),
+    "AveragingDownscaler": lambda: AveragingDownscaler(SensorGeometry(width=30, height=30, scale=3, grey_bits=8,
+                                                                      downscale="average")),
     "RGB565Assembler": lambda: RGB565Assembler(0),
     "CapturePath": lambda: CapturePath(SMALL_SENSOR, cameras=("a", "a")),
     "CapturePath, a camera's capture": lambda: CapturePath(SensorGeometry(width=64, height=48, grey_bits=6)),

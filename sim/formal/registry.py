@@ -5,7 +5,7 @@ from spec.layout import DisplayLayout
 from spec.sensor import SENSOR, SMALL_SENSOR
 from spec.video import SMALL_TIMING
 
-from sim.formal.harnesses.capture import CaptureHarness
+from sim.formal.harnesses.capture import CaptureAverageHarness, CaptureHarness
 from sim.formal.harnesses.compositor import CompositorHarness
 from sim.formal.harnesses.depth import DepthEngineHarness, DepthMapHarness
 from sim.formal.harnesses.depth_codes import MedianCodesHarness, SubpixelCodesHarness, WinnerCodesHarness
@@ -35,6 +35,7 @@ DEFAULT = {
     "switches": SwitchControlHarness,
     "frame_buffer": FrameBufferHarness,
     "capture": CaptureHarness,
+    "capture_average": CaptureAverageHarness,
     "disparity": DisparityHarness,
     "i2c_master": I2CMasterHarness,
     "i2c_init": InitSequencerHarness,

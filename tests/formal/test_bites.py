@@ -24,7 +24,7 @@ from hdl.frame_pairing import FramePairing
 from hdl.sync_gen import SyncGenerator
 from sim.formal.runner import check
 
-from sim.formal.harnesses.capture import CaptureHarness
+from sim.formal.harnesses.capture import CaptureAverageHarness, CaptureHarness
 from sim.formal.harnesses.compositor import CompositorHarness
 from sim.formal.harnesses.depth import DepthEngineHarness, DepthMapHarness
 from sim.formal.harnesses.depth_codes import SubpixelCodesHarness, WinnerCodesHarness
@@ -80,6 +80,14 @@ class CaptureRowEndAtRunEnd(CaptureHarness):
     """The row end strobe seen also at every frame end (the frame-done strobe, a clock before a row's end)."""
     def row_strobes(self, dut):
         return dut.status.row_start, dut.status.row_end | dut.status.frame_done
+
+
+class CaptureAverageWiderImage(CaptureAverageHarness):
+    """The averaging capture built for a sensor one block wider: the block past the buffer's edge is written, and
+    every row's blocks a block further on."""
+    def dut(self):
+        g = self.geometry
+        return CameraCapture(dataclasses.replace(g, width=g.width + g.scale))
 
 
 class TrackerMoreRows(RowTagTrackerHarness):
@@ -275,6 +283,7 @@ BITES = {
     "vertical_offset_range": (EstimatorWiderSearch, "cost_read_in_memory"),
     "segment_band": (SegmentBandCentreOneHigher, "band"),
     "capture_rows": (CaptureRowEndAtRunEnd, "row_end_exactly_after_kept_run_end"),
+    "capture_average": (CaptureAverageWiderImage, ("writes_only_kept_pixels", "write_address_")),
     "row_tags": (TrackerMoreRows, "busy_exactly_for_row_in_progress"),
     "frame_pairing": (PairingWiderTag, "_by_the_rule"),
     "depth_pairs": (DepthEngineWithoutPairs, "pair_mismatch_in_window_makes_the_row_invalid"),

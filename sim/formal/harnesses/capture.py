@@ -9,16 +9,25 @@ compares the write port, 3 clocks later (the capture's latency), with the pixel 
 ``row_start`` exactly 2 clocks after a kept row's run starts on the pins, ``row_end`` 3 clocks after it ends; and
 every write lies strictly inside its row's strobes (between the row start counted since the frame start and the
 next row end).
+
+The averaging capture (``CaptureAverageHarness``, ``geometry.downscale == "average"``): a block is written with its
+last pixel (column and row ``= scale - 1`` mod ``scale``, its block inside the buffer), at the block's address, 5
+clocks after (``EXTRA_LATENCY`` = 2 more), the status as much later, the kept rows the blocks' last. The grey values
+are not part of the proofs (tests/test_averaging_capture.py compares them with the golden model for every block sum).
 """
 
 from amaranth import Cat, Mux, Signal
 
-from hdl.capture import CameraCapture
-from spec.sensor import SMALL_SENSOR
+from hdl.capture import EXTRA_LATENCY, CameraCapture
+from spec.sensor import SMALL_SENSOR, SensorGeometry
 from sim.formal.runner import FormalHarness
 
-#: Clocks from the pins to the write port.
+#: Clocks from the pins to the write port (the thesis's capture; averaging, ``EXTRA_LATENCY`` more).
 LATENCY = 3
+
+#: The averaging capture's proofs: a 17 x 9 sensor, 8 x 4 buffer pixels of 2 x 2 blocks (the last column and row
+#: belong to no whole block; the counters, saturating at 17 and 9, would complete blocks past the buffer's edge).
+SMALL_AVERAGE = SensorGeometry(width=17, height=9, scale=2, grey_bits=8, downscale="average")
 
 
 class CaptureHarness(FormalHarness):
@@ -28,12 +37,15 @@ class CaptureHarness(FormalHarness):
     def __init__(self, geometry=SMALL_SENSOR):
         super().__init__()
         self.geometry = geometry
+        self.averaging = geometry.downscale == "average"
+        self.extra = EXTRA_LATENCY if self.averaging else 0
 
     def dut(self):
         return CameraCapture(self.geometry)
 
     def build(self, m):
         g = self.geometry
+        latency, extra = LATENCY + self.extra, self.extra
         data, lv, fv = self.free("data", 8), self.free("lv"), self.free("fv")
         dut = self.dut()
         module = self.open(m, "dut", dut)
@@ -42,12 +54,13 @@ class CaptureHarness(FormalHarness):
         w_addr, w_en = dut.write.addr, dut.write.en
         frame_start, frame_done, in_frame = dut.status.frame_start, dut.status.frame_done, dut.status.in_frame
         assembler = module.submodules.assembler
-        column, row = assembler.column, module.submodules.downscaler.row
+        column = assembler.column
+        row = module.submodules.averager.row if self.averaging else module.submodules.downscaler.row
         pixel, pixel_valid = assembler.pixel, assembler.valid
 
         ref = self._reference(m, data, lv, fv)
-        pv = self.past_valid(m, LATENCY)
-        expect = {k: self.past(m, v, LATENCY, name=f"expected_{k}") for k, v in ref.items()
+        pv = self.past_valid(m, latency)
+        expect = {k: self.past(m, v, latency, name=f"expected_{k}") for k, v in ref.items()
                   if k in ("keep", "address")}
         expect_pixel = self.past(m, ref["pixel"], LATENCY - 1, name="expected_pixel")
         self.prove(m, "write_address_in_buffer", ~w_en | (w_addr < g.buf_depth))
@@ -56,22 +69,23 @@ class CaptureHarness(FormalHarness):
         self.prove(m, "write_address_is_pixel_position", ~w_en | (w_addr == expect["address"]))
         # The bytes of each pixel are paired in order (the grey conversion itself is checked exhaustively, for all
         # 2^16 pixels, by tests/test_downscaler.py; its arithmetic would only slow the proof down here).
-        self.prove(m, "pixel_bytes_paired_in_order", ~pixel_valid | (pv & (pixel == expect_pixel)))
+        self.prove(m, "pixel_bytes_paired_in_order",
+                   ~pixel_valid | (self.past_valid(m, LATENCY) & (pixel == expect_pixel)))
         self.prove(m, "column_counter_bounded", column <= g.width)
         self.prove(m, "row_counter_bounded", row <= g.height)
         self.prove(m, "in_frame_follows_fv",
-                   ~pv | (in_frame == self.past(m, ref["in_frame"], name="past_ref_in_frame")))
-        pv2 = self.past_valid(m, 2)
+                   ~pv | (in_frame == self.past(m, ref["in_frame"], 1 + extra, name="past_ref_in_frame")))
+        pv2 = self.past_valid(m, 2 + extra)
         self.prove(m, "frame_start_exactly_at_fv_rise",
-                   ~pv2 | (frame_start == self.past(m, ref["rise"], 2, name="past_rise")))
+                   ~pv2 | (frame_start == self.past(m, ref["rise"], 2 + extra, name="past_rise")))
         self.prove(m, "frame_done_exactly_when_frame_fv_falls",
-                   ~pv2 | (frame_done == self.past(m, ref["fall"], 2, name="past_fall")))
+                   ~pv2 | (frame_done == self.past(m, ref["fall"], 2 + extra, name="past_fall")))
 
         row_start, row_end = self.row_strobes(dut)
         self.prove(m, "row_start_exactly_at_kept_run_start",
-                   ~pv2 | (row_start == self.past(m, ref["run_start"], 2, name="past_run_start")))
+                   ~pv2 | (row_start == self.past(m, ref["run_start"], 2 + extra, name="past_run_start")))
         self.prove(m, "row_end_exactly_after_kept_run_end",
-                   ~pv | (row_end == self.past(m, ref["run_end"], LATENCY, name="past_run_end")))
+                   ~pv | (row_end == self.past(m, ref["run_end"], latency, name="past_run_end")))
         self._writes_inside_rows(m, dut, row_start, row_end)
 
         self.cover(m, "write_in_second_kept_row", w_en & (w_addr == g.buf_width))
@@ -135,9 +149,25 @@ class CaptureHarness(FormalHarness):
 
         s = g.scale
         completes = lv_on & odd
-        keep = completes & (column % s == 0) & (row % s == 0) & (column < g.width) & (row < g.height)
+        if self.averaging:          # a block's last pixel, its block inside the buffer
+            phase = s - 1
+            keep = completes & (column % s == phase) & (row % s == phase) & (column < s * g.buf_width) & \
+                (row < s * g.buf_height)
+        else:
+            phase = 0
+            keep = completes & (column % s == 0) & (row % s == 0) & (column < g.width) & (row < g.height)
+
         def kept(r):
-            return (r % s == 0) & (r < s * g.buf_height)
+            return (r % s == phase) & (r < s * g.buf_height)
         return {"keep": keep, "address": (row // s) * g.buf_width + column // s, "pixel": Cat(data, first),
                 "rise": rise, "fall": in_frame & ~fv, "in_frame": in_frame,
                 "run_start": lv_on & ~lv_prev & kept(Mux(rise, 0, row)), "run_end": line_end & kept(row)}
+
+
+class CaptureAverageHarness(CaptureHarness):
+    """The averaging capture (``downscale="average"``): the same properties at its latency and with its kept pixels
+    and rows (module docstring)."""
+    name = "capture_average"
+
+    def __init__(self, geometry=SMALL_AVERAGE):
+        super().__init__(geometry)
