@@ -107,6 +107,26 @@ def scheme_rows(config, engine_total):
     ]
 
 
+def segment_with_lanes_lines(engine_totals):
+    """Scheme d with the vertical line buffer as one W x G-word memory, at 16 and 32 lanes (the time needs more
+    lanes): the engine's other memories as measured (they do not depend on the lanes), the rest from shapes."""
+    w, h = SENSOR_800.buf_width, SENSOR_800.buf_height
+    lines = []
+    for D, (engine_total, line_buffer) in engine_totals.items():
+        for lanes in (16, 32):
+            config = dataclasses.replace(DEPTH_800, disparities=D, lanes=lanes)
+            groups, segments = D // lanes, -(-w // SEGMENT)
+            blocks = (engine_total - line_buffer + block_cost(w * groups, lanes * config.path_bits)
+                      + block_cost(segments * groups, lanes * config.path_bits)
+                      + block_cost(2 * SEGMENT * groups, lanes * (config.cost_bits + 9))
+                      + block_cost(w, config.code_bits))
+            forward, reverse = pass_clocks(config)
+            ms = 1e3 * h * (forward + reverse + segments * (D - 1)) / CLOCKS.PIXEL_HZ
+            lines.append(f"D = {D}, {lanes} lanes, scheme d with the line buffer as one memory: {blocks:g} RAMB36, "
+                         f"{ms:.1f} ms per map")
+    return lines
+
+
 def table_lines():
     frame_clocks = CLOCKS.PIXEL_HZ / CAMERA_FPS
     lines = ["## The third path at 800 x 600: block RAM and clocks", "",
@@ -116,23 +136,31 @@ def table_lines():
              f"Lanes {DEPTH_800.lanes}.", "",
              "| D | nearest valid distance | two-path engine RAMB36 | scheme | + RAMB36 | engine total | "
              "ms per map | fits |", "|---|---|---|---|---|---|---|---|"]
-    notes = []
+    notes, engine_totals = [], {}
     for D in DISPARITIES:
         config = dataclasses.replace(DEPTH_800, disparities=D)
         blocks = engine_blocks(config)
         engine_total = sum(blocks.values())
         nearest = disparity_of_distance(1.0, SENSOR_800) / (D - 2)
         line_buffer = sum(v for k, v in blocks.items() if k.startswith("vertical_rows"))
+        engine_totals[D] = (engine_total, line_buffer)
+        groups = D // config.lanes
+        one_memory = block_cost(SENSOR_800.buf_width * groups, config.lanes * config.path_bits)
+        ddr2 = 2 * SENSOR_800.buf_width * D * 9 * SENSOR_800.buf_height * CAMERA_FPS / 8e9
         notes.append(f"D = {D}: two-path engine {engine_total:g} RAMB36 (vertical line buffer {line_buffer:g}, "
-                     f"rings {sum(v for k, v in blocks.items() if 'ring' in k):g}); forward / reverse pass "
-                     + " / ".join(f"{c:,}" for c in pass_clocks(config)) + " clocks")
+                     f"{one_memory:g} as one W x G-word memory read a group at a time; rings "
+                     f"{sum(v for k, v in blocks.items() if 'ring' in k):g}); forward / reverse pass "
+                     + " / ".join(f"{c:,}" for c in pass_clocks(config))
+                     + f" clocks; S2 rows through the DDR2 instead: {ddr2:.2f} GB/s written and read at "
+                     f"{CAMERA_FPS} maps/s")
         for name, extra, clocks, note in scheme_rows(config, engine_total):
             total = engine_total + extra
             ms = 1e3 * clocks / CLOCKS.PIXEL_HZ
             fits = total <= BUDGET_RAMB36 - OUTSIDE_ENGINE_RAMB36 and clocks <= frame_clocks
             lines.append(f"| {D} | {nearest:.2f} m | {engine_total:g} | {name} ({note}) | {extra:g} | {total:g} | "
                          f"{ms:.1f} | {'yes' if fits else 'no'} |")
-    return lines + [""] + notes + [""]
+    del engine_totals[64]
+    return lines + [""] + notes + segment_with_lanes_lines(engine_totals) + [""]
 
 
 def quality_lines():
