@@ -144,3 +144,27 @@ def test_slower_spacing_and_parameters():
         kwargs = {"config": SMALL_DEPTH, "width": 16, **kwargs}
         with pytest.raises(ValueError, match=message):
             ReversePath(kwargs.pop("config"), **kwargs)
+
+
+def test_census_windows_filled_from_the_right_give_the_same_costs():
+    """The reverse pass's census (docs/depth.md, scheme a'): windows filled column by column from the right hold
+    every signature with its bits mirrored within each window row (the census of the mirrored image, mirrored
+    back); the signatures differ, the Hamming costs do not, since both sides' bits are permuted alike. Mirroring
+    one side only changes the costs."""
+    from golden.depth import census, matching_cost
+    cfg = SMALL_DEPTH
+    rng = np.random.default_rng(5)
+    left, right = (rng.integers(0, 1 << cfg.pixel_bits, (12, 16)) for _ in range(2))
+    h, w = left.shape
+
+    def costs(sig_left, sig_right):
+        out = np.full((cfg.disparities, h, w), cfg.census_bits)
+        for d in range(cfg.disparities):
+            out[d, :, :w - d] = np.bitwise_count(sig_right[:, :w - d] ^ sig_left[:, d:])
+        return out
+
+    mirrored = {name: census(np.fliplr(image), cfg)[:, ::-1] for name, image in (("l", left), ("r", right))}
+    plain = {"l": census(left, cfg), "r": census(right, cfg)}
+    assert (mirrored["l"] != plain["l"]).any()
+    assert (costs(mirrored["l"], mirrored["r"]) == matching_cost(left, right, cfg)).all()
+    assert (costs(mirrored["l"], plain["r"]) != matching_cost(left, right, cfg)).any()
