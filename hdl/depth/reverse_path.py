@@ -44,9 +44,9 @@ class ReversePath(wiring.Component):
         Reverse pass: a group and its ``lanes`` costs C(d), d = group x lanes + k; pixels in descending x, a
         pixel's groups in consecutive clocks, pixels at least :meth:`loop_clocks` clocks apart (the path's loop).
         The group's carry must have been stored at least one clock before.
-    l, total, out_token : Out
-        The group's L_rl and S = carry + L_rl (``sum_bits``), :data:`LATENCY` clocks after its input;
-        ``out_token`` is the input token (``first`` set for x = W - 1).
+    l, carry_out, total, out_token : Out
+        The group's L_rl, its stored carry and S = carry + L_rl (``sum_bits``), :data:`LATENCY` clocks after its
+        input; ``out_token`` is the input token (``first`` set for x = W - 1).
     m, m_valid : Out
         The pixel's minimum of L_rl (``SgmPath``).
 
@@ -83,6 +83,7 @@ class ReversePath(wiring.Component):
             "token": In(layout),
             "cost": In(data.ArrayLayout(config.cost_bits, lanes)),
             "l": Out(data.ArrayLayout(config.path_bits, lanes)),
+            "carry_out": Out(data.ArrayLayout(self.carry_bits, lanes)),
             "total": Out(data.ArrayLayout(self.sum_bits, lanes)),
             "out_token": Out(layout),
             "m": Out(config.path_bits),
@@ -128,7 +129,7 @@ class ReversePath(wiring.Component):
             m.d.sync += delayed.eq(carry)
             carry = delayed
 
-        m.d.sync += [self.out_token.eq(path.l_token), self.l.eq(path.l)]
+        m.d.sync += [self.out_token.eq(path.l_token), self.l.eq(path.l), self.carry_out.eq(carry)]
         for k in range(lanes):
             m.d.sync += self.total[k].eq(path.l[k] + carry[k])
         m.d.comb += [self.m.eq(path.m), self.m_valid.eq(path.m_valid)]
