@@ -10,10 +10,11 @@ row, the cost row, the segment buffers) are costed with the same rule (``block_c
 
 Schemes for the right-to-left path, whose recursion runs against the pixel order (docs/depth.md):
 
-* a'  (built: ReversePath) forward pass as today, storing per pixel and disparity the sum S2 = L_lr + L_tb of
-  the row (9 bits); then a reverse pass over the same row, its census recomputed from the input ring (the ring
-  still holds the row's 7 census rows: the next row's fetch waits), the costs again, L_rl, S = S2 + L_rl, the
-  winner in reverse order, the codes turned round through a row of codes. Serial: forward, then reverse.
+* a'  (built: ReversePath, DepthEngine with THREE_PATHS) forward pass as today, storing per pixel and
+  disparity the sum S2 = L_lr + L_tb of the row (9 bits); then a reverse pass over the same row, its census
+  recomputed from the input ring (the ring still holds the row's 7 census rows: the next row's fetch waits),
+  the costs again, L_rl, S = S2 + L_rl, the winner in reverse order, the codes turned round through a row of codes and replayed into the median (two
+  clocks a code). Serial: forward, reverse, replay.
 * a   the same with the reverse pass of row y beside the forward pass of row y + 1 (one pass time per row): the
   census row (2 x W x 48 bits, the ring no longer holds the rows) and the sums of two rows in flight; a1: one
   row of sums whose addresses are mirrored every row (row y + 1's pixel x goes where row y's pixel W - 1 - x was,
@@ -36,7 +37,7 @@ from board.memory_report import block_cost, memories
 from hdl.depth.engine import DepthEngine, schedule
 from hdl.depth.reverse_path import ReversePath
 from spec.board import CLOCKS
-from spec.depth import DEPTH_800, TWO_PATHS, DepthConfig
+from spec.depth import DEPTH_800, THREE_PATHS, TWO_PATHS
 from spec.sensor import SENSOR_800, disparity_of_distance
 
 #: The cameras' frame rate at 1600 x 1200 (Digilent VmodCAM reference manual: 15 fps max; docs/capture.md).
@@ -67,12 +68,13 @@ def row_store_blocks(config, width):
 
 
 def pass_clocks(config):
-    """(forward, reverse) clocks of one row: the engine's pass (its schedule, + 3 to start) and the reverse pass:
-    W + 2 rx steps (the census window's lead; left and right census move together backwards, no D - 1 lead) of
-    the same step length, plus the same drain."""
-    s = schedule(SENSOR_800, config)
-    steps = SENSOR_800.buf_width + 2 * (config.census_width // 2)
-    return s.pass_clocks + 3, steps * s.step_clocks + s.drain_clocks + 3
+    """(forward, reverse) clocks of one row at 800 x 600: the two-path engine's pass (+ 3 to start) and what the
+    three-path engine (scheme a', ``hdl.depth.schedule``) adds to it: W + 2 rx backward steps of the same length
+    (the census windows' lead only: left and right signatures move together backwards), the row's last code, and
+    the replay of the row's codes into the median (2 (W + 1) clocks), less the shorter final drain."""
+    two = schedule(SENSOR_800, dataclasses.replace(config, paths=TWO_PATHS))
+    three = schedule(SENSOR_800, dataclasses.replace(config, paths=THREE_PATHS))
+    return two.pass_clocks + 3, three.pass_clocks - two.pass_clocks
 
 
 def scheme_rows(config, engine_total):
@@ -168,7 +170,6 @@ def quality_lines():
     counted bad), D = 128 with two and three paths, D = 96 and 64 with three (max_cost 60 per path)."""
     from bench.depth_builds import BUILDS, engine, pairs
     from sim.analysis.truth import error_figures
-    from spec.depth import THREE_PATHS
     build = BUILDS[1]
     per_path = DEPTH_800.max_cost // len(DEPTH_800.paths)
     variants = [(f"D {D}, {len(paths)} paths", dataclasses.replace(DEPTH_800, disparities=D, paths=paths,

@@ -77,3 +77,14 @@ def test_three_paths_edges():
     border[:, -CFG.disparities:] = rng.integers(0, 32, (SHAPE[0], CFG.disparities))
     border[:, :3] = rng.integers(0, 32, (SHAPE[0], 3))
     check(border, border[:, ::-1].copy())
+
+
+@pytest.mark.slow
+def test_three_paths_with_formal_invariants():
+    """A 3-row buffer with the engine's formal invariants elaborated and checked by the simulator on every clock
+    (the backward phase, its drain and the replay included): they hold, and the map is exact."""
+    from spec.sensor import SensorGeometry
+    geometry = SensorGeometry(width=G.width, height=3 * G.scale)
+    left, right = random_pair(5, (geometry.buf_height, geometry.buf_width))
+    codes, *_ = run_engine(left, right, geometry=geometry, config=CFG3, grant_mask=0b1, platform="formal")
+    assert_same(codes, depth_map(left, right, CFG3))

@@ -100,8 +100,14 @@ def check_parameters(geometry, config, out_rows=4, tag_margin=8):
 
 
 class DepthEngine(wiring.Component):
-    """Census + semi-global matching on two paths + winner-take-all + 3 x 3 median (docs/depth.md), computed
-    row by row from the two frame buffers into a small ring of result rows.
+    """Census + semi-global matching on two paths (or three) + winner-take-all + 3 x 3 median (docs/depth.md),
+    computed row by row from the two frame buffers into a small ring of result rows.
+
+    With ``config.paths`` = ``THREE_PATHS`` each pass runs the row forward (left to right and top to bottom, their
+    sum kept per pixel and disparity in :class:`hdl.depth.reverse_path.ReversePath`'s row store), then backward
+    (census and costs again from the input ring, right to left, the winner in descending x into a row of codes),
+    then replays the codes into the median (docs/depth.md, "The third path in the RTL", scheme a'):
+    ``schedule(...).reverse_clocks`` more per pass.
 
     Right image = reference: the code of right pixel (x, y) is its disparity d (match left(x + d, y)) in
     1 / 2**F pixel (F = ``fraction_bits``), or ``config.invalid`` = D 2**F. ``golden.depth.depth_map`` is the same
@@ -112,7 +118,7 @@ class DepthEngine(wiring.Component):
     geometry : SensorGeometry
         Buffer size and grey width (``SENSOR``: 400 x 300 x 5).
     config : DepthConfig
-        D, census window, P1, P2, ``max_cost``, lanes (``DEPTH``).
+        D, census window, P1, P2, ``max_cost``, lanes, paths (``DEPTH``).
     out_rows : int
         Rows in the result ring (4).
     tag_margin : int
@@ -185,7 +191,8 @@ class DepthEngine(wiring.Component):
     ------
     ValueError
         If ``lanes`` does not divide D, D is more than the width, the census window is not odd, the paths are not
-        ``spec.depth.TWO_PATHS`` (the golden model's other paths have no RTL yet), or ``tag_margin`` is less than 2.
+        ``spec.depth.TWO_PATHS`` or ``THREE_PATHS`` (the golden model's diagonals have no RTL), or ``tag_margin``
+        is less than 2.
     """
 
     def __init__(self, geometry=SENSOR, config=DEPTH, *, out_rows=4, tag_margin=8):
