@@ -13,8 +13,8 @@ Schemes for the right-to-left path, whose recursion runs against the pixel order
 * a'  (built: ReversePath, DepthEngine with THREE_PATHS) forward pass as today, storing per pixel and
   disparity the sum S2 = L_lr + L_tb of the row (9 bits); then a reverse pass over the same row, its census
   recomputed from the input ring (the ring still holds the row's 7 census rows: the next row's fetch waits),
-  the costs again, L_rl, S = S2 + L_rl, the winner in reverse order, the codes turned round through a row of codes and replayed into the median (two
-  clocks a code). Serial: forward, reverse, replay.
+  the costs again, L_rl, S = S2 + L_rl, the winner in reverse order, the codes turned round through a row of
+  codes and replayed into the median (two clocks a code). Serial: forward, reverse, replay.
 * a   the same with the reverse pass of row y beside the forward pass of row y + 1 (one pass time per row): the
   census row (2 x W x 48 bits, the ring no longer holds the rows) and the sums of two rows in flight; a1: one
   row of sums whose addresses are mirrored every row (row y + 1's pixel x goes where row y's pixel W - 1 - x was,
