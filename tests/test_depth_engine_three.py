@@ -12,7 +12,8 @@ from golden.depth import depth_map
 from golden.depth_display import engine_left
 from hdl.depth import schedule
 from spec.depth import THREE_PATHS, TWO_PATHS
-from tests.test_depth_engine import (CFG, G, SHAPE, assert_same, engine_tags, random_pair, run_engine, steps)
+from tests.test_depth_engine import (CFG, G, SHAPE, assert_same, engine_tags, random_pair, run_cocotb_depth,
+                                     run_engine, steps)
 
 CFG3 = dataclasses.replace(CFG, paths=THREE_PATHS, max_cost=CFG.max_cost * 3 // 2)
 
@@ -88,3 +89,14 @@ def test_three_paths_with_formal_invariants():
     left, right = random_pair(5, (geometry.buf_height, geometry.buf_width))
     codes, *_ = run_engine(left, right, geometry=geometry, config=CFG3, grant_mask=0b1, platform="formal")
     assert_same(codes, depth_map(left, right, CFG3))
+
+
+@pytest.mark.slow
+def test_three_paths_cocotb_small(simulator, tmp_path):
+    """The three-path engine's Verilog on Verilator and Icarus (cocotb): a random pair with 1 in 4 reads granted
+    and a tag change at rows 3 (left) and 4 (right), equal to the golden three-path map."""
+    left, right = random_pair(5)
+    h = SHAPE[0]
+    outcome = run_cocotb_depth(left, right, G, CFG3, simulator, tmp_path, grant_mask=0b101,
+                               tag_tables=(steps(h, 3), steps(h, 4)))
+    assert outcome["mismatches"] == 0
