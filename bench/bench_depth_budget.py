@@ -26,7 +26,8 @@ Schemes for the right-to-left path, whose recursion runs against the pixel order
   forward into a double buffer (C and S2, 15 bits), then replayed backwards; serial. Its census shift register
   must be refilled with D - 1 signatures per segment.
 
-Run: ``python -m bench depth_budget`` (about a minute: three engines elaborated).
+Run: ``python -m bench depth_budget`` (about a minute: three engines elaborated); ``--quality`` adds the golden
+model's figures of the candidate builds, ``--synth`` the engines' LUTs, flip-flops and block RAM through Yosys.
 """
 
 import dataclasses
@@ -187,11 +188,37 @@ def quality_lines():
     return lines + [f"| {name} | " + " | ".join(cells) + " |" for name, cells in rows.items()] + [""]
 
 
+def synth_lines():
+    """The engine alone through Yosys (``board.resources.run_yosys``: synth_xilinx -family xc5v): the board's
+    (400 x 300, D = 64, two paths) and, at 800 x 600, D = 64 with two paths and three (scheme a', built) and
+    D = 128 with two."""
+    import tempfile
+    from board.resources import _LUTS, run_yosys
+    from spec.depth import DEPTH
+    from spec.sensor import SENSOR
+    builds = [("400 x 300, D 64, 2 paths (the board's)", SENSOR, DEPTH)]
+    builds += [(f"800 x 600, D {D}, {len(paths)} paths", SENSOR_800,
+                dataclasses.replace(DEPTH_800, disparities=D, paths=paths, max_cost=60 * len(paths)))
+               for D, paths in ((64, TWO_PATHS), (64, THREE_PATHS), (128, TWO_PATHS))]
+    lines = ["### The engine alone through Yosys", "", "| engine | LUTs | flip-flops | RAMB36 (+ RAMB18 / 2) |",
+             "|---|---|---|---|"]
+    for name, geometry, config in builds:
+        with tempfile.TemporaryDirectory() as work:
+            cells, _, _ = run_yosys(rtlil.convert(DepthEngine(geometry, config), name="top"), work)
+        count = lambda prefix: sum(n for t, n in cells.items() if t.startswith(prefix))     # noqa: E731
+        luts = sum(n for t, n in cells.items() if t in _LUTS)
+        lines.append(f"| {name} | {luts:,} | {count('FD'):,} | {count('RAMB36') + count('RAMB18') / 2:g} |")
+    return lines + [""]
+
+
 def main(options=()):
-    """``--quality``: the golden model's figures of the candidate builds as well (several minutes)."""
+    """``--quality``: the golden model's figures of the candidate builds as well (several minutes); ``--synth``:
+    the engines through Yosys (about 15 minutes)."""
     lines = table_lines()
     if "--quality" in options:
         lines += quality_lines()
+    if "--synth" in options:
+        lines += synth_lines()
     print("\n".join(lines))
 
 
