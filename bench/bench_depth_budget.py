@@ -45,10 +45,11 @@ from spec.sensor import SENSOR_800, disparity_of_distance
 CAMERA_FPS = 15
 #: Block RAM for the whole design, MIG's own included (issue's budget; docs/depth.md).
 BUDGET_RAMB36 = 58
-#: RAMB36 outside the engine in the DDR2 build (``stereodepth resources --memory ddr2`` on main, Yosys's mapping:
-#: 27 in all with MIG's 3, the engine's 14 of them): the frame store's reader rings 8, MIG 3, colour map 1, the
-#: vertical-offset profiles 1.
-OUTSIDE_ENGINE_RAMB36 = 13
+#: RAMB36 outside the engine in the 800 x 600 DDR2 build: today's DDR2 build (``stereodepth resources --memory
+#: ddr2``, Yosys's mapping: 21 in all with MIG's 3, the engine's 14 of them) has the frame store's four read rings
+#: (a RAMB18 each) 2, MIG 3, the colour map 1, the vertical-offset profiles 1; the averaging capture adds its two
+#: line buffers (a RAMB18 each) 1.
+OUTSIDE_ENGINE_RAMB36 = 8
 SEGMENT = 64            # scheme d's segment length K
 DISPARITIES = (128, 96, 64)
 
@@ -193,7 +194,7 @@ def synth_lines():
     (400 x 300, D = 64, two paths) and, at 800 x 600, D = 64 with two paths and three (scheme a', built) and
     D = 128 with two."""
     import tempfile
-    from board.resources import _LUTS, run_yosys
+    from board.resources import LUT_CELLS, run_yosys
     from spec.depth import DEPTH
     from spec.sensor import SENSOR
     builds = [("400 x 300, D 64, 2 paths (the board's)", SENSOR, DEPTH)]
@@ -206,7 +207,7 @@ def synth_lines():
         with tempfile.TemporaryDirectory() as work:
             cells, _, _ = run_yosys(rtlil.convert(DepthEngine(geometry, config), name="top"), work)
         count = lambda prefix: sum(n for t, n in cells.items() if t.startswith(prefix))     # noqa: E731
-        luts = sum(n for t, n in cells.items() if t in _LUTS)
+        luts = sum(n for t, n in cells.items() if t in LUT_CELLS)
         lines.append(f"| {name} | {luts:,} | {count('FD'):,} | {count('RAMB36') + count('RAMB18') / 2:g} |")
     return lines + [""]
 
