@@ -48,8 +48,9 @@ BUDGET = {"ramb36": 58, "lut_percent": 60}
 DDR2_BUDGET = {**BUDGET, "ramb36": 25}
 THESIS_BRAM_PERCENT = 56
 
-_LUTS = {f"LUT{i}" for i in range(1, 7)} | {"INV"}
-_LEVEL = _LUTS | {"MUXF7", "MUXF8"}
+#: Yosys cell types counted as LUTs.
+LUT_CELLS = {f"LUT{i}" for i in range(1, 7)} | {"INV"}
+_LEVEL = LUT_CELLS | {"MUXF7", "MUXF8"}
 _CARRY = {"CARRY4", "MUXCY", "XORCY"}
 _COMB = _LEVEL | _CARRY | {"GND", "VCC", "$scopeinfo"}
 _CLOCK_PINS = {"C", "CLK", "CLKA", "CLKB", "CLKARDCLK", "CLKBWRCLK", "CLKARDCLKL", "CLKARDCLKU",
@@ -417,7 +418,7 @@ def synthesize(rtlil_text, workdir, *, domains=DOMAINS, black_boxes=None, keep_n
     cells, netlist, seconds = run_yosys(rtlil_text, workdir, black_boxes=black_boxes)
     report = Report(
         cells=cells,
-        luts=sum(n for t, n in cells.items() if t in _LUTS),
+        luts=sum(n for t, n in cells.items() if t in LUT_CELLS),
         ffs=sum(n for t, n in cells.items() if t.startswith("FD")),
         ramb36=sum(n for t, n in cells.items() if t.startswith("RAMB36")),
         ramb18=sum(n for t, n in cells.items() if t.startswith("RAMB18")),

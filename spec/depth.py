@@ -15,7 +15,7 @@ PATH_STEPS = {
     "top_left_to_bottom_right": (-1, -1),
     "top_right_to_bottom_left": (1, -1),
 }
-#: The board's engine today (the RTL computes these two).
+#: The board's engine today.
 TWO_PATHS = ("left_to_right", "top_to_bottom")
 #: The 800 x 600 build's paths: + right to left along the row.
 THREE_PATHS = TWO_PATHS + ("right_to_left",)
@@ -29,7 +29,7 @@ class DepthConfig:
     width of the grey values the engine reads (the capture's ``grey_bits``).
 
     ``lanes`` disparities are computed per clock (the RTL's parallelism); it does not change the result. The RTL
-    (hdl/depth/) computes ``TWO_PATHS`` only; the golden model computes any set of ``PATH_STEPS``.
+    (hdl/depth/) computes ``TWO_PATHS`` and ``THREE_PATHS``; the golden model any set of ``PATH_STEPS``.
     """
     disparities: int = 64       # D: candidates 0..D-1 (right image = reference, match left(x + d, y))
     census_width: int = 7       # census window, odd x odd, centred

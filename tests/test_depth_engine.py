@@ -16,7 +16,7 @@ from amaranth.hdl import Fragment
 from golden.depth import depth_map
 from golden.depth_display import engine_left
 from hdl.depth import DepthEngine, schedule
-from spec.depth import DEPTH, SMALL_DEPTH, THREE_PATHS, DepthConfig
+from spec.depth import DEPTH, SMALL_DEPTH, THREE_PATHS, TWO_PATHS, DepthConfig
 from spec.sensor import ROW_TAG_BITS, SENSOR, SMALL_SENSOR, SensorGeometry
 from sim.runners.amaranth import simulate
 from board.export import export_verilog
@@ -285,7 +285,8 @@ def test_constructor_checks_and_d128_elaborates():
     with pytest.raises(ValueError, match="tag_margin"):
         DepthEngine(G, CFG, tag_margin=1)
     with pytest.raises(ValueError, match="RTL aggregates"):
-        DepthEngine(G, DepthConfig(disparities=8, lanes=4, paths=THREE_PATHS))
+        DepthEngine(G, DepthConfig(disparities=8, lanes=4, paths=TWO_PATHS + ("top_left_to_bottom_right",)))
+    DepthEngine(G, DepthConfig(disparities=8, lanes=4, paths=THREE_PATHS))     # tests/test_depth_engine_three.py
     Fragment.get(DepthEngine(SENSOR, DepthConfig(disparities=128)), None)
     assert schedule(SENSOR, DepthConfig(disparities=128)).step_clocks == 8 + 4
 
@@ -312,6 +313,8 @@ def run_cocotb_depth(left, right, geometry, config, simulator, tmp_path, grant_m
                  flips=[h if f is None else f for f in flips])
     result = tmp_path / "result.json"
     name = f"depth_testbench_{geometry.buf_width}x{geometry.buf_height}_d{config.disparities}"
+    if config.paths != TWO_PATHS:
+        name += f"_p{len(config.paths)}"
     verilog = export_verilog(DepthTestbench(geometry, config), name)
     run_cocotb(verilog, name=name, test_module="cocotb_depth", simulator=simulator,
                build_args=VERILATOR_ARGS if simulator == "verilator" else (),

@@ -8,12 +8,13 @@ from amaranth.lib import data, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
-from spec.depth import DEPTH, TWO_PATHS
+from spec.depth import DEPTH, THREE_PATHS, TWO_PATHS
 from spec.sensor import SENSOR
 from hdl.depth.census import CensusWindow
 from hdl.depth.matching_cost import MatchingCost
 from hdl.depth.median import Median3x3
 from hdl.depth.ports import ResultReadSignature, RowTagReadSignature, SharedReadSignature, token_layout
+from hdl.depth.reverse_path import ReversePath
 from hdl.depth.row_ring import RowRing
 from hdl.depth.sgm_path import SgmPath
 from hdl.depth.winner import Winner
@@ -32,14 +33,26 @@ END_GAP = 2             # clocks between a row's last code and the median's end 
 
 class Schedule(NamedTuple):
     """The engine's timing (docs/depth.md): a pass is ``steps`` steps of ``step_clocks`` clocks, then
-    ``drain_clocks``; ``pass_clocks`` is their total (starting a pass takes 3 clocks more)."""
+    ``drain_clocks``; ``pass_clocks`` is their total (starting a pass takes 3 clocks more). With three paths the
+    forward steps are followed by ``back_steps`` backward steps, ``back_drain`` + 1 clocks for the row's last
+    code and the replay of the row's codes into the median, 2 (W + 1) clocks: ``reverse_clocks`` (0 for two
+    paths)."""
     step_clocks: int
     steps: int
     drain_clocks: int
+    back_steps: int = 0
+    back_drain: int = 0
+    replay_clocks: int = 0
+
+    @property
+    def reverse_clocks(self):
+        if not self.back_steps:
+            return 0
+        return self.back_steps * self.step_clocks + self.back_drain + 1 + self.replay_clocks
 
     @property
     def pass_clocks(self):
-        return self.steps * self.step_clocks + self.drain_clocks
+        return self.steps * self.step_clocks + self.drain_clocks + self.reverse_clocks
 
 
 def schedule(geometry=SENSOR, config=DEPTH):
@@ -48,7 +61,17 @@ def schedule(geometry=SENSOR, config=DEPTH):
     step_clocks = max(SgmPath.loop_clocks(config), ISSUE_CLOCK + groups)
     steps = geometry.buf_width + 2 * (config.census_width // 2) + config.disparities - 1
     code_clock = PATH_CLOCK + SgmPath.LATENCY + groups - 1 + Winner.latency(config)
-    return Schedule(step_clocks, steps, code_clock + END_GAP + Median3x3.LATENCY + 2 - step_clocks)
+    if config.paths != THREE_PATHS:
+        return Schedule(step_clocks, steps, code_clock + END_GAP + Median3x3.LATENCY + 2 - step_clocks)
+    # Backward steps: the census windows' lead only (left and right move together). The backward drain ends when
+    # the row's last code (x = 0, written in the clock of the winner's ``valid``: step clock ``back_code_clock``
+    # of the last step) is in the row of codes: the replay reads it in the next clock. The final drain: the
+    # median's last output (``LATENCY`` clocks after the replay's end token, which is the clock before the drain)
+    # is written in the drain's last clock, before the result ring moves on.
+    back_code_clock = PATH_CLOCK + ReversePath.LATENCY + groups - 1 + Winner.latency(config)
+    return Schedule(step_clocks, steps, Median3x3.LATENCY - 1,
+                    back_steps=geometry.buf_width + 2 * (config.census_width // 2),
+                    back_drain=back_code_clock - step_clocks, replay_clocks=2 * (geometry.buf_width + 1))
 
 
 def tag_delay(config=DEPTH, tag_margin=8):
@@ -67,8 +90,9 @@ def check_parameters(geometry, config, out_rows=4, tag_margin=8):
     if (config.census_width % 2 == 0 or config.census_height % 2 == 0
             or config.census_height > RING_ROWS - 1):
         raise ValueError(f"the census window must be odd x odd and at most {RING_ROWS - 1} rows high")
-    if config.paths != TWO_PATHS:
-        raise ValueError(f"the RTL aggregates {' and '.join(TWO_PATHS)} only, not {', '.join(config.paths)}")
+    if config.paths not in (TWO_PATHS, THREE_PATHS):
+        raise ValueError(f"the RTL aggregates {', '.join(TWO_PATHS)} (and {THREE_PATHS[-1]}) only, "
+                         f"not {', '.join(config.paths)}")
     if out_rows < 2:
         raise ValueError(f"out_rows must be at least 2, not {out_rows}")
     if tag_margin < 2:
@@ -76,8 +100,14 @@ def check_parameters(geometry, config, out_rows=4, tag_margin=8):
 
 
 class DepthEngine(wiring.Component):
-    """Census + semi-global matching on two paths + winner-take-all + 3 x 3 median (docs/depth.md), computed
-    row by row from the two frame buffers into a small ring of result rows.
+    """Census + semi-global matching on two paths (or three) + winner-take-all + 3 x 3 median (docs/depth.md),
+    computed row by row from the two frame buffers into a small ring of result rows.
+
+    With ``config.paths`` = ``THREE_PATHS`` each pass runs the row forward (left to right and top to bottom, their
+    sum kept per pixel and disparity in :class:`hdl.depth.reverse_path.ReversePath`'s row store), then backward
+    (census and costs again from the input ring, right to left, the winner in descending x into a row of codes),
+    then replays the codes into the median (docs/depth.md, "The third path in the RTL", scheme a'):
+    ``schedule(...).reverse_clocks`` more per pass.
 
     Right image = reference: the code of right pixel (x, y) is its disparity d (match left(x + d, y)) in
     1 / 2**F pixel (F = ``fraction_bits``), or ``config.invalid`` = D 2**F. ``golden.depth.depth_map`` is the same
@@ -88,7 +118,7 @@ class DepthEngine(wiring.Component):
     geometry : SensorGeometry
         Buffer size and grey width (``SENSOR``: 400 x 300 x 5).
     config : DepthConfig
-        D, census window, P1, P2, ``max_cost``, lanes (``DEPTH``).
+        D, census window, P1, P2, ``max_cost``, lanes, paths (``DEPTH``).
     out_rows : int
         Rows in the result ring (4).
     tag_margin : int
@@ -161,7 +191,8 @@ class DepthEngine(wiring.Component):
     ------
     ValueError
         If ``lanes`` does not divide D, D is more than the width, the census window is not odd, the paths are not
-        ``spec.depth.TWO_PATHS`` (the golden model's other paths have no RTL yet), or ``tag_margin`` is less than 2.
+        ``spec.depth.TWO_PATHS`` or ``THREE_PATHS`` (the golden model's diagonals have no RTL), or ``tag_margin``
+        is less than 2.
     """
 
     def __init__(self, geometry=SENSOR, config=DEPTH, *, out_rows=4, tag_margin=8):
@@ -175,6 +206,12 @@ class DepthEngine(wiring.Component):
         plan = schedule(geometry, config)
         self.step_clocks, self.steps, self.drain_clocks = plan.step_clocks, plan.steps, plan.drain_clocks
         self.lead = plan.steps - w
+        self.three = config.paths == THREE_PATHS
+        self.back_steps, self.back_drain = plan.back_steps, plan.back_drain
+        self.backward = Signal()
+        if self.three:
+            self.phase_count = Signal(range(max(self.back_drain, w) + 1))
+            self.replay_odd, self.replaying = Signal(), Signal()
         self.row_invalid, self.restart = Signal(), Signal()
         self.pass_row = Signal(range(h + 2), name="y")
         super().__init__({
@@ -312,17 +349,24 @@ class DepthEngine(wiring.Component):
                     m.next = "SETTLE"
                 with m.Elif(can_start):
                     m.d.sync += [step.eq(0), clock.eq(0)]
+                    if self.three:
+                        m.d.sync += self.backward.eq(0)
                     m.next = "RUN"
             with m.State("RUN"):
                 m.d.comb += [self.busy.eq(1), in_run.eq(1)]
                 m.d.sync += clock.eq(Mux(clock == self.step_clocks - 1, 0, clock + 1))
                 with m.If(clock == self.step_clocks - 1):
                     m.d.sync += step.eq(step + 1)
-                    with m.If(step == self.steps - 1):
-                        m.d.sync += drain.eq(0)
-                        m.next = "DRAIN"
+                    if self.three:
+                        self._next_phase(m, step)
+                    else:
+                        with m.If(step == self.steps - 1):
+                            m.d.sync += drain.eq(0)
+                            m.next = "DRAIN"
                 with m.If(self.start):
                     m.next = "SETTLE"
+            if self.three:
+                self._reverse_states(m, drain)
             with m.State("DRAIN"):
                 m.d.comb += self.busy.eq(1)
                 m.d.sync += drain.eq(drain + 1)
@@ -340,6 +384,38 @@ class DepthEngine(wiring.Component):
         with m.If(self.start):
             m.d.sync += [y.eq(0), self.result.rows_ready.eq(0), out_base.eq(0)]
         return fsm, drain
+
+    def _next_phase(self, m, step):
+        """Three paths, at a step's last clock: after the forward steps the backward ones (docs/depth.md, scheme
+        a'), after those the backward drain."""
+        with m.If(~self.backward & (step == self.steps - 1)):
+            m.d.sync += [self.backward.eq(1), step.eq(0)]
+        with m.If(self.backward & (step == self.back_steps - 1)):
+            m.d.sync += self.phase_count.eq(0)
+            m.next = "BACK_DRAIN"
+
+    def _reverse_states(self, m, drain):
+        """Three paths: wait for the row's last code (backward drain), then replay the row of codes into the
+        median in ascending x, one every other clock, and its end token; then the common drain."""
+        w = self.geometry.buf_width
+        with m.State("BACK_DRAIN"):
+            m.d.comb += self.busy.eq(1)
+            m.d.sync += self.phase_count.eq(self.phase_count + 1)
+            with m.If(self.phase_count == self.back_drain):
+                m.d.sync += [self.phase_count.eq(0), self.replay_odd.eq(0)]
+                m.next = "REPLAY"
+            with m.If(self.start):
+                m.next = "SETTLE"
+        with m.State("REPLAY"):
+            m.d.comb += [self.busy.eq(1), self.replaying.eq(1)]
+            m.d.sync += self.replay_odd.eq(~self.replay_odd)
+            with m.If(self.replay_odd):
+                m.d.sync += self.phase_count.eq(self.phase_count + 1)
+                with m.If(self.phase_count == w):
+                    m.d.sync += drain.eq(0)
+                    m.next = "DRAIN"
+            with m.If(self.start):
+                m.next = "SETTLE"
 
     def _invariants(self, m, fsm, rings, y, counters, registered, can_start, limit):
         """The pass control's invariants (elaborated for the formal platform only): what makes the safety
@@ -381,7 +457,7 @@ class DepthEngine(wiring.Component):
             # Column clamp(step - rx - lag), counted: the right window lags the left one by D - 1 columns.
             col = Signal(range(w), name=f"{name}_column")
             moving = Signal(name=f"{name}_moving")
-            m.d.comb += ring.col.eq(col)
+            m.d.comb += ring.col.eq(Mux(self.backward, self._back_column(m, step, clock), col) if self.three else col)
             with m.If(~in_run):
                 m.d.sync += [col.eq(0), moving.eq(rx + lag == 0)]
             with m.Elif(clock == self.step_clocks - 1):
@@ -403,22 +479,45 @@ class DepthEngine(wiring.Component):
         shift_now = Signal(name="census_shift_now")
         m.d.sync += shift_now.eq(in_run & (clock == SHIFT_CLOCK - 1) & ~self.start)
         with m.If(shift_now):
-            m.d.sync += [shift_reg[0].census.eq(signatures[0]), shift_reg[0].inside.eq(step < w + 2 * rx)]
+            inside = step < w + 2 * rx
+            if self.three:                      # backward: the entering column is inside from step 2 rx on
+                inside = Mux(self.backward, step >= 2 * rx, inside)
+            m.d.sync += [shift_reg[0].census.eq(signatures[0]), shift_reg[0].inside.eq(inside)]
             for j in range(1, cfg.disparities):
                 m.d.sync += shift_reg[j].eq(shift_reg[j - 1])
         return shift_reg, signatures[1]
+
+    def _back_column(self, m, step, clock):
+        """Three paths, backward steps: the ring column clamp(W - 1 + rx - step) for both images, counted down
+        (one counter, built on the first call)."""
+        if not hasattr(self, "_back_col"):
+            w, rx = self.geometry.buf_width, self.config.census_width // 2
+            col, moving = Signal(range(w), name="back_column"), Signal(name="back_moving")
+            with m.If(~self.backward):
+                m.d.sync += [col.eq(w - 1), moving.eq(rx == 0)]
+            with m.Elif(clock == self.step_clocks - 1):
+                with m.If(step == rx - 1):
+                    m.d.sync += moving.eq(1)
+                with m.If(moving & (col != 0)):
+                    m.d.sync += col.eq(col - 1)
+            self._back_col = col
+        return self._back_col
 
     def _issue(self, m, shift_reg, right_sig, step, clock, in_run):
         """Step clocks 4 .. 4 + G - 1: group g's token and its lanes' left signatures, registered."""
         cfg, w = self.config, self.geometry.buf_width
         G, P, D = self.groups, cfg.lanes, cfg.disparities
         x = step - self.lead
+        lead = self.lead
+        if self.three:                          # backward: x = W - 1 + 2 rx - step, from step 2 rx on
+            x = Mux(self.backward, w - 1 + (cfg.census_width // 2) * 2 - step, x)
+            lead = Mux(self.backward, (cfg.census_width // 2) * 2, self.lead)
         group = clock - ISSUE_CLOCK
         token = Signal(token_layout(G, w))
         right_cen = Signal(cfg.census_bits, reset_less=True)
         left_sel = Signal(data.ArrayLayout(cfg.census_bits, P), reset_less=True)
         inside = Signal(P)
-        issuing = in_run & (clock >= ISSUE_CLOCK) & (clock < ISSUE_CLOCK + G) & (step >= self.lead)
+        issuing = in_run & (clock >= ISSUE_CLOCK) & (clock < ISSUE_CLOCK + G) & (step >= lead)
         m.d.sync += [
             token.go.eq(issuing),
             token.group.eq(group),
@@ -432,7 +531,14 @@ class DepthEngine(wiring.Component):
                 with m.Case(gi):
                     for k in range(P):
                         e = shift_reg[D - 1 - (gi * P + k)]          # candidate d = gi * P + k
-                        m.d.sync += [left_sel[k].eq(e.census), inside[k].eq(e.inside)]
+                        census, inner = e.census, e.inside
+                        if self.three:                  # backward: the newest entry is d = 0
+                            b = shift_reg[gi * P + k]
+                            census, inner = Mux(self.backward, b.census, census), Mux(self.backward, b.inside, inner)
+                        m.d.sync += [left_sel[k].eq(census), inside[k].eq(inner)]
+        if self.three:
+            self.issue_backward = Signal()
+            m.d.sync += self.issue_backward.eq(self.backward)
         return token, right_cen, left_sel, inside
 
     def _paths(self, m, token, right_cen, left_sel, inside, step, clock, in_run, restart):
@@ -442,14 +548,29 @@ class DepthEngine(wiring.Component):
         cost = add_reset_subtree(m, "cost", MatchingCost(cfg))
         m.d.comb += [cost.right.eq(right_cen), cost.left.eq(left_sel), cost.inside.eq(inside)]
         tok = token
+        back = self.issue_backward if self.three else None
         for s in range(MatchingCost.LATENCY):
             delayed = Signal(token_layout(G, w), name=f"cost_token{s}")
             m.d.sync += delayed.eq(tok)
             tok = delayed
+            if self.three:
+                back_delayed = Signal(name=f"cost_backward{s}")
+                m.d.sync += back_delayed.eq(back)
+                back = back_delayed
         horizontal = add_reset_subtree(m, "horizontal", SgmPath(cfg, recurrent=True, width=w))
         vertical = add_reset_subtree(m, "vertical", SgmPath(cfg, recurrent=False, width=w))
+        forward_tok = tok
+        if self.three:
+            forward_tok, back_tok = Signal.like(tok, name="forward_token"), Signal.like(tok, name="backward_token")
+            m.d.comb += [forward_tok.eq(tok), forward_tok.go.eq(tok.go & ~back),
+                         back_tok.eq(tok), back_tok.go.eq(tok.go & back)]
+            self.reverse = reverse = add_reset_subtree(m, "reverse", ReversePath(cfg, width=w))
+            m.d.comb += [reverse.token.eq(back_tok), reverse.cost.eq(cost.cost),
+                         reverse.store_token.eq(horizontal.l_token)]
+            for k in range(P):
+                m.d.comb += reverse.carry[k].eq(horizontal.l[k] + vertical.l[k])
         for path in (horizontal, vertical):
-            m.d.comb += [path.token.eq(tok), path.cost.eq(cost.cost)]
+            m.d.comb += [path.token.eq(forward_tok), path.cost.eq(cost.cost)]
 
         pbits = cfg.path_bits
         # The line buffer: one plain memory per group of P disparities (each a simple dual-port block RAM,
@@ -483,20 +604,23 @@ class DepthEngine(wiring.Component):
         """Winner, median, result ring."""
         cfg, g = self.config, self.geometry
         w = g.buf_width
-        winner = add_reset_subtree(m, "winner", Winner(cfg, w))
         median = add_reset_subtree(m, "median", Median3x3(cfg, g))
-        m.d.comb += [winner.token.eq(horizontal.l_token), winner.horizontal.eq(horizontal.l),
-                     winner.vertical.eq(vertical.l)]
-        end = [Signal(name=f"row_end{i}") for i in range(END_GAP)]
-        m.d.sync += end[0].eq(winner.valid & (winner.x == w - 1))
-        for i in range(1, END_GAP):
-            m.d.sync += end[i].eq(end[i - 1])
-        m.d.comb += [
-            median.y.eq(y),
-            median.valid.eq(winner.valid | end[-1]),
-            median.x.eq(Mux(end[-1], w, winner.x)),
-            median.code.eq(Mux(row_invalid, cfg.invalid, winner.code)),
-        ]
+        m.d.comb += median.y.eq(y)
+        if self.three:
+            self._reverse_back_end(m, median, row_invalid)
+        else:
+            winner = add_reset_subtree(m, "winner", Winner(cfg, w))
+            m.d.comb += [winner.token.eq(horizontal.l_token), winner.horizontal.eq(horizontal.l),
+                         winner.vertical.eq(vertical.l)]
+            end = [Signal(name=f"row_end{i}") for i in range(END_GAP)]
+            m.d.sync += end[0].eq(winner.valid & (winner.x == w - 1))
+            for i in range(1, END_GAP):
+                m.d.sync += end[i].eq(end[i - 1])
+            m.d.comb += [
+                median.valid.eq(winner.valid | end[-1]),
+                median.x.eq(Mux(end[-1], w, winner.x)),
+                median.code.eq(Mux(row_invalid, cfg.invalid, winner.code)),
+            ]
         m.submodules.results = results = Memory(shape=unsigned(cfg.code_bits), depth=self.out_rows * w, init=[])
         write, read = results.write_port(), results.read_port()
         # Pass 0 has no output row: a median output then is the last of an abandoned map, still in the pipeline
@@ -507,4 +631,25 @@ class DepthEngine(wiring.Component):
             write.en.eq(median.out_valid & (y != 0)),
             read.addr.eq(self.result.addr),
             self.result.data.eq(read.data),
+        ]
+
+    def _reverse_back_end(self, m, median, row_invalid):
+        """Three paths: the winner over ReversePath's L_rl and carried S2 (codes in descending x) into a row of
+        codes, replayed into the median in ascending x (docs/depth.md, scheme a')."""
+        cfg, w = self.config, self.geometry.buf_width
+        reverse = self.reverse
+        winner = add_reset_subtree(m, "winner", Winner(cfg, w, vertical_bits=reverse.carry_bits))
+        m.d.comb += [winner.token.eq(reverse.out_token), winner.horizontal.eq(reverse.l),
+                     winner.vertical.eq(reverse.carry_out)]
+        m.submodules.row_codes = codes = Memory(shape=unsigned(cfg.code_bits), depth=w, init=[])
+        write, read = codes.write_port(), codes.read_port()
+        index = self.phase_count
+        m.d.comb += [
+            write.addr.eq(winner.x),
+            write.data.eq(Mux(row_invalid, cfg.invalid, winner.code)),
+            write.en.eq(winner.valid),
+            read.addr.eq(Mux(index < w, index, 0)),
+            median.valid.eq(self.replaying & self.replay_odd),
+            median.x.eq(index),
+            median.code.eq(read.data),
         ]

@@ -26,6 +26,9 @@ class Winner(wiring.Component):
         D, lanes, ``max_cost``, ``fraction_bits``.
     width : int
         Image width (the token's column range).
+    vertical_bits : int or None
+        Width of the ``vertical`` input (``path_bits`` when None): the engine's three-path mode brings there the
+        sum of two paths (S2, docs/depth.md "The third path in the RTL") beside the right-to-left L.
 
     Ports
     -----
@@ -44,14 +47,14 @@ class Winner(wiring.Component):
     4 + G + 2 t + ``Subpixel.latency``.
     """
 
-    def __init__(self, config=DEPTH, width=SENSOR.buf_width):
+    def __init__(self, config=DEPTH, width=SENSOR.buf_width, vertical_bits=None):
         self.config = config
         self.groups = config.disparities // config.lanes
         self.width = width
         super().__init__({
             "token": In(token_layout(self.groups, width)),
             "horizontal": In(data.ArrayLayout(config.path_bits, config.lanes)),
-            "vertical": In(data.ArrayLayout(config.path_bits, config.lanes)),
+            "vertical": In(data.ArrayLayout(vertical_bits or config.path_bits, config.lanes)),
             "code": Out(config.code_bits),
             "x": Out(range(width)),
             "valid": Out(1),
