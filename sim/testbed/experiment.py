@@ -36,6 +36,7 @@ columns' differences, so every minimiser, hence the found disparity, is in [floo
 
 import math
 from dataclasses import dataclass, field, replace
+from fractions import Fraction
 
 import numpy as np
 
@@ -54,7 +55,8 @@ __all__ = [
     "exact_disparity", "table_object_name", "SweepCurve", "Alignment", "TestbedPoint", "FitResult", "FIT_MODELS",
     "sweep_region", "disparity_curve", "rectification_curve", "find_alignment", "capture_pair", "run_point",
     "run_table", "auto_offset", "AutoOffset", "run_near_field", "NEAR_FIELD_DISTANCE_M", "fit_observed", "fitted_rig_and_distance",
-    "RtlCheck", "rtl_difference_rows", "rtl_crosscheck", "EngineReading", "engine_reading"
+    "RtlCheck", "rtl_difference_rows", "rtl_crosscheck", "EngineReading", "engine_reading", "engine_point",
+    "engine_table"
 ]
 
 # --- Thesis table 4.2 (docs/testbed.md) ------------------------------------------------------------------
@@ -253,6 +255,16 @@ class EngineReading:
         """Relative error of the shown distance (shown / true - 1), None when nothing is shown."""
         return None if self.shown_m is None else self.shown_m / self.true_m - 1
 
+    def within(self, limit):
+        """Whether the shown distance is within ``limit`` (a fraction: 0.01 for 1 %) of the true one, boundary
+        included, in exact arithmetic on the whole centimetres shown and the distances as written (so 99 cm at
+        1.00 m is within 1 %, 98 cm is not); False when nothing is shown."""
+        if self.shown_m is None:
+            return False
+        shown = Fraction(round(self.shown_m * 100), 100)
+        true, limit = Fraction(repr(float(self.true_m))), Fraction(repr(float(limit)))
+        return abs(shown - true) <= limit * true
+
 
 def engine_reading(left, right, footprint, rectification, true_m, geometry=SENSOR, config=None):
     """:class:`EngineReading` of the engine's map of the pair with the left image moved up by
@@ -267,6 +279,27 @@ def engine_reading(left, right, footprint, rectification, true_m, geometry=SENSO
     _, text = centre_readout(codes, geometry, config)
     digits = text[:-2].strip()
     return EngineReading(disparity, text, int(digits) / 100 if digits.isdigit() else None, true_m)
+
+
+def engine_point(distance_m, object_name=None, rig=VMODCAM, geometry=SENSOR, config=None, supersample=1,
+                 **object_kw):
+    """:class:`EngineReading` of the depth engine alone on one test-bed pair: ``object_name`` (default: the table's
+    object, :func:`table_object_name`) at ``distance_m`` rendered for ``rig``, captured by ``geometry``'s capture
+    (the thesis's or the averaging one), the engine of ``config`` (default: ``DEPTH`` for ``SENSOR``) on the
+    buffers as captured (no rectification: for a rig without vertical misalignment, the one the sweep finds).
+    The footprint samples each buffer pixel where its capture does: the kept pixel's centre, or the block's
+    centre for the averaging capture. No register sweep: for builds whose buffers the thesis's subtractor does
+    not read."""
+    scene = make_object(object_name or table_object_name(distance_m, rig), distance_m, **object_kw)
+    left, right = capture_pair(scene, rig, geometry, supersample)
+    centre = geometry.scale / 2 if geometry.downscale == "average" else 0.5
+    footprint = object_footprint(scene, rig, "right", geometry.scale, centre=centre)
+    return engine_reading(left, right, footprint, 0, scene.distance_m, geometry, config)
+
+
+def engine_table(distances=THESIS_DISTANCES_M, rig=VMODCAM, geometry=SENSOR, config=None, **kw):
+    """[:class:`EngineReading`] of :func:`engine_point` at each distance (the table's object at each)."""
+    return [engine_point(z, None, rig, geometry, config, **kw) for z in distances]
 
 
 @dataclass(frozen=True)
