@@ -109,12 +109,18 @@ def _check_regions(layout, timing, geometry):
                              f"{geometry.buf_width}x{geometry.buf_height}")
         if not isinstance(r.scale, int) or r.scale < 1:
             raise ValueError(f"region {r.source} needs a positive integer scale, not {r.scale!r}")
+        if not isinstance(r.shrink, int) or r.shrink < 1:
+            raise ValueError(f"region {r.source} needs a positive integer shrink, not {r.shrink!r}")
+        if r.shrink > 1 and (r.source not in ("left", "right") or r.scale != 1
+                             or r.width % r.shrink or r.height % r.shrink):
+            raise ValueError(f"region {r.source}: only a camera image at scale 1 with a size divisible by "
+                             f"{r.shrink} can be shown at 1/{r.shrink} size")
     return regions
 
 
 def check_layout(layout, timing, geometry, config=DEPTH):
     """The regions by source; ``ValueError`` unless ``layout`` has one region per source, each a whole buffer at
-    a positive integer scale, everything inside the active area and nothing overlapping (but the readout, which
+    a positive integer scale (a camera image may instead be at 1 / ``shrink`` size), everything inside the active area and nothing overlapping (but the readout, which
     may lie inside the depth map), the colour bar has one band per code, the readout starts after the centre
     window's last line, the crosshair fits the map, and the disparity map starts at least ``SETTLE_CLOCKS``
     pixels into the raster (so it never sees the switch registers change)."""
@@ -173,6 +179,10 @@ def check_parameters(timing, geometry, layout, config, thresholds, level_grey):
     if layout is None:
         layout = DisplayLayout.centred(timing, geometry, config)
     regions = check_layout(layout, timing, geometry, config)
+    for r in regions.values():
+        if r.shrink != 1:
+            raise ValueError(f"region {r.source} is at 1/{r.shrink} size: the compositor draws every region at a "
+                             "whole scale (1x or more)")
     thresholds = check_thresholds(thresholds, geometry.grey_bits)
     grey = tuple(int(v) for v in level_grey)
     if len(grey) != len(thresholds) + 1 or any(not 0 <= v <= 255 for v in grey):
@@ -229,7 +239,8 @@ class Compositor(wiring.Component):
     Raises
     ------
     ValueError
-        A layout that does not fit, overlaps or starts too early (:func:`check_layout`), a bad threshold or grey
+        A layout that does not fit, overlaps or starts too early (:func:`check_layout`), a region below 1:1
+        (``shrink`` > 1: not built), a bad threshold or grey
         table, more than 8 bits of grey, a label character the font lacks.
     """
 
