@@ -1,8 +1,8 @@
 """The 800 x 600 build's screen (docs/display.md, "The 800 x 600 build's screen"): the layout
 :meth:`spec.layout.DisplayLayout.full_maps` (camera images at half size, maps 1:1) against the numbers the spec
-fixes and the layout checks (:func:`hdl.compositor.check_layout`), and the golden frame at that layout
+fixes and the layout checks (:func:`hdl.compositor.check_layout`), the golden frame at that layout
 (:func:`golden.disparity.composite_frame`) on small synthetic 8-bit buffers, panel by panel against the golden
-pieces. The compositor RTL does not draw a panel below 1:1: its refusal is tested here too.
+pieces, and the compositor RTL drawing it at a small size (block-RAM buffers; the frame store's windows refuse it).
 """
 
 import dataclasses
@@ -15,13 +15,17 @@ from golden.depth_display import depth_colours, depth_picture
 from golden.disparity import composite_frame, difference_levels
 from golden.segmentation import segment_picture
 from hdl.compositor import check_layout, check_parameters, segmentation_fits
-from hdl.store_windows import check_store_windows
+from hdl.region_scanner import RegionScanner
+from hdl.stereo_display import check_display
+from sim.runners.amaranth import simulate
 from spec.depth import DEPTH, DEPTH_800, THREE_PATHS, DepthConfig
 from spec.display import (BACKGROUND_RGB, CROSSHAIR_ARM, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, NO_DATA_RGB, TEXT_RGB,
                           diff_thresholds)
 from spec.layout import DisplayLayout
 from spec.sensor import SENSOR, SENSOR_800, SensorGeometry
-from spec.video import CEA_1080P60, SMALL_TIMING
+from spec.video import CEA_1080P60, SMALL_TIMING, VideoTiming
+
+from test_compositor import run_amaranth        # tests/ (pytest puts a test's directory on the path)
 
 #: A small averaging geometry (32 x 24 x 8-bit buffers) and a three-path engine for it.
 SMALL_800 = SensorGeometry(width=64, height=48, scale=2, grey_bits=8, downscale="average")
@@ -62,13 +66,12 @@ def test_full_maps_layout_1080p():
     assert (layout.band.x0, layout.band.y0, layout.rectification.x0) == (100, 382, 940)
     regions = check_layout(layout, CEA_1080P60, SENSOR_800, DEPTH_800)
     assert regions["left"].shrink == 2 and segmentation_fits(layout)
-    assert check_store_windows(layout) == 370
 
 
 def test_full_maps_layout_checks():
     """The layout checks refuse a half-size map, a half-size image of odd size, a shrink of 0 and a half-size image
-    moved onto the other; the compositor RTL refuses any region below 1:1 (not built); ``full_maps`` refuses odd
-    buffers and a screen too small."""
+    moved onto the other; the compositor's parameters take the layout (and 8-bit thresholds by default);
+    ``full_maps`` refuses odd buffers and a screen too small."""
     layout = DisplayLayout.full_maps(CEA_1080P60, SENSOR_800, DEPTH_800)
     left, right, disp, depth = layout.regions
     bad = [
@@ -85,8 +88,7 @@ def test_full_maps_layout_checks():
     with pytest.raises(ValueError, match="1/3"):             # 800 x 600 is not a whole number of 3 x 3 blocks
         check_layout(dataclasses.replace(layout, regions=(dataclasses.replace(left, shrink=3), right, disp, depth)),
                      CEA_1080P60, SENSOR_800, DEPTH_800)
-    with pytest.raises(ValueError, match="whole scale"):
-        check_parameters(CEA_1080P60, SENSOR_800, layout, DEPTH_800, diff_thresholds(8), DIFF_LEVEL_GREY)
+    assert check_parameters(CEA_1080P60, SENSOR_800, layout, DEPTH_800, None, DIFF_LEVEL_GREY)[2] == (16, 32, 64, 128)
     with pytest.raises(ValueError, match="even"):
         DisplayLayout.full_maps(CEA_1080P60, odd, DEPTH_800)
     with pytest.raises(ValueError, match="do not fit"):
@@ -182,3 +184,60 @@ def test_golden_frame_800_1080p():
     assert (frame[410:1010, 890:900] == _rgb(NO_DATA_RGB)).all() and (frame[410:1010, 900] == bg).all()
     assert (frame[710, 1342:1357] == 255).all() and (frame[710, 1357] != 255).any()
     assert (frame[454:458, 1748:1764] == (253, 231, 37)).all() and (frame[453, 1748:1764] == bg).all()
+
+
+# --- the compositor RTL at the full-maps layout (half-size camera images), small ------------------------------
+
+#: A small mode with lines long enough for the engine to finish a row while the display shows it 1:1.
+WIDE_TIMING = VideoTiming(h_active=112, h_front=4, h_sync=3, h_back=200, v_active=52, v_front=2, v_sync=2,
+                          v_back=3, hsync_positive=True, vsync_positive=True)
+#: The board's two-path engine (the RTL's) on 8-bit buffers.
+SMALL_8BIT_DEPTH = DepthConfig(disparities=8, lanes=4, uniqueness=60, pixel_bits=8)
+
+
+def test_region_scanner_stride():
+    """A 6 x 4 picture at 1/2 size: the scanner gives the addresses and coordinates of pixels (0, 0), (2, 0),
+    (4, 0), (0, 2), (2, 2), (4, 2) in display order; a stride that does not divide the picture, or with a scale, is
+    refused."""
+    dut = RegionScanner(6, 4, 1, stride=2)
+    got = []
+
+    async def bench(ctx):
+        ctx.set(dut.clear, 1)
+        await ctx.tick()
+        ctx.set(dut.clear, 0)
+        for _ in range(2):                               # two display lines of 3 pixels, a gap between
+            for i in range(3):
+                ctx.set(dut.active, 1)
+                ctx.set(dut.eol, i == 2)
+                got.append((ctx.get(dut.addr), ctx.get(dut.xb), ctx.get(dut.yb)))
+                await ctx.tick()
+            ctx.set(dut.active, 0)
+            await ctx.tick().repeat(3)
+
+    simulate(dut, clocks={"sync": 1e8}, testbenches=[bench])
+    assert got == [(0, 0, 0), (2, 2, 0), (4, 4, 0), (12, 0, 2), (14, 2, 2), (16, 4, 2)]
+    for bad in (dict(stride=4), dict(stride=2, scale_x=2), dict(stride=2, wrap=12)):
+        kw = {"scale_x": 1, **bad}
+        with pytest.raises(ValueError):
+            RegionScanner(6, 4, kw.pop("scale_x"), **kw)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("segment", [False, True], ids=["difference", "segmentation"])
+def test_full_maps_compositor_amaranth(segment):
+    """The compositor RTL (StereoDisplay on two block-RAM buffers, 32 x 24 x 8-bit, the two-path engine) draws the
+    full-maps layout equal to the golden frame bit for bit, two frames (the switches moved in the first): the
+    half-size camera images, the 8-bit difference map (or segmentation view), the depth map 1:1."""
+    layout = DisplayLayout.full_maps(WIDE_TIMING, SMALL_800, SMALL_8BIT_DEPTH)
+    run_amaranth(WIDE_TIMING, SMALL_800, [dict(line=20, column=30, disparity=3, rectification=1)], 2, layout,
+                 segment=segment, config=SMALL_8BIT_DEPTH)
+
+
+def test_full_maps_not_from_the_frame_store():
+    """The frame store's windows move on one row a read: a half-size panel, which skips rows, is refused there
+    (the block-RAM build takes it)."""
+    layout = DisplayLayout.full_maps(WIDE_TIMING, SMALL_800, SMALL_8BIT_DEPTH)
+    assert check_display(WIDE_TIMING, SMALL_800, layout, config=SMALL_8BIT_DEPTH) == layout
+    with pytest.raises(ValueError, match="one row at a time"):
+        check_display(WIDE_TIMING, SMALL_800, layout, config=SMALL_8BIT_DEPTH, memory="ddr2")
