@@ -11,11 +11,13 @@ import numpy as np
 import pytest
 
 from golden.depth import depth_map
-from golden.depth_display import depth_colours, depth_picture
+from golden.depth_display import centre_readout, depth_colours, depth_picture
 from golden.disparity import composite_frame, difference_levels
-from golden.segmentation import segment_picture
+from golden.segmentation import band_text, segment_picture
+from hdl.centre_distance import readout_table
 from hdl.compositor import check_layout, check_parameters, segmentation_fits
 from hdl.region_scanner import RegionScanner
+from hdl.segment_band import band_table
 from hdl.stereo_display import check_display
 from sim.runners.amaranth import simulate
 from spec.depth import DEPTH, DEPTH_800, THREE_PATHS, DepthConfig
@@ -241,3 +243,16 @@ def test_full_maps_not_from_the_frame_store():
     assert check_display(WIDE_TIMING, SMALL_800, layout, config=SMALL_8BIT_DEPTH) == layout
     with pytest.raises(ValueError, match="one row at a time"):
         check_display(WIDE_TIMING, SMALL_800, layout, config=SMALL_8BIT_DEPTH, memory="ddr2")
+
+
+def test_readout_and_band_tables_800():
+    """The centre readout and the band text at the 800 build's scale (Z = 54.552 m / d): the RTL's ROMs (exact
+    fractions) equal the golden texts for every code 0..16 D and every register value; by hand: d = 54 -> 101.02
+    -> " 101cm", d = 1 -> "5455cm"; the band around d = 60 is Z(62) = 0.880 m to Z(58) = 0.941 m."""
+    table = readout_table(SENSOR_800, DEPTH_800)
+    assert len(table) == DEPTH_800.invalid + 1
+    for code, text in enumerate(table):
+        assert centre_readout(np.full((12, 16), code), SENSOR_800, DEPTH_800) == (code, text)
+    assert table[16 * 54] == " 101cm" and table[16] == "5455cm" and table[DEPTH_800.invalid] == "----cm"
+    assert band_table(SENSOR_800) == [band_text(d, SENSOR_800) for d in range(128)]
+    assert band_text(60, SENSOR_800) == " 0.88- 0.94m"
