@@ -324,10 +324,10 @@ def test_segmentation_off_is_the_old_frame():
         composite_frame(left, right, 3, 0, SEGMENT_TIMING, SMALL_SENSOR, other, depth=SMALL_DEPTH, segment=True)
 
 
-def run_cocotb_display(timing, geometry, schedule, simulator, tmp_path, layout=None, segment=False):
+def run_cocotb_display(timing, geometry, schedule, simulator, tmp_path, layout=None, segment=False, config=None):
     left, right = grey_buffers(geometry)
     events, settings = switch_events(schedule, timing)
-    config = DEPTH if geometry == SENSOR else SMALL_DEPTH
+    config = config or (DEPTH if geometry == SENSOR else SMALL_DEPTH)
     data = tmp_path / "display.npz"
     np.savez(data, left=left, right=right,
              expected=expected_frames(left, right, settings, timing, geometry, layout, config, segment))

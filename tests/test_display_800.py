@@ -27,7 +27,7 @@ from spec.layout import DisplayLayout
 from spec.sensor import SENSOR, SENSOR_800, SensorGeometry
 from spec.video import CEA_1080P60, SMALL_TIMING, VideoTiming
 
-from test_compositor import run_amaranth        # tests/ (pytest puts a test's directory on the path)
+from test_compositor import run_amaranth, run_cocotb_display     # tests/ (pytest puts a test's directory on the path)
 
 #: A small averaging geometry (32 x 24 x 8-bit buffers) and a three-path engine for it.
 SMALL_800 = SensorGeometry(width=64, height=48, scale=2, grey_bits=8, downscale="average")
@@ -234,6 +234,15 @@ def test_full_maps_compositor_amaranth(segment):
     layout = DisplayLayout.full_maps(WIDE_TIMING, SMALL_800, SMALL_8BIT_DEPTH)
     run_amaranth(WIDE_TIMING, SMALL_800, [dict(line=20, column=30, disparity=3, rectification=1)], 2, layout,
                  segment=segment, config=SMALL_8BIT_DEPTH)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("simulator", ["verilator", "icarus"])
+def test_full_maps_compositor_cocotb(simulator, tmp_path):
+    """The same on the exported Verilog (cocotb), the segmentation view on."""
+    layout = DisplayLayout.full_maps(WIDE_TIMING, SMALL_800, SMALL_8BIT_DEPTH)
+    run_cocotb_display(WIDE_TIMING, SMALL_800, [dict(line=20, column=30, disparity=3, rectification=1)], simulator,
+                       tmp_path, layout, segment=True, config=SMALL_8BIT_DEPTH)
 
 
 def test_full_maps_not_from_the_frame_store():
