@@ -8,7 +8,8 @@
   ``NO_DATA_RGB``), the depth map of the pair (``golden.depth.depth_map`` of the rectification-shifted left
   image and the right one) with its colour bar, labels and readout (``golden.depth_display``),
   ``BACKGROUND_RGB`` elsewhere, placed by :class:`spec.layout.DisplayLayout` with every buffer pixel repeated
-  ``scale`` x ``scale`` times; with ``segment`` the difference map's place shows the segmentation view
+  ``scale`` x ``scale`` times (a region with ``shrink`` > 1: every ``shrink``-th pixel of every ``shrink``-th row,
+  from (0, 0)); with ``segment`` the difference map's place shows the segmentation view
   (``golden.segmentation``, the band around the disparity register) and the band's text box its band (spaces,
   so all background, without ``segment``).
 
@@ -23,7 +24,7 @@ from golden.depth_display import draw_depth_display, draw_text, engine_left
 from golden.rectification_display import rectification_text
 from golden.segmentation import band_text, blank_band_text, segment_picture
 from spec.depth import DEPTH
-from spec.display import BACKGROUND_RGB, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, NO_DATA_RGB, grey_to_rgb24
+from spec.display import BACKGROUND_RGB, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, NO_DATA_RGB, diff_thresholds, grey_to_rgb24
 from spec.layout import DisplayLayout
 from spec.sensor import SENSOR
 from spec.video import CEA_1080P60
@@ -90,9 +91,11 @@ def rgb24_to_bytes(rgb):
 
 
 def composite_frame(left, right, disparity, rectification, timing=CEA_1080P60, geometry=SENSOR, layout=None,
-                    thresholds=DIFF_THRESHOLDS, level_grey=DIFF_LEVEL_GREY, depth=DEPTH, *, details=False,
+                    thresholds=None, level_grey=DIFF_LEVEL_GREY, depth=DEPTH, *, details=False,
                     segment=False, rectification_mode=(False, False), row_tags=None):
     """The displayed frame, uint8 (v_active, h_active, 3), for the two grey buffers and the switch settings.
+    ``layout`` None: :meth:`spec.layout.DisplayLayout.default`; ``thresholds`` None:
+    :func:`spec.display.diff_thresholds` of the geometry's grey bits (``DIFF_THRESHOLDS`` for 5-bit grey).
     ``details=True`` returns ``(frame, codes, readout text)``: also the depth map shown and its readout.
     ``segment``: the segmentation view in the difference map's place (``ValueError`` if the layout's difference
     map is not on the depth map's rows at its scale, left of it). ``rectification_mode``: (automatic mode, held
@@ -102,7 +105,9 @@ def composite_frame(left, right, disparity, rectification, timing=CEA_1080P60, g
     different camera frames")."""
     left, right = _check_images(left, right, geometry)
     if layout is None:
-        layout = DisplayLayout.centred(timing, geometry, depth)
+        layout = DisplayLayout.default(timing, geometry, depth)
+    if thresholds is None:
+        thresholds = diff_thresholds(geometry.grey_bits)
     if len(level_grey) != len(thresholds) + 1:
         raise ValueError(f"level_grey needs {len(thresholds) + 1} entries, got {len(level_grey)}")
     frame = np.empty((timing.v_active, timing.h_active), dtype=np.int64)
@@ -124,9 +129,9 @@ def composite_frame(left, right, disparity, rectification, timing=CEA_1080P60, g
         pictures["disparity"] = segment_picture(right, codes, disparity, geometry.grey_bits, depth)
     for region in layout.regions:
         if region.source in pictures:
-            s = region.scale
+            s, k = region.scale, region.shrink
             frame[region.y0:region.y1, region.x0:region.x1] = np.repeat(
-                np.repeat(pictures[region.source], s, axis=0), s, axis=1)
+                np.repeat(pictures[region.source][::k, ::k], s, axis=0), s, axis=1)
     text = draw_depth_display(frame, codes, layout, geometry, depth)
     if layout.band is not None:
         draw_text(frame, layout.band, band_text(disparity, geometry) if segment else blank_band_text())

@@ -7,7 +7,8 @@ grant: its arbiter gives it priority) and the depth engine's result ring (``dept
 :class:`hdl.depth.ResultReadSignature`). Output: a :data:`hdl.video_bus.VideoSignature` stream (``video``).
 
 Layout (``layout``, default :meth:`spec.layout.DisplayLayout.centred`): each region shows its buffer with every
-pixel repeated ``scale`` x ``scale`` times (docs/display.md, "Four panels").
+pixel repeated ``scale`` x ``scale`` times, or a camera image at 1 / ``shrink`` size (every ``shrink``-th pixel of
+every ``shrink``-th row: :meth:`spec.layout.DisplayLayout.full_maps`) (docs/display.md, "Four panels").
 
 * ``left`` / ``right``: the camera image, grey by bit replication (:func:`spec.display.grey_to_rgb24`).
 * ``disparity``: the :class:`hdl.disparity.DisparitySubtractor` output, ``level_grey[level]`` or ``NO_DATA_RGB``.
@@ -72,9 +73,9 @@ from spec.display import (
     CROSSHAIR_RGB,
     DEPTH_NOT_READY_RGB,
     DIFF_LEVEL_GREY,
-    DIFF_THRESHOLDS,
     NO_DATA_RGB,
     TEXT_RGB,
+    diff_thresholds,
 )
 from spec.layout import DisplayLayout
 from spec.sensor import SENSOR
@@ -109,12 +110,18 @@ def _check_regions(layout, timing, geometry):
                              f"{geometry.buf_width}x{geometry.buf_height}")
         if not isinstance(r.scale, int) or r.scale < 1:
             raise ValueError(f"region {r.source} needs a positive integer scale, not {r.scale!r}")
+        if not isinstance(r.shrink, int) or r.shrink < 1:
+            raise ValueError(f"region {r.source} needs a positive integer shrink, not {r.shrink!r}")
+        if r.shrink > 1 and (r.source not in ("left", "right") or r.scale != 1
+                             or r.width % r.shrink or r.height % r.shrink):
+            raise ValueError(f"region {r.source}: only a camera image at scale 1 with a size divisible by "
+                             f"{r.shrink} can be shown at 1/{r.shrink} size")
     return regions
 
 
 def check_layout(layout, timing, geometry, config=DEPTH):
     """The regions by source; ``ValueError`` unless ``layout`` has one region per source, each a whole buffer at
-    a positive integer scale, everything inside the active area and nothing overlapping (but the readout, which
+    a positive integer scale (a camera image may instead be at 1 / ``shrink`` size), everything inside the active area and nothing overlapping (but the readout, which
     may lie inside the depth map), the colour bar has one band per code, the readout starts after the centre
     window's last line, the crosshair fits the map, and the disparity map starts at least ``SETTLE_CLOCKS``
     pixels into the raster (so it never sees the switch registers change)."""
@@ -173,6 +180,8 @@ def check_parameters(timing, geometry, layout, config, thresholds, level_grey):
     if layout is None:
         layout = DisplayLayout.centred(timing, geometry, config)
     regions = check_layout(layout, timing, geometry, config)
+    if thresholds is None:
+        thresholds = diff_thresholds(geometry.grey_bits)
     thresholds = check_thresholds(thresholds, geometry.grey_bits)
     grey = tuple(int(v) for v in level_grey)
     if len(grey) != len(thresholds) + 1 or any(not 0 <= v <= 255 for v in grey):
@@ -200,8 +209,8 @@ class Compositor(wiring.Component):
         The depth engine's D (codes 0..D, D = invalid).
     out_rows : int
         Rows in the engine's result ring.
-    thresholds : sequence of int
-        The subtractor's threshold table.
+    thresholds : sequence of int or None
+        The subtractor's threshold table; None: :func:`spec.display.diff_thresholds` of the grey bits.
     level_grey : sequence of int
         The 8-bit grey shown for each level (one more entry than ``thresholds``).
 
@@ -234,7 +243,7 @@ class Compositor(wiring.Component):
     """
 
     def __init__(self, timing=CEA_1080P60, geometry=SENSOR, layout=None, *, config=DEPTH, out_rows=4,
-                 thresholds=DIFF_THRESHOLDS, level_grey=DIFF_LEVEL_GREY):
+                 thresholds=None, level_grey=DIFF_LEVEL_GREY):
         layout, self.regions, self.thresholds, self.level_grey = check_parameters(
             timing, geometry, layout, config, thresholds, level_grey)
         self.video_timing = timing          # (the ``timing`` attribute is the TimingSignature port)
@@ -350,7 +359,7 @@ class Compositor(wiring.Component):
         scanners = {}
         for source, r in self.regions.items():
             wrap = self.out_rows * g.buf_width if source == "depth" else None
-            scanners[source] = RegionScanner(g.buf_width, g.buf_height, r.scale, wrap=wrap)
+            scanners[source] = RegionScanner(g.buf_width, g.buf_height, r.scale, wrap=wrap, stride=r.shrink)
         scanners["bar"] = RegionScanner(1, bar.codes, bar.width, bar.step)
         flags = {source: source for source in scanners}
         if self.segmentation:       # the segmentation view's ring addresses over the difference map's region

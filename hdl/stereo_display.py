@@ -12,7 +12,7 @@ from hdl.depth.ports import RowTagReadSignature
 from hdl.disparity import SETTLE_CLOCKS
 from hdl.frame_buffer import FrameBufferReadSignature
 from spec.depth import DEPTH
-from spec.display import DIFF_LEVEL_GREY, DIFF_THRESHOLDS
+from spec.display import DIFF_LEVEL_GREY
 from spec.sensor import SENSOR
 from spec.video import CEA_1080P60
 from hdl.frame_store.row_reader import RowStreamSignature
@@ -63,7 +63,7 @@ def check_engine_keeps_up(timing, layout, geometry, config, segmentation=False):
                          f"{-(-first // timing.h_total)}) for the engine's first row to be ready")
 
 
-def check_display(timing, geometry, layout, *, config=DEPTH, out_rows=4, thresholds=DIFF_THRESHOLDS,
+def check_display(timing, geometry, layout, *, config=DEPTH, out_rows=4, thresholds=None,
                   level_grey=DIFF_LEVEL_GREY, memory="bram"):
     """The layout (``None``: centred) of a :class:`StereoDisplay`; ``ValueError`` for what it rejects (the
     compositor's and the engine's checks, :func:`check_engine_keeps_up`, a ``memory`` not in :data:`MEMORIES`,
@@ -135,7 +135,7 @@ class StereoDisplay(wiring.Component):
     """
 
     def __init__(self, timing=CEA_1080P60, geometry=SENSOR, layout=None, *, config=DEPTH, out_rows=4,
-                 thresholds=DIFF_THRESHOLDS, level_grey=DIFF_LEVEL_GREY, memory="bram", slots=4):
+                 thresholds=None, level_grey=DIFF_LEVEL_GREY, memory="bram", slots=4):
         layout = check_display(timing, geometry, layout, config=config, out_rows=out_rows, thresholds=thresholds,
                                level_grey=level_grey, memory=memory)
         self.video_timing, self.geometry, self.layout, self.config, self.out_rows = timing, geometry, layout, config, out_rows

@@ -42,7 +42,12 @@ STREAMS = ((0, True), (1, True), (0, False), (1, False))
 
 def check_store_windows(layout):
     """The first line after the panels: ``ValueError`` unless it comes before the difference map's first line
-    (the compositor's windows restart on it)."""
+    (the compositor's windows restart on it) and every region shows every buffer row (a window moves on by one row a
+    read: a panel at 1 / ``shrink`` size, which skips rows, would outrun it)."""
+    for r in layout.regions:
+        if r.shrink != 1:
+            raise ValueError(f"region {r.source} at 1/{r.shrink} size skips buffer rows; the frame store's windows "
+                             "move on one row at a time")
     panels_end = max(layout.region("left").y1, layout.region("right").y1)
     maps = layout.region("disparity").y0
     if panels_end >= maps:

@@ -2,7 +2,7 @@
 panel's colours, labels, crosshair and readout (docs/display.md, "Four panels")."""
 
 __all__ = [
-    "DIFF_THRESHOLDS", "DIFF_LEVEL_GREY", "NO_DATA_RGB", "BACKGROUND_RGB", "grey_to_rgb24",
+    "DIFF_THRESHOLDS", "diff_thresholds", "DIFF_LEVEL_GREY", "NO_DATA_RGB", "BACKGROUND_RGB", "grey_to_rgb24",
     "DEPTH_COLOURS", "DEPTH_INVALID_RGB", "DEPTH_NOT_READY_RGB", "CROSSHAIR_RGB", "TEXT_RGB", "DEPTH_LABELS_M",
     "CROSSHAIR_ARM", "READOUT_TEXT", "SEGMENT_HALF_WIDTH", "SEGMENT_DIM_SHIFT", "SEGMENT_INVALID_RGB",
     "SEGMENT_TEXT", "RECTIFICATION_MODES", "RECTIFICATION_TEXT",
@@ -13,6 +13,15 @@ __all__ = [
 #: |L - R| >= t. Differences below the first threshold are sensor noise and show black, so a matched
 #: object "disappears" (thesis 4.6). Default: 5 levels.
 DIFF_THRESHOLDS = (2, 4, 8, 16)
+
+
+def diff_thresholds(grey_bits):
+    """The threshold table for ``grey_bits`` (>= 5) of grey: :data:`DIFF_THRESHOLDS` (5-bit) times
+    2**(grey_bits - 5), the same steps of brightness (8-bit grey: 16, 32, 64, 128)."""
+    if grey_bits < 5:
+        raise ValueError(f"the difference thresholds need at least 5 bits of grey, not {grey_bits}")
+    return tuple(t << (grey_bits - 5) for t in DIFF_THRESHOLDS)
+
 #: The 8-bit grey shown for each level (len(DIFF_THRESHOLDS) + 1 entries).
 DIFF_LEVEL_GREY = (0, 64, 128, 192, 255)
 #: Colour of disparity pixels whose shifted left read falls outside the 400 x 300 image ("no data").

@@ -221,9 +221,9 @@ def test_compositor_argument_checks():
 
 # --- the RTL against the golden model ----------------------------------------------------------------------
 
-def run_amaranth(timing, geometry, schedule, n_frames, layout=None, segment=False):
+def run_amaranth(timing, geometry, schedule, n_frames, layout=None, segment=False, config=SMALL_DEPTH):
     left, right = grey_buffers(geometry)
-    dut = DisplayTestbench(timing, geometry, layout=layout, init_left=left.ravel().tolist(),
+    dut = DisplayTestbench(timing, geometry, layout=layout, config=config, init_left=left.ravel().tolist(),
                          init_right=right.ravel().tolist())
     raster = reference_raster(timing)
     events, settings = switch_events(schedule, timing)
@@ -260,7 +260,7 @@ def run_amaranth(timing, geometry, schedule, n_frames, layout=None, segment=Fals
     simulate(dut, clocks={"sync": CLOCKS.PIXEL_HZ}, testbenches=[bench])
     assert registers == settings[:n_frames]
     check_stream(timing, LATENCY, n_frames, out,
-                 expected_frames(left, right, settings[:n_frames], timing, geometry, layout, segment=segment))
+                 expected_frames(left, right, settings[:n_frames], timing, geometry, layout, config, segment=segment))
 
 
 def test_display_path_amaranth():
@@ -324,10 +324,10 @@ def test_segmentation_off_is_the_old_frame():
         composite_frame(left, right, 3, 0, SEGMENT_TIMING, SMALL_SENSOR, other, depth=SMALL_DEPTH, segment=True)
 
 
-def run_cocotb_display(timing, geometry, schedule, simulator, tmp_path, layout=None, segment=False):
+def run_cocotb_display(timing, geometry, schedule, simulator, tmp_path, layout=None, segment=False, config=None):
     left, right = grey_buffers(geometry)
     events, settings = switch_events(schedule, timing)
-    config = DEPTH if geometry == SENSOR else SMALL_DEPTH
+    config = config or (DEPTH if geometry == SENSOR else SMALL_DEPTH)
     data = tmp_path / "display.npz"
     np.savez(data, left=left, right=right,
              expected=expected_frames(left, right, settings, timing, geometry, layout, config, segment))

@@ -6,7 +6,7 @@ from spec.sensor import SENSOR, SMALL_SENSOR
 from spec.video import SMALL_TIMING
 
 from sim.formal.harnesses.capture import CaptureAverageHarness, CaptureHarness
-from sim.formal.harnesses.compositor import CompositorHarness
+from sim.formal.harnesses.compositor import CompositorHarness, packed_layout
 from sim.formal.harnesses.depth import DepthEngineHarness, DepthMapHarness
 from sim.formal.harnesses.depth_codes import MedianCodesHarness, SubpixelCodesHarness, WinnerCodesHarness
 from sim.formal.harnesses.disparity import DisparityHarness
@@ -64,11 +64,14 @@ def _all_covers(harness):
     return harness
 
 
-#: The same properties at full size or with the default (centred) layout: minutes to hours each.
+#: The same properties at full size, with the default (centred) layout or with half-size camera images: minutes to
+#: hours each.
 SLOW = {
     "disparity_full": lambda: _named(DisparityHarness(SENSOR), "disparity_full"),
     "capture_full": lambda: _named(CaptureHarness(SENSOR), "capture_full"),
     "depth_all_covers": lambda: _named(_all_covers(DepthEngineHarness()), "depth_all_covers"),
     "compositor_centred": lambda: _named(CompositorHarness(
         layout=DisplayLayout.centred(SMALL_TIMING, SMALL_SENSOR, SMALL_DEPTH)), "compositor_centred"),
+    "compositor_half_images": lambda: _named(CompositorHarness(
+        layout=packed_layout(image_shrink=2, map_scale=1)), "compositor_half_images"),
 }

@@ -31,16 +31,16 @@ ADDRESS_LATENCY = 2
 OUT_ROWS = 4
 
 
-def packed_layout(geometry=SMALL_SENSOR, config=SMALL_DEPTH):
-    """Left and right at 1x, the difference and depth maps at 2x and the colour bar side by side from the raster's
-    first line (the disparity map starts 2 pixels after the origin, where the switch registers have settled),
-    the readout below the difference map; no tick marks or labels."""
+def packed_layout(geometry=SMALL_SENSOR, config=SMALL_DEPTH, image_shrink=1, map_scale=2):
+    """Left and right at 1x (at 1 / ``image_shrink`` size), the difference and depth maps at 2x (``map_scale``) and
+    the colour bar side by side from the raster's first line (the disparity map starts 2 pixels after the origin,
+    where the switch registers have settled), the readout below the difference map; no tick marks or labels."""
     w, h = geometry.buf_width, geometry.buf_height
-    left = Region("left", 2, 0, 1, w, h)
-    right = Region("right", left.x1 + 2, 0, 1, w, h)
-    disparity = Region("disparity", right.x1 + 2, 0, 2, w, h)
-    depth = Region("depth", disparity.x1 + 2, 0, 2, w, h)
-    bar = ColourBar(depth.x1 + 2, 0, 2, max(1, 2 * h // config.disparities), config.disparities)
+    left = Region("left", 2, 0, 1, w, h, image_shrink)
+    right = Region("right", left.x1 + 2, 0, 1, w, h, image_shrink)
+    disparity = Region("disparity", right.x1 + 2, 0, map_scale, w, h)
+    depth = Region("depth", disparity.x1 + 2, 0, map_scale, w, h)
+    bar = ColourBar(depth.x1 + 2, 0, 2, max(1, map_scale * h // config.disparities), config.disparities)
     readout = TextBox(READOUT_TEXT, disparity.x0, disparity.y1 + 2, 1)
     return DisplayLayout(regions=(left, right, disparity, depth), bar=bar, readout=readout,
                          crosshair_arm=min(w // 2, h // 2) - 1)
@@ -118,7 +118,8 @@ class CompositorHarness(FormalHarness):
         ring_size = self.out_rows * g.buf_width
         self.prove(m, "ring_address_in_ring", dut.depth.addr < ring_size)
 
-        self.cover(m, "left_read_in_second_row", was["left"] & (ports["left"].port.addr == g.buf_width))
+        shown_second = self.layout.region("left").shrink * g.buf_width      # the second buffer row shown
+        self.cover(m, "left_read_in_second_row", was["left"] & (ports["left"].port.addr == shown_second))
         self.cover(m, "difference_map_read_in_second_row",
                    was["disparity"] & ports["right"].request & (ports["right"].port.addr == g.buf_width))
         self.cover(m, "ring_read_in_second_row", self.past(m, inside["region_depth"], n, name="read_in_depth") &
@@ -126,19 +127,20 @@ class CompositorHarness(FormalHarness):
 
     def _scanner_tracks_raster(self, m, raster, r, scanner):
         """Helper invariant: a region's running counters (``scan_<region>``) are the raster's progress through
-        the region up to the pixel 2 clocks ago (flags 1 clock, counters 1 clock); 0 in vertical blanking."""
+        the region up to the pixel 2 clocks ago (flags 1 clock, counters 1 clock); 0 in vertical blanking. At
+        1 / ``shrink`` size the buffer coordinates are ``shrink`` times the display ones."""
         x = self.past(m, raster.x, 2, name=f"scan_{r.source}_x")
         y = self.past(m, raster.y, 2, name=f"scan_{r.source}_y")
         in_rows = (y >= r.y0) & (y < r.y1)
-        lines = Signal(range(r.height * r.scale + 1), name=f"scan_{r.source}_lines_done")
-        pixels = Signal(range(r.width * r.scale + 1), name=f"scan_{r.source}_pixels_done")
+        lines = Signal(range(r.y1 - r.y0 + 1), name=f"scan_{r.source}_lines_done")
+        pixels = Signal(range(r.x1 - r.x0 + 1), name=f"scan_{r.source}_pixels_done")
         m.d.comb += [
-            lines.eq(Mux(y < r.y0, 0, Mux(y >= r.y1, r.height * r.scale, y - r.y0 + (x >= r.x1 - 1)))),
+            lines.eq(Mux(y < r.y0, 0, Mux(y >= r.y1, r.y1 - r.y0, y - r.y0 + (x >= r.x1 - 1)))),
             pixels.eq(Mux(in_rows & (x >= r.x0) & (x < r.x1 - 1), x - r.x0 + 1, 0)),
         ]
         blank = y >= self.timing.v_active
         lines, pixels = Mux(blank, 0, lines), Mux(blank, 0, pixels)
-        yb, xb = lines // r.scale, pixels // r.scale
+        yb, xb = lines // r.scale * r.shrink, pixels // r.scale * r.shrink
         row_start = yb * self.geometry.buf_width
         expected = ((scanner.yb == yb) & (scanner.xb == xb) & (scanner.addr == row_start + xb) &
                     (scanner.row_start == row_start))
