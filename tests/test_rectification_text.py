@@ -51,3 +51,28 @@ def test_rtl_equals_the_golden_text_for_every_offset_and_mode():
         if previous is not None and previous != text:
             assert early == previous                                        # LATENCY is exact: not one clock early
         previous = text
+
+
+def test_the_layout_places_the_text_after_its_characters_settle():
+    """The text block samples one clock after ``frame_start`` and holds the characters :data:`LATENCY` clocks
+    later, so :func:`hdl.compositor.check_layout` accepts a rectification text box from raster position
+    ``1 + LATENCY`` on and rejects one a position earlier; the board's layout starts hundreds of lines later."""
+    import dataclasses
+
+    from hdl.compositor import RECTIFICATION_SETTLE, check_layout
+    from spec.depth import DEPTH
+    from spec.layout import DisplayLayout
+    from spec.sensor import SENSOR
+    from spec.video import CEA_1080P60
+
+    assert RECTIFICATION_SETTLE == 1 + LATENCY
+    layout = DisplayLayout.centred(CEA_1080P60, SENSOR, DEPTH)
+    check_layout(layout, CEA_1080P60, SENSOR, DEPTH)
+    assert layout.rectification.y0 * CEA_1080P60.h_total + layout.rectification.x0 > 100 * RECTIFICATION_SETTLE
+
+    def at(x0):
+        return dataclasses.replace(layout, rectification=dataclasses.replace(layout.rectification, x0=x0, y0=0))
+
+    check_layout(at(RECTIFICATION_SETTLE), CEA_1080P60, SENSOR, DEPTH)
+    with pytest.raises(ValueError, match="rectification text must start at least"):
+        check_layout(at(RECTIFICATION_SETTLE - 1), CEA_1080P60, SENSOR, DEPTH)
