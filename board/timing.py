@@ -313,7 +313,7 @@ def _net_ns(nl, bit, sink, sink_port, net_ns, model=MODEL):
     if driver is not None:
         name, port = driver
         kind = nl.cells[name]["type"]
-        if kind in LUTS and sink_port in _IN_SLICE.get(sink_type, ()) and nl.slice_position(bit) is not None:
+        if kind in LUTS and sink_port in _IN_SLICE.get(sink_type, ()) and nl.in_slice(bit, sink, sink_port):
             return 0.0
         for kinds, out, index, sinks in _CASCADES:
             if (kind in kinds and port == out and sink_port in sinks.get(sink_type, ())
@@ -353,6 +353,27 @@ class _Netlist:
                     for b in _bits(cell, port):
                         self.sinks.setdefault(b, []).append((name, port))
 
+    def _carry_places(self, bit, name, port):
+        """The CARRY4 bits whose ``port`` net ``bit`` drives, as ``(name, index)``; for DI only the bits where its
+        LUT can be the bit's own (its O5 beside the select's O6: the select a constant, the same net, or a LUT with
+        which it shares at most 5 inputs): any other DI comes through the slice's bypass input, i.e. routing."""
+        conn = self.cells[name]["connections"]
+        bits = [i for i, b in enumerate(conn[port]) if b == bit]
+        if port == "DI":
+            bits = [i for i in bits if self._lut_inputs(bit) is not None and (
+                conn["S"][i] == bit or not isinstance(conn["S"][i], int)
+                or self._lut_inputs(conn["S"][i]) is not None
+                and len(self._lut_inputs(bit) | self._lut_inputs(conn["S"][i])) <= 5)]
+        return {(name, i) for i in bits}
+
+    def _lut_inputs(self, bit):
+        """The input nets of the LUT driving ``bit`` (None if a LUT does not drive it)."""
+        driver = self.driver.get(bit)
+        if driver is None or self.cells[driver[0]]["type"] not in LUTS:
+            return None
+        cell = self.cells[driver[0]]
+        return {b for port in _inputs(cell) for b in cell["connections"][port]}
+
     def slice_position(self, bit):
         """The one slice position whose in-slice inputs (:data:`_IN_SLICE`) net ``bit`` feeds: ``(CARRY4, bit
         index)``, ``(MUXF7, input)`` or a MUXCY with the XORCY of its bit; None when it feeds several (a LUT sits in
@@ -364,7 +385,7 @@ class _Netlist:
                 if port not in _IN_SLICE.get(kind, ()):
                     continue
                 if kind == "CARRY4":
-                    places |= {(name, i) for i, b in enumerate(self.cells[name]["connections"][port]) if b == bit}
+                    places |= self._carry_places(bit, name, port)
                 elif kind == "MUXF7":
                     places.add((name, port))
                 else:
@@ -375,6 +396,19 @@ class _Netlist:
                 places.add(tuple(sorted(cy["MUXCY"] | cy["XORCY"])))
             self._position[bit] = next(iter(places)) if len(places) == 1 else None
         return self._position[bit]
+
+    def in_slice(self, bit, sink, port):
+        """Whether net ``bit`` reaches ``sink``'s ``port`` inside the slice: it feeds one slice position
+        (:meth:`slice_position`) and this input is that position's."""
+        place = self.slice_position(bit)
+        if place is None:
+            return False
+        kind = self.cells[sink]["type"]
+        if kind == "CARRY4":
+            return self._carry_places(bit, sink, port) == {place}
+        if kind == "MUXF7":
+            return place == (sink, port)
+        return sink in place
 
     def driver_type(self, bit):
         d = self.driver.get(bit)

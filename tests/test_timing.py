@@ -471,3 +471,26 @@ def test_a_sign_extension_into_two_carry_bits_is_routed():
             + 0.5 + M["ff_d"])
     assert path.end == "FDRE tens.D" and path.delay_ns == pytest.approx(walk)
     assert path.levels == 3 and path.carry4 == 2
+
+
+def test_a_carry_data_input_is_in_the_slice_only_from_its_own_bits_lut():
+    """DI comes from the bit's own LUT (its O5 beside the select's O6: the select constant, the same net, or a LUT
+    it shares at most 5 inputs with) or through the bypass input: a DI LUT of 3 inputs beside a select LUT of 3
+    others pays a net (no route-through LUT: the bypass input is general routing); one sharing its 2 inputs with
+    the select's LUT, or beside a constant select, pays nothing."""
+    nl = Netlist()
+    q = [nl.ff(f"src{i}", "sync", nl.bit()) for i in range(6)]
+    for name, di_inputs, s_inputs in (("apart", q[:3], q[3:]), ("shared", q[:2], q[:2]), ("alone", q[:2], None)):
+        di, s = nl.bit(), nl.bit()
+        nl.cells[f"{name}_di"] = cell(f"LUT{len(di_inputs)}", O=[di], **{f"I{i}": [b] for i, b in enumerate(di_inputs)})
+        if s_inputs:
+            nl.cells[f"{name}_s"] = cell(f"LUT{len(s_inputs)}", O=[s], **{f"I{i}": [b] for i, b in enumerate(s_inputs)})
+        co, o = [nl.bit() for _ in range(4)], [nl.bit() for _ in range(4)]
+        nl.cells[name] = cell("CARRY4", S=[s if s_inputs else "0", "0", "0", "0"], DI=[di, "0", "0", "0"],
+                              CI=["0"], CYINIT=["0"], CO=co, O=o)
+        nl.ff(f"sum_{name}", "sync", co[3])
+    paths = {p.end: p.delay_ns for p in analyse(nl.json(), PERIODS, paths=100).domains["sync"].paths}
+    lut = M["ff_cko"] + 0.5 + M["lut"]
+    assert paths["FDRE sum_apart.D"] == pytest.approx(lut + 0.5 + M["carry_in"] + 0.5 + M["ff_d"])
+    assert paths["FDRE sum_shared.D"] == pytest.approx(lut + M["carry_in"] + 0.5 + M["ff_d"])
+    assert paths["FDRE sum_alone.D"] == pytest.approx(lut + M["carry_in"] + 0.5 + M["ff_d"])
