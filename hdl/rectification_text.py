@@ -70,7 +70,7 @@ class RectificationText(wiring.Component):
         reached_2 = Signal(len(TENS_THRESHOLDS), name="reached_2")
         m.d.sync += [reached_2[k].eq(magnitude_1 >= t) for k, t in enumerate(TENS_THRESHOLDS)]
         magnitude_2 = delayed(m, magnitude_1, 1, "magnitude_1")
-        # Edge 3: the tens digit, their sum.
+        # Edge 3: the tens digit, the number of thresholds reached.
         tens_3 = Signal(range(len(TENS_THRESHOLDS) + 1), name="tens_3")
         m.d.sync += tens_3.eq(sum(reached_2[k].as_unsigned() for k in range(len(TENS_THRESHOLDS))))
         magnitude_3 = delayed(m, magnitude_2, 1, "magnitude_2")
