@@ -8,7 +8,9 @@ clock (slice flip-flops, IOB flip-flops, block RAM ports, DSP48E registers, ODDR
     delay = clock-to-out + sum over the cells on the path of (net + cell delay) + net + setup,
     slack = period - delay (half a period for an ODDR D2 in OPPOSITE_EDGE mode),
 
-a fixed routing figure per net (``net_ns``) except on the slice's dedicated connections (see the delay model).
+a fixed routing figure per net (``net_ns``) except on the slice's dedicated connections (see the delay model and
+:func:`_net_ns`: a LUT reaches one slice position free; its other carry and F7 inputs are routed, and the carry
+select and F7 inputs from anything but their own LUT go through a route-through LUT).
 The period of each domain is the clock plan's (:func:`clock_periods`: the figures the UCF's PERIOD
 constraints carry). Paths from one domain to another are not timed (they end in synchronisers or
 the dual-clock RAMs, and the UCF declares them TIG); neither are pad-to-register or register-to-pad paths (the
@@ -283,22 +285,42 @@ def cell_timing(cell, m=MODEL, *, drives_pad=False):
     return t
 
 
-#: (driver cell type, driver port) -> sink (type, port) pairs wired inside the slice or column: no routing delay.
-_DEDICATED = (
-    (LUTS, None, {"CARRY4": ("S", "DI"), "MUXF7": ("I0", "I1"), "MUXCY": ("S", "DI"), "XORCY": ("LI",)}),
-    ({"CARRY4"}, "CO", {"CARRY4": ("CI",)}),
-    ({"MUXCY"}, "O", {"MUXCY": ("CI",), "XORCY": ("CI",)}),
-    ({"MUXF7"}, "O", {"MUXF8": ("I0", "I1")}),
-    ({"DSP48E"}, "PCOUT", {"DSP48E": ("PCIN",)}),
+#: The inputs a LUT reaches inside its own slice (UG190 ch. 5: a LUT's O6/O5 into its carry-chain bit, S and DI,
+#: and into the F7 multiplexer): free of routing when the LUT can sit there, i.e. when all such loads of its output
+#: are one slice position (:meth:`_Netlist.slice_position`).
+_IN_SLICE = {"CARRY4": ("S", "DI"), "MUXF7": ("I0", "I1"), "MUXCY": ("S", "DI"), "XORCY": ("LI",)}
+#: The inputs only a LUT of the same slice drives (the carry multiplexer's select and the XOR's input are the LUT's
+#: O6, the F7 multiplexer's data inputs two LUTs' outputs): any other driver, or a LUT placed for another position,
+#: reaches them through a route-through LUT (a net and TILO).
+_LUT_ONLY = {"CARRY4": ("S",), "MUXCY": ("S",), "XORCY": ("LI",), "MUXF7": ("I0", "I1")}
+#: (driver cell type, driver port, its bit index or None) -> sink (type, port) pairs wired inside the slice or
+#: column without general routing: CARRY4 CO3 (the slice's COUT) into the next CARRY4's CI, MUXCY into the next
+#: carry bit, F7 into F8, DSP48E PCOUT into PCIN.
+_CASCADES = (
+    ({"CARRY4"}, "CO", 3, {"CARRY4": ("CI",)}),
+    ({"MUXCY"}, "O", None, {"MUXCY": ("CI",), "XORCY": ("CI",)}),
+    ({"MUXF7"}, "O", None, {"MUXF8": ("I0", "I1")}),
+    ({"DSP48E"}, "PCOUT", None, {"DSP48E": ("PCIN",)}),
 )
 
 
-def _net_ns(driver, sink_type, sink_port, net_ns):
+def _net_ns(nl, bit, sink, sink_port, net_ns, model=MODEL):
+    """The routing cost of net ``bit`` into ``sink``'s ``sink_port``: ``net_ns``; nothing on a connection inside
+    the slice or column (a LUT into the one slice position it feeds, :data:`_CASCADES`); ``net_ns`` + TILO into an
+    input only a LUT of the slice drives (:data:`_LUT_ONLY`) from anything else (a route-through LUT)."""
+    sink_type = nl.cells[sink]["type"]
+    driver = nl.driver.get(bit)
     if driver is not None:
-        kind, port = driver
-        for kinds, out, sinks in _DEDICATED:
-            if kind in kinds and (out is None or port == out) and sink_port in sinks.get(sink_type, ()):
+        name, port = driver
+        kind = nl.cells[name]["type"]
+        if kind in LUTS and sink_port in _IN_SLICE.get(sink_type, ()) and nl.in_slice(bit, sink, sink_port):
+            return 0.0
+        for kinds, out, index, sinks in _CASCADES:
+            if (kind in kinds and port == out and sink_port in sinks.get(sink_type, ())
+                    and (index is None or _bits(nl.cells[name], out).index(bit) == index)):
                 return 0.0
+    if sink_port in _LUT_ONLY.get(sink_type, ()):
+        return net_ns + model["lut"].ns
     return net_ns
 
 
@@ -313,7 +335,7 @@ class _Netlist:
         module = top_module(netlist)
         self.cells = module["cells"]
         self.names = bit_names(module["netnames"])
-        self.driver, self.sinks, self._label = {}, {}, {}
+        self.driver, self.sinks, self._label, self._position = {}, {}, {}, {}
         for name, info in module["netnames"].items():
             if name.startswith("$") or info.get("hide_name"):
                 continue
@@ -330,6 +352,63 @@ class _Netlist:
                 for port in _inputs(cell):
                     for b in _bits(cell, port):
                         self.sinks.setdefault(b, []).append((name, port))
+
+    def _carry_places(self, bit, name, port):
+        """The CARRY4 bits whose ``port`` net ``bit`` drives, as ``(name, index)``; for DI only the bits where its
+        LUT can be the bit's own (its O5 beside the select's O6: the select a constant, the same net, or a LUT with
+        which it shares at most 5 inputs): any other DI comes through the slice's bypass input, i.e. routing."""
+        conn = self.cells[name]["connections"]
+        bits = [i for i, b in enumerate(conn[port]) if b == bit]
+        if port == "DI":
+            bits = [i for i in bits if self._lut_inputs(bit) is not None and (
+                conn["S"][i] == bit or not isinstance(conn["S"][i], int)
+                or self._lut_inputs(conn["S"][i]) is not None
+                and len(self._lut_inputs(bit) | self._lut_inputs(conn["S"][i])) <= 5)]
+        return {(name, i) for i in bits}
+
+    def _lut_inputs(self, bit):
+        """The input nets of the LUT driving ``bit`` (None if a LUT does not drive it)."""
+        driver = self.driver.get(bit)
+        if driver is None or self.cells[driver[0]]["type"] not in LUTS:
+            return None
+        cell = self.cells[driver[0]]
+        return {b for port in _inputs(cell) for b in cell["connections"][port]}
+
+    def slice_position(self, bit):
+        """The one slice position whose in-slice inputs (:data:`_IN_SLICE`) net ``bit`` feeds: ``(CARRY4, bit
+        index)``, ``(MUXF7, input)`` or a MUXCY with the XORCY of its bit; None when it feeds several (a LUT sits in
+        one place: it reaches the others by routing) or none."""
+        if bit not in self._position:
+            places, cy = set(), {"MUXCY": set(), "XORCY": set()}
+            for name, port in self.sinks.get(bit, ()):
+                kind = self.cells[name]["type"]
+                if port not in _IN_SLICE.get(kind, ()):
+                    continue
+                if kind == "CARRY4":
+                    places |= self._carry_places(bit, name, port)
+                elif kind == "MUXF7":
+                    places.add((name, port))
+                else:
+                    cy[kind].add(name)
+            if any(len(names) > 1 for names in cy.values()):
+                places.add(None)                        # two carry bits of the older primitives
+            if cy["MUXCY"] or cy["XORCY"]:
+                places.add(tuple(sorted(cy["MUXCY"] | cy["XORCY"])))
+            self._position[bit] = next(iter(places)) if len(places) == 1 else None
+        return self._position[bit]
+
+    def in_slice(self, bit, sink, port):
+        """Whether net ``bit`` reaches ``sink``'s ``port`` inside the slice: it feeds one slice position
+        (:meth:`slice_position`) and this input is that position's."""
+        place = self.slice_position(bit)
+        if place is None:
+            return False
+        kind = self.cells[sink]["type"]
+        if kind == "CARRY4":
+            return self._carry_places(bit, sink, port) == {place}
+        if kind == "MUXF7":
+            return place == (sink, port)
+        return sink in place
 
     def driver_type(self, bit):
         d = self.driver.get(bit)
@@ -408,7 +487,7 @@ def _collect(nl, periods, model):
     return fanin, launches, captures, unclocked
 
 
-def _propagate(nl, fanin, launches, net_ns):
+def _propagate(nl, fanin, launches, net_ns, model=MODEL):
     """Latest arrival per net bit and launching domain: ``{bit: {domain: (ns, from_bit, cell, port, cell_ns,
     net_ns)}}`` (``from_bit`` None at a launch), in topological order; returns it and the bits left in loops."""
     arrival = {}
@@ -429,7 +508,7 @@ def _propagate(nl, fanin, launches, net_ns):
         done += 1
         best = arrival.setdefault(o, {})
         for b, name, port, ns in fanin[o]:
-            net = _net_ns(nl.driver_type(b), nl.cells[name]["type"], port, net_ns)
+            net = _net_ns(nl, b, name, port, net_ns, model)
             for d, (t, *_) in arrival.get(b, {}).items():
                 if t + net + ns > best.get(d, (-1.0,))[0]:
                     best[d] = (t + net + ns, b, name, port, ns, net)
@@ -520,13 +599,13 @@ def analyse(netlist, periods, *, net_ns=NET_NS, model=MODEL, paths=10, fanout=5)
     """
     nl = _Netlist(netlist)
     fanin, launches, captures, unclocked = _collect(nl, periods, model)
-    arrival, loops = _propagate(nl, fanin, launches, net_ns)
+    arrival, loops = _propagate(nl, fanin, launches, net_ns, model)
     ends = {d: [] for d in periods}
     for domain, bit, name, port, setup, fraction in captures:
         a = arrival.get(bit, {}).get(domain)
         if a is None:
             continue
-        net = _net_ns(nl.driver_type(bit), nl.cells[name]["type"], port, net_ns)
+        net = _net_ns(nl, bit, name, port, net_ns, model)
         delay = a[0] + net + setup
         ends[domain].append((periods[domain] * fraction - delay, delay, domain, bit, name, port, net, setup))
     domains = {}

@@ -13,7 +13,8 @@ each value here is at or above those.
 The routing delay is one figure per net (``net_ns``, default 0.5 ns: the timing goal is stated at that figure),
 except on the connections the slice and the DSP/RAM columns make without general routing (UG190 chapter 5: a
 LUT's O6/O5 into its own slice's carry chain and F7 multiplexer, F7 into F8, carry-out into the next slice's
-carry-in): those cost nothing beyond the cell delay.
+carry-in): those cost nothing beyond the cell delay. A LUT has one such place; ``board/timing.py`` routes the rest
+(a net, and TILO for the route-through LUT a carry select or F7 input needs).
 """
 
 from dataclasses import dataclass

