@@ -83,7 +83,6 @@ class RowWindow(wiring.Component):
         h, w = g.buf_height, g.buf_width
         count_bits = (4 * n).bit_length() + 1          # request and landing counts, compared modulo 2**count_bits
         asked, landed = Signal(count_bits), Signal(count_bits)
-        first = Signal(range(h + n))                    # the window's first row
         counted = Signal(count_bits)                    # the request number of the window's next row to land
         first_slot = Signal(range(n))                   # its slot
         # bounds[k] = (first + k) * width: where the window's k-th row starts, set in the clock after a restart
@@ -94,13 +93,18 @@ class RowWindow(wiring.Component):
         limit = Signal(g.addr_bits + 1)
         next_row = Signal(range(h + n + 1))             # the row asked for next
         next_slot = Signal(range(n))                    # the slot it lands in (request number mod n)
+        # Registers, so that no comparison lies between them and the stream's request FIFO: ``free`` = the window's
+        # first row + slots - next_row (rows that may still be asked for), ``more`` = next_row < height.
+        free = Signal(range(n + 1), init=n)
+        more = Signal(init=1)
 
         fetch = self.stream.fetch
-        ask = ~self.restart & fetch.rdy & (next_row < h) & (next_row < first + n)
+        ask = ~self.restart & fetch.rdy & more & (free != 0)
         m.d.comb += [fetch.row.eq(next_row), fetch.en.eq(ask)]
         m.d.sync += [asked.eq(asked + ask), landed.eq(landed + self.stream.landed)]
         with m.If(ask):
-            m.d.sync += [next_row.eq(next_row + 1), next_slot.eq(Mux(next_slot == n - 1, 0, next_slot + 1))]
+            m.d.sync += [next_row.eq(next_row + 1), next_slot.eq(Mux(next_slot == n - 1, 0, next_slot + 1)),
+                         more.eq(next_row != h - 1)]
 
         # The read: the address against every row's start at once (at or after bounds[k]: ge[k]), its row in the
         # window (j: the last k with ge[k]), its column (the difference to that row's start); granted inside the
@@ -139,15 +143,17 @@ class RowWindow(wiring.Component):
         m.d.sync += settling.eq(0)
         with m.If(self.restart):
             start = times(self.first_row, w)
-            m.d.sync += [first.eq(self.first_row), next_row.eq(self.first_row), bounds[0].eq(start),
+            m.d.sync += [next_row.eq(self.first_row), bounds[0].eq(start), free.eq(n), more.eq(1),
                          limit.eq(start), settling.eq(1), counted.eq(asked), first_slot.eq(next_slot)]
         with m.Else():
+            advance = ~settling & grant & ge[1]         # the window moves on by a row
+            m.d.sync += free.eq(free + advance - ask)
             with m.If(self.stream.landed & ~pending[-1]):
                 m.d.sync += [limit.eq(limit + w), counted.eq(counted + 1)]
             with m.If(settling):
                 m.d.sync += [bounds[k].eq(bounds[0] + k * w) for k in range(1, n)]
             with m.Elif(grant & ge[1]):
-                m.d.sync += [first.eq(first + 1), first_slot.eq(Mux(first_slot == n - 1, 0, first_slot + 1))]
+                m.d.sync += first_slot.eq(Mux(first_slot == n - 1, 0, first_slot + 1))
                 m.d.sync += [bounds[k].eq(bounds[k + 1]) for k in range(n - 1)]
                 m.d.sync += bounds[n - 1].eq(bounds[n - 1] + w)
         return m
