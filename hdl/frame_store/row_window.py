@@ -52,8 +52,8 @@ class RowWindow(wiring.Component):
 
     Clock domain: ``sync`` (the parent renames it to the read domain). Latency: ``grant`` combinational from the
     request (the address compared with the window's start and the landed rows' end: two carry chains side by side,
-    then a LUT); ``port.data``
-    one clock after a granted address; rows asked for from the clock after ``restart``, nothing granted in it.
+    then a LUT); ``port.data`` one clock after a granted address; rows asked for from the clock after ``restart``,
+    nothing granted in it.
 
     Raises
     ------
@@ -84,7 +84,7 @@ class RowWindow(wiring.Component):
         count_bits = (4 * n).bit_length() + 1          # request and landing counts, compared modulo 2**count_bits
         asked, landed = Signal(count_bits), Signal(count_bits)
         counted = Signal(count_bits)                    # the request number of the window's next row to land
-        first_slot = Signal(range(n))                   # its slot
+        first_slot = Signal(range(n))                   # the slot of the window's first row
         # bounds[k] = (first + k) * width: where the window's k-th row starts, set in the clock after a restart
         # (``settling``: nothing is granted in it) and moved a row at a time.
         bounds = [Signal(g.addr_bits + 1, name=f"bound_{k}") for k in range(n)]
