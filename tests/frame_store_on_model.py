@@ -12,7 +12,7 @@ from hdl.frame_store.row_reader import RowReader
 from sim.models.mig import MIGModel, layout_window, memory_words, watch_violations
 from spec.memory import MIG
 
-__all__ = ["fill", "ReaderOnModel"]
+__all__ = ["fill", "ReaderOnModel", "take_pair", "read_row"]
 
 
 def fill(contents, layout, camera, buffer, image):
@@ -20,6 +20,33 @@ def fill(contents, layout, camera, buffer, image):
     for y, row in enumerate(image):
         for x, value in enumerate(row):
             contents[layout.buffer_base(camera, buffer) * 8 + y * layout.stride + x] = int(value)
+
+
+async def take_pair(ctx, store):
+    """``store.take`` for a clock, then wait (in ``pix``) until the ``FrameStore`` says the latest pair is held."""
+    ctx.set(store.take, 1)
+    await ctx.tick("pix")
+    ctx.set(store.take, 0)
+    await ctx.tick("pix").until(store.taken)
+
+
+async def read_row(ctx, stream, row, slot, width):
+    """Ask read ``stream`` for buffer ``row``, wait until it lands, and read its ``width`` bytes from ring ``slot``
+    (``pix`` clocks). Returns the bytes as a list."""
+    await ctx.tick("pix").until(stream.fetch.rdy)
+    ctx.set(stream.fetch.row, row)
+    ctx.set(stream.fetch.en, 1)
+    await ctx.tick("pix")
+    ctx.set(stream.fetch.en, 0)
+    if not ctx.get(stream.landed):
+        await ctx.tick("pix").until(stream.landed)
+    out = []
+    for x in range(width):
+        ctx.set(stream.read.slot, slot)
+        ctx.set(stream.read.x, x)
+        await ctx.tick("pix")
+        out.append(ctx.get(stream.read.data))
+    return out
 
 
 class ReaderOnModel:

@@ -8,6 +8,7 @@ from amaranth import ClockDomain, DomainRenamer, Module
 from amaranth.lib import wiring
 from amaranth.sim import Simulator
 
+from frame_store_on_model import read_row, take_pair
 from frame_store_sources import Camera
 from hdl.frame_store.frame_store import FrameStore
 from hdl.frame_store.layout import FrameStoreLayout
@@ -39,28 +40,12 @@ async def read_pair(ctx, store, asked, pause=None):
     """Take the latest pair, then fetch and read every row of both streams; the two images read. ``asked``: rows
     asked for so far per stream (the n-th lands in slot n mod SLOTS), updated. ``pause``: awaited after the first
     stream's second row."""
-    ctx.set(store.take, 1)
-    await ctx.tick("pix")
-    ctx.set(store.take, 0)
-    await ctx.tick("pix").until(store.taken)
+    await take_pair(ctx, store)
     out = []
     for i, stream in enumerate(store.streams):
         rows = []
         for y in range(LAYOUT.height):
-            await ctx.tick("pix").until(stream.fetch.rdy)
-            ctx.set(stream.fetch.row, y)
-            ctx.set(stream.fetch.en, 1)
-            await ctx.tick("pix")
-            ctx.set(stream.fetch.en, 0)
-            if not ctx.get(stream.landed):
-                await ctx.tick("pix").until(stream.landed)
-            row = []
-            for x in range(LAYOUT.width):
-                ctx.set(stream.read.slot, asked[i] % SLOTS)
-                ctx.set(stream.read.x, x)
-                await ctx.tick("pix")
-                row.append(ctx.get(stream.read.data))
-            rows.append(row)
+            rows.append(await read_row(ctx, stream, y, asked[i] % SLOTS, LAYOUT.width))
             asked[i] += 1
             if pause is not None and (i, y) == (0, 1):
                 await pause()

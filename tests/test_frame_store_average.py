@@ -9,6 +9,7 @@ from amaranth import ClockDomain, DomainRenamer, Module
 from amaranth.lib import wiring
 from amaranth.sim import Simulator
 
+from frame_store_on_model import read_row, take_pair
 from golden.capture import capture_frame
 from hdl.capture_path import CapturePath
 from hdl.frame_store.frame_store import FrameStore
@@ -54,27 +55,9 @@ def run(images):
         while not sent:
             await ctx.tick("pix")
         await ctx.tick("pix").repeat(100)
-        ctx.set(store.take, 1)
-        await ctx.tick("pix")
-        ctx.set(store.take, 0)
-        await ctx.tick("pix").until(store.taken)
+        await take_pair(ctx, store)
         stream = store.streams[0]
-        rows = []
-        for y in range(LAYOUT.height):
-            await ctx.tick("pix").until(stream.fetch.rdy)
-            ctx.set(stream.fetch.row, y)
-            ctx.set(stream.fetch.en, 1)
-            await ctx.tick("pix")
-            ctx.set(stream.fetch.en, 0)
-            if not ctx.get(stream.landed):
-                await ctx.tick("pix").until(stream.landed)
-            row = []
-            for x in range(LAYOUT.width):
-                ctx.set(stream.read.slot, y % 2)
-                ctx.set(stream.read.x, x)
-                await ctx.tick("pix")
-                row.append(ctx.get(stream.read.data))
-            rows.append(row)
+        rows = [await read_row(ctx, stream, y, y % 2, LAYOUT.width) for y in range(LAYOUT.height)]
         out["frame"] = np.array(rows)
 
     async def latency(ctx):
