@@ -280,7 +280,9 @@ class DepthEngine(wiring.Component):
         left_sig, right_sig = self._census(m, left_ring, right_ring, ring_row, step, clock, in_run)
         token, right_cen, left_sel, inside = self._issue(m, left_sig, right_sig, step, clock, in_run)
         horizontal, vertical = self._paths(m, token, right_cen, left_sel, inside, step, clock, in_run, restart)
-        self._back_end(m, horizontal, vertical, y, out_base, row_invalid)
+        writes = self._back_end(m, horizontal, vertical, y, out_base, row_invalid)
+        if platform == "formal" and self.three:
+            self._reverse_invariants(m, fsm, step, *writes)
         return m
 
     def _row_flags(self, m, rings, ring_row, inner, first, y):
@@ -448,6 +450,28 @@ class DepthEngine(wiring.Component):
         for name, test in invariants.items():
             m.d.sync += Assert(test, name)
 
+    def _reverse_invariants(self, m, fsm, step, codes_write, results_write):
+        """Three paths: the pass order and the phase counters (elaborated for the formal platform only; docs/formal.md,
+        "Which property covers what"). Each is an ``Assert`` named by its message."""
+        w = self.geometry.buf_width
+        backward_run = fsm.ongoing("RUN") & self.backward
+        after_backward = fsm.ongoing("BACK_DRAIN") | fsm.ongoing("REPLAY") | fsm.ongoing("DRAIN")
+        invariants = {
+            # The pass order: forward steps, backward steps, the backward drain, the replay, the drain.
+            "backward_step_in_pass": ~backward_run | (step < self.back_steps),
+            "backward_before_drains": ~after_backward | self.backward,
+            "back_drain_in_range": ~fsm.ongoing("BACK_DRAIN") | (self.phase_count <= self.back_drain),
+            "replay_in_row": ~fsm.ongoing("REPLAY") | (self.phase_count <= w),
+            # The backward census columns: W - 1 + rx - step clamped, counted down from W - 1.
+            "back_column_in_row": self._back_col < w,
+            # The row of codes is whole when the replay reads it: the backward drain outlasts the winner.
+            "codes_written_before_replay": ~(codes_write.en & fsm.ongoing("REPLAY")),
+            # The result ring takes the replay's median outputs only, the last of them in the drain.
+            "results_written_in_replay_or_drain": ~results_write.en | fsm.ongoing("REPLAY") | fsm.ongoing("DRAIN"),
+        }
+        for name, test in invariants.items():
+            m.d.sync += Assert(test, name)
+
     def _census(self, m, left_ring, right_ring, ring_row, step, clock, in_run):
         """Step clocks 0-3: ring reads, census windows, the left census shift register (newest first)."""
         cfg, w = self.config, self.geometry.buf_width
@@ -606,8 +630,9 @@ class DepthEngine(wiring.Component):
         w = g.buf_width
         median = add_reset_subtree(m, "median", Median3x3(cfg, g))
         m.d.comb += median.y.eq(y)
+        codes_write = None
         if self.three:
-            self._reverse_back_end(m, median, row_invalid)
+            codes_write = self._reverse_back_end(m, median, row_invalid)
         else:
             winner = add_reset_subtree(m, "winner", Winner(cfg, w))
             m.d.comb += [winner.token.eq(horizontal.l_token), winner.horizontal.eq(horizontal.l),
@@ -632,6 +657,7 @@ class DepthEngine(wiring.Component):
             read.addr.eq(self.result.addr),
             self.result.data.eq(read.data),
         ]
+        return codes_write, write
 
     def _reverse_back_end(self, m, median, row_invalid):
         """Three paths: the winner over ReversePath's L_rl and carried S2 (codes in descending x) into a row of
@@ -653,3 +679,4 @@ class DepthEngine(wiring.Component):
             median.x.eq(index),
             median.code.eq(read.data),
         ]
+        return write
