@@ -18,6 +18,7 @@ from sim.formal.harnesses.frame_store_packer import FrameStorePackerHarness
 from sim.formal.harnesses.frame_store_writer import FrameStoreWriterHarness
 from sim.formal.harnesses.i2c import I2CMasterHarness, InitSequencerHarness
 from sim.formal.harnesses.read_arbiter import ReadArbiterHarness
+from sim.formal.harnesses.reverse_path import ReversePathHarness
 from sim.formal.harnesses.row_tags import RowTagTrackerHarness
 from sim.formal.harnesses.segment_band import SegmentBandHarness
 from sim.formal.harnesses.switches import SwitchControlHarness
@@ -48,6 +49,7 @@ DEFAULT = {
     "subpixel_codes": SubpixelCodesHarness,
     "segment_band": SegmentBandHarness,
     "row_tags": RowTagTrackerHarness,
+    "reverse_path": ReversePathHarness,
     "frame_pairing": FramePairingHarness,
     "frame_store_ownership": FrameStoreOwnershipHarness,
     "frame_store_credits": FrameStoreCreditsHarness,
