@@ -26,12 +26,14 @@ from sim.formal.runner import check
 
 from sim.formal.harnesses.capture import CaptureAverageHarness, CaptureHarness
 from sim.formal.harnesses.compositor import CompositorHarness
-from sim.formal.harnesses.depth import DepthEngineHarness, DepthMapHarness
+from sim.formal.harnesses.depth import DepthEngineHarness, DepthMapHarness, DepthThreeMapHarness
 from sim.formal.harnesses.depth_codes import SubpixelCodesHarness, WinnerCodesHarness
 from sim.formal.harnesses.disparity import DisparityHarness
 from sim.formal.harnesses.frame_buffer import FrameBufferHarness
 from sim.formal.harnesses.i2c import BUS_HZ, CLK_HZ, TIMEOUT_US, I2CMasterHarness, InitSequencerHarness
 from sim.formal.harnesses.read_arbiter import ReadArbiterHarness
+from sim.formal.harnesses.reverse_path import ReversePathHarness
+from hdl.depth.reverse_path import ReversePath
 from sim.formal.harnesses.row_tags import RowTagTrackerHarness
 from sim.formal.harnesses.frame_pairing import FramePairingHarness
 from sim.formal.harnesses.frame_store import FrameStoreOwnershipHarness
@@ -166,6 +168,31 @@ class DepthEngineWithoutPairs(DepthEngineHarness):
         return EngineWithoutPairs(self.geometry, self.config, out_rows=self.out_rows)
 
 
+class EngineShortBackwardDrain(DepthEngine):
+    """Three paths: the backward drain one clock short, so the row's last code (x = 0) is written in the replay's
+    first clock, after the replay has read the old one."""
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.back_drain -= 1
+
+
+class DepthThreeShortBackwardDrain(DepthThreeMapHarness):
+    """The three-path map harness's results proof on the engine whose backward drain is one clock short."""
+    def dut(self):
+        return EngineShortBackwardDrain(self.geometry, self.config, out_rows=self.out_rows)
+
+
+class ReversePathOneColumnWider(ReversePathHarness):
+    """The right-to-left path built for a row one column wider than its tokens' (W = 8 behind the 7-column
+    contract): it starts at a column the row does not have (the start's proof only)."""
+    def prove(self, m, name, test, *, bound=None, group=None):
+        if group == "start":
+            return super().prove(m, name, test, bound=bound, group=group)
+
+    def dut(self):
+        return ReversePath(self.config, width=self.width + 1, other_paths=self.other_paths)
+
+
 class EngineFirstArbiter(ReadArbiter):
     """Priority to the engine: the arbiter built with its two readers swapped (the display refused while the
     engine requests: it would miss pixels)."""
@@ -293,10 +320,17 @@ BITES = {
     "frame_store_writer_complete": (WriterToldEveryFrameIsWhole, "complete_only_after_exactly_the_frame_s_bursts"),
     "frame_store_packer": (PackerForShorterRows, "end_ok_only_for_a_frame_of_whole_rows"),
     "depth_pass_counter": (DepthMapWrappingPassCounter, "rows_ready_counts_finished_passes"),
+    "depth_three_back_drain": (DepthThreeShortBackwardDrain, "codes_written_before_replay"),
+    "reverse_path": (ReversePathOneColumnWider, "first_exactly_at_the_last_column"),
 }
 
 
-@pytest.mark.parametrize("name", sorted(BITES))
+#: Bites that take more than a few seconds of CPU: ``make test-slow`` runs them.
+SLOW_BITES = {"depth_three_back_drain"}
+
+
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n in SLOW_BITES else n
+                                  for n in sorted(BITES)])
 def test_bug_is_caught(name):
     mutant, broken = BITES[name]
     broken = (broken,) if isinstance(broken, str) else broken
