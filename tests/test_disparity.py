@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 from golden.disparity import difference_levels
 from hdl.disparity import LATENCY, SETTLE_CLOCKS, DisparitySubtractor
 from spec.board import CLOCKS
-from spec.display import DIFF_THRESHOLDS
+from spec.display import DIFF_THRESHOLDS, diff_thresholds
 from spec.sensor import SensorGeometry
 from sim.runners.amaranth import simulate
 from sim.testbench.subtractor import set_pixel, subtractor_testbench
@@ -55,12 +55,13 @@ def test_golden_shift_edges():
 
 # --- the RTL against the golden model -------------------------------------------------------------------
 
-def run_subtractor(left, right, disparity, rectification, thresholds, pixels):
+def run_subtractor(left, right, disparity, rectification, thresholds, pixels, grey_bits=5):
     """Drive ``pixels`` (a list of (x, y) or None for an idle clock) through the subtractor wired to two
-    FrameBuffers preloaded with ``left``/``right``; return [(level, no_data)] per pixel, checking the
-    documented latency, the right/left addresses and that the left address never leaves the buffer."""
+    FrameBuffers preloaded with ``left``/``right`` (``grey_bits`` of grey); return [(level, no_data)] per pixel,
+    checking the documented latency, the right/left addresses and that the left address never leaves the
+    buffer."""
     h, w = right.shape
-    geometry = SensorGeometry(width=4 * w, height=4 * h)
+    geometry = SensorGeometry(width=4 * w, height=4 * h, grey_bits=grey_bits)
     m, sub = subtractor_testbench(geometry, thresholds, left.ravel().tolist(), right.ravel().tolist())
     stream = list(pixels) + [None] * LATENCY
     out = []
@@ -162,6 +163,24 @@ def subtractor_cases(draw):
 @given(subtractor_cases())
 def test_subtractor_random(case):
     check_against_golden(*case)
+
+
+@pytest.mark.parametrize("grey_bits", [5, 8])
+def test_thresholds_at_the_boundary(grey_bits):
+    """Each threshold t of ``spec.display.diff_thresholds`` (2/4/8/16 for 5-bit grey, 16/32/64/128 for 8-bit)
+    exactly (|L - R| = t: the level counts it) and one short (t - 1: it does not), L above R and below it, and
+    the ends 0 and 2**bits - 1; levels by hand, the golden model and the RTL alike."""
+    thresholds = diff_thresholds(grey_bits)
+    top = (1 << grey_bits) - 1
+    differences = [0] + [v for t in thresholds for v in (t - 1, t)] + [top]
+    expected = [0] + [v for level in range(1, len(thresholds) + 1) for v in (level - 1, level)] + [len(thresholds)]
+    zeros = np.zeros(len(differences), dtype=np.int64)
+    left = np.array([differences, zeros])
+    right = np.array([zeros, differences])                  # row 1: R above L
+    levels, no_data = difference_levels(left, right, 0, 0, thresholds)
+    assert not no_data.any() and levels.tolist() == [expected, expected]
+    got = run_subtractor(left, right, 0, 0, thresholds, raster(len(differences), 2), grey_bits=grey_bits)
+    assert got == [(level, False) for level in expected * 2]
 
 
 def test_bad_thresholds():
