@@ -168,3 +168,32 @@ def test_census_windows_filled_from_the_right_give_the_same_costs():
     assert (mirrored["l"] != plain["l"]).any()
     assert (costs(mirrored["l"], mirrored["r"]) == matching_cost(left, right, cfg)).all()
     assert (costs(mirrored["l"], plain["r"]) != matching_cost(left, right, cfg)).any()
+
+
+#: L_rl at x = W - 1 is C there; at x = W - 2 (C = 2 there) the recursion's terms meet at their thresholds. P1 = 5,
+#: P2 = 20, D = 8 in two groups of 4 lanes (d = 3 | 4 across the groups). (L' = C(W - 1), min(...) - M' by hand.)
+PENALTY_ROWS = [
+    # M' = 3, M' + P2 = 23. d = 1: L'(1) = L'(0) + P1 (tie, 8); d = 2: L'(2) = L'(1) + P1 + 1 (the P1 term wins
+    # by one, 13); d = 5: L'(5) = M' + P2 (tie, 23); d = 7 (no d + 1): L'(7) = M' + P2 + 1 (P2 wins by one, 23).
+    ([3, 8, 14, 33, 48, 23, 48, 24], [0, 5, 10, 16, 20, 20, 20, 20]),
+    # M' = 0, M' + P2 = 20. d = 0 (no d - 1): L'(0) = L'(1) + P1 (tie, 11); d = 1: L'(1) = L'(2) + P1 + 1 (the
+    # d + 1 term wins by one, 5); d = 4: L'(3) + P1 = M' + P2 (tie, 20) and L'(5) + P1 = M' + P2 + 1; d = 6:
+    # L'(5) + P1 = M' + P2 + 1 (P2 wins by one, 20).
+    ([11, 6, 0, 15, 48, 16, 48, 48], [11, 5, 0, 5, 20, 16, 20, 20]),
+]
+
+
+def test_penalties_at_their_thresholds():
+    """The right-to-left recursion's P1 and P2 terms exactly at their thresholds and one past (``PENALTY_ROWS``):
+    values by hand, the golden model and the RTL alike."""
+    cfg, width = DepthConfig(disparities=8, lanes=4, p1=5, p2=20), 9
+    rows, hand = [], []
+    for last, terms in PENALTY_ROWS:
+        cost = np.zeros((cfg.disparities, width), dtype=np.int64)
+        cost[:, -1], cost[:, -2] = last, 2
+        rows.append((cost, np.zeros_like(cost)))
+        hand.append((np.array(last), 2 + np.array(terms)))
+    for (cost, _), (l_got, total_got), (at_last, at_next) in zip(rows, run_rows(cfg, width, rows), hand):
+        l_rl, _ = expected(cfg, cost, np.zeros_like(cost))
+        assert (l_rl[:, -1] == at_last).all() and (l_rl[:, -2] == at_next).all()
+        assert (l_got[:, -2:] == l_rl[:, -2:]).all() and (total_got[:, -2:] == l_rl[:, -2:]).all()
