@@ -1,7 +1,10 @@
+# amaranth: UnusedElaboratable=no
 """The depth engine's arithmetic blocks against golden/depth.py, with hypothesis: cost (Hamming), the path
 recursion (any previous vector in range, and whole lines of the recurrent path), the winner with validity.
 Values at the ends of their ranges are drawn on purpose: nothing may wrap (docs/depth.md: no saturation is
 needed because every width holds its largest value)."""
+
+import dataclasses
 
 import numpy as np
 import pytest
@@ -10,9 +13,10 @@ from hypothesis import strategies as st
 
 from golden.depth import path_cost, path_step, winner
 from hdl.depth.matching_cost import MatchingCost
+from hdl.depth.reverse_path import ReversePath
 from hdl.depth.sgm_path import SgmPath
 from hdl.depth.winner import Winner
-from spec.depth import DEPTH, SMALL_DEPTH, DepthConfig
+from spec.depth import DEPTH, DEPTH_800, SMALL_DEPTH, DepthConfig
 from sim.runners.amaranth import simulate
 
 WIDTH = 16
@@ -133,9 +137,9 @@ def test_horizontal_path_line(data):
     assert (got == expected).all()
 
 
-def run_winner(cfg, lh, lv, x=7):
-    """One pixel's groups through the Winner: (code, x)."""
-    dut = Winner(cfg, WIDTH)
+def run_winner(cfg, lh, lv, x=7, vertical_bits=None):
+    """One pixel's groups through the Winner (``vertical_bits``: its vertical input's width): (code, x)."""
+    dut = Winner(cfg, WIDTH, vertical_bits=vertical_bits)
     groups = cfg.disparities // cfg.lanes
     out = {}
 
@@ -180,8 +184,9 @@ def test_winner(data):
 
 
 def _sums(cfg, at, fill=None):
-    """Per-disparity sums: ``fill`` (the largest sum) except {d: S} in ``at``; split into the two paths."""
-    fill = 2 * cfg.path_max if fill is None else fill
+    """Per-disparity sums: ``fill`` (the largest sum) except {d: S} in ``at``; split into the two inputs (the first
+    at most ``path_max``)."""
+    fill = cfg.sum_max if fill is None else fill
     total = [at.get(d, fill) for d in range(cfg.disparities)]
     lh = [min(t, cfg.path_max) for t in total]
     return lh, [t - h for t, h in zip(total, lh)]
@@ -234,6 +239,37 @@ def test_uniqueness_boundaries(name, at, expected):
     lh, lv = _sums(cfg, at)
     assert golden_code(cfg, lh, lv) == expected
     assert run_winner(cfg, lh, lv) == (expected, 7)
+
+
+#: The winner as the three-path engine builds it: its vertical input the carried S2 = L_lr + L_tb
+#: (``ReversePath.carry_bits``), sums up to 3 (N + P2) = 432. (name, config, {d: S}, the other sums, expected code)
+_800 = dataclasses.replace(DEPTH_800, disparities=8, lanes=4)
+THREE_PATH_CASES = [
+    ("S* = max_cost 180: valid", _800, {3: 180}, 300, 16 * 3),
+    ("S* = max_cost + 1: invalid", _800, {3: 181}, 300, _800.invalid),
+    ("64 S* = k S2 at the top of the sums (405 vs 432): valid",
+     dataclasses.replace(_800, uniqueness=60, max_cost=432), {2: 405, 1: 420, 3: 420}, 432, 16 * 2),
+    ("S* one past (406 vs 432): invalid",
+     dataclasses.replace(_800, uniqueness=60, max_cost=432), {2: 406, 1: 420, 3: 420}, 432, _800.invalid),
+    ("D = 128: d* = D - 2 valid", DEPTH_800, {125: 100, 126: 50, 127: 100}, 300, 16 * 126),
+    ("D = 128: d* = D - 1 invalid (code 2048)", DEPTH_800, {126: 100, 127: 50}, 300, 2048),
+    ("D = 128, k = 64 (off): S2 = S* valid", DEPTH_800, {10: 100, 50: 100}, 300, 16 * 10),
+    ("D = 128, k = 63: S2 = S* invalid", dataclasses.replace(DEPTH_800, uniqueness=63), {10: 100, 50: 100}, 300,
+     2048),
+]
+
+
+@pytest.mark.parametrize("name, cfg, at, fill, expected", THREE_PATH_CASES, ids=[c[0] for c in THREE_PATH_CASES])
+def test_three_path_winner_boundaries(name, cfg, at, fill, expected):
+    """The three-path build's thresholds (max_cost 180 = 60 per path, the confidence rule at the top of the
+    three-path sums and at k = 64, the last disparity and the 12-bit invalid code at D = 128) exactly at the
+    threshold and one past, RTL (the winner with the engine's three-path widths) and golden model alike; the rest
+    of the sums ``fill``."""
+    vertical_bits = ReversePath(cfg, width=cfg.disparities).carry_bits
+    lh, lv = _sums(cfg, at, fill=fill)
+    assert max(lv) < 1 << vertical_bits and cfg.sum_max == 432
+    assert golden_code(cfg, lh, lv) == expected
+    assert run_winner(cfg, lh, lv, vertical_bits=vertical_bits)[0] == expected
 
 
 @pytest.mark.parametrize("margin", [2, 8, 40])
