@@ -10,9 +10,9 @@ from hdl.segment_band import LATENCY, SegmentBand, band_table
 from hdl.text_layer import char_codes
 from sim.runners.amaranth import simulate
 from spec.board import CLOCKS
-from spec.depth import DEPTH, SMALL_DEPTH
+from spec.depth import DEPTH, DEPTH_800, SMALL_DEPTH
 from spec.display import SEGMENT_HALF_WIDTH
-from spec.sensor import SENSOR, SMALL_SENSOR
+from spec.sensor import SENSOR, SENSOR_800, SMALL_SENSOR
 
 
 def run_band(disparity, codes, greys, enable=1, geometry=SENSOR, config=DEPTH):
@@ -60,6 +60,21 @@ def test_band_edges():
     # d = 63: the band reaches past the largest disparity code; the invalid code (16 x 64) still never is inside.
     rgb, _ = run_band(63, [16 * 61 - 1, 16 * 61, DEPTH.invalid - 1, DEPTH.invalid], [16] * 4)
     assert rgb.tolist() == [0x212121, 0x848484, 0x848484, 0x2121A1]
+
+
+def test_band_edges_800():
+    """The 800 x 600 build (D = 128, 8-bit grey): d = 64, codes 16 x 62 and 16 x 66 inside, one past either edge not;
+    d = 127, the band reaches past the largest code: 16 x 125 inside, one below it not, and the invalid code
+    2048 (16 x 128, inside |code - 16 d| <= 32) never. Grey 200 shows 0xC8C8C8 inside, 200 >> 2 = 0x32 outside,
+    0x3232B2 for the invalid code: by hand, the golden model and the RTL alike."""
+    for disparity, codes, expected in (
+            (64, [16 * 62 - 1, 16 * 62, 16 * 66, 16 * 66 + 1], [0x323232, 0xC8C8C8, 0xC8C8C8, 0x323232]),
+            (127, [16 * 125 - 1, 16 * 125, DEPTH_800.invalid - 1, DEPTH_800.invalid],
+             [0x323232, 0xC8C8C8, 0xC8C8C8, 0x3232B2])):
+        greys = [200] * len(codes)
+        golden = segment_picture(np.array([greys]), np.array([codes]), disparity, 8, DEPTH_800)[0]
+        rgb, _ = run_band(disparity, codes, greys, geometry=SENSOR_800, config=DEPTH_800)
+        assert golden.tolist() == rgb.tolist() == expected
 
 
 def test_band_text_table():
