@@ -52,6 +52,9 @@ class ReversePath(wiring.Component):
 
     Clock domain: ``sync``.
 
+    The row store is read only for a token (``token.go``), written only for one (``store_token.go``): both
+    addresses are then inside it; the token's other fields are ignored on other clocks.
+
     Pipeline (i = the group's input clock): i: row store read (address x G + g); i .. i + 2: the path
     (``SgmPath.LATENCY``), the carry delayed with it; i + 3: S = carry + L_rl registered: ``total`` at i + 4.
 
@@ -113,7 +116,10 @@ class ReversePath(wiring.Component):
             write.addr.eq(self.store_token.x * groups + self.store_token.group),
             write.data.eq(self.carry),
             write.en.eq(self.store_token.go),
+            # Read only for a token: on other clocks the engine's token column runs outside the row (the
+            # forward pass's, the census lead's), and the address with it.
             read.addr.eq(self.token.x * groups + self.token.group),
+            read.en.eq(self.token.go),
         ]
 
         # The path: the token with ``first`` at the row's last column.

@@ -252,6 +252,11 @@ class DepthThreeHarness(DepthEngineHarness):
         if side == "left":
             self.cover(m, "backward_pass_takes_a_column", census_shift & self._engine.backward & (y == 0),
                        bound=BACKWARD_COVER_BOUND)
+            # ReversePath's contract on its tokens' columns (sim/formal/harnesses/reverse_path.py assumes it): the
+            # engine keeps it, so the row store's addresses are inside it in the engine too.
+            reverse, w = self._engine.reverse, self.geometry.buf_width
+            for name, token in (("reverse_token", reverse.token), ("reverse_store_token", reverse.store_token)):
+                self.prove(m, f"{name}_in_row", ~token.go | (token.x < w), group="reverse_tokens")
 
 
 class DepthThreeMapHarness(DepthMapHarness):

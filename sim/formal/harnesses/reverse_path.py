@@ -58,7 +58,8 @@ class ReversePathHarness(FormalHarness):
         self.prove(m, "store_write_in_row_store", ~write.en | (write.addr < w * groups), group="store")
         self.prove(m, "store_read_at_pixel_and_group",
                    ~token.go | (read.addr == token.x * groups + token.group), group="store")
-        self.prove(m, "store_read_in_row_store", ~token.go | (read.addr < w * groups), group="store")
+        self.prove(m, "store_read_only_for_a_token", ~read.en | token.go, group="store")
+        self.prove(m, "store_read_in_row_store", ~read.en | (read.addr < w * groups), group="store")
 
         # The path starts at x = W - 1 (L_rl = C there) whatever the token's ``first`` says, and nowhere else.
         out = dut.out_token
