@@ -256,7 +256,7 @@ class DepthThreeHarness(DepthEngineHarness):
             # engine keeps it, so the row store's addresses are inside it in the engine too.
             reverse, w = self._engine.reverse, self.geometry.buf_width
             for name, token in (("reverse_token", reverse.token), ("reverse_store_token", reverse.store_token)):
-                self.prove(m, f"{name}_in_row", ~token.go | (token.x < w), group="reverse_tokens")
+                self.prove(m, f"{name}_in_row", ~token.go | (token.x < w))
 
 
 class DepthThreeMapHarness(DepthMapHarness):
