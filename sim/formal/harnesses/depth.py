@@ -18,7 +18,7 @@ the larger harness's proof).
 
 import dataclasses
 
-from amaranth import Mux
+from amaranth import Mux, Signal
 
 from hdl.depth.engine import RING_ROWS, DepthEngine
 from spec.depth import THREE_PATHS, DepthConfig
@@ -277,3 +277,32 @@ class DepthThreeMapHarness(DepthMapHarness):
         # the map: the reader's count may still be the last map's in its clock).
         self.prove(m, "result_written_only_where_released", ~write.en | self._start | (y - 1 < rows_released + n))
         self.cover(m, "replay_reaches_the_median", median.valid & (y == 0), bound=REPLAY_COVER_BOUND)
+        self._replay(m, median)
+
+    def dut(self):
+        self._engine = super().dut()
+        return self._engine
+
+    def open(self, m, name, dut):
+        self._module = super().open(m, name, dut)
+        return self._module
+
+    def _replay(self, m, median):
+        """The replay sends each column's code of the backward pass just run: one fixed, arbitrary column, marked
+        when the backward pass writes its code (writes while ``backward`` is low, the forward pass's and those of an
+        abandoned pass still in the pipeline, do not count; the mark is cleared in the forward pass)."""
+        w = self.geometry.buf_width
+        column = self.free("watched_column", range(w))
+        self.assume(m, "watched_column_fixed",
+                    column == self.past(m, column, name="past_watched_column", reset_less=True))
+        codes = self._module.submodules.row_codes.write_ports[0]
+        backward = self._engine.backward
+        written = Signal(name="watched_code_written")
+        with m.If(~backward):
+            m.d.sync += written.eq(0)
+        with m.Elif(codes.en & (codes.addr == column)):
+            m.d.sync += written.eq(1)
+        # The median takes the code read a clock before: the write must be in before that read.
+        self.prove(m, "replay_sends_codes_of_the_backward_pass",
+                   ~(median.valid & (median.x == column)) | self.past(m, written, name="watched_code_was_written"),
+                   group="replay")
