@@ -234,8 +234,8 @@ class DepthThreeHarness(DepthEngineHarness):
     """The three-path engine's input rows: their properties hold through the backward pass too (its census reads
     are ``census_shift`` like the forward pass's), so the rings keep a pass's census rows until its backward pass
     is done; the engine's own invariants add the pass order (forward, backward, backward drain, replay, drain)
-    and the phase counters (``DepthEngine._reverse_invariants``). On the 3 x 9 engine with the 7 x 7 census,
-    where the 8-slot rings are reused."""
+    and the phase counters (``DepthEngine._reverse_invariants``); the engine keeps ReversePath's contract on its
+    tokens' columns. On the 3 x 9 engine with the 7 x 7 census, where the 8-slot rings are reused."""
     name = "depth_three"
     parts = ("reads",)
     default_covers = ("backward_pass_takes_a_column",)
@@ -261,8 +261,9 @@ class DepthThreeHarness(DepthEngineHarness):
 
 class DepthThreeMapHarness(DepthMapHarness):
     """The three-path engine's result ring, on the 2 x 3 engine: the result ring's properties with the replay's
-    writes, and the ring written only where the reader has released the row; the cover: a replayed code reaches
-    the median (the backward pass and its drain done)."""
+    writes, the ring written only where the reader has released the row, and the replay sending the codes of the
+    backward pass just run (proof ``replay``); the cover: a replayed code reaches the median (the backward pass and
+    its drain done)."""
     name = "depth_three_map"
     parts = ("results",)
     default_covers = ("replay_reaches_the_median",)
