@@ -14,6 +14,10 @@ A whole map there is about 980 clocks, too deep for a cover search in minutes: :
 one on a smaller engine (2 x 3 buffer, 3 x 3 census, 2-row result ring: about 300 clocks) and proves the result
 ring's properties and the invalid row's codes there (the codes' cone is the whole datapath, so they are not in
 the larger harness's proof).
+
+The three-path engine (``THREE_PATHS``: a backward pass and a replay after each forward pass) has the same two
+configurations: :class:`DepthThreeHarness` proves the input rows' properties through the backward pass on the
+3 x 9 engine, :class:`DepthThreeMapHarness` the result ring's and the replay's on the 2 x 3 one.
 """
 
 import dataclasses
