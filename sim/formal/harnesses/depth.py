@@ -247,9 +247,9 @@ class DepthThreeHarness(DepthEngineHarness):
     def __init__(self, geometry=GEOMETRY, config=THREE_CONFIG, out_rows=OUT_ROWS):
         super().__init__(geometry, config, out_rows)
 
-    def dut(self):
-        self._engine = super().dut()
-        return self._engine
+    def open(self, m, name, dut):
+        self._engine = dut          # the engine (a mutant's too): its ``backward`` and ``reverse``
+        return super().open(m, name, dut)
 
     def _input_rows(self, m, side, port, ring, ring_write, census_shift, y, busy):
         super()._input_rows(m, side, port, ring, ring_write, census_shift, y, busy)
@@ -284,11 +284,8 @@ class DepthThreeMapHarness(DepthMapHarness):
         self.cover(m, "replay_reaches_the_median", median.valid & (y == 0), bound=REPLAY_COVER_BOUND)
         self._replay(m, median)
 
-    def dut(self):
-        self._engine = super().dut()
-        return self._engine
-
     def open(self, m, name, dut):
+        self._engine = dut          # the engine (a mutant's too): its ``backward``
         self._module = super().open(m, name, dut)
         return self._module
 
