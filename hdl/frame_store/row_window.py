@@ -135,7 +135,8 @@ class RowWindow(wiring.Component):
         after = Signal(range(h + 2 * s))                # the one after it (next_row + step)
         next_slot = Signal(range(n))                    # the slot it lands in (request number mod n)
         # Registers, so that no comparison lies between them and the stream's request FIFO: ``free`` = rows that may
-        # still be asked for (slots less the rows asked beyond the window's first), ``more`` = next_row < height.
+        # still be asked for (slots less the rows asked beyond the window's first, the window's last move counted a
+        # clock late), ``more`` = next_row < height.
         free = Signal(range(n + 1), init=n)
         more = Signal(init=1)
 
@@ -196,6 +197,9 @@ class RowWindow(wiring.Component):
         # so the difference stays between -slots and 0 however many rows the window reads.
         pending = Signal(count_bits)
         m.d.comb += pending.eq(landed - counted)
+        advance, advanced = Signal(), Signal()
+        m.d.comb += advance.eq(grant & ge[1])
+        m.d.sync += advanced.eq(advance)
         with m.If(restarting):
             start = times(first, w)
             m.d.sync += [next_row.eq(first), after.eq(first + step), bounds[0].eq(start), free.eq(n), more.eq(1),
@@ -203,8 +207,9 @@ class RowWindow(wiring.Component):
             if s > 1:
                 m.d.sync += limit_step.eq(w)
         with m.Else():
-            advance = grant & ge[1]                     # the window moves on by a row
-            m.d.sync += free.eq(free + advance - ask)
+            # The window moves on by a row (``advance``); the slot it leaves is counted free a clock later
+            # (``advanced``), so no comparison of the address lies before the count's adder.
+            m.d.sync += free.eq(free + advanced - ask)
             with m.If(self.stream.landed & ~pending[-1]):
                 m.d.sync += [limit.eq(limit + limit_step), counted.eq(counted + 1)]
                 if s > 1:
