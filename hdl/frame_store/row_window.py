@@ -20,7 +20,9 @@ enough that it never misses (the window holds the row shown and the next ones: d
 The restart, its first row and step are registered as they come in (they change once a frame or a map): the window
 starts in the clock after ``restart`` (*restarting*: nothing granted, nothing asked), sets its rows' starts from the
 first's in the clock after that (*settling*: nothing landed yet, so nothing granted), and asks for rows from then on.
-So nothing but a register lies between the consumer's start and the window's counters.
+So nothing but a register lies between the consumer's start and the window's counters; likewise the slot a move
+leaves is counted free (may be asked for again) a clock after the move, so no address comparison lies before that
+count's adder.
 """
 
 from amaranth import Const, Module, Mux, Signal, signed
