@@ -113,7 +113,7 @@ class RowWindow(wiring.Component):
         m.d.sync += [restarting.eq(self.restart), settling.eq(restarting)]
         with m.If(self.restart):
             m.d.sync += first.eq(self.first_row)
-        # offsets[k] = k * step * width: the window's k-th row's start from its first's (registers once a step).
+        # offsets[k] = k * step * width: the window's k-th row's start from its first's (registered from the step).
         if s > 1:
             step = Signal(range(1, s + 1), init=1)
             with m.If(self.restart):
