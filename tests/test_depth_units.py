@@ -16,7 +16,7 @@ from hdl.depth.matching_cost import MatchingCost
 from hdl.depth.reverse_path import ReversePath
 from hdl.depth.sgm_path import SgmPath
 from hdl.depth.winner import Winner
-from spec.depth import DEPTH, DEPTH_800, SMALL_DEPTH, DepthConfig
+from spec.depth import DEPTH, DEPTH_800, DEPTH_800_THREE, SMALL_DEPTH, THREE_PATHS, DepthConfig
 from sim.runners.amaranth import simulate
 
 WIDTH = 16
@@ -241,33 +241,34 @@ def test_uniqueness_boundaries(name, at, expected):
     assert run_winner(cfg, lh, lv) == (expected, 7)
 
 
-#: The winner as the three-path engine builds it: its vertical input the carried S2 = L_lr + L_tb
-#: (``ReversePath.carry_bits``), sums up to 3 (N + P2) = 432. (name, config, {d: S}, the other sums, expected code)
-_800 = dataclasses.replace(DEPTH_800, disparities=8, lanes=4)
-THREE_PATH_CASES = [
-    ("S* = max_cost 180: valid", _800, {3: 180}, 300, 16 * 3),
-    ("S* = max_cost + 1: invalid", _800, {3: 181}, 300, _800.invalid),
-    ("64 S* = k S2 at the top of the sums (405 vs 432): valid",
-     dataclasses.replace(_800, uniqueness=60, max_cost=432), {2: 405, 1: 420, 3: 420}, 432, 16 * 2),
-    ("S* one past (406 vs 432): invalid",
-     dataclasses.replace(_800, uniqueness=60, max_cost=432), {2: 406, 1: 420, 3: 420}, 432, _800.invalid),
-    ("D = 128: d* = D - 2 valid", DEPTH_800, {125: 100, 126: 50, 127: 100}, 300, 16 * 126),
-    ("D = 128: d* = D - 1 invalid (code 2048)", DEPTH_800, {126: 100, 127: 50}, 300, 2048),
-    ("D = 128, k = 64 (off): S2 = S* valid", DEPTH_800, {10: 100, 50: 100}, 300, 16 * 10),
-    ("D = 128, k = 63: S2 = S* invalid", dataclasses.replace(DEPTH_800, uniqueness=63), {10: 100, 50: 100}, 300,
-     2048),
-]
+#: The 800 x 600 configurations' thresholds: DEPTH_800 (D = 128, two paths: the build) and DEPTH_800_THREE (the third
+#: path's variant: max_cost 180, sums up to 3 (N + P2) = 432, the winner's vertical input the carried S2 = L_lr +
+#: L_tb, ``ReversePath.carry_bits`` wide). (name, config, {d: S}, the other sums, expected code)
+_THREE = dataclasses.replace(DEPTH_800_THREE, disparities=8, lanes=4)
+_UNIQUE = dataclasses.replace(_THREE, uniqueness=60, max_cost=432)
+CASES_800 = [
+    ("three paths: S* = max_cost 180 valid", _THREE, {3: 180}, 300, 16 * 3),
+    ("three paths: S* = max_cost + 1 invalid", _THREE, {3: 181}, 300, _THREE.invalid),
+    ("three paths: 64 S* = k S2 at the top of the sums (405 vs 432) valid", _UNIQUE, {2: 405, 1: 420, 3: 420}, 432,
+     16 * 2),
+    ("three paths: S* one past (406 vs 432) invalid", _UNIQUE, {2: 406, 1: 420, 3: 420}, 432, _THREE.invalid),
+] + [case for cfg, fill, label in ((DEPTH_800, 250, "two paths"), (DEPTH_800_THREE, 300, "three paths")) for case in (
+    (f"{label}, D = 128: d* = D - 2 valid", cfg, {125: 100, 126: 50, 127: 100}, fill, 16 * 126),
+    (f"{label}, D = 128: d* = D - 1 invalid (code 2048)", cfg, {126: 100, 127: 50}, fill, 2048),
+    (f"{label}, D = 128, k = 64 (off): S2 = S* valid", cfg, {10: 100, 50: 100}, fill, 16 * 10),
+    (f"{label}, D = 128, k = 63: S2 = S* invalid", dataclasses.replace(cfg, uniqueness=63), {10: 100, 50: 100}, fill,
+     2048))]
 
 
-@pytest.mark.parametrize("name, cfg, at, fill, expected", THREE_PATH_CASES, ids=[c[0] for c in THREE_PATH_CASES])
-def test_three_path_winner_boundaries(name, cfg, at, fill, expected):
-    """The three-path build's thresholds (max_cost 180 = 60 per path, the confidence rule at the top of the
-    three-path sums and at k = 64, the last disparity and the 12-bit invalid code at D = 128) exactly at the
-    threshold and one past, RTL (the winner with the engine's three-path widths) and golden model alike; the rest
-    of the sums ``fill``."""
-    vertical_bits = ReversePath(cfg, width=cfg.disparities).carry_bits
+@pytest.mark.parametrize("name, cfg, at, fill, expected", CASES_800, ids=[c[0] for c in CASES_800])
+def test_800_winner_boundaries(name, cfg, at, fill, expected):
+    """The 800 x 600 configurations' thresholds exactly at the threshold and one past: max_cost 180 = 60 per path
+    and the confidence rule at the top of the three-path sums; at D = 128, for two and three paths, the last
+    disparity, the 12-bit invalid code and the confidence rule at k = 64 (off) against 63. RTL (the winner with the
+    engine's widths for the configuration's paths) and golden model alike; the rest of the sums ``fill``."""
+    vertical_bits = ReversePath(cfg, width=cfg.disparities).carry_bits if cfg.paths == THREE_PATHS else None
     lh, lv = _sums(cfg, at, fill=fill)
-    assert max(lv) < 1 << vertical_bits and cfg.sum_max == 432
+    assert max(lv) < 1 << (vertical_bits or cfg.path_bits) and cfg.sum_max == 144 * len(cfg.paths)
     assert golden_code(cfg, lh, lv) == expected
     assert run_winner(cfg, lh, lv, vertical_bits=vertical_bits)[0] == expected
 
