@@ -11,7 +11,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from golden.depth import path_cost, path_step, winner
+from golden.depth import census, path_cost, path_step, winner
+from hdl.depth.census import CensusWindow
 from hdl.depth.matching_cost import MatchingCost
 from hdl.depth.reverse_path import ReversePath
 from hdl.depth.sgm_path import SgmPath
@@ -30,6 +31,39 @@ def token(group, last, x=0, first=0, go=1):
 def edgy(top):
     """Integers 0..top, often at the ends."""
     return st.one_of(st.integers(0, top), st.sampled_from([0, 1, top - 1, top]))
+
+
+#: 3 x 3 windows of 8-bit grey and their signatures by hand (bit k = raster position k, centre skipped, set iff the
+#: pixel is darker than the centre): each neighbour one below, equal to and one above the centre, at 128, 255 and 0.
+CENSUS_WINDOWS = [
+    ([[127, 128, 129], [0, 128, 255], [128, 127, 129]], 0b01001001),
+    ([[254, 255, 255], [255, 255, 254], [0, 255, 255]], 0b00110001),
+    ([[0, 1, 0], [1, 0, 0], [255, 0, 1]], 0),
+]
+
+
+@pytest.mark.parametrize("window, expected", CENSUS_WINDOWS)
+def test_census_threshold_8_bit(window, expected):
+    """The census comparison at its threshold (a neighbour one darker than the centre sets its bit, an equal or
+    one brighter one does not) with 8-bit grey at the ends of the range: by hand, the golden model and the RTL."""
+    cfg = DepthConfig(disparities=2, lanes=2, census_width=3, census_height=3, pixel_bits=8)
+    image = np.array(window)
+    assert int(census(image, cfg)[1, 1]) == expected
+    dut = CensusWindow(cfg, grey_bits=8)
+    got = []
+
+    async def bench(ctx):
+        for x in range(3):
+            ctx.set(dut.shift, 1)
+            for y in range(3):
+                ctx.set(dut.column[y], int(image[y, x]))
+            await ctx.tick()
+        ctx.set(dut.shift, 0)
+        await ctx.tick()
+        got.append(ctx.get(dut.census))
+
+    simulate(dut, clocks={"sync": 1e8}, testbenches=[bench])
+    assert got == [expected]
 
 
 @settings(max_examples=10, deadline=None)
