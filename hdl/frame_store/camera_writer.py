@@ -54,7 +54,7 @@ class CameraWriter(wiring.Component):
                  mem_domain="mem", fifo_depth=8):
         if fifo_depth < 2 or fifo_depth & (fifo_depth - 1):
             raise ValueError(f"fifo_depth must be a power of two of at least 2, got {fifo_depth}")
-        check_grey(geometry)
+        check_grey(geometry, layout.pixel_bytes)
         check_camera(layout, camera)
         self.layout, self.camera, self.geometry = layout, camera, geometry
         self.cam_domain, self.mem_domain, self.fifo_depth = cam_domain, mem_domain, fifo_depth
