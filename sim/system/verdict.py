@@ -10,7 +10,10 @@ whole at the end:
   a capture overwrote the buffers with the same images). ``verdict``: ``mismatched_pixels``, ``tear`` ((c, torn)
   or None), ``withheld_rows`` (depth rows the row tags withheld: wholly invalid in the frame, valid in the untorn
   golden frame), ``whole`` (no withheld row: the depth map of complete camera frames), ``locked`` (the automatic
-  rectification's lock; True in manual mode);
+  rectification's lock; True in manual mode), ``map_shown`` (False only with the maps in the frame store,
+  ``setup.maps == "store"``, for a display frame before the first whole map: its depth panel shows every row not
+  ready; such a frame is never chosen, and no tear is looked for in it; a still run with those maps shows its
+  second display frame at the earliest: the first shows the map of a frame before the run);
 * a sequence: the per-row frame sources of ``sim/analysis/frame_sources.py`` against the golden frames of the
   buffers before any capture and of every pair (in automatic rectification both states of each pair,
   :class:`sim.analysis.auto_rectification.AutoGoldens`); a frame whose depth rows are mixed or withheld is
@@ -29,6 +32,7 @@ panel), the automatic rectification's record, with the DDR2 build (``setup.memor
 import numpy as np
 
 from golden.capture import capture_frame
+from spec.display import DEPTH_NOT_READY_RGB
 from sim.analysis.depth_panel import read_depth_panel
 from sim.analysis.frame_sources import (EMPTY, frame_sources, source_summary, tear_candidates, torn_depth_rows,
                                         torn_summary)
@@ -97,10 +101,23 @@ class Judge:
         codes, _ = read_depth_panel(frame, self.setup.display_layout, self.setup.depth)
         return (codes == self.setup.depth.invalid).all(axis=1)
 
+    def _map_shown(self, frame):
+        """With the maps in the frame store: the depth panel shows a map (no pixel of it not ready)."""
+        if getattr(self.setup, "maps", "ring") != "store":
+            return True
+        box = self.setup.display_layout.region("depth")
+        panel = np.asarray(frame[box.y0:box.y1, box.x0:box.x1], dtype=np.int64)
+        rgb = (panel[..., 0] << 16) | (panel[..., 1] << 8) | panel[..., 2]
+        return not (rgb == DEPTH_NOT_READY_RGB).any()
+
     def _still(self, shown):
         setup, frame, settings = self.setup, shown.frame, shown.settings or {}
         golden = untorn = self.still_golden(settings)
         tear, withheld = None, 0        # a frame equal to its untorn golden frame withholds no row
+        map_shown = self._map_shown(frame)
+        if not map_shown:
+            return golden, {"mismatched_pixels": int(np.any(frame != golden, axis=-1).sum()), "tear": None,
+                            "withheld_rows": 0, "whole": False, "locked": False, "map_shown": False}
         if not np.array_equal(frame, golden):
             kwargs = {"in_use": settings.get("rectification"),
                       "held": settings.get("auto_rectification", {}).get("held", False)}
@@ -108,7 +125,7 @@ class Judge:
             withheld = int((self._invalid_rows(frame) & ~self._invalid_rows(untorn)).sum())
         locked = setup.rectification != "auto" or bool(settings.get("auto_rectification", {}).get("locked"))
         return golden, {"mismatched_pixels": int(np.any(frame != golden, axis=-1).sum()), "tear": tear,
-                        "withheld_rows": withheld, "whole": withheld == 0, "locked": locked}
+                        "withheld_rows": withheld, "whole": withheld == 0, "locked": locked, "map_shown": True}
 
     def _sequence(self, shown):
         setup, frame = self.setup, shown.frame
@@ -149,7 +166,9 @@ class Judge:
     def enough(self, shown):
         """Whether a still pair's run may end with the judged display frame ``shown`` (the run's policy)."""
         if self.policy == "first":
-            return True
+            # With the maps in the frame store a display frame shows the map computed in an earlier one: the first
+            # frame's may be of the pair before the run's; the second's is of a pair the run captured.
+            return getattr(self.setup, "maps", "ring") != "store" or (shown.index >= 1 and shown.verdict["map_shown"])
         return shown.verdict["whole"] and shown.verdict["locked"]
 
     # --- the run -------------------------------------------------------------------------------------------

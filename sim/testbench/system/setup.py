@@ -65,7 +65,7 @@ __all__ = ["SystemSetup"]
 _FULL = DesignConfig.full()
 #: The setup's fields that are the design's (``hdl.config.DesignConfig``'s of the same names).
 DESIGN_FIELDS = ("geometry", "timing", "layout", "thresholds", "level_grey", "depth", "auto_rectification", "sys_hz",
-                 "i2c_hz", "i2c_retry_delay_us", "pclk_hz", "memory")
+                 "i2c_hz", "i2c_retry_delay_us", "pclk_hz", "memory", "maps")
 #: The simulation's speed-ups of the small preset (sim/testbench/system/tables.py).
 _SMALL_SPEED_UPS = {"time_scale": 0.02, "quick_table": True}
 
@@ -107,6 +107,7 @@ class SystemSetup:
     pix_after_init: bool = False       # start the pixel clock only once the I2C init is done (see below)
     sensor_timing: object = None       # sim.models.mt9d112.sensor.SensorTiming; None: SENSOR_TIMING / SMALL_SENSOR_TIMING
     memory: str = _FULL.memory         # the frames in block RAM or, "ddr2", in the frame store with the MIG model
+    maps: str = _FULL.maps             # the depth maps in the engine's ring or, "store", whole in the frame store
 
     @classmethod
     def small(cls, **kw):
