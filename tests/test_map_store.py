@@ -148,3 +148,60 @@ def test_an_abandoned_map_is_never_shown_and_two_byte_codes():
     assert seen[-1] == 1
     published_at = [i for i, e in enumerate(events) if e[0] == "published"]
     assert len(published_at) == 3
+
+
+def test_the_layout_puts_the_maps_after_the_cameras_buffers_in_every_bank():
+    """Three map buffers of two-byte codes over banks 0, 1, 2, from the first word after the cameras' buffers;
+    the memory model's window covers them; ``buffer_of`` names a map buffer ``(cameras, b)``."""
+    from hdl.frame_store.layout import FrameStoreLayout
+    lay = FrameStoreLayout(width=40, height=6, base=64, maps=3, map_bits=9)
+    maps = lay.map_layout
+    assert (maps.cameras, maps.buffers, maps.pixel_bytes, maps.bursts_per_row, maps.stride) == (1, 3, 2, 3, 96)
+    assert [maps.bank_of(0, b) for b in range(3)] == [0, 1, 2]
+    cameras_words = 2 * lay.buffer_words                 # banks 0 and 2 hold two camera buffers each
+    assert maps.base == lay.base + cameras_words
+    assert lay.bank_words == cameras_words + maps.buffer_words
+    for b in range(3):
+        first = maps.buffer_base(0, b)
+        assert lay.buffer_of(first) == (2, b) and lay.buffer_of(first + maps.buffer_words - 1) == (2, b)
+        assert all(lay.buffer_base(c, k) + lay.buffer_words <= first or lay.buffer_base(c, k) >= first
+                   + maps.buffer_words for c in range(2) for k in range(3))
+    assert FrameStoreLayout(width=40, height=6).map_layout is None
+
+
+def test_the_pair_is_taken_only_when_the_engine_and_the_writer_are_idle():
+    """``maps="store"``: the display takes the camera pair at a display frame's start only when the last map is
+    whole, so a map spanning several display frames reads one pair; it takes the latest whole map at every display
+    frame's start. Here no row ever lands, so the first map never ends: the first frame takes the pair and starts
+    the engine, the next two do not take it (their map takes still come)."""
+    from spec.video import SMALL_TIMING
+    from hdl.stereo_display import StereoDisplay
+    dut = StereoDisplay(SMALL_TIMING, G, config=SMALL_DEPTH, memory="ddr2", maps="store")
+    seen = {"take": [], "map_take": [], "busy": []}
+
+    async def bench(ctx):
+        ctx.set(dut.timing.y, SMALL_TIMING.v_active)          # vertical blanking: the compositor reads nothing
+        for stream in (*dut.streams, dut.map_stream):
+            ctx.set(stream.fetch.rdy, 1)
+        await ctx.tick().repeat(4)
+        for _ in range(3):
+            ctx.set(dut.timing.frame_start, 1)
+            seen["take"].append(ctx.get(dut.take))
+            seen["map_take"].append(ctx.get(dut.map_take))
+            await ctx.tick()
+            ctx.set(dut.timing.frame_start, 0)
+            await ctx.tick().repeat(6)
+            answers = (dut.taken, dut.map_taken) if seen["take"][-1] else (dut.map_taken,)
+            for port in answers:
+                ctx.set(port, 1)
+            await ctx.tick()
+            for port in answers:
+                ctx.set(port, 0)
+            await ctx.tick().repeat(300)
+            seen["busy"].append(ctx.get(dut.map_writer.busy))
+
+    sim = Simulator(dut)
+    sim.add_clock(6.7e-9)
+    sim.add_testbench(bench)
+    sim.run()
+    assert seen == {"take": [1, 0, 0], "map_take": [1, 1, 1], "busy": [1, 1, 1]}

@@ -254,3 +254,64 @@ def test_ddr2_frame_sequence_amaranth():
     assert verdict["pairs_shown"][-1] == 2 and verdict["ok"], verdict
     assert all(f.verdict["depth_rows_mixed"] == 0 and f.verdict.get("depth_rows_withheld", 0) == 0
                and f.verdict["left_rows_mixed"] == 0 and f.verdict["right_rows_mixed"] == 0 for f in result.frames)
+
+
+def test_maps_in_the_store_need_the_ddr2_and_a_map_a_camera_frame():
+    """``maps="store"`` only with the DDR2 build; its check: the display frames a map takes (the engine starts at a
+    display frame's start when the last map is whole) within a camera frame. The 800 x 600 engine with D = 128 on two
+    paths takes 3 1080p frames (50 ms, under the sensors' 66.7 ms; 20 frames a second exactly: 21 refused), on three
+    paths 6 (refused); the ring's check refuses the 800 x 600 build at 1080p."""
+    from spec.depth import DEPTH_800, TWO_PATHS
+    from spec.sensor import SENSOR_800
+    from spec.video import CEA_1080P60
+    from hdl.stereo_display import check_engine_keeps_up, check_map_rate, map_clocks
+    from spec.layout import DisplayLayout
+    with pytest.raises(ValueError, match="needs memory='ddr2'"):
+        StereoDepthSystem(**DesignConfig.small(maps="store").top_kwargs())
+    with pytest.raises(ValueError, match="maps must be one of"):
+        StereoDepthSystem(**DesignConfig.small(memory="ddr2", maps="frames").top_kwargs())
+    store = StereoDepthSystem(**DesignConfig.small(memory="ddr2", maps="store").top_kwargs())
+    assert store.params.store_layout.maps == 3 and store.params.store_layout.map_bits == DesignConfig.small().depth.code_bits
+    two = replace(DEPTH_800, paths=TWO_PATHS, max_cost=120)
+    assert 2 * 2_475_000 < map_clocks(SENSOR_800, two) <= 3 * 2_475_000
+    assert check_map_rate(CEA_1080P60, SENSOR_800, two) == 3
+    assert check_map_rate(CEA_1080P60, SENSOR_800, two, camera_fps=20) == 3
+    with pytest.raises(ValueError, match="takes 3 display frames"):
+        check_map_rate(CEA_1080P60, SENSOR_800, two, camera_fps=21)
+    with pytest.raises(ValueError, match="takes 6 display frames"):
+        check_map_rate(CEA_1080P60, SENSOR_800, DEPTH_800)
+    with pytest.raises(ValueError, match="cannot keep up"):
+        check_engine_keeps_up(CEA_1080P60, DisplayLayout.full_maps(CEA_1080P60, SENSOR_800, two), SENSOR_800, two)
+
+
+@pytest.fixture(scope="module")
+def store_verilator():
+    """The small DDR2 build with the maps in the store on the Verilator C++ testbench, the default pair."""
+    setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION, memory="ddr2", maps="store")
+    pair = still_pair(*load_default_pair(setup.geometry.width, setup.geometry.height), setup)
+    return simulate(setup, pair, Verilator())
+
+
+@pytest.mark.slow
+def test_end_to_end_maps_in_the_store_verilator(store_verilator):
+    """``maps="store"`` on Verilator: the first display frame shows the map of the pair before the run's (not its
+    golden frame); the second, the map of the run's pair, equals the golden frame bit for bit, no display read
+    refused."""
+    result = store_verilator
+    assert result.status["violations"] == [] and result.status["display_missed"] == 0
+    assert result.verdict["chosen"] == 1 and result.ok, result.verdict
+    assert result.frames[0].verdict["mismatched_pixels"] > 0
+    np.testing.assert_array_equal(result.frame, result.golden)
+
+
+@pytest.mark.slow
+def test_end_to_end_maps_in_the_store_amaranth():
+    """``maps="store"`` on Amaranth's simulator (about twice the ring build's time: two display frames): the second
+    display frame equals the golden frame bit for bit, no display read refused."""
+    setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION, memory="ddr2", maps="store")
+    left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
+    result = simulate(setup, still_pair(left, right, setup), Amaranth("python"))
+    assert not result.sink.violations, result.sink.violations[:5]
+    assert result.status["display_missed"] == 0
+    assert result.verdict["chosen"] == 1 and result.ok, result.verdict
+    np.testing.assert_array_equal(result.frame, result.golden)
