@@ -315,3 +315,16 @@ def test_end_to_end_maps_in_the_store_amaranth():
     assert result.status["display_missed"] == 0
     assert result.verdict["chosen"] == 1 and result.ok, result.verdict
     np.testing.assert_array_equal(result.frame, result.golden)
+
+
+@pytest.mark.slow
+def test_end_to_end_maps_in_the_store_cocotb(simulator, tmp_path):
+    """``maps="store"`` through cocotb (the in-simulator route; about a minute on Icarus): the second display frame
+    equals the golden frame bit for bit, no display read refused."""
+    from sim.testbench.system.cocotb_routes import ROUTES
+    setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION, memory="ddr2", maps="store")
+    pair = still_pair(*load_default_pair(setup.geometry.width, setup.geometry.height), setup)
+    result = simulate(setup, pair, Cocotb(simulator, ROUTES["in_simulator"](), out_dir=tmp_path))
+    assert result.status["violations"] == [] and result.status["display_missed"] == 0
+    assert result.verdict["chosen"] == 1 and result.ok, result.verdict
+    np.testing.assert_array_equal(result.frame, result.golden)
