@@ -13,7 +13,7 @@ from golden.stereo_pair import load_default_pair
 from hdl.config import DesignConfig
 from hdl.mig_user import MIGUserSignature
 from hdl.store_windows import check_store_windows
-from hdl.system import StereoDepthSystem
+from hdl.system import StereoDepthSystem, SystemParameters
 from sim import SimulationFailed, UserError
 from sim.models.mig import INIT_CLOCKS, MESSAGES, READ_LATENCY_RANGE, MIGProtocolViolation, Violation, \
     draw_latency, violation_message
@@ -270,8 +270,8 @@ def test_maps_in_the_store_need_the_ddr2_and_a_map_a_camera_frame():
         StereoDepthSystem(**DesignConfig.small(maps="store").top_kwargs())
     with pytest.raises(ValueError, match="maps must be one of"):
         StereoDepthSystem(**DesignConfig.small(memory="ddr2", maps="frames").top_kwargs())
-    store = StereoDepthSystem(**DesignConfig.small(memory="ddr2", maps="store").top_kwargs())
-    assert store.params.store_layout.maps == 3 and store.params.store_layout.map_bits == DesignConfig.small().depth.code_bits
+    store = SystemParameters(**DesignConfig.small(memory="ddr2", maps="store").top_kwargs()).store_layout
+    assert (store.maps, store.map_bits) == (3, DesignConfig.small().depth.code_bits)
     two = replace(DEPTH_800, paths=TWO_PATHS, max_cost=120)
     assert 2 * 2_475_000 < map_clocks(SENSOR_800, two) <= 3 * 2_475_000
     assert check_map_rate(CEA_1080P60, SENSOR_800, two) == 3
