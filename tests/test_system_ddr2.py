@@ -239,6 +239,23 @@ def test_ddr2_sequence_verdict_asks_every_display_frame_from_one_pair():
     assert not Judge._whole_pairs([])["display_frames_from_one_pair"]
 
 
+def test_store_sequence_verdict_asks_one_pair_s_images_with_one_whole_map_never_going_back():
+    """With the maps in the frame store: every display frame one pair's images with one pair's whole map (the
+    panels' pair or an earlier one), the maps never going back; a frame no two pairs make, or a map going back,
+    fails."""
+    def shown(*pairs):
+        out = []
+        for i, p in enumerate(pairs):
+            out.append(_Shown(i, None))
+            out[-1].verdict["equals_pairs"] = p
+        return out
+    assert Judge._store_pairs(shown((-1, -1), (0, -1), (0, 0), (1, 0))) == {
+        "pairs_shown": [(-1, -1), (0, -1), (0, 0), (1, 0)], "display_frames_from_whole_pairs": True}
+    assert not Judge._store_pairs(shown((0, 0), None))["display_frames_from_whole_pairs"]
+    assert not Judge._store_pairs(shown((1, 1), (2, 0)))["display_frames_from_whole_pairs"]
+    assert not Judge._store_pairs([])["display_frames_from_whole_pairs"]
+
+
 @pytest.mark.slow
 def test_ddr2_frame_sequence_amaranth():
     """Three camera frames of the moving card on the small DDR2 build (Python sensor models, the MIG model, its
@@ -328,3 +345,18 @@ def test_end_to_end_maps_in_the_store_cocotb(simulator, tmp_path):
     assert result.status["violations"] == [] and result.status["display_missed"] == 0
     assert result.verdict["chosen"] == 1 and result.ok, result.verdict
     np.testing.assert_array_equal(result.frame, result.golden)
+
+
+@pytest.mark.slow
+def test_maps_in_the_store_frame_sequence_verilator(store_verilator):
+    """Three camera frames of the moving card, ``maps="store"``, on Verilator (the build the still run made): every
+    display frame shows one pair's images and difference map with one pair's whole depth map, the map one pair
+    behind or the same, never going back -- measured (p, q): (-1, -1), (0, -1), (0, 0), (1, 0), (1, 1), (2, 1),
+    (2, 2) -- the settled frame the last pair's with its map, no display read refused."""
+    setup = store_verilator.setup
+    result = simulate(setup, moving_card(setup, 3), Verilator())
+    verdict, status = result.verdict, result.status
+    assert status["violations"] == [] and status["display_missed"] == 0, status
+    assert verdict["display_frames_from_whole_pairs"] and verdict["ok"], verdict
+    assert verdict["pairs_shown"][-1] == (2, 2)
+    assert all(q in (p, p - 1) for p, q in verdict["pairs_shown"]), verdict["pairs_shown"]

@@ -26,7 +26,9 @@ by the run's policy, :meth:`Judge.enough`), the withheld rows of each frame run,
 offset found and the display frame it was first used on, and ``ok``; for a sequence the settled frame (the last) against the
 last pair's golden frame, ``image_rows_from_camera_frames`` (at most the one row being written mixed in an image
 panel), the automatic rectification's record, with the DDR2 build (``setup.memory == "ddr2"``) ``pairs_shown`` and
-``display_frames_from_one_pair`` (every display frame equal to one pair's golden frame), and ``ok``.
+``display_frames_from_one_pair`` (every display frame equal to one pair's golden frame) -- with the maps in the frame
+store (``setup.maps == "store"``) ``pairs_shown`` of (images' pair, map's pair) and ``display_frames_from_whole_pairs``
+(every display frame one pair's images with one pair's whole map, the maps never going back) -- and ``ok``.
 """
 
 import numpy as np
@@ -135,9 +137,34 @@ class Judge:
             return self.auto.row(frame, layout, g, done)
         raw = frame_sources(frame, self.goldens, layout, g, setup.depth)
         sources = source_summary(raw)
-        if sources["depth_rows_mixed"] or sources["depth_rows_withheld"]:
+        if self._store:
+            sources["equals_pairs"] = self._pairs_of(frame)
+        elif sources["depth_rows_mixed"] or sources["depth_rows_withheld"]:
             sources.update(self._tear(frame, raw, done))
         return sources
+
+    @property
+    def _store(self):
+        return getattr(self.setup, "maps", "ring") == "store"
+
+    def _pairs_of(self, frame):
+        """With the maps in the frame store: ``(p, q)``, the newest pairs such that the display frame shows pair
+        ``p``'s golden frame with pair ``q``'s depth map (its panel and its readout) and ``q <= p``; None when
+        no two pairs make it."""
+        layout = self.setup.display_layout
+        boxes = [layout.region("depth").box] + ([layout.readout.box] if layout.readout is not None else [])
+        keys = sorted(self.goldens)
+        for p in reversed(keys):
+            outside = self.goldens[p].copy()
+            for box in boxes:
+                outside[box.y0:box.y1, box.x0:box.x1] = frame[box.y0:box.y1, box.x0:box.x1]
+            if not np.array_equal(frame, outside):
+                continue
+            for q in reversed([k for k in keys if k <= p]):
+                if all(np.array_equal(frame[b.y0:b.y1, b.x0:b.x1], self.goldens[q][b.y0:b.y1, b.x0:b.x1])
+                       for b in boxes):
+                    return p, q
+        return None
 
     def _tear(self, frame, raw, done):
         """The depth rows of a display frame computed across a tear, against the golden torn map (``sim/analysis/
@@ -190,10 +217,25 @@ class Judge:
             out["auto_rectification_run"] = self._auto_record(frames)
             out["settled_equals_last_pair"] = settled_ok and out["auto_rectification_run"]["settled_shows_expected"]
         out["ok"] = out["settled_equals_last_pair"] and image_rows_ok and clean
-        if self.setup.memory == "ddr2":
+        if self._store:
+            out.update(self._store_pairs(frames))
+            out["ok"] = out["ok"] and out["display_frames_from_whole_pairs"]
+        elif self.setup.memory == "ddr2":
             out.update(self._whole_pairs(frames))
             out["ok"] = out["ok"] and out["display_frames_from_one_pair"]
         return out
+
+    @staticmethod
+    def _store_pairs(frames):
+        """The promise with the maps in the frame store: every display frame shows one pair's images and difference
+        map (``p``) and one pair's whole depth map (``q``: the latest whole map, of the pair before or the same),
+        the maps' pairs never going back. ``pairs_shown``: ``(p, q)`` of each display frame."""
+        shown = [f.verdict.get("equals_pairs") for f in frames]
+        whole = bool(frames) and None not in shown
+        if whole:
+            maps = [q for _, q in shown]
+            whole = all(a <= b for a, b in zip(maps, maps[1:]))
+        return {"pairs_shown": shown, "display_frames_from_whole_pairs": whole}
 
     @staticmethod
     def _whole_pairs(frames):
