@@ -13,7 +13,7 @@ whole at the end:
   rectification's lock; True in manual mode), ``map_shown`` (False only with the maps in the frame store,
   ``setup.maps == "store"``, for a display frame before the first whole map: its depth panel shows every row not
   ready; such a frame is never chosen, and no tear is looked for in it; a still run with those maps shows its
-  second display frame at the earliest: the first shows the map of a frame before the run);
+  second display frame at the earliest, with either policy: the first shows the map of a frame before the run);
 * a sequence: the per-row frame sources of ``sim/analysis/frame_sources.py`` against the golden frames of the
   buffers before any capture and of every pair (in automatic rectification both states of each pair,
   :class:`sim.analysis.auto_rectification.AutoGoldens`); a frame whose depth rows are mixed or withheld is
@@ -192,10 +192,12 @@ class Judge:
 
     def enough(self, shown):
         """Whether a still pair's run may end with the judged display frame ``shown`` (the run's policy)."""
+        # With the maps in the frame store a display frame shows the map computed in an earlier one: the first
+        # frame's may be of the pair before the run's; the second's is of a pair the run captured.
+        if self._store and not (shown.index >= 1 and shown.verdict["map_shown"]):
+            return False
         if self.policy == "first":
-            # With the maps in the frame store a display frame shows the map computed in an earlier one: the first
-            # frame's may be of the pair before the run's; the second's is of a pair the run captured.
-            return getattr(self.setup, "maps", "ring") != "store" or (shown.index >= 1 and shown.verdict["map_shown"])
+            return True
         return shown.verdict["whole"] and shown.verdict["locked"]
 
     # --- the run -------------------------------------------------------------------------------------------
