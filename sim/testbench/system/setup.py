@@ -9,7 +9,8 @@ design is made from) plus the simulation's own settings. The design's fields are
 design's names (``geometry``, ``timing``, ``layout``, ``thresholds``, ``level_grey``, ``depth``,
 ``auto_rectification``, ``sys_hz``, ``i2c_hz``, ``i2c_retry_delay_us``, ``pclk_hz``, ``memory``: where the frames
 are, ``"bram"``, the design's block-RAM buffers, or ``"ddr2"``, the system's DDR2 build, simulated with the MIG model,
-``sim/testbench/system/testbench.py``), so a setup is made,
+``sim/testbench/system/testbench.py``; ``maps``: where the depth maps are, ``"ring"`` or, with ``"ddr2"``,
+``"store"``), so a setup is made,
 replaced and written as JSON field by field; the design's MT9D112 table is :attr:`SystemSetup.cam_table`. The
 simulation's own: the switch settings (``disparity``, ``rectification``, ``segment``), the table's speed-ups
 (``time_scale``, ``quick_table``: ``sim/testbench/system/tables.py``), the cameras' phase and PCLK error
