@@ -91,7 +91,7 @@ class MapWindow(wiring.Component):
         landed = Signal(range(h + 1))               # rows of this map landed
         next_slot = Signal(range(n))                # the stream's slot for the next row asked
         first = Signal(range(n))                    # the slot of this map's row 0
-        outstanding = Signal(range(n + 1))          # rows asked (any map) and not landed
+        outstanding = Signal(range(2 * n + 1))      # rows asked (any map) and not landed: the last map's and this one's
         skip = Signal(range(n + 1))                 # landings still due for rows asked before ``taken``
 
         ask = Signal()
