@@ -17,7 +17,7 @@ with the probe of the engine's goals, the mirrored pair against Middlebury's own
 First section (bench/depth_builds.py): the thesis build against the 800 x 600 build (8-bit 2 x 2 averaged buffers,
 128 disparities, 3 paths; golden model only), with OpenCV's StereoSGBM in its full 8-path mode on the same buffers,
 errors in 400-pixel units, the goals checked; when they are not met, the 800 x 600 build's lever table
-(bench_depth_levers.levers_800: a fourth path, the confidence threshold). Then the thesis build in detail.
+(bench_depth_levers.levers_800: a third and a fourth path, the confidence threshold). Then the thesis build in detail.
 
 Writes build/bench/depth.md and build/bench/depth_motorcycle.png (right image, ground truth, the four maps;
 one colour scale with a legend; invalid / unknown in grey). Run: ``python -m bench depth``.
@@ -223,7 +223,11 @@ def builds_section():
     """The builds table, the goals, and the lever table when the goals are not met."""
     from bench.bench_depth_levers import levers_800
     from bench.depth_builds import BUILDS, builds_table, goal_lines, pairs
-    pairs_of_build = {build: pairs(build) for build in BUILDS}
+    by_geometry = {}                # builds on the same buffers share their pairs
+    for build in BUILDS:
+        if build.geometry not in by_geometry:
+            by_geometry[build.geometry] = pairs(build)
+    pairs_of_build = {build: by_geometry[build.geometry] for build in BUILDS}
     lines, results = builds_table(pairs_of_build)
     goals, met = goal_lines(results)
     lines += goals

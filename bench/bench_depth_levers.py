@@ -14,7 +14,7 @@ Levers:
   (min(a, c) - b, free with the sub-pixel stage's inputs), a left-right check (a second, left-referenced map);
   bad > 2 among the valid pixels against density at a few thresholds;
 * penalties P1 / P2;
-* for the 800 x 600 build (``DEPTH_800``, :func:`levers_800`): a fourth path and the confidence threshold.
+* for the 800 x 600 build (``DEPTH_800``, :func:`levers_800`): a third and a fourth path, the confidence threshold.
 
 Figures: bad > 0.5 / 1 / 2 px over every pixel with a truth (invalid counts bad), mean absolute error of the
 valid pixels, density. Run: ``python -m bench depth_levers``; writes build/bench/depth_levers.md.
@@ -209,21 +209,21 @@ if __name__ == "__main__":
 def levers_800(build_pairs=None):
     """Lines of a table: the 800 x 600 build (``DEPTH_800``) and one lever changed at a time, each through the golden
     model's own stages (golden.depth: paths, winner with its fit and confidence, median), on every pair of bench
-    depth, errors in 400-pixel units, invalid counted bad. Levers: a fourth path (either diagonal from above, the
-    paths a row-by-row engine can add; ``max_cost`` kept at 60 per path) and the confidence threshold
-    (``uniqueness`` k < 64)."""
+    depth, errors in 400-pixel units, invalid counted bad. Levers: the third path (right to left), a fourth beside
+    it (either diagonal from above, the paths a row-by-row engine can add; ``max_cost`` kept at 60 per path) and
+    the confidence threshold (``uniqueness`` k < 64)."""
     import dataclasses
     from bench.depth_builds import BUILDS, pairs as build_pairs_of
     from golden.depth import winner
-    from spec.depth import DEPTH_800, PATH_STEPS, THREE_PATHS
+    from spec.depth import DEPTH_800, DEPTH_800_THREE, PATH_STEPS, THREE_PATHS
     build = BUILDS[1]
     per_path = DEPTH_800.max_cost // len(DEPTH_800.paths)
-    variants = [("built: 3 paths, k = 64 (off)", DEPTH_800)]
+    variants = [("built: 2 paths, k = 64 (off)", DEPTH_800), ("+ third path right to left", DEPTH_800_THREE)]
     for extra in ("top_left_to_bottom_right", "top_right_to_bottom_left"):
         paths4 = THREE_PATHS + (extra,)
-        variants.append((f"+ fourth path {extra.replace('_', ' ')}",
+        variants.append((f"+ third path + fourth path {extra.replace('_', ' ')}",
                          dataclasses.replace(DEPTH_800, paths=paths4, max_cost=per_path * len(paths4))))
-    variants += [(f"3 paths, uniqueness k = {k}", dataclasses.replace(DEPTH_800, uniqueness=k)) for k in (62, 60, 56)]
+    variants += [(f"2 paths, uniqueness k = {k}", dataclasses.replace(DEPTH_800, uniqueness=k)) for k in (62, 60, 56)]
     results = {name: [] for name, _ in variants}
     pair_names = []
     for pair_name, left, right, truth in build_pairs or build_pairs_of(build):

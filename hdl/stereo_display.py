@@ -139,8 +139,9 @@ class StereoDisplay(wiring.Component):
 
     With ``memory="ddr2"`` the frames are in the frame store (docs/frame_store.md): the two arbiters give way to
     :class:`hdl.store_windows.StoreWindows` (a read stream and a window per consumer and camera), ``take`` pulses
-    at every ``timing.frame_start``, and the engine starts its map once both :data:`ENGINE_START_DELAY` clocks
-    have passed and the frame store has answered the take (``taken``), so the map reads the display frame's pair.
+    at every ``timing.frame_start``, and the engine starts its map in the clock after both :data:`ENGINE_START_DELAY`
+    clocks have passed and the frame store has answered the take (``taken``), so the map reads the display frame's
+    pair.
     A held pair is whole: the engine's row tags read 0, never busy.
 
     Parameters
@@ -311,11 +312,14 @@ class StereoDisplay(wiring.Component):
             wiring.connect(m, windows.streams[i], wiring.flipped(self.streams[i]))
         wiring.connect(m, wiring.flipped(self.timing), windows.timing)
         delay_done, taken = Signal(name="engine_delay_done"), Signal(name="engine_pair_taken")
-        start = Signal(name="engine_start")
-        m.d.comb += start.eq((delay_done | delayed_start) & (taken | self.taken))
+        # Both have come: the engine starts in the next clock (a register, so that the frame store's ``taken`` does
+        # not reach through the engine's start into its rings and reads in one clock).
+        ready, start = Signal(name="engine_ready"), Signal(name="engine_start")
+        m.d.comb += ready.eq((delay_done | delayed_start) & (taken | self.taken))
+        m.d.sync += start.eq(ready)
         with m.If(self.timing.frame_start):
             m.d.sync += [delay_done.eq(0), taken.eq(0)]
-        with m.Elif(start):
+        with m.Elif(ready):
             m.d.sync += [delay_done.eq(0), taken.eq(0)]
         with m.Else():
             with m.If(delayed_start):

@@ -5,12 +5,13 @@ the frame store (:class:`hdl.frame_store.frame_store.FrameStore`), each through 
 Stream 0 is the compositor's left port, 1 its right port (both urgent in the frame store), 2 the engine's left
 port, 3 its right port. Each window is restarted where its consumer begins a new in-order row sequence:
 
-* the compositor's two windows after ``taken`` (the display frame's pair is held), first row 0: the left and
-  right panels;
+* the compositor's two windows after ``taken`` (the display frame's pair is held), first row 0, step the panel's
+  ``shrink`` (a half-size panel reads rows 0, 2, 4, ...: its window asks for those only): the left and right
+  panels;
 * the compositor's two windows again at the start of the first line after the panels (the clock after ``x = 0``:
   the line's start and the rectification registered), before the difference map's (or the segmentation view's)
   first line: left first row ``min(max(r, 0), H - 1)`` (``r`` the rectification: the subtractor reads the left
-  image ``r`` rows lower), right first row 0;
+  image ``r`` rows lower), right first row 0, both step 1;
 * the engine's two windows at ``engine_start`` (the engine's ``start``): left first row ``engine_left_row``, right
   first row 0.
 
@@ -42,14 +43,14 @@ STREAMS = ((0, True), (1, True), (0, False), (1, False))
 
 def check_store_windows(layout):
     """The first line after the panels: ``ValueError`` unless it comes before the difference map's first line
-    (the compositor's windows restart on it) and every region shows every buffer row (a window moves on by one row a
-    read: a panel at 1 / ``shrink`` size, which skips rows, would outrun it)."""
-    for r in layout.regions:
-        if r.shrink != 1:
-            raise ValueError(f"region {r.source} at 1/{r.shrink} size skips buffer rows; the frame store's windows "
-                             "move on one row at a time")
+    (the compositor's windows restart on it) and the difference map shows every buffer row (its windows restart
+    with a step of 1; a panel at 1 / ``shrink`` size reads every ``shrink``-th row: its window's step)."""
+    maps_region = layout.region("disparity")
+    if maps_region.shrink != 1:
+        raise ValueError(f"the difference map at 1/{maps_region.shrink} size skips buffer rows; the frame store's "
+                         "windows serve it every row (only the camera panels may be shrunk)")
     panels_end = max(layout.region("left").y1, layout.region("right").y1)
-    maps = layout.region("disparity").y0
+    maps = maps_region.y0
     if panels_end >= maps:
         raise ValueError(f"the difference map (line {maps}) must start below the panels (last line "
                          f"{panels_end - 1}) for the frame store's windows to restart between them")
@@ -119,18 +120,21 @@ class StoreWindows(wiring.Component):
         maps = Signal(name="maps_restart")
         m.d.sync += [shifted.eq(Mux(r < 0, 0, Mux(r >= h, h - 1, r))),
                      maps.eq((self.timing.y == self.panels_end) & (self.timing.x == 0))]
-        restarts = (
-            (self.display_left, self.taken | maps, Mux(self.taken, 0, shifted)),
-            (self.display_right, self.taken | maps, 0),
-            (self.engine_left, self.engine_start, self.engine_left_row),
-            (self.engine_right, self.engine_start, 0),
+        shrink = [self.layout.region(side).shrink for side in ("left", "right")]
+        restarts = (   # consumer, restart, first row, (the step after taken, the step after the maps' restart)
+            (self.display_left, self.taken | maps, Mux(self.taken, 0, shifted), (shrink[0], 1)),
+            (self.display_right, self.taken | maps, 0, (shrink[1], 1)),
+            (self.engine_left, self.engine_start, self.engine_left_row, (1, 1)),
+            (self.engine_right, self.engine_start, 0, (1, 1)),
         )
         windows = []
-        for i, (consumer, restart, first_row) in enumerate(restarts):
-            m.submodules[f"window_{i}"] = window = RowWindow(self.geometry, self.slots)
+        for i, (consumer, restart, first_row, steps) in enumerate(restarts):
+            m.submodules[f"window_{i}"] = window = RowWindow(self.geometry, self.slots, max_step=max(steps))
             wiring.connect(m, wiring.flipped(consumer), window.consumer)
             wiring.connect(m, window.stream, wiring.flipped(self.streams[i]))
             m.d.comb += [window.restart.eq(restart), window.first_row.eq(first_row)]
+            if max(steps) > 1:
+                m.d.comb += window.row_step.eq(Mux(self.taken, *steps))
             windows.append(window)
         left, right = windows[:2]
         no_data = left.below & (self.display_left.port.addr == 0)

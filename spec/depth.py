@@ -4,7 +4,7 @@ from dataclasses import dataclass
 
 from spec.sensor import SENSOR, SENSOR_800
 
-__all__ = ["PATH_STEPS", "TWO_PATHS", "THREE_PATHS", "DepthConfig", "DEPTH", "DEPTH_800", "SMALL_DEPTH"]
+__all__ = ["PATH_STEPS", "TWO_PATHS", "THREE_PATHS", "DepthConfig", "DEPTH", "DEPTH_800", "DEPTH_800_THREE", "SMALL_DEPTH"]
 
 #: The aggregation paths (docs/depth.md, "Paths"): for each, the step (dx, dy) from a pixel p to the previous
 #: pixel p' on the path. Every path runs along rows or down the image, so a row-by-row engine can compute it.
@@ -92,9 +92,13 @@ class DepthConfig:
 
 #: The board's engine: D = 64, 7 x 7 census, P1 = 16, P2 = 96, 16 disparities per clock.
 DEPTH = DepthConfig()
-#: The 800 x 600 build (golden model only): 8-bit averaged buffers (SENSOR_800), D = 128 (the same 0.43 m near
-#: limit at twice the resolution), three paths, max_cost the board's 60 per path; everything else as DEPTH.
-DEPTH_800 = DepthConfig(disparities=128, pixel_bits=SENSOR_800.grey_bits, paths=THREE_PATHS,
-                        max_cost=DepthConfig.max_cost * len(THREE_PATHS) // len(TWO_PATHS))
+#: The 800 x 600 build: 8-bit averaged buffers (SENSOR_800), D = 128 (the same 0.43 m near limit at twice the
+#: resolution), two paths; everything else as DEPTH. A third path at D = 128 fits no scheme within the board's
+#: block RAM and frame time (docs/depth.md, "The third path in the RTL": the lever table and the choice).
+DEPTH_800 = DepthConfig(disparities=128, pixel_bits=SENSOR_800.grey_bits)
+#: DEPTH_800 with the third path (right to left), max_cost the board's 60 per path: what a third path would buy
+#: (golden model and bench figures; the RTL builds it at small sizes, ``DepthEngine`` with ``THREE_PATHS``).
+DEPTH_800_THREE = DepthConfig(disparities=128, pixel_bits=SENSOR_800.grey_bits, paths=THREE_PATHS,
+                              max_cost=DepthConfig.max_cost * len(THREE_PATHS) // len(TWO_PATHS))
 #: A reduced engine for fast tests of the same RTL on SMALL_SENSOR's 16 x 12 buffers.
 SMALL_DEPTH = DepthConfig(disparities=8, lanes=4, uniqueness=60)

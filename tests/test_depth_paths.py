@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from golden.depth import depth_map, path_cost, path_step, second_best, winner
-from spec.depth import DEPTH, DEPTH_800, PATH_STEPS, THREE_PATHS, TWO_PATHS, DepthConfig
+from spec.depth import DEPTH, DEPTH_800, DEPTH_800_THREE, PATH_STEPS, THREE_PATHS, TWO_PATHS, DepthConfig
 
 CFG = DepthConfig(disparities=8, lanes=4)
 
@@ -68,10 +68,10 @@ def test_the_sum_of_the_configured_paths():
 def test_sum_widths_and_the_none_value():
     """sum_max = P (N + P2) fits sum_bits; with 3 paths (432) still 9 bits, S2 = 511 where no far disparity
     exists; 4 paths: 576 -> 10 bits, S2 = 1023. S* = sum_max with k = 64 and no S2 is valid (never ambiguous)."""
-    assert (DEPTH_800.sum_max, DEPTH_800.sum_bits) == (432, 9)
-    four = dataclasses.replace(DEPTH_800, paths=THREE_PATHS + ("top_left_to_bottom_right",))
+    assert (DEPTH_800_THREE.sum_max, DEPTH_800_THREE.sum_bits) == (432, 9)
+    four = dataclasses.replace(DEPTH_800_THREE, paths=THREE_PATHS + ("top_left_to_bottom_right",))
     assert (four.sum_max, four.sum_bits) == (576, 10)
-    for config in (DEPTH_800, four):
+    for config in (DEPTH_800_THREE, four):
         d3 = dataclasses.replace(config, disparities=3, lanes=1, max_cost=config.sum_max)
         total = np.array([config.sum_max + 1, config.sum_max, config.sum_max + 1])[:, None, None]
         assert int(second_best(total, np.array([[1]]), d3)[0, 0]) == 2 ** config.sum_bits - 1
@@ -79,9 +79,9 @@ def test_sum_widths_and_the_none_value():
 
 
 def test_max_cost_boundary_with_three_paths():
-    """DEPTH_800's max_cost 180 (60 per path): S* = 180 valid, 181 invalid."""
-    assert DEPTH_800.max_cost == 180
-    config = dataclasses.replace(DEPTH_800, disparities=8, lanes=4)
+    """DEPTH_800_THREE's max_cost 180 (60 per path): S* = 180 valid, 181 invalid."""
+    assert DEPTH_800_THREE.max_cost == 180
+    config = dataclasses.replace(DEPTH_800_THREE, disparities=8, lanes=4)
     total = np.full((8, 1, 2), 400)
     total[3, 0, :] = [180, 181]
     total[2, 0, :] = total[4, 0, :] = 300

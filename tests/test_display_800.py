@@ -2,7 +2,8 @@
 :meth:`spec.layout.DisplayLayout.full_maps` (camera images at half size, maps 1:1) against the numbers the spec
 fixes and the layout checks (:func:`hdl.compositor.check_layout`), the golden frame at that layout
 (:func:`golden.disparity.composite_frame`) on small synthetic 8-bit buffers, panel by panel against the golden
-pieces, and the compositor RTL drawing it at a small size (block-RAM buffers; the frame store's windows refuse it).
+pieces, and the compositor RTL drawing it at a small size (block-RAM buffers; the frame store's build takes the
+layout too: tests/test_system_ddr2.py runs half-size panels from it).
 """
 
 import dataclasses
@@ -245,13 +246,12 @@ def test_full_maps_compositor_cocotb(simulator, tmp_path):
                        tmp_path, layout, segment=True, config=SMALL_8BIT_DEPTH)
 
 
-def test_full_maps_not_from_the_frame_store():
-    """The frame store's windows move on one row a read: a half-size panel, which skips rows, is refused there
-    (the block-RAM build takes it)."""
+def test_full_maps_from_the_frame_store():
+    """The frame store's windows read a half-size panel's rows with its step (every second row): both builds take
+    the layout."""
     layout = DisplayLayout.full_maps(WIDE_TIMING, SMALL_800, SMALL_8BIT_DEPTH)
     assert check_display(WIDE_TIMING, SMALL_800, layout, config=SMALL_8BIT_DEPTH) == layout
-    with pytest.raises(ValueError, match="one row at a time"):
-        check_display(WIDE_TIMING, SMALL_800, layout, config=SMALL_8BIT_DEPTH, memory="ddr2")
+    assert check_display(WIDE_TIMING, SMALL_800, layout, config=SMALL_8BIT_DEPTH, memory="ddr2") == layout
 
 
 def test_readout_and_band_tables_800():

@@ -1,3 +1,4 @@
+# amaranth: UnusedElaboratable=no
 """A frame buffer's read port served from a frame-store stream (RowWindow on a RowReader, behind the arbiter and the
 MIG model of sim/models/mig, its checker stopping the run on any violation): the bytes a consumer reads are the image's -- what the block-RAM
 frame buffer would give at the same addresses -- for the display's pattern (each row on several lines, never
@@ -22,26 +23,40 @@ SLOTS = 3
 GRANT_TIMEOUT = 2000
 
 
-def simulate(consumer_bench, *, seed=0, geometry=G):
+def simulate(consumer_bench, *, seed=0, geometry=G, max_step=1):
+    """Run ``consumer_bench(ctx, window)`` on a window over the image (random, ``seed``) in camera 0's held buffer.
+    Returns the image, the dict the bench returns, and ``"asked"``: the rows the window asked the stream for, in
+    order, until the bench returned, but in the clocks of ``restart`` (the window before it asks in them: the
+    window starts in the next clock)."""
     g = geometry
     layout = FrameStoreLayout(width=g.buf_width, height=g.buf_height, cameras=1, buffers=3)
     image = np.random.default_rng(seed).integers(0, 1 << g.grey_bits, (g.buf_height, g.buf_width), dtype=np.uint8)
     contents = {}
     fill(contents, layout, 0, 2, image)
     bench = ReaderOnModel(layout, 0, contents, hold=(True, 2), latency=19, slots=SLOTS, depth=16)
-    bench.m.submodules.window = window = DomainRenamer("pix")(RowWindow(g, slots=SLOTS))
+    bench.m.submodules.window = window = DomainRenamer("pix")(RowWindow(g, slots=SLOTS, max_step=max_step))
     wiring.connect(bench.m, window.stream, bench.reader.stream)
-    result = {}
+    result, asked = {}, []
 
     async def consumer(ctx):
         result.update(await consumer_bench(ctx, window))
+        result["asked"] = asked
 
-    bench.run(consumer)
+    async def watch(ctx):
+        fetch = window.stream.fetch
+        while "asked" not in result:
+            if ctx.get(fetch.en) and not ctx.get(window.restart):
+                asked.append(ctx.get(fetch.row))
+            await ctx.tick("pix")
+
+    bench.run(consumer, watch)
     return image, result
 
 
-async def restart(ctx, window, first_row):
+async def restart(ctx, window, first_row, step=None):
     ctx.set(window.first_row, first_row)
+    if step is not None:
+        ctx.set(window.row_step, step)
     ctx.set(window.restart, 1)
     await ctx.tick("pix")
     ctx.set(window.restart, 0)
@@ -142,3 +157,71 @@ def test_restart_in_the_middle_starts_a_new_window():
 
     image, result = simulate(bench, seed=7)
     assert (np.array(result["rows"]) == image[[r for _, rows in plan for r in rows]]).all()
+
+
+def test_every_second_row_asks_for_those_rows_only():
+    """Step 2 from row 0: the window asks the stream for rows 0, 2, ..., H - 2 only (half a frame's rows) and the
+    consumer reads them, each granted and the image's."""
+    h, w = G.buf_height, G.buf_width
+    rows = list(range(0, h, 2))
+
+    async def bench(ctx, window):
+        await restart(ctx, window, 0, step=2)
+        return {"rows": await read_rows_granted(ctx, window.consumer, rows, w)}
+
+    image, result = simulate(bench, seed=11, max_step=2)
+    assert result["asked"] == rows
+    assert (np.array(result["rows"]) == image[rows]).all()
+
+
+def test_steps_of_2_and_1_after_each_other():
+    """Restarts with step 2, 1, 2 (rows of the window before still arriving at each): rows 0, 2, 4, 6, then 3..H-1,
+    then 1, 3, 5, 7: every byte the image's, and the stream asked for no row the steps skip."""
+    h, w = G.buf_height, G.buf_width
+    plan = [(0, 2, [0, 2, 4, 6]), (3, 1, list(range(3, h))), (1, 2, [1, 3, 5, 7])]
+
+    async def bench(ctx, window):
+        out = []
+        for first, step, rows in plan:
+            await restart(ctx, window, first, step)
+            out += await read_rows_granted(ctx, window.consumer, rows, w)
+        return {"rows": out}
+
+    image, result = simulate(bench, seed=5, max_step=2)
+    assert (np.array(result["rows"]) == image[[r for _, _, rows in plan for r in rows]]).all()
+    assert 1 not in result["asked"][:result["asked"].index(3)]   # the first window (step 2) skips row 1
+
+
+def test_a_read_of_a_skipped_row_is_refused():
+    """Step 2 from row 0, rows 0, 2 and 4 landed (the window's three slots): a read of row 1 or row 3 -- inside the
+    window's addresses, between two landed rows -- is never granted (not below the window either); then rows 0 and 4
+    are granted and the image's."""
+    w = G.buf_width
+
+    async def bench(ctx, window):
+        await restart(ctx, window, 0, step=2)
+        await ctx.tick("pix").repeat(GRANT_TIMEOUT)                 # every slot landed
+        port, refused, below = window.consumer, [], []
+        for row, x in ((1, 5), (3, 0), (1, w - 1), (3, w - 1)):
+            ctx.set(port.port.addr, row * w + x)
+            ctx.set(port.request, 1)
+            granted = 0
+            for _ in range(50):
+                granted |= ctx.get(port.grant)
+                below.append(ctx.get(window.below))
+                await ctx.tick("pix")
+            refused.append(not granted)
+        ctx.set(port.request, 0)
+        out = await read_rows_granted(ctx, port, [0, 4], w)
+        return {"refused": refused, "below": any(below), "rows": out}
+
+    image, result = simulate(bench, seed=9, max_step=2)
+    assert result["refused"] == [True] * 4 and not result["below"]
+    assert (np.array(result["rows"]) == image[[0, 4]]).all()
+
+
+def test_a_step_needs_a_step_port_and_max_step_is_checked():
+    assert "row_step" not in RowWindow(G, slots=SLOTS).signature.members
+    assert "row_step" in RowWindow(G, slots=SLOTS, max_step=2).signature.members
+    with pytest.raises(ValueError, match="positive integer"):
+        RowWindow(G, slots=SLOTS, max_step=0)

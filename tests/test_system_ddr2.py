@@ -23,6 +23,7 @@ from sim.system.verdict import Judge
 from sim.testbed.sequence import moving_card
 from sim.testbench.system.run_verilator import VerilatorRun
 from sim.testbench.system.setup import SystemSetup
+from spec.layout import DisplayLayout
 
 DISPARITY, RECTIFICATION = 2, 1
 
@@ -33,6 +34,24 @@ def test_ddr2_build_has_the_mig_port_and_the_default_has_none():
     assert "mig" not in StereoDepthSystem(**DesignConfig.small().top_kwargs()).signature.members
     with pytest.raises(ValueError, match="memory must be one of"):
         StereoDepthSystem(**DesignConfig.small(memory="sram").top_kwargs())
+
+
+def half_size_panels(setup):
+    """The small screen with the camera panels at half size (``shrink`` 2: their windows read every second row) and
+    the maps at 2x where :meth:`DisplayLayout.centred` puts them (the 1:1 maps of ``full_maps`` need lines longer
+    than the small mode's for the engine to keep up)."""
+    centred = DisplayLayout.centred(setup.timing, setup.geometry, setup.depth)
+    return replace(centred, regions=tuple(replace(r, shrink=2) if r.source in ("left", "right") else r
+                                          for r in centred.regions))
+
+
+def test_windows_take_half_size_panels_but_not_a_half_size_difference_map():
+    layout = half_size_panels(SystemSetup.small())
+    assert check_store_windows(layout) == layout.region("left").y1
+    shrunk_map = replace(layout, regions=tuple(replace(r, shrink=2) if r.source == "disparity" else r
+                                               for r in layout.regions))
+    with pytest.raises(ValueError, match="difference map at 1/2 size skips buffer rows"):
+        check_store_windows(shrunk_map)
 
 
 def test_windows_need_a_line_between_the_panels_and_the_maps():
@@ -129,6 +148,22 @@ def test_end_to_end_ddr2_verilator(ddr2_verilator):
     assert result.frame is not None and result.ok, result.verdict
     assert result.verdict["withheld_rows"] == [0] and result.mismatched_pixels == 0
     np.testing.assert_array_equal(result.frame, result.golden)
+
+
+@pytest.mark.slow
+def test_half_size_panels_ddr2_verilator():
+    """The small DDR2 build with the camera panels at half size (:func:`half_size_panels`: the panels' windows ask
+    for every second row) on Verilator (a build of under a minute): the display frame equals the golden frame at
+    that layout, no display read refused."""
+    base = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION, memory="ddr2")
+    setup = replace(base, layout=half_size_panels(base))
+    left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
+    result = simulate(setup, still_pair(left, right, setup), Verilator())
+    assert result.status["violations"] == [] and result.status["display_missed"] == 0
+    assert result.frame is not None and result.ok, result.verdict
+    assert result.verdict["withheld_rows"] == [0] and result.mismatched_pixels == 0
+    np.testing.assert_array_equal(result.frame, result.golden)
+    assert (result.golden != base.golden_frame(left, right)).any()      # the half-size panels are on the screen
 
 
 @pytest.mark.slow

@@ -1,21 +1,31 @@
 """RowWindow: a frame buffer's read port (``SharedReadSignature``: a linear address ``y * width + x``, the grey value
-a clock later, ``request``/``grant``) served from a read stream of the frame store, for a consumer that reads its
-rows in order from a first row it names at its start (docs/frame_store.md, "Readers").
+a clock later, ``request``/``grant``) served from a read stream of the frame store, for a consumer that reads every
+``step``-th row in order from a first row it names at its start (docs/frame_store.md, "Readers").
 
-At ``restart`` the window starts at ``first_row``: it asks the stream for rows ``first_row``, ``first_row + 1``, ...
-while they are fewer than ``slots`` rows ahead of the window's first row (and inside the image). A read is
-granted when its address falls in the window (the first row's address ``first * width`` up to ``slots`` rows on)
-and its row has landed; the address is then the row's slot and column in the stream's ring. A granted read of a
+At ``restart`` the window starts at ``first_row`` with ``row_step`` (the step: 1 reads every row, 2 every second
+row, as a half-size panel does): it asks the stream for rows ``first_row``, ``first_row + step``, ... -- only
+those -- while they are fewer than ``slots`` of them ahead of the window's first row (and inside the image). A read
+is granted when its address falls in one of the window's rows (the first row's address ``first * width``, then
+every ``step * width`` on, ``width`` addresses each, up to ``slots`` rows) and that row has landed; the address is
+then the row's slot and column in the stream's ring. A read of a row the step skips is refused. A granted read of a
 row after the window's first moves the window on by a row, so the slot of the row left behind is asked for the
-next row: the consumer reads a row any number of times (a panel shows a buffer row on ``scale`` lines; a clamped
-row offset repeats the first and the last row), then the next, and never goes back before its next ``restart``.
+next: the consumer reads a row any number of times (a panel shows a buffer row on ``scale`` lines; a clamped row
+offset repeats the first and the last row), then the next, and never goes back before its next ``restart``.
 
-A read outside the window, or of a row not yet landed, is not granted (``missed`` pulses): the depth engine waits
-for its grant; the display, always granted from the block-RAM buffer, must have asked early enough that it never
-misses (the window holds the row shown and the next ones: docs/frame_store.md, "Arbitration").
+A read outside the window, of a skipped row, or of a row not yet landed, is not granted (``missed`` pulses): the
+depth engine waits for its grant; the display, always granted from the block-RAM buffer, must have asked early
+enough that it never misses (the window holds the row shown and the next ones: docs/frame_store.md,
+"Arbitration").
+
+The restart, its first row and step are registered as they come in (they change once a frame or a map): the window
+starts in the clock after ``restart`` (*restarting*: nothing granted, nothing asked), sets its rows' starts from the
+first's in the clock after that (*settling*: nothing landed yet, so nothing granted), and asks for rows from then on.
+So nothing but a register lies between the consumer's start and the window's counters; likewise the slot a move
+leaves is counted free (may be asked for again) a clock after the move, so no address comparison lies before that
+count's adder.
 """
 
-from amaranth import Module, Mux, Signal, signed
+from amaranth import Const, Module, Mux, Signal, signed
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
@@ -37,13 +47,18 @@ class RowWindow(wiring.Component):
         ``buf_width`` x ``buf_height``, ``grey_bits`` (the stream's byte's low bits).
     slots : int
         The stream's ring slots: rows in the window.
+    max_step : int
+        The largest ``row_step``; 1: the window reads every row and has no ``row_step`` port (nor the skipped
+        rows' comparisons).
 
     Attributes
     ----------
     consumer : ``In(SharedReadSignature(geometry))``
     restart : ``In(1)``
-        The consumer's start (a frame, a map); ``first_row`` is sampled with it.
+        The consumer's start (a frame, a map); ``first_row`` and ``row_step`` are sampled with it.
     first_row : ``In(range(buf_height))``
+    row_step : ``In(range(1, max_step + 1))``
+        Only with ``max_step`` above 1: the step, 1 to ``max_step`` (0 is not a step).
     stream : ``Out(RowStreamSignature(buf_height, buf_width, slots))``
     missed : ``Out(1)``
         A request not granted in this clock.
@@ -52,26 +67,31 @@ class RowWindow(wiring.Component):
 
     Clock domain: ``sync`` (the parent renames it to the read domain). Latency: ``grant`` combinational from the
     request (the address compared with the window's start and the landed rows' end: two carry chains side by side,
-    then a LUT); ``port.data`` one clock after a granted address; rows asked for from the clock after ``restart``,
-    nothing granted in it.
+    then a LUT; with ``max_step`` above 1 also with each row's end, side by side, and a second LUT); ``port.data``
+    one clock after a granted address; rows asked for from the second clock after ``restart``, nothing granted in
+    the first.
 
     Raises
     ------
     ValueError
-        ``slots`` below 2, ``grey_bits`` above 8.
+        ``slots`` below 2, ``grey_bits`` above 8, ``max_step`` below 1.
     """
 
-    def __init__(self, geometry=SENSOR, slots=4):
+    def __init__(self, geometry=SENSOR, slots=4, max_step=1):
         if slots < 2:
             raise ValueError(f"a window needs at least 2 slots, got {slots}")
         if geometry.grey_bits > 8:
             raise ValueError(f"the stream's bytes hold at most 8 bits of grey, got {geometry.grey_bits}")
-        self.geometry, self.slots = geometry, slots
+        if not isinstance(max_step, int) or max_step < 1:
+            raise ValueError(f"the largest row step must be a positive integer, got {max_step!r}")
+        self.geometry, self.slots, self.max_step = geometry, slots, max_step
         h, w = geometry.buf_height, geometry.buf_width
+        step = {"row_step": In(range(1, max_step + 1), init=1)} if max_step > 1 else {}
         super().__init__({
             "consumer": In(SharedReadSignature(geometry)),
             "restart": In(1),
             "first_row": In(range(h)),
+            **step,
             "stream": Out(RowStreamSignature(h, w, slots)),
             "missed": Out(1),
             "below": Out(1),
@@ -79,39 +99,65 @@ class RowWindow(wiring.Component):
 
     def elaborate(self, platform):
         m = Module()
-        g, n = self.geometry, self.slots
+        g, n, s = self.geometry, self.slots, self.max_step
         h, w = g.buf_height, g.buf_width
         count_bits = (4 * n).bit_length() + 1          # request and landing counts, compared modulo 2**count_bits
         asked, landed = Signal(count_bits), Signal(count_bits)
         counted = Signal(count_bits)                    # the request number of the window's next row to land
         first_slot = Signal(range(n))                   # the slot of the window's first row
-        # bounds[k] = (first + k) * width: where the window's k-th row starts, set in the clock after a restart
-        # (``settling``: nothing is granted in it) and moved a row at a time.
-        bounds = [Signal(g.addr_bits + 1, name=f"bound_{k}") for k in range(n)]
-        settling = Signal()
-        # limit = (first + rows of the window landed) * width: the landed rows' addresses end there.
-        limit = Signal(g.addr_bits + 1)
-        next_row = Signal(range(h + n + 1))             # the row asked for next
+
+        # The restart, the first row and the step, registered: the window starts in ``restarting`` and sets its
+        # rows' starts in ``settling``.
+        restarting, settling = Signal(), Signal()
+        first = Signal(range(h))
+        m.d.sync += [restarting.eq(self.restart), settling.eq(restarting)]
+        with m.If(self.restart):
+            m.d.sync += first.eq(self.first_row)
+        # offsets[k] = k * step * width: the window's k-th row's start from its first's (registered from the step).
+        if s > 1:
+            step = Signal(range(1, s + 1), init=1)
+            with m.If(self.restart):
+                m.d.sync += step.eq(self.row_step)
+            offsets = [Const(0)] + [Signal(range((n - 1) * s * w + 1), name=f"offset_{k}") for k in range(1, n)]
+            m.d.sync += [offsets[k].eq(times(step, k * w)) for k in range(1, n)]
+        else:
+            step = Const(1)
+            offsets = [Const(k * w) for k in range(n)]
+        stride = offsets[1]
+
+        # bounds[k] = (first + k * step) * width: where the window's k-th row starts, bounds[0] set in
+        # ``restarting``, the others in ``settling`` (nothing is granted in either), all moved a row at a time.
+        span = (h + n * s) * w                          # above every row start the window reaches
+        bounds = [Signal(range(span + 1), name=f"bound_{k}") for k in range(n)]
+        # limit = the end of the window's last landed row (its first row's start while none has landed); it moves
+        # by ``limit_step``: ``width`` at the first landing, a row's ``stride`` at the others.
+        limit = Signal(range(span + 1))
+        limit_step = Signal(range(s * w + 1)) if s > 1 else Const(w)
+        next_row = Signal(range(h + 2 * s))             # the row asked for next
+        after = Signal(range(h + 2 * s))                # the one after it (next_row + step)
         next_slot = Signal(range(n))                    # the slot it lands in (request number mod n)
-        # Registers, so that no comparison lies between them and the stream's request FIFO: ``free`` = the window's
-        # first row + slots - next_row (rows that may still be asked for), ``more`` = next_row < height.
+        # Registers, so that no comparison lies between them and the stream's request FIFO: ``free`` = rows that may
+        # still be asked for (slots less the rows asked beyond the window's first, the window's last move counted a
+        # clock late), ``more`` = next_row < height.
         free = Signal(range(n + 1), init=n)
         more = Signal(init=1)
 
         fetch = self.stream.fetch
-        ask = ~self.restart & fetch.rdy & more & (free != 0)
+        ask = ~restarting & fetch.rdy & more & (free != 0)
         m.d.comb += [fetch.row.eq(next_row), fetch.en.eq(ask)]
         m.d.sync += [asked.eq(asked + ask), landed.eq(landed + self.stream.landed)]
         with m.If(ask):
-            m.d.sync += [next_row.eq(next_row + 1), next_slot.eq(Mux(next_slot == n - 1, 0, next_slot + 1)),
-                         more.eq(next_row != h - 1)]
+            m.d.sync += [next_row.eq(after), after.eq(after + step), more.eq(after < h),
+                         next_slot.eq(Mux(next_slot == n - 1, 0, next_slot + 1))]
 
         # The read: the address against every row's start at once (at or after bounds[k]: ge[k]), its row in the
         # window (j: the last k with ge[k]), its column (the difference to that row's start); granted inside the
-        # window's landed rows (from bounds[0] up to limit).
+        # window's landed rows (from bounds[0] up to limit) and, with a step above 1, not in a skipped row.
         consumer = self.consumer
-        diffs = [Signal(signed(g.addr_bits + 2), name=f"offset_{k}") for k in range(n)]
-        m.d.comb += [d.eq(consumer.port.addr - b) for d, b in zip(diffs, bounds)]
+        addr = consumer.port.addr
+        diff_bits = max(len(addr), len(bounds[0])) + 1
+        diffs = [Signal(signed(diff_bits), name=f"column_{k}") for k in range(n)]
+        m.d.comb += [d.eq(addr - b) for d, b in zip(diffs, bounds)]
         ge = [~d[-1] for d in diffs]
         j = Signal(range(n))
         for k in range(1, n):
@@ -123,8 +169,21 @@ class RowWindow(wiring.Component):
                 with m.Case(k):
                     m.d.comb += x.eq(diffs[k])
         below_limit = Signal()
-        m.d.comb += below_limit.eq(consumer.port.addr < limit)
-        grant = consumer.request & ge[0] & below_limit & ~settling
+        m.d.comb += below_limit.eq(addr < limit)
+        in_rows = ge[0] & below_limit
+        if s > 1:
+            # ends[k] = bounds[k] + width (k < n - 1): an address at or past it and before bounds[k + 1] lies in
+            # the rows the step skips (past the last row the limit ends the window).
+            ends = [Signal(range(span + w + 1), name=f"end_{k}") for k in range(n - 1)]
+            to_end = [Const(w)] + [Signal(range((n - 2) * s * w + w + 1), name=f"to_end_{k}") for k in range(1, n - 1)]
+            m.d.sync += [to_end[k].eq(times(step, k * w) + w) for k in range(1, n - 1)]
+            skipped = Signal()
+            m.d.comb += skipped.eq(0)
+            for k in range(n - 1):
+                with m.If(~(addr < ends[k]) & ~ge[k + 1]):
+                    m.d.comb += skipped.eq(1)
+            in_rows = in_rows & ~skipped
+        grant = consumer.request & in_rows & ~restarting
         slot = Signal(range(n))
         m.d.comb += [
             slot.eq(Mux(first_slot + j >= n, first_slot + j - n, first_slot + j)),
@@ -140,20 +199,32 @@ class RowWindow(wiring.Component):
         # so the difference stays between -slots and 0 however many rows the window reads.
         pending = Signal(count_bits)
         m.d.comb += pending.eq(landed - counted)
-        m.d.sync += settling.eq(0)
-        with m.If(self.restart):
-            start = times(self.first_row, w)
-            m.d.sync += [next_row.eq(self.first_row), bounds[0].eq(start), free.eq(n), more.eq(1),
-                         limit.eq(start), settling.eq(1), counted.eq(asked), first_slot.eq(next_slot)]
+        advance, advanced = Signal(), Signal()
+        m.d.comb += advance.eq(grant & ge[1])
+        m.d.sync += advanced.eq(advance)
+        with m.If(restarting):
+            start = times(first, w)
+            m.d.sync += [next_row.eq(first), after.eq(first + step), bounds[0].eq(start), free.eq(n), more.eq(1),
+                         limit.eq(start), counted.eq(asked), first_slot.eq(next_slot)]
+            if s > 1:
+                m.d.sync += limit_step.eq(w)
         with m.Else():
-            advance = ~settling & grant & ge[1]         # the window moves on by a row
-            m.d.sync += free.eq(free + advance - ask)
+            # The window moves on by a row (``advance``); the slot it leaves is counted free a clock later
+            # (``advanced``), so no comparison of the address lies before the count's adder.
+            m.d.sync += free.eq(free + advanced - ask)
             with m.If(self.stream.landed & ~pending[-1]):
-                m.d.sync += [limit.eq(limit + w), counted.eq(counted + 1)]
+                m.d.sync += [limit.eq(limit + limit_step), counted.eq(counted + 1)]
+                if s > 1:
+                    m.d.sync += limit_step.eq(stride)
             with m.If(settling):
-                m.d.sync += [bounds[k].eq(bounds[0] + k * w) for k in range(1, n)]
-            with m.Elif(grant & ge[1]):
+                m.d.sync += [bounds[k].eq(bounds[0] + offsets[k]) for k in range(1, n)]
+                if s > 1:
+                    m.d.sync += [ends[k].eq(bounds[0] + to_end[k]) for k in range(n - 1)]
+            with m.Elif(advance):
                 m.d.sync += first_slot.eq(Mux(first_slot == n - 1, 0, first_slot + 1))
                 m.d.sync += [bounds[k].eq(bounds[k + 1]) for k in range(n - 1)]
-                m.d.sync += bounds[n - 1].eq(bounds[n - 1] + w)
+                m.d.sync += bounds[n - 1].eq(bounds[n - 1] + stride)
+                if s > 1:
+                    m.d.sync += [ends[k].eq(ends[k + 1]) for k in range(n - 2)]
+                    m.d.sync += ends[n - 2].eq(bounds[n - 1] + w)
         return m
