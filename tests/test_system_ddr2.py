@@ -312,8 +312,9 @@ def test_maps_in_the_store_need_the_ddr2_and_a_map_a_camera_frame():
     """``maps="store"`` only with the DDR2 build; its check: the display frames a map takes (the engine starts at a
     display frame's start when the last map is whole) within a camera frame. The 800 x 600 engine with D = 128 on two
     paths takes 3 1080p frames (50 ms, under the sensors' 66.7 ms; 20 frames a second exactly: 21 refused), on three
-    paths 6 (refused); the ring's check refuses the 800 x 600 build at 1080p."""
-    from spec.depth import DEPTH_800, TWO_PATHS
+    paths 6 (refused); the ring's check refuses the 800 x 600 build at 1080p, and the 800 x 600 system passes its
+    checks with the maps in the store."""
+    from spec.depth import DEPTH_800, DEPTH_800_THREE
     from spec.sensor import SENSOR_800
     from spec.video import CEA_1080P60
     from hdl.stereo_display import check_engine_keeps_up, check_map_rate, map_clocks
@@ -324,16 +325,23 @@ def test_maps_in_the_store_need_the_ddr2_and_a_map_a_camera_frame():
         StereoDepthSystem(**DesignConfig.small(memory="ddr2", maps="frames").top_kwargs())
     store = SystemParameters(**DesignConfig.small(memory="ddr2", maps="store").top_kwargs()).store_layout
     assert (store.maps, store.map_bits) == (3, DesignConfig.small().depth.code_bits)
-    two = replace(DEPTH_800, paths=TWO_PATHS, max_cost=120)
+    two = DEPTH_800
     assert 2 * 2_475_000 < map_clocks(SENSOR_800, two) <= 3 * 2_475_000
     assert check_map_rate(CEA_1080P60, SENSOR_800, two) == 3
     assert check_map_rate(CEA_1080P60, SENSOR_800, two, camera_fps=20) == 3
     with pytest.raises(ValueError, match="takes 3 display frames"):
         check_map_rate(CEA_1080P60, SENSOR_800, two, camera_fps=21)
     with pytest.raises(ValueError, match="takes 6 display frames"):
-        check_map_rate(CEA_1080P60, SENSOR_800, DEPTH_800)
+        check_map_rate(CEA_1080P60, SENSOR_800, DEPTH_800_THREE)
     with pytest.raises(ValueError, match="cannot keep up"):
         check_engine_keeps_up(CEA_1080P60, DisplayLayout.full_maps(CEA_1080P60, SENSOR_800, two), SENSOR_800, two)
+    # The 800 x 600 system (its layout, the 8-bit thresholds): its checks pass with the maps in the store only.
+    from spec.display import diff_thresholds
+    system = dict(geometry=SENSOR_800, timing=CEA_1080P60, layout=DisplayLayout.full_maps(CEA_1080P60, SENSOR_800, two),
+                  depth=two, thresholds=diff_thresholds(8), memory="ddr2")
+    assert SystemParameters(**system, maps="store").store_layout.map_layout.pixel_bytes == 2
+    with pytest.raises(ValueError, match="cannot keep up"):
+        SystemParameters(**system, maps="ring")
 
 
 @pytest.fixture(scope="module")
