@@ -1,8 +1,9 @@
 """MapWriter: the depth engine's maps into the frame store, whole (docs/frame_store.md, "Depth maps in the store").
 
 The writer is the reader of the engine's ring of result rows (:class:`hdl.depth.ports.ResultReadSignature`): at the
-engine's ``start`` it begins a map; it reads each row as ``rows_ready`` passes it, a code every ``pace`` clocks, and
-releases the row (``rows_released``) once its last code is read. It gives the codes to the frame store as a camera's
+engine's ``start`` it begins a map; it reads each row as ``rows_ready`` passes it, a code every ``pace`` clocks while
+the store has room for its bursts (``room``: it waits, so no burst is lost), and releases the row
+(``rows_released``) once its last code is read. It gives the codes to the frame store as a camera's
 capture gives its pixels (``feed``: :class:`hdl.frame_store.frame_store.CameraFeedSignature` of
 :func:`map_geometry`): ``frame_start`` at the map's start, ``row_start``, the row's ``width`` writes and ``row_end``
 for each row, then ``frame_done`` with ``frame_ok`` once the map's last row is written. The store's map writer path
@@ -41,8 +42,7 @@ class MapWriter(wiring.Component):
     out_rows : int
         Rows of the engine's result ring.
     pace : int
-        Clocks a code (1: a code every clock), so the store's FIFO of bursts never fills while the display's reads
-        come first.
+        Clocks a code at the most (1: a code every clock).
 
     Attributes
     ----------
@@ -52,6 +52,8 @@ class MapWriter(wiring.Component):
         To the engine's ring.
     feed : ``Out(CameraFeedSignature(map_geometry(geometry, config)))``
         To the frame store's map input.
+    room : ``In(1)``
+        The store's map FIFO has room (``FrameStore.map_room``): a code is read only while it is high.
     busy : ``Out(1)``
         From ``start`` until the map's ``frame_done`` is given (or, after an abandoned map, the next one's).
 
@@ -74,6 +76,7 @@ class MapWriter(wiring.Component):
             "start": In(1),
             "result": Out(ResultReadSignature((out_rows * w - 1).bit_length(), config.code_bits, h)),
             "feed": Out(CameraFeedSignature(map_geometry(geometry, config))),
+            "room": In(1),
             "busy": Out(1),
         })
 
@@ -109,8 +112,9 @@ class MapWriter(wiring.Component):
             with m.State("READ"):
                 m.d.comb += self.busy.eq(1)
                 if self.pace > 1:
-                    m.d.sync += wait.eq(Mux(wait == self.pace - 1, 0, wait + 1))
-                with m.If(wait == 0):
+                    with m.If((wait != 0) | self.room):
+                        m.d.sync += wait.eq(Mux(wait == self.pace - 1, 0, wait + 1))
+                with m.If((wait == 0) & self.room):
                     m.d.sync += [issued.eq(1), written.eq(address), address.eq(address + 1)]
                     with m.If(x == w - 1):
                         m.next = "ROW_END"

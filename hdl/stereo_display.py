@@ -41,8 +41,9 @@ MEMORIES = ("bram", "ddr2")
 #: writes it (a map a display frame); ``"store"`` (with ``"ddr2"`` only) whole maps in the frame store, the latest
 #: whole one shown (docs/frame_store.md, "Depth maps in the store").
 MAPS = ("ring", "store")
-#: With ``maps="store"``: the map writer's clocks a code (:class:`hdl.map_writer.MapWriter`'s ``pace``).
-MAP_PACE = 2
+#: With ``maps="store"``: the map writer's clocks a code at the most (:class:`hdl.map_writer.MapWriter`'s ``pace``;
+#: it also waits while the store's map FIFO has no room).
+MAP_PACE = 1
 #: Clocks from the display frame's start to the engine's start with the frame store, at most: the start delay, the
 #: take's two pulse synchronisers and the ownership's answer (a few clocks of each domain; 32 is ample).
 TAKE_CLOCKS = 32
@@ -186,8 +187,8 @@ class StereoDisplay(wiring.Component):
     map_feed : ``Out(CameraFeedSignature(map_geometry(geometry, config)))``
         With ``maps="store"``: to the frame store's map input.
     map_stream : ``Out(RowStreamSignature(buf_height, buf_width, out_rows, 8 * bytes a code))``
-    map_take : ``Out(1)``; map_taken, map_valid : ``In(1)``
-        With ``maps="store"``: the frame store's map stream and hold.
+    map_take : ``Out(1)``; map_taken, map_valid, map_room : ``In(1)``
+        With ``maps="store"``: the frame store's map stream and hold, and its room for the map writer's codes.
     video : ``Out(VideoSignature)``
 
     Clock domain: ``sync`` (the parent renames it to ``pix``). Latency: :data:`LATENCY` clocks.
@@ -230,6 +231,7 @@ class StereoDisplay(wiring.Component):
                 "map_take": Out(1),
                 "map_taken": In(1),
                 "map_valid": In(1),
+                "map_room": In(1),
             })
         super().__init__({
             "timing": In(TimingSignature),
@@ -286,6 +288,7 @@ class StereoDisplay(wiring.Component):
             self.geometry, self.config, out_rows=self.out_rows, pace=MAP_PACE))
         wiring.connect(m, writer.result, engine.result)
         wiring.connect(m, writer.feed, wiring.flipped(self.map_feed))
+        m.d.comb += writer.room.eq(self.map_room)
         # In the display's reset as the store windows are: it asks for rows combinationally.
         m.submodules.map_window = window = MapWindow(self.geometry, self.config.code_bits, slots=self.out_rows,
                                                      pixel_bits=len(self.map_stream.read.data))

@@ -423,7 +423,7 @@ class StereoDepthSystem(wiring.Component):
             wiring.connect(m, display.map_feed, store.map_feed)
             wiring.connect(m, display.map_stream, store.map_stream)
             m.d.comb += [store.map_take.eq(display.map_take), display.map_taken.eq(store.map_taken),
-                         display.map_valid.eq(store.map_valid)]
+                         display.map_valid.eq(store.map_valid), display.map_room.eq(store.map_room)]
         wiring.connect(m, wiring.flipped(self.mig), store.mig)
         missed = self.display_missed
         with m.If(display.display_missed & ~missed.all()):

@@ -83,6 +83,9 @@ class FrameStore(wiring.Component):
     map_take, map_taken, map_valid : ``In(1)``, ``Out(1)``, ``Out(1)``, ``read_domain``
         With ``layout.maps``: hold the latest whole map; the hold has changed; a map is held (it changes only at a
         take, and reaches the read domain before ``map_taken``).
+    map_room : ``Out(1)``, ``read_domain``
+        With ``layout.maps``: the map writer's FIFO has room (:class:`CameraWriter`'s ``room``): write codes only
+        while it is high.
 
     Latency: the parts'; ``taken`` a few clocks of both domains after ``take``.
 
@@ -117,6 +120,7 @@ class FrameStore(wiring.Component):
                 "map_take": In(1),
                 "map_taken": Out(1),
                 "map_valid": Out(1),
+                "map_room": Out(1),
             }
         super().__init__({
             "cameras": In(CameraFeedSignature(geometry)).array(layout.cameras),
@@ -169,8 +173,9 @@ class FrameStore(wiring.Component):
         own = BufferOwnership(cameras=1, readers=1, buffers=lay.buffers)
         m.submodules.map_ownership = DomainRenamer(mem)(own)
         writer = CameraWriter(lay, 0, self.map_geometry, cam_domain=self.read_domain, mem_domain=mem,
-                              fifo_depth=self.map_fifo_depth)
+                              fifo_depth=self.map_fifo_depth, room=True)
         m.submodules.map_writer = writer
+        m.d.comb += self.map_room.eq(writer.room)
         wiring.connect(m, wiring.flipped(self.map_feed.write), writer.write)
         wiring.connect(m, wiring.flipped(self.map_feed.status), writer.status)
         wiring.connect(m, writer.own, own.writers[0])

@@ -25,11 +25,12 @@ __all__ = ["MapStoreBench"]
 
 class MapStoreBench:
     """``m``: the module (see the module docstring) for ``pairs`` (a list of (left, right) arrays of the buffers'
-    size); ``layout``: the store's; signals ``start``, ``pair``, ``grant_mask`` (pix, in), ``writer_busy`` (out);
+    size), the map writer a code every ``pace`` clocks at most, the store's map FIFO ``fifo_depth`` entries, the model
+    ready after ``init_clocks`` (nothing is written before: the writer waits); ``layout``: the store's; signals ``start``, ``pair``, ``grant_mask`` (pix, in), ``writer_busy`` (out);
     ``window`` the map window (its ``take`` driven by the test, ``taken`` and ``valid`` from the store);
     ``model`` the MIG model."""
 
-    def __init__(self, geometry, config, pairs, *, out_rows=4, pace=1, banks=4):
+    def __init__(self, geometry, config, pairs, *, out_rows=4, pace=1, banks=4, fifo_depth=8, init_clocks=20):
         w, h = geometry.buf_width, geometry.buf_height
         self.layout = FrameStoreLayout(width=w, height=h, cameras=1, buffers=3, base=64, banks=banks, maps=3,
                                        map_bits=config.code_bits)
@@ -54,15 +55,16 @@ class MapStoreBench:
         wiring.connect(m, writer.result, engine.result)
         m.d.comb += [engine.start.eq(self.start), writer.start.eq(self.start)]
         self.store = store = FrameStore(self.layout, geometry, streams=((0, True),), cam_domains=("pix",),
-                                        map_slots=out_rows)
+                                        map_slots=out_rows, map_fifo_depth=fifo_depth)
         m.submodules.store = store
         wiring.connect(m, writer.feed, store.map_feed)
+        m.d.comb += writer.room.eq(store.map_room)
         self.window = window = MapWindow(geometry, config.code_bits, slots=out_rows,
                                          pixel_bits=8 * self.layout.map_layout.pixel_bytes)
         m.submodules.window = pix(window)
         wiring.connect(m, window.stream, store.map_stream)
         m.d.comb += [store.map_take.eq(window.take), window.taken.eq(store.map_taken),
                      window.valid.eq(store.map_valid)]
-        self.model = MIGModel(af_depth=32, wdf_depth=32, **layout_window(self.layout), init_clocks=20)
+        self.model = MIGModel(af_depth=32, wdf_depth=32, **layout_window(self.layout), init_clocks=init_clocks)
         m.submodules.mig = DomainRenamer("mem")(self.model)
         wiring.connect(m, store.mig, self.model.user)
