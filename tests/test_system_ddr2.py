@@ -320,9 +320,9 @@ def test_maps_in_the_store_need_the_ddr2_and_a_map_a_camera_frame():
     from hdl.stereo_display import check_engine_keeps_up, check_map_rate, map_clocks
     from spec.layout import DisplayLayout
     with pytest.raises(ValueError, match="needs memory='ddr2'"):
-        StereoDepthSystem(**DesignConfig.small(maps="store").top_kwargs())
+        SystemParameters(**DesignConfig.small(maps="store").top_kwargs())
     with pytest.raises(ValueError, match="maps must be one of"):
-        StereoDepthSystem(**DesignConfig.small(memory="ddr2", maps="frames").top_kwargs())
+        SystemParameters(**DesignConfig.small(memory="ddr2", maps="frames").top_kwargs())
     store = SystemParameters(**DesignConfig.small(memory="ddr2", maps="store").top_kwargs()).store_layout
     assert (store.maps, store.map_bits) == (3, DesignConfig.small().depth.code_bits)
     two = DEPTH_800
