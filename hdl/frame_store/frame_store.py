@@ -98,7 +98,7 @@ class FrameStore(wiring.Component):
 
     def __init__(self, layout=FrameStoreLayout(), geometry=SENSOR, *, streams=((0, True), (1, True)), slots=4,
                  cam_domains=("cam_a", "cam_b"), read_domain="pix", mem_domain="mem", fifo_depth=8, read_depth=32,
-                 map_slots=4, map_fifo_depth=16):
+                 map_slots=4, map_fifo_depth=8):
         streams = tuple((int(c), bool(u)) for c, u in streams)
         if not streams or any(not 0 <= c < layout.cameras for c, _ in streams):
             raise ValueError(f"streams must read cameras 0..{layout.cameras - 1}, got {streams}")
