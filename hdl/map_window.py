@@ -10,7 +10,8 @@ RowReader`, ``slots`` row slots):
 * at ``take`` (the display frame's start, when the store takes the latest whole map) ``rows_ready`` drops to 0 and
   the window stops asking for rows; at ``taken`` (the map is held) it asks for the map's rows from row 0 while they
   are fewer than ``slots`` ahead of ``rows_released`` (row r goes to slot ``(first + r) mod slots``, ``first`` the
-  stream's slot for the first row asked after ``taken``);
+  stream's slot for the first row asked after ``taken``), at most every other clock, decided from registers (the
+  released count a clock late: it only grows within a frame);
 * ``rows_ready`` counts the rows landed since ``taken`` -- rows asked before it (the last map's, still arriving)
   are not counted -- and is 0 while no map is held (``valid`` low: before the first whole map the depth panel and
   the segmentation view show every row as not ready);
@@ -56,7 +57,7 @@ class MapWindow(wiring.Component):
         A map is held (before the first whole map: none).
 
     Clock domain: ``sync`` (the parent renames it to ``pix``). Latency: the code one clock after ``addr`` (the
-    stream's); ``rows_ready`` a clock after a row's ``landed``.
+    stream's); ``rows_ready`` a clock after a row's ``landed``; the first row asked for two clocks after ``taken``.
 
     Raises
     ------
@@ -94,9 +95,15 @@ class MapWindow(wiring.Component):
         outstanding = Signal(range(2 * n + 1))      # rows asked (any map) and not landed: the last map's and this one's
         skip = Signal(range(n + 1))                 # landings still due for rows asked before ``taken``
 
-        ask = Signal()
+        # Whether a row may be asked for, from registers (``rows_released`` + slots a register too: the released
+        # count only grows within a frame, so a late one is a safe one); a clock after an ask it is not yet
+        # up to date, so no ask then.
+        ask, may, asked_last = Signal(), Signal(), Signal()
+        limit = Signal(range(h + n + 1))
+        m.d.sync += [limit.eq(result.rows_released + n), may.eq(active & (asked < h) & (asked < limit)),
+                     asked_last.eq(ask)]
         m.d.comb += [
-            ask.eq(active & ~self.take & (asked < h) & (asked < result.rows_released + n) & fetch.rdy),
+            ask.eq(may & ~asked_last & active & ~self.take & fetch.rdy),
             fetch.row.eq(asked), fetch.en.eq(ask),
             result.rows_ready.eq(Mux(active & self.valid, landed, 0)),
         ]
