@@ -133,7 +133,7 @@ def test_maps_through_the_store_whole_and_the_latest_shown():
     ready only after the first map is computed (the writer waits for room in the store's 8-entry FIFO: a burst lost
     would leave the map unpublished): the frames show nothing before the first, then always the latest whole map."""
     images = pairs((1, 2))
-    events, shown = run(SMALL_DEPTH, images, [0, 1], frame_clocks=700, grant_mask=0x01, pace=24, init_clocks=5000)
+    events, shown = run(SMALL_DEPTH, images, [0, 1], frame_clocks=700, grant_mask=0x01, pace=24, init_clocks=3200)
     seen = check(SMALL_DEPTH, images, events, shown)
     assert seen[0] is None and seen[-1] == 1 and 0 in seen
     assert seen.count(0) >= 2, f"a map should span several display frames: {seen}"
