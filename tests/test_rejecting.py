@@ -105,6 +105,7 @@ REJECTED = {
     "CameraWriter": lambda: CameraWriter(fifo_depth=6),
     "CameraWriter, room": lambda: CameraWriter(fifo_depth=4, room=True),
     "MemoryArbiter": lambda: MemoryArbiter(readers=1, urgent=2),
+    "MemoryArbiter, last writers": lambda: MemoryArbiter(writers=1, last_writers=2),
     "RowFetcher": lambda: RowFetcher(depth=1),
     "RowReader": lambda: RowReader(depth=24),
     "FrameStore": lambda: FrameStore(streams=((2, True),)),

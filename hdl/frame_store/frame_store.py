@@ -140,8 +140,10 @@ class FrameStore(wiring.Component):
         order = sorted(range(len(self.stream_list)), key=lambda i: not self.stream_list[i][1])
         urgent = sum(u for _, u in self.stream_list)
         maps = bool(lay.maps)
-        # The map stream (the compositor's) is urgent: after the cameras' urgent streams, before the writers.
-        arbiter = MemoryArbiter(writers=lay.cameras + maps, readers=len(order) + maps, urgent=urgent + maps)
+        # The map stream (the compositor's) is urgent: after the cameras' urgent streams, before the writers; the map
+        # writer comes last (it waits for room, and the engine for it).
+        arbiter = MemoryArbiter(writers=lay.cameras + maps, readers=len(order) + maps, urgent=urgent + maps,
+                                last_writers=int(maps))
         m.submodules.arbiter = DomainRenamer(mem)(arbiter)
         wiring.connect(m, wiring.flipped(self.mig), arbiter.mig)
         for c, domain in enumerate(self.cam_domains):
