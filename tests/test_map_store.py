@@ -13,6 +13,7 @@ from amaranth.sim import Simulator
 
 from golden.depth import depth_map
 from sim.models.mig import watch_violations
+from hdl.map_window import MapWindow
 from sim.testbench.map_store import MapStoreBench
 from spec.depth import SMALL_DEPTH
 from spec.memory import MIG
@@ -208,3 +209,36 @@ def test_the_pair_is_taken_only_when_the_engine_and_the_writer_are_idle():
     sim.add_testbench(bench)
     sim.run()
     assert seen == {"take": [1, 0, 0], "map_take": [1, 1, 1], "busy": [1, 1, 1]}
+
+
+def test_the_map_window_maps_a_ring_address_to_its_slot_and_column():
+    """``MapWindow``: ring address ``k W + x`` reads column ``x`` of slot ``first + k`` (mod the slots), ``first`` the
+    stream's slot of the map's row 0 -- with rows 12 codes wide (not a power of two: a column taken from the
+    address's low bits would be wrong) and maps of 2 rows, so the second map's row 0 is in slot 2."""
+    from spec.sensor import SensorGeometry
+    g = SensorGeometry(width=48, height=8, scale=4)
+    w, h = g.buf_width, g.buf_height
+    dut = MapWindow(g, 8, slots=4)
+    seen = []
+
+    async def bench(ctx):
+        ctx.set(dut.stream.fetch.rdy, 1)
+        for first in (0, h):
+            ctx.set(dut.take, 1)
+            await ctx.tick()
+            ctx.set(dut.take, 0)
+            ctx.set(dut.taken, 1)
+            await ctx.tick()
+            ctx.set(dut.taken, 0)
+            for addr in range(4 * w):
+                ctx.set(dut.result.addr, addr)
+                seen.append((first, addr, ctx.get(dut.stream.read.slot), ctx.get(dut.stream.read.x)))
+            await ctx.tick().repeat(12)                     # the map's rows asked for
+
+    sim = Simulator(dut)
+    sim.add_clock(6.7e-9)
+    sim.add_testbench(bench)
+    sim.run()
+    assert len(seen) == 2 * 4 * w
+    for first, addr, slot, x in seen:
+        assert (slot, x) == ((first + addr // w) % 4, addr % w), (first, addr, slot, x)
