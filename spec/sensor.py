@@ -4,7 +4,7 @@
 from dataclasses import dataclass
 
 __all__ = ["SensorGeometry", "DOWNSCALES", "SENSOR", "SENSOR_800", "SMALL_SENSOR", "VMODCAM_RIG",
-           "disparity_of_distance", "ROW_TAG_BITS"]
+           "disparity_of_distance", "ROW_TAG_BITS", "SENSOR_FPS"]
 
 #: How a ``scale`` x ``scale`` sensor block becomes one buffer pixel (docs/capture.md, "Downscale and grey"):
 #: ``"keep"`` the pixel at (scale i, scale j), the thesis's capture (5-bit grey); ``"average"`` the mean of the
@@ -52,6 +52,10 @@ class SensorGeometry:
 #: Width of a buffer row's frame tag: the capture's frame count mod 2**ROW_TAG_BITS of the camera frame that
 #: last started writing the row (docs/capture.md, "Consistency at the tear").
 ROW_TAG_BITS = 4
+
+#: The sensors' frame rate at 1600 x 1200 (VmodCAM: two MT9D112, 1600 x 1200 at 15 frames a second): the rate at
+#: which a new camera-frame pair comes, so the depth maps' rate to keep up with.
+SENSOR_FPS = 15
 
 #: The VmodCAM's MT9D112 at full resolution -> 400 x 300 x 5-bit buffers (2 x 120,000 words).
 SENSOR = SensorGeometry()

@@ -30,7 +30,8 @@ Amaranth's own simulator: at full size along its replay route (the sensor stream
 simulated design), with ``--small`` with the sensor models driven from Python per PCLK. ``--frames N``:
 ``stereodepth/run_frames.py``. ``--memory ddr2`` runs the DDR2 build (the frames in the frame store behind MIG, its
 simulation model in place of the DDR2: docs/frame_store.md) instead of the block-RAM buffers, on Verilator,
-Icarus, or Amaranth's simulator with ``--small``.
+Icarus, or Amaranth's simulator with ``--small``; with it, ``--maps store`` keeps the depth maps whole in the frame
+store and shows the latest whole one (docs/frame_store.md, "Depth maps in the store").
 """
 
 import json
@@ -93,6 +94,10 @@ def add_arguments(parser):
     parser.add_argument("--vcd", action="store_true",
                         help="write system.vcd + system.gtkw (Amaranth simulator, --small only)")
     add_memory_argument(parser)
+    parser.add_argument("--maps", choices=("ring", "store"), default="ring",
+                        help="where the depth maps are: ring (the engine's ring of result rows, a map a display "
+                             "frame; default) or store (with --memory ddr2: whole maps in the frame store, the "
+                             "latest whole one shown)")
 
 
 def add_memory_argument(parser, default="bram"):
@@ -112,10 +117,15 @@ def switch_value(name, text, low=0, high=127):
     return value
 
 
-def make_setup(small, disparity, rectification, segment=False, memory="bram"):
+def make_setup(small, disparity, rectification, segment=False, memory="bram", maps="ring"):
+    from hdl.stereo_display import check_maps
     from sim.testbench.system.setup import SystemSetup
+    try:
+        check_maps(memory, maps)
+    except ValueError as exc:
+        raise UserError(f"--maps {maps}: {exc}") from None
     return (SystemSetup.small if small else SystemSetup.full)(disparity=disparity, rectification=rectification,
-                                                              segment=segment, memory=memory)
+                                                              segment=segment, memory=memory, maps=maps)
 
 
 def switch_settings(args):
@@ -231,7 +241,8 @@ def summarise(setup, simulator, frame, golden, status, wall, verdict=None):
     lines = [f"whole system, {g.width}x{g.height} sensors -> {g.buf_width}x{g.buf_height} buffers -> "
              f"{t.h_active}x{t.v_active} display, disparity {setup.disparity}, rectification "
              f"{setup.rectification}{', segmentation on' if setup.segment else ''}"
-             f"{', frames in the DDR2 (MIG model)' if setup.memory == 'ddr2' else ''}, on {simulator}: "
+             f"{', frames in the DDR2 (MIG model)' if setup.memory == 'ddr2' else ''}"
+             f"{', depth maps in the frame store' if setup.maps == 'store' else ''}, on {simulator}: "
              f"{wall:.1f} s wall time"
              + (f" (the simulation {status['wall_s']:.1f} s)" if status.get("wall_s") else "")]
     if setup.segment:
@@ -270,7 +281,7 @@ def run(args):
     from stereodepth.provenance import utc_now
     started = utc_now()
     disparity, rectification, segment = switch_settings(args)
-    setup = make_setup(args.small, disparity, rectification, segment, args.memory)
+    setup = make_setup(args.small, disparity, rectification, segment, args.memory, args.maps)
     if args.frames is not None or args.scene is not None:
         if args.vcd:
             raise UserError("--vcd is for one frame: drop --frames / --scene")

@@ -3,7 +3,8 @@ netlist walked with a Virtex-5 -1 delay model (``board/timing.py`` says what is 
 ``board/virtex5_delays.py`` holds the constants). Prints per clock domain the worst register-to-register paths
 and the largest fanout nets, writes ``report.txt`` and ``timing.json`` and exits 1 on negative slack in any
 domain. ``--memory ddr2`` times the DDR2 build: its ``mem`` domain (MIG's ``clk0``, 125 MHz) too, the MIG core a black
-box whose user interface is timed as its RTL drives it (``board.timing.MIG_CORE_OUTPUTS``)."""
+box whose user interface is timed as its RTL drives it (``board.timing.MIG_CORE_OUTPUTS``); ``--maps store`` with it
+times the build with the depth maps in the frame store (docs/frame_store.md)."""
 
 import json
 import math
@@ -20,6 +21,9 @@ def add_arguments(parser):
     parser.add_argument("--memory", choices=("bram", "ddr2"), default="bram",
                         help="where the camera frames are: bram (block RAM, the default) or ddr2 (the frame store "
                              "in the board's DDR2 behind MIG: adds the mem domain)")
+    parser.add_argument("--maps", choices=("ring", "store"), default="ring",
+                        help="where the depth maps are: ring (the engine's ring, the default) or store (with "
+                             "--memory ddr2: whole maps in the frame store)")
     parser.add_argument("--net-ns", type=float, default=0.5, metavar="NS",
                         help="routing delay charged per net (0.5 ns)")
     parser.add_argument("--paths", type=int, default=10, metavar="N", help="worst paths listed per domain (10)")
@@ -38,6 +42,8 @@ def _check(args):
         raise UserError(f"--paths must be at least 1, not {args.paths}")
     if args.fanout < 0:
         raise UserError(f"--fanout must be 0 or more, not {args.fanout}")
+    if getattr(args, "maps", "ring") == "store" and args.memory != "ddr2":
+        raise UserError("--maps store keeps the depth maps in the frame store: it needs --memory ddr2")
 
 
 def _load_netlist(path):
@@ -59,7 +65,8 @@ def _load_netlist(path):
 
 def _top_kwargs(args):
     from hdl.config import DesignConfig
-    design = DesignConfig.small(memory=args.memory) if args.small else DesignConfig.full(memory=args.memory)
+    kw = {"memory": args.memory, "maps": getattr(args, "maps", "ring")}
+    design = DesignConfig.small(**kw) if args.small else DesignConfig.full(**kw)
     return design.top_kwargs()
 
 

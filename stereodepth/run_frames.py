@@ -162,7 +162,8 @@ def run_frames(args, setup, started):
     if "auto_rectification_run" in verdict:
         record["auto_rectification_run"] = verdict["auto_rectification_run"]
     if "pairs_shown" in verdict:            # the DDR2 build: every display frame from one pair
-        record.update({k: verdict[k] for k in ("pairs_shown", "display_frames_from_one_pair")})
+        record.update({k: verdict[k] for k in ("pairs_shown", "display_frames_from_one_pair",
+                                                "display_frames_from_whole_pairs") if k in verdict})
     from stereodepth.provenance import provenance
     record["provenance"] = provenance(list(sequence.sources), dict(vars(args), setup=setup.to_spec()), started)
     outputs.partial("result.json").write_text(json.dumps(record, indent=1, default=str) + "\n")
@@ -209,7 +210,12 @@ def print_summary(result, setup, ok):
                   + (f" ({c['camera_frames_after_knock']} camera frames after the knock)"
                      if c["knock_camera_frame"] is not None else "")
                   + f", first shown on display frame {c['first_display_frame_shown']}")
-    if "pairs_shown" in result:
+    if "display_frames_from_whole_pairs" in result:     # the depth maps in the frame store
+        print(f"  DDR2 frame store: (images' pair, depth map's pair) per display frame {result['pairs_shown']} (-1: "
+              "the empty buffers); " + ("every display frame one pair's images with one pair's whole map"
+                                        if result["display_frames_from_whole_pairs"]
+                                        else "NOT every display frame one pair's images with one pair's whole map"))
+    elif "pairs_shown" in result:
         print(f"  DDR2 frame store: pair shown per display frame {result['pairs_shown']} (-1: the empty buffers); "
               + ("every display frame equals one pair's golden frame" if result["display_frames_from_one_pair"]
                  else "NOT every display frame equals one pair's golden frame"))

@@ -38,6 +38,8 @@ CASES = [
     ("32-bit float image", ["run", "float.tif", "right.png"], 2, "has pixel format 'F', which has no defined 8-bit"),
     ("pair of different sizes", ["run", "left.png", "narrow.png"], 2, "a stereo pair must be the same size"),
     ("1x1 pair", ["run", "one.png", "one.png"], 2, "smaller than the least usable 400x300"),
+    ("depth maps in the store without the DDR2", ["run", "left.png", "right.png", "--small", "--maps", "store"], 2,
+     "--maps store: maps='store' keeps the depth maps in the frame store: it needs memory='ddr2'"),
     ("pair smaller than the small buffers", ["run", "one.png", "one.png", "--small"], 2,
      "smaller than the least usable 16x12"),
     ("10000x10000 image", ["run", "huge.png", "huge.png"], 2,

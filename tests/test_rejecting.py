@@ -48,6 +48,8 @@ from hdl.frame_store.burst_packer import BurstPacker
 from hdl.frame_store.burst_writer import BurstWriter
 from hdl.frame_store.camera_writer import CameraWriter
 from hdl.frame_store.frame_store import FrameStore
+from hdl.map_window import MapWindow
+from hdl.map_writer import MapWriter
 from hdl.frame_store.layout import FrameStoreLayout
 from hdl.frame_store.ownership import BufferOwnership
 from hdl.frame_store.row_fetcher import RowFetcher
@@ -68,6 +70,8 @@ REJECTED = {
     "Compositor": lambda: Compositor(SMALL_TIMING, SMALL_SENSOR, config=SMALL_DEPTH, thresholds=(2, 4),
                                      level_grey=(0, 255)),
     "StereoDisplay": lambda: StereoDisplay(SMALL_TIMING, SMALL_SENSOR, config=SMALL_DEPTH, out_rows=1),
+    "StereoDisplay, maps in the store without the DDR2": lambda: StereoDisplay(SMALL_TIMING, SMALL_SENSOR,
+                                                                               config=SMALL_DEPTH, maps="store"),
     "TextLayer": lambda: TextLayer((TextBox("0.5km", 0, 0, 1),), v_active=10),
     "SegmentBand": lambda: SegmentBand(SensorGeometry(grey_bits=9)),
     "DisparitySubtractor": lambda: DisparitySubtractor(SMALL_SENSOR, thresholds=()),
@@ -81,6 +85,7 @@ REJECTED = {
     "GenesysClocking": lambda: GenesysClocking(ClockPlan(dcm_m=40)),
     "SimClocking": lambda: SimClocking(lock_cycles=0),
     "StereoDepthSystem": lambda: StereoDepthSystem(**SMALL, ddr="virtex5"),
+    "StereoDepthSystem, maps": lambda: StereoDepthSystem(**SMALL, memory="ddr2", maps="frames"),
     "StereoDepthSystem, its compositor": lambda: StereoDepthSystem(**SMALL, level_grey=(0,)),
     "GenesysTop": lambda: GenesysTop(ddr="behavioural"),
     "SensorReplay": lambda: SensorReplay([], domain="sync"),
@@ -90,11 +95,17 @@ REJECTED = {
                                                      **SMALL),
     "FrameStoreLayout": lambda: FrameStoreLayout(width=40, stride=48),
     "FrameStoreLayout, banks": lambda: FrameStoreLayout(banks=5),
+    "FrameStoreLayout, maps": lambda: FrameStoreLayout(maps=2),
+    "FrameStoreLayout, pixel bytes": lambda: FrameStoreLayout(pixel_bytes=3),
+    "MapWriter": lambda: MapWriter(SMALL_SENSOR, SMALL_DEPTH, pace=0),
+    "MapWindow": lambda: MapWindow(SMALL_SENSOR, 9, pixel_bits=8),
     "BufferOwnership": lambda: BufferOwnership(readers=2, buffers=3),
     "BurstPacker": lambda: BurstPacker(geometry=SensorGeometry(grey_bits=9)),
     "BurstWriter": lambda: BurstWriter(camera=2),
     "CameraWriter": lambda: CameraWriter(fifo_depth=6),
+    "CameraWriter, room": lambda: CameraWriter(fifo_depth=4, room=True),
     "MemoryArbiter": lambda: MemoryArbiter(readers=1, urgent=2),
+    "MemoryArbiter, last writers": lambda: MemoryArbiter(writers=1, last_writers=2),
     "RowFetcher": lambda: RowFetcher(depth=1),
     "RowReader": lambda: RowReader(depth=24),
     "FrameStore": lambda: FrameStore(streams=((2, True),)),

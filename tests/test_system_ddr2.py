@@ -13,7 +13,7 @@ from golden.stereo_pair import load_default_pair
 from hdl.config import DesignConfig
 from hdl.mig_user import MIGUserSignature
 from hdl.store_windows import check_store_windows
-from hdl.system import StereoDepthSystem
+from hdl.system import StereoDepthSystem, SystemParameters
 from sim import SimulationFailed, UserError
 from sim.models.mig import INIT_CLOCKS, MESSAGES, READ_LATENCY_RANGE, MIGProtocolViolation, Violation, \
     draw_latency, violation_message
@@ -274,6 +274,23 @@ def test_ddr2_sequence_verdict_asks_every_display_frame_from_one_pair():
     assert not Judge._whole_pairs([])["display_frames_from_one_pair"]
 
 
+def test_store_sequence_verdict_asks_one_pair_s_images_with_one_whole_map_never_going_back():
+    """With the maps in the frame store: every display frame one pair's images with one pair's whole map (the
+    panels' pair or an earlier one), the maps never going back; a frame no two pairs make, or a map going back,
+    fails."""
+    def shown(*pairs):
+        out = []
+        for i, p in enumerate(pairs):
+            out.append(_Shown(i, None))
+            out[-1].verdict["equals_pairs"] = p
+        return out
+    assert Judge._store_pairs(shown((-1, -1), (0, -1), (0, 0), (1, 0))) == {
+        "pairs_shown": [(-1, -1), (0, -1), (0, 0), (1, 0)], "display_frames_from_whole_pairs": True}
+    assert not Judge._store_pairs(shown((0, 0), None))["display_frames_from_whole_pairs"]
+    assert not Judge._store_pairs(shown((1, 1), (2, 0)))["display_frames_from_whole_pairs"]
+    assert not Judge._store_pairs([])["display_frames_from_whole_pairs"]
+
+
 @pytest.mark.slow
 def test_ddr2_frame_sequence_amaranth():
     """Three camera frames of the moving card on the small DDR2 build (Python sensor models, the MIG model, its
@@ -289,3 +306,100 @@ def test_ddr2_frame_sequence_amaranth():
     assert verdict["pairs_shown"][-1] == 2 and verdict["ok"], verdict
     assert all(f.verdict["depth_rows_mixed"] == 0 and f.verdict.get("depth_rows_withheld", 0) == 0
                and f.verdict["left_rows_mixed"] == 0 and f.verdict["right_rows_mixed"] == 0 for f in result.frames)
+
+
+def test_maps_in_the_store_need_the_ddr2_and_a_map_a_camera_frame():
+    """``maps="store"`` only with the DDR2 build; its check: the display frames a map takes (the engine starts at a
+    display frame's start when the last map is whole) within a camera frame. The 800 x 600 engine with D = 128 on two
+    paths takes 3 1080p frames (50 ms, under the sensors' 66.7 ms; 20 frames a second exactly: 21 refused), on three
+    paths 6 (refused); the ring's check refuses the 800 x 600 build at 1080p, and the 800 x 600 system passes its
+    checks with the maps in the store."""
+    from spec.depth import DEPTH_800, DEPTH_800_THREE
+    from spec.sensor import SENSOR_800
+    from spec.video import CEA_1080P60
+    from hdl.stereo_display import check_engine_keeps_up, check_map_rate, map_clocks
+    from spec.layout import DisplayLayout
+    with pytest.raises(ValueError, match="needs memory='ddr2'"):
+        SystemParameters(**DesignConfig.small(maps="store").top_kwargs())
+    with pytest.raises(ValueError, match="maps must be one of"):
+        SystemParameters(**DesignConfig.small(memory="ddr2", maps="frames").top_kwargs())
+    store = SystemParameters(**DesignConfig.small(memory="ddr2", maps="store").top_kwargs()).store_layout
+    assert (store.maps, store.map_bits) == (3, DesignConfig.small().depth.code_bits)
+    two = DEPTH_800
+    assert 2 * 2_475_000 < map_clocks(SENSOR_800, two) <= 3 * 2_475_000
+    assert check_map_rate(CEA_1080P60, SENSOR_800, two) == 3
+    assert check_map_rate(CEA_1080P60, SENSOR_800, two, camera_fps=20) == 3
+    with pytest.raises(ValueError, match="takes 3 display frames"):
+        check_map_rate(CEA_1080P60, SENSOR_800, two, camera_fps=21)
+    with pytest.raises(ValueError, match="takes 6 display frames"):
+        check_map_rate(CEA_1080P60, SENSOR_800, DEPTH_800_THREE)
+    with pytest.raises(ValueError, match="cannot keep up"):
+        check_engine_keeps_up(CEA_1080P60, DisplayLayout.full_maps(CEA_1080P60, SENSOR_800, two), SENSOR_800, two)
+    # The 800 x 600 system (its layout, the 8-bit thresholds): its checks pass with the maps in the store only.
+    from spec.display import diff_thresholds
+    system = dict(geometry=SENSOR_800, timing=CEA_1080P60, layout=DisplayLayout.full_maps(CEA_1080P60, SENSOR_800, two),
+                  depth=two, thresholds=diff_thresholds(8), memory="ddr2")
+    assert SystemParameters(**system, maps="store").store_layout.map_layout.pixel_bytes == 2
+    with pytest.raises(ValueError, match="cannot keep up"):
+        SystemParameters(**system, maps="ring")
+
+
+@pytest.fixture(scope="module")
+def store_verilator():
+    """The small DDR2 build with the maps in the store on the Verilator C++ testbench, the default pair."""
+    setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION, memory="ddr2", maps="store")
+    pair = still_pair(*load_default_pair(setup.geometry.width, setup.geometry.height), setup)
+    return simulate(setup, pair, Verilator())
+
+
+@pytest.mark.slow
+def test_end_to_end_maps_in_the_store_verilator(store_verilator):
+    """``maps="store"`` on Verilator: the first display frame shows the map of the pair before the run's (not its
+    golden frame); the second, the map of the run's pair, equals the golden frame bit for bit, no display read
+    refused."""
+    result = store_verilator
+    assert result.status["violations"] == [] and result.status["display_missed"] == 0
+    assert result.verdict["chosen"] == 1 and result.ok, result.verdict
+    assert result.frames[0].verdict["mismatched_pixels"] > 0
+    np.testing.assert_array_equal(result.frame, result.golden)
+
+
+@pytest.mark.slow
+def test_end_to_end_maps_in_the_store_amaranth():
+    """``maps="store"`` on Amaranth's simulator (about twice the ring build's time: two display frames): the second
+    display frame equals the golden frame bit for bit, no display read refused."""
+    setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION, memory="ddr2", maps="store")
+    left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
+    result = simulate(setup, still_pair(left, right, setup), Amaranth("python"))
+    assert not result.sink.violations, result.sink.violations[:5]
+    assert result.status["display_missed"] == 0
+    assert result.verdict["chosen"] == 1 and result.ok, result.verdict
+    np.testing.assert_array_equal(result.frame, result.golden)
+
+
+@pytest.mark.slow
+def test_end_to_end_maps_in_the_store_cocotb(simulator, tmp_path):
+    """``maps="store"`` through cocotb (the in-simulator route; about a minute on Icarus): the second display frame
+    equals the golden frame bit for bit, no display read refused."""
+    from sim.testbench.system.cocotb_routes import ROUTES
+    setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION, memory="ddr2", maps="store")
+    pair = still_pair(*load_default_pair(setup.geometry.width, setup.geometry.height), setup)
+    result = simulate(setup, pair, Cocotb(simulator, ROUTES["in_simulator"](), out_dir=tmp_path))
+    assert result.status["violations"] == [] and result.status["display_missed"] == 0
+    assert result.verdict["chosen"] == 1 and result.ok, result.verdict
+    np.testing.assert_array_equal(result.frame, result.golden)
+
+
+@pytest.mark.slow
+def test_maps_in_the_store_frame_sequence_verilator(store_verilator):
+    """Three camera frames of the moving card, ``maps="store"``, on Verilator (the build the still run made): every
+    display frame shows one pair's images and difference map with one pair's whole depth map, the map one pair
+    behind or the same, never going back -- measured (p, q): (-1, -1), (0, -1), (0, 0), (1, 0), (1, 1), (2, 1),
+    (2, 2) -- the settled frame the last pair's with its map, no display read refused."""
+    setup = store_verilator.setup
+    result = simulate(setup, moving_card(setup, 3), Verilator())
+    verdict, status = result.verdict, result.status
+    assert status["violations"] == [] and status["display_missed"] == 0, status
+    assert verdict["display_frames_from_whole_pairs"] and verdict["ok"], verdict
+    assert verdict["pairs_shown"][-1] == (2, 2)
+    assert all(q in (p, p - 1) for p, q in verdict["pairs_shown"]), verdict["pairs_shown"]

@@ -45,6 +45,9 @@ class MemoryArbiter(wiring.Component):
         Burst readers.
     urgent : int
         The first ``urgent`` readers come before the writers; the rest after them.
+    last_writers : int
+        The last ``last_writers`` writers come after every reader (a writer that waits when it must: the depth maps'
+        writer, whose engine then waits too).
     read_tags : int
         Read bursts in flight at most (the tag FIFO's depth).
 
@@ -61,17 +64,20 @@ class MemoryArbiter(wiring.Component):
     Raises
     ------
     ValueError
-        No client, ``urgent`` above ``readers``, ``read_tags`` below 1.
+        No client, ``urgent`` above ``readers``, ``last_writers`` above ``writers``, ``read_tags`` below 1.
     """
 
-    def __init__(self, writers=2, readers=2, urgent=1, read_tags=32):
+    def __init__(self, writers=2, readers=2, urgent=1, read_tags=32, last_writers=0):
         if writers + readers < 1 or writers < 0 or readers < 0:
             raise ValueError(f"the arbiter needs a client, got {writers} writers and {readers} readers")
         if not 0 <= urgent <= readers:
             raise ValueError(f"urgent must be in 0..{readers}, got {urgent}")
         if read_tags < 1:
             raise ValueError(f"read_tags must be at least 1, got {read_tags}")
+        if not 0 <= last_writers <= writers:
+            raise ValueError(f"last_writers must be in 0..{writers}, got {last_writers}")
         self.n_writers, self.n_readers, self.urgent, self.read_tags = writers, readers, urgent, read_tags
+        self.last_writers = last_writers
         super().__init__({
             "writers": In(BurstWriteSignature()).array(writers),
             "readers": In(BurstReadSignature()).array(readers),
@@ -80,8 +86,10 @@ class MemoryArbiter(wiring.Component):
 
     def _order(self):
         """The clients by priority: ``("read", i)`` / ``("write", i)``."""
-        return ([("read", i) for i in range(self.urgent)] + [("write", i) for i in range(self.n_writers)] +
-                [("read", i) for i in range(self.urgent, self.n_readers)])
+        early = self.n_writers - self.last_writers
+        return ([("read", i) for i in range(self.urgent)] + [("write", i) for i in range(early)] +
+                [("read", i) for i in range(self.urgent, self.n_readers)] +
+                [("write", i) for i in range(early, self.n_writers)])
 
     def elaborate(self, platform):
         m = Module()

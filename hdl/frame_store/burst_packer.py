@@ -3,7 +3,8 @@
 The capture (:class:`hdl.capture.CameraCapture`) writes its kept pixels in raster order between ``row_start`` and
 ``row_end`` strobes, framed by ``frame_start`` and ``frame_done`` (with ``frame_ok``). The packer counts them itself
 -- the column from the row's start, the row from the frame's start, both saturating at the layout's size -- and
-places each pixel's grey value, one byte (zero-extended), at its column in a burst register of 32 bytes. It sends
+places each pixel's value, ``layout.pixel_bytes`` bytes (zero-extended, low byte first), at its column in a burst
+register of 32 bytes. It sends
 one entry per event (:data:`ENTRY_KINDS`):
 
 * ``BURST``: a burst's 32 bytes with its row, its index in the row and its byte mask (a 1 masks a byte no pixel
@@ -36,15 +37,17 @@ __all__ = ["BurstPacker", "burst_entry_layout", "check_grey", "ENTRY_KINDS"]
 ENTRY_KINDS = {"BURST": 0, "START": 1, "END": 2}
 
 
-def check_grey(geometry):
-    """``ValueError`` unless a pixel's grey fits its byte (``geometry.grey_bits`` at most 8)."""
-    if geometry.grey_bits > 8:
-        raise ValueError(f"one byte a pixel holds at most 8 bits of grey, got {geometry.grey_bits}")
+def check_grey(geometry, pixel_bytes=1):
+    """``ValueError`` unless a pixel's value fits its bytes (``geometry.grey_bits`` at most 8 ``pixel_bytes``)."""
+    if geometry.grey_bits > 8 * pixel_bytes:
+        raise ValueError(f"{pixel_bytes} byte(s) a pixel hold at most {8 * pixel_bytes} bits, got "
+                         f"{geometry.grey_bits}")
 
 
 def burst_entry_layout(layout):
     """The entry's fields: ``kind`` (:data:`ENTRY_KINDS`), ``ok`` (an END's verdict), ``row``, ``burst``, ``data``
-    (32 bytes, byte ``k`` the pixel at column ``32 * burst + k``), ``mask`` (a 1 per byte not written)."""
+    (32 bytes, byte ``k`` of the pixel at column ``32 * burst + k`` with one byte a pixel; bytes ``2 j``, ``2 j +
+    1`` of the pixel at column ``16 * burst + j`` with two), ``mask`` (a 1 per byte not written)."""
     return data.StructLayout({
         "kind": 2, "ok": 1,
         "row": range(layout.height), "burst": range(layout.bursts_per_row),
@@ -58,9 +61,9 @@ class BurstPacker(wiring.Component):
     Parameters
     ----------
     layout : :class:`hdl.frame_store.layout.FrameStoreLayout`
-        ``width`` x ``height`` pixels a frame.
+        ``width`` x ``height`` pixels a frame, ``pixel_bytes`` bytes a pixel.
     geometry : :class:`spec.sensor.SensorGeometry`
-        The capture's write port (``grey_bits`` of grey, at most 8).
+        The capture's write port (``grey_bits`` of grey, at most 8 ``layout.pixel_bytes``).
 
     Attributes
     ----------
@@ -78,11 +81,11 @@ class BurstPacker(wiring.Component):
     Raises
     ------
     ValueError
-        ``geometry.grey_bits`` above 8.
+        ``geometry.grey_bits`` above 8 ``layout.pixel_bytes``.
     """
 
     def __init__(self, layout=FrameStoreLayout(), geometry=SENSOR):
-        check_grey(geometry)
+        check_grey(geometry, layout.pixel_bytes)
         self.layout, self.geometry = layout, geometry
         super().__init__({
             "write": In(FrameBufferWriteSignature(geometry)),
@@ -100,27 +103,32 @@ class BurstPacker(wiring.Component):
         row = Signal(range(height + 1))         # saturating at height: no row
         in_row = Signal()
         burst_data = Signal(8 * BURST_BYTES)
-        written = Signal(BURST_BYTES)           # bytes of the burst register written in this burst
+        per_burst, pixel_bits = lay.pixels_per_burst, 8 * lay.pixel_bytes
+        in_burst = (per_burst - 1).bit_length()
+        written = Signal(per_burst)             # pixels of the burst register written in this burst
         lost = Signal()                         # an entry of this frame could not be sent
         start_waiting, end_waiting, end_ok = Signal(), Signal(), Signal()
 
         # The pixel: its byte in the burst register; a full burst or the row's end sends it.
-        offset = column[:5]                     # the byte in the burst (BURST_BYTES = 32)
+        offset = column[:in_burst]              # the pixel in the burst
         keep = write.en & in_row & (column < width) & (row < height)
         filled = Signal()                       # the burst register holds a burst to send (registered)
         full_row, full_burst = Signal(range(height)), Signal(range(lay.bursts_per_row))
         full_data, full_mask = Signal(8 * BURST_BYTES), Signal(BURST_BYTES)
+
+        def byte_mask(pixels):                  # a 1 per byte of a pixel not written
+            return Cat(*(~pixels[i // lay.pixel_bytes] for i in range(BURST_BYTES)))
         m.d.sync += filled.eq(0)
         with m.If(keep):
             m.d.sync += column.eq(column + 1)
-            byte = Cat(write.data, Const(0, 8 - len(write.data)))
+            byte = Cat(write.data, Const(0, pixel_bits - len(write.data)))
             new_data = Signal.like(burst_data)
             new_written = Signal.like(written)
             m.d.comb += [new_data.eq(burst_data), new_written.eq(written)]
-            m.d.comb += [new_data.word_select(offset, 8).eq(byte), new_written.bit_select(offset, 1).eq(1)]
-            with m.If((offset == BURST_BYTES - 1) | (column == width - 1)):
-                m.d.sync += [filled.eq(1), full_row.eq(row), full_burst.eq(column[5:]),
-                             full_data.eq(new_data), full_mask.eq(~new_written), written.eq(0)]
+            m.d.comb += [new_data.word_select(offset, pixel_bits).eq(byte), new_written.bit_select(offset, 1).eq(1)]
+            with m.If((offset == per_burst - 1) | (column == width - 1)):
+                m.d.sync += [filled.eq(1), full_row.eq(row), full_burst.eq(column[in_burst:]),
+                             full_data.eq(new_data), full_mask.eq(byte_mask(new_written)), written.eq(0)]
             with m.Else():
                 m.d.sync += [burst_data.eq(new_data), written.eq(new_written)]
         with m.If(write.en & in_row & ~keep):   # a pixel beyond the width or a row beyond the height
@@ -132,8 +140,8 @@ class BurstPacker(wiring.Component):
             with m.If(row != height):
                 m.d.sync += row.eq(row + 1)
             with m.If(written.any() & ~keep):      # a short row's last, partly written burst
-                m.d.sync += [filled.eq(1), full_row.eq(row), full_burst.eq(column[5:]),
-                             full_data.eq(burst_data), full_mask.eq(~written), written.eq(0)]
+                m.d.sync += [filled.eq(1), full_row.eq(row), full_burst.eq(column[in_burst:]),
+                             full_data.eq(burst_data), full_mask.eq(byte_mask(written)), written.eq(0)]
         with m.If(status.row_start):
             m.d.sync += [in_row.eq(1), column.eq(0), written.eq(0)]
         with m.If(status.frame_start):

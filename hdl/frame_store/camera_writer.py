@@ -16,7 +16,11 @@ from .layout import FrameStoreLayout
 from .mem_port import BurstWriteSignature
 from .ownership import WriterOwnershipSignature
 
-__all__ = ["CameraWriter"]
+__all__ = ["CameraWriter", "ROOM_ENTRIES"]
+
+#: Entries ``room`` keeps free: the burst a pixel written in the clock before ``room`` fell may still fill, an
+#: ``END`` and a ``START``, and one for the level's own clock of lag.
+ROOM_ENTRIES = 4
 
 
 class CameraWriter(wiring.Component):
@@ -34,6 +38,8 @@ class CameraWriter(wiring.Component):
     cam_domain, mem_domain : str
     fifo_depth : int
         Entries the FIFO holds (a power of two): how many bursts the camera may run ahead of the memory's grants.
+    room : bool
+        Add the ``room`` port (for a source that can wait, the depth maps' writer; a camera cannot).
 
     Attributes
     ----------
@@ -41,6 +47,9 @@ class CameraWriter(wiring.Component):
     status : ``In(CaptureStatusSignature)``, ``cam_domain``
     own : ``Out(WriterOwnershipSignature(layout.buffers))``, ``mem_domain``
     mem : ``Out(BurstWriteSignature())``, ``mem_domain``
+    room : ``Out(1)``, ``cam_domain``
+        With ``room=True``: the FIFO has room for :data:`ROOM_ENTRIES` more entries (its level as the write side
+        counts it, a clock late): a source that writes only while ``room`` is high never loses a burst.
 
     Latency: the packer's, the FIFO's (a few clocks of each domain), the burst writer's.
 
@@ -51,10 +60,11 @@ class CameraWriter(wiring.Component):
     """
 
     def __init__(self, layout=FrameStoreLayout(), camera=0, geometry=SENSOR, *, cam_domain="cam_a",
-                 mem_domain="mem", fifo_depth=8):
-        if fifo_depth < 2 or fifo_depth & (fifo_depth - 1):
-            raise ValueError(f"fifo_depth must be a power of two of at least 2, got {fifo_depth}")
-        check_grey(geometry)
+                 mem_domain="mem", fifo_depth=8, room=False):
+        if fifo_depth < 2 or fifo_depth & (fifo_depth - 1) or (room and fifo_depth <= ROOM_ENTRIES):
+            raise ValueError(f"fifo_depth must be a power of two of at least 2 (with room, above {ROOM_ENTRIES}), "
+                             f"got {fifo_depth}")
+        check_grey(geometry, layout.pixel_bytes)
         check_camera(layout, camera)
         self.layout, self.camera, self.geometry = layout, camera, geometry
         self.cam_domain, self.mem_domain, self.fifo_depth = cam_domain, mem_domain, fifo_depth
@@ -63,6 +73,7 @@ class CameraWriter(wiring.Component):
             "status": In(CaptureStatusSignature),
             "own": Out(WriterOwnershipSignature(layout.buffers)),
             "mem": Out(BurstWriteSignature()),
+            **({"room": Out(1)} if room else {}),
         })
 
     def elaborate(self, platform):
@@ -82,4 +93,6 @@ class CameraWriter(wiring.Component):
         ]
         wiring.connect(m, wiring.flipped(self.own), writer.own)
         wiring.connect(m, wiring.flipped(self.mem), writer.mem)
+        if "room" in self.signature.members:
+            m.d.comb += self.room.eq(fifo.w_level + ROOM_ENTRIES <= self.fifo_depth)
         return m

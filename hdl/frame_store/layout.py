@@ -7,9 +7,15 @@ streams in different banks do not close each other's rows): with ``banks`` banks
 frames -- the held pair every reader reads, the frames the writers write -- never share a bank, and a writer shares
 a bank with its camera's held frame for one buffer pair in three (2 cameras x 3 buffers in 4 banks: camera 0 in
 banks 0, 1, 0; camera 1 in banks 2, 3, 2). A buffer holds ``height`` rows ``stride`` bytes apart; a row holds
-``width`` pixels, one byte each (the grey value in the low bits), so an 8-bit 800 x 600 build needs only other
+``width`` pixels, one byte each by default (the grey value in the low bits), so an 8-bit 800 x 600 build needs only other
 sizes. ``stride`` is a whole number of BL4 bursts (32 bytes), so every row starts a burst and no burst spans two
 rows; the bytes of a row's last burst beyond ``width`` are masked when written and ignored when read.
+
+A pixel is ``pixel_bytes`` bytes (1 or 2; 2 for the depth maps' codes, which are wider than a byte: pixel ``x`` is
+bytes ``pixel_bytes * x`` .. ``pixel_bytes * x + pixel_bytes - 1`` of its row, low byte first). With ``maps`` > 0
+the store also holds ``maps`` depth-map buffers of ``width`` x ``height`` codes of ``map_bits`` bits
+(:attr:`FrameStoreLayout.map_layout`: a layout of one "camera", the map writer's, laid out over the banks as a
+camera's buffers are, from the first word after the cameras' buffers in every bank).
 
 Addresses count 64-bit memory words, as MIG's ``app_af_addr`` does (:class:`spec.memory.MIG`).
 """
@@ -43,12 +49,20 @@ class FrameStoreLayout:
         Memory word address, within each bank, of the bank's first buffer (burst-aligned).
     banks : int
         Banks the buffers are spread over, 1 .. ``MIG.BANKS`` (1: all in bank 0, one after another).
+    pixel_bytes : int
+        Bytes a pixel, 1 or 2.
+    maps : int
+        Depth-map buffers (0: none; otherwise at least 3, as the map's :class:`~hdl.frame_store.ownership.
+        BufferOwnership` with its one reader needs).
+    map_bits : int
+        A map code's bits (``DepthConfig.code_bits``, at most 16): the maps' ``pixel_bytes``.
 
     Raises
     ------
     ValueError
         A size below 1, a stride that is not a whole number of bursts or shorter than a row, a base that is not
-        burst-aligned, a number of banks the part does not have, or buffers that do not fit in a bank.
+        burst-aligned, a number of banks the part does not have, a pixel of other than 1 or 2 bytes, 1 or 2 map
+        buffers, map codes wider than 16 bits, or buffers that do not fit in a bank.
     """
     width: int = 400
     height: int = 300
@@ -57,16 +71,24 @@ class FrameStoreLayout:
     stride: int | None = None
     base: int = 0
     banks: int = MIG.BANKS
+    pixel_bytes: int = 1
+    maps: int = 0
+    map_bits: int = 8
 
     def __post_init__(self):
         for name in ("width", "height", "cameras", "buffers"):
             if getattr(self, name) < 1:
                 raise ValueError(f"{name} must be at least 1, got {getattr(self, name)}")
+        if self.pixel_bytes not in (1, 2):
+            raise ValueError(f"pixel_bytes must be 1 or 2, got {self.pixel_bytes}")
+        if self.maps and (self.maps < 3 or not 1 <= self.map_bits <= 16):
+            raise ValueError(f"maps must be 0 or at least 3 buffers of codes of 1..16 bits, got {self.maps} of "
+                             f"{self.map_bits}")
         if self.stride is None:
-            object.__setattr__(self, "stride", -(-self.width // BURST_BYTES) * BURST_BYTES)
-        if self.stride % BURST_BYTES or self.stride < self.width:
-            raise ValueError(f"stride must be a multiple of {BURST_BYTES} bytes and at least the width "
-                             f"({self.width}), got {self.stride}")
+            object.__setattr__(self, "stride", -(-self.row_bytes // BURST_BYTES) * BURST_BYTES)
+        if self.stride % BURST_BYTES or self.stride < self.row_bytes:
+            raise ValueError(f"stride must be a multiple of {BURST_BYTES} bytes and at least a row's bytes "
+                             f"({self.row_bytes}), got {self.stride}")
         if self.base < 0 or self.base % MIG.BURST_LENGTH:
             raise ValueError(f"base must be a burst-aligned memory word address, got {self.base}")
         if not 1 <= self.banks <= MIG.BANKS:
@@ -79,14 +101,39 @@ class FrameStoreLayout:
                 places[c, b] = (bank, filled[bank])
                 filled[bank] += 1
         object.__setattr__(self, "_places", places)
-        if self.base + self.bank_words > MIG.BANK_WORDS:
+        cameras_words = max(slot + 1 for _, slot in places.values()) * self.buffer_words
+        if self.base + cameras_words > MIG.BANK_WORDS:
             raise ValueError(f"{max(filled)} buffers of {self.buffer_words} memory words from {self.base} do not "
                              f"fit in a bank's {MIG.BANK_WORDS} memory words")
+        object.__setattr__(self, "_cameras_words", cameras_words)
+        maps = None
+        if self.maps:
+            maps = FrameStoreLayout(width=self.width, height=self.height, cameras=1, buffers=self.maps,
+                                    base=self.base + cameras_words, banks=self.banks,
+                                    pixel_bytes=-(-self.map_bits // 8))
+        object.__setattr__(self, "_map_layout", maps)
+
+    @property
+    def row_bytes(self):
+        """Bytes of a row's pixels."""
+        return self.width * self.pixel_bytes
+
+    @property
+    def pixels_per_burst(self):
+        """Pixels a burst holds."""
+        return BURST_BYTES // self.pixel_bytes
+
+    @property
+    def map_layout(self):
+        """The depth maps' buffers as a layout of their own (one camera: the map writer; ``maps`` buffers;
+        ``ceil(map_bits / 8)`` bytes a pixel; from the first memory word after the cameras' buffers in each bank),
+        or ``None`` without maps."""
+        return self._map_layout
 
     @property
     def bursts_per_row(self):
         """Bursts that hold a row's pixels (the row's last burst may be partly masked)."""
-        return -(-self.width // BURST_BYTES)
+        return -(-self.row_bytes // BURST_BYTES)
 
     @property
     def words_per_row(self):
@@ -105,14 +152,18 @@ class FrameStoreLayout:
 
     @property
     def bank_words(self):
-        """The memory words from ``base`` that the fullest bank's buffers take (in every bank used, the same
-        window holds its buffers: a memory model keeps these words of banks 0 .. ``banks_used`` - 1)."""
-        return max(slot + 1 for _, slot in self._places.values()) * self.buffer_words
+        """The memory words from ``base`` that the fullest bank's buffers take, the maps' included (in every bank
+        used, the same window holds its buffers: a memory model keeps these words of banks 0 .. ``banks_used`` -
+        1)."""
+        if self._map_layout is None:
+            return self._cameras_words
+        return self._cameras_words + self._map_layout.bank_words
 
     @property
     def banks_used(self):
         """Banks 0 .. ``banks_used`` - 1 hold the buffers."""
-        return max(bank for bank, _ in self._places.values()) + 1
+        used = max(bank for bank, _ in self._places.values()) + 1
+        return used if self._map_layout is None else max(used, self._map_layout.banks_used)
 
     def bank_of(self, camera, buffer):
         """The bank holding camera ``camera``'s buffer ``buffer``."""
@@ -128,9 +179,12 @@ class FrameStoreLayout:
         return self.buffer_base(camera, buffer) + row * self.stride_words + burst * MIG.BURST_LENGTH
 
     def buffer_of(self, address):
-        """``(camera, buffer)`` whose words hold memory word ``address``, or ``None`` outside the buffers."""
+        """``(camera, buffer)`` whose words hold memory word ``address`` (a map buffer ``b``: ``(cameras, b)``),
+        or ``None`` outside the buffers."""
         bank, offset = divmod(address, MIG.BANK_WORDS)
-        if not self.base <= offset < self.base + self.bank_words:
+        if not self.base <= offset < self.base + self._cameras_words:
+            if self._map_layout is not None and self._map_layout.buffer_of(address) is not None:
+                return self.cameras, self._map_layout.buffer_of(address)[1]
             return None
         place = (bank, (offset - self.base) // self.buffer_words)
         return next((key for key, value in self._places.items() if value == place), None)

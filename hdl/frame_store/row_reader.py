@@ -2,8 +2,8 @@
 domain (``pix``), read a byte at a time (docs/frame_store.md, "Readers").
 
 The consumer asks for rows (``fetch``: the row number); the n-th row asked for lands in slot ``n mod slots``, and
-``landed`` pulses when its last word is in. It reads a landed row's pixel ``x`` of slot ``s`` on ``read``: the byte
-one clock after the address, as a frame buffer's read port gives it. The consumer decides which slots it may ask to
+``landed`` pulses when its last word is in. It reads a landed row's pixel ``x`` of slot ``s`` on ``read``: the pixel
+(``layout.pixel_bytes`` bytes) one clock after the address, as a frame buffer's read port gives it. The consumer decides which slots it may ask to
 overwrite: a row asked for overwrites its slot when its words arrive.
 
 Inside: the requests cross to ``mem`` in an :class:`amaranth.lib.fifo.AsyncFIFO`, a
@@ -35,14 +35,15 @@ PIECE_BITS = 32
 class RowStreamSignature(ParametricSignature):
     """A row reader as its consumer sees it, all in the read domain: ``fetch`` (``row``, ``en`` out, ``rdy`` in: ask
     for a row), ``landed`` in (a one-clock pulse: the oldest row asked for and not landed is in its slot), ``read``
-    (``slot``, ``x`` out, ``data`` in: the byte, one clock after its address)."""
+    (``slot``, ``x`` out, ``data`` in: the pixel, ``pixel_bits`` wide, one clock after its address)."""
 
-    def __init__(self, height, width, slots):
+    def __init__(self, height, width, slots, pixel_bits=8):
         super().__init__({
             "fetch": Out(wiring.Signature({"row": Out(range(height)), "en": Out(1), "rdy": In(1)})),
             "landed": In(1),
-            "read": Out(wiring.Signature({"slot": Out(range(slots)), "x": Out(range(width)), "data": In(8)})),
-        }, height=height, width=width, slots=slots)
+            "read": Out(wiring.Signature({"slot": Out(range(slots)), "x": Out(range(width)),
+                                          "data": In(pixel_bits)})),
+        }, height=height, width=width, slots=slots, pixel_bits=pixel_bits)
 
 
 class RowReader(wiring.Component):
@@ -60,7 +61,7 @@ class RowReader(wiring.Component):
 
     Attributes
     ----------
-    stream : ``In(RowStreamSignature(layout.height, layout.width, slots))``, ``read_domain``
+    stream : ``In(RowStreamSignature(layout.height, layout.width, slots, 8 * layout.pixel_bytes))``, ``read_domain``
     hold : ``In(...)``, ``mem_domain``
         ``valid``, ``buffer``: the held pair's buffer of this camera.
     mem : ``Out(BurstReadSignature())``, ``mem_domain``
@@ -86,7 +87,7 @@ class RowReader(wiring.Component):
         self.read_domain, self.mem_domain = read_domain, mem_domain
         bits = max(1, (layout.buffers - 1).bit_length())
         super().__init__({
-            "stream": In(RowStreamSignature(layout.height, layout.width, slots)),
+            "stream": In(RowStreamSignature(layout.height, layout.width, slots, 8 * layout.pixel_bytes)),
             "hold": In(wiring.Signature({"valid": Out(1), "buffer": Out(bits)})),
             "mem": Out(BurstReadSignature()),
         })
@@ -94,7 +95,7 @@ class RowReader(wiring.Component):
     @property
     def used_words(self):
         """Words of a row the ring keeps (the row's pixels; the last burst's padding words are dropped)."""
-        return -(-self.layout.width // WORD_BYTES)
+        return -(-self.layout.row_bytes // WORD_BYTES)
 
     def elaborate(self, platform):
         m = Module()
@@ -124,7 +125,7 @@ class RowReader(wiring.Component):
         a slot's pieces start at a power of two (the read address is the slot and the column's high bits)."""
         lay, used = self.layout, self.used_words
         pieces = MIG.DATA_WIDTH // PIECE_BITS
-        piece_bytes = PIECE_BITS // 8
+        piece_pixels = PIECE_BITS // (8 * lay.pixel_bytes)
         col_bits = max(1, (used * pieces - 1).bit_length())   # a slot's pieces: 2**col_bits entries
         rd = m.d[self.read_domain]
         m.submodules.ring = ring = Memory(shape=PIECE_BITS, depth=self.slots << col_bits, init=[])
@@ -155,9 +156,9 @@ class RowReader(wiring.Component):
         with m.If(words.r_en & words.r_rdy):
             rd += [held.eq(words.r_data), full.eq(1)]
         x = self.stream.read.x
-        byte = Signal(range(piece_bytes))
+        byte = Signal(range(piece_pixels))      # the pixel in the piece
         column = Signal(col_bits)
         rd += byte.eq(x[:len(byte)])
         m.d.comb += [column.eq(x[len(byte):]),
                      read.addr.eq(Cat(column, self.stream.read.slot)),
-                     self.stream.read.data.eq(read.data.word_select(byte, 8))]
+                     self.stream.read.data.eq(read.data.word_select(byte, 8 * lay.pixel_bytes))]

@@ -17,6 +17,7 @@ from sim.formal.harnesses.frame_store_credits import FrameStoreCreditsHarness
 from sim.formal.harnesses.frame_store_packer import FrameStorePackerHarness
 from sim.formal.harnesses.frame_store_writer import FrameStoreWriterHarness
 from sim.formal.harnesses.i2c import I2CMasterHarness, InitSequencerHarness
+from sim.formal.harnesses.map_store import MapOwnershipHarness
 from sim.formal.harnesses.read_arbiter import ReadArbiterHarness
 from sim.formal.harnesses.reverse_path import ReversePathHarness
 from sim.formal.harnesses.row_tags import RowTagTrackerHarness
@@ -52,6 +53,7 @@ DEFAULT = {
     "reverse_path": ReversePathHarness,
     "frame_pairing": FramePairingHarness,
     "frame_store_ownership": FrameStoreOwnershipHarness,
+    "map_store_ownership": MapOwnershipHarness,
     "frame_store_credits": FrameStoreCreditsHarness,
     "frame_store_writer": FrameStoreWriterHarness,
     "frame_store_packer": FrameStorePackerHarness,

@@ -95,12 +95,15 @@ def simulate(setup, sequence, backend, *, on_frame=None, progress=None, policy="
     ``progress(stage, fraction)`` as the run goes on. A still pair's run shows the first display frame
     (``policy="first"``) or the first whose depth map has no withheld rows and, in automatic rectification, whose
     offset has locked (``"whole"``), within ``max_frames`` display frames (default 1 for ``first``, 8 for
-    ``whole``). Raises :class:`~sim.UserError` for what the backend cannot run and
+    ``whole``; with the maps in the frame store, ``setup.maps == "store"``, ``first`` is the second display frame,
+    whose map was computed from a pair the run captured, and a frame before the first whole map is never shown).
+    Raises :class:`~sim.UserError` for what the backend cannot run and
     :class:`~sim.SimulationFailed` for a run that fails."""
     judge = Judge(setup, sequence, policy)
     backend.require(setup, sequence)
     frames = []
-    max_frames = max_frames or (1 if policy == "first" else 8)
+    # With the maps in the frame store the first display frame's map is of a pair before the run: it shows the second.
+    max_frames = max_frames or (1 + (setup.maps == "store") if policy == "first" else 8)
 
     def judged(shown):
         judge(shown)

@@ -10,7 +10,10 @@ whole at the end:
   a capture overwrote the buffers with the same images). ``verdict``: ``mismatched_pixels``, ``tear`` ((c, torn)
   or None), ``withheld_rows`` (depth rows the row tags withheld: wholly invalid in the frame, valid in the untorn
   golden frame), ``whole`` (no withheld row: the depth map of complete camera frames), ``locked`` (the automatic
-  rectification's lock; True in manual mode);
+  rectification's lock; True in manual mode), ``map_shown`` (False only with the maps in the frame store,
+  ``setup.maps == "store"``, for a display frame before the first whole map: its depth panel shows every row not
+  ready; such a frame is never chosen, and no tear is looked for in it; a still run with those maps shows its
+  second display frame at the earliest, with either policy: the first shows the map of a frame before the run);
 * a sequence: the per-row frame sources of ``sim/analysis/frame_sources.py`` against the golden frames of the
   buffers before any capture and of every pair (in automatic rectification both states of each pair,
   :class:`sim.analysis.auto_rectification.AutoGoldens`); a frame whose depth rows are mixed or withheld is
@@ -23,12 +26,15 @@ by the run's policy, :meth:`Judge.enough`), the withheld rows of each frame run,
 offset found and the display frame it was first used on, and ``ok``; for a sequence the settled frame (the last) against the
 last pair's golden frame, ``image_rows_from_camera_frames`` (at most the one row being written mixed in an image
 panel), the automatic rectification's record, with the DDR2 build (``setup.memory == "ddr2"``) ``pairs_shown`` and
-``display_frames_from_one_pair`` (every display frame equal to one pair's golden frame), and ``ok``.
+``display_frames_from_one_pair`` (every display frame equal to one pair's golden frame) -- with the maps in the frame
+store (``setup.maps == "store"``) ``pairs_shown`` of (images' pair, map's pair) and ``display_frames_from_whole_pairs``
+(every display frame one pair's images with one pair's whole map, the maps never going back) -- and ``ok``.
 """
 
 import numpy as np
 
 from golden.capture import capture_frame
+from spec.display import DEPTH_NOT_READY_RGB
 from sim.analysis.depth_panel import read_depth_panel
 from sim.analysis.frame_sources import (EMPTY, frame_sources, source_summary, tear_candidates, torn_depth_rows,
                                         torn_summary)
@@ -97,10 +103,23 @@ class Judge:
         codes, _ = read_depth_panel(frame, self.setup.display_layout, self.setup.depth)
         return (codes == self.setup.depth.invalid).all(axis=1)
 
+    def _map_shown(self, frame):
+        """With the maps in the frame store: the depth panel shows a map (no pixel of it not ready)."""
+        if getattr(self.setup, "maps", "ring") != "store":
+            return True
+        box = self.setup.display_layout.region("depth")
+        panel = np.asarray(frame[box.y0:box.y1, box.x0:box.x1], dtype=np.int64)
+        rgb = (panel[..., 0] << 16) | (panel[..., 1] << 8) | panel[..., 2]
+        return not (rgb == DEPTH_NOT_READY_RGB).any()
+
     def _still(self, shown):
         setup, frame, settings = self.setup, shown.frame, shown.settings or {}
         golden = untorn = self.still_golden(settings)
         tear, withheld = None, 0        # a frame equal to its untorn golden frame withholds no row
+        map_shown = self._map_shown(frame)
+        if not map_shown:
+            return golden, {"mismatched_pixels": int(np.any(frame != golden, axis=-1).sum()), "tear": None,
+                            "withheld_rows": 0, "whole": False, "locked": False, "map_shown": False}
         if not np.array_equal(frame, golden):
             kwargs = {"in_use": settings.get("rectification"),
                       "held": settings.get("auto_rectification", {}).get("held", False)}
@@ -108,7 +127,7 @@ class Judge:
             withheld = int((self._invalid_rows(frame) & ~self._invalid_rows(untorn)).sum())
         locked = setup.rectification != "auto" or bool(settings.get("auto_rectification", {}).get("locked"))
         return golden, {"mismatched_pixels": int(np.any(frame != golden, axis=-1).sum()), "tear": tear,
-                        "withheld_rows": withheld, "whole": withheld == 0, "locked": locked}
+                        "withheld_rows": withheld, "whole": withheld == 0, "locked": locked, "map_shown": True}
 
     def _sequence(self, shown):
         setup, frame = self.setup, shown.frame
@@ -118,9 +137,34 @@ class Judge:
             return self.auto.row(frame, layout, g, done)
         raw = frame_sources(frame, self.goldens, layout, g, setup.depth)
         sources = source_summary(raw)
-        if sources["depth_rows_mixed"] or sources["depth_rows_withheld"]:
+        if self._store:
+            sources["equals_pairs"] = self._pairs_of(frame)
+        elif sources["depth_rows_mixed"] or sources["depth_rows_withheld"]:
             sources.update(self._tear(frame, raw, done))
         return sources
+
+    @property
+    def _store(self):
+        return getattr(self.setup, "maps", "ring") == "store"
+
+    def _pairs_of(self, frame):
+        """With the maps in the frame store: ``(p, q)``, the newest pairs such that the display frame shows pair
+        ``p``'s golden frame with pair ``q``'s depth map (its panel and its readout) and ``q <= p``; None when
+        no two pairs make it."""
+        layout = self.setup.display_layout
+        boxes = [layout.region("depth").box] + ([layout.readout.box] if layout.readout is not None else [])
+        keys = sorted(self.goldens)
+        for p in reversed(keys):
+            outside = self.goldens[p].copy()
+            for box in boxes:
+                outside[box.y0:box.y1, box.x0:box.x1] = frame[box.y0:box.y1, box.x0:box.x1]
+            if not np.array_equal(frame, outside):
+                continue
+            for q in reversed([k for k in keys if k <= p]):
+                if all(np.array_equal(frame[b.y0:b.y1, b.x0:b.x1], self.goldens[q][b.y0:b.y1, b.x0:b.x1])
+                       for b in boxes):
+                    return p, q
+        return None
 
     def _tear(self, frame, raw, done):
         """The depth rows of a display frame computed across a tear, against the golden torn map (``sim/analysis/
@@ -148,6 +192,10 @@ class Judge:
 
     def enough(self, shown):
         """Whether a still pair's run may end with the judged display frame ``shown`` (the run's policy)."""
+        # With the maps in the frame store a display frame shows the map computed in an earlier one: the first
+        # frame's may be of the pair before the run's; the second's is of a pair the run captured.
+        if self._store and not (shown.index >= 1 and shown.verdict["map_shown"]):
+            return False
         if self.policy == "first":
             return True
         return shown.verdict["whole"] and shown.verdict["locked"]
@@ -171,10 +219,25 @@ class Judge:
             out["auto_rectification_run"] = self._auto_record(frames)
             out["settled_equals_last_pair"] = settled_ok and out["auto_rectification_run"]["settled_shows_expected"]
         out["ok"] = out["settled_equals_last_pair"] and image_rows_ok and clean
-        if self.setup.memory == "ddr2":
+        if self._store:
+            out.update(self._store_pairs(frames))
+            out["ok"] = out["ok"] and out["display_frames_from_whole_pairs"]
+        elif self.setup.memory == "ddr2":
             out.update(self._whole_pairs(frames))
             out["ok"] = out["ok"] and out["display_frames_from_one_pair"]
         return out
+
+    @staticmethod
+    def _store_pairs(frames):
+        """The promise with the maps in the frame store: every display frame shows one pair's images and difference
+        map (``p``) and one pair's whole depth map (``q``: the latest whole map, of the pair before or the same),
+        the maps' pairs never going back. ``pairs_shown``: ``(p, q)`` of each display frame."""
+        shown = [f.verdict.get("equals_pairs") for f in frames]
+        whole = bool(frames) and None not in shown
+        if whole:
+            maps = [q for _, q in shown]
+            whole = all(a <= b for a, b in zip(maps, maps[1:]))
+        return {"pairs_shown": shown, "display_frames_from_whole_pairs": whole}
 
     @staticmethod
     def _whole_pairs(frames):

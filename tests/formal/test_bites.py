@@ -37,6 +37,7 @@ from hdl.depth.reverse_path import ReversePath
 from sim.formal.harnesses.row_tags import RowTagTrackerHarness
 from sim.formal.harnesses.frame_pairing import FramePairingHarness
 from sim.formal.harnesses.frame_store import FrameStoreOwnershipHarness
+from sim.formal.harnesses.map_store import MapOwnershipHarness
 from sim.formal.harnesses.frame_store_credits import DEPTH as CREDIT_DEPTH, LAYOUT as CREDIT_LAYOUT, FrameStoreCreditsHarness
 from hdl.frame_store.row_fetcher import RowFetcher
 from sim.formal.harnesses.frame_store_packer import (GEOMETRY as PACKER_GEOMETRY, LAYOUT as PACKER_LAYOUT,
@@ -264,6 +265,17 @@ class OwnershipTwoBuffers(FrameStoreOwnershipHarness):
         return Unchecked()
 
 
+class MapOwnershipTwoBuffers(MapOwnershipHarness):
+    """Two map buffers for the display (the constructor's check skipped): the latest map and the held one leave the
+    writer no buffer of its own."""
+    def dut(self):
+        class Unchecked(BufferOwnership):
+            def __init__(self):
+                BufferOwnership.__init__(self, 1, 1, 3)
+                self.buffers = 2
+        return Unchecked()
+
+
 class FetcherCountsADeeperFifo(FrameStoreCreditsHarness):
     """The fetcher's credits counted for a FIFO two words deeper than the one it writes."""
     def dut(self):
@@ -315,6 +327,7 @@ BITES = {
     "frame_pairing": (PairingWiderTag, "_by_the_rule"),
     "depth_pairs": (DepthEngineWithoutPairs, "pair_mismatch_in_window_makes_the_row_invalid"),
     "frame_store_ownership": (OwnershipTwoBuffers, "writes the latest"),
+    "map_store_ownership": (MapOwnershipTwoBuffers, "writes the latest"),
     "frame_store_credits": (FetcherCountsADeeperFifo, "room"),
     "frame_store_writer": (WriterForBuffersARowOn, "write_inside_the_owned_buffer"),
     "frame_store_writer_complete": (WriterToldEveryFrameIsWhole, "complete_only_after_exactly_the_frame_s_bursts"),

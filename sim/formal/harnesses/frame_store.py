@@ -20,8 +20,10 @@ class FrameStoreOwnershipHarness(FormalHarness):
     name = "frame_store_ownership"
     block = "BufferOwnership"
 
+    cameras = CAMERAS
+
     def dut(self):
-        return BufferOwnership(CAMERAS, READERS, BUFFERS)
+        return BufferOwnership(self.cameras, READERS, BUFFERS)
 
     def build(self, m):
         dut = self.dut()
@@ -60,7 +62,10 @@ class FrameStoreOwnershipHarness(FormalHarness):
             self.prove(m, f"writer_{c}_always_gets_a_buffer",
                        ~(self.past_valid(m) & self.past(m, w.start, name=f"start_{c}")) | w.writing)
 
-        # The cases the properties are about.
+        self.covers(m, dut)
+
+    def covers(self, m, dut):
+        """The cases the properties are about."""
         w0, w1 = dut.writers
         reader = dut.readers[0]
         self.cover(m, "writers_write_while_a_pair_is_held",

@@ -81,14 +81,16 @@ class DisplayFrames:
     def finished(self, enough, max_frames):
         """Whether the run has its display frames: a still pair's when ``enough`` or after ``max_frames``, a
         sequence's with its settled frame (the first that starts after both captures completed every frame the
-        camera sent)."""
+        camera sent; with the maps in the frame store the frame after it, which shows that pair's map)."""
         if self.sent is None:
             return enough or self.shown >= max_frames
         sent = self.sent
         if self.settled is None and all(len(e["frame_done"]) >= sent[c] for c, e in self.events.items()):
             end = max(self.events[c]["frame_done"][sent[c] - 1] for c in self.events)
             self.settled = math.ceil((end - self.t0) / self.period_s)
-        return self.settled is not None and self.shown > self.settled
+        # With the maps in the frame store the last pair's map is shown a display frame after its images.
+        store = getattr(self.setup, "maps", "ring") == "store"
+        return self.settled is not None and self.shown > self.settled + store
 
     def overdue(self):
         """The message of a run whose display frames did not come in time."""

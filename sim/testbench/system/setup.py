@@ -9,7 +9,8 @@ design is made from) plus the simulation's own settings. The design's fields are
 design's names (``geometry``, ``timing``, ``layout``, ``thresholds``, ``level_grey``, ``depth``,
 ``auto_rectification``, ``sys_hz``, ``i2c_hz``, ``i2c_retry_delay_us``, ``pclk_hz``, ``memory``: where the frames
 are, ``"bram"``, the design's block-RAM buffers, or ``"ddr2"``, the system's DDR2 build, simulated with the MIG model,
-``sim/testbench/system/testbench.py``), so a setup is made,
+``sim/testbench/system/testbench.py``; ``maps``: where the depth maps are, ``"ring"`` or, with ``"ddr2"``,
+``"store"``), so a setup is made,
 replaced and written as JSON field by field; the design's MT9D112 table is :attr:`SystemSetup.cam_table`. The
 simulation's own: the switch settings (``disparity``, ``rectification``, ``segment``), the table's speed-ups
 (``time_scale``, ``quick_table``: ``sim/testbench/system/tables.py``), the cameras' phase and PCLK error
@@ -65,7 +66,7 @@ __all__ = ["SystemSetup"]
 _FULL = DesignConfig.full()
 #: The setup's fields that are the design's (``hdl.config.DesignConfig``'s of the same names).
 DESIGN_FIELDS = ("geometry", "timing", "layout", "thresholds", "level_grey", "depth", "auto_rectification", "sys_hz",
-                 "i2c_hz", "i2c_retry_delay_us", "pclk_hz", "memory")
+                 "i2c_hz", "i2c_retry_delay_us", "pclk_hz", "memory", "maps")
 #: The simulation's speed-ups of the small preset (sim/testbench/system/tables.py).
 _SMALL_SPEED_UPS = {"time_scale": 0.02, "quick_table": True}
 
@@ -107,6 +108,7 @@ class SystemSetup:
     pix_after_init: bool = False       # start the pixel clock only once the I2C init is done (see below)
     sensor_timing: object = None       # sim.models.mt9d112.sensor.SensorTiming; None: SENSOR_TIMING / SMALL_SENSOR_TIMING
     memory: str = _FULL.memory         # the frames in block RAM or, "ddr2", in the frame store with the MIG model
+    maps: str = _FULL.maps             # the depth maps in the engine's ring or, "store", whole in the frame store
 
     @classmethod
     def small(cls, **kw):
