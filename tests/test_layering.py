@@ -44,8 +44,9 @@ MAY_IMPORT = {
     "stereodepth": ("spec", "hdl", "golden", "board", "sim"),
     # the board commands build the board's design (hdl.config): no simulation
     "stereodepth.cmd_verilog": ("spec", "hdl", "board", "stereodepth.errors"),
-    "stereodepth.cmd_resources": ("spec", "hdl", "board", "stereodepth.errors"),
-    "stereodepth.cmd_timing": ("spec", "hdl", "board", "stereodepth.errors"),
+    "stereodepth.cmd_resources": ("spec", "hdl", "board", "stereodepth.errors", "stereodepth.design_args"),
+    "stereodepth.cmd_timing": ("spec", "hdl", "board", "stereodepth.errors", "stereodepth.design_args"),
+    "stereodepth.design_args": ("spec", "hdl", "stereodepth.errors"),
     "bench.bench_resources": ("spec", "hdl", "board"),
     "bench.bench_timing": ("spec", "hdl", "board"),
     "tests": PRODUCT,

@@ -18,7 +18,7 @@ simulation's own: the switch settings (``disparity``, ``rectification``, ``segme
 (``lock_cycles``), when the pixel clock starts (``pix_after_init``) and the sensor models' timing
 (``sensor_timing``).
 
-Two presets:
+Three presets:
 
 * :meth:`SystemSetup.small`: ``DesignConfig.small()`` (64 x 48 sensors -> 16 x 12 buffers, a 112 x 52 display,
   D = 8, a 1 MHz I2C bus: a simulation speed-up the register-file models do not notice; the 100 kHz bus is
@@ -26,6 +26,8 @@ Two presets:
   entries and its waits scaled by 1/50 (``sim/testbench/system/tables.py``). For the default test run.
 * :meth:`SystemSetup.full`: ``DesignConfig.full()``, the board's design (1600 x 1200 -> 400 x 300, 1080p60, the
   board's MT9D112 table unchanged, the 100 kHz bus). For the slow test, the benchmark and the demo.
+* :meth:`SystemSetup.full_800`: ``DesignConfig.full_800()``, the 800 x 600 build (the same sensors and table,
+  8-bit 2 x 2 means, D = 128, the frames and the maps in the DDR2 with the MIG model, the maps 1:1 on the screen).
 
 The sensors' PCLK is the design's ``pclk_hz`` (``spec.board.CLOCKS.CAM_PCLK_HZ``: what the MT9D112 table
 programs). Camera A is the left image, camera B the right image.
@@ -64,9 +66,12 @@ from spec.memory import MIG
 __all__ = ["SystemSetup"]
 
 _FULL = DesignConfig.full()
+_FULL_800 = DesignConfig.full_800()
 #: The setup's fields that are the design's (``hdl.config.DesignConfig``'s of the same names).
 DESIGN_FIELDS = ("geometry", "timing", "layout", "thresholds", "level_grey", "depth", "auto_rectification", "sys_hz",
                  "i2c_hz", "i2c_retry_delay_us", "pclk_hz", "memory", "maps")
+#: The presets, by the name :meth:`SystemSetup.to_spec` gives them.
+PRESETS = ("small", "full", "full_800")
 #: The simulation's speed-ups of the small preset (sim/testbench/system/tables.py).
 _SMALL_SPEED_UPS = {"time_scale": 0.02, "quick_table": True}
 
@@ -121,8 +126,14 @@ class SystemSetup:
         """``DesignConfig.full()``, the board's design, simulated as it is; ``kw`` overrides any field."""
         return cls(**{**_design_fields(_FULL), "sensor_timing": SENSOR_TIMING, "pix_after_init": True, **kw})
 
+    @classmethod
+    def full_800(cls, **kw):
+        """``DesignConfig.full_800()``, the 800 x 600 build, simulated as it is; ``kw`` overrides any field."""
+        return cls(**{**_design_fields(_FULL_800), "layout": _FULL_800.layout, "sensor_timing": SENSOR_TIMING,
+                      "pix_after_init": True, **kw})
+
     def to_spec(self):
-        """This setup as JSON: ``{"preset": "small"|"full", **fields that differ from the preset}``. Raises
+        """This setup as JSON: ``{"preset": "small"|"full"|"full_800", **fields that differ from the preset}``. Raises
         ``ValueError`` if a differing field has no JSON form (a layout, sensor timing or table of its own)."""
         base = type(self).from_spec({"preset": self.preset})
         spec = {"preset": self.preset}
@@ -140,14 +151,14 @@ class SystemSetup:
         """The setup a :meth:`to_spec` dictionary describes."""
         spec = dict(spec)
         preset = spec.pop("preset", "small")
-        if preset not in ("small", "full"):
-            raise ValueError(f"preset must be 'small' or 'full', not {preset!r}")
-        return (cls.small if preset == "small" else cls.full)(**spec)
+        if preset not in PRESETS:
+            raise ValueError(f"preset must be one of {', '.join(map(repr, PRESETS))}, not {preset!r}")
+        return getattr(cls, preset)(**spec)
 
     @property
     def preset(self):
-        """``"small"`` or ``"full"``: which preset this setup's sizes are."""
-        return "full" if self.geometry == _FULL.geometry else "small"
+        """``"small"``, ``"full"`` or ``"full_800"``: which preset this setup's sizes are."""
+        return {_FULL.geometry: "full", _FULL_800.geometry: "full_800"}.get(self.geometry, "small")
 
     def __post_init__(self):
         if not 0 <= self.disparity <= 127:
