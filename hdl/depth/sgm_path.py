@@ -106,26 +106,29 @@ class SgmPath(wiring.Component):
         # i: select the group's inputs.
         tok1 = Signal(layout)
         cost1 = Signal.like(self.cost, reset_less=True)
+        # L'(d) of the group's lanes, and the two neighbours outside the group: L'(d - 1) of lane k is lane
+        # k - 1's L'(d), so only lane 0's L'(d - 1) and the last lane's L'(d + 1) are selected on their own.
         mid = Signal(data.ArrayLayout(pbits, lanes), reset_less=True)
-        below = Signal(data.ArrayLayout(pbits, lanes), reset_less=True)      # L'(d - 1)
-        above = Signal(data.ArrayLayout(pbits, lanes), reset_less=True)      # L'(d + 1)
-        has_below = Signal(lanes)
-        has_above = Signal(lanes)
+        edge_below = Signal(pbits, reset_less=True)     # L'(d - 1) of lane 0
+        edge_above = Signal(pbits, reset_less=True)     # L'(d + 1) of the last lane
+        has_below = Signal()                            # lane 0's d - 1 exists (not group 0)
+        has_above = Signal()                            # the last lane's d + 1 exists (not the last group)
         m.d.sync += [tok1.eq(self.token), cost1.eq(self.cost)]
-        for k in range(lanes):
-            for offset, target in ((0, mid), (-1, below), (1, above)):
-                with m.Switch(self.token.group):
-                    for g in range(groups):
-                        d = g * lanes + k + offset
-                        if 0 <= d < cfg.disparities:
-                            with m.Case(g):
-                                m.d.sync += target[k].eq(Mux(first, 0, prev[d]))
-            m.d.sync += [
-                has_below[k].eq(self.token.group * lanes + k >= 1),
-                has_above[k].eq(self.token.group * lanes + k + 1 < cfg.disparities),
-            ]
+        selects = [(k, 0, mid[k]) for k in range(lanes)] + [(0, -1, edge_below), (lanes - 1, 1, edge_above)]
+        for k, offset, target in selects:
+            with m.Switch(self.token.group):
+                for g in range(groups):
+                    d = g * lanes + k + offset
+                    if 0 <= d < cfg.disparities:
+                        with m.Case(g):
+                            m.d.sync += target.eq(Mux(first, 0, prev[d]))
+        # d - 1 exists for every lane but lane 0 and d + 1 for every lane but the last, whatever the group.
+        m.d.sync += [has_below.eq(self.token.group != 0), has_above.eq(self.token.group != groups - 1)]
+        below = [edge_below] + [mid[k] for k in range(lanes - 1)]          # L'(d - 1)
+        above = [mid[k] for k in range(1, lanes)] + [edge_above]           # L'(d + 1)
 
-        # i + 1: the two partial minimums and C - M'.
+        # i + 1: the two partial minimums and C - M': min(L'(d - 1), L'(d + 1)) + P1 (over the neighbours that
+        # exist: D >= 2, so at least one) and min(L'(d), M' + P2); one P1 adder a lane.
         tok2 = Signal(layout)
         low = Signal(data.ArrayLayout(pbits + 1, lanes), reset_less=True)
         high = Signal(data.ArrayLayout(pbits + 1, lanes), reset_less=True)
@@ -134,11 +137,14 @@ class SgmPath(wiring.Component):
         big = mprev1 + cfg.p2
         m.d.sync += tok2.eq(tok1)
         for k in range(lanes):
-            cand_below = Mux(has_below[k], below[k] + cfg.p1, big)
-            cand_above = Mux(has_above[k], above[k] + cfg.p1, big)
+            near = Mux(below[k] < above[k], below[k], above[k])
+            if k == lanes - 1:
+                near = Mux(has_above, near, below[k])
+            if k == 0:
+                near = Mux(has_below, near, above[k])
             m.d.sync += [
-                low[k].eq(Mux(cand_below < mid[k], cand_below, mid[k])),
-                high[k].eq(Mux(cand_above < big, cand_above, big)),
+                low[k].eq(near + cfg.p1),
+                high[k].eq(Mux(mid[k] < big, mid[k], big)),
                 offset2[k].eq(cost1[k] - mprev1),
             ]
 
