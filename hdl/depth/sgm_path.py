@@ -45,15 +45,20 @@ class SgmPath(wiring.Component):
     Pipeline (i = the group's input clock):
 
     ====== ==================================================================================
-    i      select L'(d - 1 .. d + lanes) of the group (zero for ``first``); register C
-    i + 1  min(L'(d), L'(d - 1) + P1), min(L'(d + 1) + P1, M' + P2), C - M' (M' read here)
-    i + 2  L = min of the two + (C - M'): ``l``; horizontal: into the next-vector bank
-    i + 3  horizontal, last group: current bank <- next bank; minimum tree (``tree_stages(lanes)`` clocks)
+    i      L'(d .. d + lanes - 1), lane 0's L'(d - 1), the last lane's L'(d + 1) of the group (horizontal:
+           the read bank's front group, shifted out, zero for ``first``; vertical: selected from ``prev``);
+           register C
+    i + 1  min(L'(d - 1), L'(d + 1)) + P1 over the neighbours that exist, min(L'(d), M' + P2), C - M' (M'
+           read here)
+    i + 2  L = min of the two + (C - M'): ``l``; horizontal: pushed into the write bank
+    i + 3  minimum tree (``tree_stages(lanes)`` clocks)
     then   fold into the minimum over the groups; last group: ``m``
     ====== ==================================================================================
 
-    The loop closes when a pixel's first group comes ``loop_clocks`` or more clocks after the previous
-    pixel's first group.
+    The horizontal path's banks (two shift registers of G group words; docs/depth.md, "The horizontal loop")
+    swap after a pixel's last group, so a pixel's groups must come in consecutive order, all of them (a pixel
+    cut short is overwritten whole by the next one's groups). The loop closes when a pixel's first group comes
+    ``loop_clocks`` or more clocks after the previous pixel's first group.
     """
 
     LATENCY = 3     # clocks from a group's input to its ``l``
