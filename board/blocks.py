@@ -160,6 +160,8 @@ def block_lines(per_block, *, strip="", min_luts=0):
     total, others, small = BlockCells(), BlockCells(), 0
     for name, b in sorted(per_block.items(), key=lambda kv: -kv[1].luts):
         total.add(b)
+        if not (b.luts or b.ffs or b.ramb36):
+            continue
         if b.luts < min_luts and not b.ramb36:
             others.add(b)
             small += 1
