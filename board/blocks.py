@@ -112,7 +112,9 @@ def attribute(netlist):
             return stem_line(declared[0][1])
         # No source at all (a netlist written without ``src``, as the board's platform writes it): the block
         # path of the deepest name, Amaranth's ``$n`` suffixes dropped.
-        deepest = sorted((n for b in bits for n, _ in names.get(b, ())), key=lambda n: -n.count("."))
+        def deepest_of(bits):
+            return sorted((n for b in bits for n, _ in names.get(b, ())), key=lambda n: -n.count("."))
+        deepest = deepest_of(bits) or deepest_of(outputs(cell))     # a shift register fed by logic
         if not deepest:
             return "top", "?"
         path = [re.sub(r"\$\d+$", "", part) for part in deepest[0].split(".")[:-1]]
