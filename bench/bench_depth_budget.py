@@ -202,14 +202,16 @@ def synth_lines():
     builds += [(f"800 x 600, D {D}, {len(paths)} paths", SENSOR_800,
                 dataclasses.replace(DEPTH_800, disparities=D, paths=paths, max_cost=60 * len(paths)))
                for D, paths in ((64, TWO_PATHS), (64, THREE_PATHS), (128, TWO_PATHS))]
-    lines = ["### The engine alone through Yosys", "", "| engine | LUTs | flip-flops | RAMB36 (+ RAMB18 / 2) |",
-             "|---|---|---|---|"]
+    lines = ["### The engine alone through Yosys", "",
+             "| engine | LUTs (logic) | shift registers (SRL16E, a LUT each) | flip-flops | RAMB36 (+ RAMB18 / 2) |",
+             "|---|---|---|---|---|"]
     for name, geometry, config in builds:
         with tempfile.TemporaryDirectory() as work:
             cells, _, _ = run_yosys(rtlil.convert(DepthEngine(geometry, config), name="top"), work)
         count = lambda prefix: sum(n for t, n in cells.items() if t.startswith(prefix))     # noqa: E731
         luts = sum(n for t, n in cells.items() if t in LUT_CELLS)
-        lines.append(f"| {name} | {luts:,} | {count('FD'):,} | {count('RAMB36') + count('RAMB18') / 2:g} |")
+        lines.append(f"| {name} | {luts:,} | {count('SRL'):,} | {count('FD'):,} | "
+                     f"{count('RAMB36') + count('RAMB18') / 2:g} |")
     return lines + [""]
 
 
