@@ -552,7 +552,10 @@ class DepthEngine(wiring.Component):
         chain = [Signal(entry, name=f"left_candidate{i}", reset_less=True) for i in range(length)]
         fresh = Signal(entry)
         m.d.comb += [fresh.census.eq(left_sig), fresh.inside.eq(step < w + 2 * rx)]
-        advance = in_run & (clock >= ISSUE_CLOCK) & (clock < ISSUE_CLOCK + G)
+        # The chain's enable (the largest clock-enable net) from a register, decoded a clock early: in RUN
+        # without a start the next clock is clock + 1 in RUN, or clock 0 (not an issue clock) after a step's last.
+        advance = Signal(name="candidates_advance")
+        m.d.sync += advance.eq(in_run & (clock >= ISSUE_CLOCK - 1) & (clock < ISSUE_CLOCK + G - 1) & ~self.start)
         with m.If(advance):
             m.d.sync += chain[0].eq(Mux(group == G - 1, fresh, chain[D - 2]) if G > 1 else fresh)
             for i in range(1, length):
