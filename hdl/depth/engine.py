@@ -282,7 +282,7 @@ class DepthEngine(wiring.Component):
         if self.three:
             token, right_cen, left_sel, inside = self._issue(m, left_sig, right_sig, step, clock, in_run)
         else:
-            token, right_cen, left_sel, inside = self._issue_ring(m, left_sig, right_sig, step, clock, in_run)
+            token, right_cen, left_sel, inside = self._issue_chain(m, left_sig, right_sig, step, clock, in_run)
         horizontal, vertical = self._paths(m, token, right_cen, left_sel, inside, step, clock, in_run, restart)
         self._back_end(m, horizontal, vertical, y, out_base, row_invalid)
         return m
@@ -532,8 +532,8 @@ class DepthEngine(wiring.Component):
         ]
         return token, right_cen, group
 
-    def _issue_ring(self, m, left_sig, right_sig, step, clock, in_run):
-        """Two paths: the lanes' left signatures from a ring of candidates (no select).
+    def _issue_chain(self, m, left_sig, right_sig, step, clock, in_run):
+        """Two paths: the lanes' left signatures from a chain of candidates (no select).
 
         Lane k of group g in step s takes census_L(x + gP + k) (x = s - lead). That is lane k + 1's candidate of
         group g one step earlier, and lane P - 1's of group g is lane 0's of group g + 1 one step earlier; lane

@@ -118,7 +118,7 @@ class SgmPath(wiring.Component):
         has_above = Signal()                            # the last lane's d + 1 exists (not the last group)
         m.d.sync += [tok1.eq(self.token), cost1.eq(self.cost)]
         if self.recurrent:
-            banks, written = self._banks(m, mid, edge_below, edge_above, first)
+            written = self._banks(m, mid, edge_below, edge_above, first)
         else:
             selects = [(k, 0, mid[k]) for k in range(lanes)] + [(0, -1, edge_below), (lanes - 1, 1, edge_above)]
             for k, offset, target in selects:
@@ -196,7 +196,7 @@ class SgmPath(wiring.Component):
                     m.d.sync += [bank[-1][k].eq(values[k]) for k in range(lanes)]
             with m.If(tok.go & tok.last):
                 m.d.sync += write_bank.eq(~write_bank)
-        return banks, written
+        return written
 
     def _minimum(self, m, layout):
         """i + 3 on: the minimum over the lanes, then over the groups."""
