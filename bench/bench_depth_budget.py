@@ -27,7 +27,8 @@ Schemes for the right-to-left path, whose recursion runs against the pixel order
   must be refilled with D - 1 signatures per segment.
 
 Run: ``python -m bench depth_budget`` (about a minute: three engines elaborated); ``--quality`` adds the golden
-model's figures of the candidate builds, ``--synth`` the engines' LUTs, flip-flops and block RAM through Yosys.
+model's figures of the candidate builds, ``--synth`` the engines' LUTs, flip-flops and block RAM through Yosys;
+``--blocks`` (alone) the 800 x 600 D = 128 two-path engine's LUTs per block and the registers taking the most.
 """
 
 import dataclasses
@@ -201,20 +202,42 @@ def synth_lines():
     builds += [(f"800 x 600, D {D}, {len(paths)} paths", SENSOR_800,
                 dataclasses.replace(DEPTH_800, disparities=D, paths=paths, max_cost=60 * len(paths)))
                for D, paths in ((64, TWO_PATHS), (64, THREE_PATHS), (128, TWO_PATHS))]
-    lines = ["### The engine alone through Yosys", "", "| engine | LUTs | flip-flops | RAMB36 (+ RAMB18 / 2) |",
-             "|---|---|---|---|"]
+    lines = ["### The engine alone through Yosys", "",
+             "| engine | LUTs (logic) | shift registers (SRL16E, a LUT each) | flip-flops | RAMB36 (+ RAMB18 / 2) |",
+             "|---|---|---|---|---|"]
     for name, geometry, config in builds:
         with tempfile.TemporaryDirectory() as work:
             cells, _, _ = run_yosys(rtlil.convert(DepthEngine(geometry, config), name="top"), work)
         count = lambda prefix: sum(n for t, n in cells.items() if t.startswith(prefix))     # noqa: E731
         luts = sum(n for t, n in cells.items() if t in LUT_CELLS)
-        lines.append(f"| {name} | {luts:,} | {count('FD'):,} | {count('RAMB36') + count('RAMB18') / 2:g} |")
+        lines.append(f"| {name} | {luts:,} | {count('SRL'):,} | {count('FD'):,} | "
+                     f"{count('RAMB36') + count('RAMB18') / 2:g} |")
     return lines + [""]
+
+
+def blocks_lines():
+    """The 800 x 600, D = 128 two-path engine through Yosys (as ``--synth``), its LUTs per block
+    (``board.blocks``: each LUT charged to the register it computes, the register to the file declaring it) and
+    the source lines whose registers take the most logic."""
+    import tempfile
+    from board.blocks import attribute, block_lines, blocks, line_lines
+    from board.resources import run_yosys
+    config = dataclasses.replace(DEPTH_800, disparities=128, paths=TWO_PATHS, max_cost=60 * len(TWO_PATHS))
+    with tempfile.TemporaryDirectory() as work:
+        _, netlist, _ = run_yosys(rtlil.convert(DepthEngine(SENSOR_800, config), name="top"), work)
+        attributed = attribute(netlist)
+    return (["### The 800 x 600, D 128, two-path engine per block (Yosys; LUTs = logic + SRL + LUT RAM)", ""]
+            + block_lines(blocks(attributed)) + ["", "Registers taking the most logic:", ""]
+            + line_lines(attributed) + [""])
 
 
 def main(options=()):
     """``--quality``: the golden model's figures of the candidate builds as well (several minutes); ``--synth``:
-    the engines through Yosys (about 15 minutes)."""
+    the engines through Yosys (about 15 minutes); ``--blocks``: the 800 x 600 D 128 two-path engine's LUTs per
+    block (about 5 minutes), alone."""
+    if "--blocks" in options:
+        print("\n".join(blocks_lines()))
+        return
     lines = table_lines()
     if "--quality" in options:
         lines += quality_lines()

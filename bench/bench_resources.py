@@ -4,13 +4,31 @@ synthesis. See ``board/resources.py`` for what is counted and the limits of the 
 DDR2 build (the frames in the frame store behind MIG; the MIG core a black box, its own block RAM counted), against
 its block-RAM goal (``board.resources.DDR2_BUDGET``); ``--maps store`` with it: the depth maps whole in the frame store
 (docs/frame_store.md, "Depth maps in the store"); ``--build 800``: the 800 x 600 build
-(``hdl.config.DesignConfig.full_800``: both in the DDR2, against the whole design's budget). Timings are on this (shared, often loaded) machine:
+(``hdl.config.DesignConfig.full_800``: both in the DDR2, against the whole design's budget). ``--blocks``: the LUTs
+per block as well (``board.blocks``), the depth engine's and the rest apart. Timings are on this (shared, often
+loaded) machine:
 pessimistic.
 """
 
 import argparse
 import tempfile
 import time
+from pathlib import Path
+
+
+def _blocks(netlist_path):
+    """The build's LUTs per block (``board.blocks``), the depth engine's blocks (hdl/depth) and the rest in two
+    tables."""
+    import json
+    from board.blocks import attribute, block_lines, blocks
+    attributed = attribute(json.loads(netlist_path.read_text()))
+    engine_path = "system.display.engine"
+    engine = {name: b for name, b in blocks(attributed, 4).items() if name.startswith(engine_path)}
+    rest = {name: b for name, b in blocks(attributed, 4).items() if not name.startswith(engine_path)}
+    return (["", "LUTs per block (each LUT charged to the register it computes, that register to its block; "
+             "LUTs = logic + SRL + LUT RAM):", "", "the depth engine:", ""]
+            + block_lines(engine, strip=engine_path + ".") + ["", "outside the engine:", ""]
+            + block_lines(rest, min_luts=40))
 
 
 def main(argv=None):
@@ -23,6 +41,8 @@ def main(argv=None):
                         help="the depth maps in the engine's ring (default) or, with --memory ddr2, in the frame store")
     parser.add_argument("--build", choices=("thesis", "800"), default="thesis",
                         help="the thesis's design (default) or the 800 x 600 build (its frames and maps in the DDR2)")
+    parser.add_argument("--blocks", action="store_true",
+                        help="also the LUTs per block, the depth engine's (hdl/depth) and the rest apart")
     args = parser.parse_args(argv if argv is not None else [])
     if args.maps == "store" and args.memory != "ddr2":
         parser.error("--maps store keeps the depth maps in the frame store: it needs --memory ddr2")
@@ -36,10 +56,14 @@ def main(argv=None):
         return
     wall = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="bench_resources_") as tmp:
-        report, frame_bits = estimate(tmp, **design.top_kwargs())
+        report, frame_bits = estimate(tmp, keep_netlist=args.blocks, **design.top_kwargs())
+        if args.blocks:
+            per_block = _blocks(Path(tmp) / "net.json")
     total = time.perf_counter() - wall
     for line in report.lines(frame_bits):
         print(line)
+    if args.blocks:
+        print("\n".join(per_block))
     totals = report.totals()
     print(f"\nbudget ({'800 x 600 ' if args.build == '800' else ''}{args.memory} build{', maps in the store' if args.maps == 'store' else ''}): {totals['ramb36']:g} of <= {totals['budget']['ramb36']} RAMB36, "
           f"{totals['lut_percent']:.1f} % of <= {totals['budget']['lut_percent']} % LUTs: "

@@ -466,16 +466,17 @@ def mig_core_blocks(top_kwargs):
     return MIG.FPGA_RAMB36 if board_memory(top_kwargs) == "ddr2" else 0
 
 
-def estimate(out, **top_kwargs):
+def estimate(out, *, keep_netlist=False, **top_kwargs):
     """Synthesise the board design ``GenesysTop(**top_kwargs)`` in ``out``; returns ``(Report, frame_bits)``,
     ``frame_bits`` the bits of the two block-RAM frame buffers (``None`` for the DDR2 build, whose frames are in
     the DDR2; its report counts the MIG core's own block RAM, :func:`mig_core_blocks`, and has the
-    :data:`DDR2_BUDGET` with the thesis's 400 x 300 buffers, the whole design's :data:`BUDGET` with others)."""
+    :data:`DDR2_BUDGET` with the thesis's 400 x 300 buffers, the whole design's :data:`BUDGET` with others).
+    ``keep_netlist``: leave the mapped netlist in ``out/net.json`` (:func:`synthesize`)."""
     from spec.sensor import SENSOR
     ddr2 = board_memory(top_kwargs) == "ddr2"
     rtlil = board_rtlil(**top_kwargs)
     report = synthesize(rtlil, out, domains=DOMAINS + (("mem",) if ddr2 else ()),
-                        black_boxes=board_black_boxes(top_kwargs))
+                        black_boxes=board_black_boxes(top_kwargs), keep_netlist=keep_netlist)
     report.core_ramb36 = mig_core_blocks(top_kwargs)
     g = top_kwargs.get("geometry", SENSOR)
     if ddr2:

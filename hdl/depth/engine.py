@@ -174,9 +174,10 @@ class DepthEngine(wiring.Component):
     0          ring read of column clamp(s - 3)
     1          column -> census windows
     2          census signatures registered
-    3          left census shift register shifts
+    3          three paths: left census shift register shifts
     4          vertical line buffer read (pixel x)
-    4 + g      group g: the lanes' left signatures selected
+    4 + g      group g: the lanes' left signatures (two paths: the candidates' chain advances; three:
+               selected from the shift register)
     5 + g      cost: XOR, count 6-bit chunks (3 clocks)
     8 + g      paths: select L'; 9 + g: partial minimums; 10 + g: L
     11 + g     line buffer write (vertical L), winner sum, path minimum trees
@@ -278,7 +279,10 @@ class DepthEngine(wiring.Component):
                              can_start, limit)
 
         left_sig, right_sig = self._census(m, left_ring, right_ring, ring_row, step, clock, in_run)
-        token, right_cen, left_sel, inside = self._issue(m, left_sig, right_sig, step, clock, in_run)
+        if self.three:
+            token, right_cen, left_sel, inside = self._issue(m, left_sig, right_sig, step, clock, in_run)
+        else:
+            token, right_cen, left_sel, inside = self._issue_chain(m, left_sig, right_sig, step, clock, in_run)
         horizontal, vertical = self._paths(m, token, right_cen, left_sel, inside, step, clock, in_run, restart)
         writes = self._back_end(m, horizontal, vertical, y, out_base, row_invalid)
         if platform == "formal" and self.three:
@@ -495,6 +499,8 @@ class DepthEngine(wiring.Component):
                 m.d.comb += census.column[j].eq(ring.column[ring_row[j]])
             m.d.comb += census.shift.eq(in_run & (clock == CENSUS_SHIFT))
             signatures.append(census.census)
+        if not self.three:                      # two paths: the candidates' chain is built at the issue
+            return signatures
         entry = data.StructLayout({"census": cfg.census_bits, "inside": 1})
         shift_reg = [Signal(entry, name=f"left_census{j}", reset_less=True) for j in range(cfg.disparities)]
         # The shift register's enable (D entries wide: the largest clock-enable net) from a register, decoded a
@@ -527,10 +533,10 @@ class DepthEngine(wiring.Component):
             self._back_col = col
         return self._back_col
 
-    def _issue(self, m, shift_reg, right_sig, step, clock, in_run):
-        """Step clocks 4 .. 4 + G - 1: group g's token and its lanes' left signatures, registered."""
+    def _issue_token(self, m, right_sig, step, clock, in_run):
+        """Step clocks 4 .. 4 + G - 1: group g's token and the right signature, registered."""
         cfg, w = self.config, self.geometry.buf_width
-        G, P, D = self.groups, cfg.lanes, cfg.disparities
+        G = self.groups
         x = step - self.lead
         lead = self.lead
         if self.three:                          # backward: x = W - 1 + 2 rx - step, from step 2 rx on
@@ -539,8 +545,6 @@ class DepthEngine(wiring.Component):
         group = clock - ISSUE_CLOCK
         token = Signal(token_layout(G, w))
         right_cen = Signal(cfg.census_bits, reset_less=True)
-        left_sel = Signal(data.ArrayLayout(cfg.census_bits, P), reset_less=True)
-        inside = Signal(P)
         issuing = in_run & (clock >= ISSUE_CLOCK) & (clock < ISSUE_CLOCK + G) & (step >= lead)
         m.d.sync += [
             token.go.eq(issuing),
@@ -550,6 +554,51 @@ class DepthEngine(wiring.Component):
             token.x.eq(x),
             right_cen.eq(right_sig),
         ]
+        return token, right_cen, group
+
+    def _issue_chain(self, m, left_sig, right_sig, step, clock, in_run):
+        """Two paths: the lanes' left signatures from a chain of candidates (no select).
+
+        Lane k of group g in step s takes census_L(x + gP + k) (x = s - lead). That is lane k + 1's candidate of
+        group g one step earlier, and lane P - 1's of group g is lane 0's of group g + 1 one step earlier; lane
+        P - 1's of the last group is the signature that entered in this step. So one register chain R advances
+        at each of a step's G issue clocks: its input is the new signature (with its ``inside`` bit) at the last
+        group, else R[D - 2] (the candidate D - 1 issue clocks old); lane k reads R[(P - 1 - k) G]. Every
+        candidate of a pixel (steps >= lead) entered the chain in the same pass, so the chain needs no reset.
+        The chain's stretches between taps are plain shift registers (SRLs), where a D-entry shift register
+        and a G:1 select per lane and bit would be logic."""
+        cfg = self.config
+        G, P, D = self.groups, cfg.lanes, cfg.disparities
+        rx, w = cfg.census_width // 2, self.geometry.buf_width
+        token, right_cen, group = self._issue_token(m, right_sig, step, clock, in_run)
+        entry = data.StructLayout({"census": cfg.census_bits, "inside": 1})
+        length = max(D - 1, (P - 1) * G + 1)
+        chain = [Signal(entry, name=f"left_candidate{i}", reset_less=True) for i in range(length)]
+        fresh = Signal(entry)
+        m.d.comb += [fresh.census.eq(left_sig), fresh.inside.eq(step < w + 2 * rx)]
+        # The chain's enable (the largest clock-enable net) from a register, decoded a clock early: in RUN
+        # without a start the next clock is clock + 1 in RUN, or clock 0 (not an issue clock) after a step's last.
+        advance = Signal(name="candidates_advance")
+        m.d.sync += advance.eq(in_run & (clock >= ISSUE_CLOCK - 1) & (clock < ISSUE_CLOCK + G - 1) & ~self.start)
+        with m.If(advance):
+            m.d.sync += chain[0].eq(Mux(group == G - 1, fresh, chain[D - 2]) if G > 1 else fresh)
+            for i in range(1, length):
+                m.d.sync += chain[i].eq(chain[i - 1])
+        left_sel = Signal(data.ArrayLayout(cfg.census_bits, P))
+        inside = Signal(P)
+        for k in range(P):
+            tap = chain[(P - 1 - k) * G]
+            m.d.comb += [left_sel[k].eq(tap.census), inside[k].eq(tap.inside)]
+        return token, right_cen, left_sel, inside
+
+    def _issue(self, m, shift_reg, right_sig, step, clock, in_run):
+        """Three paths, step clocks 4 .. 4 + G - 1: group g's token and its lanes' left signatures, selected
+        from the left census shift register and registered."""
+        cfg = self.config
+        G, P, D = self.groups, cfg.lanes, cfg.disparities
+        token, right_cen, group = self._issue_token(m, right_sig, step, clock, in_run)
+        left_sel = Signal(data.ArrayLayout(cfg.census_bits, P), reset_less=True)
+        inside = Signal(P)
         with m.Switch(group):
             for gi in range(G):
                 with m.Case(gi):

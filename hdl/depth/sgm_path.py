@@ -45,15 +45,20 @@ class SgmPath(wiring.Component):
     Pipeline (i = the group's input clock):
 
     ====== ==================================================================================
-    i      select L'(d - 1 .. d + lanes) of the group (zero for ``first``); register C
-    i + 1  min(L'(d), L'(d - 1) + P1), min(L'(d + 1) + P1, M' + P2), C - M' (M' read here)
-    i + 2  L = min of the two + (C - M'): ``l``; horizontal: into the next-vector bank
-    i + 3  horizontal, last group: current bank <- next bank; minimum tree (``tree_stages(lanes)`` clocks)
+    i      L'(d .. d + lanes - 1), lane 0's L'(d - 1), the last lane's L'(d + 1) of the group (horizontal:
+           the read bank's front group, shifted out, zero for ``first``; vertical: selected from ``prev``);
+           register C
+    i + 1  min(L'(d - 1), L'(d + 1)) + P1 over the neighbours that exist, min(L'(d), M' + P2), C - M' (M'
+           read here)
+    i + 2  L = min of the two + (C - M'): ``l``; horizontal: pushed into the write bank
+    i + 3  minimum tree (``tree_stages(lanes)`` clocks)
     then   fold into the minimum over the groups; last group: ``m``
     ====== ==================================================================================
 
-    The loop closes when a pixel's first group comes ``loop_clocks`` or more clocks after the previous
-    pixel's first group.
+    The horizontal path's banks (two shift registers of G group words; docs/depth.md, "The horizontal loop")
+    swap after a pixel's last group, so a pixel's groups must come in consecutive order, all of them (a pixel
+    cut short is overwritten whole by the next one's groups). The loop closes when a pixel's first group comes
+    ``loop_clocks`` or more clocks after the previous pixel's first group.
     """
 
     LATENCY = 3     # clocks from a group's input to its ``l``
@@ -96,9 +101,7 @@ class SgmPath(wiring.Component):
         layout = token_layout(groups, self.width)
 
         if self.recurrent:
-            current = Signal(data.ArrayLayout(pbits, cfg.disparities), reset_less=True)
-            following = Signal(data.ArrayLayout(pbits, cfg.disparities), reset_less=True)
-            prev, prev_min = current, self.m
+            prev_min = self.m
         else:
             prev, prev_min = self.prev, self.prev_min
         first = self.token.first if self.recurrent else 0
@@ -106,26 +109,32 @@ class SgmPath(wiring.Component):
         # i: select the group's inputs.
         tok1 = Signal(layout)
         cost1 = Signal.like(self.cost, reset_less=True)
+        # L'(d) of the group's lanes, and the two neighbours outside the group: L'(d - 1) of lane k is lane
+        # k - 1's L'(d), so only lane 0's L'(d - 1) and the last lane's L'(d + 1) are selected on their own.
         mid = Signal(data.ArrayLayout(pbits, lanes), reset_less=True)
-        below = Signal(data.ArrayLayout(pbits, lanes), reset_less=True)      # L'(d - 1)
-        above = Signal(data.ArrayLayout(pbits, lanes), reset_less=True)      # L'(d + 1)
-        has_below = Signal(lanes)
-        has_above = Signal(lanes)
+        edge_below = Signal(pbits, reset_less=True)     # L'(d - 1) of lane 0
+        edge_above = Signal(pbits, reset_less=True)     # L'(d + 1) of the last lane
+        has_below = Signal()                            # lane 0's d - 1 exists (not group 0)
+        has_above = Signal()                            # the last lane's d + 1 exists (not the last group)
         m.d.sync += [tok1.eq(self.token), cost1.eq(self.cost)]
-        for k in range(lanes):
-            for offset, target in ((0, mid), (-1, below), (1, above)):
+        if self.recurrent:
+            written = self._banks(m, mid, edge_below, edge_above, first)
+        else:
+            selects = [(k, 0, mid[k]) for k in range(lanes)] + [(0, -1, edge_below), (lanes - 1, 1, edge_above)]
+            for k, offset, target in selects:
                 with m.Switch(self.token.group):
                     for g in range(groups):
                         d = g * lanes + k + offset
                         if 0 <= d < cfg.disparities:
                             with m.Case(g):
-                                m.d.sync += target[k].eq(Mux(first, 0, prev[d]))
-            m.d.sync += [
-                has_below[k].eq(self.token.group * lanes + k >= 1),
-                has_above[k].eq(self.token.group * lanes + k + 1 < cfg.disparities),
-            ]
+                                m.d.sync += target.eq(prev[d])
+        # d - 1 exists for every lane but lane 0 and d + 1 for every lane but the last, whatever the group.
+        m.d.sync += [has_below.eq(self.token.group != 0), has_above.eq(self.token.group != groups - 1)]
+        below = [edge_below] + [mid[k] for k in range(lanes - 1)]          # L'(d - 1)
+        above = [mid[k] for k in range(1, lanes)] + [edge_above]           # L'(d + 1)
 
-        # i + 1: the two partial minimums and C - M'.
+        # i + 1: the two partial minimums and C - M': min(L'(d - 1), L'(d + 1)) + P1 (over the neighbours that
+        # exist: D >= 2, so at least one) and min(L'(d), M' + P2); one P1 adder a lane.
         tok2 = Signal(layout)
         low = Signal(data.ArrayLayout(pbits + 1, lanes), reset_less=True)
         high = Signal(data.ArrayLayout(pbits + 1, lanes), reset_less=True)
@@ -134,35 +143,65 @@ class SgmPath(wiring.Component):
         big = mprev1 + cfg.p2
         m.d.sync += tok2.eq(tok1)
         for k in range(lanes):
-            cand_below = Mux(has_below[k], below[k] + cfg.p1, big)
-            cand_above = Mux(has_above[k], above[k] + cfg.p1, big)
+            near = Mux(below[k] < above[k], below[k], above[k])
+            if k == lanes - 1:
+                near = Mux(has_above, near, below[k])
+            if k == 0:
+                near = Mux(has_below, near, above[k])
             m.d.sync += [
-                low[k].eq(Mux(cand_below < mid[k], cand_below, mid[k])),
-                high[k].eq(Mux(cand_above < big, cand_above, big)),
+                low[k].eq(near + cfg.p1),
+                high[k].eq(Mux(mid[k] < big, mid[k], big)),
                 offset2[k].eq(cost1[k] - mprev1),
             ]
 
         # i + 2: L.
         m.d.sync += self.l_token.eq(tok2)
+        values = [Mux(high[k] < low[k], high[k], low[k]) + offset2[k] for k in range(lanes)]
         for k in range(lanes):
-            value = Mux(high[k] < low[k], high[k], low[k]) + offset2[k]
-            m.d.sync += self.l[k].eq(value)
-            if self.recurrent:
-                with m.Switch(tok2.group):
-                    for g in range(groups):
-                        with m.Case(g):
-                            m.d.sync += following[g * lanes + k].eq(value)
+            m.d.sync += self.l[k].eq(values[k])
+        if self.recurrent:
+            written(tok2, values)
 
-        self._minimum(m, layout, following if self.recurrent else None, current if self.recurrent else None)
+        self._minimum(m, layout)
         return m
 
-    def _minimum(self, m, layout, following, current):
-        """i + 3 on: the minimum over the lanes, then over the groups; the horizontal banks' copy."""
+    def _banks(self, m, mid, edge_below, edge_above, first):
+        """The horizontal path's previous pixel: two banks of G group words, shift registers, one written by a
+        pixel (each group pushed in at the back at i + 2) while the other, written by the pixel before, is read
+        (its front group at i, shifted out), the two swapped after a pixel's last group. A pixel's groups
+        are all written (i + 2 of its last group) before the next pixel reads its first (``loop_clocks`` later)
+        and read before the pixel after writes the bank again, so no bank is written and read in one clock.
+        Lane 0's L'(d - 1) is the last lane of the group read before, kept; the last lane's L'(d + 1) is lane 0
+        of the second group word. So: no select by group, a 2:1 choice of bank per lane."""
+        lanes, groups, pbits = self.config.lanes, self.groups, self.config.path_bits
+        word = data.ArrayLayout(pbits, lanes)
+        banks = [[Signal(word, name=f"bank{b}_{j}", reset_less=True) for j in range(groups)] for b in range(2)]
+        write_bank = Signal()                   # the bank this pixel's groups go into; the other is read
+        read = self.token.go
+        front = Signal(word)
+        m.d.comb += front.eq(Mux(write_bank, banks[0][0].as_value(), banks[1][0].as_value()))
+        above = Mux(write_bank, banks[0][1][0], banks[1][1][0]) if groups > 1 else 0
+        last_read = Signal(pbits, reset_less=True)      # the last lane of the group read before
+        m.d.sync += [mid[k].eq(Mux(first, 0, front[k])) for k in range(lanes)]
+        m.d.sync += [edge_below.eq(Mux(first, 0, last_read)), edge_above.eq(Mux(first, 0, above))]
+        with m.If(read):
+            m.d.sync += last_read.eq(front[lanes - 1])
+
+        def written(tok, values):
+            for b, bank in enumerate(banks):
+                writing = tok.go & (write_bank == b)
+                with m.If(writing | (read & (write_bank != b))):
+                    for j in range(groups - 1):
+                        m.d.sync += bank[j].eq(bank[j + 1])
+                    m.d.sync += [bank[-1][k].eq(values[k]) for k in range(lanes)]
+            with m.If(tok.go & tok.last):
+                m.d.sync += write_bank.eq(~write_bank)
+        return written
+
+    def _minimum(self, m, layout):
+        """i + 3 on: the minimum over the lanes, then over the groups."""
         lanes, pbits = self.config.lanes, self.config.path_bits
         # i + 3 ...: minimum over the lanes, then over the groups.
-        if self.recurrent:
-            with m.If(self.l_token.go & self.l_token.last):
-                m.d.sync += current.eq(following)
         stages = tree_stages(lanes)
         tree_value, _ = min_tree(m, [(self.l[k], None) for k in range(lanes)], "lanes_min")
         tok = self.l_token
