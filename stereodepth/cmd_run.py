@@ -93,18 +93,23 @@ def add_arguments(parser):
                              "view as sim/analysis/truth.py does for the motorcycle)")
     parser.add_argument("--vcd", action="store_true",
                         help="write system.vcd + system.gtkw (Amaranth simulator, --small only)")
-    add_memory_argument(parser)
-    parser.add_argument("--maps", choices=("ring", "store"), default="ring",
+    add_memory_argument(parser, default=None)
+    parser.add_argument("--maps", choices=("ring", "store"), default=None,
                         help="where the depth maps are: ring (the engine's ring of result rows, a map a display "
-                             "frame; default) or store (with --memory ddr2: whole maps in the frame store, the "
-                             "latest whole one shown)")
+                             "frame; the thesis build's default) or store (with --memory ddr2: whole maps in the "
+                             "frame store, the latest whole one shown)")
+    parser.add_argument("--build", choices=("thesis", "800"), default="thesis",
+                        help="thesis (400 x 300 buffers, D = 64; the default) or 800 (8-bit 800 x 600 buffers, "
+                             "D = 128, maps 1:1 on the screen, the frames and the maps in the DDR2: --memory ddr2 "
+                             "--maps store)")
 
 
 def add_memory_argument(parser, default="bram"):
-    """``--memory bram|ddr2``; ``default``: the command's choice."""
+    """``--memory bram|ddr2``; ``default``: the command's choice (``None``: the build's, bram for the thesis's)."""
     parser.add_argument("--memory", choices=("bram", "ddr2"), default=default,
                         help="where the frames are: bram (the block-RAM buffers of the thesis design) or ddr2 (the "
-                             f"frame store in the DDR2 behind MIG, simulated with the MIG model); default {default}")
+                             "frame store in the DDR2 behind MIG, simulated with the MIG model); default "
+                             f"{default or 'bram for the thesis build'}")
 
 
 def switch_value(name, text, low=0, high=127):
@@ -117,15 +122,25 @@ def switch_value(name, text, low=0, high=127):
     return value
 
 
-def make_setup(small, disparity, rectification, segment=False, memory="bram", maps="ring"):
+def make_setup(small, disparity, rectification, segment=False, memory=None, maps=None, build="thesis"):
+    """The run's :class:`~sim.testbench.system.setup.SystemSetup`; ``memory`` / ``maps`` ``None``: the build's.
+    One-line :class:`UserError` for a combination no design has."""
     from hdl.stereo_display import check_maps
     from sim.testbench.system.setup import SystemSetup
+    switches = {"disparity": disparity, "rectification": rectification, "segment": segment}
+    if build == "800":
+        if small:
+            raise UserError("--build 800 is the board's 800 x 600 build: drop --small")
+        for option, value, needed in (("memory", memory, "ddr2"), ("maps", maps, "store")):
+            if value not in (None, needed):
+                raise UserError(f"--build 800 keeps its frames and maps in the DDR2: drop --{option} {value}")
+        return SystemSetup.full_800(**switches)
+    memory, maps = memory or "bram", maps or "ring"
     try:
         check_maps(memory, maps)
     except ValueError as exc:
         raise UserError(f"--maps {maps}: {exc}") from None
-    return (SystemSetup.small if small else SystemSetup.full)(disparity=disparity, rectification=rectification,
-                                                              segment=segment, memory=memory, maps=maps)
+    return (SystemSetup.small if small else SystemSetup.full)(**switches, memory=memory, maps=maps)
 
 
 def switch_settings(args):
@@ -281,7 +296,7 @@ def run(args):
     from stereodepth.provenance import utc_now
     started = utc_now()
     disparity, rectification, segment = switch_settings(args)
-    setup = make_setup(args.small, disparity, rectification, segment, args.memory, args.maps)
+    setup = make_setup(args.small, disparity, rectification, segment, args.memory, args.maps, args.build)
     if args.frames is not None or args.scene is not None:
         if args.vcd:
             raise UserError("--vcd is for one frame: drop --frames / --scene")
