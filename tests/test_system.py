@@ -251,6 +251,21 @@ def test_end_to_end_full_size_ddr2():
     assert result.frame.shape == (1080, 1920, 3) and result.ok
 
 
+@pytest.mark.slow
+def test_end_to_end_full_size_800():
+    """The 800 x 600 build at full size on Verilator (the averaging capture, the frames and the depth maps in the
+    DDR2 with the MIG model, D = 128, the maps 1:1): the first display frame whose images and map are of the
+    captured pair equals the golden frame bit for bit, no display read refused, no depth row withheld."""
+    result = _run(SystemSetup.full_800(disparity=60, rectification=1), Verilator())
+    status = result.status
+    for bus in ("cam_a", "cam_b", "dvi"):
+        assert status[f"{bus}_init_done"] and not status[f"{bus}_init_error"]
+    assert status["cam_a_frame_ok"] and status["cam_b_frame_ok"] and (status["disparity"], status["rectification"]) == (60, 1)
+    assert status["violations"] == [] and result.mismatched_pixels == 0 and status["display_missed"] == 0
+    assert result.chosen.verdict["map_shown"] and result.chosen.verdict["withheld_rows"] == 0
+    assert result.frame.shape == (1080, 1920, 3) and result.ok
+
+
 def test_run_command_rejects_bad_input(tmp_path, capsys):
     from PIL import Image
     from stereodepth.cli import main

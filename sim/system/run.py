@@ -22,7 +22,13 @@ from sim import SimulationFailed
 from sim.system.verdict import Judge
 from sim.testbed.sequence import FrameSequence
 
-__all__ = ["simulate", "still_pair", "StillPair", "SystemResult"]
+__all__ = ["simulate", "still_pair", "StillPair", "SystemResult", "display_frames_a_map"]
+
+
+def display_frames_a_map(setup):
+    """With the maps in the frame store: the display frames a map takes (``hdl.stereo_display.check_map_rate``)."""
+    from hdl.stereo_display import check_map_rate
+    return check_map_rate(setup.timing, setup.geometry, setup.depth)
 
 
 class StillPair(FrameSequence):
@@ -95,15 +101,18 @@ def simulate(setup, sequence, backend, *, on_frame=None, progress=None, policy="
     ``progress(stage, fraction)`` as the run goes on. A still pair's run shows the first display frame
     (``policy="first"``) or the first whose depth map has no withheld rows and, in automatic rectification, whose
     offset has locked (``"whole"``), within ``max_frames`` display frames (default 1 for ``first``, 8 for
-    ``whole``; with the maps in the frame store, ``setup.maps == "store"``, ``first`` is the second display frame,
-    whose map was computed from a pair the run captured, and a frame before the first whole map is never shown).
+    ``whole``; with the maps in the frame store, ``setup.maps == "store"``, ``first`` is the first display frame
+    from the second on whose images and map are of a pair the run captured, within 1 + 2 M display frames, M those
+    a map takes: :func:`display_frames_a_map`; a frame before the first whole map is never shown).
     Raises :class:`~sim.UserError` for what the backend cannot run and
     :class:`~sim.SimulationFailed` for a run that fails."""
     judge = Judge(setup, sequence, policy)
     backend.require(setup, sequence)
     frames = []
-    # With the maps in the frame store the first display frame's map is of a pair before the run: it shows the second.
-    max_frames = max_frames or (1 + (setup.maps == "store") if policy == "first" else 8)
+    # With the maps in the frame store the first display frame's map is of a pair before the run, and a map of the
+    # empty buffers begun before the captures completed may hold the pair back by a map's display frames.
+    map_frames = display_frames_a_map(setup) if setup.maps == "store" else 0
+    max_frames = max_frames or (1 + 2 * map_frames if policy == "first" else 8 + 2 * map_frames)
 
     def judged(shown):
         judge(shown)

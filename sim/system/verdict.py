@@ -143,6 +143,16 @@ class Judge:
             sources.update(self._tear(frame, raw, done))
         return sources
 
+    def _of_empty(self, frame):
+        """A still run with the maps in the frame store: whether the frame's left image or its depth map is the
+        empty buffers' (their golden frame made once)."""
+        if EMPTY not in self.goldens:
+            black = np.zeros_like(self.sequence.pairs[0][0])
+            self.goldens[EMPTY] = self.setup.golden_frame(black, black)
+        empty, layout = self.goldens[EMPTY], self.setup.display_layout
+        return any(np.array_equal(frame[b.y0:b.y1, b.x0:b.x1], empty[b.y0:b.y1, b.x0:b.x1])
+                   for b in (layout.region("left").box, layout.region("depth").box))
+
     @property
     def _store(self):
         return getattr(self.setup, "maps", "ring") == "store"
@@ -193,8 +203,10 @@ class Judge:
     def enough(self, shown):
         """Whether a still pair's run may end with the judged display frame ``shown`` (the run's policy)."""
         # With the maps in the frame store a display frame shows the map computed in an earlier one: the first
-        # frame's may be of the pair before the run's; the second's is of a pair the run captured.
-        if self._store and not (shown.index >= 1 and shown.verdict["map_shown"]):
+        # frame's may be of the pair before the run's, and while the engine finishes a map of the empty buffers
+        # (begun before the captures completed) the images and the map are the empty buffers' for up to a map's
+        # display frames more: a frame is the run's when neither its images nor its map are the empty buffers'.
+        if self._store and not (shown.index >= 1 and shown.verdict["map_shown"] and not self._of_empty(shown.frame)):
             return False
         if self.policy == "first":
             return True

@@ -81,16 +81,21 @@ class DisplayFrames:
     def finished(self, enough, max_frames):
         """Whether the run has its display frames: a still pair's when ``enough`` or after ``max_frames``, a
         sequence's with its settled frame (the first that starts after both captures completed every frame the
-        camera sent; with the maps in the frame store the frame after it, which shows that pair's map)."""
+        camera sent; with the maps in the frame store the frame a map's display frames after it, which shows that pair's
+        map)."""
         if self.sent is None:
             return enough or self.shown >= max_frames
         sent = self.sent
         if self.settled is None and all(len(e["frame_done"]) >= sent[c] for c, e in self.events.items()):
             end = max(self.events[c]["frame_done"][sent[c] - 1] for c in self.events)
             self.settled = math.ceil((end - self.t0) / self.period_s)
-        # With the maps in the frame store the last pair's map is shown a display frame after its images.
-        store = getattr(self.setup, "maps", "ring") == "store"
-        return self.settled is not None and self.shown > self.settled + store
+        # With the maps in the frame store the last pair's map is shown the display frames a map takes after its
+        # images (hdl.stereo_display.check_map_rate).
+        later = 0
+        if getattr(self.setup, "maps", "ring") == "store":
+            from hdl.stereo_display import check_map_rate
+            later = check_map_rate(self.setup.timing, self.setup.geometry, self.setup.depth)
+        return self.settled is not None and self.shown > self.settled + later
 
     def overdue(self):
         """The message of a run whose display frames did not come in time."""
