@@ -355,38 +355,40 @@ def store_verilator():
 @pytest.mark.slow
 def test_end_to_end_maps_in_the_store_verilator(store_verilator):
     """``maps="store"`` on Verilator: the first display frame shows the map of the pair before the run's (not its
-    golden frame); the second, the map of the run's pair, equals the golden frame bit for bit, no display read
-    refused."""
+    golden frame); the frame shown (from the second on, the first with the run's pair's images and map) equals the
+    golden frame bit for bit, no display read refused."""
     result = store_verilator
     assert result.status["violations"] == [] and result.status["display_missed"] == 0
-    assert result.verdict["chosen"] == 1 and result.ok, result.verdict
+    assert result.verdict["chosen"] >= 1 and result.ok, result.verdict
     assert result.frames[0].verdict["mismatched_pixels"] > 0
     np.testing.assert_array_equal(result.frame, result.golden)
 
 
 @pytest.mark.slow
 def test_end_to_end_maps_in_the_store_amaranth():
-    """``maps="store"`` on Amaranth's simulator (about twice the ring build's time: two display frames): the second
-    display frame equals the golden frame bit for bit, no display read refused."""
+    """``maps="store"`` on Amaranth's simulator (about twice the ring build's time: two display frames or more): the
+    frame shown (from the second on, the first with the run's pair's images and map) equals the golden frame bit for
+    bit, no display read refused."""
     setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION, memory="ddr2", maps="store")
     left, right = load_default_pair(setup.geometry.width, setup.geometry.height)
     result = simulate(setup, still_pair(left, right, setup), Amaranth("python"))
     assert not result.sink.violations, result.sink.violations[:5]
     assert result.status["display_missed"] == 0
-    assert result.verdict["chosen"] == 1 and result.ok, result.verdict
+    assert result.verdict["chosen"] >= 1 and result.ok, result.verdict
     np.testing.assert_array_equal(result.frame, result.golden)
 
 
 @pytest.mark.slow
 def test_end_to_end_maps_in_the_store_cocotb(simulator, tmp_path):
-    """``maps="store"`` through cocotb (the in-simulator route; about a minute on Icarus): the second display frame
-    equals the golden frame bit for bit, no display read refused."""
+    """``maps="store"`` through cocotb (the in-simulator route; about a minute on Icarus): the frame shown (from the
+    second on, the first with the run's pair's images and map) equals the golden frame bit for bit, no display read
+    refused."""
     from sim.testbench.system.cocotb_routes import ROUTES
     setup = SystemSetup.small(disparity=DISPARITY, rectification=RECTIFICATION, memory="ddr2", maps="store")
     pair = still_pair(*load_default_pair(setup.geometry.width, setup.geometry.height), setup)
     result = simulate(setup, pair, Cocotb(simulator, ROUTES["in_simulator"](), out_dir=tmp_path))
     assert result.status["violations"] == [] and result.status["display_missed"] == 0
-    assert result.verdict["chosen"] == 1 and result.ok, result.verdict
+    assert result.verdict["chosen"] >= 1 and result.ok, result.verdict
     np.testing.assert_array_equal(result.frame, result.golden)
 
 
