@@ -31,7 +31,7 @@ clock    what happens
 n        inputs ``valid``, ``x``, ``y``, ``addr``
 n + 1    ``left.addr``, ``right.addr`` registered (to the frame buffers' read ports)
 n + 2    ``left.data``, ``right.data`` expected here (the frame buffers' one-clock read latency)
-n + 3    the read data registered (BRAM output register, nothing else on that path)
+n + 3    their signed difference ``L - R`` registered (one carry chain after the read)
 n + 4    ``level``, ``no_data``, ``out_valid`` registered: **latency 4 clocks** from the inputs
 =======  ================================================================================================
 
@@ -157,25 +157,21 @@ class DisparitySubtractor(wiring.Component):
         valid_2 = Signal()
         m.d.sync += [no_data_2.eq(no_data_1), valid_2.eq(valid_1)]
 
-        # Clock n + 2 -> n + 3: register the BRAM outputs.
-        left_q = Signal(g.grey_bits)
-        right_q = Signal(g.grey_bits)
+        # Clock n + 2 -> n + 3: the signed difference L - R of the read data (thesis: subtract the smaller from the
+        # larger, then compare with each threshold), registered: one carry chain after the read.
+        diff = Signal(signed(g.grey_bits + 1))
         no_data_3 = Signal()
         valid_3 = Signal()
         m.d.sync += [
-            left_q.eq(self.left.data),
-            right_q.eq(self.right.data),
+            diff.eq(self.left.data - self.right.data),
             no_data_3.eq(no_data_2),
             valid_3.eq(valid_2),
         ]
 
-        # Clock n + 3 -> n + 4: the level of |L - R| (thesis: subtract the smaller from the larger, then compare
-        # with each threshold) as a table indexed by the signed difference L - R: one carry chain, then one
-        # 2**(grey_bits + 1)-entry table per level bit, instead of a subtractor, a multiplexer, a comparator bank
-        # and an adder in one clock.
-        diff = Signal(signed(g.grey_bits + 1))
+        # Clock n + 3 -> n + 4: the level of |L - R| as a table indexed by the registered difference, one
+        # 2**(grey_bits + 1)-entry table per level bit (a LUT6 at 5-bit grey), instead of a multiplexer, a
+        # comparator bank and an adder.
         count = Signal.like(self.level)
-        m.d.comb += diff.eq(left_q - right_q)
         with m.Switch(diff):
             for d in range(-(2 ** g.grey_bits - 1), 2 ** g.grey_bits):
                 with m.Case(d):

@@ -21,7 +21,7 @@ row that ends short of the width (its bursts may all be there, the last one mask
 of bursts alone would not see it).
 """
 
-from amaranth import Cat, Const, Module, Signal
+from amaranth import Cat, Const, Module, Mux, Signal
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
@@ -101,6 +101,10 @@ class BurstPacker(wiring.Component):
 
         column = Signal(range(width + 1))       # saturating at width: no pixel
         row = Signal(range(height + 1))         # saturating at height: no row
+        # column < width and row < height, registered where column and row change (both count up by one from 0
+        # and stop at their limit, so the next value's comparison is the current value's with limit - 1).
+        column_in, row_in = Signal(init=1), Signal(init=1)
+        last_column = Signal(init=width == 1)   # column == width - 1
         in_row = Signal()
         burst_data = Signal(8 * BURST_BYTES)
         per_burst, pixel_bits = lay.pixels_per_burst, 8 * lay.pixel_bytes
@@ -111,7 +115,7 @@ class BurstPacker(wiring.Component):
 
         # The pixel: its byte in the burst register; a full burst or the row's end sends it.
         offset = column[:in_burst]              # the pixel in the burst
-        keep = write.en & in_row & (column < width) & (row < height)
+        keep = write.en & in_row & column_in & row_in
         # The burst register is sent in the clock after it is filled, before a later pixel can change it (a
         # write lands at the end of its clock), so the entry's data is the register itself (its unwritten bytes
         # masked), with no copy.
@@ -123,12 +127,12 @@ class BurstPacker(wiring.Component):
             return Cat(*(~pixels[i // lay.pixel_bytes] for i in range(BURST_BYTES)))
         m.d.sync += filled.eq(0)
         with m.If(keep):
-            m.d.sync += column.eq(column + 1)
+            m.d.sync += [column.eq(column + 1), column_in.eq(~last_column), last_column.eq(column == width - 2)]
             pixel = Cat(write.data, Const(0, pixel_bits - len(write.data)))
             new_written = Signal.like(written)
             m.d.comb += [new_written.eq(written), new_written.bit_select(offset, 1).eq(1)]
             m.d.sync += burst_data.word_select(offset, pixel_bits).eq(pixel)
-            with m.If((offset == per_burst - 1) | (column == width - 1)):
+            with m.If((offset == per_burst - 1) | last_column):
                 m.d.sync += [filled.eq(1), full_row.eq(row), full_burst.eq(column[in_burst:]),
                              full_mask.eq(byte_mask(new_written)), written.eq(0)]
             with m.Else():
@@ -136,19 +140,19 @@ class BurstPacker(wiring.Component):
         with m.If(write.en & in_row & ~keep):   # a pixel beyond the width or a row beyond the height
             m.d.sync += lost.eq(1)
         with m.If(status.row_end & in_row):
-            m.d.sync += [in_row.eq(0), column.eq(0)]
-            with m.If(column + keep != width):     # a short row (its last burst is sent, masked)
-                m.d.sync += lost.eq(1)
-            with m.If(row != height):
-                m.d.sync += row.eq(row + 1)
+            m.d.sync += [in_row.eq(0), column.eq(0), column_in.eq(1), last_column.eq(width == 1)]
+            with m.If(Mux(keep, ~last_column, column_in)):    # column + keep != width: a short row (its last
+                m.d.sync += lost.eq(1)                          # burst is sent, masked)
+            with m.If(row_in):
+                m.d.sync += [row.eq(row + 1), row_in.eq(row != height - 1)]
             with m.If(written.any() & ~keep):      # a short row's last, partly written burst
                 m.d.sync += [filled.eq(1), full_row.eq(row), full_burst.eq(column[in_burst:]),
                              full_mask.eq(byte_mask(written)), written.eq(0)]
         with m.If(status.row_start):
-            m.d.sync += [in_row.eq(1), column.eq(0), written.eq(0)]
+            m.d.sync += [in_row.eq(1), column.eq(0), column_in.eq(1), last_column.eq(width == 1), written.eq(0)]
         with m.If(status.frame_start):
-            m.d.sync += [row.eq(0), column.eq(0), in_row.eq(0), written.eq(0), filled.eq(0),
-                         start_waiting.eq(1), lost.eq(0)]
+            m.d.sync += [row.eq(0), row_in.eq(1), column.eq(0), column_in.eq(1), last_column.eq(width == 1),
+                         in_row.eq(0), written.eq(0), filled.eq(0), start_waiting.eq(1), lost.eq(0)]
             with m.If(end_waiting):             # the last frame's END not sent yet: its verdict keeps its losses
                 m.d.sync += end_ok.eq(end_ok & ~lost & ~filled)
         with m.If(status.frame_done):

@@ -2,10 +2,11 @@
 """BurstPacker: for any capture strobes and pixel writes -- rows of any length, frames of any number of rows, strobes
 at any time, the FIFO ready or not -- an ``END`` entry says ``ok`` only for a frame the capture called ok in which
 every row that ended had exactly ``width`` pixels (a short or long row spoils it, even when its bursts are all
-there).
+there) and no pixel was written after ``height`` rows had ended (a row beyond the height spoils it).
 
-The reference counts the writes of the row in progress itself (from ``row_start``) and notes, per frame (from
-``frame_start``), whether a row ended with another count; at ``frame_done`` it keeps that note and the capture's
+The reference counts the writes of the row in progress itself (from ``row_start``) and the rows that ended (from
+``frame_start``, saturating at ``height``), and notes, per frame, whether a row ended with another count or a pixel
+came after ``height`` rows; at ``frame_done`` it keeps that note and the capture's
 verdict for the ``END`` to come. It is written from docs/frame_store.md ("Camera writers"), not from the packer's
 counters. The capture's strobes come one at a time (``frame_start``, ``frame_done``, ``row_start``, ``row_end``
 exclusive; a pixel write not with ``frame_start``, ``frame_done`` or ``row_start``), as hdl/capture.py issues them.
@@ -46,12 +47,17 @@ class FrameStorePackerHarness(FormalHarness):
 
         in_row = Signal(name="ref_in_row")
         pixels = Signal(range(lay.width + 2), name="ref_pixels")      # saturating at width + 1
+        rows = Signal(range(lay.height + 1), name="ref_rows")          # rows ended, saturating at height
         bad = Signal(name="ref_frame_has_a_bad_row")
         done_ok = Signal(name="ref_done_ok")                          # the verdict the next END may give
         done_capture_ok = Signal(name="ref_done_capture_ok")
         row_ends_bad = st.row_end & in_row & (pixels + (wr.en & (pixels <= lay.width)) != lay.width)
         with m.If(st.frame_start):
-            m.d.sync += [bad.eq(0), in_row.eq(0)]
+            m.d.sync += [bad.eq(0), in_row.eq(0), rows.eq(0)]
+        with m.If(st.row_end & in_row & (rows != lay.height)):
+            m.d.sync += rows.eq(rows + 1)
+        with m.If(wr.en & in_row & (rows == lay.height)):              # a pixel of a row beyond the height
+            m.d.sync += bad.eq(1)
         with m.If(st.row_start):
             m.d.sync += [in_row.eq(1), pixels.eq(0)]
         with m.If(wr.en & in_row & (pixels <= lay.width)):
