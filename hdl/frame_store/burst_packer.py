@@ -116,11 +116,12 @@ class BurstPacker(wiring.Component):
         # The pixel: its byte in the burst register; a full burst or the row's end sends it.
         offset = column[:in_burst]              # the pixel in the burst
         keep = write.en & in_row & column_in & row_in
-        # A burst that fills is copied (``full_data``) in the clock of its last pixel and sent from the copy in
-        # the next clock, while the next burst's pixels go into the burst register.
-        filled = Signal()                       # the copy holds a burst to send (registered)
+        # The burst register is sent in the clock after it is filled, before a later pixel can change it (a
+        # write lands at the end of its clock), so the entry's data is the register itself (its unwritten bytes
+        # masked), with no copy.
+        filled = Signal()                       # the burst register holds a burst to send (registered)
         full_row, full_burst = Signal(range(height)), Signal(range(lay.bursts_per_row))
-        full_data, full_mask = Signal(8 * BURST_BYTES), Signal(BURST_BYTES)
+        full_mask = Signal(BURST_BYTES)
 
         def byte_mask(pixels):                  # a 1 per byte of a pixel not written
             return Cat(*(~pixels[i // lay.pixel_bytes] for i in range(BURST_BYTES)))
@@ -128,14 +129,14 @@ class BurstPacker(wiring.Component):
         with m.If(keep):
             m.d.sync += [column.eq(column + 1), column_in.eq(~last_column), last_column.eq(column == width - 2)]
             pixel = Cat(write.data, Const(0, pixel_bits - len(write.data)))
-            new_data, new_written = Signal.like(burst_data), Signal.like(written)
-            m.d.comb += [new_data.eq(burst_data), new_written.eq(written),
-                         new_data.word_select(offset, pixel_bits).eq(pixel), new_written.bit_select(offset, 1).eq(1)]
+            new_written = Signal.like(written)
+            m.d.comb += [new_written.eq(written), new_written.bit_select(offset, 1).eq(1)]
+            m.d.sync += burst_data.word_select(offset, pixel_bits).eq(pixel)
             with m.If((offset == per_burst - 1) | last_column):
                 m.d.sync += [filled.eq(1), full_row.eq(row), full_burst.eq(column[in_burst:]),
-                             full_data.eq(new_data), full_mask.eq(byte_mask(new_written)), written.eq(0)]
+                             full_mask.eq(byte_mask(new_written)), written.eq(0)]
             with m.Else():
-                m.d.sync += [burst_data.eq(new_data), written.eq(new_written)]
+                m.d.sync += written.eq(new_written)
         with m.If(write.en & in_row & ~keep):   # a pixel beyond the width or a row beyond the height
             m.d.sync += lost.eq(1)
         with m.If(status.row_end & in_row):
@@ -146,7 +147,7 @@ class BurstPacker(wiring.Component):
                 m.d.sync += [row.eq(row + 1), row_in.eq(row != height - 1)]
             with m.If(written.any() & ~keep):      # a short row's last, partly written burst
                 m.d.sync += [filled.eq(1), full_row.eq(row), full_burst.eq(column[in_burst:]),
-                             full_data.eq(burst_data), full_mask.eq(byte_mask(written)), written.eq(0)]
+                             full_mask.eq(byte_mask(written)), written.eq(0)]
         with m.If(status.row_start):
             m.d.sync += [in_row.eq(1), column.eq(0), column_in.eq(1), last_column.eq(width == 1), written.eq(0)]
         with m.If(status.frame_start):
@@ -157,27 +158,30 @@ class BurstPacker(wiring.Component):
         with m.If(status.frame_done):
             m.d.sync += [end_waiting.eq(1), end_ok.eq(status.frame_ok)]
 
-        self._send(m, filled, full_row, full_burst, full_data, full_mask, start_waiting, end_waiting, end_ok, lost)
+        self._send(m, filled, full_row, full_burst, burst_data, full_mask, start_waiting, end_waiting, end_ok, lost)
         return m
 
     def _send(self, m, filled, full_row, full_burst, full_data, full_mask, start_waiting, end_waiting, end_ok, lost):
         """One entry a clock: a filled burst (unless an END or START waits before it), else the END, else the
-        START. The flags are set by this clock's strobes after (so over) what is sent here."""
+        START. The flags are set by this clock's strobes after (so over) what is sent here. A burst's fields
+        are driven whatever the kind (a ``START`` / ``END`` carries them unused): no gate per data bit. The entry
+        is one assignment of its whole value (``kind`` and ``ok`` from the branches), so the exported Verilog
+        computes it from time 0 on every simulator (a field assigned alone is an ``always @*`` of its own, which
+        Icarus first runs when its source first changes)."""
         entry = self.entry
         kinds = ENTRY_KINDS
+        kind, ok = Signal(2), Signal()
+        m.d.comb += entry.data.as_value().eq(Cat(kind, ok, full_row, full_burst, full_data, full_mask))
         with m.If(filled & ~start_waiting & ~end_waiting):
-            m.d.comb += [entry.data.kind.eq(kinds["BURST"]), entry.data.row.eq(full_row),
-                         entry.data.burst.eq(full_burst), entry.data.data.eq(full_data),
-                         entry.data.mask.eq(full_mask), entry.en.eq(entry.rdy)]
+            m.d.comb += [kind.eq(kinds["BURST"]), entry.en.eq(entry.rdy)]
             with m.If(~entry.rdy):
                 m.d.sync += lost.eq(1)
         with m.Elif(end_waiting):
-            m.d.comb += [entry.data.kind.eq(kinds["END"]), entry.data.ok.eq(end_ok & ~lost & ~filled),
-                         entry.en.eq(entry.rdy)]
+            m.d.comb += [kind.eq(kinds["END"]), ok.eq(end_ok & ~lost & ~filled), entry.en.eq(entry.rdy)]
             with m.If(entry.rdy):
                 m.d.sync += end_waiting.eq(0)
         with m.Elif(start_waiting):
-            m.d.comb += [entry.data.kind.eq(kinds["START"]), entry.en.eq(entry.rdy)]
+            m.d.comb += [kind.eq(kinds["START"]), entry.en.eq(entry.rdy)]
             with m.If(entry.rdy):
                 m.d.sync += start_waiting.eq(0)
             with m.If(filled):
