@@ -113,16 +113,7 @@ class RowWindow(wiring.Component):
         m.d.sync += [restarting.eq(self.restart), settling.eq(restarting)]
         with m.If(self.restart):
             m.d.sync += first.eq(self.first_row)
-        # offsets[k] = k * step * width: the window's k-th row's start from its first's (registered from the step).
-        if s > 1:
-            step = Signal(range(1, s + 1), init=1)
-            with m.If(self.restart):
-                m.d.sync += step.eq(self.row_step)
-            offsets = [Const(0)] + [Signal(range((n - 1) * s * w + 1), name=f"offset_{k}") for k in range(1, n)]
-            m.d.sync += [offsets[k].eq(times(step, k * w)) for k in range(1, n)]
-        else:
-            step = Const(1)
-            offsets = [Const(k * w) for k in range(n)]
+        step, offsets = self._step(m)
         stride = offsets[1]
 
         # bounds[k] = (first + k * step) * width: where the window's k-th row starts, bounds[0] set in
@@ -150,50 +141,8 @@ class RowWindow(wiring.Component):
             m.d.sync += [next_row.eq(after), after.eq(after + step), more.eq(after < h),
                          next_slot.eq(Mux(next_slot == n - 1, 0, next_slot + 1))]
 
-        # The read: the address against every row's start at once (at or after bounds[k]: ge[k]), its row in the
-        # window (j: the last k with ge[k]), its column (the difference to that row's start); granted inside the
-        # window's landed rows (from bounds[0] up to limit) and, with a step above 1, not in a skipped row.
-        consumer = self.consumer
-        addr = consumer.port.addr
-        diff_bits = max(len(addr), len(bounds[0])) + 1
-        diffs = [Signal(signed(diff_bits), name=f"column_{k}") for k in range(n)]
-        m.d.comb += [d.eq(addr - b) for d, b in zip(diffs, bounds)]
-        ge = [~d[-1] for d in diffs]
-        j = Signal(range(n))
-        for k in range(1, n):
-            with m.If(ge[k]):
-                m.d.comb += j.eq(k)
-        x = Signal(range(w))
-        with m.Switch(j):
-            for k in range(n):
-                with m.Case(k):
-                    m.d.comb += x.eq(diffs[k])
-        below_limit = Signal()
-        m.d.comb += below_limit.eq(addr < limit)
-        in_rows = ge[0] & below_limit
-        if s > 1:
-            # ends[k] = bounds[k] + width (k < n - 1): an address at or past it and before bounds[k + 1] lies in
-            # the rows the step skips (past the last row the limit ends the window).
-            ends = [Signal(range(span + w + 1), name=f"end_{k}") for k in range(n - 1)]
-            to_end = [Const(w)] + [Signal(range((n - 2) * s * w + w + 1), name=f"to_end_{k}") for k in range(1, n - 1)]
-            m.d.sync += [to_end[k].eq(times(step, k * w) + w) for k in range(1, n - 1)]
-            skipped = Signal()
-            m.d.comb += skipped.eq(0)
-            for k in range(n - 1):
-                with m.If(~(addr < ends[k]) & ~ge[k + 1]):
-                    m.d.comb += skipped.eq(1)
-            in_rows = in_rows & ~skipped
-        grant = consumer.request & in_rows & ~restarting
-        slot = Signal(range(n))
-        m.d.comb += [
-            slot.eq(Mux(first_slot + j >= n, first_slot + j - n, first_slot + j)),
-            consumer.grant.eq(grant),
-            self.missed.eq(consumer.request & ~grant),
-            self.below.eq(~ge[0]),
-            self.stream.read.slot.eq(slot),
-            self.stream.read.x.eq(x),
-            consumer.port.data.eq(self.stream.read.data[:g.grey_bits]),
-        ]
+        ends, to_end = self._skipped_ends(m, step, span) if s > 1 else (None, None)
+        grant, ge = self._read(m, bounds, limit, ends, restarting, first_slot)
         # A landing counts for this window once the rows asked before its restart have all landed (a negative
         # difference: rows of an earlier window pending); each one counted moves ``counted`` on with ``landed``,
         # so the difference stays between -slots and 0 however many rows the window reads.
@@ -228,3 +177,72 @@ class RowWindow(wiring.Component):
                     m.d.sync += [ends[k].eq(ends[k + 1]) for k in range(n - 2)]
                     m.d.sync += ends[n - 2].eq(bounds[n - 1] + w)
         return m
+
+    def _step(self, m):
+        """The step taken with the restart and offsets[k] = k * step * width, the window's k-th row's start from
+        its first's (registered from the step); constants with ``max_step`` 1."""
+        n, s, w = self.slots, self.max_step, self.geometry.buf_width
+        if s == 1:
+            return Const(1), [Const(k * w) for k in range(n)]
+        step = Signal(range(1, s + 1), init=1)
+        with m.If(self.restart):
+            m.d.sync += step.eq(self.row_step)
+        offsets = [Const(0)] + [Signal(range((n - 1) * s * w + 1), name=f"offset_{k}") for k in range(1, n)]
+        m.d.sync += [offsets[k].eq(times(step, k * w)) for k in range(1, n)]
+        return step, offsets
+
+    def _skipped_ends(self, m, step, span):
+        """With a step above 1: ends[k] = bounds[k] + width (k < n - 1), and to_end[k] = k * step * width + width,
+        registered from the step (ends[k] is set from it at the restart's settling)."""
+        n, s, w = self.slots, self.max_step, self.geometry.buf_width
+        ends = [Signal(range(span + w + 1), name=f"end_{k}") for k in range(n - 1)]
+        to_end = [Const(w)] + [Signal(range((n - 2) * s * w + w + 1), name=f"to_end_{k}") for k in range(1, n - 1)]
+        m.d.sync += [to_end[k].eq(times(step, k * w) + w) for k in range(1, n - 1)]
+        return ends, to_end
+
+    def _read(self, m, bounds, limit, ends, restarting, first_slot):
+        """The consumer's read against the window's rows; returns ``(grant, ge)``."""
+        g, n, s = self.geometry, self.slots, self.max_step
+        w = g.buf_width
+        # The read: the address against every row's start at once (at or after bounds[k]: ge[k]), its row in the
+        # window (j: the last k with ge[k]), its column (the difference to that row's start); granted inside the
+        # window's landed rows (from bounds[0] up to limit) and, with a step above 1, not in a skipped row.
+        consumer = self.consumer
+        addr = consumer.port.addr
+        diff_bits = max(len(addr), len(bounds[0])) + 1
+        diffs = [Signal(signed(diff_bits), name=f"column_{k}") for k in range(n)]
+        m.d.comb += [d.eq(addr - b) for d, b in zip(diffs, bounds)]
+        ge = [~d[-1] for d in diffs]
+        j = Signal(range(n))
+        for k in range(1, n):
+            with m.If(ge[k]):
+                m.d.comb += j.eq(k)
+        x = Signal(range(w))
+        with m.Switch(j):
+            for k in range(n):
+                with m.Case(k):
+                    m.d.comb += x.eq(diffs[k])
+        below_limit = Signal()
+        m.d.comb += below_limit.eq(addr < limit)
+        in_rows = ge[0] & below_limit
+        if s > 1:
+            # ends[k] = bounds[k] + width (k < n - 1): an address at or past it and before bounds[k + 1] lies in
+            # the rows the step skips (past the last row the limit ends the window).
+            skipped = Signal()
+            m.d.comb += skipped.eq(0)
+            for k in range(n - 1):
+                with m.If(~(addr < ends[k]) & ~ge[k + 1]):
+                    m.d.comb += skipped.eq(1)
+            in_rows = in_rows & ~skipped
+        grant = consumer.request & in_rows & ~restarting
+        slot = Signal(range(n))
+        m.d.comb += [
+            slot.eq(Mux(first_slot + j >= n, first_slot + j - n, first_slot + j)),
+            consumer.grant.eq(grant),
+            self.missed.eq(consumer.request & ~grant),
+            self.below.eq(~ge[0]),
+            self.stream.read.slot.eq(slot),
+            self.stream.read.x.eq(x),
+            consumer.port.data.eq(self.stream.read.data[:g.grey_bits]),
+        ]
+        return grant, ge
