@@ -4,9 +4,10 @@ store is addressed inside itself at the word of the pixel and group.
 
 The environment is free inside the block's interface contract (its docstring's Ports): tokens in the row (x < W,
 group < G), a pixel's groups in consecutive clocks from group 0 with ``last`` on the last, costs at most N (census
-distances), carries at most ``other_paths`` x (N + P2), the stored carry read at least a clock after its write.
-The pixels' order and spacing (the contract's ``loop_clocks``, which the values need but no property here does),
-``first`` (the block ignores it) and the values on clocks without ``go`` are free.
+distances), carries at most ``other_paths`` x (N + P2), the stored carry read at least a clock after its write,
+pixels at least ``loop_clocks`` apart (the path's banks hold the previous pixel's vector whole only then, and the
+sums' bounds need that vector to be the one its minimum M' is of). The pixels' order, ``first`` (the block ignores
+it) and the values on clocks without ``go`` are free.
 
 D = 6 with 2 lanes: 3 groups behind a 2-bit group field (so the contract matters); W = 7: the row store's 21 words
 behind a 5-bit address; a 3 x 3 census (N = 8), P1 = 2, P2 = 5: L at most 13 in 4 bits, the carry at most 26 in 5,
@@ -99,8 +100,12 @@ class ReversePathHarness(FormalHarness):
         self.assume(m, "groups_in_order", ~token.go | (token.group == expect))
         self.assume(m, "pixel_groups_consecutive", (expect == 0) | (token.go & (token.x == x_held)))
         self.assume(m, "last_on_the_last_group", ~token.go | (token.last == (token.group == groups - 1)))
-        # The pixels' spacing is free: the sums' bounds hold for any (the path reads the previous pixel's vector and
-        # its minimum as a pair); ``loop_clocks`` makes the pair the pixel just before (tests/test_depth_reverse_path.py).
+        # Pixels at least ``loop_clocks`` apart (first group to first group), the contract: the path's banks hold
+        # the previous pixel's vector whole only then, and its minimum M' is that vector's.
+        loop = ReversePath.loop_clocks(cfg)
+        since = Signal(range(loop + 1), init=loop, name="clocks_since_first_group")
+        m.d.sync += since.eq(Mux(token.go & (token.group == 0), 1, Mux(since == loop, loop, since + 1)))
+        self.assume(m, "pixels_loop_clocks_apart", ~(token.go & (token.group == 0)) | (since == loop))
 
     def _watched_word(self, m, dut, write, read, groups):
         """carry_out is the carry last stored at the token's word before its read (one fixed, arbitrary word)."""
