@@ -147,8 +147,9 @@ def switch_settings(args):
     """``(disparity, rectification, segment)`` from the arguments; one-line :class:`UserError` for a bad value:
     ``--segment`` with a manual rectification, or a band that holds no disparity the engine gives."""
     from hdl.rectification_select import MANUAL_RANGE
-    from spec.depth import DEPTH
+    from spec.depth import DEPTH, DEPTH_800
     from spec.display import SEGMENT_HALF_WIDTH
+    depth = DEPTH_800 if getattr(args, "build", "thesis") == "800" else DEPTH
     disparity = switch_value("disparity", args.disparity)
     text = args.rectification if args.rectification is not None else ("auto" if args.segment else "0")
     if text == "auto":
@@ -159,10 +160,10 @@ def switch_settings(args):
         if rectification != "auto":
             raise UserError("--segment selects the automatic rectification (switches 1000001): drop "
                             f"--rectification {text}")
-        top = DEPTH.disparities - 1 + SEGMENT_HALF_WIDTH
+        top = min(depth.disparities - 1 + SEGMENT_HALF_WIDTH, 127)
         if disparity > top:
             raise UserError(f"--segment: the band {disparity} +-{SEGMENT_HALF_WIDTH} pixels holds no disparity the "
-                            f"engine gives (0..{DEPTH.disparities - 1}): use --disparity 0..{top}")
+                            f"engine gives (0..{depth.disparities - 1}): use --disparity 0..{top}")
     return disparity, rectification, args.segment
 
 
