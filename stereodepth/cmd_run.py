@@ -127,13 +127,10 @@ def make_setup(small, disparity, rectification, segment=False, memory=None, maps
     One-line :class:`UserError` for a combination no design has."""
     from hdl.stereo_display import check_maps
     from sim.testbench.system.setup import SystemSetup
+    from .design_args import check_build_800
     switches = {"disparity": disparity, "rectification": rectification, "segment": segment}
     if build == "800":
-        if small:
-            raise UserError("--build 800 is the board's 800 x 600 build: drop --small")
-        for option, value, needed in (("memory", memory, "ddr2"), ("maps", maps, "store")):
-            if value not in (None, needed):
-                raise UserError(f"--build 800 keeps its frames and maps in the DDR2: drop --{option} {value}")
+        check_build_800(small, memory, maps)
         return SystemSetup.full_800(**switches)
     memory, maps = memory or "bram", maps or "ring"
     try:

@@ -4,7 +4,7 @@ combination no design has."""
 
 from .errors import UserError
 
-__all__ = ["add_design_arguments", "design_of"]
+__all__ = ["add_design_arguments", "design_of", "check_build_800"]
 
 #: ``--build``: the thesis's design (``DesignConfig.full``) or the 800 x 600 build (``DesignConfig.full_800``).
 BUILDS = ("thesis", "800")
@@ -25,16 +25,22 @@ def add_design_arguments(parser, what="estimate"):
                              "store (with --memory ddr2: whole maps in the frame store)")
 
 
+def check_build_800(small, memory, maps):
+    """``--build 800`` with the other options as given (``None``: not given): a one-line :class:`UserError` for
+    one the 800 x 600 build contradicts."""
+    if small:
+        raise UserError("--build 800 is the board's 800 x 600 build: drop --small")
+    for option, value, needed in (("memory", memory, "ddr2"), ("maps", maps, "store")):
+        if value not in (None, needed):
+            raise UserError(f"--build 800 keeps its frames and maps in the DDR2: drop --{option} {value}")
+
+
 def design_of(args):
     """The :class:`hdl.config.DesignConfig` the options name; sets ``args.memory`` and ``args.maps`` to the
     design's."""
     from hdl.config import DesignConfig
     if args.build == "800":
-        if args.small:
-            raise UserError("--build 800 is the board's 800 x 600 build: drop --small")
-        for option, value, needed in (("memory", args.memory, "ddr2"), ("maps", args.maps, "store")):
-            if value not in (None, needed):
-                raise UserError(f"--build 800 keeps its frames and maps in the DDR2: drop --{option} {value}")
+        check_build_800(args.small, args.memory, args.maps)
         design = DesignConfig.full_800()
     else:
         memory, maps = args.memory or "bram", args.maps or "ring"

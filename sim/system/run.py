@@ -22,13 +22,7 @@ from sim import SimulationFailed
 from sim.system.verdict import Judge
 from sim.testbed.sequence import FrameSequence
 
-__all__ = ["simulate", "still_pair", "StillPair", "SystemResult", "display_frames_a_map"]
-
-
-def display_frames_a_map(setup):
-    """With the maps in the frame store: the display frames a map takes (``hdl.stereo_display.check_map_rate``)."""
-    from hdl.stereo_display import check_map_rate
-    return check_map_rate(setup.timing, setup.geometry, setup.depth)
+__all__ = ["simulate", "still_pair", "StillPair", "SystemResult"]
 
 
 class StillPair(FrameSequence):
@@ -103,7 +97,7 @@ def simulate(setup, sequence, backend, *, on_frame=None, progress=None, policy="
     offset has locked (``"whole"``), within ``max_frames`` display frames (default 1 for ``first``, 8 for
     ``whole``; with the maps in the frame store, ``setup.maps == "store"``, ``first`` is the first display frame
     from the second on whose images and map are of a pair the run captured, within 1 + 2 M display frames, M those
-    a map takes: :func:`display_frames_a_map`; a frame before the first whole map is never shown).
+    a map takes: ``setup.map_frames``; a frame before the first whole map is never shown).
     Raises :class:`~sim.UserError` for what the backend cannot run and
     :class:`~sim.SimulationFailed` for a run that fails."""
     judge = Judge(setup, sequence, policy)
@@ -111,8 +105,7 @@ def simulate(setup, sequence, backend, *, on_frame=None, progress=None, policy="
     frames = []
     # With the maps in the frame store the first display frame's map is of a pair before the run, and a map of the
     # empty buffers begun before the captures completed may hold the pair back by a map's display frames.
-    map_frames = display_frames_a_map(setup) if setup.maps == "store" else 0
-    max_frames = max_frames or (1 + 2 * map_frames if policy == "first" else 8 + 2 * map_frames)
+    max_frames = max_frames or (1 if policy == "first" else 8) + 2 * setup.map_frames
 
     def judged(shown):
         judge(shown)

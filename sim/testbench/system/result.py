@@ -51,6 +51,7 @@ class DisplayFrames:
 
     def __init__(self, setup, cameras, sent=None):
         self.setup, self.sent = setup, sent
+        self.map_frames = getattr(setup, "map_frames", 0)     # the last pair's map comes this many frames late
         self.events = {c: {"frame_start": [], "frame_done": []} for c in cameras}
         self.hardware_skew = []
         self.shown, self.settled, self.t0, self.period_s = 0, None, None, None
@@ -90,12 +91,8 @@ class DisplayFrames:
             end = max(self.events[c]["frame_done"][sent[c] - 1] for c in self.events)
             self.settled = math.ceil((end - self.t0) / self.period_s)
         # With the maps in the frame store the last pair's map is shown the display frames a map takes after its
-        # images (hdl.stereo_display.check_map_rate).
-        later = 0
-        if getattr(self.setup, "maps", "ring") == "store":
-            from hdl.stereo_display import check_map_rate
-            later = check_map_rate(self.setup.timing, self.setup.geometry, self.setup.depth)
-        return self.settled is not None and self.shown > self.settled + later
+        # images (``SystemSetup.map_frames``).
+        return self.settled is not None and self.shown > self.settled + self.map_frames
 
     def overdue(self):
         """The message of a run whose display frames did not come in time."""

@@ -178,6 +178,15 @@ class SystemSetup:
         return DesignConfig(**{name: getattr(self, name) for name in DESIGN_FIELDS}, cam_table=self.cam_table)
 
     @property
+    def map_frames(self):
+        """With the maps in the frame store (``maps == "store"``): the display frames a map takes
+        (``hdl.stereo_display.check_map_rate``); 0 with the maps in the engine's ring."""
+        if self.maps != "store":
+            return 0
+        from hdl.stereo_display import check_map_rate
+        return check_map_rate(self.timing, self.geometry, self.depth)
+
+    @property
     def display_layout(self):
         """The design's display layout (``layout``, or the centred one for the setup's sizes)."""
         return self.design.layout
