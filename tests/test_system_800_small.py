@@ -82,6 +82,23 @@ def test_end_to_end_small_800_verilator():
 
 
 @pytest.mark.slow
+def test_small_800_frame_sequence_verilator():
+    """Three camera frames of the moving card on Verilator (the build the still run made; about a second): every
+    display frame shows one pair's images and difference map -- every row of the half-size panels from a camera
+    frame -- with one pair's whole depth map, or no map before the first (a map takes two display frames) --
+    measured (p, q): (-1, None), (0, -1), (0, -1), (1, 0), (1, 0), (2, 1), (2, 1), (2, 2) -- the settled frame the
+    last pair's with its map, no display read refused."""
+    from sim.testbed.sequence import moving_card
+    setup = SystemSetup.small_800()
+    result = simulate(setup, moving_card(setup, 3), Verilator())
+    verdict, status = result.verdict, result.status
+    assert status["violations"] == [] and status["display_missed"] == 0, status
+    assert verdict["image_rows_from_camera_frames"] and verdict["display_frames_from_whole_pairs"], verdict
+    assert verdict["ok"] and verdict["pairs_shown"][0] == (-1, None) and verdict["pairs_shown"][-1] == (2, 2)
+    assert all(q in (p, p - 1) for p, q in verdict["pairs_shown"][1:]), verdict["pairs_shown"]
+
+
+@pytest.mark.slow
 def test_end_to_end_small_800_amaranth():
     """On Amaranth's simulator (the sensor models in Python, the MIG model's checker stopping the run on any
     violation)."""
