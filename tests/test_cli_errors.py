@@ -44,6 +44,8 @@ CASES = [
      "--build 800 is the board's 800 x 600 build: drop --small"),
     ("the 800 x 600 build in block RAM", ["run", "left.png", "right.png", "--build", "800", "--memory", "bram"], 2,
      "--build 800 keeps its frames and maps in the DDR2: drop --memory bram"),
+    ("the demo's 800 x 600 build in block RAM", ["demo", "--build", "800", "--memory", "bram", "--out", "earlier"],
+     2, "--build 800 keeps its frames and maps in the DDR2: drop --memory bram"),
     ("the 800 x 600 build's resources with the maps in the ring", ["resources", "--build", "800", "--maps", "ring"], 2,
      "--build 800 keeps its frames and maps in the DDR2: drop --maps ring"),
     ("the 800 x 600 build's timing at the small size", ["timing", "--build", "800", "--small"], 2,
