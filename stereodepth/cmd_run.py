@@ -239,8 +239,10 @@ def shown_lines(verdict):
         lines = [f"  display frame {k} shown: none of the {n} display frames run has a depth map of complete camera "
                  f"frames (depth rows withheld at a tear: {withheld})"]
     else:
-        before = f" (depth rows withheld at a tear before it: {withheld[:k]})" if k else ""
-        lines = [f"  display frame {k} shown: the first whose depth map comes from complete camera frames{before}"]
+        before = f" (depth rows withheld at a tear before it: {withheld[:k]})" if k and any(withheld[:k]) else ""
+        whose = ("images and whole depth map are the captured pair's (the maps in the frame store)"
+                 if verdict.get("maps") == "store" else "depth map comes from complete camera frames")
+        lines = [f"  display frame {k} shown: the first whose {whose}{before}"]
     if "auto_offset" in verdict:
         first = verdict["auto_offset_first_frame"]
         lines.append(f"  automatic rectification: offset {verdict['auto_offset']:+d} buffer rows found, "

@@ -45,6 +45,8 @@ CASES = [
      "--segment: the band 18 +-2 pixels holds no disparity the engine gives (0..15): use --disparity 0..17"),
     ("the 800 x 600 build in block RAM", ["run", "left.png", "right.png", "--build", "800", "--memory", "bram"], 2,
      "--build 800 keeps its frames and maps in the DDR2: drop --memory bram"),
+    ("the demo's 800 x 600 build in block RAM", ["demo", "--build", "800", "--memory", "bram", "--out", "earlier"],
+     2, "--build 800 keeps its frames and maps in the DDR2: drop --memory bram"),
     ("the 800 x 600 build's resources with the maps in the ring", ["resources", "--build", "800", "--maps", "ring"], 2,
      "--build 800 keeps its frames and maps in the DDR2: drop --maps ring"),
     ("the small 800 x 600 build's timing with the frames in block RAM",

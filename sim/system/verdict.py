@@ -271,12 +271,12 @@ class Judge:
 
     def _still_verdict(self, frames, clean):
         """A still pair's run: the frame it shows (``chosen``, the first the policy accepts, else the last), the
-        withheld rows of every frame run, ``ok`` (the chosen frame equal to its golden frame, no timing violation
+        withheld rows of every frame run, where the maps are (``maps``), ``ok`` (the chosen frame equal to its golden frame, no timing violation
         nor refused display read, and with the ``whole`` policy accepted by it); in automatic rectification the
         offset in use on the chosen frame (``auto_offset``) and the first display frame that used it locked
         (``auto_offset_first_frame``)."""
         chosen = next((f.index for f in frames if self.enough(f)), frames[-1].index if frames else None)
-        out = {"chosen": chosen, "policy": self.policy, "display_frames": len(frames),
+        out = {"chosen": chosen, "policy": self.policy, "display_frames": len(frames), "maps": self.setup.maps,
                "withheld_rows": [f.verdict["withheld_rows"] for f in frames]}
         out["ok"] = chosen is not None and frames[chosen].verdict["mismatched_pixels"] == 0 and clean \
             and (self.policy == "first" or self.enough(frames[chosen]))

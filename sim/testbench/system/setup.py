@@ -291,14 +291,15 @@ class SystemSetup:
 
     def expected_sim_time_s(self):
         """A rough estimate of a run's simulated time (for progress bars only): the I2C init (table waits and bus
-        time), one sensor frame period, one and a half display frames."""
+        time), one sensor frame period, one and a half display frames; with the maps in the store two maps' display
+        frames more (the map of the buffers before the capture, then the pair's)."""
         table = self.cam_table
         init = sum(e.us for e in table.entries if isinstance(e, Wait)) * 1e-6
         init += sum(e.interval_us for e in table.entries if isinstance(e, Poll)) * 3e-6
         init += len(table.entries) * 50 / self.i2c_hz
         g, t = self.geometry, self.timing
         sensor = (g.height + 10) * (2 * g.width + 256) / self.pclk_hz
-        return init + sensor + 1.5 * t.clocks_per_frame / t.pixel_hz
+        return init + sensor + (1.5 + 2 * self.map_frames) * t.clocks_per_frame / t.pixel_hz
 
     def clock_edges(self, t_end_s, t_pix_start_s, t_cam_start_s):
         """Rising edges of each clock domain in a run that ends at ``t_end_s`` (the pixel clock from
