@@ -160,6 +160,28 @@ def median5x5(codes):
     return np.sort(stack, axis=0)[12].astype(codes.dtype)
 
 
+def _stack(codes, ry, rx):
+    codes = np.asarray(codes)
+    h, w = codes.shape
+    padded = np.pad(codes, ((ry, ry), (rx, rx)), mode="edge")
+    return np.stack([padded[dy:dy + h, dx:dx + w] for dy in range(2 * ry + 1) for dx in range(2 * rx + 1)])
+
+
+def median5x3(codes):
+    """The median (8th smallest) of the 5 wide x 3 tall neighbourhood: the 3 x 3 median's two rows of codes."""
+    return np.sort(_stack(codes, 1, 2), axis=0)[7].astype(np.asarray(codes).dtype)
+
+
+def median_of_columns(codes, height, width):
+    """Separable: the median of the ``width`` column medians of ``height`` codes (each column sorted as the 3 x 3
+    median sorts its columns), coordinates clamped."""
+    codes = np.asarray(codes)
+    h, w = codes.shape
+    ry, rx = height // 2, width // 2
+    columns = np.sort(_stack(codes, ry, 0), axis=0)[ry]
+    return np.sort(_stack(columns, 0, rx), axis=0)[rx].astype(codes.dtype)
+
+
 # --- the levers ----------------------------------------------------------------------------------------------------
 
 @dataclasses.dataclass(frozen=True)
@@ -190,9 +212,43 @@ def levers():
     for band in (1, 2, 4):
         out.append(Lever(f"census noise band: I(q) < I(c) - {band}",
                          signature=lambda im, band=band: (census_centre(im, 0, band=band), 48)))
-    for clip, shift in ((32, 2), (64, 3), (16, 1)):
+    for clip, shift in ((32, 2), (64, 3), (16, 1), (8, 0), (24, 1)):
         out.append(Lever(f"AD-census: + min(|dI|, {clip}) >> {shift}", ad=(clip, shift)))
     out.append(Lever("5 x 5 median", median=median5x5))
+    out.append(Lever("5 x 3 median (the 3 x 3 median's rows)", median=median5x3))
+    out.append(Lever("separable 5 x 3 median: median of 5 column medians of 3",
+                     median=lambda c: median_of_columns(c, 3, 5)))
+    out.append(Lever("separable 5 x 5 median: median of 5 column medians of 5",
+                     median=lambda c: median_of_columns(c, 5, 5)))
+    sparse = lambda im: (census_sparse(im), 48)         # noqa: E731
+    out += [Lever("combined: AD-census 16 >> 1 + census 13 x 7", signature=sparse, ad=(16, 1)),
+            Lever("combined: AD-census 16 >> 1 + 5 x 5 median", ad=(16, 1), median=median5x5),
+            Lever("combined: census 13 x 7 + 5 x 5 median", signature=sparse, median=median5x5),
+            Lever("combined: AD-census 16 >> 1 + census 13 x 7 + 5 x 5 median", signature=sparse, ad=(16, 1),
+                  median=median5x5)]
+    out += [Lever("combined: AD-census 16 >> 1 + 5 x 3 median", ad=(16, 1), median=median5x3),
+            Lever("combined: AD-census 16 >> 1 + separable 5 x 3 median", ad=(16, 1),
+                  median=lambda c: median_of_columns(c, 3, 5)),
+            Lever("combined: AD-census 16 >> 1 + separable 5 x 5 median", ad=(16, 1),
+                  median=lambda c: median_of_columns(c, 5, 5))]
+    sep5 = lambda c: median_of_columns(c, 5, 5)        # noqa: E731
+    for p1_, p2_ in ((16, 128), (20, 96), (12, 96)):
+        out.append(Lever(f"combined: AD-census 16 >> 1 + separable 5 x 5 median, P1 {p1_} / P2 {p2_}", ad=(16, 1),
+                         median=sep5, changes=(("p1", p1_), ("p2", p2_))))
+    for diagonal in ("top_left_to_bottom_right", "top_right_to_bottom_left"):
+        out.append(Lever(f"paths: left to right + {diagonal.replace('_', ' ')} (instead of top to bottom)",
+                         changes=(("paths", ("left_to_right", diagonal)),)))
+    trbl = (("paths", ("left_to_right", "top_right_to_bottom_left")),)
+    out += [Lever("combined: AD-census 16 >> 1 + separable 5 x 5 median + diagonal path", ad=(16, 1), median=sep5,
+                  changes=trbl),
+            Lever("combined: AD-census 16 >> 1 + diagonal path", ad=(16, 1), changes=trbl),
+            Lever("combined: separable 5 x 5 median + diagonal path", median=sep5, changes=trbl),
+            Lever("combined: AD-census 16 >> 1 + 5 x 5 median + diagonal path", ad=(16, 1), median=median5x5,
+                  changes=trbl),
+            Lever("combined: AD-census 24 >> 1 + separable 5 x 5 median + diagonal path", ad=(24, 1), median=sep5,
+                  changes=trbl),
+            Lever("combined: AD-census 16 >> 1 + census 13 x 7 + separable 5 x 5 median + diagonal path",
+                  signature=sparse, ad=(16, 1), median=sep5, changes=trbl)]
     return out
 
 
@@ -213,15 +269,38 @@ def run(lever, left, right, config=BASE):
     return lever.median(raw)
 
 
+def testbed_lines(lever):
+    """The test bed (bench testbed's readings, the 800 x 600 build, every finish, the 12 distances of table 4.2)
+    with ``lever``: per finish the worst |error| from 0.5 to 1.5 m and at 3 m against the goals (1 %, 2 %)."""
+    from unittest import mock
+    from bench.bench_testbed import build_table, goal_checks
+    from sim.testbed.scene import FINISHES
+    cells = []
+    with mock.patch("golden.depth.depth_map", lambda left, right, config: run(lever, left, right, config)):
+        for finish in FINISHES:
+            checks = goal_checks("800", build_table("800", finish))
+            cells.append(f"{finish} " + ", ".join(f"{worst:.1%}{'' if met else ' (miss)'}"
+                                                   for _, worst, _, met in checks))
+    return f"| {lever.name} | " + " | ".join(cells) + " |"
+
+
 def main(argv=None):
     from bench.depth_builds import BUILDS, pairs
     from sim.analysis.truth import error_figures
     parser = argparse.ArgumentParser(prog="python -m bench depth_probe", description=__doc__.split("\n\n")[0])
     parser.add_argument("--levers", nargs="*", metavar="WORD", help="only the levers whose name holds WORD")
+    parser.add_argument("--testbed", action="store_true",
+                        help="the test bed's readouts (bench testbed, 800 x 600) instead of bench depth's pairs")
     args = parser.parse_args(argv or [])
     build = BUILDS[1]
     every = levers()
     chosen = [every[0]] + [lv for lv in every[1:] if not args.levers or any(w in lv.name for w in args.levers)]
+    if args.testbed:
+        print("| lever | worst \\|error\\| 0.5-1.5 m, at 3 m (goals 1 %, 2 %), by finish |||")
+        print("|---|---|---|---|")
+        for lever in chosen:
+            print(testbed_lines(lever), flush=True)
+        return
     build_pairs = pairs(build)
     results = {lv.name: [] for lv in chosen}
     for pair_name, left, right, truth in build_pairs:
