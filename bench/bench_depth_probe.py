@@ -214,6 +214,7 @@ def levers():
                          signature=lambda im, band=band: (census_centre(im, 0, band=band), 48)))
     for clip, shift in ((32, 2), (64, 3), (16, 1), (8, 0), (24, 1)):
         out.append(Lever(f"AD-census: + min(|dI|, {clip}) >> {shift}", ad=(clip, shift)))
+    out.append(Lever("max_cost off (the validity rule's d* = D - 1 only)", changes=(("max_cost", 1 << 9),)))
     out.append(Lever("5 x 5 median", median=median5x5))
     out.append(Lever("5 x 3 median (the 3 x 3 median's rows)", median=median5x3))
     out.append(Lever("separable 5 x 3 median: median of 5 column medians of 3",
@@ -243,9 +244,18 @@ def levers():
                   changes=trbl),
             Lever("combined: AD-census 16 >> 1 + diagonal path", ad=(16, 1), changes=trbl),
             Lever("combined: separable 5 x 5 median + diagonal path", median=sep5, changes=trbl),
+            Lever("combined: AD-census 16 >> 1 + separable 5 x 5 median + diagonal path, max_cost 136", ad=(16, 1),
+                  median=sep5, changes=trbl + (("max_cost", 136),)),
+            Lever("combined: AD-census 32 >> 2 + separable 5 x 5 median + diagonal path, max_cost 136", ad=(32, 2),
+                  median=sep5, changes=trbl + (("max_cost", 136),)),
+            Lever("combined: AD-census 16 >> 1 + separable 5 x 5 median + diagonal path, max_cost off", ad=(16, 1),
+                  median=sep5, changes=trbl + (("max_cost", 1 << 9),)),
             Lever("combined: AD-census 16 >> 1 + 5 x 5 median + diagonal path", ad=(16, 1), median=median5x5,
                   changes=trbl),
             Lever("combined: AD-census 24 >> 1 + separable 5 x 5 median + diagonal path", ad=(24, 1), median=sep5,
+                  changes=trbl),
+            Lever("combined: census 13 x 7 + diagonal path", signature=sparse, changes=trbl),
+            Lever("combined: census 13 x 7 + separable 5 x 5 median + diagonal path", signature=sparse, median=sep5,
                   changes=trbl),
             Lever("combined: AD-census 16 >> 1 + census 13 x 7 + separable 5 x 5 median + diagonal path",
                   signature=sparse, ad=(16, 1), median=sep5, changes=trbl)]
@@ -290,7 +300,8 @@ def main(argv=None):
     parser = argparse.ArgumentParser(prog="python -m bench depth_probe", description=__doc__.split("\n\n")[0])
     parser.add_argument("--levers", nargs="*", metavar="WORD", help="only the levers whose name holds WORD")
     parser.add_argument("--testbed", action="store_true",
-                        help="the test bed's readouts (bench testbed, 800 x 600) instead of bench depth's pairs")
+                        help="the test bed's readouts (bench testbed, 800 x 600) instead of bench depth's pairs; with --levers, "
+                             "of those levers only")
     args = parser.parse_args(argv or [])
     build = BUILDS[1]
     every = levers()
@@ -298,7 +309,7 @@ def main(argv=None):
     if args.testbed:
         print("| lever | worst \\|error\\| 0.5-1.5 m, at 3 m (goals 1 %, 2 %), by finish |||")
         print("|---|---|---|---|")
-        for lever in chosen:
+        for lever in chosen if not args.levers else chosen[1:]:
             print(testbed_lines(lever), flush=True)
         return
     build_pairs = pairs(build)
