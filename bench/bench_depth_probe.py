@@ -1,22 +1,27 @@
 """Probe of the cheap levers of the 800 x 600 build (docs/depth.md, "Cheap levers at 800 x 600"): changes of the
 two-path, D = 128 engine (``DEPTH_800``) that cost little or no block RAM, each measured alone against the build
-on every pair of bench depth (the motorcycle and the synthetic scenes), errors in 400-pixel units, invalid counted
-bad.
+on every pair of bench depth (the motorcycle and the synthetic scenes), then together; errors in 400-pixel units,
+invalid counted bad.
 
 The probe's pipeline is the golden model's (golden/depth.py: census, Hamming cost, the path recursion, winner with
 the equiangular fit and the validity rule, 3 x 3 median) with one stage replaced at a time; with no lever it gives
 ``depth_map(left, right, DEPTH_800)`` bit for bit (checked on every run). Levers:
 
 * adaptive P2: the penalty of a step from p' to p along a path taken from the grey step g = |I(p) - I(p')| of the
-  reference (right) image, P2' = P2 for g < t1, P2 / 2 for t1 <= g < t2, P2 / 4 for g >= t2 (never below P1 + 1):
-  the grey of p' is in the census window (the row's previous pixel, the previous row: the input ring), so no
-  memory; the SGM paper's P2' = max(P1 + 1, P2 s / (s + g)) for reference;
+  reference (right) image, P2' = P2 for g < t1, P2 / 2 for t1 <= g < t2, P2 / 4 for g >= t2 (never below P1 + 1),
+  and the SGM paper's P2' = max(P1 + 1, P2 s / (s + g));
 * census variants, 48 bits: a sparse 13 x 7 window (every second column), the centre replaced by the 3 x 3 mean
   (bit = 9 I(q) < the 3 x 3 sum) or by the window's mean, a noise band (bit = I(q) < I(c) - t);
-* AD-census: C = Hamming + min(|I_R(x) - I_L(x + d)|, T) >> s (P1, P2, max_cost as the build's);
-* a 5 x 5 median instead of the 3 x 3 (the 13th smallest code).
+* AD-census: C = Hamming + min(|I_R(x) - I_L(x + d)|, clip) >> shift;
+* ``max_cost`` off or raised; P1 / P2 with AD-census;
+* the median: 5 x 5 (the 13th smallest code), 5 x 3, and their separable forms (the median of column medians);
+* the second path from the top right or the top left (p' = (x +- 1, y - 1)) instead of from above;
+* combinations of the levers that pay.
 
-Run: ``python -m bench depth_probe`` (about a minute of CPU); ``--levers NAME ...`` for some of them.
+Run: ``python -m bench depth_probe`` (every lever, some ten minutes of CPU); ``--levers WORD ...`` for the levers
+whose name holds a WORD (and the build); ``--testbed --levers WORD ...`` for the test bed's readouts with those
+levers instead (bench testbed's distances, the 800 x 600 build: about a minute and a half of CPU a lever;
+``built`` names the build's row).
 """
 
 import argparse
@@ -300,18 +305,19 @@ def main(argv=None):
     parser = argparse.ArgumentParser(prog="python -m bench depth_probe", description=__doc__.split("\n\n")[0])
     parser.add_argument("--levers", nargs="*", metavar="WORD", help="only the levers whose name holds WORD")
     parser.add_argument("--testbed", action="store_true",
-                        help="the test bed's readouts (bench testbed, 800 x 600) instead of bench depth's pairs; with --levers, "
-                             "of those levers only")
+                        help="the test bed's readouts (bench testbed, 800 x 600) instead of bench depth's pairs; "
+                             "with --levers, of those levers only (the build's row: --levers built)")
     args = parser.parse_args(argv or [])
     build = BUILDS[1]
     every = levers()
-    chosen = [every[0]] + [lv for lv in every[1:] if not args.levers or any(w in lv.name for w in args.levers)]
+    matched = [lv for lv in every if not args.levers or any(word in lv.name for word in args.levers)]
     if args.testbed:
         print("| lever | worst \\|error\\| 0.5-1.5 m, at 3 m (goals 1 %, 2 %), by finish |||")
         print("|---|---|---|---|")
-        for lever in chosen if not args.levers else chosen[1:]:
+        for lever in matched:
             print(testbed_lines(lever), flush=True)
         return
+    chosen = [every[0]] + [lv for lv in matched if lv is not every[0]]
     build_pairs = pairs(build)
     results = {lv.name: [] for lv in chosen}
     for pair_name, left, right, truth in build_pairs:
