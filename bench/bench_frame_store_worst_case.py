@@ -18,7 +18,7 @@ with the map writer writing a code a clock while the store has room and the map 
 ``--map-row-clocks``: the pix clocks between the rows the map writer is given (by default an engine pass, 11,247:
 the design's; 0: every row at once, so the writer drains row after row at a code a clock, 297 MB/s);
 ``--map-backlog``: rows ready at a map's start, drained back to back (the engine's ring of 4 full: a writer held
-back for three passes).
+back for three passes); ``--map-pace``: the map writer's clocks a code (the design's ``MAP_PACE``, 1).
 """
 
 import argparse
@@ -45,6 +45,7 @@ def main(argv=None):
                              "0: row after row)")
     parser.add_argument("--map-backlog", type=int, default=0,
                         help="800: map rows ready at a map's start, drained back to back (the engine's ring holds 4)")
+    parser.add_argument("--map-pace", type=int, default=1, help="800: the map writer's clocks a code (the design: 1)")
     args = parser.parse_args(argv or [])
     lo, hi = READ_LATENCY_RANGE
     try:
@@ -52,7 +53,7 @@ def main(argv=None):
                          latency_range=(lo, max(hi, args.latency)), display_urgent=not args.not_urgent,
                          mig_fifo_depth=args.fifo_depth, banks=args.banks, engine_streams=args.engine_streams,
                          build=args.build, map_row_clocks=args.map_row_clocks,
-                         map_backlog=args.map_backlog)
+                         map_backlog=args.map_backlog, map_pace=args.map_pace)
     except ValueError as e:
         raise SystemExit(f"python -m bench frame_store_worst_case: {e}")
     wall = time.perf_counter()

@@ -20,8 +20,8 @@ the real average); the display's two camera streams as its compositor reads them
 second row and pixel, then -- the windows restarted on a line between them -- the difference map's every row at
 1:1) and its map stream (:class:`MapReads` through :class:`hdl.map_window.MapWindow`: the depth panel at 1:1, two
 bytes a code, taken at every display frame's start); the map writer (:class:`GreedyMaps`: the real
-:class:`hdl.map_writer.MapWriter` on a ring whose rows are always ready, so it writes a code every clock the store
-has room, map after map).
+:class:`hdl.map_writer.MapWriter` on a ring given a row every engine pass, :data:`MAP_ROW_CLOCKS`, each drained at a
+code a clock while the store has room, map after map; faster with ``map_row_clocks`` and ``map_backlog``).
 """
 
 from dataclasses import dataclass, replace
@@ -31,15 +31,15 @@ from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 from amaranth.sim import Simulator
 
-from hdl.depth.ports import ResultReadSignature, SharedReadSignature
 from hdl.depth.engine import schedule
+from hdl.depth.ports import ResultReadSignature, SharedReadSignature
 from hdl.frame_store.frame_store import CameraFeedSignature, FrameStore
 from hdl.frame_store.layout import BURST_BYTES, FrameStoreLayout
 from hdl.frame_store.row_reader import RowStreamSignature
 from hdl.frame_store.row_window import RowWindow
 from hdl.map_window import MapWindow
 from hdl.map_writer import MapWriter
-from hdl.stereo_display import check_map_rate
+from hdl.stereo_display import MAP_PACE, check_map_rate
 from sim.models.mig import READ_LATENCY_RANGE, MIGModel, layout_window, watch_violations
 from spec.board import CLOCKS
 from spec.depth import DEPTH_800
@@ -307,14 +307,14 @@ class GreedyRows(wiring.Component):
 
 
 class GreedyMaps(wiring.Component):
-    """The map writer: the real :class:`hdl.map_writer.MapWriter` (``writer``: a code a clock while the store has
-    ``room``) on a ring with ``backlog`` rows ready at the map's start (a full ring the writer drains at once) and
-    one more every ``row_clocks`` clocks, as the engine's passes make them (0, or ``fast`` high: every row ready at
+    """The map writer: the real :class:`hdl.map_writer.MapWriter` (``writer``: a code every ``pace`` clocks while
+    the store has ``room``) on a ring with ``backlog`` rows ready at the map's start (drained back to back) and one
+    more every ``row_clocks`` clocks, as the engine's passes make them (0, or ``fast`` high: every row ready at
     once, so the writer drains row after row at its fastest), a code being its ring address; started again in the
     clock after each map's ``frame_done``, from ``run`` on. ``maps``: maps whose ``frame_done`` was given."""
 
-    def __init__(self, geometry, config, out_rows=2, row_clocks=0, backlog=0):
-        self.writer = MapWriter(geometry, config, out_rows=out_rows)
+    def __init__(self, geometry, config, out_rows=2, row_clocks=0, backlog=0, pace=MAP_PACE):
+        self.writer = MapWriter(geometry, config, out_rows=out_rows, pace=pace)
         self.row_clocks, self.backlog = row_clocks, min(backlog, geometry.buf_height)
         super().__init__({"feed": Out(CameraFeedSignature(self.writer.feed.signature.geometry)), "room": In(1),
                           "run": In(1), "fast": In(1), "maps": Out(16)})
@@ -411,6 +411,7 @@ class WorstCase:
     gap_lines: int = 1
     map_row_clocks: int | None = None
     map_backlog: int = 0
+    map_pace: int = MAP_PACE
 
     def __post_init__(self):
         if self.build not in BUILDS:
@@ -418,9 +419,11 @@ class WorstCase:
         if self.build == 800 and (self.rows % 2 or self.rows < 2 or self.gap_lines < 1):
             raise ValueError(f"the 800 build's half-size panels need an even number of rows and a gap line, got "
                              f"{self.rows} rows and {self.gap_lines} gap lines")
-        if (self.map_row_clocks is not None and self.map_row_clocks < 0) or self.map_backlog < 0:
-            raise ValueError(f"the map writer's rows come at least 0 clocks apart and its backlog is at least 0 "
-                             f"rows, got {self.map_row_clocks} and {self.map_backlog}")
+        if (self.map_row_clocks is not None and self.map_row_clocks < 0) or self.map_backlog < 0 \
+                or self.map_pace < 1:
+            raise ValueError(f"the map writer's rows come at least 0 clocks apart, its backlog is at least 0 rows "
+                             f"and its pace at least a clock, got {self.map_row_clocks}, {self.map_backlog} and "
+                             f"{self.map_pace}")
 
     @property
     def maps(self):
@@ -496,6 +499,8 @@ class WorstCase:
             writer = f"given a row every {every} pix clocks" if every else "draining row after row"
             if every and self.map_backlog:
                 writer = f"given {self.map_backlog} rows at a map's start, then a row every {every} pix clocks"
+            if self.map_pace != 1:
+                writer += f", a code every {self.map_pace} clocks"
             return (f"the 800 x 600 build's store: {self.frames} display frames of {self.frame_lines} lines "
                     f"({self.blank_lines} blank, {self.top_lines} of half-size panels, {self.gap_lines} gap, "
                     f"{self.rows} of the difference map and the depth panel at 1:1), 2 camera display streams and "
@@ -533,6 +538,7 @@ class WorstCaseResult:
     writer_mbps: float | None = None    # the map writer's (800): delivered, the design's need, maps written
     writer_need_mbps: float = 0.0
     maps_written: int = 0
+    writer_pace: int = 1
 
     @property
     def least_slack(self):
@@ -563,8 +569,9 @@ class WorstCaseResult:
             f"{_rounded(self.engine_mbps)}",
         ]
         if maps:
-            lines.append(f"  map writer (write) {self.writer_need_mbps:.1f} ({per_map}; here a code a clock while "
-                         f"the store has room) -> {self.writer_mbps:.1f} ({self.maps_written} maps written)")
+            lines.append(f"  map writer (write) {self.writer_need_mbps:.1f} ({per_map}; here a code every "
+                         f"{self.writer_pace} clock(s) while the store has room) -> {self.writer_mbps:.1f} "
+                         f"({self.maps_written} maps written)")
         lines.append(f"all streams {self.efficiency * PEAK_MBPS:.0f} MB/s of the interface's {PEAK_MBPS:.0f}: "
                      f"efficiency (data clocks / clocks) {self.efficiency:.1%}; MIG violations: none")
         return "\n".join(lines)
@@ -610,7 +617,7 @@ def _design(case):
         parts["displays"].append(reads)
     if case.maps:
         parts["maps"] = maps = GreedyMaps(g, DEPTH_800, out_rows=case.slots, row_clocks=case.map_rows_every,
-                                             backlog=case.map_backlog)
+                                             backlog=case.map_backlog, pace=case.map_pace)
         m.submodules.map_writer = DomainRenamer("pix")(maps)
         wiring.connect(m, maps.feed, store.map_feed)
         m.d.comb += maps.room.eq(store.map_room)
@@ -716,7 +723,7 @@ def _result(case, line, marks):
             map_need_mbps=case.rows * map_row_bytes / frame_s / 1e6, map_peak_mbps=map_row_bytes / line_s / 1e6,
             writer_mbps=counts["map_bursts"] * BURST_BYTES / seconds / 1e6,
             writer_need_mbps=full.buf_height * full_map.map_layout.bursts_per_row * BURST_BYTES * maps_per_s / 1e6,
-            maps_written=marks["maps"])
+            maps_written=marks["maps"], writer_pace=case.map_pace)
     return WorstCaseResult(
         display_need_mbps=shown_rows * row_bytes / frame_s / 1e6,
         display_peak_mbps=row_bytes / line_s / 1e6,
