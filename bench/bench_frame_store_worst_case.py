@@ -26,6 +26,7 @@ import time
 
 
 def main(argv=None):
+    from hdl.stereo_display import MAP_PACE
     from sim.models.mig import READ_LATENCY_RANGE
     from sim.testbench.frame_store_worst_case import BUILDS, WorstCase, run_worst_case
     from spec.memory import MIG
@@ -45,7 +46,8 @@ def main(argv=None):
                              "0: row after row)")
     parser.add_argument("--map-backlog", type=int, default=0,
                         help="800: map rows ready at a map's start, drained back to back (the engine's ring holds 4)")
-    parser.add_argument("--map-pace", type=int, default=1, help="800: the map writer's clocks a code (the design: 1)")
+    parser.add_argument("--map-pace", type=int, default=MAP_PACE,
+                        help=f"800: the map writer's clocks a code (the design: {MAP_PACE})")
     args = parser.parse_args(argv or [])
     lo, hi = READ_LATENCY_RANGE
     try:

@@ -58,6 +58,20 @@ def test_a_read_latency_of_a_line_makes_the_display_refused():
 SHORT_800 = WorstCase(build=800, rows=4, frames=1, blank_lines=1, map_row_clocks=2200)
 
 
+def test_the_800_case_reads_as_the_800_build_shows():
+    """The 800 build's case: its camera streams read the half-size panels (every second row and pixel) from the
+    screen's columns, then the difference map's rows at 1:1; odd rows (no half-size panel) and other builds are
+    refused."""
+    left, right = WorstCase(build=800).display_passes
+    assert [(p.x0, p.columns, p.row_step, p.column_step) for p in left] == [(540, 400, 2, 2), (100, 800, 1, 1)]
+    assert right[0].x0 == 980 and right[1].x0 == 100
+    assert left[1].restart_line < left[1].first_line == WorstCase(build=800).maps_line
+    with pytest.raises(ValueError, match="even number of rows"):
+        WorstCase(build=800, rows=3)
+    with pytest.raises(ValueError, match="build must be"):
+        WorstCase(build=600)
+
+
 @pytest.mark.slow
 def test_the_800_builds_display_is_never_refused_with_the_maps_in_the_store():
     """The display's camera streams (the half-size panels, then the difference map) and its map stream (the depth
