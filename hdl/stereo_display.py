@@ -42,8 +42,10 @@ MEMORIES = ("bram", "ddr2")
 #: whole one shown (docs/frame_store.md, "Depth maps in the store").
 MAPS = ("ring", "store")
 #: With ``maps="store"``: the map writer's clocks a code at the most (:class:`hdl.map_writer.MapWriter`'s ``pace``;
-#: it also waits while the store's map FIFO has no room).
-MAP_PACE = 1
+#: it also waits while the store's map FIFO has no room). 4: even with the engine's rows drained one after another
+#: the writer's bursts never queue in MIG's in-order FIFOs ahead of the display's reads (at 1 and 2 they do:
+#: docs/frame_store.md, "The worst case"), and a row still drains within an engine pass.
+MAP_PACE = 4
 #: Clocks from the display frame's start to the engine's start with the frame store, at most: the start delay, the
 #: take's two pulse synchronisers and the ownership's answer (a few clocks of each domain; 32 is ample).
 TAKE_CLOCKS = 32
@@ -63,8 +65,12 @@ def map_clocks(geometry, config, pace=MAP_PACE):
 def check_map_rate(timing, geometry, config, pace=MAP_PACE, camera_fps=SENSOR_FPS):
     """With the maps in the frame store: ``ValueError`` unless a map a camera frame (``camera_fps``) is computed.
     The engine starts only at a display frame's start, when the last map is whole, so a map takes
-    ``ceil(map_clocks / frame clocks)`` display frames (:func:`map_clocks`); they must fit in a camera frame.
-    Returns the display frames a map takes."""
+    ``ceil(map_clocks / frame clocks)`` display frames (:func:`map_clocks`); they must fit in a camera frame, and
+    the writer must drain a row (``pace W + 3`` clocks) within a pass. Returns the display frames a map takes."""
+    drain, pass_clocks = pace * geometry.buf_width + 3, schedule(geometry, config).pass_clocks
+    if drain > pass_clocks:
+        raise ValueError(f"the map writer drains a row in {drain} clocks (a code every {pace}), longer than the "
+                         f"engine's pass of {pass_clocks}: its rows would back up")
     frame = timing.h_total * timing.v_total
     frames = -(-map_clocks(geometry, config, pace) // frame)
     if frames * frame * camera_fps > timing.pixel_hz:

@@ -336,6 +336,10 @@ def test_maps_in_the_store_need_the_ddr2_and_a_map_a_camera_frame():
         check_map_rate(CEA_1080P60, SENSOR_800, two, camera_fps=21)
     with pytest.raises(ValueError, match="takes 6 display frames"):
         check_map_rate(CEA_1080P60, SENSOR_800, DEPTH_800_THREE)
+    # The writer's pace: a row drained within a pass (800 x 600: 11,244 clocks, so a code every 14 at the most).
+    assert check_map_rate(CEA_1080P60, SENSOR_800, two, pace=14) == 3
+    with pytest.raises(ValueError, match="drains a row in 12003 clocks .* longer than the engine's pass of 11244"):
+        check_map_rate(CEA_1080P60, SENSOR_800, two, pace=15)
     with pytest.raises(ValueError, match="cannot keep up"):
         check_engine_keeps_up(CEA_1080P60, DisplayLayout.full_maps(CEA_1080P60, SENSOR_800, two), SENSOR_800, two)
     # The 800 x 600 system (its layout, the 8-bit thresholds): its checks pass with the maps in the store only.
