@@ -210,8 +210,9 @@ def levers_800(build_pairs=None):
     """Lines of a table: the 800 x 600 build (``DEPTH_800``) and one lever changed at a time, each through the golden
     model's own stages (golden.depth: paths, winner with its fit and confidence, median), on every pair of bench
     depth, errors in 400-pixel units, invalid counted bad. Levers: the third path (right to left), a fourth beside
-    it (either diagonal from above, the paths a row-by-row engine can add; ``max_cost`` kept at 60 per path) and
-    the confidence threshold (``uniqueness`` k < 64)."""
+    it (either diagonal from above, the paths a row-by-row engine can add; ``max_cost`` kept at 60 per path), the
+    confidence threshold (``uniqueness`` k < 64) and ``max_cost`` off (the cheap levers beyond the golden model's
+    parameters: bench/bench_depth_probe.py)."""
     import dataclasses
     from bench.depth_builds import BUILDS, pairs as build_pairs_of
     from golden.depth import winner
@@ -224,6 +225,8 @@ def levers_800(build_pairs=None):
         variants.append((f"+ third path + fourth path {extra.replace('_', ' ')}",
                          dataclasses.replace(DEPTH_800, paths=paths4, max_cost=per_path * len(paths4))))
     variants += [(f"2 paths, uniqueness k = {k}", dataclasses.replace(DEPTH_800, uniqueness=k)) for k in (62, 60, 56)]
+    variants.append(("2 paths, max_cost off (= sum_max: invalid only at d* = D - 1)",
+                     dataclasses.replace(DEPTH_800, max_cost=DEPTH_800.sum_max)))
     results = {name: [] for name, _ in variants}
     pair_names = []
     for pair_name, left, right, truth in build_pairs or build_pairs_of(build):

@@ -10,7 +10,15 @@ the cameras' writes, the engine's), all streams' and the user interface's effici
 clk0), the refreshes covered; MIG violations stop the run. ``--rows``, ``--frames``: the buffer's rows and the
 display frames measured (2 blank lines + ``rows`` lines each); ``--latency``; ``--fifo-depth``: the MIG model's
 address FIFO; ``--banks``: the banks the buffers are spread over (1: all in bank 0, to compare); ``--not-urgent``:
-the display's streams served after the writers and the engine (the bite).
+the display's camera streams served after the writers and the engine (the bite); ``--build 800``: the 800 x 600
+build's store (800-pixel 8-bit rows written at the averaging capture's rate, a pixel every 50 ns; the half-size
+panels, every second row, then the difference map's rows at 1:1 on the display's two camera streams; the map buffers
+with the map writer writing a code a clock while the store has room and the map stream read by the depth panel at
+1:1, two bytes a code; ``--rows`` even), which also prints the map stream's and the map writer's figures;
+``--map-row-clocks``: the pix clocks between the rows the map writer is given (by default an engine pass, 11,247:
+the design's; 0: every row at once, so the writer drains row after row at a code a clock, 297 MB/s);
+``--map-backlog``: rows ready at a map's start, drained back to back (the engine's ring of 4 full: a writer held
+back for three passes); ``--map-pace``: the map writer's clocks a code (the design's ``MAP_PACE``, 1).
 """
 
 import argparse
@@ -18,8 +26,9 @@ import time
 
 
 def main(argv=None):
+    from hdl.stereo_display import MAP_PACE
     from sim.models.mig import READ_LATENCY_RANGE
-    from sim.testbench.frame_store_worst_case import WorstCase, run_worst_case
+    from sim.testbench.frame_store_worst_case import BUILDS, WorstCase, run_worst_case
     from spec.memory import MIG
     parser = argparse.ArgumentParser(prog="python -m bench frame_store_worst_case", description=__doc__)
     parser.add_argument("--rows", type=int, default=6)
@@ -30,14 +39,28 @@ def main(argv=None):
     parser.add_argument("--fifo-depth", type=int, default=1024, help="the MIG model's address FIFO (MIG: 1024)")
     parser.add_argument("--banks", type=int, default=MIG.BANKS,
                         help="banks the buffers are spread over (1: all in bank 0)")
+    parser.add_argument("--build", type=int, choices=BUILDS, default=400,
+                        help="400: the 400 x 300 store; 800: the 800 x 600 build's, the maps in it")
+    parser.add_argument("--map-row-clocks", type=int, default=None,
+                        help="800: pix clocks between the map writer's rows (default: an engine pass, the design's; "
+                             "0: row after row)")
+    parser.add_argument("--map-backlog", type=int, default=0,
+                        help="800: map rows ready at a map's start, drained back to back (the engine's ring holds 4)")
+    parser.add_argument("--map-pace", type=int, default=MAP_PACE,
+                        help=f"800: the map writer's clocks a code (the design: {MAP_PACE})")
     args = parser.parse_args(argv or [])
     lo, hi = READ_LATENCY_RANGE
-    case = WorstCase(rows=args.rows, frames=args.frames, latency=args.latency,
-                     latency_range=(lo, max(hi, args.latency)), display_urgent=not args.not_urgent,
-                     mig_fifo_depth=args.fifo_depth, banks=args.banks, engine_streams=args.engine_streams)
+    try:
+        case = WorstCase(rows=args.rows, frames=args.frames, latency=args.latency,
+                         latency_range=(lo, max(hi, args.latency)), display_urgent=not args.not_urgent,
+                         mig_fifo_depth=args.fifo_depth, banks=args.banks, engine_streams=args.engine_streams,
+                         build=args.build, map_row_clocks=args.map_row_clocks,
+                         map_backlog=args.map_backlog, map_pace=args.map_pace)
+    except ValueError as e:
+        raise SystemExit(f"python -m bench frame_store_worst_case: {e}")
     wall = time.perf_counter()
     result = run_worst_case(case)
-    print(f"{args.frames} display frames of {case.blank_lines} + {args.rows} lines, read latency {args.latency} clk0, "
+    print(f"{case.describe()}, read latency {args.latency} clk0, "
           f"display {'urgent' if case.display_urgent else 'after the writers and the engine'}, "
           f"{case.engine_streams} greedy engine streams, buffers in "
           f"{case.layout.banks_used} bank(s)")

@@ -10,7 +10,7 @@ in the board's DDR2 behind Xilinx MIG, docs/memory.md).
 ``resources``, ``timing``) reads it from here; a whole-system simulation
 (``sim.testbench.system.setup.SystemSetup``) holds one beside the simulation's own settings.
 
-Three presets:
+Four presets:
 
 * :meth:`DesignConfig.full`: the board's design, 1600 x 1200 sensors -> 400 x 300 buffers, 1080p60, the
   board's MT9D112 table, the 100 kHz I2C bus.
@@ -24,6 +24,11 @@ Three presets:
   design fact), a 1 MHz I2C bus (the Fast-mode Plus rate, the fastest the I2C master accepts) with a 20 us retry
   delay. The simulation's speed-ups of the table (waits scaled, entries a model does not need left out) are not
   part of the design: ``sim/testbench/system/tables.py``.
+* :meth:`DesignConfig.small_800`: the 800 x 600 build's structure at the small size: :meth:`small` with
+  ``SMALL_SENSOR_800`` (the same 64 x 48 sensors, 8-bit 2 x 2 means -> 32 x 24 buffers), ``SMALL_DEPTH_800``
+  (``DEPTH_800``'s paths and pixels, D = 16), the frames and the maps in the DDR2, half-size camera panels beside
+  1:1 maps (``DisplayLayout.full_maps`` on ``SMALL_TIMING``; a map takes two display frames, as the full build's
+  takes three) and the 8-bit difference thresholds.
 """
 
 from dataclasses import dataclass, fields
@@ -31,11 +36,11 @@ from dataclasses import dataclass, fields
 from hdl.sensor_table import sized_mt9d112_table
 from hdl.system import SystemParameters
 from spec.board import CLOCKS
-from spec.depth import DEPTH_800, SMALL_DEPTH
+from spec.depth import DEPTH_800, SMALL_DEPTH, SMALL_DEPTH_800
 from spec.display import diff_thresholds
 from spec.layout import DisplayLayout
 from spec.rectification import SMALL_RECTIFICATION
-from spec.sensor import SENSOR_800, SMALL_SENSOR
+from spec.sensor import SENSOR_800, SMALL_SENSOR, SMALL_SENSOR_800
 from spec.video import SMALL_TIMING
 
 __all__ = ["DesignConfig"]
@@ -129,6 +134,15 @@ class DesignConfig:
         return cls(**{"geometry": SMALL_SENSOR, "timing": SMALL_TIMING, "depth": SMALL_DEPTH,
                       "auto_rectification": SMALL_RECTIFICATION, "i2c_hz": 1_000_000, "i2c_retry_delay_us": 20,
                       **kw})
+
+    @classmethod
+    def small_800(cls, **kw):
+        """The 800 x 600 build at the small size (see the module docstring); ``kw`` overrides fields."""
+        timing = kw.get("timing", SMALL_TIMING)
+        return cls.small(**{"geometry": SMALL_SENSOR_800, "depth": SMALL_DEPTH_800,
+                            "layout": DisplayLayout.full_maps(timing, SMALL_SENSOR_800, SMALL_DEPTH_800),
+                            "thresholds": diff_thresholds(SMALL_SENSOR_800.grey_bits), "memory": "ddr2",
+                            "maps": "store", **kw})
 
     def top_kwargs(self):
         """Keyword arguments of ``hdl.system.StereoDepthSystem`` and ``board.top.GenesysTop`` for this design."""

@@ -1,10 +1,11 @@
 """The automatic depth engine's constants (docs/depth.md)."""
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from spec.sensor import SENSOR, SENSOR_800
 
-__all__ = ["PATH_STEPS", "TWO_PATHS", "THREE_PATHS", "DepthConfig", "DEPTH", "DEPTH_800", "DEPTH_800_THREE", "SMALL_DEPTH"]
+__all__ = ["PATH_STEPS", "TWO_PATHS", "THREE_PATHS", "DepthConfig", "DEPTH", "DEPTH_800", "DEPTH_800_THREE", "SMALL_DEPTH",
+           "SMALL_DEPTH_800"]
 
 #: The aggregation paths (docs/depth.md, "Paths"): for each, the step (dx, dy) from a pixel p to the previous
 #: pixel p' on the path. Every path runs along rows or down the image, so a row-by-row engine can compute it.
@@ -102,3 +103,7 @@ DEPTH_800_THREE = DepthConfig(disparities=128, pixel_bits=SENSOR_800.grey_bits, 
                               max_cost=DepthConfig.max_cost * len(THREE_PATHS) // len(TWO_PATHS))
 #: A reduced engine for fast tests of the same RTL on SMALL_SENSOR's 16 x 12 buffers.
 SMALL_DEPTH = DepthConfig(disparities=8, lanes=4, uniqueness=60)
+#: DEPTH_800 reduced for fast tests of the 800 x 600 build's RTL on SMALL_SENSOR_800's 32 x 24 buffers: twice
+#: SMALL_DEPTH's disparities (as DEPTH_800 has twice DEPTH's) at SMALL_DEPTH's lanes; the paths, the 8-bit pixels
+#: and everything else DEPTH_800's.
+SMALL_DEPTH_800 = replace(DEPTH_800, disparities=2 * SMALL_DEPTH.disparities, lanes=SMALL_DEPTH.lanes)

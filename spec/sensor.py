@@ -1,10 +1,10 @@
 """The cameras and the frame buffers: sensor size, the downscale into the buffers (thesis 4.2, 4.2.1; spec
 "Camera driver") and the stereo rig's optics (the distance of a disparity)."""
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
-__all__ = ["SensorGeometry", "DOWNSCALES", "SENSOR", "SENSOR_800", "SMALL_SENSOR", "VMODCAM_RIG",
-           "disparity_of_distance", "ROW_TAG_BITS", "SENSOR_FPS"]
+__all__ = ["SensorGeometry", "DOWNSCALES", "SENSOR", "SENSOR_800", "SMALL_SENSOR", "SMALL_SENSOR_800",
+           "VMODCAM_RIG", "disparity_of_distance", "ROW_TAG_BITS", "SENSOR_FPS"]
 
 #: How a ``scale`` x ``scale`` sensor block becomes one buffer pixel (docs/capture.md, "Downscale and grey"):
 #: ``"keep"`` the pixel at (scale i, scale j), the thesis's capture (5-bit grey); ``"average"`` the mean of the
@@ -63,6 +63,8 @@ SENSOR = SensorGeometry()
 SENSOR_800 = SensorGeometry(scale=2, grey_bits=8, downscale="average")
 #: A small sensor for fast tests: 64 x 48 -> 16 x 12 buffers.
 SMALL_SENSOR = SensorGeometry(width=64, height=48)
+#: The 800 x 600 build's capture on the small sensor: SENSOR_800's 8-bit 2 x 2 means, 64 x 48 -> 32 x 24 buffers.
+SMALL_SENSOR_800 = replace(SENSOR_800, width=SMALL_SENSOR.width, height=SMALL_SENSOR.height)
 
 
 class VMODCAM_RIG:

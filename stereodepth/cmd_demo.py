@@ -22,10 +22,15 @@
 4. The golden pictures of the disparity display at the matching and at a wrong disparity
    (``sim.analysis.disparity_pictures.write_pictures``).
 
-``--small`` runs step 2 at the small size too; ``--memory bram`` runs it on the thesis's build (the camera frames in
-block-RAM buffers): :data:`THESIS_COMMAND`. README's table gives the run times. As with ``run``, an earlier
-run's outputs are removed at the start, each output appears under its own name only when complete, and
-``result.json`` records the provenance (``stereodepth/outputs.py``, ``stereodepth/provenance.py``).
+``--small`` runs step 2 at the small size too (with ``--build 800`` ``SystemSetup.small_800``); ``--memory bram``
+runs it on the thesis's build (the camera frames in block-RAM buffers): :data:`THESIS_COMMAND`. ``--build 800`` runs
+step 2 on the 800 x 600 build (``SystemSetup.full_800``: the averaging capture, D = 128, the frames and the maps in
+the DDR2; docs/depth.md, "The 800 x 600 build on the board") at the switch settings step 1 finds for its 800 x 600
+buffers; the bundled pair, 667 x 500 once cropped to 4:3, is fitted up to the 1600 x 1200 sensors (``stereodepth
+run`` refuses a pair smaller than the buffers: your own pair there must be at least 800 x 600). Step 4 draws the
+thesis build's pictures only. README's table gives the run times. As with ``run``, an earlier run's outputs are
+removed at the start, each output appears under its own name only when complete, and ``result.json`` records the
+provenance (``stereodepth/outputs.py``, ``stereodepth/provenance.py``).
 """
 
 import sys
@@ -33,6 +38,7 @@ import time
 from pathlib import Path
 
 from .cmd_run import add_memory_argument
+from .design_args import BUILDS
 from .errors import prepare_out_dir
 from .outputs import RunOutputs
 
@@ -47,16 +53,22 @@ def add_arguments(parser):
                         help="simulator of the end-to-end run: verilator (default) or icarus (much slower at full "
                              "size)")
     parser.add_argument("--small", action="store_true",
-                        help="run the end-to-end step at the small test size (64x48 sensors, 112x52 display)")
+                        help="run the end-to-end step at the small test size (64x48 sensors, 112x52 display; with "
+                             "--build 800 its structure at that size: 8-bit 32x24 buffers, D = 16)")
     parser.add_argument("--out", type=Path, default=Path("build/demo"), help="output directory (build/demo)")
     parser.add_argument("--no-waves", action="store_true", help="skip the VCD / GTKWave step")
     add_memory_argument(parser, default="ddr2")
+    parser.add_argument("--build", choices=BUILDS, default="thesis",
+                        help="thesis (400 x 300 buffers, D = 64; the default) or 800 (8-bit 800 x 600 buffers, "
+                             "D = 128, the frames and the depth maps in the DDR2; the bundled pair fitted up to the "
+                             "sensors)")
 
 
-def small_disparity(disparity, setup_small):
-    """The board's disparity scaled to the small buffers (same fraction of the image width, at least 1)."""
+def small_disparity(disparity, setup_small, geometry=None):
+    """A disparity of ``geometry``'s buffers (default the board's, ``spec.sensor.SENSOR``) scaled to the small
+    buffers (same fraction of the image width, at least 1)."""
     from spec.sensor import SENSOR
-    return max(1, round(disparity * setup_small.geometry.buf_width / SENSOR.buf_width))
+    return max(1, round(disparity * setup_small.geometry.buf_width / (geometry or SENSOR).buf_width))
 
 
 #: The command of the thesis's build (the camera frames in block-RAM buffers), which the demo's printout names.
@@ -100,23 +112,32 @@ def run(args):
     from sim.analysis.disparity_pictures import bundled_pair_settings
     from sim.testbench.system.setup import SystemSetup
     from sim.runners.background import Background
+    from spec.sensor import SENSOR, SENSOR_800
     from stereodepth.provenance import utc_now
+    from .design_args import check_build_800, preset_of
+    build_800 = args.build == "800"
+    if build_800:
+        check_build_800(args.memory, None)                          # before any output is touched
     started = utc_now()
     out = prepare_out_dir(args.out)
     outputs = RunOutputs(out, OUTPUTS, stale=STALE_PATTERNS).start()
     t0 = time.perf_counter()
-    print("finding the motorcycle's disparity in the bundled pair ...", flush=True)
-    settings, _, _ = bundled_pair_settings()
+    geometry = SENSOR_800 if build_800 else SENSOR
+    print(f"finding the motorcycle's disparity in the bundled pair's {geometry.buf_width} x {geometry.buf_height} "
+          f"buffers ...", flush=True)
+    settings, _, _ = bundled_pair_settings(geometry)
     d, r = settings.disparity, settings.rectification
     print(f"  disparity {d}, rectification {r} (mean |L-R| minimum over the motorcycle; Middlebury ground truth "
           f"median {settings.ground_truth_median:.1f} buffer pixels); a wrong one: {settings.wrong_disparity}")
 
-    small = SystemSetup.small()
-    ds = small_disparity(d, small)
-    setup = cmd_run.make_setup(args.small, ds if args.small else d, r if not args.small else 0,
-                               memory=args.memory)
+    ds = small_disparity(d, SystemSetup.small(), geometry)                       # the waveform run's
+    step_small = small_disparity(d, getattr(SystemSetup, preset_of(args.build, True))(), geometry)
+    setup = cmd_run.make_setup(args.small, step_small if args.small else d, r if not args.small else 0,
+                               memory=args.memory, build=args.build)
     g, t = setup.geometry, setup.timing
-    build_name = ("the DDR2 build (camera frames in the DDR2 frame store behind the MIG model)"
+    build_name = (f"the 800 x 600 build (8-bit 2 x 2 means, D = {setup.depth.disparities}, camera frames and depth "
+                  "maps in the DDR2 behind the MIG model; the bundled pair fitted up to the sensors)" if build_800 else
+                  "the DDR2 build (camera frames in the DDR2 frame store behind the MIG model)"
                   if args.memory == "ddr2" else "the thesis's build (camera frames in block-RAM buffers)")
     print(f"whole system on {args.simulator}, {build_name}: {g.width}x{g.height} sensors -> "
           f"{g.buf_width}x{g.buf_height} frames -> {t.h_active}x{t.v_active} display", flush=True)
@@ -147,13 +168,14 @@ def run(args):
         files.update(small_files)
         ok = ok and small_ok
 
-    from sim.analysis.disparity_pictures import write_pictures
-    for path in write_pictures(out):
-        files[f"golden disparity display picture ({'matched' if 'matched' in path.name else 'wrong'} disparity)"] \
-            = path
+    if not build_800:
+        from sim.analysis.disparity_pictures import write_pictures
+        for path in write_pictures(out):
+            files[f"golden disparity display picture ({'matched' if 'matched' in path.name else 'wrong'} "
+                  f"disparity)"] = path
     print(f"total {time.perf_counter() - t0:.0f} s")
     cmd_run.print_files(files)
-    if args.memory == "ddr2":
+    if args.memory == "ddr2" and not build_800:
         print(f"the thesis's build (camera frames in block-RAM buffers): {THESIS_COMMAND}")
     print("OK" if ok else "FAILED")
     return 0 if ok else 1
@@ -166,11 +188,12 @@ def _full_step(args, setup, out, outputs, started):
     from sim import SimulationFailed
     from sim.system import backend_named, still_pair
     from sim.testbench.system.run_cocotb import DEFAULT_PAIR
+    from golden.stereo_pair import load_default_pair
     from stereodepth.provenance import provenance
     files = {}
     t_step = time.perf_counter()
     try:
-        left, right = cmd_run.load_images(*DEFAULT_PAIR, setup)
+        left, right = load_default_pair(setup.geometry.width, setup.geometry.height)    # fitted, up if need be
         sequence = still_pair(left, right, setup, sources=DEFAULT_PAIR)
         backend = backend_named(args.simulator, work_dir=out / f".{args.simulator}")
         result = cmd_run.simulate_still(setup, sequence, backend, args.simulator)

@@ -22,7 +22,8 @@ its own name only when complete (``stereodepth/outputs.py``).
 The run is ``sim.system.simulate`` with a still pair (``sim.system.still_pair``: the sensors send the pair every
 frame) on the backend of ``--simulator``; this module parses the arguments and writes and prints what the result
 holds. Sizes: the default is the board's (1600 x 1200 sensors, 400 x 300 buffers, 1080p60 display); ``--small``
-runs the small test configuration (64 x 48 sensors, 112 x 52 display; ``sim/testbench/system/setup.py``).
+runs the small test configuration (64 x 48 sensors, 112 x 52 display; ``sim/testbench/system/setup.py``), with
+``--build 800`` the 800 x 600 build's at that size (``SystemSetup.small_800``: 32 x 24 8-bit buffers, D = 16).
 Simulators (``sim/system/backends.py``): ``verilator`` (default) runs with its testbench in C++ (clocks, sensor
 streams and the pin recorder in C++, the Python models answering the I2C buses); ``icarus`` runs through cocotb
 along the in-simulator route (the sensors replayed and the pins recorded inside the simulator); ``amaranth`` runs
@@ -82,7 +83,8 @@ def add_arguments(parser):
                         help="verilator (default), icarus, or amaranth (hours at full size; quick with --small)")
     parser.add_argument("--out", type=Path, default=Path("build/run"), help="output directory (build/run)")
     parser.add_argument("--small", action="store_true",
-                        help="small configuration: 64x48 sensors, 112x52 display (fast; for a quick look)")
+                        help="small configuration: 64x48 sensors, 112x52 display (fast; for a quick look); with "
+                             "--build 800 the 800 build's structure at that size (8-bit 32x24 buffers, D = 16)")
     parser.add_argument("--ground-truth", type=Path, default=None, metavar="FILE",
                         help="a disparity map at the input's size (PFM, inf = unknown; or 16-bit PNG in 1/256 "
                              "pixel, 0 = unknown), of the view --truth-view names: report bad > 1 / bad > 2 of "
@@ -127,11 +129,11 @@ def make_setup(small, disparity, rectification, segment=False, memory=None, maps
     One-line :class:`UserError` for a combination no design has."""
     from hdl.stereo_display import check_maps
     from sim.testbench.system.setup import SystemSetup
-    from .design_args import check_build_800
+    from .design_args import check_build_800, preset_of
     switches = {"disparity": disparity, "rectification": rectification, "segment": segment}
     if build == "800":
-        check_build_800(small, memory, maps)
-        return SystemSetup.full_800(**switches)
+        check_build_800(memory, maps)
+        return getattr(SystemSetup, preset_of(build, small))(**switches)
     memory, maps = memory or "bram", maps or "ring"
     try:
         check_maps(memory, maps)
@@ -143,10 +145,11 @@ def make_setup(small, disparity, rectification, segment=False, memory=None, maps
 def switch_settings(args):
     """``(disparity, rectification, segment)`` from the arguments; one-line :class:`UserError` for a bad value:
     ``--segment`` with a manual rectification, or a band that holds no disparity the engine gives."""
+    from hdl.config import DesignConfig
     from hdl.rectification_select import MANUAL_RANGE
-    from spec.depth import DEPTH, DEPTH_800
     from spec.display import SEGMENT_HALF_WIDTH
-    depth = DEPTH_800 if getattr(args, "build", "thesis") == "800" else DEPTH
+    from .design_args import preset_of
+    depth = getattr(DesignConfig, preset_of(getattr(args, "build", "thesis"), getattr(args, "small", False)))().depth
     disparity = switch_value("disparity", args.disparity)
     text = args.rectification if args.rectification is not None else ("auto" if args.segment else "0")
     if text == "auto":
@@ -236,8 +239,10 @@ def shown_lines(verdict):
         lines = [f"  display frame {k} shown: none of the {n} display frames run has a depth map of complete camera "
                  f"frames (depth rows withheld at a tear: {withheld})"]
     else:
-        before = f" (depth rows withheld at a tear before it: {withheld[:k]})" if k else ""
-        lines = [f"  display frame {k} shown: the first whose depth map comes from complete camera frames{before}"]
+        before = f" (depth rows withheld at a tear before it: {withheld[:k]})" if k and any(withheld[:k]) else ""
+        whose = ("images and whole depth map are the captured pair's (the maps in the frame store)"
+                 if verdict.get("maps") == "store" else "depth map comes from complete camera frames")
+        lines = [f"  display frame {k} shown: the first whose {whose}{before}"]
     if "auto_offset" in verdict:
         first = verdict["auto_offset_first_frame"]
         lines.append(f"  automatic rectification: offset {verdict['auto_offset']:+d} buffer rows found, "

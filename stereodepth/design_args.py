@@ -4,16 +4,19 @@ combination no design has."""
 
 from .errors import UserError
 
-__all__ = ["add_design_arguments", "design_of", "check_build_800"]
+__all__ = ["add_design_arguments", "design_of", "check_build_800", "preset_of"]
 
-#: ``--build``: the thesis's design (``DesignConfig.full``) or the 800 x 600 build (``DesignConfig.full_800``).
+#: ``--build``: the thesis's design (``DesignConfig.full``) or the 800 x 600 build (``DesignConfig.full_800``);
+#: with ``--small`` each at the small size (``DesignConfig.small``, ``DesignConfig.small_800``).
 BUILDS = ("thesis", "800")
 
 
 def add_design_arguments(parser, what="estimate"):
     """The four options; ``what`` names the command's action in their help."""
     parser.add_argument("--small", action="store_true",
-                        help=f"{what} the small design of the default test run instead of the board's (quick check)")
+                        help=f"{what} the small design of the default test run instead of the board's (quick "
+                             "check); with --build 800 the 800 x 600 build's structure at that size (8-bit 32 x 24 "
+                             "buffers, D = 16)")
     parser.add_argument("--build", choices=BUILDS, default="thesis",
                         help="thesis (400 x 300 buffers, D = 64; the default) or 800 (8-bit 800 x 600 buffers, "
                              "D = 128, the frames and the depth maps in the DDR2: --memory ddr2 --maps store)")
@@ -25,14 +28,18 @@ def add_design_arguments(parser, what="estimate"):
                              "store (with --memory ddr2: whole maps in the frame store)")
 
 
-def check_build_800(small, memory, maps):
-    """``--build 800`` with the other options as given (``None``: not given): a one-line :class:`UserError` for
-    one the 800 x 600 build contradicts."""
-    if small:
-        raise UserError("--build 800 is the board's 800 x 600 build: drop --small")
+def check_build_800(memory, maps):
+    """``--build 800`` with ``--memory`` and ``--maps`` as given (``None``: not given): a one-line
+    :class:`UserError` for one the 800 x 600 build contradicts."""
     for option, value, needed in (("memory", memory, "ddr2"), ("maps", maps, "store")):
         if value not in (None, needed):
             raise UserError(f"--build 800 keeps its frames and maps in the DDR2: drop --{option} {value}")
+
+
+def preset_of(build, small):
+    """The preset ``--build`` and ``--small`` name: a name of ``hdl.config.DesignConfig``'s presets and of
+    ``sim.testbench.system.setup.SystemSetup``'s (``"full"``, ``"small"``, ``"full_800"``, ``"small_800"``)."""
+    return ("small" if small else "full") + ("_800" if build == "800" else "")
 
 
 def design_of(args):
@@ -40,8 +47,8 @@ def design_of(args):
     design's."""
     from hdl.config import DesignConfig
     if args.build == "800":
-        check_build_800(args.small, args.memory, args.maps)
-        design = DesignConfig.full_800()
+        check_build_800(args.memory, args.maps)
+        design = getattr(DesignConfig, preset_of(args.build, args.small))()
     else:
         memory, maps = args.memory or "bram", args.maps or "ring"
         if maps == "store" and memory != "ddr2":

@@ -212,7 +212,7 @@ def print_summary(result, setup, ok):
                   + f", first shown on display frame {c['first_display_frame_shown']}")
     if "display_frames_from_whole_pairs" in result:     # the depth maps in the frame store
         print(f"  DDR2 frame store: (images' pair, depth map's pair) per display frame {result['pairs_shown']} (-1: "
-              "the empty buffers); " + ("every display frame one pair's images with one pair's whole map"
+              "the empty buffers; None: no map yet); " + ("every display frame one pair's images with one pair's whole map"
                                         if result["display_frames_from_whole_pairs"]
                                         else "NOT every display frame one pair's images with one pair's whole map"))
     elif "pairs_shown" in result:

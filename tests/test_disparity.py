@@ -223,3 +223,16 @@ def test_disparity_pictures(tmp_path):
         assert np.array_equal(frame, composite_frame(left, right, d, r))
     assert {(int(m[0]), int(m[1])) for m in (re.search(r"_d(\d+)_r(\d+)", p.name).groups() for p in paths)} == \
         {(s.disparity, s.rectification), (s.wrong_disparity, s.rectification)}
+
+
+def test_the_800_build_settings_search_the_range_scaled_to_its_buffers():
+    """``demo --build 800``'s settings: the disparity search covers 0..120 at the 800 x 600 buffers (the thesis's
+    0..60 scaled with the width): on the bundled pair the motorcycle's disparity is found within 1.5 pixels of the
+    Middlebury truth's median, and on a pair shifted by 90 pixels (beyond 60) the shift is found."""
+    import numpy as np
+    from sim.analysis.disparity_pictures import bundled_pair_settings, find_settings
+    from spec.sensor import SENSOR_800
+    s, left, right = bundled_pair_settings(SENSOR_800)
+    assert abs(s.disparity - s.ground_truth_median) <= 1.5
+    shifted = np.roll(right, 90, axis=1)             # left pixel (x + 90) = right pixel x
+    assert find_settings(shifted, right, SENSOR_800).disparity == 90

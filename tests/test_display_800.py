@@ -25,13 +25,13 @@ from spec.depth import DEPTH, DEPTH_800, THREE_PATHS, DepthConfig
 from spec.display import (BACKGROUND_RGB, CROSSHAIR_ARM, DIFF_LEVEL_GREY, DIFF_THRESHOLDS, NO_DATA_RGB, TEXT_RGB,
                           diff_thresholds)
 from spec.layout import DisplayLayout
-from spec.sensor import SENSOR, SENSOR_800, SensorGeometry
+from spec.sensor import SENSOR, SENSOR_800, SMALL_SENSOR_800, SensorGeometry
 from spec.video import CEA_1080P60, SMALL_TIMING, VideoTiming
 
 from test_compositor import run_amaranth, run_cocotb_display     # tests/ (pytest puts a test's directory on the path)
 
-#: A small averaging geometry (32 x 24 x 8-bit buffers) and a three-path engine for it.
-SMALL_800 = SensorGeometry(width=64, height=48, scale=2, grey_bits=8, downscale="average")
+#: The small averaging geometry (32 x 24 x 8-bit buffers) and a three-path engine for it.
+SMALL_800 = SMALL_SENSOR_800
 SMALL_800_DEPTH = DepthConfig(disparities=8, lanes=4, uniqueness=60, pixel_bits=8, paths=THREE_PATHS,
                               max_cost=180)
 

@@ -137,6 +137,22 @@ def test_torn_rows_classified_from_the_definition():
     assert torn_depth_rows(frame, buffers, layout, g, setup.depth)["rows"][-1] is None
 
 
+def test_half_size_panel_rows_classified_as_shown():
+    """A camera panel at half size (the small 800 x 600 build's screen) shows every second buffer row, one line
+    each: its rows are those 12 lines of the 32 x 24 buffers (not 24 lines reaching into the maps below), and a
+    line of another pair's image is classified as that pair's."""
+    setup = SystemSetup.small_800()
+    g, layout = setup.geometry, setup.display_layout
+    rng = np.random.default_rng(8)
+    pairs = [tuple(rng.integers(0, 256, (g.height, g.width, 3), dtype=np.uint8) for _ in range(2)) for _ in range(2)]
+    goldens = {k: setup.golden_frame(*pair) for k, pair in enumerate(pairs)}
+    frame = goldens[0].copy()
+    left = layout.region("left")
+    frame[left.y0:left.y0 + 3] = goldens[1][left.y0:left.y0 + 3]
+    rows = frame_sources(frame, goldens, layout, g)["left"]
+    assert rows == [{1}] * 3 + [{0}] * (g.buf_height // 2 - 3)
+
+
 def test_a_map_overtaken_twice_is_classified_from_the_definition():
     """Rows 0..7 of frame 0, 8..15 of frame 1, 16.. of frame 0 again in both images (the engine reads its first rows
     at the display frame's start and the rest after the captures moved on): no single tear explains the panel,

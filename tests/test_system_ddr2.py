@@ -276,8 +276,8 @@ def test_ddr2_sequence_verdict_asks_every_display_frame_from_one_pair():
 
 def test_store_sequence_verdict_asks_one_pair_s_images_with_one_whole_map_never_going_back():
     """With the maps in the frame store: every display frame one pair's images with one pair's whole map (the
-    panels' pair or an earlier one), the maps never going back; a frame no two pairs make, or a map going back,
-    fails."""
+    panels' pair or an earlier one) or, before the first map, none, the maps never going back; a frame no two pairs
+    make, a map going back, or no map after one, fails."""
     def shown(*pairs):
         out = []
         for i, p in enumerate(pairs):
@@ -288,6 +288,9 @@ def test_store_sequence_verdict_asks_one_pair_s_images_with_one_whole_map_never_
         "pairs_shown": [(-1, -1), (0, -1), (0, 0), (1, 0)], "display_frames_from_whole_pairs": True}
     assert not Judge._store_pairs(shown((0, 0), None))["display_frames_from_whole_pairs"]
     assert not Judge._store_pairs(shown((1, 1), (2, 0)))["display_frames_from_whole_pairs"]
+    # no map yet (q None: the depth panel every row not ready) before the first map only
+    assert Judge._store_pairs(shown((-1, None), (0, None), (0, -1)))["display_frames_from_whole_pairs"]
+    assert not Judge._store_pairs(shown((0, -1), (0, None)))["display_frames_from_whole_pairs"]
     assert not Judge._store_pairs([])["display_frames_from_whole_pairs"]
 
 

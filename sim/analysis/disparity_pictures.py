@@ -119,8 +119,12 @@ class Settings:
     black_wrong: float              # ... at `wrong_disparity`
 
 
-def find_settings(left, right, geometry=SENSOR, max_disparity=60, max_rectification=4):
-    """The motorcycle's disparity and rectification (residual minimum) and a wrong disparity, for the buffers."""
+def find_settings(left, right, geometry=SENSOR, max_disparity=None, max_rectification=4):
+    """The motorcycle's disparity and rectification (residual minimum) and a wrong disparity, for the buffers.
+    ``max_disparity`` None: 60 at the thesis's 400-pixel buffers, scaled with the buffer width, at most 127 (the
+    disparity switches' range)."""
+    if max_disparity is None:
+        max_disparity = min(127, round(60 * geometry.buf_width / SENSOR.buf_width))
     mask, gt = motorcycle_mask(geometry)
     background = np.isfinite(gt) & (gt < BACKGROUND_MAX_DISPARITY)
     d = min(range(max_disparity + 1), key=lambda k: _mean_residual(left, right, mask, k, 0))

@@ -4,7 +4,7 @@ Definition. Camera frame k of the run is the pair (left image k, right image k) 
 frame; frame -1 is the buffers before any capture (all zeros). The golden model's displayed frame of pair k
 (``SystemSetup.golden_frame``) is what the screen shows when both buffers hold frame k. A displayed panel row --
 one buffer row of the left image, the right image, the difference map or the depth map, ``scale`` display lines
--- *comes from frame k* when it equals that row of the golden frame of pair k bit for bit. A row can come from
+(of a panel at 1 / ``shrink`` size, every ``shrink``-th buffer row, one line) -- *comes from frame k* when it equals that row of the golden frame of pair k bit for bit. A row can come from
 several frames (where the scene did not change there) or from none: a depth (or difference) row computed from a
 left row of one frame and a right row of another, or from rows of the window of different frames, equals no
 golden row -- a *mixed* row. A depth row equal to no golden row whose every code is invalid is not mixed but
@@ -38,10 +38,12 @@ EMPTY = -1
 
 
 def _row_slices(layout, source, geometry):
+    """The display lines and columns of each buffer row the panel shows: every row, ``scale`` lines each; of a
+    panel at 1 / ``shrink`` size every ``shrink``-th row, one line each."""
     region = layout.region(source)
     s = region.scale
     return [(slice(region.y0 + r * s, region.y0 + (r + 1) * s), slice(region.x0, region.x1))
-            for r in range(geometry.buf_height)]
+            for r in range(geometry.buf_height // region.shrink)]
 
 
 def frame_sources(frame, goldens, layout, geometry, depth=None):

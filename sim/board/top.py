@@ -96,13 +96,13 @@ def board_primitives(memory="bram"):
 
 
 def board_setup(spec):
-    """The :class:`~sim.testbench.system.setup.SystemSetup` of ``spec``: ``{"preset": "small"|"full", **fields}``, every
-    field (``quick_table`` included) overriding the preset's."""
+    """The :class:`~sim.testbench.system.setup.SystemSetup` of ``spec``: ``{"preset": one of its PRESETS, **fields}``
+    (default ``"small"``), every field (``quick_table`` included) overriding the preset's."""
     from dataclasses import replace
     from sim.testbench.system.setup import SystemSetup
     spec = dict(spec)
     preset = spec.pop("preset", "small")
-    return replace(SystemSetup.small() if preset == "small" else SystemSetup.full(), **spec)
+    return replace(SystemSetup.from_spec({"preset": preset}), **spec)
 
 
 def board_top_kwargs(setup, *, heartbeat_log2=1, cam_heartbeat_log2=1, **overrides):

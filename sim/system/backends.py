@@ -111,14 +111,14 @@ class Amaranth(Backend):
 
     def _route(self, setup):
         from sim.testbench.system.run_amaranth import ROUTES
-        return ROUTES[self.route or ("python" if setup.preset == "small" else "replay")]
+        return ROUTES[self.route or ("python" if setup.small_size else "replay")]
 
     def require(self, setup, sequence):
         if setup.memory == "ddr2" and self._route(setup).name != "python":
             hint = ": add --small, or use verilator" if self.route is None else ""
             raise UserError(f"the DDR2 build runs along the Amaranth python route only{hint}")
         if not getattr(sequence, "still", False):
-            if setup.preset != "small":
+            if not setup.small_size:
                 raise UserError("multi-frame runs on the Amaranth simulator are small only: add --small")
             if not self._route(setup).sequences:
                 raise UserError(f"the Amaranth {self._route(setup).name} route replays a still pair only")
@@ -152,7 +152,7 @@ class Cocotb(Backend):
     def require(self, setup, sequence):
         _installed(self.name)
         if not getattr(sequence, "still", False):
-            if setup.preset != "small":
+            if not setup.small_size:
                 raise UserError(f"multi-frame runs on {self.name} are small only: add --small")
             if sequence.faults:
                 raise UserError("the cocotb multi-frame scenario sends no faults (the Verilator backend does)")

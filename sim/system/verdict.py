@@ -28,7 +28,9 @@ last pair's golden frame, ``image_rows_from_camera_frames`` (at most the one row
 panel), the automatic rectification's record, with the DDR2 build (``setup.memory == "ddr2"``) ``pairs_shown`` and
 ``display_frames_from_one_pair`` (every display frame equal to one pair's golden frame) -- with the maps in the frame
 store (``setup.maps == "store"``) ``pairs_shown`` of (images' pair, map's pair) and ``display_frames_from_whole_pairs``
-(every display frame one pair's images with one pair's whole map, the maps never going back) -- and ``ok``.
+(every display frame one pair's images with one pair's whole map, the maps never going back; the map's pair None for
+a display frame before the first whole map, its depth panel every row not ready: only before every map) -- and
+``ok``.
 """
 
 import numpy as np
@@ -103,14 +105,17 @@ class Judge:
         codes, _ = read_depth_panel(frame, self.setup.display_layout, self.setup.depth)
         return (codes == self.setup.depth.invalid).all(axis=1)
 
+    def _not_ready(self, frame):
+        """The depth panel's pixels that show ``DEPTH_NOT_READY_RGB`` (a boolean array of the panel)."""
+        box = self.setup.display_layout.region("depth")
+        panel = np.asarray(frame[box.y0:box.y1, box.x0:box.x1], dtype=np.int64)
+        return ((panel[..., 0] << 16) | (panel[..., 1] << 8) | panel[..., 2]) == DEPTH_NOT_READY_RGB
+
     def _map_shown(self, frame):
         """With the maps in the frame store: the depth panel shows a map (no pixel of it not ready)."""
         if getattr(self.setup, "maps", "ring") != "store":
             return True
-        box = self.setup.display_layout.region("depth")
-        panel = np.asarray(frame[box.y0:box.y1, box.x0:box.x1], dtype=np.int64)
-        rgb = (panel[..., 0] << 16) | (panel[..., 1] << 8) | panel[..., 2]
-        return not (rgb == DEPTH_NOT_READY_RGB).any()
+        return not self._not_ready(frame).any()
 
     def _still(self, shown):
         setup, frame, settings = self.setup, shown.frame, shown.settings or {}
@@ -159,8 +164,9 @@ class Judge:
 
     def _pairs_of(self, frame):
         """With the maps in the frame store: ``(p, q)``, the newest pairs such that the display frame shows pair
-        ``p``'s golden frame with pair ``q``'s depth map (its panel and its readout) and ``q <= p``; None when
-        no two pairs make it."""
+        ``p``'s golden frame with pair ``q``'s depth map (its panel and its readout) and ``q <= p``; ``(p, None)``
+        when it shows no map (every pixel of the depth panel not ready: before the first whole map; the readout not
+        judged, as in a still run's frame before its first map); None when no two pairs make it."""
         layout = self.setup.display_layout
         boxes = [layout.region("depth").box] + ([layout.readout.box] if layout.readout is not None else [])
         keys = sorted(self.goldens)
@@ -174,6 +180,8 @@ class Judge:
                 if all(np.array_equal(frame[b.y0:b.y1, b.x0:b.x1], self.goldens[q][b.y0:b.y1, b.x0:b.x1])
                        for b in boxes):
                     return p, q
+            if self._not_ready(frame).all():
+                return p, None
         return None
 
     def _tear(self, frame, raw, done):
@@ -243,12 +251,14 @@ class Judge:
     def _store_pairs(frames):
         """The promise with the maps in the frame store: every display frame shows one pair's images and difference
         map (``p``) and one pair's whole depth map (``q``: the latest whole map, of the pair before or the same),
-        the maps' pairs never going back. ``pairs_shown``: ``(p, q)`` of each display frame."""
+        the maps' pairs never going back; ``q`` None (no map yet) only before every map. ``pairs_shown``: ``(p, q)``
+        of each display frame."""
         shown = [f.verdict.get("equals_pairs") for f in frames]
         whole = bool(frames) and None not in shown
         if whole:
             maps = [q for _, q in shown]
-            whole = all(a <= b for a, b in zip(maps, maps[1:]))
+            first = next((i for i, q in enumerate(maps) if q is not None), len(maps))
+            whole = None not in maps[first:] and all(a <= b for a, b in zip(maps[first:], maps[first + 1:]))
         return {"pairs_shown": shown, "display_frames_from_whole_pairs": whole}
 
     @staticmethod
@@ -261,12 +271,12 @@ class Judge:
 
     def _still_verdict(self, frames, clean):
         """A still pair's run: the frame it shows (``chosen``, the first the policy accepts, else the last), the
-        withheld rows of every frame run, ``ok`` (the chosen frame equal to its golden frame, no timing violation
+        withheld rows of every frame run, where the maps are (``maps``), ``ok`` (the chosen frame equal to its golden frame, no timing violation
         nor refused display read, and with the ``whole`` policy accepted by it); in automatic rectification the
         offset in use on the chosen frame (``auto_offset``) and the first display frame that used it locked
         (``auto_offset_first_frame``)."""
         chosen = next((f.index for f in frames if self.enough(f)), frames[-1].index if frames else None)
-        out = {"chosen": chosen, "policy": self.policy, "display_frames": len(frames),
+        out = {"chosen": chosen, "policy": self.policy, "display_frames": len(frames), "maps": self.setup.maps,
                "withheld_rows": [f.verdict["withheld_rows"] for f in frames]}
         out["ok"] = chosen is not None and frames[chosen].verdict["mismatched_pixels"] == 0 and clean \
             and (self.policy == "first" or self.enough(frames[chosen]))

@@ -38,7 +38,8 @@ IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".ppm", ".pgm", ".tif", ".tif
 VIDEO_SUFFIXES = (".mp4", ".avi", ".mkv", ".mov", ".webm", ".m4v", ".mpg", ".mpeg")
 #: A ``faults`` entry: the sensor drops that frame (its frame period has FV low; the image is never sent).
 DROP = "drop"
-#: Default (far, near) card distances in metres per preset: inside the depth engine's range at each size.
+#: Default (far, near) card distances in metres at the full and the small size: inside the depth engine's range
+#: at each size, the 800 x 600 builds' included (twice the buffer disparity and twice the disparities).
 CARD_RANGE_M = {"full": (3.0, 0.5), "small": (8.0, 4.0)}
 
 
@@ -214,19 +215,20 @@ def moving_card(setup, frames, far_m=None, near_m=None, vertical_offsets=None):
     the module docstring; defaults :data:`CARD_RANGE_M`); ``vertical_offsets``: per frame the rig's vertical
     offset in sensor rows (:func:`offset_schedule`; default 0), a change between two frames a knock to the rig."""
     from sim.testbed.scene import object_footprint, rectangle, render_pair, small_rectangle
-    default_far, default_near = CARD_RANGE_M[setup.preset]
+    size = "small" if setup.small_size else "full"
+    default_far, default_near = CARD_RANGE_M[size]
     far_m = default_far if far_m is None else far_m
     near_m = default_near if near_m is None else near_m
     offsets = [0.0] * frames if vertical_offsets is None else list(vertical_offsets)
     if len(offsets) != frames:
         raise ValueError(f"{len(offsets)} vertical offsets for {frames} frames")
-    make = rectangle if setup.preset == "full" else small_rectangle
+    make = rectangle if size == "full" else small_rectangle
     pairs, truth, centre, names = [], [], [], []
     g = setup.geometry
     for z, v in zip(card_distances(frames, far_m, near_m), offsets):
         rig = card_rig(setup, v)
         card = make(z, centre_x_m=rig.baseline_m / 2, finish="textured",
-                    texel_m=0.01 if setup.preset == "full" else 0.004)
+                    texel_m=0.01 if size == "full" else 0.004)
         pairs.append(render_pair(card, rig))
         # the card's disparity where the right camera's kept pixels see it (the background has no distance)
         t = np.full((g.buf_height, g.buf_width), np.nan)

@@ -2,8 +2,8 @@
 
 ========================  ==========================================================================================
 ``setup.py``              :class:`~sim.testbench.system.setup.SystemSetup`: sizes, clocks, tables, models, golden frame
-                          (the ``small`` and ``full`` presets); ``tables.py`` derives the small and fast MT9D112
-                          tables
+                          (the presets ``small``, ``full``, ``full_800``, ``small_800``); ``tables.py`` derives the
+                          small and fast MT9D112 tables
 ``testbench.py``          :class:`~sim.testbench.system.testbench.SystemTestbench`: the design + its clocking model +
                           its I2C buses (``sim/models/i2c/bus.py``) + a cycle counter; what every driver simulates
 ``rom_testbench.py``      the Amaranth replay route's design: the system testbench + ROM sensor replays + gated clocks

@@ -18,7 +18,7 @@ simulation's own: the switch settings (``disparity``, ``rectification``, ``segme
 (``lock_cycles``), when the pixel clock starts (``pix_after_init``) and the sensor models' timing
 (``sensor_timing``).
 
-Three presets:
+Four presets:
 
 * :meth:`SystemSetup.small`: ``DesignConfig.small()`` (64 x 48 sensors -> 16 x 12 buffers, a 112 x 52 display,
   D = 8, a 1 MHz I2C bus: a simulation speed-up the register-file models do not notice; the 100 kHz bus is
@@ -28,6 +28,12 @@ Three presets:
   board's MT9D112 table unchanged, the 100 kHz bus). For the slow test, the benchmark and the demo.
 * :meth:`SystemSetup.full_800`: ``DesignConfig.full_800()``, the 800 x 600 build (the same sensors and table,
   8-bit 2 x 2 means, D = 128, the frames and the maps in the DDR2 with the MIG model, the maps 1:1 on the screen).
+* :meth:`SystemSetup.small_800`: ``DesignConfig.small_800()``, the 800 x 600 build's structure at the small size
+  (the small preset's sensors, table and speed-ups; 8-bit 2 x 2 means into 32 x 24 buffers, D = 16, the frames and
+  the maps in the DDR2, half-size camera panels beside 1:1 maps). For the 800 x 600 build's tests on every backend.
+
+The two small presets are the small size (:attr:`SystemSetup.small_size`): Amaranth's simulator runs them with the
+sensor models in Python, and multi-frame runs on Amaranth's simulator and cocotb take them only.
 
 The sensors' PCLK is the design's ``pclk_hz`` (``spec.board.CLOCKS.CAM_PCLK_HZ``: what the MT9D112 table
 programs). Camera A is the left image, camera B the right image.
@@ -67,11 +73,12 @@ __all__ = ["SystemSetup"]
 
 _FULL = DesignConfig.full()
 _FULL_800 = DesignConfig.full_800()
+_SMALL_800 = DesignConfig.small_800()
 #: The setup's fields that are the design's (``hdl.config.DesignConfig``'s of the same names).
 DESIGN_FIELDS = ("geometry", "timing", "layout", "thresholds", "level_grey", "depth", "auto_rectification", "sys_hz",
                  "i2c_hz", "i2c_retry_delay_us", "pclk_hz", "memory", "maps")
 #: The presets, by the name :meth:`SystemSetup.to_spec` gives them.
-PRESETS = ("small", "full", "full_800")
+PRESETS = ("small", "full", "full_800", "small_800")
 #: The simulation's speed-ups of the small preset (sim/testbench/system/tables.py).
 _SMALL_SPEED_UPS = {"time_scale": 0.02, "quick_table": True}
 
@@ -132,8 +139,14 @@ class SystemSetup:
         return cls(**{**_design_fields(_FULL_800), "layout": _FULL_800.layout, "sensor_timing": SENSOR_TIMING,
                       "pix_after_init": True, **kw})
 
+    @classmethod
+    def small_800(cls, **kw):
+        """``DesignConfig.small_800()`` with the small preset's speed-ups; ``kw`` overrides any field."""
+        return cls(**{**_design_fields(_SMALL_800), "layout": _SMALL_800.layout, **_SMALL_SPEED_UPS,
+                      "sensor_timing": SMALL_SENSOR_TIMING, "pix_after_init": True, **kw})
+
     def to_spec(self):
-        """This setup as JSON: ``{"preset": "small"|"full"|"full_800", **fields that differ from the preset}``. Raises
+        """This setup as JSON: ``{"preset": one of PRESETS, **fields that differ from the preset}``. Raises
         ``ValueError`` if a differing field has no JSON form (a layout, sensor timing or table of its own)."""
         base = type(self).from_spec({"preset": self.preset})
         spec = {"preset": self.preset}
@@ -157,8 +170,15 @@ class SystemSetup:
 
     @property
     def preset(self):
-        """``"small"``, ``"full"`` or ``"full_800"``: which preset this setup's sizes are."""
-        return {_FULL.geometry: "full", _FULL_800.geometry: "full_800"}.get(self.geometry, "small")
+        """Which preset (:data:`PRESETS`) this setup's sizes are: by the sensor geometry, ``"small"`` for any
+        geometry no other preset has."""
+        return {_FULL.geometry: "full", _FULL_800.geometry: "full_800",
+                _SMALL_800.geometry: "small_800"}.get(self.geometry, "small")
+
+    @property
+    def small_size(self):
+        """True for the small presets' sizes (``"small"``, ``"small_800"``)."""
+        return self.preset in ("small", "small_800")
 
     def __post_init__(self):
         if not 0 <= self.disparity <= 127:
@@ -271,14 +291,15 @@ class SystemSetup:
 
     def expected_sim_time_s(self):
         """A rough estimate of a run's simulated time (for progress bars only): the I2C init (table waits and bus
-        time), one sensor frame period, one and a half display frames."""
+        time), one sensor frame period, one and a half display frames; with the maps in the store two maps' display
+        frames more (the map of the buffers before the capture, then the pair's)."""
         table = self.cam_table
         init = sum(e.us for e in table.entries if isinstance(e, Wait)) * 1e-6
         init += sum(e.interval_us for e in table.entries if isinstance(e, Poll)) * 3e-6
         init += len(table.entries) * 50 / self.i2c_hz
         g, t = self.geometry, self.timing
         sensor = (g.height + 10) * (2 * g.width + 256) / self.pclk_hz
-        return init + sensor + 1.5 * t.clocks_per_frame / t.pixel_hz
+        return init + sensor + (1.5 + 2 * self.map_frames) * t.clocks_per_frame / t.pixel_hz
 
     def clock_edges(self, t_end_s, t_pix_start_s, t_cam_start_s):
         """Rising edges of each clock domain in a run that ends at ``t_end_s`` (the pixel clock from
