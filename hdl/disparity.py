@@ -40,7 +40,7 @@ input pixel that uses them (the compositor guarantees this: the switch registers
 least a line before the first disparity pixel).
 """
 
-from amaranth import Module, Mux, Signal, signed
+from amaranth import Cat, Module, Mux, Signal, signed
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
@@ -168,14 +168,20 @@ class DisparitySubtractor(wiring.Component):
             valid_3.eq(valid_2),
         ]
 
-        # Clock n + 3 -> n + 4: the level of |L - R| as a table indexed by the registered difference, one
-        # 2**(grey_bits + 1)-entry table per level bit (a LUT6 at 5-bit grey), instead of a multiplexer, a
-        # comparator bank and an adder.
+        # Clock n + 3 -> n + 4: the level of |L - R| from the registered difference: its one's-complement magnitude
+        # (|L - R| for L >= R, |L - R| - 1 below: an XOR with the sign, no carry chain), each threshold's comparison
+        # with it side by side, and the number of comparisons met as a table of their bits (one LUT a level bit),
+        # not an adder: the comparisons and one LUT, whatever the grey width.
+        sign = diff[-1]
+        mag = Signal(g.grey_bits)
+        m.d.comb += mag.eq(diff[:-1] ^ sign.replicate(g.grey_bits))
+        met = Signal(len(self.thresholds))
+        m.d.comb += met.eq(Cat(Mux(sign, mag >= t - 1, mag >= t) for t in self.thresholds))
         count = Signal.like(self.level)
-        with m.Switch(diff):
-            for d in range(-(2 ** g.grey_bits - 1), 2 ** g.grey_bits):
-                with m.Case(d):
-                    m.d.comb += count.eq(sum(abs(d) >= t for t in self.thresholds))
+        with m.Switch(met):
+            for bits in range(2 ** len(self.thresholds)):
+                with m.Case(bits):
+                    m.d.comb += count.eq(bin(bits).count("1"))
         m.d.sync += [
             self.level.eq(Mux(no_data_3, 0, count)),
             self.no_data.eq(no_data_3),

@@ -20,25 +20,29 @@ WINDOW = dict(window_base=0x100, window_words=0x2000)
 def simulate(arbiter, clients, clocks, latency=17, **model_kwargs):
     """Run ``arbiter`` on the MIG model (``model_kwargs`` on top of small FIFOs) with ``clients`` (async testbench
     functions of ``ctx``) for ``clocks``; the commands MIG took, ``(clock, cmd, addr)``, the first clock of
-    ``phy_init_done`` and the clocks of ``app_af_afull`` or ``app_wdf_afull`` high."""
+    ``phy_init_done``, the clocks of ``app_af_afull`` or ``app_wdf_afull`` high and the most read bursts in flight
+    (commanded, their second word not yet returned)."""
     m = Module()
     m.submodules.arbiter = DomainRenamer("mem")(arbiter)
     model = MIGModel(**{"af_depth": 32, "wdf_depth": 32, "init_clocks": 20, **WINDOW, **model_kwargs})
     m.submodules.mig = DomainRenamer("mem")(model)
     wiring.connect(m, arbiter.mig, model.user)
-    seen = {"commands": [], "init": None, "afull": 0}
+    seen = {"commands": [], "init": None, "afull": 0, "in_flight": 0}
     user = arbiter.mig
 
     async def set_up(ctx):
         ctx.set(model.latency, latency)
 
     async def monitor(ctx):
-        clock = 0
-        async for _, _, wren, cmd, addr, init, af_afull, wdf_afull in ctx.tick("mem").sample(
+        clock, reads, words = 0, 0, 0
+        async for _, _, wren, cmd, addr, init, af_afull, wdf_afull, valid in ctx.tick("mem").sample(
                 user.command.wren, user.command.cmd, user.command.addr, user.phy_init_done, user.command.afull,
-                user.write.afull):
+                user.write.afull, user.read.valid):
             if wren:
                 seen["commands"].append((clock, cmd, addr))
+                reads += cmd == MIG.CMD_READ
+            words += valid
+            seen["in_flight"] = max(seen["in_flight"], reads - words // 2)
             if init and seen["init"] is None:
                 seen["init"] = clock
             seen["afull"] += af_afull | wdf_afull
@@ -120,7 +124,8 @@ def test_writes_land_and_reads_return_to_their_reader():
 def test_priority_and_mig_rules():
     """All clients request at once, always: the urgent reader gets every grant it can, then the writers, the other
     reader only when nothing else asks; nothing is issued before phy_init_done, and with refreshes every 80 clocks
-    taking 45 the FIFOs run almost full without a command beyond MIG's room."""
+    taking 45 the FIFOs run almost full without a command beyond MIG's room; the reads in flight reach the tag FIFO's
+    4 entries and never pass them."""
     arbiter = MemoryArbiter(writers=1, readers=2, urgent=1, read_tags=4)
     order = []
 
@@ -145,3 +150,4 @@ def test_priority_and_mig_rules():
     assert order.index("late") > first_write and set(order[:order.index("late")]) == {"urgent", "write"}
     reads = [c for c in seen["commands"] if c[1] == MIG.CMD_READ]
     assert len(reads) >= 4
+    assert seen["in_flight"] == 4

@@ -11,8 +11,9 @@ other readers (the depth engine's, which waits; docs/frame_store.md, "Arbitratio
 * A write burst takes two clocks: its first data word in the clock after the grant, its second with the write
   command in the next (data before command, AR 24146). No grant in the first of them.
 * A read burst's command goes out in the clock after the grant; the reader's number goes into a FIFO of
-  ``read_tags`` entries (a read is granted only when there is room), and the two words MIG returns for it, in
-  command order, are handed to that reader (``valid`` for one clock each: no backpressure).
+  ``read_tags`` entries (a read is granted only when there is room: a register set from the FIFO's level in the
+  clock before, equal to the FIFO's own room), and the two words MIG returns for it, in command order, are handed to
+  that reader (``valid`` for one clock each: no backpressure).
 
 Outputs to MIG are registered. The arbiter does not count a reader's credits: a reader requests a burst only when
 it has room for its words (:class:`~hdl.frame_store.row_fetcher.RowFetcher`).
@@ -112,11 +113,18 @@ class MemoryArbiter(wiring.Component):
                          mig.command.cmd.eq(MIG.CMD_WRITE), mig.command.addr.eq(write_addr),
                          mig.command.wren.eq(1)]
 
+        # Room for a read's tag, a register: the tag FIFO's next level (this level, less the tag popped in this clock,
+        # plus one for a read won in this clock) below ``read_tags``, the comparison made for both outcomes of the win
+        # so that only a multiplexer follows it. The same as the FIFO's own ``w_rdy`` in every clock.
+        tag_room = Signal(init=1)
+        after_pop = tags.level - (tags.r_en & tags.r_rdy)
+        m.d.sync += tag_room.eq(Mux(tags.w_en, after_pop < self.read_tags - 1, after_pop < self.read_tags))
+
         # The winner: each client's request against the OR of those before it, side by side (not a chain), and
         # what goes to MIG as an AND-OR of the clients' values under their one-hot wins.
         wins, requests = [], []
         for kind, i in self._order():
-            request = self.writers[i].request if kind == "write" else self.readers[i].request & tags.w_rdy
+            request = self.writers[i].request if kind == "write" else self.readers[i].request & tag_room
             win = Signal(name=f"win_{kind}_{i}")
             m.d.comb += win.eq(ready & request & ~Cat(*requests).any() if requests else ready & request)
             wins.append((kind, i, win))

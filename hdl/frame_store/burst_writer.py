@@ -6,7 +6,9 @@ It takes the :class:`~hdl.frame_store.burst_packer.BurstPacker`'s entries from a
 * ``BURST``: when the writer owns a buffer and the entry is the expected burst (the next in raster order, inside
   the layout), asks the arbiter to write it (``mem``) at ``buffer base + row * stride + burst * 32 bytes`` (the
   expected burst's offset in the buffer is a register, stepped with the expected row and burst) and takes the next
-  entry when granted; otherwise drops it and spoils the frame;
+  entry when granted; otherwise drops it and spoils the frame. The check is a register, made in the clock the entry
+  is first offered and used from the next (the entry stays at the FIFO's head until taken, and nothing it checks
+  changes until an entry is taken), so the arbiter's request is a flip-flop, not the row and burst comparisons;
 * ``END``: ends the frame (``own.finish``), ``complete`` when the entry says ``ok``, nothing spoiled it and every
   burst of every row came in order -- so a published buffer holds one frame's every burst, each written once.
 
@@ -52,7 +54,8 @@ class BurstWriter(wiring.Component):
     mem : ``Out(BurstWriteSignature())``
 
     Clock domain: ``sync`` (the frame store renames it to ``mem``). Latency: an entry is taken in the clock it is
-    offered (``START``, ``END``, a dropped burst) or granted.
+    offered (``START``, ``END``), in the clock after (a dropped burst), or when granted, from the clock after it is
+    offered (a burst it writes). An entry offered must stay at the head, unchanged, until taken (a FIFO's read side).
 
     Raises
     ------
@@ -80,6 +83,10 @@ class BurstWriter(wiring.Component):
         offset = Signal(range(lay.buffer_words + 1))      # the expected burst's memory word in the buffer
         expected = (entry.row == expect_row) & (entry.burst == expect_burst)
         writable = own.writing & expected & (expect_row < lay.height)
+        # The head entry's check, a clock late: ``checked`` says ``may_write`` is this entry's (it was offered in the
+        # clock before and not taken, so it and the writer's state are as they were).
+        may_write, checked = Signal(), Signal()
+        m.d.sync += [may_write.eq(writable), checked.eq(self.entries.rdy & ~self.entries.en)]
         m.d.comb += [
             mem.addr.eq(bases[own.buffer] + offset),
             mem.data.eq(entry.data),
@@ -94,16 +101,18 @@ class BurstWriter(wiring.Component):
                     m.d.comb += [own.finish.eq(1), self.entries.en.eq(1),
                                  own.complete.eq(entry.ok & ~spoiled & (expect_row == lay.height))]
                 with m.Case(ENTRY_KINDS["BURST"]):
-                    m.d.comb += [mem.request.eq(writable), self.entries.en.eq(~writable | mem.grant)]
-                    with m.If(~writable):
-                        m.d.sync += spoiled.eq(1)
-                    with m.Elif(mem.grant):
-                        with m.If(expect_burst == lay.bursts_per_row - 1):
-                            m.d.sync += [expect_burst.eq(0), expect_row.eq(expect_row + 1),
-                                         offset.eq(offset + lay.stride_words
-                                                   - (lay.bursts_per_row - 1) * MIG.BURST_LENGTH)]
-                        with m.Else():
-                            m.d.sync += [expect_burst.eq(expect_burst + 1), offset.eq(offset + MIG.BURST_LENGTH)]
+                    with m.If(checked):
+                        m.d.comb += [mem.request.eq(may_write), self.entries.en.eq(~may_write | mem.grant)]
+                        with m.If(~may_write):
+                            m.d.sync += spoiled.eq(1)
+                        with m.Elif(mem.grant):
+                            with m.If(expect_burst == lay.bursts_per_row - 1):
+                                m.d.sync += [expect_burst.eq(0), expect_row.eq(expect_row + 1),
+                                             offset.eq(offset + lay.stride_words
+                                                       - (lay.bursts_per_row - 1) * MIG.BURST_LENGTH)]
+                            with m.Else():
+                                m.d.sync += [expect_burst.eq(expect_burst + 1),
+                                             offset.eq(offset + MIG.BURST_LENGTH)]
                 with m.Default():
                     m.d.comb += self.entries.en.eq(1)
                     m.d.sync += spoiled.eq(1)

@@ -92,10 +92,12 @@ class RowFetcher(wiring.Component):
             mem.addr.eq(bases[self.hold.buffer] + offset),
             self.requests.en.eq(~busy & self.requests.rdy),
         ]
+        # ``last``: the burst is the row's last, a register stepped with ``burst`` (no comparison after a grant).
+        last = Signal()
         with m.If(self.requests.en):
-            m.d.sync += [busy.eq(1), offset.eq(times(self.requests.row, lay.stride_words)), burst.eq(0)]
+            m.d.sync += [busy.eq(1), offset.eq(times(self.requests.row, lay.stride_words)), burst.eq(0),
+                         last.eq(lay.bursts_per_row == 1)]
 
-        last = burst == lay.bursts_per_row - 1
         done = Signal()                         # the burst is granted (or its zero words are in)
         with m.If(busy & ~zero_second):
             with m.If(self.hold.valid):
@@ -108,7 +110,8 @@ class RowFetcher(wiring.Component):
             m.d.comb += [words.data.eq(0), words.en.eq(1), done.eq(1)]
             m.d.sync += zero_second.eq(0)
         with m.If(done):
-            m.d.sync += [burst.eq(burst + 1), offset.eq(offset + MIG.BURST_LENGTH)]
+            m.d.sync += [burst.eq(burst + 1), offset.eq(offset + MIG.BURST_LENGTH),
+                         last.eq(burst == lay.bursts_per_row - 2)]
             with m.If(last):
                 m.d.sync += busy.eq(0)
 

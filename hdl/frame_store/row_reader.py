@@ -12,7 +12,7 @@ words outstanding than the returning FIFO has room for), the words come back in 
 filler writes each row's words (the padding words of the row's last burst dropped) into its slot.
 """
 
-from amaranth import Cat, DomainRenamer, Module, Signal
+from amaranth import Cat, DomainRenamer, Module, Mux, Signal
 from amaranth.lib import wiring
 from amaranth.lib.fifo import AsyncFIFO
 from amaranth.lib.memory import Memory
@@ -122,7 +122,11 @@ class RowReader(wiring.Component):
     def _fill(self, m, words):
         """The filler and the ring, in ``read_domain``: each word taken from the FIFO into a register and written
         into the ring a piece (:data:`PIECE_BITS`) a clock, so the ring is a block RAM of one narrow port per side;
-        a slot's pieces start at a power of two (the read address is the slot and the column's high bits)."""
+        a slot's pieces start at a power of two (the read address is the slot and the column's high bits).
+
+        The FIFO's ``r_en`` is a register (``take``: no word held, or the held word's last piece, decided a clock
+        ahead from the filler's next state), so nothing but the FIFO's own pointer compare lies before its read
+        pointer's increment."""
         lay, used = self.layout, self.used_words
         pieces = MIG.DATA_WIDTH // PIECE_BITS
         piece_pixels = PIECE_BITS // (8 * lay.pixel_bytes)
@@ -136,25 +140,37 @@ class RowReader(wiring.Component):
         held = Signal(MIG.DATA_WIDTH)                   # the word being written
         full = Signal()
         piece = Signal(range(pieces))
-        last_piece = (piece == pieces - 1) | (word >= used)   # a padding word is dropped in one clock
+
+        def is_last(piece, word):
+            return (piece == pieces - 1) | (word >= used)       # a padding word is dropped in one clock
+
+        last_piece = is_last(piece, word)
+        next_piece, next_word = Signal.like(piece), Signal.like(word)
+        m.d.comb += [next_piece.eq(piece), next_word.eq(word)]
+        with m.If(full):
+            m.d.comb += next_piece.eq(piece + 1)
+            with m.If(last_piece):
+                m.d.comb += [next_piece.eq(0), next_word.eq(word + 1)]
+                with m.If(word == lay.words_per_row - 1):
+                    m.d.comb += next_word.eq(0)
+                    rd += slot.eq(Mux(slot == self.slots - 1, 0, slot + 1))
+                    m.d.comb += self.stream.landed.eq(1)
+        rd += [piece.eq(next_piece), word.eq(next_word)]
+        # ``take`` is this clock's ``~full | last_piece``, kept a clock ahead: its next value from the next piece
+        # and word (registers only) and whether the FIFO gives a word in this clock.
+        take = Signal(init=1)
+        took = words.r_rdy & take
+        full_next = took | (full & ~last_piece)
+        rd += [full.eq(full_next), take.eq(~full_next | is_last(next_piece, next_word))]
         m.d.comb += [
-            words.r_en.eq(~full | last_piece),
+            words.r_en.eq(take),
             write.addr.eq(Cat(piece, word, slot) if col_bits == len(piece) + len(word)
                           else (slot << col_bits) + word * pieces + piece),
             write.data.eq(held.word_select(piece, PIECE_BITS)),
             write.en.eq(full & (word < used)),
         ]
-        with m.If(full):
-            rd += piece.eq(piece + 1)
-            with m.If(last_piece):
-                rd += [piece.eq(0), full.eq(0), word.eq(word + 1)]
-                with m.If(word == lay.words_per_row - 1):
-                    rd += [word.eq(0), slot.eq(slot + 1)]
-                    with m.If(slot == self.slots - 1):
-                        rd += slot.eq(0)
-                    m.d.comb += self.stream.landed.eq(1)
-        with m.If(words.r_en & words.r_rdy):
-            rd += [held.eq(words.r_data), full.eq(1)]
+        with m.If(took):
+            rd += held.eq(words.r_data)
         x = self.stream.read.x
         byte = Signal(range(piece_pixels))      # the pixel in the piece
         column = Signal(col_bits)

@@ -4,6 +4,7 @@ hold -- any kinds, rows, burst numbers, verdicts, in any order, at any time -- e
 buffer the writer owns, burst-aligned, never in the buffer the reader holds; and a frame is finished complete only
 when the bursts granted since its START were exactly the frame's, in raster order.
 
+An entry offered and not taken is offered again, unchanged (the FIFO's read side the writer reads).
 The reference counts the bursts granted since the last START (n) and notes whether the k-th was other than row
 k // bursts_per_row, burst k mod bursts_per_row; it is written from docs/frame_store.md, not from the block's
 expected-burst counters.
@@ -49,6 +50,12 @@ class FrameStoreWriterHarness(FormalHarness):
             dut.own.buffer.eq(own.writers[0].buffer), dut.own.writing.eq(own.writers[0].writing),
             own.readers[0].take.eq(self.free("take")), own.readers[0].release.eq(self.free("release")),
         ]
+        # A FIFO's read side: an entry offered and not taken is offered again, unchanged.
+        held = self.past(m, dut.entries.rdy & ~dut.entries.en, name="held") & self.past_valid(m)
+        for name, value in (("rdy", dut.entries.rdy), ("kind", entry.kind), ("row", entry.row),
+                            ("burst", entry.burst), ("ok", ok)):
+            was = self.past(m, value, name=f"was_{name}")
+            self.assume(m, f"offered_{name}_held_until_taken", ~held | (value == was))
         granted = dut.mem.request & dut.mem.grant
         addr = dut.mem.addr
         low = Mux(dut.own.buffer == 0, lay.buffer_base(CAMERA, 0),
