@@ -12,11 +12,11 @@ from hypothesis import given, settings, strategies as st
 from golden.depth_display import centre_readout, depth_colours, draw_text, distance_m
 from hdl.centre_distance import CentreDistance, SETTLE_CLOCKS, readout_table
 from hdl.colour_map import LATENCY as COLOUR_LATENCY, ColourMap, colour_table
-from spec.depth import DEPTH, SMALL_DEPTH, DepthConfig
+from spec.depth import DEPTH, DEPTH_800, SMALL_DEPTH, DepthConfig
 from spec.display import BACKGROUND_RGB, DEPTH_COLOURS, DEPTH_INVALID_RGB, TEXT_RGB
 from spec.font import FONT, FONT_CELL
 from spec.layout import DisplayLayout, TextBox
-from spec.sensor import SENSOR, SMALL_SENSOR, disparity_of_distance
+from spec.sensor import SENSOR, SENSOR_800, SMALL_SENSOR, disparity_of_distance
 from spec.video import CEA_1080P60, SMALL_TIMING, VideoTiming
 from hdl.read_arbiter import ReadArbiter
 from hdl.text_layer import FONT_ORDER, LATENCY as TEXT_LATENCY, TextLayer, char_codes
@@ -207,8 +207,8 @@ def test_text_layer_equals_golden_drawing():
     assert ((frame == TEXT_RGB) | (frame == BACKGROUND_RGB) | (frame == -1)).all()
 
 
-def run_centre_distance(windows, config=DEPTH):
-    dut = CentreDistance(SENSOR, config)
+def run_centre_distance(windows, config=DEPTH, geometry=SENSOR):
+    dut = CentreDistance(geometry, config)
     results = []
 
     async def bench(ctx):
@@ -238,6 +238,18 @@ def test_centre_distance_equals_golden(windows):
         codes = np.zeros((300, 400), dtype=int)
         codes[149:152, 199:202] = np.reshape(window, (3, 3))
         assert result == centre_readout(codes)
+
+
+def test_centre_distance_800_at_the_rom_ends():
+    """The 800 build's readout (D = 128, scale 2: a 2K-word ROM, the invalid code 2048 one past it) equals the
+    golden's for the codes at the ROM's ends, the invalid code and codes past it (dashes, as the golden's; the
+    invalid code alone would read entry 0, dashes too, without the comparison)."""
+    codes = [0, 1, 8, 9, 16 * 54, 2046, 2047, DEPTH_800.invalid, 3000, 4095]
+    windows = [[c] * 9 for c in codes] + [[2047] * 4 + [DEPTH_800.invalid] * 5, [1] * 5 + [2048] * 4]
+    got = run_centre_distance(windows, DEPTH_800, SENSOR_800)
+    for window, result in zip(windows, got):
+        assert result == centre_readout(np.reshape(window, (3, 3)), SENSOR_800, DEPTH_800)
+    assert [text for _, text in got[2:4]] == ["----cm", "9698cm"] and got[6][1] == "  43cm"
 
 
 def test_arbiter_priority():
