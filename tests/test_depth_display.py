@@ -273,9 +273,9 @@ def test_arbiter_priority():
     assert seen == [(1, 1, 9, 17, 17), (1, 1, 9, 17, 17), (1, 0, 5, 17, 17), (1, 0, 5, 17, 17)]
 
 
-def test_board_readout_table_has_no_zero_width_address():
-    """At the board's size the readout table's last 256-word part holds one code (the invalid one): it is padded to
-    two words, so its address is not a zero-width vector (Verilator refuses ``[-1:0]``; the demo's build caught it)."""
+def test_board_readout_has_no_zero_width_vector():
+    """At the board's size the invalid code is one past the readout ROM (a power of two): the Verilog has no
+    zero-width vector (Verilator refuses ``[-1:0]``; the demo's build caught one in a readout ROM's address)."""
     from amaranth.back import verilog
     from spec.depth import DEPTH
     text = verilog.convert(CentreDistance(SENSOR, DEPTH), name="centre_distance")
