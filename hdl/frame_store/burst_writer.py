@@ -80,6 +80,7 @@ class BurstWriter(wiring.Component):
         words = MIG.BURST_LENGTH                            # entries (memory words) a burst
         row_words = -(-lay.row_bytes // WORD_BYTES)         # words the packer sends a row
         expect_row = Signal(range(lay.height + 1))
+        row_in = Signal(init=1)                 # expect_row < height, registered where expect_row changes
         expect_word = Signal(range(lay.bursts_per_row * words))
         spoiled = Signal()
         padding = Signal()                      # the row's last burst lacks words: the writer makes them, masked
@@ -91,7 +92,7 @@ class BurstWriter(wiring.Component):
         word_mask = Signal(WORD_BYTES)          # the entry's mask, all ones for a made word
         m.d.comb += word_mask.eq(entry.mask | padding.replicate(WORD_BYTES))
         expected = (entry.row == expect_row) & (entry.word == expect_word)
-        in_frame = own.writing & (expect_row < lay.height)
+        in_frame = own.writing & row_in
         writable = in_frame & expected
         fourth = expect_word[:(words - 1).bit_length()] == words - 1
         m.d.comb += [
@@ -106,7 +107,7 @@ class BurstWriter(wiring.Component):
 
         def written():                          # the burst granted: the next burst expected
             with m.If(expect_word == lay.bursts_per_row * words - 1):
-                m.d.sync += [expect_word.eq(0), expect_row.eq(expect_row + 1),
+                m.d.sync += [expect_word.eq(0), expect_row.eq(expect_row + 1), row_in.eq(expect_row != lay.height - 1),
                              offset.eq(offset + lay.stride_words - (lay.bursts_per_row - 1) * MIG.BURST_LENGTH)]
             with m.Else():
                 m.d.sync += [expect_word.eq(expect_word + 1), offset.eq(offset + MIG.BURST_LENGTH)]
@@ -123,7 +124,7 @@ class BurstWriter(wiring.Component):
             with m.Switch(entry.kind):
                 with m.Case(ENTRY_KINDS["START"]):
                     m.d.comb += [own.start.eq(1), self.entries.en.eq(1)]
-                    m.d.sync += [expect_row.eq(0), expect_word.eq(0), offset.eq(0), spoiled.eq(0)]
+                    m.d.sync += [expect_row.eq(0), row_in.eq(1), expect_word.eq(0), offset.eq(0), spoiled.eq(0)]
                 with m.Case(ENTRY_KINDS["END"]):
                     m.d.comb += [own.finish.eq(1), self.entries.en.eq(1),
                                  own.complete.eq(entry.ok & ~spoiled & (expect_row == lay.height))]
