@@ -55,8 +55,9 @@ class BurstWriter(wiring.Component):
     mem : ``Out(BurstWriteSignature())``
 
     Clock domain: ``sync`` (the frame store renames it to ``mem``). Latency: an entry is taken in the clock it is
-    offered (``START``, ``END``, a burst's first three words, a dropped word) or granted (a burst's fourth word);
-    a row's last burst short of four words takes a clock for each word it lacks before its request.
+    offered (``START``, ``END``, a burst's first three words, a dropped word) or in the clock after its grant (a
+    burst's fourth word); a row's last burst short of four words takes a clock for each word it lacks before its
+    request.
 
     Raises
     ------
@@ -84,6 +85,7 @@ class BurstWriter(wiring.Component):
         expect_word = Signal(range(lay.bursts_per_row * words))
         spoiled = Signal()
         padding = Signal()                      # the row's last burst lacks words: the writer makes them, masked
+        drop = Signal()                         # the FIFO's head is the burst's fourth word, granted last clock
         bases = Array(Const(lay.buffer_base(self.camera, b), MIG.ADDR_WIDTH) for b in range(lay.buffers))
         offset = Signal(range(lay.buffer_words + 1))      # the expected burst's memory word in the buffer
         # The burst's first three words, the latest on top: the fourth (the entry's, or a made one) completes it.
@@ -112,7 +114,10 @@ class BurstWriter(wiring.Component):
             with m.Else():
                 m.d.sync += [expect_word.eq(expect_word + 1), offset.eq(offset + MIG.BURST_LENGTH)]
 
-        with m.If(padding):
+        with m.If(drop):                        # taken a clock after its grant: the grant is not in the FIFO's read
+            m.d.comb += self.entries.en.eq(1)   # path (entry -> request -> arbiter -> grant -> read pointer)
+            m.d.sync += drop.eq(0)
+        with m.Elif(padding):
             with m.If(fourth):
                 m.d.comb += mem.request.eq(in_frame)
                 with m.If(mem.grant):
@@ -138,8 +143,9 @@ class BurstWriter(wiring.Component):
                         with m.If(expect_word == row_words - 1):
                             m.d.sync += padding.eq(1)
                     with m.Else():
-                        m.d.comb += [mem.request.eq(1), self.entries.en.eq(mem.grant)]
+                        m.d.comb += mem.request.eq(1)
                         with m.If(mem.grant):
+                            m.d.sync += drop.eq(1)
                             written()
                 with m.Default():
                     m.d.comb += self.entries.en.eq(1)

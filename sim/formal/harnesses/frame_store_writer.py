@@ -6,8 +6,9 @@ when the bursts granted since its START were exactly the frame's, in raster orde
 
 The reference counts the bursts granted since the last START (n) and notes whether the k-th was other than row
 k // bursts_per_row, burst k mod bursts_per_row, or was not made of the words taken since the last grant: words
-0, 1, .. of that burst in order, the fourth the entry granted, or (a row's last burst, short of four words) the
-row's last words, the rest made by the writer. It is written from docs/frame_store.md, not from the block's
+0, 1, .. of that burst in order, the fourth the FIFO's head at the grant (taken in the next clock, which the
+reference then skips), or (a row's last burst, short of four words) the row's last words, the rest made by the
+writer. It is written from docs/frame_store.md, not from the block's
 expected-word counters. The rows are 48 pixels: a row's second burst has two words of the packer's and two made.
 """
 
@@ -53,6 +54,10 @@ class FrameStoreWriterHarness(FormalHarness):
             dut.own.buffer.eq(own.writers[0].buffer), dut.own.writing.eq(own.writers[0].writing),
             own.readers[0].take.eq(self.free("take")), own.readers[0].release.eq(self.free("release")),
         ]
+        # A FIFO keeps its head until it is taken: an entry offered and not taken is offered again, unchanged.
+        offered, held_fields = Signal(name="offered_not_taken"), Signal(len(entry.as_value()), name="held_head")
+        m.d.sync += [offered.eq(dut.entries.rdy & ~dut.entries.en), held_fields.eq(entry.as_value())]
+        self.assume(m, "fifo_head_kept_until_taken", ~offered | (dut.entries.rdy & (entry.as_value() == held_fields)))
         granted = dut.mem.request & dut.mem.grant
         addr = dut.mem.addr
         low = Mux(dut.own.buffer == 0, lay.buffer_base(CAMERA, 0),
@@ -75,17 +80,21 @@ class FrameStoreWriterHarness(FormalHarness):
         run_ok, run_row, run_next = Signal(name="run_ok"), Signal.like(entry.row, name="run_row"), \
             Signal(len(entry.word) + 1, name="run_next")
         continues = Mux(run == 0, entry.word[:2] == 0, run_ok & (entry.row == run_row) & (entry.word == run_next))
+        head = dut.entries.rdy & (entry.kind == ENTRY_KINDS["BURST"])
+        # The burst granted: the FIFO's head, its fourth word (taken in the next clock), or the run's, a row's last
+        # words (the writer makes the rest).
+        fourth = head & (run == 3) & continues & (entry.word[:2] == 3)
+        short = ~fourth & (run >= 1) & (run <= 3) & run_ok & (run_next == ROW_WORDS)
+        skip = Signal(name="skip_granted_fourth")     # the next entry taken is the granted fourth word
         with m.If(starts | granted):
-            m.d.sync += run.eq(0)
+            m.d.sync += [run.eq(0), skip.eq(granted & fourth)]
+        with m.Elif(taken & skip):
+            m.d.sync += skip.eq(0)
         with m.Elif(taken):
             m.d.sync += [run.eq(Mux(run == 4, 4, run + 1)), run_ok.eq(continues), run_row.eq(entry.row),
                          run_next.eq(entry.word + 1)]
-        # The burst granted: the entry's, its fourth word (taken in the grant's clock), or the run's, a row's last
-        # words (nothing taken: the writer makes the rest).
-        fourth = taken & (run == 3) & continues & (entry.word[:2] == 3)
-        short = ~taken & (run >= 1) & (run <= 3) & run_ok & (run_next == ROW_WORDS)
-        row = Mux(taken, entry.row, run_row)
-        burst = Mux(taken, entry.word[2:], (run_next - 1)[2:])
+        row = Mux(fourth, entry.row, run_row)
+        burst = Mux(fourth, entry.word[2:], (run_next - 1)[2:])
         with m.If(starts):
             m.d.sync += [n.eq(0), out_of_order.eq(0)]
         with m.Elif(granted):
