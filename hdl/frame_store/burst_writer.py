@@ -17,7 +17,7 @@ Addresses are built only from the owned buffer's base and the expected (in-range
 sends lands outside the buffer the ownership gave the writer, and nothing is written while it owns none.
 """
 
-from amaranth import Array, Cat, Const, Module, Signal
+from amaranth import Array, Cat, Const, Module, Mux, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
@@ -114,12 +114,14 @@ class BurstWriter(wiring.Component):
             with m.Else():
                 m.d.sync += [expect_word.eq(expect_word + 1), offset.eq(offset + MIG.BURST_LENGTH)]
 
-        with m.If(drop):                        # taken a clock after its grant: the grant is not in the FIFO's read
-            m.d.comb += self.entries.en.eq(1)   # path (entry -> request -> arbiter -> grant -> read pointer)
-            m.d.sync += drop.eq(0)
-        with m.Elif(padding):
+        # The request is one expression, out of the branches below: in the clock after a grant (``drop``) the head
+        # is the granted word, no longer the expected one, so it asks nothing; ``drop`` stays out of the request's
+        # cone (entry -> request -> arbiter, the mem domain's longest paths).
+        m.d.comb += mem.request.eq(Mux(padding, fourth & in_frame,
+                                       self.entries.rdy & (entry.kind == ENTRY_KINDS["BURST"]) & writable & fourth))
+        m.d.sync += drop.eq(0)
+        with m.If(padding):
             with m.If(fourth):
-                m.d.comb += mem.request.eq(in_frame)
                 with m.If(mem.grant):
                     m.d.sync += padding.eq(0)
                     written()
@@ -134,7 +136,9 @@ class BurstWriter(wiring.Component):
                     m.d.comb += [own.finish.eq(1), self.entries.en.eq(1),
                                  own.complete.eq(entry.ok & ~spoiled & (expect_row == lay.height))]
                 with m.Case(ENTRY_KINDS["BURST"]):
-                    with m.If(~writable):
+                    with m.If(drop):            # the fourth word granted last clock: taken now, so the grant is
+                        m.d.comb += self.entries.en.eq(1)      # not in the FIFO's read-pointer path
+                    with m.Elif(~writable):
                         m.d.comb += self.entries.en.eq(1)
                         m.d.sync += spoiled.eq(1)
                     with m.Elif(~fourth):
@@ -142,11 +146,9 @@ class BurstWriter(wiring.Component):
                         hold()
                         with m.If(expect_word == row_words - 1):
                             m.d.sync += padding.eq(1)
-                    with m.Else():
-                        m.d.comb += mem.request.eq(1)
-                        with m.If(mem.grant):
-                            m.d.sync += drop.eq(1)
-                            written()
+                    with m.Elif(mem.grant):
+                        m.d.sync += drop.eq(1)
+                        written()
                 with m.Default():
                     m.d.comb += self.entries.en.eq(1)
                     m.d.sync += spoiled.eq(1)
