@@ -9,9 +9,9 @@ cells and walks the mapped netlist.
 Reported: LUTs (LUT1..LUT6 and INV cells), slice LUTs (those, the shift registers' and the LUT RAM's: XST's
 "Number of Slice LUTs", which the budget's LUT percentage is of), flip-flops (FD*), RAMB36/RAMB18, DSP48E, global
 buffers, DCM_ADV, PLL_ADV/PLL_BASE, ODDR and IO buffers, against the XC5VLX50T's capacity, and the block RAM against
-the thesis's "56 %" figure (section 4.2.1: 1200 Kb of frame data in 2160 Kb of block RAM). Per clock domain: the longest chain of
-logic levels between two sequential elements (flip-flop, block RAM, DSP, ODDR, IO boundary), counting LUTs and
-MUXF7/MUXF8 as one level each and reporting the CARRY4 cells on that chain separately.
+the thesis's "56 %" figure (section 4.2.1: 1200 Kb of frame data in 2160 Kb of block RAM). Per clock domain: the
+longest chain of logic levels between two sequential elements (flip-flop, block RAM, DSP, ODDR, IO boundary),
+counting LUTs and MUXF7/MUXF8 as one level each and reporting the CARRY4 cells on that chain separately.
 
 The DDR2 build (``memory="ddr2"``): the MIG core is not in the repository, so :func:`board_rtlil` declares it a
 black box (:func:`board_black_boxes`); its own block RAM (``spec.memory.MIG.FPGA_RAMB36``, read in its
@@ -114,7 +114,8 @@ class Report:
         lut_percent = 100 * self.slice_luts / CAPACITY["LUT"]
         return {
             "luts": self.luts, "slice_luts": self.slice_luts, "shift_luts": self.shift_luts,
-            "lut_ram_luts": self.lut_ram_luts, "ffs": self.ffs, "ramb36": self.total_blocks36, "ramb36_mig_core": self.core_ramb36,
+            "lut_ram_luts": self.lut_ram_luts, "ffs": self.ffs, "ramb36": self.total_blocks36,
+            "ramb36_mig_core": self.core_ramb36,
             "dsp48e": self.cells.get("DSP48E", 0),
             "lut_percent": round(lut_percent, 2),
             "logic_depth": {d: {"levels": lv, "carry4": c, "endpoint": end}

@@ -7,9 +7,9 @@ It takes the :class:`~hdl.frame_store.burst_packer.BurstPacker`'s entries from a
   next in raster order, inside the layout), takes it; the first three words of a burst into a shift register, the
   fourth with them asks the arbiter to write the burst (``mem``) at ``buffer base + row * stride + burst * 32
   bytes`` (the expected burst's offset in the buffer is a register, stepped with the expected row and burst) and is
-  taken when granted. A row's last word short of a burst's fourth is followed by masked words the writer makes
-  itself (no entry taken) up to the burst's end. An entry other than the expected word is dropped and spoils the
-  frame;
+  taken in the clock after its grant. A row's last word short of a burst's fourth is followed by masked words the
+  writer makes itself (no entry taken) up to the burst's end. An entry other than the expected word is dropped and
+  spoils the frame;
 * ``END``: ends the frame (``own.finish``), ``complete`` when the entry says ``ok``, nothing spoiled it and every
   word of every row came in order -- so a published buffer holds one frame's every burst, each written once.
 
