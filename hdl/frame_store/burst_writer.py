@@ -7,7 +7,8 @@ It takes the :class:`~hdl.frame_store.burst_packer.BurstPacker`'s entries from a
   next in raster order, inside the layout), takes it; the first three words of a burst into a shift register, the
   fourth with them asks the arbiter to write the burst (``mem``) at ``buffer base + row * stride + burst * 32
   bytes`` (the expected burst's offset in the buffer is a register, stepped with the expected row and burst) and is
-  taken in the clock after its grant. A row's last word short of a burst's fourth is followed by masked words the
+  taken in the clock after its grant (the request a register: it asks from the clock after the word is the
+  expected head). A row's last word short of a burst's fourth is followed by masked words the
   writer makes itself (no entry taken) up to the burst's end. An entry other than the expected word is dropped and
   spoils the frame;
 * ``END``: ends the frame (``own.finish``), ``complete`` when the entry says ``ok``, nothing spoiled it and every
@@ -17,7 +18,7 @@ Addresses are built only from the owned buffer's base and the expected (in-range
 sends lands outside the buffer the ownership gave the writer, and nothing is written while it owns none.
 """
 
-from amaranth import Array, Cat, Const, Module, Mux, Signal
+from amaranth import Array, Cat, Const, Module, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
@@ -114,17 +115,21 @@ class BurstWriter(wiring.Component):
             with m.Else():
                 m.d.sync += [expect_word.eq(expect_word + 1), offset.eq(offset + MIG.BURST_LENGTH)]
 
-        # The request is one expression, out of the branches below: in the clock after a grant (``drop``) the head
-        # is the granted word, no longer the expected one, so it asks nothing; ``drop`` stays out of the request's
-        # cone (entry -> request -> arbiter, the mem domain's longest paths).
-        m.d.comb += mem.request.eq(Mux(padding, fourth & in_frame,
-                                       self.entries.rdy & (entry.kind == ENTRY_KINDS["BURST"]) & writable & fourth))
+        # The request is a register (``asking``), so the mem domain's longest paths (a request through the arbiter
+        # into MIG's command address and the readers' fetchers) start at a flip-flop: set in the clock a burst's
+        # fourth word is the expected head (or the made words reach a burst's end), it asks from the next clock on,
+        # the head kept, until the grant; the granted word is taken in the clock after its grant (``drop``: the
+        # grant stays out of the FIFO's read-pointer path).
+        asking = Signal()
+        m.d.comb += mem.request.eq(asking)
         m.d.sync += drop.eq(0)
-        with m.If(padding):
+        with m.If(asking):
+            with m.If(mem.grant):
+                m.d.sync += [asking.eq(0), drop.eq(~padding), padding.eq(0)]
+                written()
+        with m.Elif(padding):
             with m.If(fourth):
-                with m.If(mem.grant):
-                    m.d.sync += padding.eq(0)
-                    written()
+                m.d.sync += asking.eq(in_frame)
             with m.Else():
                 hold()
         with m.Elif(self.entries.rdy):
@@ -136,8 +141,8 @@ class BurstWriter(wiring.Component):
                     m.d.comb += [own.finish.eq(1), self.entries.en.eq(1),
                                  own.complete.eq(entry.ok & ~spoiled & (expect_row == lay.height))]
                 with m.Case(ENTRY_KINDS["BURST"]):
-                    with m.If(drop):            # the fourth word granted last clock: taken now, so the grant is
-                        m.d.comb += self.entries.en.eq(1)      # not in the FIFO's read-pointer path
+                    with m.If(drop):            # the fourth word granted last clock
+                        m.d.comb += self.entries.en.eq(1)
                     with m.Elif(~writable):
                         m.d.comb += self.entries.en.eq(1)
                         m.d.sync += spoiled.eq(1)
@@ -146,9 +151,8 @@ class BurstWriter(wiring.Component):
                         hold()
                         with m.If(expect_word == row_words - 1):
                             m.d.sync += padding.eq(1)
-                    with m.Elif(mem.grant):
-                        m.d.sync += drop.eq(1)
-                        written()
+                    with m.Else():
+                        m.d.sync += asking.eq(1)
                 with m.Default():
                     m.d.comb += self.entries.en.eq(1)
                     m.d.sync += spoiled.eq(1)
