@@ -66,7 +66,7 @@ def main(argv=None):
         print("\n".join(per_block))
     totals = report.totals()
     print(f"\nbudget ({'800 x 600 ' if args.build == '800' else ''}{args.memory} build{', maps in the store' if args.maps == 'store' else ''}): {totals['ramb36']:g} of <= {totals['budget']['ramb36']} RAMB36, "
-          f"{totals['lut_percent']:.1f} % of <= {totals['budget']['lut_percent']} % LUTs: "
+          f"{totals['lut_percent']:.1f} % of <= {totals['budget']['lut_percent']} % slice LUTs: "
           f"{'within budget' if totals['within_budget'] else 'OVER BUDGET'}")
     print(f"wall time: {total:.1f} s in all, of which Yosys {report.seconds:.1f} s")
 

@@ -12,13 +12,16 @@ from spec.display import READOUT_TEXT
 from spec.sensor import SENSOR, VMODCAM_RIG
 from hdl.text_layer import CHAR_BITS, char_codes
 
-__all__ = ["CentreDistance", "readout_table", "SETTLE_CLOCKS"]
+__all__ = ["CentreDistance", "readout_table", "readout_symbols", "SETTLE_CLOCKS", "SYMBOLS"]
 
 WINDOW = 9
 #: Clocks after the last window capture until ``chars`` holds its readout.
 SETTLE_CLOCKS = WINDOW + 6
-#: Address bits of one part of the readout ROM (a 64-word ROM is one LUT6 per bit).
-ROM_PART_BITS = 6
+#: The readout's digit characters (before the unit "cm").
+DIGITS = len(READOUT_TEXT) - 2
+#: The characters a digit position shows, in the readout ROM's symbol order: a symbol is its index here.
+SYMBOLS = " -0123456789"
+SYMBOL_BITS = (len(SYMBOLS) - 1).bit_length()
 
 
 def readout_table(geometry=SENSOR, config=DEPTH):
@@ -28,16 +31,23 @@ def readout_table(geometry=SENSOR, config=DEPTH):
     Exact rational arithmetic (the rig's decimal constants as fractions)."""
     numerator = Fraction(str(VMODCAM_RIG.BASELINE_M)) * Fraction(str(VMODCAM_RIG.FOCAL_M)) * 100 * config.fraction
     denominator = Fraction(str(VMODCAM_RIG.PIXEL_M)) * geometry.scale
-    digits = len(READOUT_TEXT) - 2
     table = []
     for code in range(config.invalid + 1):
-        text = "-" * digits
+        text = "-" * DIGITS
         if code not in (0, config.invalid):
             cm = int(numerator / (denominator * code) + Fraction(1, 2))
-            if cm < 10 ** digits:
-                text = str(cm).rjust(digits)
-        table.append(text + READOUT_TEXT[digits:])
+            if cm < 10 ** DIGITS:
+                text = str(cm).rjust(DIGITS)
+        table.append(text + READOUT_TEXT[DIGITS:])
     return table
+
+
+def readout_symbols(table, depth):
+    """The readout ROM's words: entry k holds the digit characters of ``table[k]`` as :data:`SYMBOLS` indices,
+    :data:`SYMBOL_BITS` each, the first character in the lowest bits; ``depth`` words, the entries past the table
+    dashes."""
+    texts = [text[:DIGITS] for text in table[:depth]] + ["-" * DIGITS] * max(0, depth - len(table))
+    return [sum(SYMBOLS.index(c) << (SYMBOL_BITS * pos) for pos, c in enumerate(text)) for text in texts]
 
 
 class CentreDistance(wiring.Component):
@@ -48,6 +58,11 @@ class CentreDistance(wiring.Component):
     The median is found by a free-running search: every clock one of the nine codes is the candidate; it is
     the median when at most four codes are smaller and at least five are not larger. So ``chars`` holds the
     window's readout :data:`SETTLE_CLOCKS` clocks after the window last changed.
+
+    The readout is one synchronous ROM (block RAM, one word per code below the invalid one: 1K x 16 at D = 64,
+    2K x 16 at D = 128; ``ROM_STYLE`` "block"
+    for XST, whose ROM inference takes an array with a registered read as a block ROM) of the four digit
+    characters as 4-bit :data:`SYMBOLS`, decoded into font codes in the next clock; the unit is constant.
 
     Parameters
     ----------
@@ -98,26 +113,30 @@ class CentreDistance(wiring.Component):
         half = WINDOW // 2
         with m.If((sum(less) <= half) & (sum(not_more) > half)):
             m.d.sync += self.median.eq(value)
-        # The readout of the median (a window code, so at most the invalid code): invalid + 1 entries, looked up
-        # in two registered clocks so that no path is deeper than a 64-entry ROM (one LUT6 per bit): the ROM split
-        # into 64-word parts read by the low 6 address bits, then the part the high bits select.
-        words = [sum(c << (CHAR_BITS * pos) for pos, c in enumerate(char_codes(text))) for text in self.table]
-        shape = unsigned(len(self.chars.as_value()))
-        low_bits = min(bits, ROM_PART_BITS)
-        parts, high = [], Signal(max(1, bits - low_bits))
-        m.d.sync += high.eq(self.median[low_bits:] if bits > low_bits else 0)
-        for i in range(0, len(words), 1 << low_bits):
-            part_words = words[i:i + (1 << low_bits)]
-            part_words += part_words[-1:] * (2 - len(part_words))      # at least 2 words: no zero-width address
-            rom = Memory(shape=shape, depth=len(part_words), init=part_words)
-            m.submodules[f"readout_rom{i >> low_bits}"] = rom
-            port = rom.read_port(domain="comb")
-            part = Signal(shape, name=f"readout_part{i >> low_bits}")
-            m.d.comb += port.addr.eq(self.median[:low_bits])
-            m.d.sync += part.eq(port.data)
-            parts.append(part)
-        with m.Switch(high):
-            for i, part in enumerate(parts):
-                with m.Case(i):
-                    m.d.sync += self.chars.eq(part)
+        # The readout of the median (a window code, so at most the invalid code) in two registered clocks: one
+        # synchronous ROM read (block RAM) of the four digit characters as symbols, then the symbols decoded into
+        # font codes. The ROM holds the codes below 2**rom_bits, those from the invalid code on as dashes; a code
+        # past the ROM (the invalid code when it is a power of two, 2**rom_bits) reads as dashes by a comparison,
+        # registered beside the read.
+        rom_bits = (self.config.invalid - 1).bit_length()
+        rom = Memory(shape=unsigned(SYMBOL_BITS * DIGITS), depth=1 << rom_bits,
+                     init=readout_symbols(self.table, 1 << rom_bits), attrs={"ROM_STYLE": "block"})
+        m.submodules.readout_rom = rom
+        port = rom.read_port(domain="sync")
+        beyond = Signal()
+        m.d.comb += port.addr.eq(self.median[:rom_bits])
+        m.d.sync += beyond.eq(self.median[rom_bits:] != 0 if bits > rom_bits else 0)
+        for pos in range(DIGITS):
+            symbol = port.data[SYMBOL_BITS * pos:SYMBOL_BITS * (pos + 1)]
+            with m.If(beyond):
+                m.d.sync += self.chars[pos].eq(char_codes("-")[0])
+            with m.Else():
+                with m.Switch(symbol):
+                    for k, c in enumerate(SYMBOLS):
+                        with m.Case(k):
+                            m.d.sync += self.chars[pos].eq(char_codes(c)[0])
+                    with m.Default():                   # not in the ROM
+                        m.d.sync += self.chars[pos].eq(char_codes(SYMBOLS[0])[0])
+        for pos in range(DIGITS, len(READOUT_TEXT)):     # the unit: constant
+            m.d.comb += self.chars[pos].eq(char_codes(READOUT_TEXT[pos])[0])
         return m

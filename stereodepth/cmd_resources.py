@@ -34,7 +34,7 @@ def run(args):
     totals = report.totals()
     budget = totals["budget"]
     lines.append(f"budget: {totals['ramb36']:g} of <= {budget['ramb36']} RAMB36, {totals['lut_percent']:.1f} % of "
-                 f"<= {budget['lut_percent']} % LUTs: {'within budget' if totals['within_budget'] else 'OVER BUDGET'}")
+                 f"<= {budget['lut_percent']} % slice LUTs: {'within budget' if totals['within_budget'] else 'OVER BUDGET'}")
     text = "\n".join(lines)
     print(text)
     Path(args.out, "report.txt").write_text(text + "\n")

@@ -12,11 +12,11 @@ from hypothesis import given, settings, strategies as st
 from golden.depth_display import centre_readout, depth_colours, draw_text, distance_m
 from hdl.centre_distance import CentreDistance, SETTLE_CLOCKS, readout_table
 from hdl.colour_map import LATENCY as COLOUR_LATENCY, ColourMap, colour_table
-from spec.depth import DEPTH, SMALL_DEPTH, DepthConfig
+from spec.depth import DEPTH, DEPTH_800, SMALL_DEPTH, DepthConfig
 from spec.display import BACKGROUND_RGB, DEPTH_COLOURS, DEPTH_INVALID_RGB, TEXT_RGB
 from spec.font import FONT, FONT_CELL
 from spec.layout import DisplayLayout, TextBox
-from spec.sensor import SENSOR, SMALL_SENSOR, disparity_of_distance
+from spec.sensor import SENSOR, SENSOR_800, SMALL_SENSOR, disparity_of_distance
 from spec.video import CEA_1080P60, SMALL_TIMING, VideoTiming
 from hdl.read_arbiter import ReadArbiter
 from hdl.text_layer import FONT_ORDER, LATENCY as TEXT_LATENCY, TextLayer, char_codes
@@ -207,8 +207,8 @@ def test_text_layer_equals_golden_drawing():
     assert ((frame == TEXT_RGB) | (frame == BACKGROUND_RGB) | (frame == -1)).all()
 
 
-def run_centre_distance(windows, config=DEPTH):
-    dut = CentreDistance(SENSOR, config)
+def run_centre_distance(windows, config=DEPTH, geometry=SENSOR):
+    dut = CentreDistance(geometry, config)
     results = []
 
     async def bench(ctx):
@@ -240,6 +240,18 @@ def test_centre_distance_equals_golden(windows):
         assert result == centre_readout(codes)
 
 
+def test_centre_distance_800_at_the_rom_ends():
+    """The 800 build's readout (D = 128, scale 2: a 2K-word ROM, the invalid code 2048 one past it) equals the
+    golden's for the codes at the ROM's ends, the invalid code and codes past it (dashes, as the golden's; the
+    invalid code alone would read entry 0, dashes too, without the comparison)."""
+    codes = [0, 1, 8, 9, 16 * 54, 2046, 2047, DEPTH_800.invalid, 3000, 4095]
+    windows = [[c] * 9 for c in codes] + [[2047] * 4 + [DEPTH_800.invalid] * 5, [1] * 5 + [2048] * 4]
+    got = run_centre_distance(windows, DEPTH_800, SENSOR_800)
+    for window, result in zip(windows, got):
+        assert result == centre_readout(np.reshape(window, (3, 3)), SENSOR_800, DEPTH_800)
+    assert [text for _, text in got[2:4]] == ["----cm", "9698cm"] and got[6][1] == "  43cm"
+
+
 def test_arbiter_priority():
     """The display always wins; the engine is granted exactly in the clocks the display leaves free and sees
     the buffer's data in both cases."""
@@ -261,9 +273,9 @@ def test_arbiter_priority():
     assert seen == [(1, 1, 9, 17, 17), (1, 1, 9, 17, 17), (1, 0, 5, 17, 17), (1, 0, 5, 17, 17)]
 
 
-def test_board_readout_table_has_no_zero_width_address():
-    """At the board's size the readout table's last 256-word part holds one code (the invalid one): it is padded to
-    two words, so its address is not a zero-width vector (Verilator refuses ``[-1:0]``; the demo's build caught it)."""
+def test_board_readout_has_no_zero_width_vector():
+    """At the board's size the invalid code is one past the readout ROM (a power of two): the Verilog has no
+    zero-width vector (Verilator refuses ``[-1:0]``; the demo's build caught one in a readout ROM's address)."""
     from amaranth.back import verilog
     from spec.depth import DEPTH
     text = verilog.convert(CentreDistance(SENSOR, DEPTH), name="centre_distance")

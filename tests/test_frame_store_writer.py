@@ -30,9 +30,10 @@ def design(layout=LAYOUT):
     return m, writer, own
 
 
-def run(frames, layout=LAYOUT, grant_rate=0.5, seed=1, take_after=None):
+def run(frames, layout=LAYOUT, grant_rate=0.5, seed=1, take_after=None, masks=None):
     """Simulate the writer on ``frames`` (a list of ``(image, kwargs)``); the memory's bytes (address -> 8 bytes),
-    the writes' addresses, the buffer a reader takes after each frame (``None``: no pair)."""
+    the writes' addresses, the buffer a reader takes after each frame (``None``: no pair). ``masks``: a list the
+    writes' byte masks are appended to."""
     m, writer, own = design(layout)
     memory, addresses, taken = {}, [], []
     rng = random.Random(seed)
@@ -56,6 +57,8 @@ def run(frames, layout=LAYOUT, grant_rate=0.5, seed=1, take_after=None):
                 ctx.set(writer.mem.grant, 1)
                 addr, data, mask = ctx.get(writer.mem.addr), ctx.get(writer.mem.data), ctx.get(writer.mem.mask)
                 addresses.append(addr)
+                if masks is not None:
+                    masks.append(mask)
                 for word in range(4):
                     old = memory.setdefault(addr + word, [0] * 8)
                     for b in range(8):
@@ -97,13 +100,17 @@ def image(seed, layout=LAYOUT):
 
 def test_frames_land_at_their_rows_and_are_published():
     a, b = image(1), image(2)
-    memory, addresses, taken = run([(a, {}), (b, {"gap": 2})])
+    masks = []
+    memory, addresses, taken = run([(a, {}), (b, {"gap": 2})], masks=masks)
     assert taken[0] is not None and taken[1] is not None and taken[0] != taken[1]
     assert (buffer_image(memory, LAYOUT, taken[0]) == a).all()
     assert (buffer_image(memory, LAYOUT, taken[1]) == b).all()
     # Every burst written once a frame, burst-aligned, 2 bursts a row (the second masked beyond 40 bytes).
     assert len(addresses) == 2 * LAYOUT.height * LAYOUT.bursts_per_row
     assert all(addr % 4 == 0 for addr in addresses)
+    # A row's first burst whole; its second the packer's one word (bytes 32..39) and three words the writer makes,
+    # masked.
+    assert masks == [0, ~0xFF & 0xFFFFFFFF] * (2 * LAYOUT.height)
 
 
 def _inside_buffers(addresses, layout=LAYOUT):

@@ -24,8 +24,6 @@ from board.ise import ucf_net_line
 from board.pin_file import parse_pin_file
 from board.vmodcam import VHDC_IO_PINS, VHDC_PAIRS, VHDC_PINS
 from board.top import GenesysTop
-from hdl.centre_distance import ROM_PART_BITS
-from spec.depth import DEPTH
 REPO_ROOT = Path(__file__).resolve().parents[1]
 
 UCF_PATH = REPO_ROOT / "constraints" / "genesys.ucf"
@@ -321,11 +319,16 @@ def test_resource_counter_and_levels_on_a_known_design(tmp_path):
 
 
 def test_resource_budget_check():
-    """resources.json's budget flag: 58 RAMB36 and 60 % of the 28,800 LUTs (17,280) are the limits."""
+    """resources.json's budget flag: 58 RAMB36 and 60 % of the 28,800 slice LUTs (17,280: logic, shift registers
+    and LUT RAM, as XST counts them) are the limits."""
     from board.resources import Report
     at_limit = Report(cells={}, luts=17_280, ffs=0, ramb36=57, ramb18=2)
     assert at_limit.totals()["within_budget"]
     assert not Report(cells={}, luts=17_281, ffs=0, ramb36=0, ramb18=0).totals()["within_budget"]
+    mixed = Report(cells={"SRL16E": 200, "RAM32M": 20}, luts=17_000, ffs=0, ramb36=0, ramb18=0)
+    assert (mixed.slice_luts, mixed.totals()["slice_luts"]) == (17_280, 17_280) and mixed.totals()["within_budget"]
+    mixed.cells["SRLC32E"] = 1
+    assert not mixed.totals()["within_budget"]
     assert not Report(cells={}, luts=0, ffs=0, ramb36=58, ramb18=1).totals()["within_budget"]
 
 
@@ -367,10 +370,6 @@ def test_longest_paths_on_a_hand_made_netlist():
 
 # --- a build ISE takes as it is --------------------------------------------------------------------------------
 
-#: The centre readout's table (one entry per code up to the invalid one) in 256-word parts (hdl/centre_distance.py).
-READOUT_PARTS = -(-(DEPTH.invalid + 1) // (1 << ROM_PART_BITS))
-
-
 def test_top_v_is_small_and_writes_no_zero_memory_init(build):
     """The frame buffers' zero initial values are left out (the block RAMs configure to zero): top.v stays under
     2 MB (it is about 30 MB with them); the only initial blocks left are ROMs with contents (the three I2C tables, the depth panel's colour,
@@ -380,7 +379,7 @@ def test_top_v_is_small_and_writes_no_zero_memory_init(build):
     assert len(text.encode()) < 2_000_000
     inits = re.findall(r"reg \[\d+:0\] (\S+) \[\d+:0\];\n\s*initial begin\n(.*?)\n\s*end\n", text, re.S)
     assert sorted(name for name, _ in inits) == sorted(
-        ["rom"] * 3 + ["colour_rom", "band_rom"] + [f"readout_rom{part}" for part in range(READOUT_PARTS)]
+        ["rom"] * 3 + ["colour_rom", "band_rom", "readout_rom"]
         + [f"font_rom{row}" for row in range(8)])
     for name, body in inits:
         assert re.search(r"= \d+'h0*[1-9a-f]", body), f"{name}: an initial block of zeros"

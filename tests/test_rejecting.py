@@ -103,7 +103,6 @@ REJECTED = {
     "BurstPacker": lambda: BurstPacker(geometry=SensorGeometry(grey_bits=9)),
     "BurstWriter": lambda: BurstWriter(camera=2),
     "CameraWriter": lambda: CameraWriter(fifo_depth=6),
-    "CameraWriter, room": lambda: CameraWriter(fifo_depth=4, room=True),
     "MemoryArbiter": lambda: MemoryArbiter(readers=1, urgent=2),
     "MemoryArbiter, last writers": lambda: MemoryArbiter(writers=1, last_writers=2),
     "RowFetcher": lambda: RowFetcher(depth=1),

@@ -7,7 +7,8 @@ both XST Verilog parsers take (board/export.py ``xst_verilog``, board/genesys.py
   ``PERIOD``, ``FROM``/``TO`` or ``OFFSET`` uses is defined by a ``TNM``/``TNM_NET`` on such a net.
 * ``top.v``: no statement attributes, no attribute XST does not document, no source paths, no ``init`` on alias
   wires, plain module names, ``ASYNC_REG`` and ``SHREG_EXTRACT`` on the synchroniser ``reg`` declarations,
-  ``ROM_STYLE`` on the I2C ROMs. Each step of ``xst_verilog`` has a test that fails without it.
+  ``ROM_STYLE`` on the I2C ROMs (distributed) and the readout ROM (block). Each step of ``xst_verilog`` has a
+  test that fails without it.
 * The ISE scripts: trce after par, bitgen only after a timing check, map/par options stated, a second run works.
 """
 
@@ -220,9 +221,11 @@ def test_no_init_attribute_and_register_initial_values_kept(build):
     assert re.search(r"reg stage1 = 1'h1;", verilog)          # the I2C line synchronisers start released
 
 
-def test_i2c_roms_are_distributed(build):
+def test_i2c_roms_are_distributed_and_the_readout_rom_block(build):
     roms = re.findall(r'\(\* ROM_STYLE = "distributed" \*\)\n\s*reg \[\d+:0\] (\w+) \[', build["top.v"])
     assert roms == ["rom"] * 3
+    roms = re.findall(r'\(\* ROM_STYLE = "block" \*\)\n\s*reg \[\d+:0\] (\w+) \[', build["top.v"])
+    assert roms == ["readout_rom"]
 
 
 def test_the_yosys_script_removes_what_the_rtlil_has(build):

@@ -2,27 +2,29 @@
 
 It takes the :class:`~hdl.frame_store.burst_packer.BurstPacker`'s entries from a FIFO, one at a time:
 
-* ``START``: asks the ownership for a buffer (``own.start``) and expects row 0, burst 0;
-* ``BURST``: when the writer owns a buffer and the entry is the expected burst (the next in raster order, inside
-  the layout), asks the arbiter to write it (``mem``) at ``buffer base + row * stride + burst * 32 bytes`` (the
-  expected burst's offset in the buffer is a register, stepped with the expected row and burst) and takes the next
-  entry when granted; otherwise drops it and spoils the frame. The check is a register, made in the clock the entry
-  is first offered and used from the next (the entry stays at the FIFO's head until taken, and nothing it checks
-  changes until an entry is taken), so the arbiter's request is a flip-flop, not the row and burst comparisons;
+* ``START``: asks the ownership for a buffer (``own.start``) and expects row 0, word 0;
+* ``BURST`` (a 64-bit memory word of a burst): when the writer owns a buffer and the entry is the expected word (the
+  next in raster order, inside the layout), takes it; the first three words of a burst into a shift register, the
+  fourth with them asks the arbiter to write the burst (``mem``) at ``buffer base + row * stride + burst * 32
+  bytes`` (the expected burst's offset in the buffer is a register, stepped with the expected row and burst) and is
+  taken in the clock after its grant (the request a register: it asks from the clock after the word is the
+  expected head). A row's last word short of a burst's fourth is followed by masked words the
+  writer makes itself (no entry taken) up to the burst's end. An entry other than the expected word is dropped and
+  spoils the frame;
 * ``END``: ends the frame (``own.finish``), ``complete`` when the entry says ``ok``, nothing spoiled it and every
-  burst of every row came in order -- so a published buffer holds one frame's every burst, each written once.
+  word of every row came in order -- so a published buffer holds one frame's every burst, each written once.
 
 Addresses are built only from the owned buffer's base and the expected (in-range) row and burst, so nothing a camera
 sends lands outside the buffer the ownership gave the writer, and nothing is written while it owns none.
 """
 
-from amaranth import Array, Const, Module, Signal
+from amaranth import Array, Cat, Const, Module, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
 from spec.memory import MIG
 
-from .burst_packer import ENTRY_KINDS, burst_entry_layout
+from .burst_packer import ENTRY_KINDS, WORD_BYTES, burst_entry_layout
 from .layout import FrameStoreLayout
 from .mem_port import BurstWriteSignature
 from .ownership import WriterOwnershipSignature
@@ -54,8 +56,9 @@ class BurstWriter(wiring.Component):
     mem : ``Out(BurstWriteSignature())``
 
     Clock domain: ``sync`` (the frame store renames it to ``mem``). Latency: an entry is taken in the clock it is
-    offered (``START``, ``END``), in the clock after (a dropped burst), or when granted, from the clock after it is
-    offered (a burst it writes). An entry offered must stay at the head, unchanged, until taken (a FIFO's read side).
+    offered (``START``, ``END``, a burst's first three words, a dropped word) or in the clock after its grant (a
+    burst's fourth word); a row's last burst short of four words takes a clock for each word it lacks before its
+    request.
 
     Raises
     ------
@@ -76,43 +79,80 @@ class BurstWriter(wiring.Component):
         m = Module()
         lay, own, mem = self.layout, self.own, self.mem
         entry = self.entries.data
+        words = MIG.BURST_LENGTH                            # entries (memory words) a burst
+        row_words = -(-lay.row_bytes // WORD_BYTES)         # words the packer sends a row
         expect_row = Signal(range(lay.height + 1))
-        expect_burst = Signal(range(lay.bursts_per_row))
+        row_in = Signal(init=1)                 # expect_row < height, registered where expect_row changes
+        expect_word = Signal(range(lay.bursts_per_row * words))
         spoiled = Signal()
+        padding = Signal()                      # the row's last burst lacks words: the writer makes them, masked
+        drop = Signal()                         # the FIFO's head is the burst's fourth word, granted last clock
         bases = Array(Const(lay.buffer_base(self.camera, b), MIG.ADDR_WIDTH) for b in range(lay.buffers))
         offset = Signal(range(lay.buffer_words + 1))      # the expected burst's memory word in the buffer
-        expected = (entry.row == expect_row) & (entry.burst == expect_burst)
-        writable = own.writing & expected & (expect_row < lay.height)
-        # The head entry's check, a clock late: ``checked`` says ``may_write`` is this entry's (it was offered in the
-        # clock before and not taken, so it and the writer's state are as they were).
-        may_write, checked = Signal(), Signal()
-        m.d.sync += [may_write.eq(writable), checked.eq(self.entries.rdy & ~self.entries.en)]
+        # The burst's first three words, the latest on top: the fourth (the entry's, or a made one) completes it.
+        held = Signal(8 * WORD_BYTES * (words - 1))
+        held_mask = Signal(WORD_BYTES * (words - 1))
+        word_mask = Signal(WORD_BYTES)          # the entry's mask, all ones for a made word
+        m.d.comb += word_mask.eq(entry.mask | padding.replicate(WORD_BYTES))
+        expected = (entry.row == expect_row) & (entry.word == expect_word)
+        in_frame = own.writing & row_in
+        writable = in_frame & expected
+        fourth = expect_word[:(words - 1).bit_length()] == words - 1
         m.d.comb += [
             mem.addr.eq(bases[own.buffer] + offset),
-            mem.data.eq(entry.data),
-            mem.mask.eq(entry.mask),
+            mem.data.eq(Cat(held, entry.data)),
+            mem.mask.eq(Cat(held_mask, word_mask)),
         ]
-        with m.If(self.entries.rdy):
+
+        def hold():                             # a burst's word into the shift register, the next word expected
+            m.d.sync += [held.eq(Cat(held[8 * WORD_BYTES:], entry.data)),
+                         held_mask.eq(Cat(held_mask[WORD_BYTES:], word_mask)), expect_word.eq(expect_word + 1)]
+
+        def written():                          # the burst granted: the next burst expected
+            with m.If(expect_word == lay.bursts_per_row * words - 1):
+                m.d.sync += [expect_word.eq(0), expect_row.eq(expect_row + 1), row_in.eq(expect_row != lay.height - 1),
+                             offset.eq(offset + lay.stride_words - (lay.bursts_per_row - 1) * MIG.BURST_LENGTH)]
+            with m.Else():
+                m.d.sync += [expect_word.eq(expect_word + 1), offset.eq(offset + MIG.BURST_LENGTH)]
+
+        # The request is a register (``asking``), so the mem domain's longest paths (a request through the arbiter
+        # into MIG's command address and the readers' fetchers) start at a flip-flop: set in the clock a burst's
+        # fourth word is the expected head (or the made words reach a burst's end), it asks from the next clock on,
+        # the head kept, until the grant; the granted word is taken in the clock after its grant (``drop``: the
+        # grant stays out of the FIFO's read-pointer path).
+        asking = Signal()
+        m.d.comb += mem.request.eq(asking)
+        m.d.sync += drop.eq(0)
+        with m.If(asking):
+            with m.If(mem.grant):
+                m.d.sync += [asking.eq(0), drop.eq(~padding), padding.eq(0)]
+                written()
+        with m.Elif(padding):
+            with m.If(fourth):
+                m.d.sync += asking.eq(in_frame)
+            with m.Else():
+                hold()
+        with m.Elif(self.entries.rdy):
             with m.Switch(entry.kind):
                 with m.Case(ENTRY_KINDS["START"]):
                     m.d.comb += [own.start.eq(1), self.entries.en.eq(1)]
-                    m.d.sync += [expect_row.eq(0), expect_burst.eq(0), offset.eq(0), spoiled.eq(0)]
+                    m.d.sync += [expect_row.eq(0), row_in.eq(1), expect_word.eq(0), offset.eq(0), spoiled.eq(0)]
                 with m.Case(ENTRY_KINDS["END"]):
                     m.d.comb += [own.finish.eq(1), self.entries.en.eq(1),
                                  own.complete.eq(entry.ok & ~spoiled & (expect_row == lay.height))]
                 with m.Case(ENTRY_KINDS["BURST"]):
-                    with m.If(checked):
-                        m.d.comb += [mem.request.eq(may_write), self.entries.en.eq(~may_write | mem.grant)]
-                        with m.If(~may_write):
-                            m.d.sync += spoiled.eq(1)
-                        with m.Elif(mem.grant):
-                            with m.If(expect_burst == lay.bursts_per_row - 1):
-                                m.d.sync += [expect_burst.eq(0), expect_row.eq(expect_row + 1),
-                                             offset.eq(offset + lay.stride_words
-                                                       - (lay.bursts_per_row - 1) * MIG.BURST_LENGTH)]
-                            with m.Else():
-                                m.d.sync += [expect_burst.eq(expect_burst + 1),
-                                             offset.eq(offset + MIG.BURST_LENGTH)]
+                    with m.If(drop):            # the fourth word granted last clock
+                        m.d.comb += self.entries.en.eq(1)
+                    with m.Elif(~writable):
+                        m.d.comb += self.entries.en.eq(1)
+                        m.d.sync += spoiled.eq(1)
+                    with m.Elif(~fourth):
+                        m.d.comb += self.entries.en.eq(1)
+                        hold()
+                        with m.If(expect_word == row_words - 1):
+                            m.d.sync += padding.eq(1)
+                    with m.Else():
+                        m.d.sync += asking.eq(1)
                 with m.Default():
                     m.d.comb += self.entries.en.eq(1)
                     m.d.sync += spoiled.eq(1)

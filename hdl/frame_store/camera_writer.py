@@ -8,6 +8,7 @@ from amaranth.lib.wiring import In, Out
 
 from hdl.capture import CaptureStatusSignature
 from hdl.frame_buffer import FrameBufferWriteSignature
+from spec.memory import MIG
 from spec.sensor import SENSOR
 
 from .burst_packer import BurstPacker, burst_entry_layout, check_grey
@@ -16,16 +17,20 @@ from .layout import FrameStoreLayout
 from .mem_port import BurstWriteSignature
 from .ownership import WriterOwnershipSignature
 
-__all__ = ["CameraWriter", "ROOM_ENTRIES"]
+__all__ = ["CameraWriter", "ROOM_ENTRIES", "FIFO_ENTRIES_PER_BURST"]
 
-#: Entries ``room`` keeps free: the burst a pixel written in the clock before ``room`` fell may still fill, an
+#: Entries ``room`` keeps free: the word a pixel written in the clock before ``room`` fell may still fill, an
 #: ``END`` and a ``START``, and one for the level's own clock of lag.
 ROOM_ENTRIES = 4
+#: FIFO entries a burst takes: its memory words.
+FIFO_ENTRIES_PER_BURST = MIG.BURST_LENGTH
+assert 2 * FIFO_ENTRIES_PER_BURST > ROOM_ENTRIES, "the least FIFO (2 bursts) keeps room for more than ROOM_ENTRIES"
 
 
 class CameraWriter(wiring.Component):
     """A :class:`~hdl.frame_store.burst_packer.BurstPacker` in ``cam_domain``, an :class:`amaranth.lib.fifo.AsyncFIFO`
-    of ``fifo_depth`` entries (bursts and frame marks) into ``mem_domain`` and a
+    of ``fifo_depth`` bursts' entries (four memory words a burst, and frame marks: :data:`FIFO_ENTRIES_PER_BURST`
+    ``fifo_depth`` entries; LUT RAM 32 entries deep costs as much as 8) into ``mem_domain`` and a
     :class:`~hdl.frame_store.burst_writer.BurstWriter` there.
 
     Parameters
@@ -37,7 +42,7 @@ class CameraWriter(wiring.Component):
         The capture's write port.
     cam_domain, mem_domain : str
     fifo_depth : int
-        Entries the FIFO holds (a power of two): how many bursts the camera may run ahead of the memory's grants.
+        Bursts the FIFO holds (a power of two): how many bursts the camera may run ahead of the memory's grants.
     room : bool
         Add the ``room`` port (for a source that can wait, the depth maps' writer; a camera cannot).
 
@@ -49,7 +54,7 @@ class CameraWriter(wiring.Component):
     mem : ``Out(BurstWriteSignature())``, ``mem_domain``
     room : ``Out(1)``, ``cam_domain``
         With ``room=True``: the FIFO has room for :data:`ROOM_ENTRIES` more entries (its level as the write side
-        counts it, a clock late): a source that writes only while ``room`` is high never loses a burst.
+        counts it, a clock late): a source that writes only while ``room`` is high never loses a word.
 
     Latency: the packer's, the FIFO's (a few clocks of each domain), the burst writer's.
 
@@ -61,9 +66,8 @@ class CameraWriter(wiring.Component):
 
     def __init__(self, layout=FrameStoreLayout(), camera=0, geometry=SENSOR, *, cam_domain="cam_a",
                  mem_domain="mem", fifo_depth=8, room=False):
-        if fifo_depth < 2 or fifo_depth & (fifo_depth - 1) or (room and fifo_depth <= ROOM_ENTRIES):
-            raise ValueError(f"fifo_depth must be a power of two of at least 2 (with room, above {ROOM_ENTRIES}), "
-                             f"got {fifo_depth}")
+        if fifo_depth < 2 or fifo_depth & (fifo_depth - 1):
+            raise ValueError(f"fifo_depth must be a power of two of at least 2, got {fifo_depth}")
         check_grey(geometry, layout.pixel_bytes)
         check_camera(layout, camera)
         self.layout, self.camera, self.geometry = layout, camera, geometry
@@ -81,7 +85,8 @@ class CameraWriter(wiring.Component):
         packer = BurstPacker(self.layout, self.geometry)
         writer = BurstWriter(self.layout, self.camera)
         width = burst_entry_layout(self.layout).size
-        fifo = AsyncFIFO(width=width, depth=self.fifo_depth, w_domain=self.cam_domain, r_domain=self.mem_domain)
+        entries = self.fifo_depth * FIFO_ENTRIES_PER_BURST
+        fifo = AsyncFIFO(width=width, depth=entries, w_domain=self.cam_domain, r_domain=self.mem_domain)
         m.submodules.packer = DomainRenamer(self.cam_domain)(packer)
         m.submodules.fifo = fifo
         m.submodules.writer = DomainRenamer(self.mem_domain)(writer)
@@ -94,5 +99,5 @@ class CameraWriter(wiring.Component):
         wiring.connect(m, wiring.flipped(self.own), writer.own)
         wiring.connect(m, wiring.flipped(self.mem), writer.mem)
         if "room" in self.signature.members:
-            m.d.comb += self.room.eq(fifo.w_level + ROOM_ENTRIES <= self.fifo_depth)
+            m.d.comb += self.room.eq(fifo.w_level + ROOM_ENTRIES <= entries)
         return m

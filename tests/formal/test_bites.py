@@ -289,6 +289,13 @@ class WriterForBuffersARowOn(FrameStoreWriterHarness):
                            WRITER_CAMERA)
 
 
+class WriterForLongerRows(FrameStoreWriterHarness):
+    """The writer built for rows a word longer than the packer's: it takes the next row's first word as the row's
+    last and makes one word fewer: bursts of words from two rows."""
+    def dut(self):
+        return BurstWriter(dataclasses.replace(WRITER_LAYOUT, width=WRITER_LAYOUT.width + 8), WRITER_CAMERA)
+
+
 class WriterToldEveryFrameIsWhole(FrameStoreWriterHarness):
     """The capture's verdict wired high: frames the capture called broken finish complete."""
     def connect_verdict(self, m, dut, ok):
@@ -331,6 +338,7 @@ BITES = {
     "frame_store_credits": (FetcherCountsADeeperFifo, "room"),
     "frame_store_writer": (WriterForBuffersARowOn, "write_inside_the_owned_buffer"),
     "frame_store_writer_complete": (WriterToldEveryFrameIsWhole, "complete_only_after_exactly_the_frame_s_bursts"),
+    "frame_store_writer_words": (WriterForLongerRows, "complete_only_after_exactly_the_frame_s_bursts"),
     "frame_store_packer": (PackerForShorterRows, "end_ok_only_for_a_frame_of_whole_rows"),
     "depth_pass_counter": (DepthMapWrappingPassCounter, "rows_ready_counts_finished_passes"),
     "depth_three_back_drain": (DepthThreeShortBackwardDrain, "codes_written_before_replay"),
