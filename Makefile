@@ -9,6 +9,8 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 JOBS   ?= 2
+# Static TLS for many Verilator builds loaded in one process (sim/runners/verilator/ctestbench.py, STATIC_TLS_ENV).
+export GLIBC_TUNABLES ?= glibc.rtld.optional_static_tls=262144
 
 .PHONY: all help venv system-deps test test-slow formal demo verilog waves bench resources timing clean distclean
 

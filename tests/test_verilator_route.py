@@ -278,3 +278,24 @@ def test_run_command_shows_and_names_the_whole_frame(tmp_path, capsys):
     rows = json.loads((frames / "result.json").read_text())["frames"]
     assert rows and all(r["bad2"] is not None for r in rows if r["depth_frame"] is not None and r["depth_frame"] >= 0)
     assert any(r["bad2"] is not None for r in rows)
+
+
+def test_a_process_out_of_static_tls_says_what_to_do(monkeypatch, tmp_path):
+    """Each Verilator build keeps its thread-local state in static TLS: a process that has no more says so in one
+    line and names the glibc tunable the Makefile exports; any other load error is raised as it is."""
+    import ctypes
+    from sim.runners.verilator import ctestbench
+
+    def refuse(message):
+        def load(path):
+            raise OSError(message)
+        return load
+    monkeypatch.setattr(ctypes, "CDLL", refuse(f"{tmp_path}/lib.so: cannot allocate memory in static TLS block"))
+    with pytest.raises(RuntimeError, match=f"no static TLS left .* {ctestbench.STATIC_TLS_ENV}, as make does"):
+        ctestbench._library(tmp_path / "lib.so")
+    monkeypatch.setattr(ctypes, "CDLL", refuse("cannot open shared object file"))
+    with pytest.raises(OSError, match="cannot open shared object file"):
+        ctestbench._library(tmp_path / "lib.so")
+    from pathlib import Path
+    makefile = (Path(__file__).resolve().parents[1] / "Makefile").read_text()
+    assert f"export {ctestbench.STATIC_TLS_ENV.replace('=', ' ?= ', 1)}\n" in makefile

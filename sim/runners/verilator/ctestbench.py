@@ -43,12 +43,22 @@ _SIGNATURES = {
     "tb_stimulus_bytes": (_INT, []),
 }
 _LIBRARIES = {}
+#: The glibc tunable that reserves static TLS for many Verilator builds in one process (each is compiled with
+#: ``-ftls-model=initial-exec``: ``sim.runners.verilator.build.PIC_OPTS``); the Makefile exports it.
+STATIC_TLS_ENV = "GLIBC_TUNABLES=glibc.rtld.optional_static_tls=262144"
 
 
 def _library(path):
     path = str(path)
     if path not in _LIBRARIES:
-        lib = ctypes.CDLL(path)
+        try:
+            lib = ctypes.CDLL(path)
+        except OSError as exc:
+            if "static TLS" not in str(exc):
+                raise
+            raise RuntimeError(f"{path}: no static TLS left in this process for another Verilator build (each one "
+                               f"loaded keeps its thread-local state there): start the process with "
+                               f"{STATIC_TLS_ENV}, as make does, or run fewer builds in it") from None
         for name, (restype, argtypes) in _SIGNATURES.items():
             fn = getattr(lib, name)
             fn.restype, fn.argtypes = restype, argtypes
@@ -79,7 +89,7 @@ class CTestbench:
         lib.tb_logging(self._h, int(log))
 
     def close(self):
-        if self._h:
+        if getattr(self, "_h", None):
             self._lib.tb_free(self._h)
             self._h = None
 
