@@ -11,9 +11,10 @@ other readers (the depth engine's, which waits; docs/frame_store.md, "Arbitratio
 * A write burst takes two clocks: its first data word in the clock after the grant, its second with the write
   command in the next (data before command, AR 24146). No grant in the first of them.
 * A read burst's command goes out in the clock after the grant; the reader's number goes into a FIFO of
-  ``read_tags`` entries (a read is granted only when there is room: a register set from the FIFO's level in the
-  clock before, equal to the FIFO's own room), and the two words MIG returns for it, in command order, are handed to
-  that reader (``valid`` for one clock each: no backpressure).
+  ``read_tags`` entries in that clock too, from a register (so the FIFO's level is not on the grant's path; MIG's
+  words come many clocks after the command), a read being granted only when there is room (a register set in the
+  clock before from the FIFO's level and the tag on its way in), and the two words MIG returns for it, in command
+  order, are handed to that reader (``valid`` for one clock each: no backpressure).
 
 Outputs to MIG are registered. The arbiter does not count a reader's credits: a reader requests a burst only when
 it has room for its words (:class:`~hdl.frame_store.row_fetcher.RowFetcher`).
@@ -113,12 +114,16 @@ class MemoryArbiter(wiring.Component):
                          mig.command.cmd.eq(MIG.CMD_WRITE), mig.command.addr.eq(write_addr),
                          mig.command.wren.eq(1)]
 
-        # Room for a read's tag, a register: the tag FIFO's next level (this level, less the tag popped in this clock,
-        # plus one for a read won in this clock) below ``read_tags``, the comparison made for both outcomes of the win
-        # so that only a multiplexer follows it. The same as the FIFO's own ``w_rdy`` in every clock.
+        # A won read's tag enters the FIFO in the next clock, from a register (``push``, ``push_tag``). Room for a read's
+        # tag, a register: the tags held or on their way in at the next clock (the FIFO's level and the tag pushed in
+        # this clock, less the tag popped in this clock, plus one for a read won in this clock) below ``read_tags``,
+        # the comparison made for both outcomes of the win so that only a multiplexer follows it.
+        push, push_tag = Signal(), Signal(tag_bits)
+        m.d.comb += [tags.w_en.eq(push), tags.w_data.eq(push_tag)]
         tag_room = Signal(init=1)
-        after_pop = tags.level - (tags.r_en & tags.r_rdy)
-        m.d.sync += tag_room.eq(Mux(tags.w_en, after_pop < self.read_tags - 1, after_pop < self.read_tags))
+        read_won = Signal()
+        after_pop = tags.level + push - (tags.r_en & tags.r_rdy)
+        m.d.sync += tag_room.eq(Mux(read_won, after_pop < self.read_tags - 1, after_pop < self.read_tags))
 
         # The winner: each client's request against the OR of those before it, side by side (not a chain), and
         # what goes to MIG as an AND-OR of the clients' values under their one-hot wins.
@@ -147,7 +152,8 @@ class MemoryArbiter(wiring.Component):
                              word1.eq(pick("write", lambda i: w[i].data[MIG.DATA_WIDTH:])),
                              mask1.eq(pick("write", lambda i: w[i].mask[MIG.MASK_WIDTH:]))]
         if read_wins:
-            m.d.comb += [tags.w_en.eq(Cat(*read_wins).any()), tags.w_data.eq(pick("read", lambda i: i))]
+            m.d.comb += read_won.eq(Cat(*read_wins).any())
+            m.d.sync += [push.eq(read_won), push_tag.eq(pick("read", lambda i: i))]
             with m.If(Cat(*read_wins).any()):
                 m.d.sync += [mig.command.cmd.eq(MIG.CMD_READ),
                              mig.command.addr.eq(pick("read", lambda i: self.readers[i].addr)),
