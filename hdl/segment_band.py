@@ -61,7 +61,7 @@ class SegmentBand(wiring.Component):
     rgb : Out(24)
         The pixel's colour, :data:`LATENCY` (2) clocks after ``code`` / ``grey``.
     chars : Out(ArrayLayout(CHAR_BITS, len(SEGMENT_TEXT)))
-        The band text's font codes, registered (two clocks after ``disparity`` / ``enable``).
+        The band text's font codes, registered (three clocks after ``disparity`` / ``enable``).
 
     Clock domain: ``sync``. The band's edges are registered from ``disparity`` (one clock); ``code`` and ``grey``
     are registered before any logic (they may come straight from block-RAM outputs), the colour in the second
@@ -109,9 +109,9 @@ class SegmentBand(wiring.Component):
         return m
 
     def _text(self, m):
-        """The band text ROM, read by the disparity register registered once more, its output registered; spaces
-        while ``enable`` is low (two clocks: the ROM's address decode and the enable multiplexer in one clock made
-        7 LUT levels)."""
+        """The band text ROM, read by the disparity register registered once more, its output registered, then
+        spaces in its place while ``enable`` is low (three clocks: the ROM's decode and the enable multiplexer, which
+        the synthesis folds into the register's reset with the domain's, in one clock made 7 LUT levels)."""
         def word(text):
             return sum(c << (CHAR_BITS * pos) for pos, c in enumerate(char_codes(text)))
         shape = unsigned(len(self.chars.as_value()))
@@ -121,7 +121,9 @@ class SegmentBand(wiring.Component):
         disparity_1, enable_1 = Signal.like(self.disparity, name="text_disparity_1"), Signal(name="text_enable_1")
         m.d.sync += [disparity_1.eq(self.disparity), enable_1.eq(self.enable)]
         m.d.comb += port.addr.eq(disparity_1)
-        m.d.sync += self.chars.eq(Mux(enable_1, port.data, word(" " * len(SEGMENT_TEXT))))
+        text_2, enable_2 = Signal(shape, name="text_2"), Signal(name="text_enable_2")
+        m.d.sync += [text_2.eq(port.data), enable_2.eq(enable_1)]
+        m.d.sync += self.chars.eq(Mux(enable_2, text_2, word(" " * len(SEGMENT_TEXT))))
 
 
 def _replicate_to_8_bits(grey):

@@ -24,7 +24,7 @@ def run_band(disparity, codes, greys, enable=1, geometry=SENSOR, config=DEPTH):
     async def bench(ctx):
         ctx.set(dut.disparity, disparity)
         ctx.set(dut.enable, enable)
-        await ctx.tick().repeat(2)                    # the band's edges and the text registered
+        await ctx.tick().repeat(3)                    # the band's edges and the text registered
         for k in range(len(codes) + LATENCY):
             if k < len(codes):
                 ctx.set(dut.code, int(codes[k]))
