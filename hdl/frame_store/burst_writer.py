@@ -108,13 +108,6 @@ class BurstWriter(wiring.Component):
             m.d.sync += [held.eq(Cat(held[8 * WORD_BYTES:], entry.data)),
                          held_mask.eq(Cat(held_mask[WORD_BYTES:], word_mask)), expect_word.eq(expect_word + 1)]
 
-        def written():                          # the burst granted: the next burst expected
-            with m.If(expect_word == lay.bursts_per_row * words - 1):
-                m.d.sync += [expect_word.eq(0), expect_row.eq(expect_row + 1), row_in.eq(expect_row != lay.height - 1),
-                             offset.eq(offset + lay.stride_words - (lay.bursts_per_row - 1) * MIG.BURST_LENGTH)]
-            with m.Else():
-                m.d.sync += [expect_word.eq(expect_word + 1), offset.eq(offset + MIG.BURST_LENGTH)]
-
         # The request is a register (``asking``), so the mem domain's longest paths (a request through the arbiter
         # into MIG's command address and the readers' fetchers) start at a flip-flop: set in the clock a burst's
         # fourth word is the expected head (or the made words reach a burst's end), it asks from the next clock on,
@@ -126,7 +119,7 @@ class BurstWriter(wiring.Component):
         with m.If(asking):
             with m.If(mem.grant):
                 m.d.sync += [asking.eq(0), drop.eq(~padding), padding.eq(0)]
-                written()
+                self._next_burst(m, expect_word, expect_row, row_in, offset)
         with m.Elif(padding):
             with m.If(fourth):
                 m.d.sync += asking.eq(in_frame)
@@ -157,3 +150,12 @@ class BurstWriter(wiring.Component):
                     m.d.comb += self.entries.en.eq(1)
                     m.d.sync += spoiled.eq(1)
         return m
+
+    def _next_burst(self, m, expect_word, expect_row, row_in, offset):
+        """The burst granted: the next burst expected (the next row's first after a row's last)."""
+        lay = self.layout
+        with m.If(expect_word == lay.bursts_per_row * MIG.BURST_LENGTH - 1):
+            m.d.sync += [expect_word.eq(0), expect_row.eq(expect_row + 1), row_in.eq(expect_row != lay.height - 1),
+                         offset.eq(offset + lay.stride_words - (lay.bursts_per_row - 1) * MIG.BURST_LENGTH)]
+        with m.Else():
+            m.d.sync += [expect_word.eq(expect_word + 1), offset.eq(offset + MIG.BURST_LENGTH)]
