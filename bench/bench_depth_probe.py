@@ -158,11 +158,7 @@ def p2_paper(g, p1, p2, s):
 
 
 def median5x5(codes):
-    codes = np.asarray(codes)
-    h, w = codes.shape
-    padded = np.pad(codes, 2, mode="edge")
-    stack = np.stack([padded[dy:dy + h, dx:dx + w] for dy in range(5) for dx in range(5)])
-    return np.sort(stack, axis=0)[12].astype(codes.dtype)
+    return np.sort(_stack(codes, 2, 2), axis=0)[12].astype(np.asarray(codes).dtype)
 
 
 def _stack(codes, ry, rx):
