@@ -135,8 +135,9 @@ def run(args):
     setup = cmd_run.make_setup(args.small, step_small if args.small else d, r if not args.small else 0,
                                memory=args.memory, build=args.build)
     g, t = setup.geometry, setup.timing
+    fitted = "" if args.small else "; the bundled pair fitted up to the sensors"
     build_name = (f"the 800 x 600 build (8-bit 2 x 2 means, D = {setup.depth.disparities}, camera frames and depth "
-                  "maps in the DDR2 behind the MIG model; the bundled pair fitted up to the sensors)" if build_800 else
+                  f"maps in the DDR2 behind the MIG model{fitted})" if build_800 else
                   "the DDR2 build (camera frames in the DDR2 frame store behind the MIG model)"
                   if args.memory == "ddr2" else "the thesis's build (camera frames in block-RAM buffers)")
     print(f"whole system on {args.simulator}, {build_name}: {g.width}x{g.height} sensors -> "
