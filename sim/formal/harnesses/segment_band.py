@@ -55,8 +55,9 @@ class SegmentBandHarness(FormalHarness):
         self.prove(m, "invalid_dimmed_and_tinted",
                    ~(pv & invalid) | (rgb == (Cat(dim, dim, dim) | SEGMENT_INVALID_RGB)))
         blank = sum(c << (CHAR_BITS * i) for i, c in enumerate(char_codes(" " * len(SEGMENT_TEXT))))
-        was_off = ~self.past(m, enable, 2, name="enable")
-        self.prove(m, "text_blank_while_off", ~(pv & was_off) | (chars == blank))
+        # The text: three clocks after ``enable``.
+        was_off = ~self.past(m, enable, 3, name="enable_3")
+        self.prove(m, "text_blank_while_off", ~(self.past_valid(m, 3) & was_off) | (chars == blank))
         self.cover(m, "inside_at_the_near_edge", pv & ~invalid & (distance == half))
         self.cover(m, "outside_past_the_far_edge",
                    pv & (distance == -half - 1) & (grey_2 != 0))
