@@ -38,7 +38,7 @@ import time
 from pathlib import Path
 
 from .cmd_run import add_memory_argument
-from .design_args import BUILDS
+from .design_args import add_build_argument
 from .errors import prepare_out_dir
 from .outputs import RunOutputs
 
@@ -58,10 +58,7 @@ def add_arguments(parser):
     parser.add_argument("--out", type=Path, default=Path("build/demo"), help="output directory (build/demo)")
     parser.add_argument("--no-waves", action="store_true", help="skip the VCD / GTKWave step")
     add_memory_argument(parser, default="ddr2")
-    parser.add_argument("--build", choices=BUILDS, default="thesis",
-                        help="thesis (400 x 300 buffers, D = 64; the default) or 800 (8-bit 800 x 600 buffers, "
-                             "D = 128, the frames and the depth maps in the DDR2; the bundled pair fitted up to the "
-                             "sensors)")
+    add_build_argument(parser)                  # with 800 the bundled pair is fitted up to the sensors
 
 
 def small_disparity(disparity, setup_small, geometry=None):

@@ -42,6 +42,7 @@ from pathlib import Path
 
 from sim.system.backends import SIMULATORS
 
+from .design_args import add_build_argument
 from .errors import UserError, prepare_out_dir
 from .outputs import RunOutputs
 from .run_frames import load_images, progress_bar
@@ -100,10 +101,7 @@ def add_arguments(parser):
                         help="where the depth maps are: ring (the engine's ring of result rows, a map a display "
                              "frame; the thesis build's default) or store (with --memory ddr2: whole maps in the "
                              "frame store, the latest whole one shown)")
-    parser.add_argument("--build", choices=("thesis", "800"), default="thesis",
-                        help="thesis (400 x 300 buffers, D = 64; the default) or 800 (8-bit 800 x 600 buffers, "
-                             "D = 128, maps 1:1 on the screen, the frames and the maps in the DDR2: --memory ddr2 "
-                             "--maps store)")
+    add_build_argument(parser)
 
 
 def add_memory_argument(parser, default="bram"):

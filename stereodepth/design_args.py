@@ -4,11 +4,19 @@ combination no design has."""
 
 from .errors import UserError
 
-__all__ = ["add_design_arguments", "design_of", "check_build_800", "preset_of"]
+__all__ = ["add_build_argument", "add_design_arguments", "design_of", "check_build_800", "preset_of"]
 
 #: ``--build``: the thesis's design (``DesignConfig.full``) or the 800 x 600 build (``DesignConfig.full_800``);
 #: with ``--small`` each at the small size (``DesignConfig.small``, ``DesignConfig.small_800``).
 BUILDS = ("thesis", "800")
+
+
+def add_build_argument(parser):
+    """``--build thesis|800`` (:data:`BUILDS`), the one definition every command that takes it shares."""
+    parser.add_argument("--build", choices=BUILDS, default="thesis",
+                        help="thesis (400 x 300 buffers, D = 64; the default) or 800 (8-bit 800 x 600 buffers, "
+                             "D = 128, maps 1:1 on the screen, the frames and the depth maps in the DDR2: --memory "
+                             "ddr2 --maps store)")
 
 
 def add_design_arguments(parser, what="estimate"):
@@ -17,9 +25,7 @@ def add_design_arguments(parser, what="estimate"):
                         help=f"{what} the small design of the default test run instead of the board's (quick "
                              "check); with --build 800 the 800 x 600 build's structure at that size (8-bit 32 x 24 "
                              "buffers, D = 16)")
-    parser.add_argument("--build", choices=BUILDS, default="thesis",
-                        help="thesis (400 x 300 buffers, D = 64; the default) or 800 (8-bit 800 x 600 buffers, "
-                             "D = 128, the frames and the depth maps in the DDR2: --memory ddr2 --maps store)")
+    add_build_argument(parser)
     parser.add_argument("--memory", choices=("bram", "ddr2"), default=None,
                         help="where the camera frames are: bram (block RAM, the thesis build's default) or ddr2 "
                              "(the frame store in the board's DDR2 behind MIG: adds the mem domain)")
