@@ -110,7 +110,7 @@ class BurstPacker(wiring.Component):
         row = Signal(range(height + 1))         # saturating at height: no row
         # column < width and row < height, registered where column and row change (both count up by one from 0
         # and stop at their limit, so the next value's comparison is the current value's with limit - 1).
-        column_in, row_in = Signal(init=1), Signal(init=1)
+        column_in, row_in = Signal(init=1, name="column_in"), Signal(init=1, name="row_in")
         last_column = Signal(init=width == 1)   # column == width - 1
         in_row = Signal()
         word_data = Signal(8 * WORD_BYTES)
@@ -127,8 +127,12 @@ class BurstPacker(wiring.Component):
         # write lands at the end of its clock), so the entry's data is the register itself (its unwritten bytes
         # masked), with no copy.
         filled = Signal()                       # the word register holds a word to send (registered)
-        full_row, full_word = Signal(range(height)), Signal(range(lay.bursts_per_row * MIG.BURST_LENGTH))
+        full_row = Signal(range(height), name="full_row")
+        full_word = Signal(range(lay.bursts_per_row * MIG.BURST_LENGTH), name="full_word")
         full_mask = Signal(WORD_BYTES)
+
+        def column_zero():                      # the column counter and its flags back at column 0
+            return [column.eq(0), column_in.eq(1), last_column.eq(width == 1)]
 
         def byte_mask(pixels):                  # a 1 per byte of a pixel not written
             return Cat(*(~pixels[i // lay.pixel_bytes] for i in range(WORD_BYTES)))
@@ -147,7 +151,7 @@ class BurstPacker(wiring.Component):
         with m.If(write.en & in_row & ~keep):   # a pixel beyond the width or a row beyond the height
             m.d.sync += lost.eq(1)
         with m.If(status.row_end & in_row):
-            m.d.sync += [in_row.eq(0), column.eq(0), column_in.eq(1), last_column.eq(width == 1)]
+            m.d.sync += [in_row.eq(0), *column_zero()]
             with m.If(Mux(keep, ~last_column, column_in)):    # column + keep != width: a short row (its last
                 m.d.sync += lost.eq(1)                          # word is sent, masked)
             with m.If(row_in):
@@ -156,10 +160,10 @@ class BurstPacker(wiring.Component):
                 m.d.sync += [filled.eq(1), full_row.eq(row), full_word.eq(column[in_word:]),
                              full_mask.eq(byte_mask(written)), written.eq(0)]
         with m.If(status.row_start):
-            m.d.sync += [in_row.eq(1), column.eq(0), column_in.eq(1), last_column.eq(width == 1), written.eq(0)]
+            m.d.sync += [in_row.eq(1), *column_zero(), written.eq(0)]
         with m.If(status.frame_start):
-            m.d.sync += [row.eq(0), row_in.eq(1), column.eq(0), column_in.eq(1), last_column.eq(width == 1),
-                         in_row.eq(0), written.eq(0), filled.eq(0), start_waiting.eq(1), lost.eq(0)]
+            m.d.sync += [row.eq(0), row_in.eq(1), *column_zero(), in_row.eq(0), written.eq(0), filled.eq(0),
+                         start_waiting.eq(1), lost.eq(0)]
             with m.If(end_waiting):             # the last frame's END not sent yet: its verdict keeps its losses
                 m.d.sync += end_ok.eq(end_ok & ~lost & ~filled)
         with m.If(status.frame_done):
