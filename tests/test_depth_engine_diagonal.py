@@ -2,18 +2,21 @@
 left, p' = (x + 1, y - 1): docs/depth.md, "Paths") against golden.depth.depth_map, bit for bit, on Amaranth's
 simulator at the small size (16 x 12 buffers, D = 8, 4 lanes).
 
-Each map is also checked to differ from the maps of three wrong diagonals, computed here from the golden model's
-steps: the line buffer read at word x (top to bottom but for the start at x = W - 1), the read at x = W - 1 not
-zeroed (word 0: where the address x + 1 = W wraps on this 16-word buffer) and the restart rule not applied. So an
-engine with one of those faults fails on these images. Two maps in the default run; the Verilog on Verilator and
-Icarus slow."""
+Each map is also checked to differ from the maps of wrong diagonals, computed here from the golden model's steps:
+the line buffer read at word x (top to bottom but for the start at x = W - 1), the read at x = W - 1 not zeroed
+(word 0: where the address x + 1 = W wraps on this 16-word buffer) and the restart rule not applied. The map with
+torn rows tells the first and the third apart, the map whose right edge decides the second and the first, so an
+engine with one of those faults fails. Two maps in the default run; the Verilog on Verilator and Icarus slow."""
 
 import dataclasses
 
 import numpy as np
 import pytest
+from amaranth.hdl import Fragment
 
 from golden.depth import depth_map, matching_cost, median3x3, path_cost, path_step, row_flags, winner
+from hdl.depth import DepthEngine, schedule
+from hdl.depth.engine import check_parameters
 from spec.depth import DIAGONAL_PATHS, PATH_STEPS, TWO_PATHS
 from tests.test_depth_engine import (BUSY, CFG, G, SHAPE, assert_same, engine_tags, random_pair, run_cocotb_depth,
                                      run_engine, steps)
@@ -45,7 +48,7 @@ def diagonal_map(left, right, config, row_tags, fault=None):
     return median3x3(raw)
 
 
-def check(left, right, *, tables=None, faults=("word_x", "no_zero", "no_restart"), **kwargs):
+def check(left, right, *, faults, tables=None, **kwargs):
     """One map of the diagonal engine: equal to the golden map (with the tags the engine sees), unlike the two-path
     map and unlike the map of each wrong diagonal in ``faults``; every pixel read once."""
     tags = None if tables is None else (engine_tags(tables[0]), engine_tags(tables[1]))
@@ -68,6 +71,16 @@ def test_the_model_of_the_faults():
     for row_tags in (None, tags):
         assert (diagonal_map(left, right, CFG_DIAGONAL, row_tags) == depth_map(left, right, CFG_DIAGONAL,
                                                                                 row_tags=row_tags)).all()
+
+
+def test_the_rtl_takes_the_pair():
+    """``DIAGONAL_PATHS`` elaborates, with the two-path schedule; the pair in the other order, or the other diagonal,
+    is refused by name (``check_parameters``: DepthEngine's check)."""
+    Fragment.get(DepthEngine(G, CFG_DIAGONAL), None)
+    assert schedule(G, CFG_DIAGONAL) == schedule(G, CFG)
+    for paths in (DIAGONAL_PATHS[::-1], ("left_to_right", "top_left_to_bottom_right")):
+        with pytest.raises(ValueError, match="or left_to_right, top_right_to_bottom_left only"):
+            check_parameters(G, dataclasses.replace(CFG, paths=paths))
 
 
 def test_diagonal_bit_exact_with_torn_rows():
@@ -97,9 +110,15 @@ def test_diagonal_right_edge():
 @pytest.mark.slow
 def test_diagonal_cocotb_small(simulator, tmp_path):
     """The diagonal engine's Verilog on Verilator and Icarus (cocotb): a random pair with 1 in 4 reads granted
-    and a tag change at rows 3 (left) and 4 (right), equal to the golden map."""
+    and a tag change at rows 3 (left) and 4 (right), equal to the golden map (which a diagonal read at word x or
+    without the restart would not give)."""
     left, right = random_pair(5)
     h = SHAPE[0]
+    tables = (steps(h, 3), steps(h, 4))
+    tags = (engine_tags(tables[0]), engine_tags(tables[1]))
+    expected = depth_map(left, right, CFG_DIAGONAL, row_tags=tags)
+    for fault in ("word_x", "no_restart"):
+        assert (expected != diagonal_map(left, right, CFG_DIAGONAL, tags, fault)).any(), fault
     outcome = run_cocotb_depth(left, right, G, CFG_DIAGONAL, simulator, tmp_path, grant_mask=0b101,
-                               tag_tables=(steps(h, 3), steps(h, 4)))
+                               tag_tables=tables)
     assert outcome["mismatches"] == 0
