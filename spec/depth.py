@@ -53,11 +53,6 @@ class DepthConfig:
             raise ValueError(f"paths must be distinct names of {', '.join(PATH_STEPS)}, not {self.paths!r}")
 
     @property
-    def median_lag(self):
-        """Rows the median's output trails its input: its window reaches ``median // 2`` rows below the row."""
-        return self.median // 2
-
-    @property
     def census_bits(self):
         """Bits of a census signature: one per window pixel except the centre; also the largest cost."""
         return self.census_width * self.census_height - 1

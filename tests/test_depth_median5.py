@@ -2,6 +2,7 @@
 """The separable 5 x 5 median (docs/depth.md, "median"): the golden model on hand-made arrays (the clamp at all
 four borders, invalid codes, where it differs from the full 5 x 5 median) and ``SeparableMedian5`` against it."""
 
+import dataclasses
 import itertools
 
 import numpy as np
@@ -24,8 +25,7 @@ def full_median5(codes):
 
 
 def test_config_median_is_validated():
-    assert DepthConfig().median == 3 and DepthConfig(median=5).median_lag == 2
-    assert DepthConfig().median_lag == 1
+    assert DepthConfig().median == 3 and DepthConfig(median=5).median == 5
     for bad in (1, 4, 7, "5"):
         with pytest.raises(ValueError, match="median must be 3"):
             DepthConfig(median=bad)
@@ -165,3 +165,53 @@ def test_median3x3_block_lag_and_latency():
     got, latencies = run_block(codes, Median3x3, gaps=[0])
     assert (got == median3x3(codes)).all()
     assert latencies == [Median3x3.LATENCY] * 4
+
+
+# --- the engine with the separable 5 x 5 median ------------------------------------------------------------------
+
+from tests.test_depth_engine import (BUSY, CFG, G, SHAPE, assert_same, engine_tags, random_pair,  # noqa: E402
+                                     run_engine, steps)
+from golden.depth import depth_map                                                                   # noqa: E402
+from hdl.depth.engine import schedule                                                                # noqa: E402
+
+CFG5 = dataclasses.replace(CFG, median=5)
+
+
+def test_engine_bit_exact():
+    """SMALL_DEPTH with ``median=5`` on the small preset (1 in 4 reads granted), every pixel read once: the map
+    equals ``golden.depth.depth_map``, which differs from the 3 x 3 median's; H + 2 passes; a reader that holds
+    back stops the engine after ``out_rows`` rows."""
+    left, right = random_pair(21)
+    codes, clocks, reads, held = run_engine(left, right, config=CFG5, grant_mask=0b11, hold_clocks=4000)
+    assert held == 4
+    expected = depth_map(left, right, CFG5)
+    assert_same(codes, expected)
+    assert (expected != depth_map(left, right, CFG)).any()
+    assert reads == (G.buf_depth, G.buf_depth)
+    assert clocks > (SHAPE[0] + 2) * schedule(G, CFG5).pass_clocks
+
+
+def test_engine_short_map_with_formal_invariants():
+    """A 2-row buffer: both finishing passes clamp rows at the top and the bottom of the image, the pass counter
+    counts to H + 2 = 4 once the map is done (a power of two: it must not wrap), and the engine's formal
+    invariants (``rows_ready_trails_pass``: rows_ready = y - 2) hold on every clock of the map and the reads after
+    it."""
+    geometry = SensorGeometry(width=G.width, height=2 * G.scale)
+    left, right = random_pair(5, (geometry.buf_height, geometry.buf_width))
+    codes, *_ = run_engine(left, right, geometry=geometry, config=CFG5, grant_mask=0b1, platform="formal")
+    assert_same(codes, depth_map(left, right, CFG5))
+
+
+def test_engine_tag_change_and_torn_row():
+    """A tag change at left row 5 and right row 7 and a torn right row 2 (busy at its sample): the invalid rows and
+    the median over them (two rows of each side of a row) bit for bit with the golden map."""
+    h = SHAPE[0]
+    left_table, right_table = steps(h, 5), steps(h, 7)
+    right_table[2] |= BUSY
+    left, right = random_pair(31)
+    tags = (engine_tags(left_table), engine_tags(right_table))
+    assert tags[1][2] is None
+    expected = depth_map(left, right, CFG5, row_tags=tags)
+    codes, _, reads, _ = run_engine(left, right, config=CFG5, grant_mask=0b101, tag_tables=(left_table, right_table))
+    assert_same(codes, expected)
+    assert (expected != CFG.invalid).any() and (expected == CFG.invalid).any()
