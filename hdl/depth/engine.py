@@ -109,8 +109,8 @@ def check_parameters(geometry, config, out_rows=4, tag_margin=8):
 
 
 class DepthEngine(wiring.Component):
-    """Census + semi-global matching on two paths (or three) + winner-take-all + 3 x 3 median (docs/depth.md),
-    computed row by row from the two frame buffers into a small ring of result rows.
+    """Census + semi-global matching on two paths (or three) + winner-take-all + median (``config.median``: 3 x 3,
+    or the separable 5 x 5: :func:`median_block`) (docs/depth.md), computed row by row from the two frame buffers into a small ring of result rows.
 
     With ``config.paths`` = ``THREE_PATHS`` each pass runs the row forward (left to right and top to bottom, their
     sum kept per pixel and disparity in :class:`hdl.depth.reverse_path.ReversePath`'s row store), then backward
@@ -166,9 +166,10 @@ class DepthEngine(wiring.Component):
     row_invalid, restart : Signal
         The running pass's row is invalid; its vertical path restarts (both valid from the pass's first census
         column on).
-    pass_row : Signal(range(height + 2))
-        The pass running or waiting to run (y): 0 .. height while a map runs (pass y writes row y - 1), height + 1
-        once it is done, 0 before the first.
+    pass_row : Signal(range(height + lag + 1))
+        The pass running or waiting to run (y): 0 .. height + lag - 1 while a map runs (pass y writes row y - lag,
+        lag the median's ``ROW_LAG``: 1 for the 3 x 3, 2 for the separable 5 x 5), height + lag once it is done, 0
+        before the first.
 
     Elaborated for the platform ``"formal"`` (sim/formal/runner.py), the engine and its row rings also assert
     their invariants (pass control, fetch, tag samples: docs/formal.md), in ``sync``; never in simulation or
@@ -191,7 +192,7 @@ class DepthEngine(wiring.Component):
     8 + g      paths: select L'; 9 + g: partial minimums; 10 + g: L
     11 + g     line buffer write (vertical L), winner sum, path minimum trees
     G + 12 + t winner folded (t = minimum-tree clocks), then F + 6 clocks of ``Subpixel`` to the code,
-    2 clocks to the median's end token, 12 in the median
+    2 clocks to the median's end token, ``LATENCY`` in the median (12 for the 3 x 3, 14 for the separable 5 x 5)
     ========== ==============================================================
 
     A row's first read is at the earliest 4 clocks after the previous row's last one; a pass waits for its rows'
