@@ -232,6 +232,7 @@ def test_map_time_at_800():
     assert check_map_rate(CEA_1080P60, SENSOR_800, five) == 3
 
 
+@pytest.mark.slow
 def test_three_path_engine_bit_exact():
     """The three-path engine (the row's codes replayed into the median after the backward pass) with ``median=5``:
     the replay's end token and the clock after it finish the row, before the drain ends."""
