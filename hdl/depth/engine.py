@@ -110,7 +110,8 @@ def check_parameters(geometry, config, out_rows=4, tag_margin=8):
 
 class DepthEngine(wiring.Component):
     """Census + semi-global matching on two paths (or three) + winner-take-all + median (``config.median``: 3 x 3,
-    or the separable 5 x 5: :func:`median_block`) (docs/depth.md), computed row by row from the two frame buffers into a small ring of result rows.
+    or the separable 5 x 5: :func:`median_block`) (docs/depth.md), computed row by row from the two frame buffers
+    into a small ring of result rows.
 
     With ``config.paths`` = ``THREE_PATHS`` each pass runs the row forward (left to right and top to bottom, their
     sum kept per pixel and disparity in :class:`hdl.depth.reverse_path.ReversePath`'s row store), then backward
