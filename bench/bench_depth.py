@@ -36,6 +36,7 @@ from golden.depth import depth_map
 from golden.software.sad import sad_disparity
 from golden.stereo_pair import load_default_pair
 from hdl.depth import schedule, tag_delay
+from hdl.depth.engine import median_block
 from spec.depth import DEPTH
 from spec.sensor import SENSOR
 from sim.analysis.truth import bad_pixel_rates, error_figures, motorcycle_truth, scene_truth
@@ -188,7 +189,8 @@ def main():
     left, right = motorcycle_buffers()
     t = min(_timed(lambda: depth_map(left, right, DEPTH)) for _ in range(3))
     plan = schedule(SENSOR, DEPTH)
-    per_map = 4 * SENSOR.buf_width + (SENSOR.buf_height + 1) * (plan.pass_clocks + 3) + tag_delay(DEPTH)
+    passes = SENSOR.buf_height + median_block(DEPTH).ROW_LAG
+    per_map = 4 * SENSOR.buf_width + passes * (plan.pass_clocks + 3) + tag_delay(DEPTH)
     lines = ["## Depth engine: the two builds", ""]
     lines += builds_section()
     lines += ["## Depth engine (census 7x7, SGM horizontal + vertical, P1 16, P2 96, WTA, equiangular 1/16 pixel, "

@@ -18,8 +18,10 @@ disparity in 1 / 2**F pixel (F = ``fraction_bits``), or ``config.invalid`` = D 2
    (:func:`subpixel`); invalid (code D 2**F) when that S is above ``max_cost``, d* = D - 1 (the match may
    lie beyond the search range), or 64 S* > ``uniqueness`` S2, S2 the best sum 2 or more disparities away
    (:func:`second_best`: the confidence).
-5. :func:`median3x3`: the 5th smallest of the 3 x 3 codes around each pixel, coordinates clamped; invalid sorts
-   above every disparity, so a pixel is invalid only where most of its neighbourhood is.
+5. :func:`median3x3` (``config.median`` = 3): the 5th smallest of the 3 x 3 codes around each pixel, coordinates
+   clamped; invalid sorts above every disparity, so a pixel is invalid only where most of its neighbourhood is.
+   :func:`separable_median5` (``median`` = 5): the median of the five column medians at x - 2 .. x + 2, each the
+   median of the five codes at rows y - 2 .. y + 2, coordinates clamped.
 
 :func:`depth_map` runs the whole chain. With ``row_tags`` (the frame tag of every row of each image, docs/depth.md,
 "Rows from different camera frames") it applies the two tag rules of :func:`row_flags`: rows whose census window
@@ -32,7 +34,7 @@ import numpy as np
 from spec.depth import DEPTH, PATH_STEPS
 
 __all__ = ["census", "matching_cost", "path_step", "path_cost", "subpixel", "second_best", "winner", "median3x3",
-           "row_flags", "depth_map", "DepthResult"]
+           "separable_median5", "median", "row_flags", "depth_map", "DepthResult"]
 
 
 def _check_pair(left, right, config):
@@ -179,6 +181,23 @@ def median3x3(codes):
     return np.sort(stack, axis=0)[4].astype(codes.dtype)
 
 
+def separable_median5(codes):
+    """The separable 5 x 5 median of every pixel: the median (3rd smallest) of the five column medians at columns
+    x - 2 .. x + 2, column x' 's the median of its five codes at rows y - 2 .. y + 2; rows and columns clamped at
+    the image border (the border pixel repeats; a clamped column's median is the border column's)."""
+    codes = np.asarray(codes)
+    h, w = codes.shape
+    rows = np.pad(codes, ((2, 2), (0, 0)), mode="edge")
+    columns = np.sort(np.stack([rows[dy:dy + h] for dy in range(5)]), axis=0)[2]
+    padded = np.pad(columns, ((0, 0), (2, 2)), mode="edge")
+    return np.sort(np.stack([padded[:, dx:dx + w] for dx in range(5)]), axis=0)[2].astype(codes.dtype)
+
+
+def median(codes, config=DEPTH):
+    """The median ``config.median`` selects: :func:`median3x3` (3) or :func:`separable_median5` (5)."""
+    return median3x3(codes) if config.median == 3 else separable_median5(codes)
+
+
 def _check_tags(tags, height, side):
     try:
         tags = list(tags)
@@ -254,7 +273,7 @@ def depth_map(left, right, config=DEPTH, *, details=False, row_tags=None):
             del paths[name]                             # the sum is all the winner needs
     raw, best = winner(total, config)
     raw[invalid_rows] = config.invalid
-    codes = median3x3(raw)
+    codes = median(raw, config)
     if details:
         return DepthResult(cost, paths, raw, best, codes, config, invalid_rows, restart_rows)
     return codes

@@ -13,6 +13,7 @@ from spec.sensor import SENSOR
 from hdl.depth.census import CensusWindow
 from hdl.depth.matching_cost import MatchingCost
 from hdl.depth.median import Median3x3
+from hdl.depth.median5 import SeparableMedian5
 from hdl.depth.ports import ResultReadSignature, RowTagReadSignature, SharedReadSignature, token_layout
 from hdl.depth.reverse_path import ReversePath
 from hdl.depth.row_ring import RowRing
@@ -20,7 +21,7 @@ from hdl.depth.sgm_path import SgmPath
 from hdl.depth.winner import Winner
 from hdl.reset_tree import add_reset_subtree
 
-__all__ = ["DepthEngine", "Schedule", "schedule", "tag_delay", "check_parameters"]
+__all__ = ["DepthEngine", "Schedule", "schedule", "tag_delay", "check_parameters", "median_block"]
 
 RING_ROWS = 8           # input ring slots per image: the 7 census rows and the one being fetched
 CENSUS_SHIFT = 1        # clock of a step at which the ring column enters the census windows
@@ -29,6 +30,13 @@ ISSUE_CLOCK = 4         # clock at which group 0 of the step's pixel enters the 
 VREAD_CLOCK = 4         # clock at which the vertical path's line buffer is read for the step's pixel
 PATH_CLOCK = ISSUE_CLOCK + 1 + MatchingCost.LATENCY     # clock at which group 0 enters the paths
 END_GAP = 2             # clocks between a row's last code and the median's end token
+
+
+def median_block(config):
+    """The median block of ``config.median``: :class:`Median3x3` (3) or :class:`SeparableMedian5` (5). Its
+    ``ROW_LAG`` is the rows a pass's output trails its input: pass y writes row y - ROW_LAG, and a map is
+    H + ROW_LAG passes."""
+    return Median3x3 if config.median == 3 else SeparableMedian5
 
 
 class Schedule(NamedTuple):
@@ -61,15 +69,16 @@ def schedule(geometry=SENSOR, config=DEPTH):
     step_clocks = max(SgmPath.loop_clocks(config), ISSUE_CLOCK + groups)
     steps = geometry.buf_width + 2 * (config.census_width // 2) + config.disparities - 1
     code_clock = PATH_CLOCK + SgmPath.LATENCY + groups - 1 + Winner.latency(config)
+    median = median_block(config)
     if config.paths != THREE_PATHS:
-        return Schedule(step_clocks, steps, code_clock + END_GAP + Median3x3.LATENCY + 2 - step_clocks)
+        return Schedule(step_clocks, steps, code_clock + END_GAP + median.LATENCY + 2 - step_clocks)
     # Backward steps: the census windows' lead only (left and right move together). The backward drain ends when
     # the row's last code (x = 0, written in the clock of the winner's ``valid``: step clock ``back_code_clock``
     # of the last step) is in the row of codes: the replay reads it in the next clock. The final drain: the
     # median's last output (``LATENCY`` clocks after the replay's end token, which is the clock before the drain)
     # is written in the drain's last clock, before the result ring moves on.
     back_code_clock = PATH_CLOCK + ReversePath.LATENCY + groups - 1 + Winner.latency(config)
-    return Schedule(step_clocks, steps, Median3x3.LATENCY - 1,
+    return Schedule(step_clocks, steps, median.LATENCY - 1,
                     back_steps=geometry.buf_width + 2 * (config.census_width // 2),
                     back_drain=back_code_clock - step_clocks, replay_clocks=2 * (geometry.buf_width + 1))
 
@@ -100,8 +109,9 @@ def check_parameters(geometry, config, out_rows=4, tag_margin=8):
 
 
 class DepthEngine(wiring.Component):
-    """Census + semi-global matching on two paths (or three) + winner-take-all + 3 x 3 median (docs/depth.md),
-    computed row by row from the two frame buffers into a small ring of result rows.
+    """Census + semi-global matching on two paths (or three) + winner-take-all + median (``config.median``: 3 x 3,
+    or the separable 5 x 5: :func:`median_block`) (docs/depth.md), computed row by row from the two frame buffers
+    into a small ring of result rows.
 
     With ``config.paths`` = ``DIAGONAL_PATHS`` the second path is the diagonal from the top right (p' = (x + 1,
     y - 1)) instead of top to bottom: the same line buffer, read at column x + 1, and L' = 0, M' = 0 at x = W - 1
@@ -161,9 +171,10 @@ class DepthEngine(wiring.Component):
     row_invalid, restart : Signal
         The running pass's row is invalid; its vertical path restarts (both valid from the pass's first census
         column on).
-    pass_row : Signal(range(height + 2))
-        The pass running or waiting to run (y): 0 .. height while a map runs (pass y writes row y - 1), height + 1
-        once it is done, 0 before the first.
+    pass_row : Signal(range(height + lag + 1))
+        The pass running or waiting to run (y): 0 .. height + lag - 1 while a map runs (pass y writes row y - lag,
+        lag the median's ``ROW_LAG``: 1 for the 3 x 3, 2 for the separable 5 x 5), height + lag once it is done, 0
+        before the first.
 
     Elaborated for the platform ``"formal"`` (sim/formal/runner.py), the engine and its row rings also assert
     their invariants (pass control, fetch, tag samples: docs/formal.md), in ``sync``; never in simulation or
@@ -186,7 +197,7 @@ class DepthEngine(wiring.Component):
     8 + g      paths: select L'; 9 + g: partial minimums; 10 + g: L
     11 + g     line buffer write (vertical L), winner sum, path minimum trees
     G + 12 + t winner folded (t = minimum-tree clocks), then F + 6 clocks of ``Subpixel`` to the code,
-    2 clocks to the median's end token, 12 in the median
+    2 clocks to the median's end token, ``LATENCY`` in the median (12 for the 3 x 3, 14 for the separable 5 x 5)
     ========== ==============================================================
 
     A row's first read is at the earliest 4 clocks after the previous row's last one; a pass waits for its rows'
@@ -218,7 +229,9 @@ class DepthEngine(wiring.Component):
             self.phase_count = Signal(range(max(self.back_drain, w) + 1))
             self.replay_odd, self.replaying = Signal(), Signal()
         self.row_invalid, self.restart = Signal(), Signal()
-        self.pass_row = Signal(range(h + 2), name="y")
+        self.median = median_block(config)
+        self.lag = self.median.ROW_LAG
+        self.pass_row = Signal(range(h + self.lag + 1), name="y")
         super().__init__({
             "start": In(1),
             "left_row_offset": In(range(-(h - 1), h)),
@@ -244,7 +257,7 @@ class DepthEngine(wiring.Component):
         wiring.connect(m, wiring.flipped(self.right_tags), right_ring.tags)
 
         # --- Pass control ---------------------------------------------------------------------------
-        y = self.pass_row                          # the pass running or waiting to run; h + 1 once the map is done
+        y = self.pass_row              # the pass running or waiting to run; h + lag once the map is done
         step = Signal(range(self.steps))
         clock = Signal(range(self.step_clocks))
         in_run = Signal()
@@ -253,13 +266,18 @@ class DepthEngine(wiring.Component):
 
         # Registered in two stages (rows only ever arrive and are only ever released, so a late value is a
         # safe one): a pass waits two clocks in SETTLE for them to see its y.
+        # ``before``: the pass's output row y - lag (none while ``no_row``).
         need, first, before = Signal.like(y), Signal(), Signal.like(y)
         room_limit = Signal(range(h + self.out_rows + 1))
-        m.d.sync += [need.eq(Mux(y + ry + 1 < h, y + ry + 1, h)), first.eq(y == 0), before.eq(y - 1),
+        m.d.sync += [need.eq(Mux(y + ry + 1 < h, y + ry + 1, h)), first.eq(y == 0), before.eq(y - self.lag),
                      room_limit.eq(self.result.rows_released + self.out_rows)]
+        no_row = first
+        if self.lag > 1:
+            no_row = Signal()
+            m.d.sync += no_row.eq(y < self.lag)
         can_start = Signal()
         m.d.sync += can_start.eq((left_ring.tagged >= need) & (right_ring.tagged >= need)
-                                 & (first | (before < room_limit)))
+                                 & (no_row | (before < room_limit)))
         # The census rows' ring slots, in two registered stages (y + j - ry, then clamped): y changes only in
         # DRAIN and the slots are read only in RUN, at least three clocks later. ``inner[j]``: census rows j - 1
         # and j are different image rows (the edge into row j is inside the window).
@@ -382,10 +400,10 @@ class DepthEngine(wiring.Component):
                 m.d.sync += drain.eq(drain + 1)
                 with m.If(drain == self.drain_clocks):
                     m.d.sync += y.eq(y + 1)
-                    with m.If(y != 0):
-                        m.d.sync += [self.result.rows_ready.eq(y),
+                    with m.If(self._has_row(y)):
+                        m.d.sync += [self.result.rows_ready.eq(y if self.lag == 1 else y - (self.lag - 1)),
                                      out_base.eq(Mux(out_base == (self.out_rows - 1) * w, 0, out_base + w))]
-                    with m.If(y == h):
+                    with m.If(y == h + self.lag - 1):
                         m.next = "IDLE"
                     with m.Else():
                         m.next = "SETTLE"
@@ -394,6 +412,10 @@ class DepthEngine(wiring.Component):
         with m.If(self.start):
             m.d.sync += [y.eq(0), self.result.rows_ready.eq(0), out_base.eq(0)]
         return fsm, drain
+
+    def _has_row(self, y):
+        """Pass ``y`` writes a row (y - lag): y >= lag."""
+        return (y != 0) if self.lag == 1 else (y >= self.lag)
 
     def _next_phase(self, m, step):
         """Three paths, at a step's last clock: after the forward steps the backward ones (docs/depth.md, scheme
@@ -438,14 +460,15 @@ class DepthEngine(wiring.Component):
         rows_needed = Mux(y + ry + 1 < h, y + ry + 1, h)            # rows up to min(y + ry, h - 1)
         rows_allowed = Mux(y + RING_ROWS - ry < h, y + RING_ROWS - ry, h)
         invariants = {
-            # The pass counter: 0 .. h while a map runs, h + 1 once it is done; rows_ready trails it by one.
-            "pass_in_map": Mux(fsm.ongoing("IDLE"), (y == 0) | (y == h + 1), y <= h),
-            "rows_ready_trails_pass": self.result.rows_ready == Mux(y == 0, 0, y - 1),
+            # The pass counter: 0 .. h + lag - 1 while a map runs, h + lag once it is done; rows_ready trails it by
+            # the median's row lag.
+            "pass_in_map": Mux(fsm.ongoing("IDLE"), (y == 0) | (y == h + self.lag), y <= h + self.lag - 1),
+            "rows_ready_trails_pass": self.result.rows_ready == Mux(self._has_row(y), y - self.lag, 0),
             "step_in_pass": ~fsm.ongoing("RUN") | ((step < self.steps) & (clock < self.step_clocks)),
             "drain_in_range": ~fsm.ongoing("DRAIN") | (drain <= self.drain_clocks),
             # SETTLE and SETTLE2 give the registers a clock each to see the pass's y.
             "admission_sees_pass": ~settled | ((need == rows_needed) & (first == (y == 0))
-                                               & (before == (y - 1)[:len(before)])),
+                                               & (before == (y - self.lag)[:len(before)])),
             # The fetch limit is registered from y: one clock late after a start, never ahead of the pass.
             "fetch_limit_of_pass": fsm.ongoing("SETTLE") | (limit <= rows_allowed),
         }
@@ -689,7 +712,7 @@ class DepthEngine(wiring.Component):
         """Winner, median, result ring."""
         cfg, g = self.config, self.geometry
         w = g.buf_width
-        median = add_reset_subtree(m, "median", Median3x3(cfg, g))
+        median = add_reset_subtree(m, "median", self.median(cfg, g))
         m.d.comb += median.y.eq(y)
         codes_write = None
         if self.three:
@@ -709,12 +732,12 @@ class DepthEngine(wiring.Component):
             ]
         m.submodules.results = results = Memory(shape=unsigned(cfg.code_bits), depth=self.out_rows * w, init=[])
         write, read = results.write_port(), results.read_port()
-        # Pass 0 has no output row: a median output then is the last of an abandoned map, still in the pipeline
-        # after ``start``, and is dropped (sim/formal/harnesses/depth.py).
+        # Passes 0 .. lag - 1 have no output row: a median output then is the last of an abandoned map, still in
+        # the pipeline after ``start``, and is dropped (sim/formal/harnesses/depth.py).
         m.d.comb += [
             write.addr.eq(out_base + median.out_x),
             write.data.eq(median.out_code),
-            write.en.eq(median.out_valid & (y != 0)),
+            write.en.eq(median.out_valid & self._has_row(y)),
             read.addr.eq(self.result.addr),
             self.result.data.eq(read.data),
         ]

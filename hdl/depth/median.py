@@ -46,6 +46,9 @@ class Median3x3(wiring.Component):
     Clock domain: ``sync``. Inputs at most every other clock.
     """
 
+    #: Rows the output trails the input.
+    ROW_LAG = 1
+    #: Clocks from an input (the end token too) to the output it completes.
     LATENCY = 12
 
     def __init__(self, config=DEPTH, geometry=SENSOR):

@@ -24,7 +24,7 @@ import dataclasses
 
 from amaranth import Mux, Signal
 
-from hdl.depth.engine import RING_ROWS, DepthEngine
+from hdl.depth.engine import RING_ROWS, DepthEngine, median_block
 from spec.depth import THREE_PATHS, DepthConfig
 from spec.sensor import SensorGeometry
 from sim.formal.runner import FormalHarness
@@ -184,16 +184,18 @@ class DepthEngineHarness(FormalHarness):
     def _results(self, m, y, median, write, census_shift, rows_released, rows_ready):
         g, cfg, n = self.geometry, self.config, self.out_rows
         w, h = g.buf_width, g.buf_height
-        row = y - 1                                     # the median's output row in pass y
-        self.prove(m, "rows_ready_counts_finished_passes", rows_ready == Mux(y == 0, 0, row))
-        self.prove(m, "result_written_only_in_passes_1_to_h", ~write.en | ((y >= 1) & (y <= h)))
+        lag = median_block(cfg).ROW_LAG
+        row = y - lag                                   # the median's output row in pass y
+        self.prove(m, "rows_ready_counts_finished_passes", rows_ready == Mux(y < lag, 0, row))
+        self.prove(m, "result_written_only_in_output_passes",
+                   ~write.en | ((y >= lag) & (y <= h + lag - 1)))
         self.prove(m, "result_write_in_ring", ~write.en | (write.addr < n * w))
         self.prove(m, "result_write_at_row_and_column",
                    ~write.en | (write.addr == (row % n) * w + median.out_x) & (median.out_x < w))
         # A pass starts only when the result ring has room for its output row (the reader has released the row
         # n rows before it); its census reads mark the pass running.
         self.prove(m, "pass_runs_only_with_room_for_its_row",
-                   ~census_shift | self._start | (y == 0) | (row < rows_released + n))
+                   ~census_shift | self._start | (y < lag) | (row < rows_released + n))
         self.cover(m, "result_ring_wraps", write.en & (row == n) & (median.out_x == w - 1))
         self.cover(m, "map_completes", rows_ready == h, bound=self.map_cover_bound)
 
@@ -221,6 +223,22 @@ class DepthMapHarness(DepthEngineHarness):
     def __init__(self, geometry=MAP_GEOMETRY, config=MAP_CONFIG, out_rows=MAP_OUT_ROWS):
         super().__init__(geometry, config, out_rows)
 
+
+#: The map harness's engine with the separable 5 x 5 median (``median=5``: pass y writes row y - 2) on a 2 x 2
+#: buffer: H + 2 = 4 passes (a power of two, as the 3 x 3 map harness's H + 1: the pass counter must not wrap once
+#: the map is done), both finishing passes clamping at the top and the bottom.
+MEDIAN5_MAP_GEOMETRY = SensorGeometry(width=8, height=8)
+MEDIAN5_MAP_CONFIG = dataclasses.replace(MAP_CONFIG, median=5)
+
+
+class DepthMedian5MapHarness(DepthMapHarness):
+    """:class:`DepthMapHarness` on the engine with the separable 5 x 5 median: the result ring's properties with
+    the median's row lag of 2 (two passes without an output row, two finishing passes) and the invalid row's
+    codes."""
+    name = "depth_median5_map"
+
+    def __init__(self, geometry=MEDIAN5_MAP_GEOMETRY, config=MEDIAN5_MAP_CONFIG, out_rows=MAP_OUT_ROWS):
+        super().__init__(geometry, config, out_rows)
 
 
 #: The three-path engines (docs/depth.md, "The third path in the RTL"): those of :class:`DepthEngineHarness` and
@@ -280,7 +298,8 @@ class DepthThreeMapHarness(DepthMapHarness):
         n = self.out_rows
         # ResultReadSignature: row r is written only once the reader's rows_released > r - n (a start abandons
         # the map: the reader's count may still be the last map's in its clock).
-        self.prove(m, "result_written_only_where_released", ~write.en | self._start | (y - 1 < rows_released + n))
+        lag = median_block(self.config).ROW_LAG
+        self.prove(m, "result_written_only_where_released", ~write.en | self._start | (y - lag < rows_released + n))
         self.cover(m, "replay_reaches_the_median", median.valid & (y == 0), bound=REPLAY_COVER_BOUND)
         self._replay(m, median)
 
