@@ -102,10 +102,6 @@ def check_parameters(geometry, config, out_rows=4, tag_margin=8):
     if config.paths not in (TWO_PATHS, THREE_PATHS, DIAGONAL_PATHS):
         raise ValueError(f"the RTL aggregates {', '.join(TWO_PATHS)} (and {THREE_PATHS[-1]}), or "
                          f"{', '.join(DIAGONAL_PATHS)} only, not {', '.join(config.paths)}")
-    if config.median // 2 > config.census_height // 2:
-        raise ValueError(f"the {config.median} x {config.median} median reaches {config.median // 2} rows, more "
-                         f"than the census window's {config.census_height // 2}: a tag change's invalid rows would "
-                         f"not cover it")
     if out_rows < 2:
         raise ValueError(f"out_rows must be at least 2, not {out_rows}")
     if tag_margin < 2:
@@ -114,8 +110,8 @@ def check_parameters(geometry, config, out_rows=4, tag_margin=8):
 
 class DepthEngine(wiring.Component):
     """Census + semi-global matching on two paths (or three) + winner-take-all + median (``config.median``: 3 x 3,
-    or the separable 5 x 5 or 7 x 7: :func:`median_block`) (docs/depth.md), computed row by row from the two frame buffers
-    into a small ring of result rows.
+    or the separable 5 x 5 or 7 x 7: :func:`median_block`) (docs/depth.md), computed row by row from the two frame
+    buffers into a small ring of result rows.
 
     With ``config.paths`` = ``DIAGONAL_PATHS`` the second path is the diagonal from the top right (p' = (x + 1,
     y - 1)) instead of top to bottom: the same line buffer, read at column x + 1, and L' = 0, M' = 0 at x = W - 1
@@ -177,8 +173,8 @@ class DepthEngine(wiring.Component):
         column on).
     pass_row : Signal(range(height + lag + 1))
         The pass running or waiting to run (y): 0 .. height + lag - 1 while a map runs (pass y writes row y - lag,
-        lag the median's ``ROW_LAG``: 1 for the 3 x 3, 2 for the separable 5 x 5, 3 for the 7 x 7), height + lag once it is done, 0
-        before the first.
+        lag the median's ``ROW_LAG``: 1 for the 3 x 3, 2 for the separable 5 x 5, 3 for the 7 x 7), height + lag
+        once it is done, 0 before the first.
 
     Elaborated for the platform ``"formal"`` (sim/formal/runner.py), the engine and its row rings also assert
     their invariants (pass control, fetch, tag samples: docs/formal.md), in ``sync``; never in simulation or
@@ -213,8 +209,7 @@ class DepthEngine(wiring.Component):
     ValueError
         If ``lanes`` does not divide D, D is more than the width, the census window is not odd, the paths are not
         ``spec.depth.TWO_PATHS``, ``THREE_PATHS`` or ``DIAGONAL_PATHS`` (the golden model's other path sets have no
-        RTL), the median reaches more rows than the census window (``median // 2 > census_height // 2``:
-        docs/depth.md, "Rows from different camera frames"), or ``tag_margin`` is less than 2.
+        RTL), or ``tag_margin`` is less than 2.
     """
 
     def __init__(self, geometry=SENSOR, config=DEPTH, *, out_rows=4, tag_margin=8):
