@@ -155,3 +155,19 @@ def test_engine_tag_change_and_torn_row():
     assert (expected != depth_map(left, right, dataclasses.replace(CFG7, median_valid=False), row_tags=tags)).any()
     assert reads == (G.buf_depth, G.buf_depth)
     assert clocks > (h + 3) * schedule(G, CFG7).pass_clocks
+
+
+def test_map_time_at_800():
+    """The 800 x 600 build with the separable 7 x 7 median over the valid codes: a pass 5 clocks longer than with
+    the plain 5 x 5 (19 clocks from the end token to the last output against 14), one pass more (H + 3), still a
+    map in 3 display frames of 1080p60."""
+    from hdl.stereo_display import check_map_rate, map_clocks
+    from spec.depth import DEPTH_800
+    from spec.sensor import SENSOR_800
+    from spec.video import CEA_1080P60
+    five, seven = (dataclasses.replace(DEPTH_800, median=n, median_valid=n == 7) for n in (5, 7))
+    p5, p7 = schedule(SENSOR_800, five).pass_clocks, schedule(SENSOR_800, seven).pass_clocks
+    assert p7 == p5 + 5
+    h = SENSOR_800.buf_height
+    assert map_clocks(SENSOR_800, seven) - map_clocks(SENSOR_800, five) == (h + 3) * (p7 + 3) - (h + 2) * (p5 + 3)
+    assert check_map_rate(CEA_1080P60, SENSOR_800, seven) == 3
