@@ -171,3 +171,16 @@ def test_map_time_at_800():
     h = SENSOR_800.buf_height
     assert map_clocks(SENSOR_800, seven) - map_clocks(SENSOR_800, five) == (h + 3) * (p7 + 3) - (h + 2) * (p5 + 3)
     assert check_map_rate(CEA_1080P60, SENSOR_800, seven) == 3
+
+
+@pytest.mark.slow
+def test_three_path_engine_bit_exact():
+    """The three-path engine (the row's codes replayed into the median after the backward pass) with
+    ``median=7, median_valid=True``: the replay's end token and the two clocks after it finish the row, before the
+    drain ends."""
+    from spec.depth import THREE_PATHS
+    config = dataclasses.replace(CFG7, paths=THREE_PATHS, max_cost=CFG.max_cost * 3 // 2)
+    geometry = SensorGeometry(width=G.width, height=7 * G.scale)
+    left, right = random_pair(43, (geometry.buf_height, geometry.buf_width))
+    codes, *_ = run_engine(left, right, geometry=geometry, config=config, grant_mask=0b1, platform="formal")
+    assert_same(codes, depth_map(left, right, config))
