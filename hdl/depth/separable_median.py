@@ -41,7 +41,6 @@ def _median(m, values, v, x, name, valid_only, invalid):
     shape = data.ArrayLayout(len(values[0]), k)
     c = Signal(shape, name=f"{name}_in")
     m.d.comb += [c[i].eq(value) for i, value in enumerate(values)]
-    count = None
     if valid_only:
         count = Signal(range(k + 1), name=f"{name}_count", reset_less=True)
         m.d.sync += count.eq(sum(value != invalid for value in values))
