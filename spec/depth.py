@@ -4,7 +4,7 @@ from dataclasses import dataclass, replace
 
 from spec.sensor import SENSOR, SENSOR_800
 
-__all__ = ["PATH_STEPS", "TWO_PATHS", "THREE_PATHS", "DepthConfig", "DEPTH", "DEPTH_800", "DEPTH_800_THREE", "SMALL_DEPTH",
+__all__ = ["PATH_STEPS", "TWO_PATHS", "DIAGONAL_PATHS", "THREE_PATHS", "DepthConfig", "DEPTH", "DEPTH_800", "DEPTH_800_THREE", "SMALL_DEPTH",
            "SMALL_DEPTH_800"]
 
 #: The aggregation paths (docs/depth.md, "Paths"): for each, the step (dx, dy) from a pixel p to the previous
@@ -18,6 +18,9 @@ PATH_STEPS = {
 }
 #: The board's engine today.
 TWO_PATHS = ("left_to_right", "top_to_bottom")
+#: Two paths with the diagonal from the top right as the second (docs/depth.md, "Cheap levers at 800 x 600"): the
+#: RTL's vertical line buffer read at the column to the right (p' = (x + 1, y - 1)).
+DIAGONAL_PATHS = ("left_to_right", "top_right_to_bottom_left")
 #: The 800 x 600 build's paths: + right to left along the row.
 THREE_PATHS = TWO_PATHS + ("right_to_left",)
 
@@ -28,11 +31,12 @@ class DepthConfig:
     grey difference min(|dI|, ``ad_clip``) >> ``ad_shift`` when ``ad_clip`` > 0: AD-census), semi-global
     aggregation on ``paths``, winner-take-all, sub-pixel fit, validity rule and 3 x 3 median (docs/depth.md).
     The widths follow from them (``cost_max`` on): no stage can overflow. ``ValueError`` for paths or AD
-    parameters outside their ranges. Codes count 1 / 2**fraction_bits pixel; ``invalid`` is D in those steps. ``pixel_bits`` is the
-    width of the grey values the engine reads (the capture's ``grey_bits``).
+    parameters outside their ranges. Codes count 1 / 2**fraction_bits pixel; ``invalid`` is D in those steps.
+    ``pixel_bits`` is the width of the grey values the engine reads (the capture's ``grey_bits``).
 
     ``lanes`` disparities are computed per clock (the RTL's parallelism); it does not change the result. The RTL
-    (hdl/depth/) computes ``TWO_PATHS`` and ``THREE_PATHS``; the golden model any set of ``PATH_STEPS``.
+    (hdl/depth/) computes ``TWO_PATHS``, ``DIAGONAL_PATHS`` and ``THREE_PATHS``; the golden model any set of
+    ``PATH_STEPS``.
     """
     disparities: int = 64       # D: candidates 0..D-1 (right image = reference, match left(x + d, y))
     census_width: int = 7       # census window, odd x odd, centred

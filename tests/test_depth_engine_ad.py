@@ -2,7 +2,8 @@
 """The depth engine with the AD-census cost (docs/depth.md, "cost": the census Hamming distance plus
 min(|I_R - I_L|, ad_clip) >> ad_shift) against golden.depth.depth_map, bit for bit, on Amaranth's simulator at the
 small size (16 x 12 buffers of 8-bit grey, D = 8, 4 lanes). Each map is also checked to differ from the census-only
-map, so an engine that dropped the AD term would fail. The two-path map in the default run, three paths slow."""
+map, so an engine that dropped the AD term would fail. The two-path map in the default run, the diagonal and three
+paths slow."""
 
 import dataclasses
 
@@ -11,7 +12,7 @@ import pytest
 
 from golden.depth import depth_map, matching_cost
 from hdl.depth import DepthEngine
-from spec.depth import THREE_PATHS
+from spec.depth import DIAGONAL_PATHS, THREE_PATHS
 from tests.test_depth_engine import CFG, G, SHAPE, assert_same, run_engine
 
 G8 = dataclasses.replace(G, grey_bits=8)
@@ -55,3 +56,10 @@ def test_ad_census_three_paths_bit_exact():
     """Three paths (the candidates' greys from the census shift register, forward and backward), ad_clip 24 >> 2."""
     config = dataclasses.replace(AD, paths=THREE_PATHS, max_cost=AD.max_cost * 3 // 2, ad_clip=24, ad_shift=2)
     check(*low_contrast_pair(2), config)
+
+
+@pytest.mark.slow
+def test_ad_census_diagonal_bit_exact():
+    """The diagonal as the second path (``DIAGONAL_PATHS``) with AD-census 16 >> 1 and ``max_cost`` 136: the
+    package of docs/depth.md's "What to build" at the small size."""
+    check(*low_contrast_pair(3), dataclasses.replace(AD, paths=DIAGONAL_PATHS, max_cost=136), grant_mask=0b1)

@@ -8,7 +8,7 @@ from amaranth.lib import data, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
-from spec.depth import DEPTH, THREE_PATHS, TWO_PATHS
+from spec.depth import DEPTH, DIAGONAL_PATHS, THREE_PATHS, TWO_PATHS
 from spec.sensor import SENSOR
 from hdl.depth.census import CensusWindow
 from hdl.depth.matching_cost import MatchingCost
@@ -90,9 +90,9 @@ def check_parameters(geometry, config, out_rows=4, tag_margin=8):
     if (config.census_width % 2 == 0 or config.census_height % 2 == 0
             or config.census_height > RING_ROWS - 1):
         raise ValueError(f"the census window must be odd x odd and at most {RING_ROWS - 1} rows high")
-    if config.paths not in (TWO_PATHS, THREE_PATHS):
-        raise ValueError(f"the RTL aggregates {', '.join(TWO_PATHS)} (and {THREE_PATHS[-1]}) only, "
-                         f"not {', '.join(config.paths)}")
+    if config.paths not in (TWO_PATHS, THREE_PATHS, DIAGONAL_PATHS):
+        raise ValueError(f"the RTL aggregates {', '.join(TWO_PATHS)} (and {THREE_PATHS[-1]}), or "
+                         f"{', '.join(DIAGONAL_PATHS)} only, not {', '.join(config.paths)}")
     if out_rows < 2:
         raise ValueError(f"out_rows must be at least 2, not {out_rows}")
     if tag_margin < 2:
@@ -105,6 +105,10 @@ def check_parameters(geometry, config, out_rows=4, tag_margin=8):
 class DepthEngine(wiring.Component):
     """Census + semi-global matching on two paths (or three) + winner-take-all + 3 x 3 median (docs/depth.md),
     computed row by row from the two frame buffers into a small ring of result rows.
+
+    With ``config.paths`` = ``DIAGONAL_PATHS`` the second path is the diagonal from the top right (p' = (x + 1,
+    y - 1)) instead of top to bottom: the same line buffer, read at column x + 1, and L' = 0, M' = 0 at x = W - 1
+    (where p' leaves the image, as at a restart); the schedule is the two-path one.
 
     With ``config.paths`` = ``THREE_PATHS`` each pass runs the row forward (left to right and top to bottom, their
     sum kept per pixel and disparity in :class:`hdl.depth.reverse_path.ReversePath`'s row store), then backward
@@ -178,7 +182,7 @@ class DepthEngine(wiring.Component):
     1          column -> census windows
     2          census signatures registered
     3          three paths: left census shift register shifts
-    4          vertical line buffer read (pixel x)
+    4          vertical line buffer read (pixel x: word x; the diagonal: word x + 1)
     4 + g      group g: the lanes' left signatures, with the AD term their grey values (two paths: the
                candidates' chain advances; three: selected from the shift register)
     5 + g      cost: XOR, count 6-bit chunks, grey difference (3 clocks)
@@ -195,9 +199,9 @@ class DepthEngine(wiring.Component):
     ------
     ValueError
         If ``lanes`` does not divide D, D is more than the width, the census window is not odd, the paths are not
-        ``spec.depth.TWO_PATHS`` or ``THREE_PATHS`` (the golden model's diagonals have no RTL), ``tag_margin``
-        is less than 2, or the AD term is on (``ad_clip`` > 0) with ``pixel_bits`` other than the buffers'
-        ``grey_bits``.
+        ``spec.depth.TWO_PATHS``, ``THREE_PATHS`` or ``DIAGONAL_PATHS`` (the golden model's other path sets have no
+        RTL), ``tag_margin`` is less than 2, or the AD term is on (``ad_clip`` > 0) with ``pixel_bits`` other than
+        the buffers' ``grey_bits``.
     """
 
     def __init__(self, geometry=SENSOR, config=DEPTH, *, out_rows=4, tag_margin=8):
@@ -698,13 +702,21 @@ class DepthEngine(wiring.Component):
         min_read, min_write = minimums.read_port(), minimums.write_port()
         x = step - self.lead
         read_x = Mux((x >= 0) & (x < w), x, 0)
+        fresh = restart                         # L' = 0, M' = 0: the path starts at this pixel
+        if cfg.paths == DIAGONAL_PATHS:
+            # p' = (x + 1, y - 1): row y - 1's word x + 1, read in pixel x's step (x + lead) at VREAD_CLOCK. Row y
+            # overwrites that word with pixel x + 1's L and M only, from clock PATH_CLOCK + SgmPath.LATENCY of
+            # the next step on (its groups issue in step x + 1 + lead): after this read. At x = W - 1 p' is
+            # outside the image: the path starts there.
+            read_x = Mux((x >= 0) & (x < w - 1), x + 1, 0)
+            fresh = restart | (x == w - 1)
         for port in rows_reads + [min_read]:
             m.d.comb += [port.addr.eq(read_x), port.en.eq(clock == VREAD_CLOCK)]
         prev = Signal.like(vertical.prev, reset_less=True)     # datapath: written before it is read
         m.d.comb += vertical.prev.eq(prev)
         with m.If(clock == VREAD_CLOCK + 1):
-            m.d.sync += [prev.eq(Mux(restart, 0, Cat(*(r.data for r in rows_reads)))),
-                         vertical.prev_min.eq(Mux(restart, 0, min_read.data))]
+            m.d.sync += [prev.eq(Mux(fresh, 0, Cat(*(r.data for r in rows_reads)))),
+                         vertical.prev_min.eq(Mux(fresh, 0, min_read.data))]
         lt = vertical.l_token
         for gi, write in enumerate(rows_writes):
             m.d.comb += [write.addr.eq(lt.x), write.data.eq(vertical.l.as_value()),
