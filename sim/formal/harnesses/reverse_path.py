@@ -5,8 +5,8 @@ store is addressed inside itself at the word of the pixel and group.
 The environment is free inside the block's interface contract (its docstring's Ports): tokens in the row (x < W,
 group < G), a pixel's groups in consecutive clocks from group 0 with ``last`` on the last, costs at most
 ``cost_max`` (census distance + AD term), carries at most ``other_paths`` x (``cost_max`` + P2), the stored carry
-read at least a clock after its write, pixels at least ``loop_clocks`` apart (the path's banks hold the previous pixel's vector whole only then, and the
-sums' bounds need that vector to be the one its minimum M' is of). The pixels' order, ``first`` (the block ignores
+read at least a clock after its write, pixels at least ``loop_clocks`` apart (the path's banks hold the previous
+pixel's vector whole only then, and the sums' bounds need that vector to be the one its minimum M' is of). The pixels' order, ``first`` (the block ignores
 it) and the values on clocks without ``go`` are free.
 
 D = 6 with 2 lanes: 3 groups behind a 2-bit group field (so the contract matters); W = 7: the row store's 21 words
