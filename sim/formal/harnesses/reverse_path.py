@@ -6,8 +6,8 @@ The environment is free inside the block's interface contract (its docstring's P
 group < G), a pixel's groups in consecutive clocks from group 0 with ``last`` on the last, costs at most
 ``cost_max`` (census distance + AD term), carries at most ``other_paths`` x (``cost_max`` + P2), the stored carry
 read at least a clock after its write, pixels at least ``loop_clocks`` apart (the path's banks hold the previous
-pixel's vector whole only then, and the sums' bounds need that vector to be the one its minimum M' is of). The pixels' order, ``first`` (the block ignores
-it) and the values on clocks without ``go`` are free.
+pixel's vector whole only then, and the sums' bounds need that vector to be the one its minimum M' is of). The
+pixels' order, ``first`` (the block ignores it) and the values on clocks without ``go`` are free.
 
 D = 6 with 2 lanes: 3 groups behind a 2-bit group field (so the contract matters); W = 7: the row store's 21 words
 behind a 5-bit address; a 3 x 3 census (N = 8), P1 = 2, P2 = 5: L at most 13 in 4 bits, the carry at most 26 in 5,
