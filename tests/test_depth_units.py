@@ -79,7 +79,7 @@ def cost_rule(cfg, right, left, inside, right_grey=0, left_grey=0):
 
 
 @pytest.mark.parametrize("cfg", [SMALL_DEPTH, DEPTH] + AD_CONFIGS)
-@settings(max_examples=4, deadline=None)
+@settings(max_examples=3, deadline=None)
 @given(data=st.data())
 def test_matching_cost(cfg, data):
     """The cost block against the rule, with and without the AD term; grey differences drawn around the clip
