@@ -114,9 +114,22 @@ def grey_steps(right, path):
     return np.where(prev < 0, 0, np.abs(image - prev))
 
 
-def aggregate(cost, path, p1, p2):
+def stored_row(above, p2, shift):
+    """What a line buffer holding l = min(L - M, P2) keeps of the row above (``shift`` None: L itself, the
+    engine's store; 0: l, 7 bits for P2 = 96, which gives the recursion exactly what L does; s > 0: l rounded to
+    a multiple of 2^s, half up, ``(min(l, P2) + 2^(s - 1)) >> s`` stored: 5 bits for s = 2, 4 bits for s = 3)."""
+    if shift is None:
+        return above
+    low = np.minimum(above - above.min(axis=0), p2)
+    if shift:
+        low = ((low + (1 << (shift - 1))) >> shift) << shift
+    return low
+
+
+def aggregate(cost, path, p1, p2, store=None):
     """The golden recursion along ``path`` with a per-pixel P2 (``p2``: an int or an (H, W) array: the penalty of
-    the step into each pixel)."""
+    the step into each pixel); ``store``: the line buffer's form of the row above for the paths that step down a
+    row (:func:`stored_row`; needs an int ``p2``)."""
     dx, dy = PATH_STEPS[path]
     cost = np.asarray(cost, dtype=np.int32)
     p2 = np.broadcast_to(np.asarray(p2, dtype=np.int32), cost.shape[1:])
@@ -138,6 +151,7 @@ def aggregate(cost, path, p1, p2):
     above = np.zeros(cost[:, 0, :].shape, dtype=np.int32)
     for y in range(cost.shape[1]):
         prev = np.zeros_like(above)
+        above = stored_row(above, int(p2[0, 0]), store) if y else above
         if dx == 0:
             prev[:] = above
         elif dx < 0:
@@ -155,6 +169,29 @@ def p2_steps(g, p1, p2, t1, t2):
 
 def p2_paper(g, p1, p2, s):
     return np.maximum(p2 * s // (s + g), p1 + 1)
+
+
+def box_mean(image):
+    """The 3 x 3 mean of every pixel (floor of the sum / 9), coordinates clamped."""
+    return _box_sum(image, 1, 1) // 9
+
+
+def median_of_columns_valid(codes, height, width, invalid):
+    """:func:`median_of_columns` with the invalid code ignored unless most of a column (then of the row of column
+    medians) is invalid: the median of n valid codes is the ((n - 1) // 2)-th smallest, where the plain median
+    takes the (k // 2)-th of all k, the invalid code sorted last, which for n = k // 2 + 1 .. k - 1 valid codes
+    is above their median (their largest for n = k // 2 + 1)."""
+    codes = np.asarray(codes)
+    h, w = codes.shape
+
+    def middle(stack):
+        k = stack.shape[0]
+        n = np.sum(stack != invalid, axis=0)
+        index = np.where(n > k // 2, (n - 1) // 2, k // 2)
+        return np.take_along_axis(np.sort(stack, axis=0), index[None], axis=0)[0]
+
+    columns = middle(_stack(codes, height // 2, 0))
+    return middle(_stack(columns, 0, width // 2)).astype(codes.dtype)
 
 
 def median5x5(codes):
@@ -188,13 +225,18 @@ def median_of_columns(codes, height, width):
 @dataclasses.dataclass(frozen=True)
 class Lever:
     """One change of the pipeline: ``signature`` (image -> (uint64 signatures, bits)), ``ad`` (clip, shift) or
-    None, ``p2_rule`` (grey steps -> P2 per pixel) or None, ``median``, ``config`` changes."""
+    None, ``p2_rule`` (grey steps -> P2 per pixel) or None, ``median``, ``config`` changes, ``store`` (the line
+    buffer's form of the row above: :func:`stored_row`), ``ad_mean`` (the AD term on the 3 x 3 means),
+    ``weights`` (one integer a path of ``paths``: S = the weighted sum) or None (all 1)."""
     name: str
     signature: object = None
     ad: tuple = None
     p2_rule: object = None
     median: object = median3x3
     changes: tuple = ()
+    store: int = None
+    ad_mean: bool = False
+    weights: tuple = None
 
 
 def levers():
@@ -260,7 +302,60 @@ def levers():
                   changes=trbl),
             Lever("combined: AD-census 16 >> 1 + census 13 x 7 + separable 5 x 5 median + diagonal path",
                   signature=sparse, ad=(16, 1), median=sep5, changes=trbl)]
-    return out
+    return out + package_levers()
+
+
+#: The package being built (docs/depth.md, "What to build"): AD-census 16 >> 1, the separable 5 x 5 median, the
+#: second path from the top right, max_cost 136 (60 a path + the AD term's 8).
+PACKAGE = "package: AD-census 16 >> 1 + separable 5 x 5 median + diagonal path, max_cost 136"
+
+
+def package_levers():
+    """Levers on top of the package (its own row first: their base)."""
+    sep5 = lambda c: median_of_columns(c, 5, 5)        # noqa: E731
+    base = dict(ad=(16, 1), median=sep5)
+    two = ("left_to_right", "top_right_to_bottom_left")
+    per_path = (BASE.max_cost // len(BASE.paths)) + (16 >> 1)      # 68: 60 a path + the AD term's 8
+
+    def paths(*names):
+        return (("paths", names), ("max_cost", per_path * len(names)))
+
+    invalid = BASE.invalid
+    return [
+        Lever(PACKAGE, **base, changes=paths(*two)),
+        Lever("package + line buffer l = min(L - M, P2), 7 bits (exact: must equal the package)", **base,
+              changes=paths(*two), store=0),
+        Lever("package + line buffer l rounded to 5 bits (s = 2)", **base, changes=paths(*two), store=2),
+        Lever("package + line buffer l rounded to 4 bits (s = 3)", **base, changes=paths(*two), store=3),
+        Lever("package + third forward path top to bottom, max_cost 204", **base,
+              changes=paths("left_to_right", "top_to_bottom", "top_right_to_bottom_left")),
+        Lever("package + third forward path top left to bottom right, max_cost 204", **base,
+              changes=paths("left_to_right", "top_left_to_bottom_right", "top_right_to_bottom_left")),
+        Lever("package + third forward path top to bottom, line buffers 5 bits (s = 2), max_cost 204", **base,
+              changes=paths("left_to_right", "top_to_bottom", "top_right_to_bottom_left"), store=2),
+        Lever("package + third forward path top to bottom, line buffers 4 bits (s = 3), max_cost 204", **base,
+              changes=paths("left_to_right", "top_to_bottom", "top_right_to_bottom_left"), store=3),
+        Lever("package + third path right to left (backward: beyond the budget, for reference), max_cost 204",
+              **base, changes=paths("left_to_right", "top_right_to_bottom_left", "right_to_left")),
+        Lever("package + invalid-aware separable median", ad=(16, 1), changes=paths(*two),
+              median=lambda c: median_of_columns_valid(c, 5, 5, invalid)),
+        Lever("package + AD term on the 3 x 3 means", **base, changes=paths(*two), ad_mean=True),
+        Lever("package + P1 12", **base, changes=paths(*two) + (("p1", 12),)),
+        Lever("package + P1 20", **base, changes=paths(*two) + (("p1", 20),)),
+        Lever("package + P2 128", **base, changes=paths(*two) + (("p2", 128),)),
+        Lever("package + P1 / P2 scaled with the cost range (56 / 48): 19 / 112", **base,
+              changes=paths(*two) + (("p1", 19), ("p2", 112))),
+        Lever("package + separable 7 x 7 median", ad=(16, 1), median=lambda c: median_of_columns(c, 7, 7),
+              changes=paths(*two)),
+        Lever("package + invalid-aware separable 7 x 7 median", ad=(16, 1), changes=paths(*two),
+              median=lambda c: median_of_columns_valid(c, 7, 7, invalid)),
+        Lever("package + separable 9 x 9 median (where the median's gain ends)", ad=(16, 1),
+              median=lambda c: median_of_columns(c, 9, 9), changes=paths(*two)),
+        Lever("package + the diagonal weighted 2 (S = L_lr + 2 L_diagonal), max_cost 204", **base,
+              changes=(("paths", two), ("max_cost", 3 * per_path)), weights=(1, 2)),
+        Lever("package + census 9 x 7 (62 bits), max_cost off", **base,
+              changes=(("paths", two), ("census_width", 9), ("max_cost", 1 << 10))),
+    ]
 
 
 def run(lever, left, right, config=BASE):
@@ -270,11 +365,14 @@ def run(lever, left, right, config=BASE):
     (cl, bits), (cr, _) = signature(left), signature(right)
     cost = hamming_cost(cl, cr, bits, config.disparities)
     if lever.ad:
-        cost += ad_term(left, right, config.disparities, *lever.ad)
+        grey = (box_mean(left), box_mean(right)) if lever.ad_mean else (left, right)
+        cost += ad_term(*grey, config.disparities, *lever.ad)
     total = None
-    for path in config.paths:
+    for k, path in enumerate(config.paths):
         pen = config.p2 if lever.p2_rule is None else lever.p2_rule(grey_steps(right, path))
-        lpath = aggregate(cost, path, config.p1, pen)
+        lpath = aggregate(cost, path, config.p1, pen, store=lever.store)
+        if lever.weights:
+            lpath *= lever.weights[k]
         total = lpath if total is None else total + lpath
     raw, _ = winner(total, dataclasses.replace(config, p2=config.p2 + int(cost.max()) - config.census_bits))
     return lever.median(raw)
@@ -321,6 +419,9 @@ def main(argv=None):
             codes = run(lever, left, right)
             if lever is chosen[0] and not np.array_equal(codes, depth_map(left, right, BASE)):
                 raise SystemExit(f"the probe's pipeline differs from golden.depth.depth_map on {pair_name}")
+            if lever.store == 0 and not np.array_equal(codes, run(dataclasses.replace(lever, store=None), left,
+                                                                      right)):
+                raise SystemExit(f"the 7-bit line buffer (l = min(L - M, P2)) changes the map of {pair_name}")
             disparity = codes.astype(np.float64) / BASE.fraction * build.to_400
             results[lever.name].append(error_figures(disparity, codes != BASE.invalid, truth))
     names = [p[0] for p in build_pairs]
