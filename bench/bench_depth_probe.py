@@ -16,12 +16,18 @@ the equiangular fit and the validity rule, 3 x 3 median) with one stage replaced
 * ``max_cost`` off or raised; P1 / P2 with AD-census;
 * the median: 5 x 5 (the 13th smallest code), 5 x 3, and their separable forms (the median of column medians);
 * the second path from the top right or the top left (p' = (x +- 1, y - 1)) instead of from above;
-* combinations of the levers that pay.
+* combinations of the levers that pay;
+* on top of the package being built (``PACKAGE``: AD-census 16 >> 1, the separable 5 x 5 median, the diagonal
+  path, max_cost 136; its own row is their base): the vertical line buffer holding l = min(L - M, P2) (7 bits,
+  exact: checked equal to the package on every run) or l rounded to 5 or 4 bits, a third forward path, the
+  backward path for reference, an invalid-aware median, larger separable medians, the AD term on the 3 x 3
+  means, P1 / P2, census 9 x 7, a weighted diagonal.
 
 Run: ``python -m bench depth_probe`` (every lever, some ten minutes of CPU); ``--levers WORD ...`` for the levers
 whose name holds a WORD (and the build); ``--testbed --levers WORD ...`` for the test bed's readouts with those
 levers instead (bench testbed's distances, the 800 x 600 build: about a minute and a half of CPU a lever;
-``built`` names the build's row).
+``built`` names the build's row); ``--occluded --levers WORD ...``: the motorcycle's bad > 2 split into the
+pixels hidden from the left camera and the rest.
 """
 
 import argparse
@@ -337,6 +343,11 @@ def package_levers():
               changes=paths("left_to_right", "top_to_bottom", "top_right_to_bottom_left"), store=3),
         Lever("package + third path right to left (backward: beyond the budget, for reference), max_cost 204",
               **base, changes=paths("left_to_right", "top_right_to_bottom_left", "right_to_left")),
+        Lever("package mirrored: rows scanned right to left (paths right to left + top left to bottom right)",
+              **base, changes=paths("right_to_left", "top_left_to_bottom_right")),
+        Lever("package mirrored + invalid-aware separable 7 x 7 median", ad=(16, 1),
+              median=lambda c: median_of_columns_valid(c, 7, 7, invalid),
+              changes=paths("right_to_left", "top_left_to_bottom_right")),
         Lever("package + invalid-aware separable median", ad=(16, 1), changes=paths(*two),
               median=lambda c: median_of_columns_valid(c, 5, 5, invalid)),
         Lever("package + AD term on the 3 x 3 means", **base, changes=paths(*two), ad_mean=True),
@@ -393,6 +404,31 @@ def testbed_lines(lever):
     return f"| {lever.name} | " + " | ".join(cells) + " |"
 
 
+def occluded(truth):
+    """Pixels of the right (reference) view hidden from the left camera, from the truth (disparities in buffer
+    pixels, NaN unknown): pixel x of a row maps to left pixel x + d, and is hidden when a pixel x' < x of the row
+    maps beyond it, x' + d(x') > x + d(x) + 1 (a nearer surface covers it)."""
+    known = np.isfinite(truth)
+    h, w = truth.shape
+    reach = np.where(known, np.arange(w)[None, :] + np.where(known, truth, 0), -np.inf)
+    before = np.maximum.accumulate(np.concatenate([np.full((h, 1), -np.inf), reach[:, :-1]], axis=1), axis=1)
+    return known & (before > reach + 1)
+
+
+def occlusion_line(name, codes, truth, to_400):
+    """bad > 2 of a map split into the occluded pixels and the rest, in % of the pixels with a truth."""
+    known = np.isfinite(truth)
+    hidden = occluded(truth / to_400)
+    estimate = codes.astype(np.float64) / BASE.fraction * to_400
+    bad = known & ((codes == BASE.invalid) | (np.abs(estimate - np.where(known, truth, 0)) > 2))
+    near = bad & (codes != BASE.invalid) & (estimate > truth)
+
+    def pc(mask):
+        return f"{100 * mask.sum() / known.sum():.2f}"
+    return (f"| {name} | {pc(bad)} | {pc(hidden)} | {pc(bad & hidden)} ({pc(near & hidden)}) | "
+            f"{pc(bad & ~hidden)} ({pc(near & ~hidden)}) |")
+
+
 def main(argv=None):
     from bench.depth_builds import BUILDS, pairs
     from sim.analysis.truth import error_figures
@@ -401,6 +437,9 @@ def main(argv=None):
     parser.add_argument("--testbed", action="store_true",
                         help="the test bed's readouts (bench testbed, 800 x 600) instead of bench depth's pairs; "
                              "with --levers, of those levers only (the build's row: --levers built)")
+    parser.add_argument("--occluded", action="store_true",
+                        help="the motorcycle's bad > 2 split into the pixels hidden from the left camera and the "
+                             "rest, with --levers, of those levers (and the package)")
     args = parser.parse_args(argv or [])
     build = BUILDS[1]
     every = levers()
@@ -410,6 +449,14 @@ def main(argv=None):
         print("|---|---|---|---|")
         for lever in matched:
             print(testbed_lines(lever), flush=True)
+        return
+    if args.occluded:
+        name, left, right, truth = pairs(build)[0]
+        print(f"{name}, bad > 2 in % of the pixels with a truth (too near: the estimate above the truth)")
+        print("| lever | bad > 2 | occluded pixels | bad > 2 there (too near) | bad > 2 elsewhere (too near) |")
+        print("|---|---|---|---|---|")
+        for lever in [lv for lv in every if lv.name == PACKAGE] + [lv for lv in matched if lv.name != PACKAGE]:
+            print(occlusion_line(lever.name, run(lever, left, right), truth, build.to_400), flush=True)
         return
     chosen = [every[0]] + [lv for lv in matched if lv is not every[0]]
     build_pairs = pairs(build)
