@@ -233,7 +233,8 @@ class Lever:
     """One change of the pipeline: ``signature`` (image -> (uint64 signatures, bits)), ``ad`` (clip, shift) or
     None, ``p2_rule`` (grey steps -> P2 per pixel) or None, ``median``, ``config`` changes, ``store`` (the line
     buffer's form of the row above: :func:`stored_row`), ``ad_mean`` (the AD term on the 3 x 3 means),
-    ``weights`` (one integer a path of ``paths``: S = the weighted sum) or None (all 1)."""
+    ``weights`` (one integer a path of ``paths``: S = the weighted sum) or None (all 1), ``left_right`` (the
+    left-right check from the same sums, the rejected codes filled with the background's: for reference)."""
     name: str
     signature: object = None
     ad: tuple = None
@@ -243,6 +244,7 @@ class Lever:
     store: int = None
     ad_mean: bool = False
     weights: tuple = None
+    left_right: bool = False
 
 
 def levers():
@@ -348,6 +350,10 @@ def package_levers():
         Lever("package mirrored + invalid-aware separable 7 x 7 median", ad=(16, 1),
               median=lambda c: median_of_columns_valid(c, 7, 7, invalid),
               changes=paths("right_to_left", "top_left_to_bottom_right")),
+        Lever("package + left-right check from the same sums, background fill (an occlusion rule, for reference)",
+              **base, changes=paths(*two), left_right=True),
+        Lever("package + left-right check, background fill + invalid-aware separable 7 x 7 median", ad=(16, 1),
+              median=lambda c: median_of_columns_valid(c, 7, 7, invalid), changes=paths(*two), left_right=True),
         Lever("package + invalid-aware separable median", ad=(16, 1), changes=paths(*two),
               median=lambda c: median_of_columns_valid(c, 5, 5, invalid)),
         Lever("package + AD term on the 3 x 3 means", **base, changes=paths(*two), ad_mean=True),
@@ -386,7 +392,38 @@ def run(lever, left, right, config=BASE):
             lpath *= lever.weights[k]
         total = lpath if total is None else total + lpath
     raw, _ = winner(total, dataclasses.replace(config, p2=config.p2 + int(cost.max()) - config.census_bits))
+    if lever.left_right:
+        raw = background_fill(raw, left_right_consistent(total, raw, config), config.invalid)
     return lever.median(raw)
+
+
+def left_right_consistent(total, raw, config):
+    """SGM's left-right check from the same summed costs (Hirschmueller's D_m(q) = argmin_d S(q - d, d)): the left
+    view's winner for left pixel x' is the d with the smallest S(d, x' - d); a valid right pixel x with winner d* is
+    consistent iff the left view's winner at x + d* is within 1 of d*."""
+    d_count, h, w = total.shape
+    sheared = np.full(total.shape, np.iinfo(np.int32).max, dtype=np.int32)
+    for d in range(d_count):
+        sheared[d, :, d:] = total[d, :, :w - d]
+    left_winner = np.argmin(sheared, axis=0)
+    del sheared
+    winner_d = np.argmin(total, axis=0)
+    target = np.minimum(np.arange(w)[None, :] + winner_d, w - 1)
+    back = np.take_along_axis(left_winner, target, axis=1)
+    return (raw != config.invalid) & (np.abs(back - winner_d) <= 1)
+
+
+def background_fill(codes, keep, invalid):
+    """Each code not kept replaced by the smaller (the farther) of the nearest kept codes left and right of it in
+    its row (the one there is where only one is; invalid where neither)."""
+    h, w = codes.shape
+    columns = np.broadcast_to(np.arange(w), (h, w))
+    before = np.maximum.accumulate(np.where(keep, columns, -1), axis=1)
+    after = np.minimum.accumulate(np.where(keep, columns, w)[:, ::-1], axis=1)[:, ::-1]
+    rows = np.arange(h)[:, None]
+    left_code = np.where(before >= 0, codes[rows, np.maximum(before, 0)], invalid)
+    right_code = np.where(after < w, codes[rows, np.minimum(after, w - 1)], invalid)
+    return np.where(keep, codes, np.minimum(left_code, right_code)).astype(codes.dtype)
 
 
 def testbed_lines(lever):
