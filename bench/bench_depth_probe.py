@@ -21,7 +21,8 @@ the equiangular fit and the validity rule, 3 x 3 median) with one stage replaced
   path, max_cost 136; its own row is their base): the vertical line buffer holding l = min(L - M, P2) (7 bits,
   exact: checked equal to the package on every run) or l rounded to 5 or 4 bits, a third forward path, the
   backward path for reference, an invalid-aware median, larger separable medians, the AD term on the 3 x 3
-  means, P1 / P2, census 9 x 7, a weighted diagonal.
+  means, P1 / P2, census 9 x 7, a weighted diagonal, and SGM's left-right check from the same sums with the
+  background's code filled into the codes it rejects.
 
 Run: ``python -m bench depth_probe`` (every lever, some ten minutes of CPU); ``--levers WORD ...`` for the levers
 whose name holds a WORD (and the build); ``--testbed --levers WORD ...`` for the test bed's readouts with those
@@ -234,7 +235,7 @@ class Lever:
     None, ``p2_rule`` (grey steps -> P2 per pixel) or None, ``median``, ``config`` changes, ``store`` (the line
     buffer's form of the row above: :func:`stored_row`), ``ad_mean`` (the AD term on the 3 x 3 means),
     ``weights`` (one integer a path of ``paths``: S = the weighted sum) or None (all 1), ``left_right`` (the
-    left-right check from the same sums, the rejected codes filled with the background's: for reference)."""
+    left-right check from the same sums, the rejected codes filled with the background's)."""
     name: str
     signature: object = None
     ad: tuple = None
@@ -350,10 +351,12 @@ def package_levers():
         Lever("package mirrored + invalid-aware separable 7 x 7 median", ad=(16, 1),
               median=lambda c: median_of_columns_valid(c, 7, 7, invalid),
               changes=paths("right_to_left", "top_left_to_bottom_right")),
-        Lever("package + left-right check from the same sums, background fill (an occlusion rule, for reference)",
+        Lever("package + left-right check from the same sums, background fill",
               **base, changes=paths(*two), left_right=True),
         Lever("package + left-right check, background fill + invalid-aware separable 7 x 7 median", ad=(16, 1),
               median=lambda c: median_of_columns_valid(c, 7, 7, invalid), changes=paths(*two), left_right=True),
+        Lever("package + left-right check, background fill + separable 7 x 7 median", ad=(16, 1),
+              median=lambda c: median_of_columns(c, 7, 7), changes=paths(*two), left_right=True),
         Lever("package + invalid-aware separable median", ad=(16, 1), changes=paths(*two),
               median=lambda c: median_of_columns_valid(c, 5, 5, invalid)),
         Lever("package + AD term on the 3 x 3 means", **base, changes=paths(*two), ad_mean=True),
