@@ -184,3 +184,18 @@ def test_three_path_engine_bit_exact():
     left, right = random_pair(43, (geometry.buf_height, geometry.buf_width))
     codes, *_ = run_engine(left, right, geometry=geometry, config=config, grant_mask=0b1, platform="formal")
     assert_same(codes, depth_map(left, right, config))
+
+
+@pytest.mark.slow
+def test_package_engine_bit_exact():
+    """The probe's package with the 7 x 7 median over the valid codes: AD-census 16 >> 1, the diagonal as the
+    second path, ``median=7, median_valid=True``, on 8-bit grey: the map equals the golden map and differs from
+    the plain 5 x 5's."""
+    from spec.depth import DIAGONAL_PATHS
+    from tests.test_depth_engine_ad import AD, G8, low_contrast_pair
+    config = dataclasses.replace(AD, paths=DIAGONAL_PATHS, median=7, median_valid=True)
+    left, right = low_contrast_pair(3)
+    codes, *_ = run_engine(left, right, geometry=G8, config=config, grant_mask=0b1)
+    expected = depth_map(left, right, config)
+    assert_same(codes, expected)
+    assert (expected != depth_map(left, right, dataclasses.replace(config, median=5, median_valid=False))).any()
