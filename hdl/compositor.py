@@ -458,7 +458,7 @@ class Compositor(wiring.Component):
         m.d.comb += colour_map.code.eq(Mux(in_depth_3, result.data,
                                            delayed(m, bar_code_2, 1, "bar_code") << cfg.fraction_bits))
         colour_5 = colour_map.rgb                                       # n + 3 + COLOUR_LATENCY
-        return dict(colour=colour_5, depth=delayed(m, in_depth_3, 1, "in_depth_3"),
+        return dict(colour=colour_5, depth=delayed(m, in_depth_3, COLOUR_LATENCY - 1, "in_depth_3"),
                     ready=delayed(m, ready_2, 2, "ready"), cross=delayed(m, cross_2, 2, "cross"),
                     bar=delayed(m, inside["bar"], 3, "in_bar"), tick=delayed(m, inside["tick"], 2, "in_tick"),
                     in_text=delayed(m, text.in_text, 4 - TEXT_LATENCY, "in_text"),
