@@ -504,7 +504,10 @@ class Compositor(wiring.Component):
         logic on the level. The subtractor's ``next_valid`` / ``next_no_data`` are its ``out_valid`` / ``no_data``
         at n + 4."""
         early_4, pick_4 = Signal(24, name="early_4"), Signal(2, name="pick_4")
-        early_5, pick_5 = Signal(24, name="early_5"), Signal(2, name="pick_5")
+        # Reset-less: in reset de_4 is low, so they load the reset choice (colour 0) every clock anyway, and the
+        # synthesis has no reset logic to fold into their set/reset pins.
+        early_5 = Signal(24, name="early_5", reset_less=True)
+        pick_5 = Signal(2, name="pick_5", reset_less=True)
         grey8 = self._replicate_to_8_bits(image_4["grey"])
         m.d.comb += pick_4.eq(_EARLY)
         with m.If(~de_4):
