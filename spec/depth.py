@@ -28,7 +28,8 @@ THREE_PATHS = TWO_PATHS + ("right_to_left",)
 @dataclass(frozen=True)
 class DepthConfig:
     """The dense matcher's constants: census transform, semi-global aggregation on ``paths``, winner-take-all,
-    sub-pixel fit, validity rule and median (``median`` 3: 3 x 3; 5: the separable 5 x 5) (docs/depth.md). The
+    sub-pixel fit, validity rule, with ``left_right`` the left-right check and the background fill, and median
+    (``median`` 3: 3 x 3; 5: the separable 5 x 5) (docs/depth.md). The
     widths follow from them: no stage can overflow. Codes count 1 / 2**fraction_bits pixel; ``invalid`` is D in those steps. ``pixel_bits`` is the
     width of the grey values the engine reads (the capture's ``grey_bits``).
 
@@ -48,10 +49,13 @@ class DepthConfig:
     pixel_bits: int = SENSOR.grey_bits      # grey values 0 .. 2**pixel_bits - 1
     paths: tuple = TWO_PATHS    # aggregation paths (names of PATH_STEPS), summed
     median: int = 3             # 3: the 3 x 3 median; 5: the separable 5 x 5 median (docs/depth.md, "median")
+    left_right: bool = False    # the left-right check from the same sums and the background fill (docs/depth.md)
 
     def __post_init__(self):
         if self.median not in (3, 5):
             raise ValueError(f"median must be 3 (3 x 3) or 5 (separable 5 x 5), not {self.median!r}")
+        if not isinstance(self.left_right, bool):
+            raise ValueError(f"left_right must be True or False, not {self.left_right!r}")
         unknown = [p for p in self.paths if p not in PATH_STEPS]
         if unknown or not self.paths or len(set(self.paths)) != len(self.paths):
             raise ValueError(f"paths must be distinct names of {', '.join(PATH_STEPS)}, not {self.paths!r}")

@@ -102,6 +102,10 @@ def check_parameters(geometry, config, out_rows=4, tag_margin=8):
     if config.paths not in (TWO_PATHS, THREE_PATHS, DIAGONAL_PATHS):
         raise ValueError(f"the RTL aggregates {', '.join(TWO_PATHS)} (and {THREE_PATHS[-1]}), or "
                          f"{', '.join(DIAGONAL_PATHS)} only, not {', '.join(config.paths)}")
+    if config.left_right and config.paths == THREE_PATHS:
+        raise ValueError("the RTL's left-right check takes two paths (TWO_PATHS or DIAGONAL_PATHS), not THREE_PATHS")
+    if config.left_right:
+        raise ValueError("the engine does not build the left-right check yet (left_right=True: golden model only)")
     if out_rows < 2:
         raise ValueError(f"out_rows must be at least 2, not {out_rows}")
     if tag_margin < 2:
