@@ -1,0 +1,88 @@
+"""LeftWinner: the left view's winner d_L from the summed costs the winner sees (docs/depth.md, "left-right
+check")."""
+
+from amaranth import Cat, Module, Mux, Signal
+from amaranth.lib import data, wiring
+from amaranth.lib.memory import Memory
+from amaranth.lib.wiring import In, Out
+
+from spec.depth import DEPTH
+from spec.sensor import SENSOR
+from hdl.depth.ports import token_layout
+
+__all__ = ["LeftWinner"]
+
+
+class LeftWinner(wiring.Component):
+    """d_L(x') = the smallest d with the smallest S(d, x' - d), d = 0 .. min(D - 1, x'), from the right pixels'
+    sums in ascending x, a group of ``lanes`` disparities at a time.
+
+    Right pixel x offers S(d, x) to left pixel x + d. A running minimum (S, d) is kept for the D left pixels x ..
+    x + D - 1 (entry j: left pixel x + j), as G = D / lanes words of ``lanes`` entries in a small memory with an
+    asynchronous read (LUT RAM). Group g of pixel x reads word g, keeps per lane the offer where its sum is at
+    most the entry's (the later offers to a left pixel come from larger x, so smaller d: ties go to them) and
+    writes the word back one lane down: entry j of pixel x becomes entry j - 1 of pixel x + 1. Entry 0 after
+    group 0 (offer d = 0) is final: left pixel x's d_L. At x = 0 (``token.first``) the entries start empty.
+
+    Parameters
+    ----------
+    config : DepthConfig
+        D, lanes, ``sum_bits``.
+    width : int
+        Image width (the token's column range).
+
+    Ports
+    -----
+    token, sums : In
+        A group's token and its ``lanes`` sums S(g lanes + k, x) (``hdl.depth.winner.Winner``'s ``sums_token``
+        and ``sums``); a pixel's groups in consecutive clocks, in ascending g; pixels in ascending x, from x = 0,
+        at least G + 1 clocks apart (the group after a pixel's last writes that group's word).
+    valid, x, d : Out
+        Left pixel x's d_L; ``valid`` pulses one clock after the pixel's group 0.
+
+    Clock domain: ``sync``. Latency 1 clock (from group 0 to ``valid``).
+    """
+
+    def __init__(self, config=DEPTH, width=SENSOR.buf_width):
+        self.config, self.width = config, width
+        self.groups = config.disparities // config.lanes
+        super().__init__({
+            "token": In(token_layout(self.groups, width)),
+            "sums": In(data.ArrayLayout(config.sum_bits, config.lanes)),
+            "valid": Out(1),
+            "x": Out(range(width)),
+            "d": Out(range(config.disparities)),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        cfg, lanes, G = self.config, self.config.lanes, self.groups
+        entry = data.StructLayout({"s": cfg.sum_bits, "d": range(cfg.disparities)})
+        word = data.ArrayLayout(entry, lanes)
+        empty = entry.const({"s": (1 << cfg.sum_bits) - 1, "d": 0})    # at or above every sum: any offer wins
+        m.submodules.entries = entries = Memory(shape=word, depth=G, init=[])
+        read, write = entries.read_port(domain="comb"), entries.write_port()
+        tok = self.token
+        m.d.comb += read.addr.eq(tok.group)
+
+        updated = Signal(word)
+        for k in range(lanes):
+            old = Signal(entry, name=f"old{k}")
+            m.d.comb += old.eq(Mux(tok.first, empty, read.data[k]))
+            offer = Signal(entry, name=f"offer{k}")
+            m.d.comb += [offer.s.eq(self.sums[k]), offer.d.eq(tok.group * lanes + k)]
+            m.d.comb += updated[k].eq(Mux(offer.s <= old.s, offer, old))
+
+        # The word is written back a clock later, when its lane ``lanes`` - 1 (the next group's updated lane 0) is
+        # known; the last group's word the clock after it, with an empty last lane (left pixel x + D: no offer yet).
+        held = Signal(data.ArrayLayout(entry, lanes - 1), reset_less=True)
+        held_group = Signal(range(G), reset_less=True)
+        pending = Signal()
+        m.d.sync += [held.eq(updated.as_value()[entry.size:]), held_group.eq(tok.group),
+                     pending.eq(tok.go)]
+        next_lane0 = Mux(tok.go & (tok.group != 0), updated[0].as_value(), empty.as_value())
+        m.d.comb += [write.addr.eq(held_group), write.data.eq(Cat(held, next_lane0)),
+                     write.en.eq(pending)]
+
+        m.d.sync += [self.valid.eq(tok.go & (tok.group == 0)), self.x.eq(tok.x), self.d.eq(updated[0].d)]
+        return m

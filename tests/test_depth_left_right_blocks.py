@@ -1,0 +1,112 @@
+"""The left-right check's blocks against the golden stage (docs/depth.md, "left-right check"):
+``LeftWinner`` (the left view's running minimum) and ``LeftRightFill`` (the check, the row store and the fill)."""
+
+import numpy as np
+import pytest
+
+from golden.depth import background_fill, left_right_keep, left_winner
+from hdl.depth.left_right_fill import LeftRightFill
+from hdl.depth.left_winner import LeftWinner
+from spec.depth import DepthConfig
+from sim.runners.amaranth import simulate
+
+WIDTH = 12
+CONFIGS = [DepthConfig(disparities=8, lanes=4), DepthConfig(disparities=6, lanes=2), DepthConfig(disparities=4, lanes=4)]
+
+
+def run_left_winner(cfg, total, spacing):
+    """Rows of sums (D x H x W) through a LeftWinner, pixels ``spacing`` clocks apart: d_L (H x W)."""
+    dut = LeftWinner(cfg, WIDTH)
+    d, h, w = total.shape
+    G, P = d // cfg.lanes, cfg.lanes
+    got = np.full((h, w), -1)
+
+    async def bench(ctx):
+        for y in range(h):
+            for x in range(w):
+                for clock in range(spacing):
+                    go = clock < G
+                    ctx.set(dut.token, {"go": go, "group": clock if go else 0, "last": clock == G - 1,
+                                        "first": x == 0, "x": x})
+                    for k in range(P):
+                        ctx.set(dut.sums[k], int(total[clock * P + k, y, x]) if go else 0)
+                    await ctx.tick()
+                    if ctx.get(dut.valid):
+                        assert clock == 0, "d_L one clock after group 0"
+                        got[y, ctx.get(dut.x)] = ctx.get(dut.d)
+        ctx.set(dut.token, {"go": 0, "group": 0, "last": 0, "first": 0, "x": 0})
+        await ctx.tick()
+        if ctx.get(dut.valid):
+            got[h - 1, ctx.get(dut.x)] = ctx.get(dut.d)
+
+    simulate(dut, clocks={"sync": 1e8}, testbenches=[bench])
+    return got
+
+
+@pytest.mark.parametrize("cfg", CONFIGS, ids=lambda c: f"D{c.disparities}x{c.lanes}")
+def test_left_winner_matches_golden(cfg):
+    rng = np.random.default_rng(cfg.disparities)
+    total = rng.integers(0, 6, size=(cfg.disparities, 3, WIDTH))      # small range: many ties
+    total[:, 2] = rng.integers(0, cfg.sum_max + 1, size=(cfg.disparities, WIDTH))
+    total[:, 1, :] = total[:, 1, :].max()               # a row of ties only: every d_L 0
+    G = cfg.disparities // cfg.lanes
+    got = run_left_winner(cfg, total, G + 1)
+    assert (got == left_winner(total)).all()
+
+
+def run_fill(cfg, rows, order):
+    """Rows of (codes, d*, d_L) through a LeftRightFill, written in ``order``: the replayed codes per row."""
+    dut = LeftRightFill(cfg, WIDTH)
+    out = []
+
+    async def bench(ctx):
+        for codes, dstar, dl in rows:
+            for x in order:
+                ctx.set(dut.code_valid, 1)
+                ctx.set(dut.code_x, int(x))
+                ctx.set(dut.code, int(codes[x]))
+                ctx.set(dut.code_d, int(dstar[x]))
+                ctx.set(dut.left_valid, 1)
+                ctx.set(dut.left_x, int(order[-1 - list(order).index(x)]))
+                ctx.set(dut.left_d, int(dl[order[-1 - list(order).index(x)]]))
+                await ctx.tick()
+            ctx.set(dut.code_valid, 0)
+            ctx.set(dut.left_valid, 0)
+            ctx.set(dut.start, 1)
+            await ctx.tick()
+            ctx.set(dut.start, 0)
+            row = []
+            for clock in range(1, LeftRightFill.end_clocks(WIDTH) + 1):
+                assert ctx.get(dut.busy)
+                if ctx.get(dut.valid):
+                    row.append((clock, ctx.get(dut.x), ctx.get(dut.out_code)))
+                await ctx.tick()
+            assert not ctx.get(dut.busy)
+            out.append(row)
+
+    simulate(dut, clocks={"sync": 1e8}, testbenches=[bench])
+    return out
+
+
+@pytest.mark.parametrize("cfg", CONFIGS[:2], ids=lambda c: f"D{c.disparities}x{c.lanes}")
+def test_fill_matches_golden(cfg):
+    rng = np.random.default_rng(7 + cfg.disparities)
+    total = rng.integers(0, 8, size=(cfg.disparities, 4, WIDTH))
+    total[:, 3] = 5                                   # all ties: d* = 0, d_L = 0: every valid code kept
+    dstar = np.argmin(total, axis=0)
+    codes = (dstar * cfg.fraction + rng.integers(-8, 9, size=dstar.shape)).clip(0, cfg.invalid - 1)
+    codes[rng.random(codes.shape) < 0.3] = cfg.invalid
+    codes[2] = cfg.invalid                            # a row without a valid code
+    codes = codes.astype(np.uint16)
+    keep = left_right_keep(total, codes, cfg)
+    expected = background_fill(codes, keep, cfg)
+    assert not keep.all() and keep.any()
+    dl = left_winner(total)
+    order = rng.permutation(WIDTH)
+    got = run_fill(cfg, [(codes[y], dstar[y], dl[y]) for y in range(4)], order)
+    end = LeftRightFill.end_clocks(WIDTH)
+    for y, row in enumerate(got):
+        assert [x for _, x, _ in row] == list(range(WIDTH + 1))
+        assert row[-1][0] == end
+        assert [c for _, _, c in row[:-1]] == expected[y].tolist()
+        assert all(b - a == 2 for (a, _, _), (b, _, _) in zip(row, row[1:]))
