@@ -6,13 +6,14 @@ disparity in 1 / 2**F pixel (F = ``fraction_bits``), or ``config.invalid`` = D 2
 
 1. :func:`census`: a signature of ``census_bits`` bits per pixel, bit k set iff window pixel k is darker than
    the centre; window positions outside the image take the nearest image pixel (coordinates clamped).
-2. :func:`matching_cost`: C[d, y, x] = popcount(census_R(y, x) XOR census_L(y, x + d)); ``census_bits`` where
-   x + d leaves the image.
+2. :func:`matching_cost`: C[d, y, x] = popcount(census_R(y, x) XOR census_L(y, x + d)) + (min(|I_R(y, x) -
+   I_L(y, x + d)|, ad_clip) >> ad_shift) (the AD term, 0 for ``ad_clip`` = 0); ``cost_max`` = census_bits +
+   (ad_clip >> ad_shift) where x + d leaves the image.
 3. :func:`path_cost`: semi-global aggregation along one path of ``config.paths`` (``spec.depth.PATH_STEPS``:
    left to right or right to left along a row, top to bottom along a column, or down a diagonal): L = C +
    min(L'[d], L'[d - 1] + P1, L'[d + 1] + P1, M' + P2) - M', where L' is the previous pixel's vector on the path
    and M' its minimum; before the first pixel (the previous one outside the image) L' = 0, M' = 0 (so L = C
-   there). 0 <= L <= census_bits + P2.
+   there). 0 <= L <= cost_max + P2.
 4. :func:`winner`: S = the sum of the paths' L; d* = the smallest d with the smallest S; the code
    2**F d* + q in 1 / 2**F pixel, q the equiangular fit through S(d* - 1), S(d*), S(d* + 1)
    (:func:`subpixel`); invalid (code D 2**F) when that S is above ``max_cost``, d* = D - 1 (the match may
@@ -77,14 +78,18 @@ def census(image, config=DEPTH):
 
 
 def matching_cost(left, right, config=DEPTH):
-    """C[d, y, x] (uint8, D x H x W): Hamming distance of the census signatures of right(x, y) and left(x + d,
-    y); ``census_bits`` where x + d >= W."""
+    """C[d, y, x] (D x H x W; uint8, uint16 for a ``cost_max`` above 255): Hamming distance of the census
+    signatures of right(x, y) and left(x + d, y), plus min(|right(x, y) - left(x + d, y)|, ``ad_clip``) >>
+    ``ad_shift`` (0 with ``ad_clip`` = 0); ``cost_max`` = census_bits + (ad_clip >> ad_shift) where x + d >= W."""
     left, right = _check_pair(left, right, config)
     cl, cr = census(left, config), census(right, config)
     h, w = right.shape
-    cost = np.full((config.disparities, h, w), config.census_bits, dtype=np.uint8)
+    dtype = np.uint8 if config.cost_max < 256 else np.uint16
+    cost = np.full((config.disparities, h, w), config.cost_max, dtype=dtype)
     for d in range(config.disparities):
-        cost[d, :, :w - d] = np.bitwise_count(cr[:, :w - d] ^ cl[:, d:])
+        hamming = np.bitwise_count(cr[:, :w - d] ^ cl[:, d:]).astype(np.int32)
+        grey = np.minimum(np.abs(right[:, :w - d] - left[:, d:]), config.ad_clip) >> config.ad_shift
+        cost[d, :, :w - d] = hamming + grey
     return cost
 
 

@@ -27,11 +27,13 @@ THREE_PATHS = TWO_PATHS + ("right_to_left",)
 
 @dataclass(frozen=True)
 class DepthConfig:
-    """The dense matcher's constants: census transform, semi-global aggregation on ``paths``, winner-take-all,
-    sub-pixel fit, validity rule, with ``left_right`` the left-right check and the background fill, and median
-    (``median`` 3: 3 x 3; 5: the separable 5 x 5) (docs/depth.md). The
-    widths follow from them: no stage can overflow. Codes count 1 / 2**fraction_bits pixel; ``invalid`` is D in those steps. ``pixel_bits`` is the
-    width of the grey values the engine reads (the capture's ``grey_bits``).
+    """The dense matcher's constants: census transform, matching cost (census Hamming distance, plus the clipped
+    grey difference min(|dI|, ``ad_clip``) >> ``ad_shift`` when ``ad_clip`` > 0: AD-census), semi-global
+    aggregation on ``paths``, winner-take-all, sub-pixel fit, validity rule, with ``left_right`` the left-right
+    check and the background fill, and median (``median`` 3: 3 x 3; 5: the separable 5 x 5) (docs/depth.md).
+    The widths follow from them (``cost_max`` on): no stage can overflow. ``ValueError`` for paths or AD
+    parameters outside their ranges. Codes count 1 / 2**fraction_bits pixel; ``invalid`` is D in those steps.
+    ``pixel_bits`` is the width of the grey values the engine reads (the capture's ``grey_bits``).
 
     ``lanes`` disparities are computed per clock (the RTL's parallelism); it does not change the result. The RTL
     (hdl/depth/) computes ``TWO_PATHS``, ``DIAGONAL_PATHS`` and ``THREE_PATHS``; the golden model any set of
@@ -49,6 +51,8 @@ class DepthConfig:
     pixel_bits: int = SENSOR.grey_bits      # grey values 0 .. 2**pixel_bits - 1
     paths: tuple = TWO_PATHS    # aggregation paths (names of PATH_STEPS), summed
     median: int = 3             # 3: the 3 x 3 median; 5: the separable 5 x 5 median (docs/depth.md, "median")
+    ad_clip: int = 0            # AD-census: + min(|I_R - I_L|, ad_clip) >> ad_shift on the cost; 0 = off
+    ad_shift: int = 0
     left_right: bool = False    # the left-right check from the same sums and the background fill (docs/depth.md)
 
     def __post_init__(self):
@@ -59,20 +63,49 @@ class DepthConfig:
         unknown = [p for p in self.paths if p not in PATH_STEPS]
         if unknown or not self.paths or len(set(self.paths)) != len(self.paths):
             raise ValueError(f"paths must be distinct names of {', '.join(PATH_STEPS)}, not {self.paths!r}")
+        self._check_ad()
+
+    def _check_ad(self):
+        """The AD term's parameters: ad_clip 0 (off) or 1 .. 2**pixel_bits - 1 (any integer: the largest grey
+        difference that counts), ad_shift >= 0 with at least 1 left of ad_clip (the term is not always 0)."""
+        top = (1 << self.pixel_bits) - 1
+        for name in ("ad_clip", "ad_shift"):
+            if not isinstance(getattr(self, name), int) or isinstance(getattr(self, name), bool):
+                raise ValueError(f"{name} must be an int, not {getattr(self, name)!r}")
+        if not 0 <= self.ad_clip <= top:
+            raise ValueError(f"ad_clip must be 0 (off) or 1..{top} (the largest grey difference), "
+                             f"not {self.ad_clip}")
+        if self.ad_shift < 0:
+            raise ValueError(f"ad_shift must not be negative, not {self.ad_shift}")
+        if self.ad_clip and not self.ad_clip >> self.ad_shift:
+            raise ValueError(f"ad_clip >> ad_shift = {self.ad_clip} >> {self.ad_shift} is 0: the AD term would "
+                             f"be 0 everywhere")
+        if not self.ad_clip and self.ad_shift:
+            raise ValueError(f"ad_shift = {self.ad_shift} without ad_clip: the AD term is off")
 
     @property
     def census_bits(self):
-        """Bits of a census signature: one per window pixel except the centre; also the largest cost."""
+        """Bits of a census signature: one per window pixel except the centre; the largest Hamming distance."""
         return self.census_width * self.census_height - 1
 
     @property
+    def ad_max(self):
+        """Largest AD term, ad_clip >> ad_shift (0 when off): also its value where x + d leaves the image."""
+        return self.ad_clip >> self.ad_shift
+
+    @property
+    def cost_max(self):
+        """Largest matching cost, census_bits + ad_max: also the cost where x + d leaves the image."""
+        return self.census_bits + self.ad_max
+
+    @property
     def cost_bits(self):
-        return self.census_bits.bit_length()
+        return self.cost_max.bit_length()
 
     @property
     def path_max(self):
         """Largest path cost: L = C + min(...) - M <= C + P2."""
-        return self.census_bits + self.p2
+        return self.cost_max + self.p2
 
     @property
     def path_bits(self):

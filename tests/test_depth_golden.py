@@ -326,3 +326,65 @@ def test_bad_row_tags_are_rejected():
         depth_map(left, right, SMALL_DEPTH, row_tags=([0] * h, ["a"] * h))
     with pytest.raises(ValueError, match="pair"):
         depth_map(left, right, SMALL_DEPTH, row_tags=[0] * h)
+
+
+AD = DepthConfig(disparities=4, census_width=3, census_height=3, lanes=2, pixel_bits=8, ad_clip=16)
+
+
+@pytest.mark.parametrize("shift", [0, 1])
+@pytest.mark.parametrize("step", [-17, -16, -15, 15, 16, 17])
+def test_ad_term_at_the_clip(step, shift):
+    """Flat images (every census 0: Hamming 0), the left one ``step`` greys brighter: the cost is min(|step|,
+    ad_clip) >> ad_shift inside the image, at x + d = W - 1 too, and census_bits + (ad_clip >> ad_shift) from
+    x + d = W on."""
+    cfg = DepthConfig(**{**AD.__dict__, "ad_shift": shift})
+    right = np.full((3, 6), 100)
+    cost = matching_cost(right + step, right, cfg)
+    w = right.shape[1]
+    for d in range(cfg.disparities):
+        assert (cost[d, :, :w - d] == min(abs(step), cfg.ad_clip) >> shift).all()   # x + d <= W - 1
+        assert (cost[d, :, w - d:] == cfg.census_bits + (cfg.ad_clip >> shift)).all()    # x + d >= W
+    assert cfg.cost_max == cfg.census_bits + (16 >> shift)
+
+
+def test_ad_cost_is_hamming_plus_the_clipped_difference():
+    """Random 8-bit images: each cost is the Hamming distance plus the clipped, shifted grey difference, counted
+    pixel by pixel; at most cost_max; with ad_clip = 0 the plain census cost."""
+    rng = np.random.default_rng(4)
+    left, right = rng.integers(0, 256, (5, 7)), rng.integers(0, 256, (5, 7))
+    cfg = DepthConfig(**{**AD.__dict__, "ad_clip": 24, "ad_shift": 1})
+    cost = matching_cost(left, right, cfg)
+    plain = matching_cost(left, right, DepthConfig(**{**AD.__dict__, "ad_clip": 0}))
+    cl, cr = census(left, cfg), census(right, cfg)
+    for d in range(cfg.disparities):
+        for y in range(5):
+            for x in range(7 - d):
+                hamming = bin(int(cr[y, x]) ^ int(cl[y, x + d])).count("1")
+                assert plain[d, y, x] == hamming
+                assert cost[d, y, x] == hamming + (min(abs(int(right[y, x]) - int(left[y, x + d])), 24) >> 1)
+    assert cost.max() <= cfg.cost_max and (cost[1:, :, -1] == cfg.cost_max).all()
+
+
+def test_ad_widths_and_bad_parameters():
+    """The widths follow cost_max = census_bits + (ad_clip >> ad_shift); nonsense AD parameters are refused."""
+    cfg = DepthConfig(pixel_bits=8, ad_clip=255)
+    assert (cfg.cost_max, cfg.cost_bits, cfg.path_max, cfg.path_bits) == (303, 9, 399, 9)
+    assert (cfg.sum_max, cfg.sum_bits) == (798, 10)
+    assert DEPTH.cost_max == DEPTH.census_bits and DEPTH.ad_max == 0
+    for bad in ({"ad_clip": -1}, {"ad_clip": 32}, {"ad_clip": 16, "ad_shift": -1}, {"ad_clip": 16, "ad_shift": 5},
+                {"ad_shift": 1}, {"ad_clip": 2.0}, {"ad_clip": True}):
+        with pytest.raises(ValueError, match="ad_"):
+            DepthConfig(**bad)          # 5-bit pixels: ad_clip at most 31
+
+
+def test_ad_map_with_a_wide_cost():
+    """A cost above 255 (7 x 7 census + ad_clip 255) is not wrapped: the costs reach above 255, the out-of-image
+    cost is cost_max = 303, and the map finds the shift of 3."""
+    rng = np.random.default_rng(9)
+    texture = rng.integers(0, 256, (8, 24))
+    cfg = DepthConfig(disparities=8, lanes=4, pixel_bits=8, ad_clip=255)
+    cost = matching_cost(texture[:, :20], texture[:, 3:23], cfg)
+    assert cost.max() > 255 and cost.max() <= cfg.cost_max
+    assert (cost[:, :, -1][1:] == cfg.cost_max).all()
+    codes = depth_map(texture[:, :20], texture[:, 3:23], cfg).astype(int)
+    assert ((codes[:, 4:12] + cfg.fraction // 2) // cfg.fraction == 3).all()

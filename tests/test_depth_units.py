@@ -66,32 +66,58 @@ def test_census_threshold_8_bit(window, expected):
     assert got == [expected]
 
 
-@settings(max_examples=10, deadline=None)
-@given(st.data())
-def test_matching_cost(data):
-    cfg = data.draw(st.sampled_from([SMALL_DEPTH, DEPTH]))
-    n = cfg.census_bits
+AD_CONFIGS = [dataclasses.replace(SMALL_DEPTH, pixel_bits=8, ad_clip=16, ad_shift=1),
+              dataclasses.replace(SMALL_DEPTH, pixel_bits=8, ad_clip=255),
+              dataclasses.replace(SMALL_DEPTH, ad_clip=5, ad_shift=2)]
+
+
+def cost_rule(cfg, right, left, inside, right_grey=0, left_grey=0):
+    """docs/depth.md's cost of one candidate: Hamming + min(|dI|, ad_clip) >> ad_shift, cost_max outside."""
+    if not inside:
+        return cfg.cost_max
+    return bin(right ^ left).count("1") + (min(abs(right_grey - left_grey), cfg.ad_clip) >> cfg.ad_shift)
+
+
+@pytest.mark.parametrize("cfg", [SMALL_DEPTH, DEPTH] + AD_CONFIGS)
+@settings(max_examples=3, deadline=None)
+@given(data=st.data())
+def test_matching_cost(cfg, data):
+    """The cost block against the rule, with and without the AD term; grey differences drawn around the clip
+    (ad_clip - 1, ad_clip, ad_clip + 1) and at the ends of the range, lanes outside the image."""
+    n, top = cfg.census_bits, (1 << cfg.pixel_bits) - 1
     words = st.one_of(st.integers(0, 2 ** n - 1), st.sampled_from([0, 2 ** n - 1]))
-    cases = data.draw(st.lists(st.tuples(words, st.lists(words, min_size=cfg.lanes, max_size=cfg.lanes),
-                                         st.integers(0, 2 ** cfg.lanes - 1)), min_size=1, max_size=6))
+    steps = st.sampled_from([0, 1, cfg.ad_clip - 1, cfg.ad_clip, cfg.ad_clip + 1, top])
+    cases = []
+    for _ in range(data.draw(st.integers(1, 6))):
+        right_grey = data.draw(st.one_of(st.integers(0, top), st.sampled_from([0, top])))
+        near = st.builds(lambda s, sign: min(max(right_grey + sign * s, 0), top), steps, st.sampled_from([-1, 1]))
+        lanes = data.draw(st.lists(st.tuples(words, st.one_of(st.integers(0, top), near)),
+                                   min_size=cfg.lanes, max_size=cfg.lanes))
+        cases.append((data.draw(words), right_grey, lanes, data.draw(st.integers(0, 2 ** cfg.lanes - 1))))
     dut = MatchingCost(cfg)
     got = []
 
     async def bench(ctx):
         for i in range(len(cases) + MatchingCost.LATENCY):
             if i < len(cases):
-                right, left, inside = cases[i]
+                right, right_grey, lanes, inside = cases[i]
                 ctx.set(dut.right, right)
                 ctx.set(dut.inside, inside)
-                for k in range(cfg.lanes):
-                    ctx.set(dut.left[k], left[k])
+                if cfg.ad_clip:
+                    ctx.set(dut.right_grey, right_grey)
+                for k, (left, left_grey) in enumerate(lanes):
+                    ctx.set(dut.left[k], left)
+                    if cfg.ad_clip:
+                        ctx.set(dut.left_grey[k], left_grey)
             await ctx.tick()
             if i >= MatchingCost.LATENCY - 1 and len(got) < len(cases):
                 got.append([ctx.get(dut.cost[k]) for k in range(cfg.lanes)])
 
     simulate(dut, clocks={"sync": 1e8}, testbenches=[bench])
-    for (right, left, inside), costs in zip(cases, got):
-        assert costs == [bin(right ^ left[k]).count("1") if inside >> k & 1 else n for k in range(cfg.lanes)]
+    assert len(got) == len(cases)
+    for (right, right_grey, lanes, inside), costs in zip(cases, got):
+        assert costs == [cost_rule(cfg, right, left, inside >> k & 1, right_grey, left_grey)
+                         for k, (left, left_grey) in enumerate(lanes)]
 
 
 def run_vertical_pixel(cfg, prev, cost):

@@ -29,6 +29,8 @@ class CensusWindow(wiring.Component):
     census : Out(census_bits)
         Bit k = window position k in raster order (top row first, left to right, centre skipped) is
         darker than the centre. Registered: it shows the window one clock after the window changes.
+    centre : Out(grey_bits)
+        The centre pixel, registered with ``census`` (with ``config.ad_clip`` > 0 only: the AD term's grey).
 
     Clock domain: ``sync``. Latency: ``census`` reflects a shifted column 2 clocks after ``shift``.
     """
@@ -40,6 +42,7 @@ class CensusWindow(wiring.Component):
             "column": In(data.ArrayLayout(grey_bits, config.census_height)),
             "shift": In(1),
             "census": Out(config.census_bits),
+            **({"centre": Out(grey_bits)} if config.ad_clip else {}),
         })
 
     def elaborate(self, platform):
@@ -57,4 +60,6 @@ class CensusWindow(wiring.Component):
         bits = [window[i][j] < centre for j in range(cfg.census_height) for i in range(cfg.census_width)
                 if (i, j) != (rx, ry)]
         m.d.sync += self.census.eq(Cat(*bits))
+        if cfg.ad_clip:
+            m.d.sync += self.centre.eq(centre)
         return m

@@ -110,6 +110,9 @@ def check_parameters(geometry, config, out_rows=4, tag_margin=8):
         raise ValueError(f"out_rows must be at least 2, not {out_rows}")
     if tag_margin < 2:
         raise ValueError(f"tag_margin must be at least 2 clocks, not {tag_margin}")
+    if config.ad_clip and config.pixel_bits != geometry.grey_bits:
+        raise ValueError(f"with the AD term pixel_bits ({config.pixel_bits}) must be the buffers' grey_bits "
+                         f"({geometry.grey_bits})")
 
 
 class DepthEngine(wiring.Component):
@@ -195,9 +198,9 @@ class DepthEngine(wiring.Component):
     2          census signatures registered
     3          three paths: left census shift register shifts
     4          vertical line buffer read (pixel x: word x; the diagonal: word x + 1)
-    4 + g      group g: the lanes' left signatures (two paths: the candidates' chain advances; three:
-               selected from the shift register)
-    5 + g      cost: XOR, count 6-bit chunks (3 clocks)
+    4 + g      group g: the lanes' left signatures, with the AD term their grey values (two paths: the
+               candidates' chain advances; three: selected from the shift register)
+    5 + g      cost: XOR, count 6-bit chunks, grey difference (3 clocks)
     8 + g      paths: select L'; 9 + g: partial minimums; 10 + g: L
     11 + g     line buffer write (vertical L), winner sum, path minimum trees
     G + 12 + t winner folded (t = minimum-tree clocks), then F + 6 clocks of ``Subpixel`` to the code,
@@ -212,7 +215,8 @@ class DepthEngine(wiring.Component):
     ValueError
         If ``lanes`` does not divide D, D is more than the width, the census window is not odd, the paths are not
         ``spec.depth.TWO_PATHS``, ``THREE_PATHS`` or ``DIAGONAL_PATHS`` (the golden model's other path sets have no
-        RTL), or ``tag_margin`` is less than 2.
+        RTL), ``tag_margin`` is less than 2, or the AD term is on (``ad_clip`` > 0) with ``pixel_bits`` other than
+        the buffers' ``grey_bits``.
     """
 
     def __init__(self, geometry=SENSOR, config=DEPTH, *, out_rows=4, tag_margin=8):
@@ -304,12 +308,10 @@ class DepthEngine(wiring.Component):
             self._invariants(m, fsm, (left_ring, right_ring), y, (step, clock, drain), (need, first, before),
                              can_start, limit)
 
-        left_sig, right_sig = self._census(m, left_ring, right_ring, ring_row, step, clock, in_run)
-        if self.three:
-            token, right_cen, left_sel, inside = self._issue(m, left_sig, right_sig, step, clock, in_run)
-        else:
-            token, right_cen, left_sel, inside = self._issue_chain(m, left_sig, right_sig, step, clock, in_run)
-        horizontal, vertical = self._paths(m, token, right_cen, left_sel, inside, step, clock, in_run, restart)
+        left_sig, right_sig, greys = self._census(m, left_ring, right_ring, ring_row, step, clock, in_run)
+        issue = self._issue if self.three else self._issue_chain
+        token, candidates = issue(m, left_sig, right_sig, greys, step, clock, in_run)
+        horizontal, vertical = self._paths(m, token, candidates, step, clock, in_run, restart)
         writes = self._back_end(m, horizontal, vertical, y, out_base, row_invalid)
         if platform == "formal" and self.three:
             self._reverse_invariants(m, fsm, step, *writes)
@@ -508,10 +510,12 @@ class DepthEngine(wiring.Component):
             m.d.sync += Assert(test, name)
 
     def _census(self, m, left_ring, right_ring, ring_row, step, clock, in_run):
-        """Step clocks 0-3: ring reads, census windows, the left census shift register (newest first)."""
+        """Step clocks 0-3: ring reads, census windows, the left census shift register (newest first). Returns
+        the left signature (two paths) or shift register (three), the right signature and the centre greys
+        (left, right: None without the AD term)."""
         cfg, w = self.config, self.geometry.buf_width
         rx = cfg.census_width // 2
-        signatures = []
+        signatures, greys = [], []
         for name, ring, lag in (("left", left_ring, 0), ("right", right_ring, cfg.disparities - 1)):
             # Column clamp(step - rx - lag), counted: the right window lags the left one by D - 1 columns.
             col = Signal(range(w), name=f"{name}_column")
@@ -530,9 +534,10 @@ class DepthEngine(wiring.Component):
                 m.d.comb += census.column[j].eq(ring.column[ring_row[j]])
             m.d.comb += census.shift.eq(in_run & (clock == CENSUS_SHIFT))
             signatures.append(census.census)
+            greys.append(census.centre if cfg.ad_clip else None)
         if not self.three:                      # two paths: the candidates' chain is built at the issue
-            return signatures
-        entry = data.StructLayout({"census": cfg.census_bits, "inside": 1})
+            return signatures[0], signatures[1], greys
+        entry = self._candidate_layout()
         shift_reg = [Signal(entry, name=f"left_census{j}", reset_less=True) for j in range(cfg.disparities)]
         # The shift register's enable (D entries wide: the largest clock-enable net) from a register, decoded a
         # clock early: RUN at clock SHIFT_CLOCK is always RUN at clock SHIFT_CLOCK - 1 the clock before without a
@@ -544,9 +549,33 @@ class DepthEngine(wiring.Component):
             if self.three:                      # backward: the entering column is inside from step 2 rx on
                 inside = Mux(self.backward, step >= 2 * rx, inside)
             m.d.sync += [shift_reg[0].census.eq(signatures[0]), shift_reg[0].inside.eq(inside)]
+            if cfg.ad_clip:
+                m.d.sync += shift_reg[0].grey.eq(greys[0])
             for j in range(1, cfg.disparities):
                 m.d.sync += shift_reg[j].eq(shift_reg[j - 1])
-        return shift_reg, signatures[1]
+        return shift_reg, signatures[1], greys
+
+    def _candidate_layout(self):
+        """A left candidate: its census signature, whether its column is inside the image, and (AD term) its
+        grey value."""
+        cfg = self.config
+        fields = {"census": cfg.census_bits, "inside": 1}
+        if cfg.ad_clip:
+            fields["grey"] = cfg.pixel_bits
+        return data.StructLayout(fields)
+
+    def _lanes(self, m, right_cen, right_grey, left_sel, left_grey, inside):
+        """The issued group's candidates, the cost stage's inputs: the right pixel's census (and grey), per lane
+        the left one's census (and grey) and inside bit."""
+        cfg, P = self.config, self.config.lanes
+        fields = {"right": cfg.census_bits, "left": data.ArrayLayout(cfg.census_bits, P), "inside": P}
+        if cfg.ad_clip:
+            fields |= {"right_grey": cfg.pixel_bits, "left_grey": data.ArrayLayout(cfg.pixel_bits, P)}
+        lanes = Signal(data.StructLayout(fields), name="candidates")
+        m.d.comb += [lanes.right.eq(right_cen), lanes.left.eq(left_sel), lanes.inside.eq(inside)]
+        if cfg.ad_clip:
+            m.d.comb += [lanes.right_grey.eq(right_grey), lanes.left_grey.eq(left_grey)]
+        return lanes
 
     def _back_column(self, m, step, clock):
         """Three paths, backward steps: the ring column clamp(W - 1 + rx - step) for both images, counted down
@@ -564,8 +593,8 @@ class DepthEngine(wiring.Component):
             self._back_col = col
         return self._back_col
 
-    def _issue_token(self, m, right_sig, step, clock, in_run):
-        """Step clocks 4 .. 4 + G - 1: group g's token and the right signature, registered."""
+    def _issue_token(self, m, right_sig, right_grey, step, clock, in_run):
+        """Step clocks 4 .. 4 + G - 1: group g's token and the right signature (and grey), registered."""
         cfg, w = self.config, self.geometry.buf_width
         G = self.groups
         x = step - self.lead
@@ -585,9 +614,13 @@ class DepthEngine(wiring.Component):
             token.x.eq(x),
             right_cen.eq(right_sig),
         ]
-        return token, right_cen, group
+        if right_grey is not None:
+            right_grey_reg = Signal(cfg.pixel_bits, name="right_grey", reset_less=True)
+            m.d.sync += right_grey_reg.eq(right_grey)
+            right_grey = right_grey_reg
+        return token, right_cen, right_grey, group
 
-    def _issue_chain(self, m, left_sig, right_sig, step, clock, in_run):
+    def _issue_chain(self, m, left_sig, right_sig, greys, step, clock, in_run):
         """Two paths: the lanes' left signatures from a chain of candidates (no select).
 
         Lane k of group g in step s takes census_L(x + gP + k) (x = s - lead). That is lane k + 1's candidate of
@@ -597,16 +630,19 @@ class DepthEngine(wiring.Component):
         group, else R[D - 2] (the candidate D - 1 issue clocks old); lane k reads R[(P - 1 - k) G]. Every
         candidate of a pixel (steps >= lead) entered the chain in the same pass, so the chain needs no reset.
         The chain's stretches between taps are plain shift registers (SRLs), where a D-entry shift register
-        and a G:1 select per lane and bit would be logic."""
+        and a G:1 select per lane and bit would be logic. With the AD term each candidate carries its grey value
+        beside its signature."""
         cfg = self.config
         G, P, D = self.groups, cfg.lanes, cfg.disparities
         rx, w = cfg.census_width // 2, self.geometry.buf_width
-        token, right_cen, group = self._issue_token(m, right_sig, step, clock, in_run)
-        entry = data.StructLayout({"census": cfg.census_bits, "inside": 1})
+        token, right_cen, right_grey, group = self._issue_token(m, right_sig, greys[1], step, clock, in_run)
+        entry = self._candidate_layout()
         length = max(D - 1, (P - 1) * G + 1)
         chain = [Signal(entry, name=f"left_candidate{i}", reset_less=True) for i in range(length)]
         fresh = Signal(entry)
         m.d.comb += [fresh.census.eq(left_sig), fresh.inside.eq(step < w + 2 * rx)]
+        if cfg.ad_clip:
+            m.d.comb += fresh.grey.eq(greys[0])
         # The chain's enable (the largest clock-enable net) from a register, decoded a clock early: in RUN
         # without a start the next clock is clock + 1 in RUN, or clock 0 (not an issue clock) after a step's last.
         advance = Signal(name="candidates_advance")
@@ -616,41 +652,47 @@ class DepthEngine(wiring.Component):
             for i in range(1, length):
                 m.d.sync += chain[i].eq(chain[i - 1])
         left_sel = Signal(data.ArrayLayout(cfg.census_bits, P))
+        left_grey = Signal(data.ArrayLayout(cfg.pixel_bits, P)) if cfg.ad_clip else None
         inside = Signal(P)
         for k in range(P):
             tap = chain[(P - 1 - k) * G]
             m.d.comb += [left_sel[k].eq(tap.census), inside[k].eq(tap.inside)]
-        return token, right_cen, left_sel, inside
+            if cfg.ad_clip:
+                m.d.comb += left_grey[k].eq(tap.grey)
+        return token, self._lanes(m, right_cen, right_grey, left_sel, left_grey, inside)
 
-    def _issue(self, m, shift_reg, right_sig, step, clock, in_run):
-        """Three paths, step clocks 4 .. 4 + G - 1: group g's token and its lanes' left signatures, selected
-        from the left census shift register and registered."""
+    def _issue(self, m, shift_reg, right_sig, greys, step, clock, in_run):
+        """Three paths, step clocks 4 .. 4 + G - 1: group g's token and its lanes' left signatures (and greys),
+        selected from the left census shift register and registered."""
         cfg = self.config
         G, P, D = self.groups, cfg.lanes, cfg.disparities
-        token, right_cen, group = self._issue_token(m, right_sig, step, clock, in_run)
+        token, right_cen, right_grey, group = self._issue_token(m, right_sig, greys[1], step, clock, in_run)
         left_sel = Signal(data.ArrayLayout(cfg.census_bits, P), reset_less=True)
+        left_grey = Signal(data.ArrayLayout(cfg.pixel_bits, P), reset_less=True) if cfg.ad_clip else None
         inside = Signal(P)
         with m.Switch(group):
             for gi in range(G):
                 with m.Case(gi):
                     for k in range(P):
                         e = shift_reg[D - 1 - (gi * P + k)]          # candidate d = gi * P + k
-                        census, inner = e.census, e.inside
-                        if self.three:                  # backward: the newest entry is d = 0
-                            b = shift_reg[gi * P + k]
-                            census, inner = Mux(self.backward, b.census, census), Mux(self.backward, b.inside, inner)
-                        m.d.sync += [left_sel[k].eq(census), inside[k].eq(inner)]
-        if self.three:
-            self.issue_backward = Signal()
-            m.d.sync += self.issue_backward.eq(self.backward)
-        return token, right_cen, left_sel, inside
+                        b = shift_reg[gi * P + k]                   # backward: the newest entry is d = 0
+                        pick = Mux(self.backward, b.as_value(), e.as_value())
+                        chosen = data.View(self._candidate_layout(), pick)
+                        m.d.sync += [left_sel[k].eq(chosen.census), inside[k].eq(chosen.inside)]
+                        if cfg.ad_clip:
+                            m.d.sync += left_grey[k].eq(chosen.grey)
+        self.issue_backward = Signal()
+        m.d.sync += self.issue_backward.eq(self.backward)
+        return token, self._lanes(m, right_cen, right_grey, left_sel, left_grey, inside)
 
-    def _paths(self, m, token, right_cen, left_sel, inside, step, clock, in_run, restart):
+    def _paths(self, m, token, lanes, step, clock, in_run, restart):
         """Cost (3 clocks), then both paths; the vertical path's line buffer (read at clock 4)."""
         cfg, w = self.config, self.geometry.buf_width
         G, P = self.groups, cfg.lanes
         cost = add_reset_subtree(m, "cost", MatchingCost(cfg))
-        m.d.comb += [cost.right.eq(right_cen), cost.left.eq(left_sel), cost.inside.eq(inside)]
+        m.d.comb += [cost.right.eq(lanes.right), cost.left.eq(lanes.left), cost.inside.eq(lanes.inside)]
+        if cfg.ad_clip:
+            m.d.comb += [cost.right_grey.eq(lanes.right_grey), cost.left_grey.eq(lanes.left_grey)]
         tok = token
         back = self.issue_backward if self.three else None
         for s in range(MatchingCost.LATENCY):

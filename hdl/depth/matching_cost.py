@@ -1,6 +1,7 @@
-"""MatchingCost: Hamming distance of census signatures for one group of disparities (docs/depth.md, "cost")."""
+"""MatchingCost: Hamming distance of census signatures, plus the clipped grey difference (AD-census), for one
+group of disparities (docs/depth.md, "cost")."""
 
-from amaranth import Module, Mux, Signal
+from amaranth import Module, Mux, Signal, signed
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
@@ -21,13 +22,14 @@ def _tree_sum(values):
 
 
 class MatchingCost(wiring.Component):
-    """C = popcount(right XOR left) for ``lanes`` candidates at once; ``census_bits`` where the candidate's
-    left column is outside the image.
+    """C = popcount(right XOR left) + (min(\\|right_grey - left_grey\\|, ad_clip) >> ad_shift) for ``lanes``
+    candidates at once (the AD term only with ``config.ad_clip`` > 0); ``cost_max`` = census_bits +
+    (ad_clip >> ad_shift) where the candidate's left column is outside the image.
 
     Parameters
     ----------
     config : DepthConfig
-        Census size and lanes.
+        Census size, lanes, ``pixel_bits``, ``ad_clip``, ``ad_shift``.
 
     Ports
     -----
@@ -35,23 +37,32 @@ class MatchingCost(wiring.Component):
         The reference pixel's census.
     left : In(ArrayLayout(census_bits, lanes))
         The candidates' census signatures.
+    right_grey : In(pixel_bits)
+        The reference pixel's grey value (with ``ad_clip`` > 0 only).
+    left_grey : In(ArrayLayout(pixel_bits, lanes))
+        The candidates' grey values (with ``ad_clip`` > 0 only).
     inside : In(lanes)
         Bit k: candidate k's left column is inside the image.
     cost : Out(ArrayLayout(cost_bits, lanes))
 
-    Clock domain: ``sync``. Latency: 3 clocks (XOR + count of 6-bit chunks; chunk pairs summed; total).
+    Clock domain: ``sync``. Latency: 3 clocks (XOR + count of 6-bit chunks, grey difference; chunk pairs summed,
+    difference made absolute, clipped and shifted; total).
     """
 
     LATENCY = 3
 
     def __init__(self, config=DEPTH):
         self.config = config
-        super().__init__({
+        members = {
             "right": In(config.census_bits),
             "left": In(data.ArrayLayout(config.census_bits, config.lanes)),
             "inside": In(config.lanes),
             "cost": Out(data.ArrayLayout(config.cost_bits, config.lanes)),
-        })
+        }
+        if config.ad_clip:
+            members["right_grey"] = In(config.pixel_bits)
+            members["left_grey"] = In(data.ArrayLayout(config.pixel_bits, config.lanes))
+        super().__init__(members)
 
     def elaborate(self, platform):
         m = Module()
@@ -73,6 +84,19 @@ class MatchingCost(wiring.Component):
                 pair = Signal(range(n + 1), name=f"pair_{k}_{c // 2}", reset_less=True)
                 m.d.sync += pair.eq(_tree_sum(chunks[c:c + 2]))
                 pairs.append(pair)
+            if cfg.ad_clip:
+                pairs.append(self._ad_term(m, k))
             total = _tree_sum(pairs)
-            m.d.sync += self.cost[k].eq(Mux(inside_2[k], total, n))
+            m.d.sync += self.cost[k].eq(Mux(inside_2[k], total, cfg.cost_max))
         return m
+
+    def _ad_term(self, m, k):
+        """Lane k's AD term, registered in two stages beside the chunk counts and their pairs: the signed grey
+        difference, then min(\\|difference\\|, ad_clip) >> ad_shift."""
+        cfg = self.config
+        grey_diff = Signal(signed(cfg.pixel_bits + 1), name=f"grey_diff_{k}", reset_less=True)
+        m.d.sync += grey_diff.eq(self.right_grey - self.left_grey[k])
+        magnitude = Mux(grey_diff < 0, -grey_diff, grey_diff)
+        ad = Signal(range(cfg.ad_max + 1), name=f"ad_{k}", reset_less=True)
+        m.d.sync += ad.eq(Mux(magnitude > cfg.ad_clip, cfg.ad_clip, magnitude) >> cfg.ad_shift)
+        return ad

@@ -20,7 +20,7 @@ from sim.formal.harnesses.frame_store_writer import FrameStoreWriterHarness
 from sim.formal.harnesses.i2c import I2CMasterHarness, InitSequencerHarness
 from sim.formal.harnesses.map_store import MapOwnershipHarness
 from sim.formal.harnesses.read_arbiter import ReadArbiterHarness
-from sim.formal.harnesses.reverse_path import ReversePathHarness
+from sim.formal.harnesses.reverse_path import AD_CONFIG, ReversePathHarness
 from sim.formal.harnesses.row_tags import RowTagTrackerHarness
 from sim.formal.harnesses.segment_band import SegmentBandHarness
 from sim.formal.harnesses.switches import SwitchControlHarness
@@ -53,6 +53,7 @@ DEFAULT = {
     "segment_band": SegmentBandHarness,
     "row_tags": RowTagTrackerHarness,
     "reverse_path": ReversePathHarness,
+    "reverse_path_ad": lambda: _named(ReversePathHarness(AD_CONFIG), "reverse_path_ad"),
     "frame_pairing": FramePairingHarness,
     "frame_store_ownership": FrameStoreOwnershipHarness,
     "map_store_ownership": MapOwnershipHarness,

@@ -3,15 +3,16 @@
 store is addressed inside itself at the word of the pixel and group.
 
 The environment is free inside the block's interface contract (its docstring's Ports): tokens in the row (x < W,
-group < G), a pixel's groups in consecutive clocks from group 0 with ``last`` on the last, costs at most N (census
-distances), carries at most ``other_paths`` x (N + P2), the stored carry read at least a clock after its write,
-pixels at least ``loop_clocks`` apart (the path's banks hold the previous pixel's vector whole only then, and the
-sums' bounds need that vector to be the one its minimum M' is of). The pixels' order, ``first`` (the block ignores
-it) and the values on clocks without ``go`` are free.
+group < G), a pixel's groups in consecutive clocks from group 0 with ``last`` on the last, costs at most
+``cost_max`` (census distance + AD term), carries at most ``other_paths`` x (``cost_max`` + P2), the stored carry
+read at least a clock after its write, pixels at least ``loop_clocks`` apart (the path's banks hold the previous
+pixel's vector whole only then, and the sums' bounds need that vector to be the one its minimum M' is of). The
+pixels' order, ``first`` (the block ignores it) and the values on clocks without ``go`` are free.
 
 D = 6 with 2 lanes: 3 groups behind a 2-bit group field (so the contract matters); W = 7: the row store's 21 words
 behind a 5-bit address; a 3 x 3 census (N = 8), P1 = 2, P2 = 5: L at most 13 in 4 bits, the carry at most 26 in 5,
-the sum at most 39 in 6.
+the sum at most 39 in 6. ``reverse_path_ad`` (:data:`AD_CONFIG`): the same with the AD term, costs up to 10, L up
+to 15 (the top of its 4 bits), the carry up to 30, the sum up to 45.
 """
 
 from amaranth import Mux, Signal
@@ -21,6 +22,9 @@ from spec.depth import DepthConfig
 from sim.formal.runner import FormalHarness
 
 CONFIG = DepthConfig(disparities=6, lanes=2, census_width=3, census_height=3, p1=2, p2=5)
+#: CONFIG with the AD term (min(|dI|, 4) >> 1 <= 2): costs up to cost_max = 10, L up to path_max = 15, the top of
+#: its 4 bits (``reverse_path_ad``).
+AD_CONFIG = DepthConfig(disparities=6, lanes=2, census_width=3, census_height=3, p1=2, p2=5, ad_clip=4, ad_shift=1)
 WIDTH = 7
 OTHER_PATHS = 2
 
@@ -88,10 +92,10 @@ class ReversePathHarness(FormalHarness):
         # token_layout: x in the row, group < G.
         self.assume(m, "store_token_in_row", ~store_token.go | ((store_token.x < w) & (store_token.group < groups)))
         self.assume(m, "token_in_row", ~token.go | ((token.x < w) & (token.group < groups)))
-        # carry: the other paths' sum, each at most N + P2; cost: a census distance.
+        # carry: the other paths' sum, each at most cost_max + P2; cost: a matching cost, at most cost_max.
         for k in range(lanes):
             self.assume(m, f"carry_within_other_paths_in_{k}", ~store_token.go | (dut.carry[k] <= carry_max))
-            self.assume(m, f"cost_is_a_census_distance_{k}", ~token.go | (dut.cost[k] <= cfg.census_bits))
+            self.assume(m, f"cost_is_a_matching_cost_{k}", ~token.go | (dut.cost[k] <= cfg.cost_max))
         # A pixel's groups in consecutive clocks, from group 0, ``last`` on the last, one x.
         expect = Signal(range(groups), name="expected_group")
         x_held = Signal.like(token.x, name="pixel_x")
