@@ -54,8 +54,9 @@ def test_left_winner_matches_golden(cfg):
     assert (got == left_winner(total)).all()
 
 
-def run_fill(cfg, rows, order):
-    """Rows of (codes, d*, d_L) through a LeftRightFill, written in ``order``: the replayed codes per row."""
+def run_fill(cfg, rows, order, stop_after=None):
+    """Rows of (codes, d*, d_L) through a LeftRightFill, written in ``order``: the replayed codes per row.
+    ``stop_after``: ``stop`` that many clocks after the first row's ``start``, the next row written at once."""
     dut = LeftRightFill(cfg, WIDTH)
     out = []
 
@@ -76,6 +77,13 @@ def run_fill(cfg, rows, order):
             await ctx.tick()
             ctx.set(dut.start, 0)
             row = []
+            if stop_after is not None and not out:
+                await ctx.tick().repeat(stop_after - 1)
+                ctx.set(dut.stop, 1)
+                await ctx.tick()
+                ctx.set(dut.stop, 0)
+                out.append(None)
+                continue
             for clock in range(1, LeftRightFill.end_clocks(WIDTH) + 1):
                 assert ctx.get(dut.busy)
                 if ctx.get(dut.valid):
@@ -110,3 +118,18 @@ def test_fill_matches_golden(cfg):
         assert row[-1][0] == end
         assert [c for _, _, c in row[:-1]] == expected[y].tolist()
         assert all(b - a == 2 for (a, _, _), (b, _, _) in zip(row, row[1:]))
+
+
+@pytest.mark.parametrize("stop_after", [3, WIDTH + 6])
+def test_fill_stop_in_the_scan_and_the_replay(stop_after):
+    """``stop`` in the scan or the replay: the block takes the next row's writes at once and replays that row."""
+    cfg = CONFIGS[0]
+    rng = np.random.default_rng(stop_after)
+    total = rng.integers(0, 8, size=(cfg.disparities, 2, WIDTH))
+    dstar = np.argmin(total, axis=0)
+    codes = (dstar * cfg.fraction).astype(np.uint16)
+    codes[rng.random(codes.shape) < 0.3] = cfg.invalid
+    expected = background_fill(codes, left_right_keep(total, codes, cfg), cfg)
+    dl = left_winner(total)
+    got = run_fill(cfg, [(codes[y], dstar[y], dl[y]) for y in range(2)], np.arange(WIDTH), stop_after)
+    assert [c for _, _, c in got[1][:-1]] == expected[1].tolist()

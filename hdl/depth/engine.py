@@ -11,6 +11,8 @@ from amaranth.lib.wiring import In, Out
 from spec.depth import DEPTH, DIAGONAL_PATHS, THREE_PATHS, TWO_PATHS
 from spec.sensor import SENSOR
 from hdl.depth.census import CensusWindow
+from hdl.depth.left_right_fill import LeftRightFill
+from hdl.depth.left_winner import LeftWinner
 from hdl.depth.matching_cost import MatchingCost
 from hdl.depth.median import Median3x3
 from hdl.depth.median5 import SeparableMedian5
@@ -44,13 +46,15 @@ class Schedule(NamedTuple):
     ``drain_clocks``; ``pass_clocks`` is their total (starting a pass takes 3 clocks more). With three paths the
     forward steps are followed by ``back_steps`` backward steps, ``back_drain`` + 1 clocks for the row's last
     code and the replay of the row's codes into the median, 2 (W + 1) clocks: ``reverse_clocks`` (0 for two
-    paths)."""
+    paths). With the left-right check the drain holds the row's check and fill (:class:`LeftRightFill`), started
+    at drain clock ``fill_start``."""
     step_clocks: int
     steps: int
     drain_clocks: int
     back_steps: int = 0
     back_drain: int = 0
     replay_clocks: int = 0
+    fill_start: int = 0
 
     @property
     def reverse_clocks(self):
@@ -70,6 +74,12 @@ def schedule(geometry=SENSOR, config=DEPTH):
     steps = geometry.buf_width + 2 * (config.census_width // 2) + config.disparities - 1
     code_clock = PATH_CLOCK + SgmPath.LATENCY + groups - 1 + Winner.latency(config)
     median = median_block(config)
+    if config.left_right:
+        # The fill starts when the two-path engine's end token would go to the median (the row's last code is in
+        # its store); the median's last output comes ``LATENCY`` clocks after the fill's end token.
+        fill_start = code_clock + END_GAP - step_clocks
+        return Schedule(step_clocks, steps, fill_start + LeftRightFill.end_clocks(geometry.buf_width)
+                        + median.LATENCY + 2, fill_start=fill_start)
     if config.paths != THREE_PATHS:
         return Schedule(step_clocks, steps, code_clock + END_GAP + median.LATENCY + 2 - step_clocks)
     # Backward steps: the census windows' lead only (left and right move together). The backward drain ends when
@@ -104,8 +114,6 @@ def check_parameters(geometry, config, out_rows=4, tag_margin=8):
                          f"{', '.join(DIAGONAL_PATHS)} only, not {', '.join(config.paths)}")
     if config.left_right and config.paths == THREE_PATHS:
         raise ValueError("the RTL's left-right check takes two paths (TWO_PATHS or DIAGONAL_PATHS), not THREE_PATHS")
-    if config.left_right:
-        raise ValueError("the engine does not build the left-right check yet (left_right=True: golden model only)")
     if out_rows < 2:
         raise ValueError(f"out_rows must be at least 2, not {out_rows}")
     if tag_margin < 2:
@@ -229,6 +237,7 @@ class DepthEngine(wiring.Component):
         w, h = geometry.buf_width, geometry.buf_height
         plan = schedule(geometry, config)
         self.step_clocks, self.steps, self.drain_clocks = plan.step_clocks, plan.steps, plan.drain_clocks
+        self.fill_start = plan.fill_start
         self.lead = plan.steps - w
         self.three = config.paths == THREE_PATHS
         self.back_steps, self.back_drain = plan.back_steps, plan.back_drain
@@ -304,6 +313,7 @@ class DepthEngine(wiring.Component):
                      left_ring.start.eq(self.start), right_ring.start.eq(self.start)]
 
         fsm, drain = self._passes(m, y, step, clock, can_start, in_run, out_base)
+        self._drain = (fsm, drain)
         if platform == "formal":
             self._invariants(m, fsm, (left_ring, right_ring), y, (step, clock, drain), (need, first, before),
                              can_start, limit)
@@ -763,6 +773,8 @@ class DepthEngine(wiring.Component):
         codes_write = None
         if self.three:
             codes_write = self._reverse_back_end(m, median, row_invalid)
+        elif cfg.left_right:
+            self._left_right_back_end(m, horizontal, vertical, median, row_invalid)
         else:
             winner = add_reset_subtree(m, "winner", Winner(cfg, w))
             m.d.comb += [winner.token.eq(horizontal.l_token), winner.horizontal.eq(horizontal.l),
@@ -788,6 +800,27 @@ class DepthEngine(wiring.Component):
             self.result.data.eq(read.data),
         ]
         return codes_write, write
+
+    def _left_right_back_end(self, m, horizontal, vertical, median, row_invalid):
+        """Two paths with the left-right check: the winner's codes and d* and :class:`LeftWinner`'s d_L (from the
+        winner's sums) into :class:`LeftRightFill`'s row stores; in the drain the fill checks the row and replays
+        it into the median (docs/depth.md, "left-right check")."""
+        cfg, w = self.config, self.geometry.buf_width
+        winner = add_reset_subtree(m, "winner", Winner(cfg, w))
+        m.d.comb += [winner.token.eq(horizontal.l_token), winner.horizontal.eq(horizontal.l),
+                     winner.vertical.eq(vertical.l)]
+        left = add_reset_subtree(m, "left_winner", LeftWinner(cfg, w))
+        m.d.comb += [left.token.eq(winner.sums_token), left.sums.eq(winner.sums)]
+        fill = add_reset_subtree(m, "left_right", LeftRightFill(cfg, w))
+        fsm, drain = self._drain
+        m.d.comb += [
+            fill.code_valid.eq(winner.valid), fill.code_x.eq(winner.x), fill.code_d.eq(winner.d),
+            fill.code.eq(Mux(row_invalid, cfg.invalid, winner.code)),
+            fill.left_valid.eq(left.valid), fill.left_x.eq(left.x), fill.left_d.eq(left.d),
+            fill.start.eq(fsm.ongoing("DRAIN") & (drain == self.fill_start) & ~self.start),
+            fill.stop.eq(self.start),
+            median.valid.eq(fill.valid), median.x.eq(fill.x), median.code.eq(fill.out_code),
+        ]
 
     def _reverse_back_end(self, m, median, row_invalid):
         """Three paths: the winner over ReversePath's L_rl and carried S2 (codes in descending x) into a row of

@@ -40,6 +40,8 @@ class LeftRightFill(wiring.Component):
         One left pixel's d_L (``hdl.depth.left_winner.LeftWinner``).
     start : In(1)
         The row is written (every code and d_L of it): scan and replay it. No writes until ``busy`` falls.
+    stop : In(1)
+        Abandon the scan or the replay (a new map): back to taking writes in the next clock.
     valid, x, out_code : Out
         The replay into the median: x = 0 .. W - 1 with its code, then the end token x = W; ``valid`` every other
         clock, the end token :attr:`END_CLOCKS` (= :meth:`end_clocks`) clocks after ``start``.
@@ -67,6 +69,7 @@ class LeftRightFill(wiring.Component):
             "left_x": In(range(width)),
             "left_d": In(range(config.disparities)),
             "start": In(1),
+            "stop": In(1),
             "valid": Out(1),
             "x": Out(range(width + 1)),
             "out_code": Out(config.code_bits),
@@ -113,8 +116,9 @@ class LeftRightFill(wiring.Component):
                 m.d.comb += [code_write.addr.eq(self.code_x),
                              code_write.data.code.eq(self.code), code_write.data.tail.eq(self.code_d),
                              code_write.en.eq(self.code_valid)]
+                m.d.sync += live1.eq(0)             # no scan read in flight (after a stop too)
                 with m.If(self.start):
-                    m.d.sync += [scan_x.eq(0), right_kept.eq(cfg.invalid), live1.eq(0)]
+                    m.d.sync += [scan_x.eq(0), right_kept.eq(cfg.invalid)]
                     m.next = "SCAN"
             with m.State("SCAN"):
                 m.d.comb += [self.busy.eq(1), code_read.addr.eq(w - 1 - scan_x),
@@ -125,6 +129,9 @@ class LeftRightFill(wiring.Component):
                 with m.If(scan_x == w + 1):
                     m.d.sync += [replay_x.eq(0), odd.eq(0), left_kept.eq(cfg.invalid)]
                     m.next = "REPLAY"
+                with m.If(self.stop):
+                    m.d.sync += live1.eq(0)
+                    m.next = "IDLE"
             with m.State("REPLAY"):
                 stored = code_read.data
                 kept, right = stored.tail[bits], stored.tail[:bits]
@@ -139,4 +146,6 @@ class LeftRightFill(wiring.Component):
                         m.d.sync += left_kept.eq(stored.code)
                     with m.If(replay_x == w):
                         m.next = "IDLE"
+                with m.If(self.stop):
+                    m.next = "IDLE"
         return m
