@@ -138,6 +138,11 @@ class DepthEngine(wiring.Component):
     then replays the codes into the median (docs/depth.md, "The third path in the RTL", scheme a'):
     ``schedule(...).reverse_clocks`` more per pass.
 
+    With ``config.left_right`` (two paths) the back end also runs the left-right check and the background fill
+    (docs/depth.md, "The left-right check in the RTL"): :class:`LeftWinner` on the winner's sums, the row's codes,
+    d* and d_L into :class:`LeftRightFill`, whose scan and replay into the median run in the pass's drain
+    (``schedule(...).fill_start``; ``LeftRightFill.end_clocks(W)`` clocks more per pass).
+
     Right image = reference: the code of right pixel (x, y) is its disparity d (match left(x + d, y)) in
     1 / 2**F pixel (F = ``fraction_bits``), or ``config.invalid`` = D 2**F. ``golden.depth.depth_map`` is the same
     map (with ``row_tags``: the tags the engine sampled).
@@ -223,7 +228,7 @@ class DepthEngine(wiring.Component):
     ValueError
         If ``lanes`` does not divide D, D is more than the width, the census window is not odd, the paths are not
         ``spec.depth.TWO_PATHS``, ``THREE_PATHS`` or ``DIAGONAL_PATHS`` (the golden model's other path sets have no
-        RTL), ``tag_margin`` is less than 2, or the AD term is on (``ad_clip`` > 0) with ``pixel_bits`` other than
+        RTL), ``left_right`` is set with ``THREE_PATHS``, ``tag_margin`` is less than 2, or the AD term is on (``ad_clip`` > 0) with ``pixel_bits`` other than
         the buffers' ``grey_bits``.
     """
 
