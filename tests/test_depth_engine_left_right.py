@@ -19,7 +19,8 @@ from hdl.stereo_display import check_map_rate
 from spec.depth import DEPTH_800, DIAGONAL_PATHS, THREE_PATHS, TWO_PATHS
 from spec.sensor import SENSOR_800
 from spec.video import CEA_1080P60
-from tests.test_depth_engine import BUSY, CFG, G, SHAPE, assert_same, engine_tags, random_pair, run_engine, steps
+from tests.test_depth_engine import (BUSY, CFG, G, SHAPE, assert_same, engine_tags, random_pair, run_cocotb_depth,
+                                     run_engine, steps)
 
 
 def config(paths=TWO_PATHS, median=3):
@@ -91,6 +92,16 @@ def test_restart_in_the_middle_of_a_map(restart_after):
     cfg = config()
     codes, *_ = run_engine(left, right, config=cfg, restart_after=restart_after)
     assert_same(codes, depth_map(left, right, cfg))
+
+
+@pytest.mark.slow
+def test_left_right_cocotb_small(simulator, tmp_path):
+    """The Verilog on Verilator and Icarus (cocotb): the card before the wall with torn rows, equal to the golden
+    map."""
+    left, right = occlusion_pair(5, wall=3, card=6)
+    outcome = run_cocotb_depth(left, right, G, config(), simulator, tmp_path, grant_mask=0b101,
+                               tag_tables=torn_tables())
+    assert outcome["mismatches"] == 0
 
 
 def test_parameters_schedule_and_map_rate():
