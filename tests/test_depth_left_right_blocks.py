@@ -54,43 +54,64 @@ def test_left_winner_matches_golden(cfg):
     assert (got == left_winner(total)).all()
 
 
-def run_fill(cfg, rows, order, stop_after=None):
-    """Rows of (codes, d*, d_L) through a LeftRightFill, written in ``order``: the replayed codes per row.
-    ``stop_after``: ``stop`` that many clocks after the first row's ``start``, the next row written at once."""
+def run_fill(cfg, rows, stop=None):
+    """Rows of (codes, d*, d_L) through a LeftRightFill as the engine drives it: a row's codes in ascending x every
+    3 clocks (its d_L beside them, in descending x), from 3 clocks after the previous row's ``replay`` on (during
+    that replay, each x after the replay has read it); ``start``; ``replay`` ``scan_clocks`` later. Returns per
+    row the replay's outputs, (clocks after ``replay``, x, code). ``stop``: "scan" (3 clocks after the first row's
+    ``start``) or "replay" (6 clocks after its ``replay``): that row gives None, and the next row is written an x
+    a clock and started before that replay would have ended."""
     dut = LeftRightFill(cfg, WIDTH)
     out = []
+    state = {"list": None, "since": 0}
+
+    async def step(ctx, clocks=1):
+        for _ in range(clocks):
+            if state["list"] is not None and ctx.get(dut.valid):
+                state["list"].append((state["since"], ctx.get(dut.x), ctx.get(dut.out_code)))
+            await ctx.tick()
+            state["since"] += 1
+
+    async def pulse(ctx, port):
+        ctx.set(port, 1)
+        await step(ctx)
+        ctx.set(port, 0)
 
     async def bench(ctx):
-        for codes, dstar, dl in rows:
-            for x in order:
+        gap = 2
+        for r, (codes, dstar, dl) in enumerate(rows):
+            await step(ctx, 2)
+            for x in range(WIDTH):
                 ctx.set(dut.code_valid, 1)
-                ctx.set(dut.code_x, int(x))
+                ctx.set(dut.code_x, x)
                 ctx.set(dut.code, int(codes[x]))
                 ctx.set(dut.code_d, int(dstar[x]))
                 ctx.set(dut.left_valid, 1)
-                ctx.set(dut.left_x, int(order[-1 - list(order).index(x)]))
-                ctx.set(dut.left_d, int(dl[order[-1 - list(order).index(x)]]))
-                await ctx.tick()
-            ctx.set(dut.code_valid, 0)
-            ctx.set(dut.left_valid, 0)
-            ctx.set(dut.start, 1)
-            await ctx.tick()
-            ctx.set(dut.start, 0)
-            row = []
-            if stop_after is not None and not out:
-                await ctx.tick().repeat(stop_after - 1)
-                ctx.set(dut.stop, 1)
-                await ctx.tick()
-                ctx.set(dut.stop, 0)
+                ctx.set(dut.left_x, WIDTH - 1 - x)
+                ctx.set(dut.left_d, int(dl[WIDTH - 1 - x]))
+                await step(ctx)
+                ctx.set(dut.code_valid, 0)
+                ctx.set(dut.left_valid, 0)
+                await step(ctx, gap)
+            await pulse(ctx, dut.start)
+            if stop == "scan" and r == 0:
+                await step(ctx, 2)
+                await pulse(ctx, dut.stop)
                 out.append(None)
+                gap = 0
                 continue
-            for clock in range(1, LeftRightFill.end_clocks(WIDTH) + 1):
-                assert ctx.get(dut.busy)
-                if ctx.get(dut.valid):
-                    row.append((clock, ctx.get(dut.x), ctx.get(dut.out_code)))
-                await ctx.tick()
-            assert not ctx.get(dut.busy)
-            out.append(row)
+            await step(ctx, LeftRightFill.scan_clocks(WIDTH) - 1)
+            state["list"], state["since"] = [], 0
+            out.append(state["list"])
+            await pulse(ctx, dut.replay)
+            if stop == "replay" and r == 0:
+                await step(ctx, 5)
+                await pulse(ctx, dut.stop)
+                out[-1] = state["list"] = None
+                gap = 0
+            else:
+                gap = 2
+        await step(ctx, LeftRightFill.replay_clocks(WIDTH) + 2)
 
     simulate(dut, clocks={"sync": 1e8}, testbenches=[bench])
     return out
@@ -110,26 +131,25 @@ def test_fill_matches_golden(cfg):
     expected = background_fill(codes, keep, cfg)
     assert not keep.all() and keep.any()
     dl = left_winner(total)
-    order = rng.permutation(WIDTH)
-    got = run_fill(cfg, [(codes[y], dstar[y], dl[y]) for y in range(4)], order)
-    end = LeftRightFill.end_clocks(WIDTH)
+    got = run_fill(cfg, [(codes[y], dstar[y], dl[y]) for y in range(4)])
     for y, row in enumerate(got):
         assert [x for _, x, _ in row] == list(range(WIDTH + 1))
-        assert row[-1][0] == end
+        assert row[-1][0] == LeftRightFill.replay_clocks(WIDTH)
         assert [c for _, _, c in row[:-1]] == expected[y].tolist()
         assert all(b - a == 2 for (a, _, _), (b, _, _) in zip(row, row[1:]))
 
 
-@pytest.mark.parametrize("stop_after", [3, WIDTH + 6])
-def test_fill_stop_in_the_scan_and_the_replay(stop_after):
+@pytest.mark.parametrize("stop", ["scan", "replay"])
+def test_fill_stop_in_the_scan_and_the_replay(stop):
     """``stop`` in the scan or the replay: the block takes the next row's writes at once and replays that row."""
     cfg = CONFIGS[0]
-    rng = np.random.default_rng(stop_after)
+    rng = np.random.default_rng(len(stop))
     total = rng.integers(0, 8, size=(cfg.disparities, 2, WIDTH))
     dstar = np.argmin(total, axis=0)
     codes = (dstar * cfg.fraction).astype(np.uint16)
     codes[rng.random(codes.shape) < 0.3] = cfg.invalid
     expected = background_fill(codes, left_right_keep(total, codes, cfg), cfg)
     dl = left_winner(total)
-    got = run_fill(cfg, [(codes[y], dstar[y], dl[y]) for y in range(2)], np.arange(WIDTH), stop_after)
+    got = run_fill(cfg, [(codes[y], dstar[y], dl[y]) for y in range(2)], stop)
+    assert got[0] is None
     assert [c for _, _, c in got[1][:-1]] == expected[1].tolist()
