@@ -277,7 +277,8 @@ def left_right_lines():
         lut_ram = sum(LUT_RAM_LUTS[t] * n for t, n in cells.items() if t in LUT_RAM_LUTS)
         lines.append(f"| `{block.__name__}` | {luts:,} | {lut_ram:,} | {count('FD'):,} | "
                      f"{count('RAMB36') + count('RAMB18') / 2:g} |")
-    lines += ["", "| 800 x 600, D 128 | pass clocks | map clocks | display frames a map (1080p60) |", "|---|---|---|---|"]
+    lines += ["", "| 800 x 600, D 128 | pass clocks | map clocks | display frames a map (1080p60) |",
+              "|---|---|---|---|"]
     for name, build in (("`DEPTH_800`", DEPTH_800), ("+ `left_right`", config)):
         lines.append(f"| {name} | {schedule(SENSOR_800, build).pass_clocks:,} | {map_clocks(SENSOR_800, build):,} | "
                      f"{check_map_rate(CEA_1080P60, SENSOR_800, build)} |")

@@ -39,7 +39,8 @@ import numpy as np
 from spec.depth import DEPTH, PATH_STEPS
 
 __all__ = ["census", "matching_cost", "path_step", "path_cost", "subpixel", "second_best", "winner", "left_winner",
-           "left_right_keep", "background_fill", "median3x3", "separable_median5", "median", "row_flags", "depth_map", "DepthResult"]
+           "left_right_keep", "background_fill", "median3x3", "separable_median5", "median", "row_flags", "depth_map",
+           "DepthResult"]
 
 
 def _check_pair(left, right, config):

@@ -55,8 +55,9 @@ def map_clocks(geometry, config, pace=MAP_PACE):
     """Pixel clocks from a display frame's start to a map whole in the map writer, with every engine read granted
     (docs/depth.md, "Frame and latency"): the take and the start (:data:`TAKE_CLOCKS`), rows 0..3 fetched (4 W) and
     their tag samples, ``H + lag`` passes of ``pass_clocks + 3`` (``hdl.depth.engine.row_lag``: the median's
-    ``ROW_LAG``, 1 for the 3 x 3, 2 for the separable 5 x 5, one more with ``left_right``), and the last row drained, a code every ``pace`` clocks (the other rows are drained
-    while later passes run: a row takes ``pace W + 3`` clocks, less than a pass)."""
+    ``ROW_LAG``, 1 for the 3 x 3, 2 for the separable 5 x 5, one more with ``left_right``), and the last row
+    drained, a code every ``pace`` clocks (the other rows are drained while later passes run: a row takes ``pace W
+    + 3`` clocks, less than a pass)."""
     w, h, lag = geometry.buf_width, geometry.buf_height, row_lag(config)
     return TAKE_CLOCKS + 4 * w + tag_delay(config) + (h + lag) * (schedule(geometry, config).pass_clocks + 3) \
         + pace * w + 3

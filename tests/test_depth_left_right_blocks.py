@@ -11,7 +11,8 @@ from spec.depth import DepthConfig
 from sim.runners.amaranth import simulate
 
 WIDTH = 12
-CONFIGS = [DepthConfig(disparities=8, lanes=4), DepthConfig(disparities=6, lanes=2), DepthConfig(disparities=4, lanes=4)]
+CONFIGS = [DepthConfig(disparities=8, lanes=4), DepthConfig(disparities=6, lanes=2),
+           DepthConfig(disparities=4, lanes=4)]
 
 
 def run_left_winner(cfg, total, spacing):
