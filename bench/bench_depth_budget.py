@@ -232,24 +232,29 @@ def blocks_lines():
             + line_lines(attributed) + [""])
 
 
+#: The median choices ``--median`` puts through Yosys: (median, median_valid).
+MEDIANS = ((3, False), (5, False), (5, True), (7, False), (7, True))
+
+
 def median_lines():
-    """The two median blocks alone through Yosys (as ``--synth``) at W = 800 with DEPTH_800's 12-bit codes, and
-    the 800 x 600 map's clocks in the store with each (``hdl.stereo_display.map_clocks``)."""
+    """The median blocks (``MEDIANS``) alone through Yosys (as ``--synth``) at W = 800 with DEPTH_800's 12-bit
+    codes, and the 800 x 600 map's clocks in the store with each (``hdl.stereo_display.map_clocks``)."""
     import tempfile
     from board.resources import LUT_CELLS, run_yosys
     from hdl.depth.engine import median_block
     from hdl.stereo_display import map_clocks
     lines = ["### The median blocks alone through Yosys (W = 800, 12-bit codes)", "",
-             "| block | LUTs (logic) | SRL16E | flip-flops | RAMB36 (+ RAMB18 / 2) | pass clocks | map clocks |",
-             "|---|---|---|---|---|---|---|"]
-    for median in (3, 5):
-        config = dataclasses.replace(DEPTH_800, median=median)
+             "| block | median, median_valid | LUTs (logic) | SRL16E | flip-flops | RAMB36 (+ RAMB18 / 2) | "
+             "pass clocks | map clocks |",
+             "|---|---|---|---|---|---|---|---|"]
+    for median, valid_only in MEDIANS:
+        config = dataclasses.replace(DEPTH_800, median=median, median_valid=valid_only)
         block = median_block(config)
         with tempfile.TemporaryDirectory() as work:
             cells, _, _ = run_yosys(rtlil.convert(block(config, SENSOR_800), name="top"), work)
         count = lambda prefix: sum(n for t, n in cells.items() if t.startswith(prefix))     # noqa: E731
         luts = sum(n for t, n in cells.items() if t in LUT_CELLS)
-        lines.append(f"| `{block.__name__}` | {luts:,} | {count('SRL'):,} | {count('FD'):,} | "
+        lines.append(f"| `{block.__name__}` | {median}, {valid_only} | {luts:,} | {count('SRL'):,} | {count('FD'):,} | "
                      f"{count('RAMB36') + count('RAMB18') / 2:g} | {schedule(SENSOR_800, config).pass_clocks:,} | "
                      f"{map_clocks(SENSOR_800, config):,} |")
     return lines + [""]
@@ -288,7 +293,7 @@ def left_right_lines():
 def main(options=()):
     """``--quality``: the golden model's figures of the candidate builds as well (several minutes); ``--synth``:
     the engines through Yosys (about 15 minutes); ``--blocks``: the 800 x 600 D 128 two-path engine's LUTs per
-    block (about 5 minutes), alone; ``--median``: the two median blocks through Yosys (half a minute), alone;
+    block (about 5 minutes), alone; ``--median``: the median blocks through Yosys (about a minute), alone;
     ``--left-right``: the left-right check's blocks through Yosys and the pass with the check, alone."""
     if "--left-right" in options:
         print("\n".join(left_right_lines()))

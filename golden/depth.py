@@ -25,8 +25,9 @@ disparity in 1 / 2**F pixel (F = ``fraction_bits``), or ``config.invalid`` = D 2
    the smaller of the nearest kept codes left and right of it in its row (the one there is; invalid if none).
 6. :func:`median3x3` (``config.median`` = 3): the 5th smallest of the 3 x 3 codes around each pixel, coordinates
    clamped; invalid sorts above every disparity, so a pixel is invalid only where most of its neighbourhood is.
-   :func:`separable_median5` (``median`` = 5): the median of the five column medians at x - 2 .. x + 2, each the
-   median of the five codes at rows y - 2 .. y + 2, coordinates clamped.
+   :func:`separable_median` (``median`` = n = 5 or 7, m = n // 2): the median of the n column medians at
+   x - m .. x + m, each the median of the n codes at rows y - m .. y + m, coordinates clamped; with
+   ``median_valid`` each median is taken over its valid codes (invalid when at most half of them are valid).
 
 :func:`depth_map` runs the whole chain. With ``row_tags`` (the frame tag of every row of each image, docs/depth.md,
 "Rows from different camera frames") it applies the two tag rules of :func:`row_flags`: rows whose census window
@@ -39,7 +40,7 @@ import numpy as np
 from spec.depth import DEPTH, PATH_STEPS
 
 __all__ = ["census", "matching_cost", "path_step", "path_cost", "subpixel", "second_best", "winner", "left_winner",
-           "left_right_keep", "background_fill", "median3x3", "separable_median5", "median", "row_flags", "depth_map",
+           "left_right_keep", "background_fill", "median3x3", "separable_median", "median", "row_flags", "depth_map",
            "DepthResult"]
 
 
@@ -238,21 +239,40 @@ def median3x3(codes):
     return np.sort(stack, axis=0)[4].astype(codes.dtype)
 
 
-def separable_median5(codes):
-    """The separable 5 x 5 median of every pixel: the median (3rd smallest) of the five column medians at columns
-    x - 2 .. x + 2, column x' 's the median of its five codes at rows y - 2 .. y + 2; rows and columns clamped at
-    the image border (the border pixel repeats; a clamped column's median is the border column's)."""
+def _median_of(stack, valid_only, invalid):
+    """The median of the k codes along axis 0 of ``stack``: the (k // 2)-th smallest (0-based; ``invalid``, the
+    largest code, sorts last), or with ``valid_only`` the ((v - 1) // 2)-th smallest of the v valid codes (code
+    != ``invalid``) if v > k // 2, else ``invalid``."""
+    k = len(stack)
+    if not valid_only:
+        return np.sort(stack, axis=0)[k // 2]
+    valid = stack != invalid
+    v = valid.sum(axis=0)
+    ordered = np.sort(np.where(valid, stack.astype(np.int64), np.iinfo(np.int64).max), axis=0)
+    pick = np.take_along_axis(ordered, ((np.maximum(v, 1) - 1) // 2)[None], axis=0)[0]
+    return np.where(v > k // 2, pick, invalid)
+
+
+def separable_median(codes, n, valid_only=False, invalid=DEPTH.invalid):
+    """The separable n x n median (n = 5 or 7, m = n // 2) of every pixel: the median of the n column medians at
+    columns x - m .. x + m, column x' 's the median of its n codes at rows y - m .. y + m; rows and columns
+    clamped at the image border (the border pixel repeats; a clamped column's median is the border column's).
+    Each median is :func:`_median_of` (``valid_only``: over the valid codes, ``invalid`` the invalid code)."""
     codes = np.asarray(codes)
     h, w = codes.shape
-    rows = np.pad(codes, ((2, 2), (0, 0)), mode="edge")
-    columns = np.sort(np.stack([rows[dy:dy + h] for dy in range(5)]), axis=0)[2]
-    padded = np.pad(columns, ((0, 0), (2, 2)), mode="edge")
-    return np.sort(np.stack([padded[:, dx:dx + w] for dx in range(5)]), axis=0)[2].astype(codes.dtype)
+    m = n // 2
+    rows = np.pad(codes, ((m, m), (0, 0)), mode="edge")
+    columns = _median_of(np.stack([rows[dy:dy + h] for dy in range(n)]), valid_only, invalid)
+    padded = np.pad(columns, ((0, 0), (m, m)), mode="edge")
+    return _median_of(np.stack([padded[:, dx:dx + w] for dx in range(n)]), valid_only, invalid).astype(codes.dtype)
 
 
 def median(codes, config=DEPTH):
-    """The median ``config.median`` selects: :func:`median3x3` (3) or :func:`separable_median5` (5)."""
-    return median3x3(codes) if config.median == 3 else separable_median5(codes)
+    """The median ``config.median`` selects: :func:`median3x3` (3) or :func:`separable_median` (5, 7; with
+    ``config.median_valid``)."""
+    if config.median == 3:
+        return median3x3(codes)
+    return separable_median(codes, config.median, config.median_valid, config.invalid)
 
 
 def _check_tags(tags, height, side):

@@ -46,9 +46,13 @@ n + 2    read addresses and requests registered; crosshair, window and row-ready
 n + 3    frame-buffer and result-ring read data (into the segmentation block too); the colour-map ROM's
          address: the code (depth map) or 2**F x the band's disparity (bar)
 n + 4    read data registered (BRAM output register); the colour-map word and the invalid flag; the text
-         layer's font pixel; the segmentation block's code and grey registered
-n + 5    disparity level / no-data, the image grey, the code's colour, the segmentation colour registered
-n + 6    ``video`` registered: the colour chosen by region
+         layer's font pixel; the segmentation block's code and grey registered; the subtractor's valid and
+         no-data flags (``next_valid``, ``next_no_data``)
+n + 5    disparity level, the code's colour, the segmentation colour registered; the region's choice
+         registered: which of four candidates to show and the colour of the first (a constant colour --
+         background, text, no-data, not-ready, crosshair -- or the image grey)
+n + 6    ``video`` registered: the chosen candidate (that colour, the level's grey, the code's colour or the
+         segmentation colour): a 4:1 multiplexer a bit of registers
 =======  ================================================================================================
 
 Switch timing: ``settings`` are used only for pixels in the disparity region. They change
@@ -92,6 +96,9 @@ __all__ = ["Compositor", "LATENCY", "check_layout", "check_parameters", "segment
 
 #: Clocks from ``timing`` in to ``video`` out.
 LATENCY = 6
+#: The candidates of the last stage's colour choice (``pick_5``): the colour registered at n + 5 by region (a
+#: constant or the image grey), the difference map's level grey, the code's colour, the segmentation colour.
+_EARLY, _LEVEL, _COLOUR, _SEGMENT = range(4)
 SOURCES = ("left", "right", "disparity", "depth")
 #: The raster position from which the rectification text holds this frame's characters: the text block samples
 #: one clock after ``frame_start`` (raster position 0) and has them :data:`hdl.rectification_text.LATENCY` clocks
@@ -299,10 +306,10 @@ class Compositor(wiring.Component):
         m.d.comb += [text.x.eq(self.timing.x), text.y.eq(self.timing.y), text.chars.readout.eq(distance.chars)]
         if "rectification" in self.dynamic:
             self._rectification_text(m, text)
-        grey_5, show_image_5 = self._image_reads(m, inside, scanners, sub)
-        depth_5 = self._depth_reads(m, inside, scanners, vblank_1, distance, text)
-        depth_5["segment"] = self._segment_view(m, scanners, text)
-        self._colour(m, grey_5, show_image_5, depth_5, de_d[5], sub)
+        image_4 = self._image_reads(m, inside, scanners, sub)
+        view_4 = self._depth_reads(m, inside, scanners, vblank_1, distance, text)
+        segment = self._segment_view(m, scanners, text)
+        self._colour(m, image_4, view_4, segment, de_d[4], sub)
         m.d.comb += [
             self.video.de.eq(de_d[LATENCY]),
             self.video.hsync.eq(hsync_d[LATENCY]),
@@ -383,7 +390,8 @@ class Compositor(wiring.Component):
         return scanners
 
     def _image_reads(self, m, inside, scanners, sub):
-        """Clocks n + 2 .. n + 5: each read port serves its image region or the subtractor ``sub``; the image grey."""
+        """Clocks n + 2 .. n + 4: each read port serves its image region or the subtractor ``sub``; the image grey
+        and its flag at n + 4 (``grey``, ``show``)."""
         g = self.geometry
         # n + 2: read addresses; the subtractor registers its own addresses from the disparity flag at n + 1.
         show_left_2, show_right_2 = Signal(name="show_left_2"), Signal(name="show_right_2")
@@ -410,20 +418,15 @@ class Compositor(wiring.Component):
         show_right_4 = delayed(m, show_right_2, 2, "show_right")
         left_q_4, right_q_4 = Signal(g.grey_bits, name="left_q_4"), Signal(g.grey_bits, name="right_q_4")
         m.d.sync += [left_q_4.eq(self.left.port.data), right_q_4.eq(self.right.port.data)]
-        # n + 4 -> n + 5: the image grey; the subtractor's level arrives at n + 5
-        grey_5 = Signal(g.grey_bits, name="grey_5")
-        show_image_5 = Signal(name="show_image_5")
-        m.d.sync += [
-            grey_5.eq(Mux(show_left_4, left_q_4, right_q_4)),
-            show_image_5.eq(show_left_4 | show_right_4),
-        ]
+        # n + 4: the image grey and whether it is shown (into the colour choice); the subtractor's level arrives at
+        # n + 5
         assert SUBTRACTOR_LATENCY == 4, "the stage numbering above assumes the subtractor's 4-clock latency"
-        return grey_5, show_image_5
+        return dict(grey=Mux(show_left_4, left_q_4, right_q_4), show=show_left_4 | show_right_4)
 
     def _depth_reads(self, m, inside, scanners, vblank_1, distance, text):
         """Clocks n + 1 .. n + 5: the depth map from the result ring (rows released as they are shown), the
-        crosshair, the centre window (into ``distance``), the bar's band and the colour of the code; ``text``'s
-        flags delayed to n + 5."""
+        crosshair, the centre window (into ``distance``), the bar's band and the colour of the code (``colour``, at
+        n + 5); the region flags, the crosshair and row-ready flags and ``text``'s flags at n + 4."""
         g, cfg, arm = self.geometry, self.config, self.layout.crosshair_arm
         scan, result = scanners["depth"], self.depth
         with m.If(vblank_1):
@@ -455,11 +458,11 @@ class Compositor(wiring.Component):
         m.d.comb += colour_map.code.eq(Mux(in_depth_3, result.data,
                                            delayed(m, bar_code_2, 1, "bar_code") << cfg.fraction_bits))
         colour_5 = colour_map.rgb                                       # n + 3 + COLOUR_LATENCY
-        return dict(colour=colour_5, depth=delayed(m, in_depth_3, COLOUR_LATENCY, "in_depth_3"),
-                    ready=delayed(m, ready_2, 3, "ready"), cross=delayed(m, cross_2, 3, "cross"),
-                    bar=delayed(m, inside["bar"], 4, "in_bar"), tick=delayed(m, inside["tick"], 3, "in_tick"),
-                    in_text=delayed(m, text.in_text, 5 - TEXT_LATENCY, "in_text"),
-                    lit=delayed(m, text.lit, 5 - TEXT_LATENCY, "lit"))
+        return dict(colour=colour_5, depth=delayed(m, in_depth_3, COLOUR_LATENCY - 1, "in_depth_3"),
+                    ready=delayed(m, ready_2, 2, "ready"), cross=delayed(m, cross_2, 2, "cross"),
+                    bar=delayed(m, inside["bar"], 3, "in_bar"), tick=delayed(m, inside["tick"], 2, "in_tick"),
+                    in_text=delayed(m, text.in_text, 4 - TEXT_LATENCY, "in_text"),
+                    lit=delayed(m, text.lit, 4 - TEXT_LATENCY, "lit"))
 
     def _rectification_text(self, m, text):
         """The rectification in use as text: sampled one clock after ``frame_start``, when the settings of this
@@ -472,9 +475,9 @@ class Compositor(wiring.Component):
                      text.chars.rectification.eq(rt.chars)]
 
     def _segment_view(self, m, scanners, text):
-        """Clocks n + 2 .. n + 5: the segmentation view's colour (from the ring's code and the right port's grey at
-        n + 3) and whether it is shown (``segment``, the ring row ready), its band into ``text``; None without
-        segmentation."""
+        """Clocks n + 2 .. n + 5: the segmentation view's colour (``rgb``, at n + 5, from the ring's code and the right
+        port's grey at n + 3) and whether it is shown at n + 4 (``on``: ``segment`` registered once; ``ready``: the
+        ring row is ready), its band into ``text``; None without segmentation."""
         if not self.segmentation:
             return None
         m.submodules.segment_band = seg = SegmentBand(self.geometry, self.config)
@@ -485,11 +488,64 @@ class Compositor(wiring.Component):
         if "band" in self.dynamic:
             m.d.comb += text.chars.band.eq(seg.chars)
         assert SEGMENT_LATENCY == 2, "the stage numbering assumes the segmentation block's 2-clock latency"
-        return dict(rgb=seg.rgb, ready=delayed(m, ready_2, 3, "segment_ready"), on=self.segment)
+        # ``segment`` may come from a comparison of the switch registers: registered before it joins the colour
+        # choice. It changes at frame_start; the difference map starts at least SETTLE_CLOCKS pixels later.
+        on_1 = Signal(name="segment_on_1")
+        m.d.sync += on_1.eq(self.segment)
+        return dict(rgb=seg.rgb, ready=delayed(m, ready_2, 2, "segment_ready"), on=on_1)
 
-    def _colour(self, m, grey_5, show_image_5, depth_5, de_5, sub):
-        """Clock n + 5 -> n + 6: the colour chosen by region (the difference map's level and no-data from ``sub``)."""
-        grey8 = self._replicate_to_8_bits(grey_5)
+    def _colour(self, m, image_4, view_4, segment, de_4, sub):
+        """Clocks n + 4 -> n + 6: the colour chosen by region, in two registered steps.
+
+        n + 4 -> n + 5: from the region flags, the choice of one of four candidates (``pick_5``) and the colour of
+        the :data:`_EARLY` candidate (``early_5``: a constant colour or the image grey); n + 5 -> n + 6: ``video.rgb``
+        = the picked one of ``early_5``, the difference map's level grey (``sub.level``, a register at n + 5), the
+        segmentation colour and the code's colour (registers at n + 5): a 4:1 multiplexer a bit after one level of
+        logic on the level. The subtractor's ``next_valid`` / ``next_no_data`` are its ``out_valid`` / ``no_data``
+        at n + 4."""
+        early_4, pick_4 = Signal(24, name="early_4"), Signal(2, name="pick_4")
+        # Reset-less: in reset de_4 is low, so they load the reset choice (colour 0) every clock anyway, and the
+        # synthesis has no reset logic to fold into their set/reset pins.
+        early_5 = Signal(24, name="early_5", reset_less=True)
+        pick_5 = Signal(2, name="pick_5", reset_less=True)
+        grey8 = self._replicate_to_8_bits(image_4["grey"])
+        m.d.comb += pick_4.eq(_EARLY)
+        with m.If(~de_4):
+            m.d.comb += early_4.eq(0)
+        with m.Elif(view_4["in_text"]):
+            m.d.comb += early_4.eq(Mux(view_4["lit"], TEXT_RGB, BACKGROUND_RGB))
+        with m.Elif(sub.next_valid):
+            if segment is not None:
+                with m.If(segment["on"]):
+                    with m.If(segment["ready"]):
+                        m.d.comb += pick_4.eq(_SEGMENT)
+                    with m.Else():
+                        m.d.comb += early_4.eq(DEPTH_NOT_READY_RGB)
+                with m.Elif(sub.next_no_data):
+                    m.d.comb += early_4.eq(NO_DATA_RGB)
+                with m.Else():
+                    m.d.comb += pick_4.eq(_LEVEL)
+            else:
+                with m.If(sub.next_no_data):
+                    m.d.comb += early_4.eq(NO_DATA_RGB)
+                with m.Else():
+                    m.d.comb += pick_4.eq(_LEVEL)
+        with m.Elif(image_4["show"]):
+            m.d.comb += early_4.eq(Cat(grey8, grey8, grey8))
+        with m.Elif(view_4["depth"]):
+            with m.If(~view_4["ready"]):
+                m.d.comb += early_4.eq(DEPTH_NOT_READY_RGB)
+            with m.Elif(view_4["cross"]):
+                m.d.comb += early_4.eq(CROSSHAIR_RGB)
+            with m.Else():
+                m.d.comb += pick_4.eq(_COLOUR)
+        with m.Elif(view_4["bar"]):
+            m.d.comb += pick_4.eq(_COLOUR)
+        with m.Elif(view_4["tick"]):
+            m.d.comb += early_4.eq(TEXT_RGB)
+        with m.Else():
+            m.d.comb += early_4.eq(BACKGROUND_RGB)
+        m.d.sync += [early_5.eq(early_4), pick_5.eq(pick_4)]
         level_rgb = Signal(24, name="level_rgb")
         with m.Switch(sub.level):
             for level, v in enumerate(self.level_grey[:-1]):
@@ -498,28 +554,16 @@ class Compositor(wiring.Component):
             with m.Default():                       # the top level (the subtractor never exceeds it)
                 v = self.level_grey[-1]
                 m.d.comb += level_rgb.eq((v << 16) | (v << 8) | v)
-        rgb = self.video.rgb
-        with m.If(~de_5):
-            m.d.sync += rgb.eq(0)
-        with m.Elif(depth_5["in_text"]):
-            m.d.sync += rgb.eq(Mux(depth_5["lit"], TEXT_RGB, BACKGROUND_RGB))
-        with m.Elif(sub.out_valid):
-            diff_rgb = Mux(sub.no_data, NO_DATA_RGB, level_rgb)
-            seg = depth_5["segment"]
-            if seg is not None:
-                diff_rgb = Mux(seg["on"], Mux(seg["ready"], seg["rgb"], DEPTH_NOT_READY_RGB), diff_rgb)
-            m.d.sync += rgb.eq(diff_rgb)
-        with m.Elif(show_image_5):
-            m.d.sync += rgb.eq(Cat(grey8, grey8, grey8))
-        with m.Elif(depth_5["depth"]):
-            m.d.sync += rgb.eq(Mux(~depth_5["ready"], DEPTH_NOT_READY_RGB,
-                                   Mux(depth_5["cross"], CROSSHAIR_RGB, depth_5["colour"])))
-        with m.Elif(depth_5["bar"]):
-            m.d.sync += rgb.eq(depth_5["colour"])
-        with m.Elif(depth_5["tick"]):
-            m.d.sync += rgb.eq(TEXT_RGB)
-        with m.Else():
-            m.d.sync += rgb.eq(BACKGROUND_RGB)
+        with m.Switch(pick_5):
+            with m.Case(_EARLY):
+                m.d.sync += self.video.rgb.eq(early_5)
+            with m.Case(_LEVEL):
+                m.d.sync += self.video.rgb.eq(level_rgb)
+            with m.Case(_COLOUR):
+                m.d.sync += self.video.rgb.eq(view_4["colour"])
+            if segment is not None:
+                with m.Case(_SEGMENT):
+                    m.d.sync += self.video.rgb.eq(segment["rgb"])
 
     @staticmethod
     def _replicate_to_8_bits(grey):

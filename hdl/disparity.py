@@ -35,6 +35,9 @@ n + 3    their signed difference ``L - R`` registered (one carry chain after the
 n + 4    ``level``, ``no_data``, ``out_valid`` registered: **latency 4 clocks** from the inputs
 =======  ================================================================================================
 
+``next_no_data`` and ``next_valid`` are ``no_data`` and ``out_valid`` one clock ahead (registers, at n + 3), for a
+consumer that decides what to show a clock before the level arrives.
+
 ``settings`` (``disparity``, ``rectification``) must be stable for :data:`SETTLE_CLOCKS` clocks before the first
 input pixel that uses them (the compositor guarantees this: the switch registers change only at ``frame_start``, at
 least a line before the first disparity pixel).
@@ -91,6 +94,9 @@ class DisparitySubtractor(wiring.Component):
     left, right : ``Out(FrameBufferReadSignature(geometry))``
     level, no_data, out_valid : Out
         The quantised difference of the pixel given :data:`LATENCY` clocks earlier.
+    next_no_data, next_valid : Out
+        ``no_data`` and ``out_valid`` one clock ahead (registered: of the pixel given ``LATENCY - 1`` clocks
+        earlier).
 
     Raises
     ------
@@ -113,6 +119,8 @@ class DisparitySubtractor(wiring.Component):
             "level": Out(range(len(self.thresholds) + 1)),
             "no_data": Out(1),
             "out_valid": Out(1),
+            "next_no_data": Out(1),
+            "next_valid": Out(1),
         })
 
     def elaborate(self, platform):
@@ -167,6 +175,7 @@ class DisparitySubtractor(wiring.Component):
             no_data_3.eq(no_data_2),
             valid_3.eq(valid_2),
         ]
+        m.d.comb += [self.next_no_data.eq(no_data_3), self.next_valid.eq(valid_3)]
 
         # Clock n + 3 -> n + 4: the level of |L - R| from the registered difference: its one's-complement magnitude
         # (|L - R| for L >= R, |L - R| - 1 below: an XOR with the sign, no carry chain), each threshold's comparison

@@ -30,8 +30,9 @@ class DepthConfig:
     """The dense matcher's constants: census transform, matching cost (census Hamming distance, plus the clipped
     grey difference min(|dI|, ``ad_clip``) >> ``ad_shift`` when ``ad_clip`` > 0: AD-census), semi-global
     aggregation on ``paths``, winner-take-all, sub-pixel fit, validity rule, with ``left_right`` the left-right
-    check and the background fill, and median (``median`` 3: 3 x 3; 5: the separable 5 x 5) (docs/depth.md).
-    The widths follow from them (``cost_max`` on): no stage can overflow. ``ValueError`` for paths or AD
+    check and the background fill, and median (``median`` 3: 3 x 3; 5, 7: the separable 5 x 5, 7 x 7; with
+    ``median_valid`` each of the separable form's medians is taken over its valid codes) (docs/depth.md).
+    The widths follow from them (``cost_max`` on): no stage can overflow. ``ValueError`` for paths, AD or median
     parameters outside their ranges. Codes count 1 / 2**fraction_bits pixel; ``invalid`` is D in those steps.
     ``pixel_bits`` is the width of the grey values the engine reads (the capture's ``grey_bits``).
 
@@ -50,14 +51,18 @@ class DepthConfig:
     lanes: int = 16             # disparities per clock in the RTL (divides D)
     pixel_bits: int = SENSOR.grey_bits      # grey values 0 .. 2**pixel_bits - 1
     paths: tuple = TWO_PATHS    # aggregation paths (names of PATH_STEPS), summed
-    median: int = 3             # 3: the 3 x 3 median; 5: the separable 5 x 5 median (docs/depth.md, "median")
+    median: int = 3             # 3: the 3 x 3 median; 5, 7: the separable 5 x 5, 7 x 7 (docs/depth.md, "median")
+    median_valid: bool = False  # separable medians over the valid codes only (median 5 or 7)
     ad_clip: int = 0            # AD-census: + min(|I_R - I_L|, ad_clip) >> ad_shift on the cost; 0 = off
     ad_shift: int = 0
     left_right: bool = False    # the left-right check from the same sums and the background fill (docs/depth.md)
 
     def __post_init__(self):
-        if self.median not in (3, 5):
-            raise ValueError(f"median must be 3 (3 x 3) or 5 (separable 5 x 5), not {self.median!r}")
+        if self.median not in (3, 5, 7):
+            raise ValueError(f"median must be 3 (3 x 3), 5 or 7 (separable 5 x 5, 7 x 7), not {self.median!r}")
+        if not isinstance(self.median_valid, bool) or (self.median_valid and self.median == 3):
+            raise ValueError(f"median_valid must be False or True, True with median 5 or 7 only (median "
+                             f"{self.median!r}, median_valid {self.median_valid!r})")
         if not isinstance(self.left_right, bool):
             raise ValueError(f"left_right must be True or False, not {self.left_right!r}")
         unknown = [p for p in self.paths if p not in PATH_STEPS]

@@ -1,6 +1,7 @@
 # amaranth: UnusedElaboratable=no
 """The separable 5 x 5 median (docs/depth.md, "median"): the golden model on hand-made arrays (the clamp at all
-four borders, invalid codes, where it differs from the full 5 x 5 median) and ``SeparableMedian5`` against it."""
+four borders, invalid codes, where it differs from the full 5 x 5 median) and ``SeparableMedian`` (the plain
+5 x 5) against it."""
 
 import dataclasses
 import itertools
@@ -9,14 +10,19 @@ import numpy as np
 import pytest
 from scipy.ndimage import median_filter
 
-from golden.depth import median, median3x3, separable_median5
+from golden.depth import median, median3x3, separable_median
 from hdl.depth.median import Median3x3
-from hdl.depth.median5 import MEDIAN5_NETWORK, SeparableMedian5
+from hdl.depth.separable_median import MEDIAN_NETWORKS, SeparableMedian
 from spec.depth import DepthConfig
 from spec.sensor import SensorGeometry
 from sim.runners.amaranth import simulate
 
 INVALID = DepthConfig(disparities=8, lanes=4).invalid      # 128 (7 bits)
+
+
+def separable_median5(codes):
+    """The plain separable 5 x 5 median."""
+    return separable_median(codes, 5)
 
 
 def full_median5(codes):
@@ -25,8 +31,8 @@ def full_median5(codes):
 
 
 def test_config_median_is_validated():
-    assert DepthConfig().median == 3 and DepthConfig(median=5).median == 5
-    for bad in (1, 4, 7, "5"):
+    assert DepthConfig().median == 3 and DepthConfig(median=5).median == 5 and DepthConfig(median=7).median == 7
+    for bad in (1, 4, 9, "5"):
         with pytest.raises(ValueError, match="median must be 3"):
             DepthConfig(median=bad)
 
@@ -93,7 +99,7 @@ def test_median_network_gives_the_median_of_every_input():
     """The 0-1 principle, on three levels: every input of 0, 1, 2 in every order."""
     for values in itertools.product(range(3), repeat=5):
         v = list(values)
-        for layer in MEDIAN5_NETWORK:
+        for layer in MEDIAN_NETWORKS[5]:
             for i, j in layer:
                 v[i], v[j] = min(v[i], v[j]), max(v[i], v[j])
         assert v[2] == sorted(values)[2]
@@ -149,14 +155,14 @@ def run_block(codes, block, gaps, config=DepthConfig(disparities=8, lanes=4)):
 
 @pytest.mark.parametrize("shape", [(1, 1), (2, 3), (5, 2), (6, 7)])
 def test_block_equals_golden(shape):
-    """``SeparableMedian5`` on random codes (invalid ones included) at small sizes, inputs every other clock and
-    slower: every output once, equal to ``golden.depth.separable_median5``; a row's last output ``LATENCY``
+    """``SeparableMedian`` on random codes (invalid ones included) at small sizes, inputs every other clock and
+    slower: every output once, equal to ``golden.depth.separable_median``; a row's last output ``LATENCY``
     clocks after its end token (what the engine's drain counts on)."""
     rng = np.random.default_rng(sum(shape))
     codes = rng.choice([0, 1, 2, 7, 33, 127, INVALID], size=shape).astype(np.uint16)
-    got, latencies = run_block(codes, SeparableMedian5, gaps=[0, 0, 1, 0, 3])
+    got, latencies = run_block(codes, SeparableMedian, gaps=[0, 0, 1, 0, 3])
     assert (got == separable_median5(codes)).all(), f"{got}\n{separable_median5(codes)}"
-    assert latencies == [SeparableMedian5.LATENCY] * shape[0]
+    assert latencies == [SeparableMedian.LATENCY] * shape[0]
 
 
 def test_median3x3_block_lag_and_latency():

@@ -58,13 +58,13 @@ def test_golden_shift_edges():
 def run_subtractor(left, right, disparity, rectification, thresholds, pixels, grey_bits=5):
     """Drive ``pixels`` (a list of (x, y) or None for an idle clock) through the subtractor wired to two
     FrameBuffers preloaded with ``left``/``right`` (``grey_bits`` of grey); return [(level, no_data)] per pixel,
-    checking the documented latency, the right/left addresses and that the left address never leaves the
-    buffer."""
+    checking the documented latency, ``next_valid`` / ``next_no_data`` (``out_valid`` / ``no_data`` a clock
+    ahead), the right/left addresses and that the left address never leaves the buffer."""
     h, w = right.shape
     geometry = SensorGeometry(width=4 * w, height=4 * h, grey_bits=grey_bits)
     m, sub = subtractor_testbench(geometry, thresholds, left.ravel().tolist(), right.ravel().tolist())
     stream = list(pixels) + [None] * LATENCY
-    out = []
+    out, ahead = [], []
 
     async def bench(ctx):
         ctx.set(sub.settings.disparity, disparity)
@@ -75,8 +75,11 @@ def run_subtractor(left, right, disparity, rectification, thresholds, pixels, gr
             await ctx.tick()
             out.append((ctx.get(sub.out_valid), ctx.get(sub.level), ctx.get(sub.no_data),
                         ctx.get(sub.left.addr), ctx.get(sub.right.addr)))
+            ahead.append((ctx.get(sub.next_valid), ctx.get(sub.next_no_data)))
 
     simulate(m, clocks={"sync": CLOCKS.PIXEL_HZ}, testbenches=[bench])
+    for i in range(1, len(out)):                   # next_valid / next_no_data: out_valid / no_data a clock ahead
+        assert ahead[i - 1] == (out[i][0], out[i][2]), f"next_valid / next_no_data at clock {i}"
     depth = w * h
     results = []
     for i, pixel in enumerate(stream):

@@ -15,7 +15,7 @@ from hdl.depth.left_right_fill import LeftRightFill
 from hdl.depth.left_winner import LeftWinner
 from hdl.depth.matching_cost import MatchingCost
 from hdl.depth.median import Median3x3
-from hdl.depth.median5 import SeparableMedian5
+from hdl.depth.separable_median import separable_median
 from hdl.depth.ports import ResultReadSignature, RowTagReadSignature, SharedReadSignature, token_layout
 from hdl.depth.reverse_path import ReversePath
 from hdl.depth.row_ring import RowRing
@@ -35,10 +35,10 @@ END_GAP = 2             # clocks between a row's last code and the median's end 
 
 
 def median_block(config):
-    """The median block of ``config.median``: :class:`Median3x3` (3) or :class:`SeparableMedian5` (5). Its
-    ``ROW_LAG`` is the rows a pass's output trails its input: pass y writes row y - ROW_LAG, and a map is
-    H + ROW_LAG passes."""
-    return Median3x3 if config.median == 3 else SeparableMedian5
+    """The median block of ``config.median``: :class:`Median3x3` (3) or the ``separable_median`` class of 5 or 7
+    (``config.median_valid``: each median over the valid codes). Its ``ROW_LAG`` is the rows a pass's output
+    trails its input: pass y writes row y - ROW_LAG, and a map is H + ROW_LAG passes."""
+    return Median3x3 if config.median == 3 else separable_median(config.median, config.median_valid)
 
 
 def row_lag(config):
@@ -133,8 +133,8 @@ def check_parameters(geometry, config, out_rows=4, tag_margin=8):
 
 class DepthEngine(wiring.Component):
     """Census + semi-global matching on two paths (or three) + winner-take-all + median (``config.median``: 3 x 3,
-    or the separable 5 x 5: :func:`median_block`) (docs/depth.md), computed row by row from the two frame buffers
-    into a small ring of result rows.
+    or the separable 5 x 5 or 7 x 7: :func:`median_block`) (docs/depth.md), computed row by row from the two frame
+    buffers into a small ring of result rows.
 
     With ``config.paths`` = ``DIAGONAL_PATHS`` the second path is the diagonal from the top right (p' = (x + 1,
     y - 1)) instead of top to bottom: the same line buffer, read at column x + 1, and L' = 0, M' = 0 at x = W - 1
@@ -202,8 +202,8 @@ class DepthEngine(wiring.Component):
         column on).
     pass_row : Signal(range(height + lag + 1))
         The pass running or waiting to run (y): 0 .. height + lag - 1 while a map runs (pass y writes row y - lag,
-        lag = :func:`row_lag`: the median's ``ROW_LAG``, 1 for the 3 x 3, 2 for the separable 5 x 5, one more with
-        ``left_right``), height + lag once it is done, 0 before the first.
+        lag = :func:`row_lag`: the median's ``ROW_LAG``, 1 for the 3 x 3, 2 for the separable 5 x 5, 3 for the 7 x
+        7, one more with ``left_right``), height + lag once it is done, 0 before the first.
 
     Elaborated for the platform ``"formal"`` (sim/formal/runner.py), the engine and its row rings also assert
     their invariants (pass control, fetch, tag samples: docs/formal.md), in ``sync``; never in simulation or
@@ -226,7 +226,8 @@ class DepthEngine(wiring.Component):
     8 + g      paths: select L'; 9 + g: partial minimums; 10 + g: L
     11 + g     line buffer write (vertical L), winner sum, path minimum trees
     G + 12 + t winner folded (t = minimum-tree clocks), then F + 6 clocks of ``Subpixel`` to the code,
-    2 clocks to the median's end token, ``LATENCY`` in the median (12 for the 3 x 3, 14 for the separable 5 x 5)
+    2 clocks to the median's end token, ``LATENCY`` in the median (12 for the 3 x 3, 14 for the separable
+    5 x 5, 17 for the 7 x 7; 16 and 19 over the valid codes)
     ========== ==============================================================
 
     A row's first read is at the earliest 4 clocks after the previous row's last one; a pass waits for its rows'

@@ -8,7 +8,7 @@ from spec.video import SMALL_TIMING
 from sim.formal.harnesses.capture import CaptureAverageHarness, CaptureHarness
 from sim.formal.harnesses.compositor import CompositorHarness, packed_layout
 from sim.formal.harnesses.depth import (DepthEngineHarness, DepthMapHarness, DepthMedian5MapHarness, DepthThreeHarness,
-                                       DepthThreeMapHarness)
+                                       DepthMedian7MapHarness, DepthThreeMapHarness)
 from sim.formal.harnesses.depth_codes import MedianCodesHarness, SubpixelCodesHarness, WinnerCodesHarness
 from sim.formal.harnesses.disparity import DisparityHarness
 from sim.formal.harnesses.frame_buffer import FrameBufferHarness
@@ -34,6 +34,7 @@ DEFAULT = {
     "depth": DepthEngineHarness,
     "depth_map": DepthMapHarness,
     "depth_median5_map": DepthMedian5MapHarness,
+    "depth_median7_map": DepthMedian7MapHarness,
     "depth_three": DepthThreeHarness,
     "depth_three_map": DepthThreeMapHarness,
     "compositor": CompositorHarness,

@@ -241,6 +241,24 @@ class DepthMedian5MapHarness(DepthMapHarness):
         super().__init__(geometry, config, out_rows)
 
 
+#: The map harness's engine with the separable 7 x 7 median over the valid codes (``median=7, median_valid=True``:
+#: pass y writes row y - 3) on the 2 x 2 buffer: three passes without an output row, three finishing passes, the
+#: window clamped at the top and the bottom in every one.
+MEDIAN7_MAP_CONFIG = dataclasses.replace(MAP_CONFIG, median=7, median_valid=True)
+#: BMC's bound for its ``map_completes`` (clocks): 5 passes of 71 + 3 clocks, about 400 with the start.
+MEDIAN7_MAP_COVER_BOUND = 440
+
+
+class DepthMedian7MapHarness(DepthMapHarness):
+    """:class:`DepthMapHarness` on the engine with the separable 7 x 7 median over the valid codes: the result
+    ring's properties with the median's row lag of 3 and the invalid row's codes."""
+    name = "depth_median7_map"
+    map_cover_bound = MEDIAN7_MAP_COVER_BOUND
+
+    def __init__(self, geometry=MEDIAN5_MAP_GEOMETRY, config=MEDIAN7_MAP_CONFIG, out_rows=MAP_OUT_ROWS):
+        super().__init__(geometry, config, out_rows)
+
+
 #: The three-path engines (docs/depth.md, "The third path in the RTL"): those of :class:`DepthEngineHarness` and
 #: :class:`DepthMapHarness` with ``THREE_PATHS``. A pass adds the backward steps, the backward drain and the replay
 #: (139 clocks against 89 on the 3 x 9 engine, 87 against 64 on the 2 x 3 one).
