@@ -122,3 +122,19 @@ def test_parameters_schedule_and_map_rate():
     checked_800 = dataclasses.replace(DEPTH_800, left_right=True)
     assert check_map_rate(CEA_1080P60, SENSOR_800, checked_800) == 3
     assert schedule(SENSOR_800, checked_800).pass_clocks - schedule(SENSOR_800, DEPTH_800).pass_clocks == 789
+
+
+@pytest.mark.slow
+def test_the_package_with_the_check():
+    """The probe's best: AD-census 16 >> 1, the diagonal as the second path, the 7 x 7 median over the valid codes
+    and the left-right check, on 8-bit grey with torn rows: the map equals the golden map (and differs from the
+    map without the check)."""
+    from tests.test_depth_engine_ad import AD, G8, low_contrast_pair
+    cfg = dataclasses.replace(AD, paths=DIAGONAL_PATHS, median=7, median_valid=True, left_right=True)
+    left, right = low_contrast_pair(3)
+    tables = torn_tables()
+    tags = (engine_tags(tables[0]), engine_tags(tables[1]))
+    codes, *_ = run_engine(left, right, geometry=G8, config=cfg, grant_mask=0b1, tag_tables=tables)
+    expected = depth_map(left, right, cfg, row_tags=tags)
+    assert_same(codes, expected)
+    assert (expected != depth_map(left, right, dataclasses.replace(cfg, left_right=False), row_tags=tags)).any()
