@@ -28,7 +28,9 @@ Schemes for the right-to-left path, whose recursion runs against the pixel order
 
 Run: ``python -m bench depth_budget`` (about a minute: three engines elaborated); ``--quality`` adds the golden
 model's figures of the candidate builds, ``--synth`` the engines' LUTs, flip-flops and block RAM through Yosys;
-``--blocks`` (alone) the 800 x 600 D = 128 two-path engine's LUTs per block and the registers taking the most.
+``--blocks`` (alone) the 800 x 600 D = 128 two-path engine's LUTs per block and the registers taking the most;
+``--left-right`` (alone) the left-right check's blocks through Yosys and the 800 x 600 pass and map with it
+(``--left-right --engine``: also the engine without and with the check).
 """
 
 import dataclasses
@@ -259,10 +261,66 @@ def median_lines():
     return lines + [""]
 
 
+def left_right_lines():
+    """The left-right check's two blocks alone through Yosys (as ``--synth``) at W = 800 with ``DEPTH_800``'s D =
+    128, 16 lanes (``LeftWinner``, ``LeftRightFill``), and the 800 x 600 pass and map with and without the check
+    (``hdl.stereo_display.map_clocks``, ``check_map_rate`` at 1080p60: display frames a map)."""
+    import tempfile
+    from board.blocks import LUT_RAM_LUTS
+    from board.resources import LUT_CELLS, run_yosys
+    from hdl.depth.left_right_fill import LeftRightFill
+    from hdl.depth.left_winner import LeftWinner
+    from hdl.stereo_display import check_map_rate, map_clocks
+    from spec.video import CEA_1080P60
+    config = dataclasses.replace(DEPTH_800, left_right=True)
+    lines = ["### The left-right check's blocks alone through Yosys (W = 800, D = 128, 16 lanes)", "",
+             "| block | LUTs (logic) | LUT RAM (LUTs) | flip-flops | RAMB36 (+ RAMB18 / 2) |", "|---|---|---|---|---|"]
+    for block in (LeftWinner, LeftRightFill):
+        with tempfile.TemporaryDirectory() as work:
+            cells, _, _ = run_yosys(rtlil.convert(block(config, SENSOR_800.buf_width), name="top"), work)
+        count = lambda prefix: sum(n for t, n in cells.items() if t.startswith(prefix))     # noqa: E731
+        luts = sum(n for t, n in cells.items() if t in LUT_CELLS)
+        lut_ram = sum(LUT_RAM_LUTS[t] * n for t, n in cells.items() if t in LUT_RAM_LUTS)
+        lines.append(f"| `{block.__name__}` | {luts:,} | {lut_ram:,} | {count('FD'):,} | "
+                     f"{count('RAMB36') + count('RAMB18') / 2:g} |")
+    lines += ["", "| 800 x 600, D 128 | pass clocks | map clocks | display frames a map (1080p60) |",
+              "|---|---|---|---|"]
+    for name, build in (("`DEPTH_800`", DEPTH_800), ("+ `left_right`", config)):
+        lines.append(f"| {name} | {schedule(SENSOR_800, build).pass_clocks:,} | {map_clocks(SENSOR_800, build):,} | "
+                     f"{check_map_rate(CEA_1080P60, SENSOR_800, build)} |")
+    return lines + [""]
+
+
+def left_right_engine_lines():
+    """The 800 x 600, D 128 two-path engine (``DEPTH_800``) through Yosys (as ``--synth``) without and with
+    ``left_right``: what the check adds in place."""
+    import tempfile
+    from board.blocks import LUT_RAM_LUTS
+    from board.resources import LUT_CELLS, run_yosys
+    lines = ["### The 800 x 600 engine without and with the left-right check (Yosys)", "",
+             "| engine | LUTs (logic) | SRL16E | LUT RAM (LUTs) | flip-flops | RAMB36 (+ RAMB18 / 2) |",
+             "|---|---|---|---|---|---|"]
+    builds = (("`DEPTH_800`", DEPTH_800), ("+ `left_right`", dataclasses.replace(DEPTH_800, left_right=True)))
+    for name, config in builds:
+        with tempfile.TemporaryDirectory() as work:
+            cells, _, _ = run_yosys(rtlil.convert(DepthEngine(SENSOR_800, config), name="top"), work)
+        count = lambda prefix: sum(n for t, n in cells.items() if t.startswith(prefix))     # noqa: E731
+        luts = sum(n for t, n in cells.items() if t in LUT_CELLS)
+        lut_ram = sum(LUT_RAM_LUTS[t] * n for t, n in cells.items() if t in LUT_RAM_LUTS)
+        lines.append(f"| {name} | {luts:,} | {count('SRL'):,} | {lut_ram:,} | {count('FD'):,} | "
+                     f"{count('RAMB36') + count('RAMB18') / 2:g} |")
+    return lines + [""]
+
+
 def main(options=()):
     """``--quality``: the golden model's figures of the candidate builds as well (several minutes); ``--synth``:
     the engines through Yosys (about 15 minutes); ``--blocks``: the 800 x 600 D 128 two-path engine's LUTs per
-    block (about 5 minutes), alone; ``--median``: the median blocks through Yosys (about a minute), alone."""
+    block (about 5 minutes), alone; ``--median``: the median blocks through Yosys (about a minute), alone;
+    ``--left-right``: the left-right check's blocks through Yosys and the pass with the check, alone (with
+    ``--engine``: also the 800 x 600 engine without and with it, about 4 minutes)."""
+    if "--left-right" in options:
+        print("\n".join(left_right_lines() + (left_right_engine_lines() if "--engine" in options else [])))
+        return
     if "--blocks" in options:
         print("\n".join(blocks_lines()))
         return

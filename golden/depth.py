@@ -19,7 +19,11 @@ disparity in 1 / 2**F pixel (F = ``fraction_bits``), or ``config.invalid`` = D 2
    (:func:`subpixel`); invalid (code D 2**F) when that S is above ``max_cost``, d* = D - 1 (the match may
    lie beyond the search range), or 64 S* > ``uniqueness`` S2, S2 the best sum 2 or more disparities away
    (:func:`second_best`: the confidence).
-5. :func:`median3x3` (``config.median`` = 3): the 5th smallest of the 3 x 3 codes around each pixel, coordinates
+5. With ``config.left_right``: :func:`left_winner`, d_L(x') = the smallest d with the smallest S(d, x' - d) (the
+   left view's winner from the same sums); :func:`left_right_keep`: a right pixel with a valid code and integer
+   winner d* is kept iff |d_L(min(x + d*, W - 1)) - d*| <= 1; :func:`background_fill`: every code not kept takes
+   the smaller of the nearest kept codes left and right of it in its row (the one there is; invalid if none).
+6. :func:`median3x3` (``config.median`` = 3): the 5th smallest of the 3 x 3 codes around each pixel, coordinates
    clamped; invalid sorts above every disparity, so a pixel is invalid only where most of its neighbourhood is.
    :func:`separable_median` (``median`` = n = 5 or 7, m = n // 2): the median of the n column medians at
    x - m .. x + m, each the median of the n codes at rows y - m .. y + m, coordinates clamped; with
@@ -35,8 +39,9 @@ import numpy as np
 
 from spec.depth import DEPTH, PATH_STEPS
 
-__all__ = ["census", "matching_cost", "path_step", "path_cost", "subpixel", "second_best", "winner", "median3x3",
-           "separable_median", "median", "row_flags", "depth_map", "DepthResult"]
+__all__ = ["census", "matching_cost", "path_step", "path_cost", "subpixel", "second_best", "winner", "left_winner",
+           "left_right_keep", "background_fill", "median3x3", "separable_median", "median", "row_flags", "depth_map",
+           "DepthResult"]
 
 
 def _check_pair(left, right, config):
@@ -178,6 +183,53 @@ def winner(total, config=DEPTH):
     return np.where(invalid, config.invalid, code).astype(np.uint16), best
 
 
+def left_winner(total):
+    """d_L (H x W, int64): the left view's winner from the summed costs (D x H x W): for left pixel x', the
+    smallest d with the smallest S(d, x' - d) over d = 0 .. min(D - 1, x') (left pixel x' is right pixel x' - d's
+    match at disparity d)."""
+    total = np.asarray(total)
+    w = total.shape[2]
+    best = total[0].astype(np.int64)
+    found = np.zeros(best.shape, dtype=np.int64)
+    for d in range(1, min(total.shape[0], w)):
+        offer = total[d, :, :w - d]                 # S(d, x' - d) for x' = d .. W - 1
+        better = offer < best[:, d:]                # strictly: a tie keeps the smaller d
+        best[:, d:] = np.where(better, offer, best[:, d:])
+        found[:, d:] = np.where(better, d, found[:, d:])
+    return found
+
+
+def left_right_keep(total, codes, config=DEPTH):
+    """The left-right check (H x W bool): right pixel (x, y) is kept iff its code is valid and its integer winner
+    d* (the smallest d with the smallest S) is within 1 of the left view's winner at min(x + d*, W - 1)
+    (:func:`left_winner`)."""
+    total = np.asarray(total)
+    w = total.shape[2]
+    d = np.argmin(total, axis=0)
+    target = np.minimum(np.arange(w)[None, :] + d, w - 1)
+    back = np.take_along_axis(left_winner(total), target, axis=1)
+    return (np.asarray(codes) != config.invalid) & (np.abs(back - d) <= 1)
+
+
+def background_fill(codes, keep, config=DEPTH):
+    """Every code not kept replaced by the smaller of the nearest kept codes left and right of it in its row (the
+    farther surface's), by the one there is where only one side has one, by the invalid code where the row has
+    none; kept codes unchanged."""
+    codes, keep = np.asarray(codes), np.asarray(keep, dtype=bool)
+    out = codes.copy()
+    for y in range(codes.shape[0]):
+        kept = np.flatnonzero(keep[y])
+        if not kept.size:
+            out[y] = config.invalid
+            continue
+        x = np.arange(codes.shape[1])
+        after = np.searchsorted(kept, x)                        # index of the first kept column >= x
+        left = np.where(after > 0, codes[y, kept[np.maximum(after - 1, 0)]], config.invalid)
+        right = np.where(after < kept.size, codes[y, kept[np.minimum(after, kept.size - 1)]], config.invalid)
+        out[y] = np.where(keep[y], codes[y], np.minimum(left, right))
+    return out
+
+
 def median3x3(codes):
     """The median of the 3 x 3 neighbourhood of every pixel, coordinates clamped at the image border."""
     codes = np.asarray(codes)
@@ -269,10 +321,11 @@ def row_flags(row_tags, height, config=DEPTH):
 
 class DepthResult:
     """Every intermediate of :func:`depth_map` (for tests and pictures): ``paths`` maps each path's name to its
-    costs; ``invalid_rows`` and ``restart_rows`` are :func:`row_flags`."""
+    costs; ``invalid_rows`` and ``restart_rows`` are :func:`row_flags`; ``checked`` is the median's input (``raw``
+    after the left-right check and the fill with ``config.left_right``, else ``raw``)."""
 
-    def __init__(self, cost, paths, raw, best, codes, config, invalid_rows=None, restart_rows=None):
-        self.cost, self.paths = cost, paths
+    def __init__(self, cost, paths, raw, best, codes, config, invalid_rows=None, restart_rows=None, checked=None):
+        self.cost, self.paths, self.checked = cost, paths, raw if checked is None else checked
         self.raw, self.best, self.codes, self.config = raw, best, codes, config
         self.invalid_rows, self.restart_rows = invalid_rows, restart_rows
 
@@ -285,7 +338,8 @@ def depth_map(left, right, config=DEPTH, *, details=False, row_tags=None):
     """The engine's output for two grey buffers: (H, W) uint16 codes, disparity x 2**F, or the invalid code.
     ``row_tags``: None (every row of one camera frame) or (left_tags, right_tags), each H entries of an int frame
     tag or None (torn), the left ones indexed by engine row; rows flagged by :func:`row_flags` are invalid before
-    the median, and the vertical path restarts where it says. ``details=True`` returns a :class:`DepthResult`
+    the median (and before the left-right check with ``config.left_right``), and the vertical path restarts where
+    it says. ``details=True`` returns a :class:`DepthResult`
     with the intermediates instead."""
     cost = matching_cost(left, right, config)
     invalid_rows, restart_rows = row_flags(row_tags, cost.shape[1], config)
@@ -298,7 +352,10 @@ def depth_map(left, right, config=DEPTH, *, details=False, row_tags=None):
             del paths[name]                             # the sum is all the winner needs
     raw, best = winner(total, config)
     raw[invalid_rows] = config.invalid
-    codes = median(raw, config)
+    checked = raw
+    if config.left_right:
+        checked = background_fill(raw, left_right_keep(total, raw, config), config)
+    codes = median(checked, config)
     if details:
-        return DepthResult(cost, paths, raw, best, codes, config, invalid_rows, restart_rows)
+        return DepthResult(cost, paths, raw, best, codes, config, invalid_rows, restart_rows, checked)
     return codes

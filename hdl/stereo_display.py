@@ -7,7 +7,7 @@ from amaranth.lib.wiring import In, Out
 
 from hdl.compositor import LATENCY as COMPOSITOR_LATENCY, Compositor, check_parameters, segmentation_fits
 from hdl.depth import DepthEngine, schedule
-from hdl.depth.engine import check_parameters as check_engine, median_block, tag_delay
+from hdl.depth.engine import check_parameters as check_engine, row_lag, tag_delay
 from hdl.depth.ports import RowTagReadSignature
 from hdl.disparity import SETTLE_CLOCKS
 from hdl.frame_buffer import FrameBufferReadSignature
@@ -54,10 +54,11 @@ TAKE_CLOCKS = 32
 def map_clocks(geometry, config, pace=MAP_PACE):
     """Pixel clocks from a display frame's start to a map whole in the map writer, with every engine read granted
     (docs/depth.md, "Frame and latency"): the take and the start (:data:`TAKE_CLOCKS`), rows 0..3 fetched (4 W) and
-    their tag samples, ``H + ROW_LAG`` passes of ``pass_clocks + 3`` (the median's ``ROW_LAG``: 1 for the 3 x 3,
-    2 for the separable 5 x 5), and the last row drained, a code every ``pace`` clocks (the other rows are drained
-    while later passes run: a row takes ``pace W + 3`` clocks, less than a pass)."""
-    w, h, lag = geometry.buf_width, geometry.buf_height, median_block(config).ROW_LAG
+    their tag samples, ``H + lag`` passes of ``pass_clocks + 3`` (``hdl.depth.engine.row_lag``: the median's
+    ``ROW_LAG``, 1 for the 3 x 3, 2 for the separable 5 x 5, one more with ``left_right``), and the last row
+    drained, a code every ``pace`` clocks (the other rows are drained while later passes run: a row takes ``pace W
+    + 3`` clocks, less than a pass)."""
+    w, h, lag = geometry.buf_width, geometry.buf_height, row_lag(config)
     return TAKE_CLOCKS + 4 * w + tag_delay(config) + (h + lag) * (schedule(geometry, config).pass_clocks + 3) \
         + pace * w + 3
 
@@ -84,8 +85,8 @@ def check_engine_keeps_up(timing, layout, geometry, config, segmentation=False):
     the compositor reads a buffer in every active pixel (so the engine's reads get only the blanking clocks,
     ``h_total - h_active`` a line):
 
-    * the first row: fetching 4 + L rows of both images (L the median's ``ROW_LAG``: rows 0..3 + L start pass L,
-      which finishes row 0) takes at most ceil((4 + L) W / blanking) lines; L + 2 passes (passes 0..L and the
+    * the first row: fetching 4 + L rows of both images (L = ``hdl.depth.engine.row_lag``: rows 0..3 + L start
+      pass L, which finishes row 0) takes at most ceil((4 + L) W / blanking) lines; L + 2 passes (passes 0..L and the
       registered starts) at most (L + 2) (``pass_clocks`` + 3) clocks; the depth map (and with ``segmentation`` the difference map's region, which
       then shows the segmentation view from the same rows) must start after both and ``ENGINE_START_DELAY``;
     * every further row: a pass (``pass_clocks`` + 3) and the W reads of a row fit in the ``scale`` lines a
@@ -97,7 +98,7 @@ def check_engine_keeps_up(timing, layout, geometry, config, segmentation=False):
     if blank <= 0 or w > depth.scale * blank or pass_clocks > depth.scale * timing.h_total:
         raise ValueError(f"the depth engine ({pass_clocks} clocks and {w} reads a row) cannot keep up with a "
                          f"depth map shown at {depth.scale}x on {timing.h_total}-clock lines")
-    lag = median_block(config).ROW_LAG
+    lag = row_lag(config)
     first = -(-(4 + lag) * w // blank) * timing.h_total + (2 + lag) * pass_clocks + ENGINE_START_DELAY
     start = depth.y0 * timing.h_total + depth.x0
     if segmentation:

@@ -29,9 +29,9 @@ THREE_PATHS = TWO_PATHS + ("right_to_left",)
 class DepthConfig:
     """The dense matcher's constants: census transform, matching cost (census Hamming distance, plus the clipped
     grey difference min(|dI|, ``ad_clip``) >> ``ad_shift`` when ``ad_clip`` > 0: AD-census), semi-global
-    aggregation on ``paths``, winner-take-all, sub-pixel fit, validity rule and median (``median`` 3: 3 x 3; 5, 7:
-    the separable 5 x 5, 7 x 7; with ``median_valid`` each of the separable form's medians is taken over its valid
-    codes) (docs/depth.md).
+    aggregation on ``paths``, winner-take-all, sub-pixel fit, validity rule, with ``left_right`` the left-right
+    check and the background fill, and median (``median`` 3: 3 x 3; 5, 7: the separable 5 x 5, 7 x 7; with
+    ``median_valid`` each of the separable form's medians is taken over its valid codes) (docs/depth.md).
     The widths follow from them (``cost_max`` on): no stage can overflow. ``ValueError`` for paths, AD or median
     parameters outside their ranges. Codes count 1 / 2**fraction_bits pixel; ``invalid`` is D in those steps.
     ``pixel_bits`` is the width of the grey values the engine reads (the capture's ``grey_bits``).
@@ -55,6 +55,7 @@ class DepthConfig:
     median_valid: bool = False  # separable medians over the valid codes only (median 5 or 7)
     ad_clip: int = 0            # AD-census: + min(|I_R - I_L|, ad_clip) >> ad_shift on the cost; 0 = off
     ad_shift: int = 0
+    left_right: bool = False    # the left-right check from the same sums and the background fill (docs/depth.md)
 
     def __post_init__(self):
         if self.median not in (3, 5, 7):
@@ -62,6 +63,8 @@ class DepthConfig:
         if not isinstance(self.median_valid, bool) or (self.median_valid and self.median == 3):
             raise ValueError(f"median_valid must be False or True, True with median 5 or 7 only (median "
                              f"{self.median!r}, median_valid {self.median_valid!r})")
+        if not isinstance(self.left_right, bool):
+            raise ValueError(f"left_right must be True or False, not {self.left_right!r}")
         unknown = [p for p in self.paths if p not in PATH_STEPS]
         if unknown or not self.paths or len(set(self.paths)) != len(self.paths):
             raise ValueError(f"paths must be distinct names of {', '.join(PATH_STEPS)}, not {self.paths!r}")

@@ -315,6 +315,8 @@ def run_cocotb_depth(left, right, geometry, config, simulator, tmp_path, grant_m
     name = f"depth_testbench_{geometry.buf_width}x{geometry.buf_height}_d{config.disparities}"
     if config.paths != TWO_PATHS:
         name += f"_p{len(config.paths)}"
+    if config.left_right:
+        name += "_lr"
     verilog = export_verilog(DepthTestbench(geometry, config), name)
     run_cocotb(verilog, name=name, test_module="cocotb_depth", simulator=simulator,
                build_args=VERILATOR_ARGS if simulator == "verilator" else (),

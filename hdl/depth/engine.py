@@ -11,6 +11,8 @@ from amaranth.lib.wiring import In, Out
 from spec.depth import DEPTH, DIAGONAL_PATHS, THREE_PATHS, TWO_PATHS
 from spec.sensor import SENSOR
 from hdl.depth.census import CensusWindow
+from hdl.depth.left_right_fill import LeftRightFill
+from hdl.depth.left_winner import LeftWinner
 from hdl.depth.matching_cost import MatchingCost
 from hdl.depth.median import Median3x3
 from hdl.depth.separable_median import separable_median
@@ -21,7 +23,7 @@ from hdl.depth.sgm_path import SgmPath
 from hdl.depth.winner import Winner
 from hdl.reset_tree import add_reset_subtree
 
-__all__ = ["DepthEngine", "Schedule", "schedule", "tag_delay", "check_parameters", "median_block"]
+__all__ = ["DepthEngine", "Schedule", "schedule", "tag_delay", "check_parameters", "median_block", "row_lag"]
 
 RING_ROWS = 8           # input ring slots per image: the 7 census rows and the one being fetched
 CENSUS_SHIFT = 1        # clock of a step at which the ring column enters the census windows
@@ -39,18 +41,27 @@ def median_block(config):
     return Median3x3 if config.median == 3 else separable_median(config.median, config.median_valid)
 
 
+def row_lag(config):
+    """The rows a pass's output trails its input: the median's ``ROW_LAG`` (:func:`median_block`), and one more
+    with ``left_right`` (row y's checked codes go to the median at the start of pass y + 1). Pass y writes row
+    y - lag; a map is H + lag passes."""
+    return median_block(config).ROW_LAG + (1 if config.left_right else 0)
+
+
 class Schedule(NamedTuple):
     """The engine's timing (docs/depth.md): a pass is ``steps`` steps of ``step_clocks`` clocks, then
     ``drain_clocks``; ``pass_clocks`` is their total (starting a pass takes 3 clocks more). With three paths the
     forward steps are followed by ``back_steps`` backward steps, ``back_drain`` + 1 clocks for the row's last
     code and the replay of the row's codes into the median, 2 (W + 1) clocks: ``reverse_clocks`` (0 for two
-    paths)."""
+    paths). With the left-right check the drain holds the row's backward scan (:class:`LeftRightFill`), started at
+    drain clock ``fill_start``; its replay into the median runs at the start of the next pass."""
     step_clocks: int
     steps: int
     drain_clocks: int
     back_steps: int = 0
     back_drain: int = 0
     replay_clocks: int = 0
+    fill_start: int = 0
 
     @property
     def reverse_clocks(self):
@@ -70,6 +81,13 @@ def schedule(geometry=SENSOR, config=DEPTH):
     steps = geometry.buf_width + 2 * (config.census_width // 2) + config.disparities - 1
     code_clock = PATH_CLOCK + SgmPath.LATENCY + groups - 1 + Winner.latency(config)
     median = median_block(config)
+    if config.left_right:
+        # The scan starts when the two-path engine's end token would go to the median (the row's last code is in
+        # its store) and ends within the drain; the next pass's start (3 clocks after it at least) replays the row
+        # into the median.
+        fill_start = code_clock + END_GAP - step_clocks
+        return Schedule(step_clocks, steps, fill_start + LeftRightFill.scan_clocks(geometry.buf_width),
+                        fill_start=fill_start)
     if config.paths != THREE_PATHS:
         return Schedule(step_clocks, steps, code_clock + END_GAP + median.LATENCY + 2 - step_clocks)
     # Backward steps: the census windows' lead only (left and right move together). The backward drain ends when
@@ -102,6 +120,8 @@ def check_parameters(geometry, config, out_rows=4, tag_margin=8):
     if config.paths not in (TWO_PATHS, THREE_PATHS, DIAGONAL_PATHS):
         raise ValueError(f"the RTL aggregates {', '.join(TWO_PATHS)} (and {THREE_PATHS[-1]}), or "
                          f"{', '.join(DIAGONAL_PATHS)} only, not {', '.join(config.paths)}")
+    if config.left_right and config.paths == THREE_PATHS:
+        raise ValueError("the RTL's left-right check takes two paths (TWO_PATHS or DIAGONAL_PATHS), not THREE_PATHS")
     if out_rows < 2:
         raise ValueError(f"out_rows must be at least 2, not {out_rows}")
     if tag_margin < 2:
@@ -125,6 +145,12 @@ class DepthEngine(wiring.Component):
     (census and costs again from the input ring, right to left, the winner in descending x into a row of codes),
     then replays the codes into the median (docs/depth.md, "The third path in the RTL", scheme a'):
     ``schedule(...).reverse_clocks`` more per pass.
+
+    With ``config.left_right`` (two paths) the back end also runs the left-right check and the background fill
+    (docs/depth.md, "The left-right check in the RTL"): :class:`LeftWinner` on the winner's sums, the row's codes,
+    d* and d_L into :class:`LeftRightFill`, whose scan runs in the pass's drain (``schedule(...).fill_start``;
+    ``LeftRightFill.scan_clocks(W)`` clocks) and whose replay into the median runs at the start of the next pass:
+    the output trails the input by one more row (:func:`row_lag`).
 
     Right image = reference: the code of right pixel (x, y) is its disparity d (match left(x + d, y)) in
     1 / 2**F pixel (F = ``fraction_bits``), or ``config.invalid`` = D 2**F. ``golden.depth.depth_map`` is the same
@@ -176,8 +202,8 @@ class DepthEngine(wiring.Component):
         column on).
     pass_row : Signal(range(height + lag + 1))
         The pass running or waiting to run (y): 0 .. height + lag - 1 while a map runs (pass y writes row y - lag,
-        lag the median's ``ROW_LAG``: 1 for the 3 x 3, 2 for the separable 5 x 5, 3 for the 7 x 7), height + lag
-        once it is done, 0 before the first.
+        lag = :func:`row_lag`: the median's ``ROW_LAG``, 1 for the 3 x 3, 2 for the separable 5 x 5, 3 for the 7 x
+        7, one more with ``left_right``), height + lag once it is done, 0 before the first.
 
     Elaborated for the platform ``"formal"`` (sim/formal/runner.py), the engine and its row rings also assert
     their invariants (pass control, fetch, tag samples: docs/formal.md), in ``sync``; never in simulation or
@@ -212,7 +238,7 @@ class DepthEngine(wiring.Component):
     ValueError
         If ``lanes`` does not divide D, D is more than the width, the census window is not odd, the paths are not
         ``spec.depth.TWO_PATHS``, ``THREE_PATHS`` or ``DIAGONAL_PATHS`` (the golden model's other path sets have no
-        RTL), ``tag_margin`` is less than 2, or the AD term is on (``ad_clip`` > 0) with ``pixel_bits`` other than
+        RTL), ``left_right`` is set with ``THREE_PATHS``, ``tag_margin`` is less than 2, or the AD term is on (``ad_clip`` > 0) with ``pixel_bits`` other than
         the buffers' ``grey_bits``.
     """
 
@@ -226,6 +252,7 @@ class DepthEngine(wiring.Component):
         w, h = geometry.buf_width, geometry.buf_height
         plan = schedule(geometry, config)
         self.step_clocks, self.steps, self.drain_clocks = plan.step_clocks, plan.steps, plan.drain_clocks
+        self.fill_start = plan.fill_start
         self.lead = plan.steps - w
         self.three = config.paths == THREE_PATHS
         self.back_steps, self.back_drain = plan.back_steps, plan.back_drain
@@ -235,7 +262,7 @@ class DepthEngine(wiring.Component):
             self.replay_odd, self.replaying = Signal(), Signal()
         self.row_invalid, self.restart = Signal(), Signal()
         self.median = median_block(config)
-        self.lag = self.median.ROW_LAG
+        self.lag = row_lag(config)
         self.pass_row = Signal(range(h + self.lag + 1), name="y")
         super().__init__({
             "start": In(1),
@@ -301,6 +328,7 @@ class DepthEngine(wiring.Component):
                      left_ring.start.eq(self.start), right_ring.start.eq(self.start)]
 
         fsm, drain = self._passes(m, y, step, clock, can_start, in_run, out_base)
+        self._drain = (fsm, drain, can_start)
         if platform == "formal":
             self._invariants(m, fsm, (left_ring, right_ring), y, (step, clock, drain), (need, first, before),
                              can_start, limit)
@@ -756,10 +784,13 @@ class DepthEngine(wiring.Component):
         cfg, g = self.config, self.geometry
         w = g.buf_width
         median = add_reset_subtree(m, "median", self.median(cfg, g))
-        m.d.comb += median.y.eq(y)
+        if not cfg.left_right:                  # with the check the median's pass is the previous one
+            m.d.comb += median.y.eq(y)
         codes_write = None
         if self.three:
             codes_write = self._reverse_back_end(m, median, row_invalid)
+        elif cfg.left_right:
+            self._left_right_back_end(m, horizontal, vertical, median, row_invalid)
         else:
             winner = add_reset_subtree(m, "winner", Winner(cfg, w))
             m.d.comb += [winner.token.eq(horizontal.l_token), winner.horizontal.eq(horizontal.l),
@@ -785,6 +816,32 @@ class DepthEngine(wiring.Component):
             self.result.data.eq(read.data),
         ]
         return codes_write, write
+
+    def _left_right_back_end(self, m, horizontal, vertical, median, row_invalid):
+        """Two paths with the left-right check: the winner's codes and d* and :class:`LeftWinner`'s d_L (from the
+        winner's sums) into :class:`LeftRightFill`'s row stores; in the drain the fill's scan checks the row, and
+        the next pass's start replays it into the median, whose pass is then y - 1 (docs/depth.md, "left-right
+        check")."""
+        cfg, w = self.config, self.geometry.buf_width
+        winner = add_reset_subtree(m, "winner", Winner(cfg, w))
+        m.d.comb += [winner.token.eq(horizontal.l_token), winner.horizontal.eq(horizontal.l),
+                     winner.vertical.eq(vertical.l)]
+        left = add_reset_subtree(m, "left_winner", LeftWinner(cfg, w))
+        m.d.comb += [left.token.eq(winner.sums_token), left.sums.eq(winner.sums)]
+        fill = add_reset_subtree(m, "left_right", LeftRightFill(cfg, w))
+        fsm, drain, can_start = self._drain
+        y = self.pass_row
+        m.d.comb += [
+            fill.code_valid.eq(winner.valid), fill.code_x.eq(winner.x), fill.code_d.eq(winner.d),
+            fill.code.eq(Mux(row_invalid, cfg.invalid, winner.code)),
+            fill.left_valid.eq(left.valid), fill.left_x.eq(left.x), fill.left_d.eq(left.d),
+            fill.start.eq(fsm.ongoing("DRAIN") & (drain == self.fill_start) & ~self.start),
+            # The pass's start (WAIT -> RUN: room for its output row) replays the previous pass's row, y - 1.
+            fill.replay.eq(fsm.ongoing("WAIT") & can_start & ~self.start),
+            fill.stop.eq(self.start),
+            median.y.eq(Mux(y == 0, 0, y - 1)),
+            median.valid.eq(fill.valid), median.x.eq(fill.x), median.code.eq(fill.out_code),
+        ]
 
     def _reverse_back_end(self, m, median, row_invalid):
         """Three paths: the winner over ReversePath's L_rl and carried S2 (codes in descending x) into a row of

@@ -32,8 +32,8 @@ class Subpixel(wiring.Component):
         The fit needs b < a (ties go to the smaller d) and b <= c, as the winner guarantees.
     ambiguous : In(1)
         The confidence rule failed (64 S* > ``uniqueness`` S2): the code is invalid.
-    out_valid, out_x, code : Out
-        The pixel's column and code, :meth:`latency` clocks after ``valid``.
+    out_valid, out_x, out_d, code : Out
+        The pixel's column, d* and code, :meth:`latency` clocks after ``valid``.
 
     Clock domain: ``sync``. A pixel may enter every clock. Latency F + 6 clocks (1 for F = 0): max(a, c) and
     a - c; e and (a - c) + max(a, c); n + e; the numerator 2**F (n + e) + e; F + 1 division steps; the code.
@@ -51,6 +51,7 @@ class Subpixel(wiring.Component):
             "ambiguous": In(1),
             "out_valid": Out(1),
             "out_x": Out(range(width)),
+            "out_d": Out(range(config.disparities)),
             "code": Out(config.code_bits),
         })
 
@@ -63,13 +64,14 @@ class Subpixel(wiring.Component):
         cfg, F = self.config, self.config.fraction_bits
         invalid = (self.best > cfg.max_cost) | (self.d == cfg.disparities - 1) | self.ambiguous
         if F == 0:
-            m.d.sync += [self.out_valid.eq(self.valid), self.out_x.eq(self.x),
+            m.d.sync += [self.out_valid.eq(self.valid), self.out_x.eq(self.x), self.out_d.eq(self.d),
                          self.code.eq(Mux(invalid, cfg.invalid, self.d))]
             return m
 
         sb = cfg.sum_bits
-        # Carried along: valid, x, whether the code is invalid or the fraction zero (d* = 0), and 2**F d*.
-        state = {"valid": (self.valid, 1), "x": (self.x, range(self.width)), "invalid": (invalid, 1),
+        # Carried along: valid, x, d*, whether the code is invalid or the fraction zero (d* = 0), and 2**F d*.
+        state = {"valid": (self.valid, 1), "x": (self.x, range(self.width)),
+                 "d": (self.d, range(cfg.disparities)), "invalid": (invalid, 1),
                  "edge": (self.d == 0, 1), "base": (self.d * cfg.fraction, cfg.code_bits)}
         regs = {}
 
@@ -119,6 +121,7 @@ class Subpixel(wiring.Component):
         m.d.sync += [
             self.out_valid.eq(regs["valid"]),
             self.out_x.eq(regs["x"]),
+            self.out_d.eq(regs["d"]),
             self.code.eq(Mux(regs["invalid"], cfg.invalid,
                              Mux(regs["edge"] | ~regs["valid"], 0,
                                  regs["base"] + fraction - (1 << (F - 1))))),

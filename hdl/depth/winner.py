@@ -36,8 +36,12 @@ class Winner(wiring.Component):
         A group's token and its two path costs (the same group of the same pixel; a pixel's groups in
         consecutive clocks; pixels at least G + 2 + ``tree_stages(lanes)`` clocks apart, as the engine's
         step is).
-    code, x, valid : Out
-        The pixel's code and column; ``valid`` pulses with them, :meth:`latency` clocks after its last group.
+    code, x, d, valid : Out
+        The pixel's code, column and integer winner d* (before the fit); ``valid`` pulses with them,
+        :meth:`latency` clocks after its last group.
+    sums_token, sums : Out
+        Each group's token and its sums S(d) = horizontal + vertical, one clock after the input (the sums the
+        winner takes: ``hdl.depth.left_winner.LeftWinner``'s input).
 
     Clock domain: ``sync``. Pipeline: sum; the group's minimum with each lane's neighbours
     (``tree_stages(lanes)`` clocks); fold into the pixel's running winner (a later group must be strictly
@@ -57,7 +61,10 @@ class Winner(wiring.Component):
             "vertical": In(data.ArrayLayout(vertical_bits or config.path_bits, config.lanes)),
             "code": Out(config.code_bits),
             "x": Out(range(width)),
+            "d": Out(range(config.disparities)),
             "valid": Out(1),
+            "sums_token": Out(token_layout(self.groups, width)),
+            "sums": Out(data.ArrayLayout(config.sum_bits, config.lanes)),
         })
 
     @classmethod
@@ -74,6 +81,7 @@ class Winner(wiring.Component):
         m.d.sync += tok.eq(self.token)
         for k in range(lanes):
             m.d.sync += total[k].eq(self.horizontal[k] + self.vertical[k])
+        m.d.comb += [self.sums_token.eq(tok), self.sums.eq(total)]
         # The previous group's last lane: S(d - 1) of this group's lane 0 (the pixel's groups are consecutive).
         prev_last = Signal(sb, reset_less=True)
         m.d.sync += prev_last.eq(total[lanes - 1])
@@ -121,6 +129,7 @@ class Winner(wiring.Component):
             subpixel.below.eq(held["below"]), subpixel.best.eq(held["best"]), subpixel.above.eq(held["above"]),
             subpixel.ambiguous.eq(ambiguous),
             self.valid.eq(subpixel.out_valid), self.x.eq(subpixel.out_x), self.code.eq(subpixel.code),
+            self.d.eq(subpixel.out_d),
         ]
         return m
 

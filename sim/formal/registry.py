@@ -18,6 +18,7 @@ from sim.formal.harnesses.frame_store_credits import FrameStoreCreditsHarness
 from sim.formal.harnesses.frame_store_packer import FrameStorePackerHarness
 from sim.formal.harnesses.frame_store_writer import FrameStoreWriterHarness
 from sim.formal.harnesses.i2c import I2CMasterHarness, InitSequencerHarness
+from sim.formal.harnesses.left_winner import LeftWinnerHarness
 from sim.formal.harnesses.map_store import MapOwnershipHarness
 from sim.formal.harnesses.read_arbiter import ReadArbiterHarness
 from sim.formal.harnesses.reverse_path import AD_CONFIG, ReversePathHarness
@@ -55,6 +56,7 @@ DEFAULT = {
     "row_tags": RowTagTrackerHarness,
     "reverse_path": ReversePathHarness,
     "reverse_path_ad": lambda: _named(ReversePathHarness(AD_CONFIG), "reverse_path_ad"),
+    "left_winner": LeftWinnerHarness,
     "frame_pairing": FramePairingHarness,
     "frame_store_ownership": FrameStoreOwnershipHarness,
     "map_store_ownership": MapOwnershipHarness,
