@@ -135,6 +135,13 @@ class FormalHarness:
         m.submodules[name] = module
         return module
 
+    def hold(self, m, name, value):
+        """Assume ``value`` (a :meth:`free` input) keeps, from the second clock on and across resets, whatever value
+        it took at the first: one arbitrary, fixed choice (a watched address or column)."""
+        later = Signal(name=f"{name}_later", reset_less=True)
+        m.d.sync += later.eq(1)
+        self.assume(m, name, ~later | (value == self.past(m, value, name=f"past_{name}", reset_less=True)))
+
     def past(self, m, value, clocks=1, *, name=None, reset_less=False):
         """``value`` as it was ``clocks`` clocks ago (registers, reset with the design unless ``reset_less``:
         guard the use with :meth:`past_valid`)."""

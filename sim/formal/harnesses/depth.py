@@ -306,7 +306,7 @@ class DepthThreeMapHarness(DepthMapHarness):
     its drain done)."""
     name = "depth_three_map"
     parts = ("results",)
-    default_covers = ("replay_reaches_the_median",)
+    default_covers = ("replay_reaches_the_median", "replay_sends_a_watched_column_not_0")
 
     def __init__(self, geometry=MAP_GEOMETRY, config=THREE_MAP_CONFIG, out_rows=MAP_OUT_ROWS):
         super().__init__(geometry, config, out_rows)
@@ -332,8 +332,7 @@ class DepthThreeMapHarness(DepthMapHarness):
         abandoned pass still in the pipeline, do not count; the mark is cleared in the forward pass)."""
         w = self.geometry.buf_width
         column = self.free("watched_column", range(w))
-        self.assume(m, "watched_column_fixed",
-                    column == self.past(m, column, name="past_watched_column", reset_less=True))
+        self.hold(m, "watched_column_fixed", column)
         codes = self._module.submodules.row_codes.write_ports[0]
         backward = self._engine.backward
         written = Signal(name="watched_code_written")
@@ -345,3 +344,5 @@ class DepthThreeMapHarness(DepthMapHarness):
         self.prove(m, "replay_sends_codes_of_the_backward_pass",
                    ~(median.valid & (median.x == column)) | self.past(m, written, name="watched_code_was_written"),
                    group="replay")
+        self.cover(m, "replay_sends_a_watched_column_not_0", median.valid & (median.x == column) & (column != 0),
+                   bound=REPLAY_COVER_BOUND)

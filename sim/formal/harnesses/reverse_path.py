@@ -115,7 +115,7 @@ class ReversePathHarness(FormalHarness):
         """carry_out is the carry last stored at the token's word before its read (one fixed, arbitrary word)."""
         lanes = self.config.lanes
         word = self.free("watched_word", len(read.addr))
-        self.assume(m, "watched_word_fixed", word == self.past(m, word, name="past_watched_word", reset_less=True))
+        self.hold(m, "watched_word_fixed", word)
         # The store keeps its words across a reset, and so does the reference.
         stored = Signal(dut.carry.shape(), name="watched_carry", reset_less=True)
         with m.If(write.en & (write.addr == word)):
@@ -126,6 +126,7 @@ class ReversePathHarness(FormalHarness):
         reads_word = dut.token.go & (read.addr == word)
         late_reads = self.past(m, reads_word, ReversePath.LATENCY, name="late_reads_word")
         late_stored = self.past(m, stored.as_value(), ReversePath.LATENCY, name="late_stored")
+        self.cover(m, "watched_word_read_not_word_0", late_reads & dut.out_token.go & (word != 0))
         for k in range(lanes):
             self.prove(m, f"carry_out_is_the_stored_carry_{k}",
                        ~(late_reads & dut.out_token.go) | (dut.carry_out[k] == late_stored.word_select(k, dut.carry_bits)), group="store")

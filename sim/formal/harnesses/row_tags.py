@@ -45,10 +45,7 @@ class RowTagTrackerHarness(FormalHarness):
 
         pv = self.past_valid(m)
         self.assume(m, "read_row_in_buffer", row < height)
-        began = Signal(name="began", reset_less=True)     # not reset: the watched row stays over resets too
-        m.d.sync += began.eq(1)
-        self.assume(m, "watched_row_fixed", ~began | (watched == self.past(m, watched, name="past_watched",
-                                                                           reset_less=True)))
+        self.hold(m, "watched_row_fixed", watched)     # the watched row stays over resets too
         self.assume(m, "watched_row_in_buffer", watched < height)
 
         ref_frame = Signal(BITS, name="ref_frame")
