@@ -127,9 +127,9 @@ def goal_lines(results):
         lines.append(f"Goals (motorcycle, {build.name}): bad > 0.5 {100 * b05:.1f} <= {100 * g05:.1f} %, bad > 1 "
                      f"{100 * b1:.1f} <= {100 * g1:.1f} %, bad > 2 {100 * b2:.1f} <= {100 * g2:.1f} %, density "
                      f"{100 * density:.1f} >= {100 * g_density:.1f} %: {'met' if verdicts[build] else 'NOT met'}.")
-    met = verdicts[BUILDS[1]]
-    worse = [pair for (build, pair, method), f in results.items()
-             if build == BUILDS[1].name and pair != "motorcycle" and method == "depth engine (golden)"
-             and f[2] > results[(BUILDS[0].name, pair, method)][2]]
-    lines.append("Synthetic scenes with bad > 2 worse than the thesis build: " + (", ".join(worse) or "none") + ".")
-    return lines + [""], met
+        worse = [pair for (name, pair, method), f in results.items()
+                 if name == build.name and pair != "motorcycle" and method == "depth engine (golden)"
+                 and f[2] > results[(BUILDS[0].name, pair, method)][2]]
+        lines.append("Synthetic scenes with bad > 2 worse than the thesis build: " + (", ".join(worse) or "none")
+                     + ".")
+    return lines + [""], verdicts[BUILDS[1]]
