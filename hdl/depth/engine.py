@@ -27,7 +27,7 @@ RING_ROWS = 8           # input ring slots per image: the 7 census rows and the 
 CENSUS_SHIFT = 1        # clock of a step at which the ring column enters the census windows
 SHIFT_CLOCK = 3         # clock at which the left census shift register takes the new signature
 ISSUE_CLOCK = 4         # clock at which group 0 of the step's pixel enters the cost stage
-VREAD_CLOCK = 4         # clock at which the vertical path's line buffer is read for the step's pixel
+VREAD_CLOCK = 4         # clock at which the vertical path's row minimum is read for the step's pixel
 PATH_CLOCK = ISSUE_CLOCK + 1 + MatchingCost.LATENCY     # clock at which group 0 enters the paths
 END_GAP = 2             # clocks between a row's last code and the median's end token
 
@@ -683,7 +683,8 @@ class DepthEngine(wiring.Component):
         return token, self._lanes(m, right_cen, right_grey, left_sel, left_grey, inside)
 
     def _paths(self, m, token, lanes, step, clock, in_run, restart):
-        """Cost (3 clocks), then both paths; the vertical path's line buffer (read at clock 4)."""
+        """Cost (3 clocks), then both paths; the vertical path's line buffer (a group a clock, from the cost
+        stage's tokens) and row minimums (read at VREAD_CLOCK)."""
         cfg, w = self.config, self.geometry.buf_width
         G, P = self.groups, cfg.lanes
         cost = add_reset_subtree(m, "cost", MatchingCost(cfg))
@@ -691,11 +692,13 @@ class DepthEngine(wiring.Component):
         if cfg.ad_clip:
             m.d.comb += [cost.right_grey.eq(lanes.right_grey), cost.left_grey.eq(lanes.left_grey)]
         tok = token
+        cost_tokens = []
         back = self.issue_backward if self.three else None
         for s in range(MatchingCost.LATENCY):
             delayed = Signal(token_layout(G, w), name=f"cost_token{s}")
             m.d.sync += delayed.eq(tok)
             tok = delayed
+            cost_tokens.append(tok)
             if self.three:
                 back_delayed = Signal(name=f"cost_backward{s}")
                 m.d.sync += back_delayed.eq(back)
@@ -716,35 +719,48 @@ class DepthEngine(wiring.Component):
             m.d.comb += [path.token.eq(forward_tok), path.cost.eq(cost.cost)]
 
         pbits = cfg.path_bits
-        # The line buffer: one plain memory per group of P disparities (each a simple dual-port block RAM,
-        # docs/board.md), all read at the same column.
-        rows = [Memory(shape=unsigned(pbits * P), depth=w, init=[]) for _ in range(G)]
-        for gi, memory in enumerate(rows):
-            m.submodules[f"vertical_rows{gi}"] = memory
+        # The line buffer: one plain memory of W x G words of P path costs (a simple dual-port block RAM,
+        # docs/board.md), word (x, g) pixel x's group g, read a group a clock from the cost stage's tokens (group
+        # g of pixel x at step clock 6 + g: in the vertical path's ``prev`` at 7 + g, the clock before the group
+        # enters the path) and written a group a clock by the vertical path's ``l`` (11 + g). The row minimums:
+        # one memory of W words, read at VREAD_CLOCK.
+        rows = Memory(shape=unsigned(pbits * P), depth=w * G, init=[])
+        m.submodules.vertical_rows = rows
         m.submodules.vertical_minimums = minimums = Memory(shape=unsigned(pbits), depth=w, init=[])
-        rows_reads, rows_writes = [r.read_port() for r in rows], [r.write_port() for r in rows]
+        rows_read, rows_write = rows.read_port(), rows.write_port()
         min_read, min_write = minimums.read_port(), minimums.write_port()
+
+        def word(x, group):
+            return Cat(group, x) if G & (G - 1) == 0 else x * G + group
+
+        # Read before write: pixel x of row y reads row y - 1's words (x, g) (the diagonal: (x + 1, g)) in its
+        # own step at clocks 6 + g and writes its own words (x, g) at 11 + g; pixel x + 1 (a step later) writes
+        # (x + 1, g). So every word of row y - 1 is read before row y overwrites it, for TWO_PATHS, THREE_PATHS
+        # (the forward pass is TWO_PATHS'; the backward pass's tokens read words nobody uses and write none;
+        # ReversePath's carry takes the vertical ``l`` of the forward pass, which this does not move) and
+        # DIAGONAL_PATHS. Pass y + 1 reads only after pass y's last write (the drain).
+        read_tok, data_tok = cost_tokens[-3], cost_tokens[-2]   # a group at step clocks 6 + g and 7 + g
         x = step - self.lead
-        read_x = Mux((x >= 0) & (x < w), x, 0)
-        fresh = restart                         # L' = 0, M' = 0: the path starts at this pixel
+        min_x_read = Mux((x >= 0) & (x < w), x, 0)
+        read_x = read_tok.x
+        fresh, data_fresh = restart, restart    # L' = 0, M' = 0: the path starts at this pixel
         if cfg.paths == DIAGONAL_PATHS:
-            # p' = (x + 1, y - 1): row y - 1's word x + 1, read in pixel x's step (x + lead) at VREAD_CLOCK. Row y
-            # overwrites that word with pixel x + 1's L and M only, from clock PATH_CLOCK + SgmPath.LATENCY of
-            # the next step on (its groups issue in step x + 1 + lead): after this read. At x = W - 1 p' is
-            # outside the image: the path starts there.
-            read_x = Mux((x >= 0) & (x < w - 1), x + 1, 0)
+            # p' = (x + 1, y - 1): row y - 1's word x + 1, read in pixel x's step (x + lead). Row y overwrites
+            # that word with pixel x + 1's L and M only, from clock PATH_CLOCK + SgmPath.LATENCY of the next
+            # step on (its groups issue in step x + 1 + lead): after this read. At x = W - 1 p' is outside the
+            # image: the path starts there.
+            min_x_read = Mux((x >= 0) & (x < w - 1), x + 1, 0)
+            read_x = Mux(read_tok.x < w - 1, read_tok.x + 1, 0)
             fresh = restart | (x == w - 1)
-        for port in rows_reads + [min_read]:
-            m.d.comb += [port.addr.eq(read_x), port.en.eq(clock == VREAD_CLOCK)]
-        prev = Signal.like(vertical.prev, reset_less=True)     # datapath: written before it is read
-        m.d.comb += vertical.prev.eq(prev)
+            data_fresh = restart | (data_tok.x == w - 1)
+        m.d.comb += [rows_read.addr.eq(word(read_x, read_tok.group)), rows_read.en.eq(read_tok.go),
+                     vertical.prev.eq(Mux(data_fresh, 0, rows_read.data)),
+                     min_read.addr.eq(min_x_read), min_read.en.eq(clock == VREAD_CLOCK)]
         with m.If(clock == VREAD_CLOCK + 1):
-            m.d.sync += [prev.eq(Mux(fresh, 0, Cat(*(r.data for r in rows_reads)))),
-                         vertical.prev_min.eq(Mux(fresh, 0, min_read.data))]
+            m.d.sync += vertical.prev_min.eq(Mux(fresh, 0, min_read.data))
         lt = vertical.l_token
-        for gi, write in enumerate(rows_writes):
-            m.d.comb += [write.addr.eq(lt.x), write.data.eq(vertical.l.as_value()),
-                         write.en.eq(lt.go & (lt.group == gi))]
+        m.d.comb += [rows_write.addr.eq(word(lt.x, lt.group)), rows_write.data.eq(vertical.l.as_value()),
+                     rows_write.en.eq(lt.go)]
         min_x = Signal(range(w))
         with m.If(lt.go & lt.last):
             m.d.sync += min_x.eq(lt.x)
