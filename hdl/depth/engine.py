@@ -21,7 +21,8 @@ from hdl.depth.sgm_path import SgmPath
 from hdl.depth.winner import Winner
 from hdl.reset_tree import add_reset_subtree
 
-__all__ = ["DepthEngine", "Schedule", "schedule", "tag_delay", "check_parameters", "median_block"]
+__all__ = ["DepthEngine", "Schedule", "schedule", "tag_delay", "check_parameters", "median_block",
+           "line_buffer_pieces"]
 
 RING_ROWS = 8           # input ring slots per image: the 7 census rows and the one being fetched
 CENSUS_SHIFT = 1        # clock of a step at which the ring column enters the census windows
@@ -30,6 +31,7 @@ ISSUE_CLOCK = 4         # clock at which group 0 of the step's pixel enters the 
 VREAD_CLOCK = 4         # clock at which the vertical path's row minimum is read for the step's pixel
 PATH_CLOCK = ISSUE_CLOCK + 1 + MatchingCost.LATENCY     # clock at which group 0 enters the paths
 END_GAP = 2             # clocks between a row's last code and the median's end token
+LINE_BLOCK_WORDS = 512  # words of a block RAM at the line buffer's width (512 x 72): its pieces' smallest depth
 
 
 def median_block(config):
@@ -37,6 +39,21 @@ def median_block(config):
     (``config.median_valid``: each median over the valid codes). Its ``ROW_LAG`` is the rows a pass's output
     trails its input: pass y writes row y - ROW_LAG, and a map is H + ROW_LAG passes."""
     return Median3x3 if config.median == 3 else separable_median(config.median, config.median_valid)
+
+
+def line_buffer_pieces(width, groups, block_words=LINE_BLOCK_WORDS):
+    """The vertical line buffer's pieces of columns, ``(first column, columns)``: the width rounded up to a
+    multiple of the largest power of two of at most ``block_words`` / ``groups`` columns (a smaller piece would
+    take a block of its own all the same), split by its binary digits, high to low: each piece a power of two
+    of columns, ``columns`` x ``groups`` words (800 x 8 words: 4096, 2048 and 512)."""
+    unit = 1 << max(0, (block_words // groups).bit_length() - 1)
+    total = -(-width // unit) * unit
+    pieces, base = [], 0
+    for bit in reversed(range(total.bit_length())):
+        if total >> bit & 1:
+            pieces.append((base, 1 << bit))
+            base += 1 << bit
+    return pieces
 
 
 class Schedule(NamedTuple):
@@ -718,20 +735,34 @@ class DepthEngine(wiring.Component):
         for path in (horizontal, vertical):
             m.d.comb += [path.token.eq(forward_tok), path.cost.eq(cost.cost)]
 
+        self._line_buffer(m, vertical, cost_tokens, step, clock, restart)
+        return horizontal, vertical
+
+    def _line_buffer(self, m, vertical, cost_tokens, step, clock, restart):
+        """The vertical path's previous row: L' a group a clock (from the cost stage's tokens) and M' (read at
+        VREAD_CLOCK)."""
+        cfg, w = self.config, self.geometry.buf_width
+        G, P = self.groups, cfg.lanes
         pbits = cfg.path_bits
-        # The line buffer: one plain memory of W x G words of P path costs (a simple dual-port block RAM,
-        # docs/board.md), word (x, g) pixel x's group g, read a group a clock from the cost stage's tokens (group
-        # g of pixel x at step clock 6 + g: in the vertical path's ``prev`` at 7 + g, the clock before the group
-        # enters the path) and written a group a clock by the vertical path's ``l`` (11 + g). The row minimums:
-        # one memory of W words, read at VREAD_CLOCK.
-        rows = Memory(shape=unsigned(pbits * P), depth=w * G, init=[])
-        m.submodules.vertical_rows = rows
+        # The line buffer: W x G words of P path costs, word (x, g) pixel x's group g, read a group a clock
+        # (group g of pixel x at step clock 6 + g: in the vertical path's ``prev`` at 7 + g, the clock before
+        # the group enters the path) and written a group a clock by the vertical path's ``l`` (11 + g). It is
+        # built as simple dual-port block RAMs (docs/board.md), one per piece of columns
+        # (:func:`line_buffer_pieces`), each a power of two deep, so that none needs a select between blocks:
+        # the only select is the registered choice of piece (zero where the path starts), a LUT a bit.
+        pieces = line_buffer_pieces(w, G, LINE_BLOCK_WORDS)
+        reads, writes = [], []
+        for i, (_, size) in enumerate(pieces):
+            memory = Memory(shape=unsigned(pbits * P), depth=size * G, init=[])
+            m.submodules[f"vertical_rows{i}"] = memory
+            reads.append(memory.read_port())
+            writes.append(memory.write_port())
         m.submodules.vertical_minimums = minimums = Memory(shape=unsigned(pbits), depth=w, init=[])
-        rows_read, rows_write = rows.read_port(), rows.write_port()
         min_read, min_write = minimums.read_port(), minimums.write_port()
 
-        def word(x, group):
-            return Cat(group, x) if G & (G - 1) == 0 else x * G + group
+        def word(x, group, size):      # the address in its piece: x's low bits and the group
+            low = x[:(size - 1).bit_length()]
+            return Cat(group, low) if G & (G - 1) == 0 else low * G + group
 
         # Read before write: pixel x of row y reads row y - 1's words (x, g) (the diagonal: (x + 1, g)) in its
         # own step at clocks 6 + g and writes its own words (x, g) at 11 + g; pixel x + 1 (a step later) writes
@@ -739,11 +770,11 @@ class DepthEngine(wiring.Component):
         # (the forward pass is TWO_PATHS'; the backward pass's tokens read words nobody uses and write none;
         # ReversePath's carry takes the vertical ``l`` of the forward pass, which this does not move) and
         # DIAGONAL_PATHS. Pass y + 1 reads only after pass y's last write (the drain).
-        read_tok, data_tok = cost_tokens[-3], cost_tokens[-2]   # a group at step clocks 6 + g and 7 + g
+        read_tok = cost_tokens[-3]              # a group at step clock 6 + g
         x = step - self.lead
         min_x_read = Mux((x >= 0) & (x < w), x, 0)
         read_x = read_tok.x
-        fresh, data_fresh = restart, restart    # L' = 0, M' = 0: the path starts at this pixel
+        fresh, read_fresh = restart, restart    # L' = 0, M' = 0: the path starts at this pixel
         if cfg.paths == DIAGONAL_PATHS:
             # p' = (x + 1, y - 1): row y - 1's word x + 1, read in pixel x's step (x + lead). Row y overwrites
             # that word with pixel x + 1's L and M only, from clock PATH_CLOCK + SgmPath.LATENCY of the next
@@ -752,20 +783,35 @@ class DepthEngine(wiring.Component):
             min_x_read = Mux((x >= 0) & (x < w - 1), x + 1, 0)
             read_x = Mux(read_tok.x < w - 1, read_tok.x + 1, 0)
             fresh = restart | (x == w - 1)
-            data_fresh = restart | (data_tok.x == w - 1)
-        m.d.comb += [rows_read.addr.eq(word(read_x, read_tok.group)), rows_read.en.eq(read_tok.go),
-                     vertical.prev.eq(Mux(data_fresh, 0, rows_read.data)),
-                     min_read.addr.eq(min_x_read), min_read.en.eq(clock == VREAD_CLOCK)]
+            read_fresh = restart | (read_tok.x == w - 1)
+        choice = Signal(range(len(pieces) + 1), name="vertical_piece")     # len(pieces): zero
+        piece = len(pieces)
+        for i, (base, size) in reversed(list(enumerate(pieces))):
+            piece = Mux(read_x < base + size, i, piece) if i < len(pieces) - 1 else i
+        with m.If(read_tok.go):
+            m.d.sync += choice.eq(Mux(read_fresh, len(pieces), piece))
+        for port, (_, size) in zip(reads, pieces):
+            m.d.comb += [port.addr.eq(word(read_x, read_tok.group, size)), port.en.eq(read_tok.go)]
+        with m.Switch(choice):
+            for i, port in enumerate(reads):
+                with m.Case(i):
+                    m.d.comb += vertical.prev.eq(port.data)
+        m.d.comb += [min_read.addr.eq(min_x_read), min_read.en.eq(clock == VREAD_CLOCK)]
         with m.If(clock == VREAD_CLOCK + 1):
             m.d.sync += vertical.prev_min.eq(Mux(fresh, 0, min_read.data))
         lt = vertical.l_token
-        m.d.comb += [rows_write.addr.eq(word(lt.x, lt.group)), rows_write.data.eq(vertical.l.as_value()),
-                     rows_write.en.eq(lt.go)]
+        for port, (base, size) in zip(writes, pieces):
+            inside = lt.go
+            if base:
+                inside &= lt.x >= base
+            if base + size < w:
+                inside &= lt.x < base + size
+            m.d.comb += [port.addr.eq(word(lt.x, lt.group, size)), port.data.eq(vertical.l.as_value()),
+                         port.en.eq(inside)]
         min_x = Signal(range(w))
         with m.If(lt.go & lt.last):
             m.d.sync += min_x.eq(lt.x)
         m.d.comb += [min_write.addr.eq(min_x), min_write.data.eq(vertical.m), min_write.en.eq(vertical.m_valid)]
-        return horizontal, vertical
 
     def _back_end(self, m, horizontal, vertical, y, out_base, row_invalid):
         """Winner, median, result ring."""
