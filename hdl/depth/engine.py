@@ -210,10 +210,12 @@ class DepthEngine(wiring.Component):
     1          column -> census windows
     2          census signatures registered
     3          three paths: left census shift register shifts
-    4          vertical line buffer read (pixel x: word x; the diagonal: word x + 1)
+    4          vertical path's row minimum read (pixel x: word x; the diagonal: word x + 1)
     4 + g      group g: the lanes' left signatures, with the AD term their grey values (two paths: the
                candidates' chain advances; three: selected from the shift register)
     5 + g      cost: XOR, count 6-bit chunks, grey difference (3 clocks)
+    6 + g      vertical line buffer read, group g (word (x, g); the diagonal: (x + 1, g)): the path's ``prev``
+               at 7 + g
     8 + g      paths: select L'; 9 + g: partial minimums; 10 + g: L
     11 + g     line buffer write (vertical L), winner sum, path minimum trees
     G + 12 + t winner folded (t = minimum-tree clocks), then F + 6 clocks of ``Subpixel`` to the code,
