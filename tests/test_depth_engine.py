@@ -7,6 +7,7 @@ and Icarus: a small random pair in the default run; at full size (400 x 300, D =
 buffers and a random pair (slow).
 """
 
+import dataclasses
 import json
 
 import numpy as np
@@ -15,8 +16,10 @@ from amaranth.hdl import Fragment
 
 from golden.depth import depth_map
 from golden.depth_display import engine_left
+import hdl.depth.engine as engine_module
 from hdl.depth import DepthEngine, schedule
-from spec.depth import DEPTH, SMALL_DEPTH, THREE_PATHS, TWO_PATHS, DepthConfig
+from hdl.depth.engine import line_buffer_pieces
+from spec.depth import DEPTH, DIAGONAL_PATHS, SMALL_DEPTH, THREE_PATHS, TWO_PATHS, DepthConfig
 from spec.sensor import ROW_TAG_BITS, SENSOR, SMALL_SENSOR, SensorGeometry
 from sim.runners.amaranth import simulate
 from board.export import export_verilog
@@ -110,6 +113,31 @@ def test_random_pair_bit_exact(seed, grant_mask):
     codes, clocks, reads, _ = run_engine(left, right, grant_mask=grant_mask)
     assert_same(codes, depth_map(left, right, CFG))
     assert reads == (G.buf_depth, G.buf_depth)
+
+
+def test_line_buffer_pieces():
+    """The vertical line buffer's pieces of columns: powers of two, in order, covering the width, none smaller than
+    a block's words."""
+    assert line_buffer_pieces(800, 8) == [(0, 512), (512, 256), (768, 64)]
+    assert line_buffer_pieces(400, 4) == [(0, 512)]
+    for width, groups, block in [(28, 2, 8), (799, 8, 512), (400, 16, 512), (33, 3, 16)]:
+        pieces = line_buffer_pieces(width, groups, block)
+        assert [base for base, _ in pieces] == [sum(size for _, size in pieces[:i]) for i in range(len(pieces))]
+        assert sum(size for _, size in pieces) >= width
+        assert all(size & (size - 1) == 0 and 2 * size * groups > block for _, size in pieces)
+
+
+@pytest.mark.parametrize("paths", [TWO_PATHS, DIAGONAL_PATHS])
+def test_line_buffer_in_pieces(paths, monkeypatch):
+    """The vertical line buffer in three pieces (blocks of 8 words: 16 + 8 + 4 of 28 columns), read across their
+    edges (the diagonal at x + 1): bit for bit."""
+    monkeypatch.setattr(engine_module, "LINE_BLOCK_WORDS", 8)
+    assert line_buffer_pieces(28, CFG.disparities // CFG.lanes, 8) == [(0, 16), (16, 8), (24, 4)]
+    geometry = SensorGeometry(width=28 * G.scale, height=G.height)
+    config = dataclasses.replace(CFG, paths=paths)
+    left, right = random_pair(12, (geometry.buf_height, geometry.buf_width))
+    codes, *_ = run_engine(left, right, geometry=geometry, config=config, grant_mask=0b1)
+    assert_same(codes, depth_map(left, right, config))
 
 
 @pytest.mark.parametrize("offset", [3, SHAPE[0] - 1, -1, -3, -(SHAPE[0] - 1)])

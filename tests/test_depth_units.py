@@ -127,11 +127,16 @@ def run_vertical_pixel(cfg, prev, cost):
     out = {}
 
     async def bench(ctx):
-        for d in range(cfg.disparities):
-            ctx.set(dut.prev[d], prev[d])
+        def present(group):     # ``prev``: a group's word in the clock before the group's input
+            for k in range(cfg.lanes):
+                ctx.set(dut.prev[k], prev[group * cfg.lanes + k] if group < groups else 0)
+
         ctx.set(dut.prev_min, min(prev))
+        present(0)
+        await ctx.tick()
         values = []
         for i in range(groups + SgmPath.result_clocks(cfg) + 2):
+            present(i + 1)
             if i < groups:
                 ctx.set(dut.token, token(i, i == groups - 1))
                 for k in range(cfg.lanes):

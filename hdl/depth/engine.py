@@ -23,15 +23,17 @@ from hdl.depth.sgm_path import SgmPath
 from hdl.depth.winner import Winner
 from hdl.reset_tree import add_reset_subtree
 
-__all__ = ["DepthEngine", "Schedule", "schedule", "tag_delay", "check_parameters", "median_block", "row_lag"]
+__all__ = ["DepthEngine", "Schedule", "schedule", "tag_delay", "check_parameters", "median_block", "row_lag",
+           "line_buffer_pieces"]
 
 RING_ROWS = 8           # input ring slots per image: the 7 census rows and the one being fetched
 CENSUS_SHIFT = 1        # clock of a step at which the ring column enters the census windows
 SHIFT_CLOCK = 3         # clock at which the left census shift register takes the new signature
 ISSUE_CLOCK = 4         # clock at which group 0 of the step's pixel enters the cost stage
-VREAD_CLOCK = 4         # clock at which the vertical path's line buffer is read for the step's pixel
+VREAD_CLOCK = 4         # clock at which the vertical path's row minimum is read for the step's pixel
 PATH_CLOCK = ISSUE_CLOCK + 1 + MatchingCost.LATENCY     # clock at which group 0 enters the paths
 END_GAP = 2             # clocks between a row's last code and the median's end token
+LINE_BLOCK_WORDS = 512  # words of a block RAM at the line buffer's width (512 x 72): its pieces' smallest depth
 
 
 def median_block(config):
@@ -46,6 +48,21 @@ def row_lag(config):
     with ``left_right`` (row y's checked codes go to the median at the start of pass y + 1). Pass y writes row
     y - lag; a map is H + lag passes."""
     return median_block(config).ROW_LAG + (1 if config.left_right else 0)
+
+
+def line_buffer_pieces(width, groups, block_words=LINE_BLOCK_WORDS):
+    """The vertical line buffer's pieces of columns, ``(first column, columns)``: the width rounded up to a
+    multiple of the largest power of two of at most ``block_words`` / ``groups`` columns (a smaller piece would
+    take a block of its own all the same), split by its binary digits, high to low: each piece a power of two
+    of columns, ``columns`` x ``groups`` words (800 x 8 words: 4096, 2048 and 512)."""
+    unit = 1 << max(0, (block_words // groups).bit_length() - 1)
+    total = -(-width // unit) * unit
+    pieces, base = [], 0
+    for bit in reversed(range(total.bit_length())):
+        if total >> bit & 1:
+            pieces.append((base, 1 << bit))
+            base += 1 << bit
+    return pieces
 
 
 class Schedule(NamedTuple):
@@ -219,10 +236,12 @@ class DepthEngine(wiring.Component):
     1          column -> census windows
     2          census signatures registered
     3          three paths: left census shift register shifts
-    4          vertical line buffer read (pixel x: word x; the diagonal: word x + 1)
+    4          vertical path's row minimum read (pixel x: word x; the diagonal: word x + 1)
     4 + g      group g: the lanes' left signatures, with the AD term their grey values (two paths: the
                candidates' chain advances; three: selected from the shift register)
     5 + g      cost: XOR, count 6-bit chunks, grey difference (3 clocks)
+    6 + g      vertical line buffer read, group g (word (x, g); the diagonal: (x + 1, g)): the path's ``prev``
+               at 7 + g
     8 + g      paths: select L'; 9 + g: partial minimums; 10 + g: L
     11 + g     line buffer write (vertical L), winner sum, path minimum trees
     G + 12 + t winner folded (t = minimum-tree clocks), then F + 6 clocks of ``Subpixel`` to the code,
@@ -711,7 +730,8 @@ class DepthEngine(wiring.Component):
         return token, self._lanes(m, right_cen, right_grey, left_sel, left_grey, inside)
 
     def _paths(self, m, token, lanes, step, clock, in_run, restart):
-        """Cost (3 clocks), then both paths; the vertical path's line buffer (read at clock 4)."""
+        """Cost (3 clocks), then both paths; the vertical path's line buffer (a group a clock, from the cost
+        stage's tokens) and row minimums (read at VREAD_CLOCK)."""
         cfg, w = self.config, self.geometry.buf_width
         G, P = self.groups, cfg.lanes
         cost = add_reset_subtree(m, "cost", MatchingCost(cfg))
@@ -719,11 +739,13 @@ class DepthEngine(wiring.Component):
         if cfg.ad_clip:
             m.d.comb += [cost.right_grey.eq(lanes.right_grey), cost.left_grey.eq(lanes.left_grey)]
         tok = token
+        cost_tokens = []
         back = self.issue_backward if self.three else None
         for s in range(MatchingCost.LATENCY):
             delayed = Signal(token_layout(G, w), name=f"cost_token{s}")
             m.d.sync += delayed.eq(tok)
             tok = delayed
+            cost_tokens.append(tok)
             if self.three:
                 back_delayed = Signal(name=f"cost_backward{s}")
                 m.d.sync += back_delayed.eq(back)
@@ -743,41 +765,83 @@ class DepthEngine(wiring.Component):
         for path in (horizontal, vertical):
             m.d.comb += [path.token.eq(forward_tok), path.cost.eq(cost.cost)]
 
+        self._line_buffer(m, vertical, cost_tokens, step, clock, restart)
+        return horizontal, vertical
+
+    def _line_buffer(self, m, vertical, cost_tokens, step, clock, restart):
+        """The vertical path's previous row: L' a group a clock (from the cost stage's tokens) and M' (read at
+        VREAD_CLOCK)."""
+        cfg, w = self.config, self.geometry.buf_width
+        G, P = self.groups, cfg.lanes
         pbits = cfg.path_bits
-        # The line buffer: one plain memory per group of P disparities (each a simple dual-port block RAM,
-        # docs/board.md), all read at the same column.
-        rows = [Memory(shape=unsigned(pbits * P), depth=w, init=[]) for _ in range(G)]
-        for gi, memory in enumerate(rows):
-            m.submodules[f"vertical_rows{gi}"] = memory
+        # The line buffer: W x G words of P path costs, word (x, g) pixel x's group g, read a group a clock
+        # (group g of pixel x at step clock 6 + g: in the vertical path's ``prev`` at 7 + g, the clock before
+        # the group enters the path) and written a group a clock by the vertical path's ``l`` (11 + g). It is
+        # built as simple dual-port block RAMs (docs/board.md), one per piece of columns
+        # (:func:`line_buffer_pieces`), each a power of two deep, so that none needs a select between blocks:
+        # the only select is the registered choice of piece (zero where the path starts), a LUT a bit.
+        pieces = line_buffer_pieces(w, G, LINE_BLOCK_WORDS)
+        reads, writes = [], []
+        for i, (_, size) in enumerate(pieces):
+            memory = Memory(shape=unsigned(pbits * P), depth=size * G, init=[])
+            m.submodules[f"vertical_rows{i}"] = memory
+            reads.append(memory.read_port())
+            writes.append(memory.write_port())
         m.submodules.vertical_minimums = minimums = Memory(shape=unsigned(pbits), depth=w, init=[])
-        rows_reads, rows_writes = [r.read_port() for r in rows], [r.write_port() for r in rows]
         min_read, min_write = minimums.read_port(), minimums.write_port()
+
+        def word(x, group, size):      # the address in its piece: x's low bits and the group
+            low = x[:(size - 1).bit_length()]
+            return Cat(group, low) if G & (G - 1) == 0 else low * G + group
+
+        # Read before write: pixel x of row y reads row y - 1's words (x, g) (the diagonal: (x + 1, g)) in its
+        # own step at clocks 6 + g and writes its own words (x, g) at 11 + g; pixel x + 1 (a step later) writes
+        # (x + 1, g). So every word of row y - 1 is read before row y overwrites it, for TWO_PATHS, THREE_PATHS
+        # (the forward pass is TWO_PATHS'; the backward pass's tokens read words nobody uses and write none;
+        # ReversePath's carry takes the vertical ``l`` of the forward pass, which this does not move) and
+        # DIAGONAL_PATHS. Pass y + 1 reads only after pass y's last write (the drain).
+        read_tok = cost_tokens[-3]              # a group at step clock 6 + g
         x = step - self.lead
-        read_x = Mux((x >= 0) & (x < w), x, 0)
-        fresh = restart                         # L' = 0, M' = 0: the path starts at this pixel
+        min_x_read = Mux((x >= 0) & (x < w), x, 0)
+        read_x = read_tok.x
+        fresh, read_fresh = restart, restart    # L' = 0, M' = 0: the path starts at this pixel
         if cfg.paths == DIAGONAL_PATHS:
-            # p' = (x + 1, y - 1): row y - 1's word x + 1, read in pixel x's step (x + lead) at VREAD_CLOCK. Row y
-            # overwrites that word with pixel x + 1's L and M only, from clock PATH_CLOCK + SgmPath.LATENCY of
-            # the next step on (its groups issue in step x + 1 + lead): after this read. At x = W - 1 p' is
-            # outside the image: the path starts there.
-            read_x = Mux((x >= 0) & (x < w - 1), x + 1, 0)
+            # p' = (x + 1, y - 1): row y - 1's word x + 1, read in pixel x's step (x + lead). Row y overwrites
+            # that word with pixel x + 1's L and M only, from clock PATH_CLOCK + SgmPath.LATENCY of the next
+            # step on (its groups issue in step x + 1 + lead): after this read. At x = W - 1 p' is outside the
+            # image: the path starts there.
+            min_x_read = Mux((x >= 0) & (x < w - 1), x + 1, 0)
+            read_x = Mux(read_tok.x < w - 1, read_tok.x + 1, 0)
             fresh = restart | (x == w - 1)
-        for port in rows_reads + [min_read]:
-            m.d.comb += [port.addr.eq(read_x), port.en.eq(clock == VREAD_CLOCK)]
-        prev = Signal.like(vertical.prev, reset_less=True)     # datapath: written before it is read
-        m.d.comb += vertical.prev.eq(prev)
+            read_fresh = restart | (read_tok.x == w - 1)
+        choice = Signal(range(len(pieces) + 1), name="vertical_piece")     # len(pieces): zero
+        piece = len(pieces)
+        for i, (base, size) in reversed(list(enumerate(pieces))):
+            piece = Mux(read_x < base + size, i, piece) if i < len(pieces) - 1 else i
+        with m.If(read_tok.go):
+            m.d.sync += choice.eq(Mux(read_fresh, len(pieces), piece))
+        for port, (_, size) in zip(reads, pieces):
+            m.d.comb += [port.addr.eq(word(read_x, read_tok.group, size)), port.en.eq(read_tok.go)]
+        with m.Switch(choice):
+            for i, port in enumerate(reads):
+                with m.Case(i):
+                    m.d.comb += vertical.prev.eq(port.data)
+        m.d.comb += [min_read.addr.eq(min_x_read), min_read.en.eq(clock == VREAD_CLOCK)]
         with m.If(clock == VREAD_CLOCK + 1):
-            m.d.sync += [prev.eq(Mux(fresh, 0, Cat(*(r.data for r in rows_reads)))),
-                         vertical.prev_min.eq(Mux(fresh, 0, min_read.data))]
+            m.d.sync += vertical.prev_min.eq(Mux(fresh, 0, min_read.data))
         lt = vertical.l_token
-        for gi, write in enumerate(rows_writes):
-            m.d.comb += [write.addr.eq(lt.x), write.data.eq(vertical.l.as_value()),
-                         write.en.eq(lt.go & (lt.group == gi))]
+        for port, (base, size) in zip(writes, pieces):
+            inside = lt.go
+            if base:
+                inside &= lt.x >= base
+            if base + size < w:
+                inside &= lt.x < base + size
+            m.d.comb += [port.addr.eq(word(lt.x, lt.group, size)), port.data.eq(vertical.l.as_value()),
+                         port.en.eq(inside)]
         min_x = Signal(range(w))
         with m.If(lt.go & lt.last):
             m.d.sync += min_x.eq(lt.x)
         m.d.comb += [min_write.addr.eq(min_x), min_write.data.eq(vertical.m), min_write.en.eq(vertical.m_valid)]
-        return horizontal, vertical
 
     def _back_end(self, m, horizontal, vertical, y, out_base, row_invalid):
         """Winner, median, result ring."""

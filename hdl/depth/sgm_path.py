@@ -18,8 +18,10 @@ class SgmPath(wiring.Component):
 
     The previous pixel's vector L' and its minimum M' are, for the horizontal path (``recurrent=True``), the
     block's own result for the pixel before (zero where the token says ``first``); for the vertical path they
-    are the ``prev``/``prev_min`` inputs (the row above, from the engine's line buffer), which must hold from
-    the pixel's first group until one clock after its last.
+    are the ``prev``/``prev_min`` inputs (the row above, from the engine's line buffer): ``prev`` a group's word
+    of L' in the clock before the group's input (so group g + 1's in group g's input clock: the pixel's groups
+    come in consecutive clocks, in ascending order), ``prev_min`` held from the pixel's first group until one
+    clock after its last.
 
     Parameters
     ----------
@@ -34,6 +36,7 @@ class SgmPath(wiring.Component):
     token, cost : In
         A group: its control token and the ``lanes`` costs C(d), d = group * lanes + k.
     prev, prev_min : In (vertical path only)
+        L' of one group (``lanes`` path costs) and M'.
     l, l_token : Out
         The group's path costs, 3 clocks after its input.
     m, m_valid : Out
@@ -46,8 +49,8 @@ class SgmPath(wiring.Component):
 
     ====== ==================================================================================
     i      L'(d .. d + lanes - 1), lane 0's L'(d - 1), the last lane's L'(d + 1) of the group (horizontal:
-           the read bank's front group, shifted out, zero for ``first``; vertical: selected from ``prev``);
-           register C
+           the read bank's front group, shifted out, zero for ``first``; vertical: ``prev`` of the clock
+           before, the last lane of the one before that, lane 0 of ``prev``); register C
     i + 1  min(L'(d - 1), L'(d + 1)) + P1 over the neighbours that exist, min(L'(d), M' + P2), C - M' (M'
            read here)
     i + 2  L = min of the two + (C - M'): ``l``; horizontal: pushed into the write bank
@@ -80,7 +83,7 @@ class SgmPath(wiring.Component):
             "m_valid": Out(1),
         }
         if not recurrent:
-            members["prev"] = In(data.ArrayLayout(config.path_bits, config.disparities))
+            members["prev"] = In(data.ArrayLayout(config.path_bits, config.lanes))
             members["prev_min"] = In(config.path_bits)
         super().__init__(members)
 
@@ -120,14 +123,13 @@ class SgmPath(wiring.Component):
         if self.recurrent:
             written = self._banks(m, mid, edge_below, edge_above, first)
         else:
-            selects = [(k, 0, mid[k]) for k in range(lanes)] + [(0, -1, edge_below), (lanes - 1, 1, edge_above)]
-            for k, offset, target in selects:
-                with m.Switch(self.token.group):
-                    for g in range(groups):
-                        d = g * lanes + k + offset
-                        if 0 <= d < cfg.disparities:
-                            with m.Case(g):
-                                m.d.sync += target.eq(prev[d])
+            # ``prev`` is a group ahead: the group's word came a clock before, the group before's a clock
+            # before that, and ``prev`` is the next group's (read for the last lane only where it exists).
+            word = Signal(data.ArrayLayout(pbits, lanes), reset_less=True)
+            word_below = Signal(pbits, reset_less=True)
+            m.d.sync += [word.eq(prev), word_below.eq(word[lanes - 1])]
+            m.d.sync += [mid[k].eq(word[k]) for k in range(lanes)]
+            m.d.sync += [edge_below.eq(word_below), edge_above.eq(prev[0])]
         # d - 1 exists for every lane but lane 0 and d + 1 for every lane but the last, whatever the group.
         m.d.sync += [has_below.eq(self.token.group != 0), has_above.eq(self.token.group != groups - 1)]
         below = [edge_below] + [mid[k] for k in range(lanes - 1)]          # L'(d - 1)
