@@ -11,8 +11,9 @@ __all__ = ["whole_step"]
 def whole_step():
     """Run the block with SIGINT held: a Ctrl-C that arrives meanwhile raises :class:`KeyboardInterrupt` when the
     block has finished, so the block's outputs are either all written or not started. Outside the main thread
-    (where Python cannot take signals) the block runs as it is."""
-    if threading.current_thread() is not threading.main_thread():
+    (where Python cannot take signals), or where SIGINT is ignored (a background job), the block runs as it is."""
+    if (threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGINT) is signal.SIG_IGN):
         yield
         return
     arrived = []

@@ -198,10 +198,20 @@ def test_outputs_are_renamed_only_when_complete_and_stale_ones_removed(tmp_path)
         outputs.partial("other.png")
 
 
-def test_ctrl_c_waits_for_the_whole_step():
+@pytest.fixture
+def sigint_handler():
+    """SIGINT's handler set for the test (whatever the process was started with: a background job ignores SIGINT),
+    and the process's own put back after it."""
+    started_with = signal.getsignal(signal.SIGINT)
+    yield lambda handler: signal.signal(signal.SIGINT, handler)
+    signal.signal(signal.SIGINT, started_with)
+
+
+def test_ctrl_c_waits_for_the_whole_step(sigint_handler):
     """A SIGINT inside :func:`whole_step` lets the block finish and raises KeyboardInterrupt after it; outside,
     Ctrl-C works as before."""
     from stereodepth.interrupts import whole_step
+    sigint_handler(signal.default_int_handler)
     done = []
     with pytest.raises(KeyboardInterrupt):
         with whole_step():
@@ -212,3 +222,12 @@ def test_ctrl_c_waits_for_the_whole_step():
     with whole_step():
         done.append("no signal")
     assert done[-1] == "no signal"
+
+
+def test_whole_step_keeps_an_ignored_sigint_ignored(sigint_handler):
+    """A process that ignores SIGINT (a job started in the background) is not interrupted by a whole step."""
+    from stereodepth.interrupts import whole_step
+    sigint_handler(signal.SIG_IGN)
+    with whole_step():
+        os.kill(os.getpid(), signal.SIGINT)
+    assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
