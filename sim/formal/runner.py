@@ -43,7 +43,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from amaranth import ClockDomain, Fragment, Module, Signal, Value
+from amaranth import ClockDomain, Fragment, Module, Mux, Signal, Value
 from amaranth.back import rtlil
 from amaranth.hdl import Assert, Assume, Cover
 from amaranth.sim import Simulator
@@ -141,6 +141,17 @@ class FormalHarness:
         later = Signal(name=f"{name}_later", reset_less=True)
         m.d.sync += later.eq(1)
         self.assume(m, name, ~later | (value == self.past(m, value, name=f"past_{name}", reset_less=True)))
+
+    def assume_pixel_groups(self, m, token, groups):
+        """The engine's token contract for a block fed a pixel's ``groups`` groups: in consecutive clocks from group
+        0, one x, ``last`` on the last group."""
+        expect = Signal(range(groups), name="expected_group")
+        x_held = Signal.like(token.x, name="pixel_x")
+        with m.If(token.go):
+            m.d.sync += [expect.eq(Mux(token.group == groups - 1, 0, token.group + 1)), x_held.eq(token.x)]
+        self.assume(m, "groups_in_order", ~token.go | (token.group == expect))
+        self.assume(m, "pixel_groups_consecutive", (expect == 0) | (token.go & (token.x == x_held)))
+        self.assume(m, "last_on_the_last_group", ~token.go | (token.last == (token.group == groups - 1)))
 
     def past(self, m, value, clocks=1, *, name=None, reset_less=False):
         """``value`` as it was ``clocks`` clocks ago (registers, reset with the design unless ``reset_less``:

@@ -63,13 +63,7 @@ class LeftWinnerHarness(FormalHarness):
     def _contract(self, m, token, groups, w):
         self.assume(m, "token_in_row", ~token.go | ((token.x < w) & (token.group < groups)))
         self.assume(m, "first_at_column_0", ~token.go | (token.first == (token.x == 0)))
-        expect = Signal(range(groups), name="expected_group")
-        x_held = Signal.like(token.x, name="pixel_x")
-        with m.If(token.go):
-            m.d.sync += [expect.eq(Mux(token.group == groups - 1, 0, token.group + 1)), x_held.eq(token.x)]
-        self.assume(m, "groups_in_order", ~token.go | (token.group == expect))
-        self.assume(m, "pixel_groups_consecutive", (expect == 0) | (token.go & (token.x == x_held)))
-        self.assume(m, "last_on_the_last_group", ~token.go | (token.last == (token.group == groups - 1)))
+        self.assume_pixel_groups(m, token, groups)
         # Pixels in ascending x: the next one is x + 1 or a new row (x = 0); after a reset a new row.
         next_x = Signal(range(w + 1), name="next_pixel_x")
         new_pixel = token.go & (token.group == 0)

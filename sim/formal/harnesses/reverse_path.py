@@ -97,13 +97,7 @@ class ReversePathHarness(FormalHarness):
             self.assume(m, f"carry_within_other_paths_in_{k}", ~store_token.go | (dut.carry[k] <= carry_max))
             self.assume(m, f"cost_is_a_matching_cost_{k}", ~token.go | (dut.cost[k] <= cfg.cost_max))
         # A pixel's groups in consecutive clocks, from group 0, ``last`` on the last, one x.
-        expect = Signal(range(groups), name="expected_group")
-        x_held = Signal.like(token.x, name="pixel_x")
-        with m.If(token.go):
-            m.d.sync += [expect.eq(Mux(token.group == groups - 1, 0, token.group + 1)), x_held.eq(token.x)]
-        self.assume(m, "groups_in_order", ~token.go | (token.group == expect))
-        self.assume(m, "pixel_groups_consecutive", (expect == 0) | (token.go & (token.x == x_held)))
-        self.assume(m, "last_on_the_last_group", ~token.go | (token.last == (token.group == groups - 1)))
+        self.assume_pixel_groups(m, token, groups)
         # Pixels at least ``loop_clocks`` apart (first group to first group), the contract: the path's banks hold
         # the previous pixel's vector whole only then, and its minimum M' is that vector's.
         loop = ReversePath.loop_clocks(cfg)
