@@ -8,7 +8,7 @@ from amaranth.lib.wiring import In, Out
 from spec.depth import DEPTH
 from spec.sensor import SENSOR
 
-__all__ = ["Median3x3"]
+__all__ = ["Median3x3", "median_signature"]
 
 
 def _lo(a, b):
@@ -17,6 +17,20 @@ def _lo(a, b):
 
 def _hi(a, b):
     return Mux(b < a, a, b)
+
+
+def median_signature(config, width, height, row_lag):
+    """The ports of a streaming median with ``row_lag`` (:class:`Median3x3`'s, the separable medians'): the pass
+    ``y`` (0 .. height + row_lag - 1), one input code or end token, one output median."""
+    return wiring.Signature({
+        "y": In(range(height + row_lag)),
+        "valid": In(1),
+        "x": In(range(width + 1)),
+        "code": In(config.code_bits),
+        "out_valid": Out(1),
+        "out_x": Out(range(width)),
+        "out_code": Out(config.code_bits),
+    })
 
 
 class Median3x3(wiring.Component):
@@ -54,15 +68,7 @@ class Median3x3(wiring.Component):
     def __init__(self, config=DEPTH, geometry=SENSOR):
         self.config = config
         self.width, self.height = geometry.buf_width, geometry.buf_height
-        super().__init__({
-            "y": In(range(self.height + 1)),
-            "valid": In(1),
-            "x": In(range(self.width + 1)),
-            "code": In(config.code_bits),
-            "out_valid": Out(1),
-            "out_x": Out(range(self.width)),
-            "out_code": Out(config.code_bits),
-        })
+        super().__init__(median_signature(config, self.width, self.height, self.ROW_LAG))
 
     def elaborate(self, platform):
         m = Module()

@@ -7,8 +7,8 @@ import operator
 from amaranth import Module, Mux, Signal
 from amaranth.lib import data, wiring
 from amaranth.lib.memory import Memory
-from amaranth.lib.wiring import In, Out
 
+from hdl.depth.median import median_signature
 from spec.depth import DEPTH
 from spec.sensor import SENSOR
 
@@ -117,15 +117,7 @@ class SeparableMedian(wiring.Component):
     def __init__(self, config=DEPTH, geometry=SENSOR):
         self.config = config
         self.width, self.height = geometry.buf_width, geometry.buf_height
-        super().__init__({
-            "y": In(range(self.height + self.ROW_LAG)),
-            "valid": In(1),
-            "x": In(range(self.width + 1)),
-            "code": In(config.code_bits),
-            "out_valid": Out(1),
-            "out_x": Out(range(self.width)),
-            "out_code": Out(config.code_bits),
-        })
+        super().__init__(median_signature(config, self.width, self.height, self.ROW_LAG))
 
     def _column(self, y, above, code):
         """The codes of rows y - 2L .. y (the column around the output row y - L), clamped to 0 .. height - 1:
