@@ -1,7 +1,9 @@
 """InitSequencer: plays an I2C initialisation table from a ROM through an :class:`I2CMaster`.
 
-One sequencer per bus: each VmodCAM camera has its own bus (both MT9D112 answer at the same address) and the
-CH7301C has the Genesys's. The table (``hdl/init_tables.py``) is packed into an ``amaranth.lib.memory.Memory``
+A sequencer plays one table on one bus, or the same table on several buses at once (``buses`` > 1): each VmodCAM
+camera has its own bus (both MT9D112 answer at the same address) and one sequencer with a broadcasting
+:class:`~hdl.i2c_master.I2CMaster` plays the MT9D112 table on both, every transaction on both buses at the same
+clock; the CH7301C has the Genesys's bus and a sequencer of its own. The table (``hdl/init_tables.py``) is packed into an ``amaranth.lib.memory.Memory``
 ROM (synchronous read), one word per entry. Out of reset the sequencer runs the table once:
 
 * ``Write``: ``S addr+W reg.. data.. P`` (most significant byte first).
@@ -13,13 +15,26 @@ ROM (synchronous read), one word per entry. Out of reset the sequencer runs the 
 * ``Barrier``: ``barrier`` is high while the sequencer holds there; it goes on at the clock ``release`` is high
   (the parent releases the sequencers that share the barrier together once all of them hold).
 
+Several buses: every entry must succeed on every bus. A write (and the address and register bytes of a read)
+needs an acknowledge from every bus; a NACK from any bus is a NACK (the transaction is repeated on all buses: a
+register write twice is harmless). A read compares each bus's value: it keeps the AND and the OR of the buses'
+bits (the master's ``rdata`` and ``rdata_any``) and matches when ``AND & mask == value`` and
+``OR & mask == value``, which holds exactly when every bus read ``data & mask == value`` (a bit of ``value``
+that is 1 is 1 on every bus when the AND has it, a 0 is 0 on every bus when the OR has it). So a one-attempt
+``Poll`` (the MT9D112's chip version) passes only when every sensor has that version, a ``Poll`` until a value
+(the sequencer command reads 0) goes on only once every sensor reads it, and a ``Check`` shows a mismatch when any
+bus read another value. A clock stretch on any bus holds all of them; a stuck line or a lost arbitration on any
+bus is the error of all. ``nacked`` says which buses did not acknowledge the last NACKed byte (so, with a NACK
+``error_code``, which bus failed).
+
 Faults: a NACK (address or data byte) or a lost arbitration ends the transaction with a STOP; the sequencer
 waits ``retry_delay_us`` and repeats the whole transaction, at most ``retries`` more times, then stops with
 ``error``. A bus stuck low (the master's timeout) stops at once. A poll that never matches stops with
 ``error``. After an error the sequencer leaves the bus idle for good: it never goes on to the next entry and
 never raises ``done`` (only a reset restarts it).
 
-Outputs: ``i2c`` (:data:`hdl.i2c_master.I2CSignature`, connected to the master's pins) and ``status``
+Outputs: ``i2c`` (:data:`hdl.i2c_master.I2CSignature`, an array of ``buses`` of them when ``buses`` > 1,
+connected to the master's pins) and ``status``
 (:class:`InitStatusSignature`, all ``sync``, registered): ``busy`` until the table ends or fails; ``done``
 (sticky) once every entry has completed; ``error`` (sticky) with ``error_code`` (:class:`ErrorCode`) and
 ``entry`` = index of the failing entry (while running: the current entry; after ``done``: the table length);
@@ -34,7 +49,7 @@ from amaranth.lib import data, enum, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
-from hdl.i2c_master import Cmd, I2CMaster, I2CSignature, master_timing
+from hdl.i2c_master import Cmd, I2CMaster, I2CSignature, bus_pins, master_timing
 from hdl.init_tables import Barrier, Check, InitTable, Wait, Write
 from spec.board import CLOCKS
 from hdl.signature import ParametricSignature
@@ -68,12 +83,14 @@ def _us_to_cycles(us, clk_hz):
     return -(-us * clk_hz // 1_000_000)
 
 
-def check_parameters(table, *, clk_hz=CLOCKS.SYS_HZ, bus_hz=CLOCKS.I2C_HZ, retries=3, timeout_us=25_000):
+def check_parameters(table, *, clk_hz=CLOCKS.SYS_HZ, bus_hz=CLOCKS.I2C_HZ, retries=3, timeout_us=25_000, buses=1):
     """``TypeError`` / ``ValueError`` for what :class:`InitSequencer` rejects (see its Raises)."""
     if not isinstance(table, InitTable):
         raise TypeError("table must be an hdl.init_tables.InitTable")
     if retries < 0:
         raise ValueError("retries must be >= 0")
+    if buses < 1:
+        raise ValueError("buses must be >= 1")
     master_timing(clk_hz, bus_hz, timeout_us)
 
 
@@ -89,12 +106,16 @@ class InitSequencer(wiring.Component):
         Further attempts of a transaction after a NACK or a lost arbitration.
     retry_delay_us, timeout_us : int
         Wait before a retry; stuck-bus time-out.
+    buses : int
+        The buses the table is played on at once (see the module docstring).
 
     Attributes
     ----------
-    i2c : ``Out(I2CSignature)``
+    i2c : ``Out(I2CSignature)``, with ``buses`` > 1 ``Out(I2CSignature).array(buses)``
         Connected to the master's pins (the submodule ``master``).
     status : ``Out(InitStatusSignature(len(table)))``
+    nacked : ``Out(buses)``
+        With ``buses`` > 1 only: the buses that did not acknowledge the last NACKed byte (``sync``, registered).
     barrier : ``Out(1)``, release : ``In(1)``
         Held at a ``Barrier`` entry; released (see the module docstring). ``release`` is high unless driven: a
         sequencer that shares its barrier with none goes straight through it.
@@ -104,20 +125,24 @@ class InitSequencer(wiring.Component):
     TypeError
         ``table`` is not an ``InitTable``.
     ValueError
-        Negative ``retries``, or timing the master rejects.
+        Negative ``retries``, ``buses`` < 1, or timing the master rejects.
     """
 
     def __init__(self, table, *, clk_hz=CLOCKS.SYS_HZ, bus_hz=CLOCKS.I2C_HZ, retries=3,
-                 retry_delay_us=1000, timeout_us=25_000):
-        check_parameters(table, clk_hz=clk_hz, bus_hz=bus_hz, retries=retries, timeout_us=timeout_us)
+                 retry_delay_us=1000, timeout_us=25_000, buses=1):
+        check_parameters(table, clk_hz=clk_hz, bus_hz=bus_hz, retries=retries, timeout_us=timeout_us, buses=buses)
         self.table = table
+        self.buses = buses
         self.clk_hz = clk_hz
         self.bus_hz = bus_hz
         self.retries = retries
         self.timeout_us = timeout_us
         self.retry_delay = max(1, _us_to_cycles(retry_delay_us, clk_hz))
-        super().__init__({"i2c": Out(I2CSignature), "status": Out(InitStatusSignature(len(table))),
-                          "barrier": Out(1), "release": In(1, init=1)})
+        members = {"i2c": Out(I2CSignature) if buses == 1 else Out(I2CSignature).array(buses),
+                   "status": Out(InitStatusSignature(len(table))), "barrier": Out(1), "release": In(1, init=1)}
+        if buses > 1:
+            members["nacked"] = Out(buses)
+        super().__init__(members)
 
     def _rom(self):
         dev = self.table.device
@@ -148,8 +173,10 @@ class InitSequencer(wiring.Component):
 
     def elaborate(self, platform):
         m = Module()
-        m.submodules.master = master = I2CMaster(clk_hz=self.clk_hz, bus_hz=self.bus_hz, timeout_us=self.timeout_us)
-        wiring.connect(m, wiring.flipped(self.i2c), master.i2c)
+        m.submodules.master = master = I2CMaster(clk_hz=self.clk_hz, bus_hz=self.bus_hz, timeout_us=self.timeout_us,
+                                                 buses=self.buses)
+        for own, pins in zip(bus_pins(self.i2c, self.buses), bus_pins(master.i2c, self.buses)):
+            wiring.connect(m, wiring.flipped(own), pins)
         states = _States(self, master, m)
         m.d.comb += self.status.busy.eq(~self.status.done & ~self.status.error)
         with m.FSM() as fsm:
@@ -201,8 +228,12 @@ class _States:
         self.timer = Signal(range(max_count + 2), name="timer")
         self.attempt = Signal(range(seq.retries + 1), name="attempt")
         self.polls = Signal(range(max_attempts + 1), name="polls")
-        self.rx = Signal(8 * dev.data_bytes, name="rx")
+        self.rx = Signal(8 * dev.data_bytes, name="rx")         # the AND of the buses' bytes
+        self.rx_any = Signal(8 * dev.data_bytes, name="rx_any") if seq.buses > 1 else None   # their OR
         self.fail_code = Signal(ErrorCode, name="fail_code")
+
+    def clear_rx(self):
+        return [self.rx.eq(0)] + ([] if self.rx_any is None else [self.rx_any.eq(0)])
 
     def finish_entry(self):
         self.m.d.sync += [self.pc.eq(self.pc + 1), self.polls.eq(0), self.attempt.eq(0)]
@@ -225,7 +256,7 @@ class _States:
         with m.State("LOAD"):                          # the ROM reads the word of the new pc
             m.next = "FETCH"
         with m.State("FETCH"):
-            m.d.sync += [self.step.eq(0), self.rx.eq(0), timer.eq(0)]
+            m.d.sync += [self.step.eq(0), *self.clear_rx(), timer.eq(0)]
             with m.If(self.pc == self.n):
                 m.next = "DONE"
             with m.Elif(e.op == _OP_WAIT):
@@ -257,6 +288,8 @@ class _States:
                     m.d.sync += fail_code.eq(ErrorCode.ARB)
                     self.retry_or_fail()
                 with m.Elif(self.is_write & master.nack):
+                    if self.rx_any is not None:
+                        m.d.sync += self.seq.nacked.eq(master.nack_buses)
                     with m.If(self.is_addr):
                         m.d.sync += fail_code.eq(ErrorCode.NACK_ADDR)
                     with m.Else():
@@ -267,6 +300,8 @@ class _States:
                 with m.Else():
                     with m.If(master.cmd == Cmd.READ):
                         m.d.sync += self.rx.eq((self.rx << 8) | master.rdata)
+                        if self.rx_any is not None:
+                            m.d.sync += self.rx_any.eq((self.rx_any << 8) | master.rdata_any)
                     m.d.sync += self.step.eq(self.step + 1)
                     m.next = "ISSUE"
 
@@ -286,7 +321,7 @@ class _States:
         with m.State("RETRY_WAIT"):
             m.d.sync += timer.eq(timer + 1)
             with m.If(timer + 1 >= self.seq.retry_delay):
-                m.d.sync += [self.step.eq(0), self.rx.eq(0), timer.eq(0)]
+                m.d.sync += [self.step.eq(0), *self.clear_rx(), timer.eq(0)]
                 m.next = "ISSUE"
 
     def complete(self):
@@ -295,7 +330,10 @@ class _States:
         # Registered every clock: rx last changes in BUSY two steps before COMPLETE (the STOP step follows the
         # last read), so in COMPLETE ``matched`` is the comparison of the final rx.
         matched = Signal(name="matched")
-        m.d.sync += matched.eq((self.rx & e.mask) == e.value)
+        if self.rx_any is None:
+            m.d.sync += matched.eq((self.rx & e.mask) == e.value)
+        else:                                          # every bus read the value (see the module docstring)
+            m.d.sync += matched.eq(((self.rx & e.mask) == e.value) & ((self.rx_any & e.mask) == e.value))
         with m.State("COMPLETE"):
             with m.If(e.op == _OP_WRITE):
                 self.finish_entry()
@@ -314,7 +352,7 @@ class _States:
         with m.State("POLL_WAIT"):
             m.d.sync += timer.eq(timer + 1)
             with m.If(timer + 1 >= e.count):
-                m.d.sync += [self.step.eq(0), self.rx.eq(0), timer.eq(0)]
+                m.d.sync += [self.step.eq(0), *self.clear_rx(), timer.eq(0)]
                 m.next = "ISSUE"
 
     def end(self):

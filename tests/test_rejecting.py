@@ -82,6 +82,8 @@ REJECTED = {
     "CH7301COutput": lambda: CH7301COutput(ddr="spartan"),
     "I2CMaster": lambda: I2CMaster(clk_hz=1_000_000, bus_hz=5_000_000),
     "InitSequencer": lambda: InitSequencer(CH7301C_TABLE, retries=-1),
+    "I2CMaster, buses": lambda: I2CMaster(buses=0),
+    "InitSequencer, buses": lambda: InitSequencer(CH7301C_TABLE, buses=0),
     "GenesysClocking": lambda: GenesysClocking(ClockPlan(dcm_m=40)),
     "SimClocking": lambda: SimClocking(lock_cycles=0),
     "StereoDepthSystem": lambda: StereoDepthSystem(**SMALL, ddr="virtex5"),

@@ -14,7 +14,7 @@ configuration (the last transactions readable) through the captured frames to th
 display frame after them; GTKWave's Zoom Full (Ctrl+Alt+F) shows the whole run.
 """
 
-from hdl.system import CAMERAS, I2C_BUSES
+from hdl.system import CAMERAS, I2C_BUSES, I2C_SEQUENCERS
 from sim.waves.gtkw import Event, I2CBus, Show, Waves
 
 __all__ = ["system_waves", "system_events", "cocotb_system_waves"]
@@ -30,8 +30,8 @@ def system_waves(top):
     for b in I2C_BUSES:
         bus, init = getattr(top.bus, b), getattr(top.init, b)
         groups[f"i2c_{b}"] = [I2CBus(f"{b}_i2c", bus.scl, bus.sda),
-                              Show(f"init_{b}.fsm_state", alias=f"{b} init sequencer"),
-                              Show(f"init_{b}.master.fsm_state", alias=f"{b} I2C master"),
+                              Show(f"{I2C_SEQUENCERS[b]}.fsm_state", alias=f"{b} init sequencer"),
+                              Show(f"{I2C_SEQUENCERS[b]}.master.fsm_state", alias=f"{b} I2C master"),
                               init.done, init.error]
     for c in CAMERAS:
         status = getattr(top.capture, f"cam_{c}")
