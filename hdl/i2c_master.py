@@ -37,7 +37,9 @@ the bus clear, arbitration and the repeated-START / STOP checks SDA reads high o
 low SDA on any bus is that bus's error); an acknowledge counts only when SDA is low on every bus (``nack`` when any
 bus left it high, ``nack_buses`` says which); a READ gives ``rdata`` (the bits every bus read as 1, the AND) and
 ``rdata_any`` (the bits some bus read as 1, the OR): bit ``i`` read ``v`` on every bus exactly when
-``rdata[i] == rdata_any[i] == v``.
+``rdata[i] == rdata_any[i] == v``. ``enable`` (all buses unless driven) selects the buses: the master drives only
+those and reads only those (a bus left out is never pulled low and its inputs count for nothing); change it only
+between transfers.
 
 Latency: a command takes its bus time (9 bit times for a byte) plus 2-3 cycles of input synchronisation per
 SCL rising edge; ``ready`` returns the cycle after ``done``.
@@ -136,7 +138,7 @@ def master_signature(buses=1):
         "i2c": Out(I2CSignature) if buses == 1 else Out(I2CSignature).array(buses),
     }
     if buses > 1:
-        members.update({"rdata_any": Out(8), "nack_buses": Out(buses)})
+        members.update({"rdata_any": Out(8), "nack_buses": Out(buses), "enable": In(buses, init=(1 << buses) - 1)})
     return wiring.Signature(members)
 
 
@@ -172,8 +174,9 @@ class I2CMaster(wiring.Component):
     ready, done, nack, rdata, arb_lost, timed_out, bus_active : ``Out``
         ``done`` pulses when a command ends; ``nack``, ``rdata``, ``arb_lost``, ``timed_out`` hold its result until
         the next command.
-    rdata_any : ``Out(8)``, nack_buses : ``Out(buses)``
-        With ``buses`` > 1 only: the OR of the buses' read bits; the buses that did not acknowledge a WRITE.
+    rdata_any : ``Out(8)``, nack_buses : ``Out(buses)``, enable : ``In(buses)``
+        With ``buses`` > 1 only: the OR of the buses' read bits; the buses that did not acknowledge a WRITE; the
+        buses in use (all unless driven).
     i2c : ``Out(I2CSignature)``, with ``buses`` > 1 ``Out(I2CSignature).array(buses)``
 
     Clock domain ``sync``. Latency: a command takes its bus time (for a byte, 9 SCL periods) plus the 2-flop input
@@ -222,8 +225,10 @@ class _States:
         self.scl_low = Signal()
         self.sda_low = Signal()
         pins = bus_pins(master.i2c, n)
-        for pin in pins:
-            m.d.comb += [pin.scl.o.eq(0), pin.sda.o.eq(0), pin.scl.oe.eq(self.scl_low), pin.sda.oe.eq(self.sda_low)]
+        enable = [1] * n if n == 1 else list(master.enable)
+        for pin, en in zip(pins, enable):
+            m.d.comb += [pin.scl.o.eq(0), pin.sda.o.eq(0), pin.scl.oe.eq(self.scl_low & en),
+                         pin.sda.oe.eq(self.sda_low & en)]
         if n == 1:
             m.submodules.scl_sync = FFSynchronizer(pins[0].scl.i, self.scl, init=1)
             m.submodules.sda_sync = FFSynchronizer(pins[0].sda.i, self.sda, init=1)
@@ -236,8 +241,8 @@ class _States:
                 m.submodules[f"scl_sync_{k}"] = FFSynchronizer(pin.scl.i, scl[-1], init=1)
                 m.submodules[f"sda_sync_{k}"] = FFSynchronizer(pin.sda.i, sda[-1], init=1)
             self.sda_any = Signal(init=1)
-            self.sda_bus = Cat(*sda)
-            m.d.comb += [self.scl.eq(Cat(*scl).all()), self.sda.eq(self.sda_bus.all()),
+            self.sda_bus = Cat(*sda) & master.enable            # a bus left out reads as released
+            m.d.comb += [self.scl.eq((Cat(*scl) | ~master.enable).all()), self.sda.eq((Cat(*sda) | ~master.enable).all()),
                          self.sda_any.eq(self.sda_bus.any())]
         longest = max(t.low, t.high, t.hold, t.su_sta, t.hd_sta, t.su_sto, t.buf)
         self.timer = Signal(range(longest + 2))

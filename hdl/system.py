@@ -2,10 +2,12 @@
 
 Blocks (each in its own file, see docs/architecture.md):
 
-* two cameras: one :class:`~hdl.i2c_init.InitSequencer` playing the MT9D112 table on both camera buses at once
-  (each MT9D112 has its own I2C bus; the sequencer's master drives both alike, so every write reaches both sensors
-  at the same clock, and needs both to answer) and a :class:`~hdl.capture_path.CapturePath` (capture + frame
-  buffer per camera; camera A = left, B = right);
+* the I2C bring-up: one :class:`~hdl.i2c_init.InitSequencer` for the three buses (each MT9D112 has its own, the
+  CH7301C has the Genesys's): it plays the CH7301C table on the CH7301C's bus, then the MT9D112 table on both
+  camera buses at once (its master drives both alike, so every write reaches both sensors at the same clock, and
+  needs both to answer);
+* two cameras: a :class:`~hdl.capture_path.CapturePath` (capture + frame buffer per camera; camera A = left,
+  B = right);
 * the display: :class:`~hdl.sync_gen.SyncGenerator` -> :class:`~hdl.stereo_display.StereoDisplay` (the
   :class:`~hdl.compositor.Compositor` with its :class:`~hdl.disparity.DisparitySubtractor` and the
   :class:`~hdl.depth.DepthEngine`, sharing each frame buffer's one read port through a
@@ -16,7 +18,6 @@ Blocks (each in its own file, see docs/architecture.md):
   offset between the cameras; :class:`~hdl.rectification_select.RectificationSelect` uses it in place of the
   manual rectification when the switches hold ``AUTO_CODE`` (SW7 = 0, SW6..SW0 = 1000000, docs/rectification.md)
   or ``SEGMENT_CODE`` (1000001: also the segmentation view in the difference map's place, docs/display.md);
-* the CH7301C's own :class:`~hdl.i2c_init.InitSequencer` on the board's I2C bus;
 * status LEDs and the sensor/transmitter reset and power pins.
 
 Clock domains (defined by the parent: :class:`~board.top.GenesysTop` with the board clocking on the board, the
@@ -24,7 +25,7 @@ simulation testbench with :class:`~sim.models.clocking.SimClocking` in simulatio
 ``clk``, ``pix_clk``, ``cam_a_clk``, ``cam_b_clk``):
 
 =========  ================================================================================================
-``sync``   100 MHz: the two I2C init sequencers, the sensor/transmitter reset pins, LEDs 0..5
+``sync``   100 MHz: the I2C init sequencer, the sensor/transmitter reset pins, LEDs 0..5
 ``pix``    148.5 MHz: sync generator, switches, compositor, depth engine, frame-buffer read ports, CH7301C output,
            the vertical-offset search and the rectification select, the row-tag trackers and their frame pairing, LED 6
 ``cam_a``  camera A's PCLK: its capture and frame-buffer write port, its row sums, its tracker's strobe toggles, LED 7
@@ -88,7 +89,7 @@ from hdl.capture_path import CapturePath
 from hdl.ch7301c_output import CH7301COutput, CH7301CSignature
 from hdl.stereo_display import LATENCY as COMPOSITOR_LATENCY, StereoDisplay, check_display
 from hdl.frame_skew import FrameSkewMeter, FrameSkewSignature, skew_bits
-from hdl.i2c_init import ErrorCode, InitSequencer, InitStatusSignature, check_parameters as check_sequencer
+from hdl.i2c_init import ErrorCode, InitSequencer, InitStatusSignature, Phase, check_parameters as check_sequencer
 from hdl.i2c_master import I2CSignature
 from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE
 from spec.board import CLOCKS
@@ -112,7 +113,7 @@ from hdl.stereo_display import MEMORIES
 from hdl.store_windows import STREAMS
 
 __all__ = ["StereoDepthSystem", "SystemParameters", "PanelSignature", "ControlSignature", "DISPLAY_LATENCY", "CAMERAS",
-           "I2C_BUSES", "I2C_SEQUENCERS", "DISPLAY_MISSED_BITS"]
+           "I2C_BUSES", "I2C_SEQUENCER", "DISPLAY_MISSED_BITS"]
 
 #: Pixel clocks from a sync-generator raster position to that pixel on the CH7301C pins.
 DISPLAY_LATENCY = COMPOSITOR_LATENCY + 1
@@ -120,8 +121,8 @@ DISPLAY_LATENCY = COMPOSITOR_LATENCY + 1
 CAMERAS = ("a", "b")
 #: The I2C buses: one per camera, one for the CH7301C.
 I2C_BUSES = ("cam_a", "cam_b", "dvi")
-#: The init sequencer (the system's submodule) that plays each bus's table: the cameras' buses share one.
-I2C_SEQUENCERS = {"cam_a": "init_cams", "cam_b": "init_cams", "dvi": "init_dvi"}
+#: The init sequencer (the system's submodule) that plays every bus's table.
+I2C_SEQUENCER = "i2c_init"
 #: The DDR2 build's ``display_missed`` count: pix clocks with a compositor read refused, saturating.
 DISPLAY_MISSED_BITS = 16
 
@@ -285,8 +286,8 @@ class StereoDepthSystem(wiring.Component):
     i2c : ``Out``, per bus ``cam_a``, ``cam_b``, ``dvi`` an ``I2CSignature``
         The open-drain I2C pins (``sync``).
     init : ``Out``, per bus an ``InitStatusSignature``
-        The status of the init sequencer of each bus (``sync``); ``cam_a`` and ``cam_b`` both carry the cameras'
-        shared sequencer's.
+        The status of each bus's table (``sync``): ``dvi`` the CH7301C table's, ``cam_a`` and ``cam_b`` both the
+        cameras' shared table's.
     panel : ``Out(PanelSignature)``
         Switches (asynchronous) and LEDs.
     control : ``Out(ControlSignature)``
@@ -324,7 +325,7 @@ class StereoDepthSystem(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         p = self.params
-        sequencers = self._init(m)
+        sequencer = self._init(m)
         capture = add_reset_subtree(m, "capture", CapturePath(p.geometry, cameras=CAMERAS, r_byte_first=p.r_byte_first,
                                                               read_domain="pix", buffers=p.memory == "bram"), "pix")
         for c in CAMERAS:
@@ -338,22 +339,22 @@ class StereoDepthSystem(wiring.Component):
                      meter.start_b.eq(capture.cam_b.status.frame_start)]
         wiring.connect(m, wiring.flipped(self.skew), meter.status)
         sync_gen = self._display(m, capture)
-        self._leds(m, sync_gen, sequencers)
+        self._leds(m, sync_gen, sequencer)
         return m
 
     def _init(self, m):
-        """The I2C init sequencers (``sync``): one for both camera buses (its table played on both at once, so the
-        sensors are configured in step, docs/hardware-facts.md), one for the CH7301C's; the sensor / transmitter
-        reset and power pins. Returns ``{"cams": ..., "dvi": ...}``."""
+        """The I2C init sequencer (``sync``) of all three buses: the CH7301C's table on its bus, then the cameras'
+        table on both camera buses at once (so the sensors are configured in step, docs/hardware-facts.md); the
+        sensor / transmitter reset and power pins. Returns the sequencer."""
         p = self.params
-        kw = dict(clk_hz=p.clk_hz, bus_hz=p.i2c_hz, retry_delay_us=p.i2c_retry_delay_us)
-        m.submodules[I2C_SEQUENCERS["cam_a"]] = cams = InitSequencer(p.cam_table, buses=len(CAMERAS), **kw)
-        for k, c in enumerate(CAMERAS):
-            wiring.connect(m, wiring.flipped(getattr(self.i2c, f"cam_{c}")), cams.i2c[k])
-        wiring.connect(m, cams.status, *(wiring.flipped(getattr(self.init, f"cam_{c}")) for c in CAMERAS))
-        m.submodules[I2C_SEQUENCERS["dvi"]] = dvi = InitSequencer(p.dvi_table, **kw)
-        wiring.connect(m, wiring.flipped(self.i2c.dvi), dvi.i2c)
-        wiring.connect(m, wiring.flipped(self.init.dvi), dvi.status)
+        cam_buses = tuple(I2C_BUSES.index(f"cam_{c}") for c in CAMERAS)
+        phases = (Phase("dvi", p.dvi_table, (I2C_BUSES.index("dvi"),)), Phase("cams", p.cam_table, cam_buses))
+        m.submodules[I2C_SEQUENCER] = seq = InitSequencer(phases, buses=len(I2C_BUSES), clk_hz=p.clk_hz,
+                                                          bus_hz=p.i2c_hz, retry_delay_us=p.i2c_retry_delay_us)
+        for k, bus in enumerate(I2C_BUSES):
+            wiring.connect(m, wiring.flipped(getattr(self.i2c, bus)), seq.i2c[k])
+        wiring.connect(m, seq.status.cams, *(wiring.flipped(getattr(self.init, f"cam_{c}")) for c in CAMERAS))
+        wiring.connect(m, seq.status.dvi, wiring.flipped(self.init.dvi))
 
         # Sensor / transmitter reset and power: low in reset, high from the first sync clock after it.
         out_of_reset = Signal()
@@ -363,7 +364,7 @@ class StereoDepthSystem(wiring.Component):
             control.cam_rst_n.eq(out_of_reset), control.dvi_reset_n.eq(out_of_reset),
             control.cam_vdden.eq(out_of_reset), control.cam_pwdn.eq(0),
         ]
-        return {"cams": cams, "dvi": dvi}
+        return seq
 
     def _display(self, m, capture):
         """The pixel-clock side: sync generator, switches, rectification, the display, the row tags and the output
@@ -451,16 +452,16 @@ class StereoDepthSystem(wiring.Component):
         m.d.comb += [getattr(self.rectification, name).eq(getattr(est, name)) for name in ("confident", "held", "locked")]
         return select
 
-    def _leds(self, m, sync_gen, sequencers):
+    def _leds(self, m, sync_gen, sequencer):
         """The status LEDs (see the module docstring)."""
         p = self.params
         frames = Signal(p.heartbeat_log2 + 1)
         with m.If(sync_gen.frame_start):
             m.d.pix += frames.eq(frames + 1)
-        init, cams = self.init, sequencers["cams"]
+        init = self.init
         # A camera bus's error LED: the shared init's error, unless it is a NACK that bus gave no part in.
         nack = (init.cam_a.error_code == ErrorCode.NACK_ADDR) | (init.cam_a.error_code == ErrorCode.NACK_DATA)
-        blamed = [~nack | cams.nacked[k] for k in range(len(CAMERAS))]
+        blamed = [~nack | sequencer.nacked[I2C_BUSES.index(f"cam_{c}")] for c in CAMERAS]
         m.d.comb += [
             self.panel.leds[0].eq(init.cam_a.done), self.panel.leds[1].eq(init.cam_a.error & blamed[0]),
             self.panel.leds[2].eq(init.cam_b.done), self.panel.leds[3].eq(init.cam_b.error & blamed[1]),

@@ -11,7 +11,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
 from golden.part_config import ch7301c_expected, mt9d112_expected
-from hdl.i2c_init import ErrorCode, InitSequencer
+from hdl.i2c_init import ErrorCode, InitSequencer, Phase
 from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE, InitTable, Poll, Wait, Write, CH7301C, MT9D112
 from sim.runners.amaranth import simulate
 from sim.runners.cocotb import run_cocotb
@@ -52,7 +52,9 @@ def run_sequencer(table, targets, *, limit_s, quiet_s=0.002, clk=CLK, shared=Non
     """Simulate ``InitSequencer(table)`` with ``targets`` on its bus until it reports done or error, then
     ``quiet_s`` longer (to see that nothing else happens). Fails if neither comes within ``limit_s``. With
     ``shared`` (a list of target lists, one per bus) the sequencer plays the table on all those buses at once:
-    ``r.monitors`` holds each bus's monitor (``r.monitor`` the first), ``r.nacked`` the sequencer's ``nacked``."""
+    ``r.monitors`` holds each bus's monitor (``r.monitor`` the first), ``r.nacked`` the sequencer's ``nacked``. With
+    ``table`` a sequence of ``Phase``, the run ends when the last phase ends and ``r.phases`` holds each phase's
+    ``(done, error, error_code, entry, mismatch)``."""
     params = {**FAST, **kw}
     per_bus = [targets] if shared is None else shared
     seq = InitSequencer(table, clk_hz=clk, buses=len(per_bus), **params) if shared else \
@@ -65,7 +67,8 @@ def run_sequencer(table, targets, *, limit_s, quiet_s=0.002, clk=CLK, shared=Non
     names = bench_buses("bus", seq)
     processes = [amaranth_target_process(getattr(bench.bus, b), ts, clk, bench.cycles, mon)
                  for b, ts, mon in zip(names, per_bus, r.monitors)]
-    status = bench.status.bus
+    phases = () if isinstance(table, InitTable) else table
+    status = getattr(bench.status.bus, phases[-1].name) if phases else bench.status.bus
 
     async def testbench(ctx):
         done = error = 0
@@ -77,6 +80,11 @@ def run_sequencer(table, targets, *, limit_s, quiet_s=0.002, clk=CLK, shared=Non
         r.code, r.entry = ctx.get(status.error_code), ctx.get(status.entry)
         r.mismatch = ctx.get(status.mismatch)
         r.nacked = ctx.get(seq.nacked) if shared else None
+        r.phases = {}
+        for p in phases:
+            ps = getattr(bench.status.bus, p.name)
+            r.phases[p.name] = tuple(ctx.get(getattr(ps, k)) for k in ("done", "error", "error_code", "entry",
+                                                                         "mismatch"))
         # afterwards: the status must not change and the bus must stay quiet
         _, _, expired = await ctx.changed(status.done, status.error).delay(quiet_s)
         assert expired, "done/error changed after the sequencer had settled"
@@ -278,6 +286,41 @@ def test_shared_read_must_match_on_both_buses():
     idx = next(i for i, e in enumerate(MT9D112_TABLE.entries) if isinstance(e, Poll) and e.reg == 0x3000)
     assert (r.done, r.error, r.code, r.entry) == (0, 1, ErrorCode.POLL, idx)
     assert cams[0].writes == [] and cams[1].writes == []
+
+
+# --- one sequencer for several tables, each on its own buses (phases) --------------------------------------
+
+#: As the system plays them: the CH7301C's table on bus 2, then the MT9D112 table's start on buses 0 and 1.
+PHASES = (Phase("dvi", CH7301C_TABLE, (2,)), Phase("cams", MT9D112_START, (0, 1)))
+
+
+def test_phases_play_each_table_on_its_buses():
+    cams, dvi = [MT9D112Model(), MT9D112Model()], CH7301CModel()
+    r = run_sequencer(PHASES, None, shared=[[cams[0]], [cams[1]], [dvi]], limit_s=0.05)
+    assert r.phases == {"dvi": (1, 0, ErrorCode.NONE, len(CH7301C_TABLE), 0),
+                        "cams": (1, 0, ErrorCode.NONE, len(MT9D112_START), 0)}
+    assert named("ch7301c", dvi.writes) == expected_writes(CH7301C_TABLE)
+    assert dvi.state() == {k: e.value for k, e in ch7301c_expected().items()}
+    for cam in cams:
+        assert named("mt9d112", cam.writes) == expected_writes(MT9D112_START)
+    a, b, d = r.monitors
+    # each bus carries its own table only, the DVI's first
+    assert len(d.transactions) == len(dvi.writes) + len(dvi.reads)
+    assert len(a.transactions) == len(cams[0].writes) + len(cams[0].reads) and a.starts == b.starts
+    assert d.last_edge < a.starts[0]
+    assert all(mon.violations() == [] for mon in r.monitors)
+
+
+def test_phase_error_ends_that_phase_only():
+    """An absent CH7301C (another address strap) stops its table with NACK_ADDR at entry 0; the cameras' table
+    still runs to the end."""
+    cams, dvi = [MT9D112Model(), MT9D112Model()], CH7301CModel(address=0x75)
+    r = run_sequencer(PHASES, None, shared=[[cams[0]], [cams[1]], [dvi]], limit_s=0.05)
+    assert r.phases == {"dvi": (0, 1, ErrorCode.NACK_ADDR, 0, 0),
+                        "cams": (1, 0, ErrorCode.NONE, len(MT9D112_START), 0)}
+    assert r.monitors[2].transactions == [[(0x76 << 1, False)]] * (r.retries + 1)
+    for cam in cams:
+        assert named("mt9d112", cam.writes) == expected_writes(MT9D112_START)
 
 
 # --- random tables ---------------------------------------------------------------------------------------
