@@ -503,8 +503,10 @@ class _States:
                                         is_addr.eq(addr_step), is_write.eq(cmd == Cmd.WRITE),
                                         last_step.eq(i == len(steps) - 1),
                                     ]
-        # The buses of the current phase (when the phases use different ones).
+        # The buses of the current phase (when the phases use different ones), registered: the phase changes at
+        # least two clocks (LOAD, FETCH) before the phase's first command, and the master's bus reads start at a
+        # register.
         masks = [sum(1 << b for b in phase.buses) for phase in self.seq.phases]
         if any(mask != (1 << self.seq.buses) - 1 for mask in masks):
             for p, _ in self.each_phase():
-                m.d.comb += master.enable.eq(masks[p])
+                m.d.sync += master.enable.eq(masks[p])

@@ -242,8 +242,8 @@ class _States:
                 m.submodules[f"sda_sync_{k}"] = FFSynchronizer(pin.sda.i, sda[-1], init=1)
             self.sda_any = Signal(init=1)
             self.sda_bus = Cat(*sda) & master.enable            # a bus left out reads as released
-            m.d.comb += [self.scl.eq((Cat(*scl) | ~master.enable).all()), self.sda.eq((Cat(*sda) | ~master.enable).all()),
-                         self.sda_any.eq(self.sda_bus.any())]
+            m.d.comb += [self.scl.eq((Cat(*scl) | ~master.enable).all()),
+                         self.sda.eq((Cat(*sda) | ~master.enable).all()), self.sda_any.eq(self.sda_bus.any())]
         longest = max(t.low, t.high, t.hold, t.su_sta, t.hd_sta, t.su_sto, t.buf)
         self.timer = Signal(range(longest + 2))
         self.low_cnt = Signal(range(t.low + 1))      # cycles since the master pulled SCL low (saturating)

@@ -56,10 +56,10 @@ LVCMOS33 (docs/board.md), so the OBUFDS of ``CH7301COutput(ddr="virtex5")`` cann
 
 Status LEDs (``panel.leds``): 0 camera A bus init done, 1 camera A bus error, 2 camera B bus init done, 3 camera B
 bus error (the cameras' init is shared: 0 and 2 light together; an error lights 1 and 3 together, except a NACK,
-which lights the LED of the bus or buses that did not acknowledge), 4 CH7301C init done, 5 CH7301C: steady on = I2C error (bring-up stopped), blinking with LED 6 = its
-version or device ID byte (0x4A / 0x4B) read another value than the table's (``init.dvi.mismatch``, bring-up
-went on), 6 display heartbeat (toggles every ``2**heartbeat_log2`` display frames: 32 frames = 0.53 s at
-60 Hz), 7 camera A heartbeat (toggles every ``2**cam_heartbeat_log2`` captured frames, about 0.5 s at 15 fps),
+which lights the LED of the bus or buses that did not acknowledge), 4 CH7301C init done, 5 CH7301C: steady on =
+I2C error (its bring-up stopped; the cameras' goes on), blinking with LED 6 = its version or device ID byte
+(0x4A / 0x4B) read another value than the table's (``init.dvi.mismatch``, bring-up went on), 6 display
+heartbeat (toggles every ``2**heartbeat_log2`` display frames: 32 frames = 0.53 s at 60 Hz), 7 camera A heartbeat (toggles every ``2**cam_heartbeat_log2`` captured frames, about 0.5 s at 15 fps),
 steady on while the last frame-start skew measurement was more than one sensor line (``skew.aligned`` low).
 
 Sensor and transmitter control pins (``control``, ``sync``): ``cam_rst_n`` and ``dvi_reset_n`` are low while

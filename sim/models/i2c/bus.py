@@ -19,8 +19,8 @@ from amaranth.lib.wiring import In, Out
 from hdl.i2c_master import I2CSignature
 from hdl.signature import ParametricSignature
 
-__all__ = ["ResolvedBusSignature", "OpenDrainBus", "I2CBench", "bench_buses", "i2c_bench_waves", "amaranth_target_process", "start_cocotb_targets",
-           "start_cocotb_monitor"]
+__all__ = ["ResolvedBusSignature", "OpenDrainBus", "I2CBench", "bench_buses", "i2c_bench_waves",
+           "amaranth_target_process", "start_cocotb_targets", "start_cocotb_monitor"]
 
 
 class ResolvedBusSignature(ParametricSignature):
