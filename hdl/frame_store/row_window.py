@@ -169,12 +169,15 @@ class RowWindow(wiring.Component):
                 m.d.sync += [limit.eq(limit + limit_step), counted.eq(counted + 1)]
                 if s > 1:
                     m.d.sync += limit_step.eq(stride)
+            # The rows' starts after ``settling`` (bounds[0] + offsets[k]) or a move (bounds[k + 1]; the last
+            # bounds[n - 1] + stride): for k >= 1 one sum whose operands are picked (no multiplexer after the adder).
+            moved = [bounds[1]] + [Mux(settling, bounds[0], bounds[k + 1] if k < n - 1 else bounds[k])
+                                   + Mux(settling, offsets[k], 0 if k < n - 1 else stride) for k in range(1, n)]
             with m.If(settling):
-                m.d.sync += [bounds[k].eq(bounds[0] + offsets[k]) for k in range(1, n)]
+                m.d.sync += [bounds[k].eq(moved[k]) for k in range(1, n)]
             with m.Elif(advance):
                 m.d.sync += first_slot.eq(Mux(first_slot == n - 1, 0, first_slot + 1))
-                m.d.sync += [bounds[k].eq(bounds[k + 1]) for k in range(n - 1)]
-                m.d.sync += bounds[n - 1].eq(bounds[n - 1] + stride)
+                m.d.sync += [bounds[k].eq(moved[k]) for k in range(n)]
         return m
 
     def _unit(self):
