@@ -67,9 +67,8 @@ class RowWindow(wiring.Component):
 
     Clock domain: ``sync`` (the parent renames it to the read domain). Latency: ``grant`` combinational from the
     request (the address's high bits compared with the window's start and the landed rows' end: two carry chains
-    side by side, then a LUT; with ``max_step`` above 1 also the low bits of each row's column against the width,
-    a LUT after the column's subtraction, and a second LUT); ``port.data``
-    one clock after a granted address; rows asked for from the second clock after ``restart``, nothing granted in
+    side by side, then a LUT; with ``max_step`` above 1 also each row's end in its low bits, side by side: a short
+    carry chain's top sum bit, and a second LUT); ``port.data`` one clock after a granted address; rows asked for from the second clock after ``restart``, nothing granted in
     the first.
 
     Raises
@@ -146,7 +145,8 @@ class RowWindow(wiring.Component):
             m.d.sync += [next_row.eq(after), after.eq(after + step), more.eq(after < h),
                          next_slot.eq(Mux(next_slot == n - 1, 0, next_slot + 1))]
 
-        grant, ge = self._read(m, bounds, limit, restarting, first_slot)
+        tails = self._tails() if s > 1 else None
+        grant, ge = self._read(m, bounds, limit, tails, restarting, first_slot)
         # A landing counts for this window once the rows asked before its restart have all landed (a negative
         # difference: rows of an earlier window pending); each one counted moves ``counted`` on with ``landed``,
         # so the difference stays between -slots and 0 however many rows the window reads.
@@ -169,16 +169,28 @@ class RowWindow(wiring.Component):
                 m.d.sync += [limit.eq(limit + limit_step), counted.eq(counted + 1)]
                 if s > 1:
                     m.d.sync += limit_step.eq(stride)
-            # The rows' starts after ``settling`` (bounds[0] + offsets[k]) or a move (bounds[k + 1]; the last
-            # bounds[n - 1] + stride): for k >= 1 one sum whose operands are picked (no multiplexer after the adder).
-            moved = [bounds[1]] + [Mux(settling, bounds[0], bounds[k + 1] if k < n - 1 else bounds[k])
-                                   + Mux(settling, offsets[k], 0 if k < n - 1 else stride) for k in range(1, n)]
-            with m.If(settling):
-                m.d.sync += [bounds[k].eq(moved[k]) for k in range(1, n)]
-            with m.Elif(advance):
+            self._move(m, bounds, tails, offsets, stride, settling, advance)
+            with m.If(~settling & advance):
                 m.d.sync += first_slot.eq(Mux(first_slot == n - 1, 0, first_slot + 1))
-                m.d.sync += [bounds[k].eq(moved[k]) for k in range(n)]
         return m
+
+    def _move(self, m, bounds, tails, offsets, stride, settling, advance):
+        """The rows' starts after ``settling`` (bounds[0] + offsets[k]) or a move (bounds[k + 1]; the last
+        bounds[n - 1] + stride): for k >= 1 one sum whose operands are picked (no multiplexer after the adder); with
+        a step, ``tails`` with them."""
+        n = self.slots
+        _, wu = self._unit()
+        moved = [bounds[1]] + [Mux(settling, bounds[0], bounds[k + 1] if k < n - 1 else bounds[k])
+                               + Mux(settling, offsets[k], 0 if k < n - 1 else stride) for k in range(1, n)]
+        if tails is not None:
+            # tails[k]: the low bits of the k-th row's end (bounds[k] + wu), set with the row's start.
+            ends = [Mux(settling, bounds[0], bounds[1]) + wu] + [moved[k] + wu for k in range(1, n - 1)]
+            with m.If(settling | advance):
+                m.d.sync += [t.eq(e) for t, e in zip(tails, ends)]
+        with m.If(settling):
+            m.d.sync += [bounds[k].eq(moved[k]) for k in range(1, n)]
+        with m.Elif(advance):
+            m.d.sync += [bounds[k].eq(moved[k]) for k in range(n)]
 
     def _unit(self):
         """``(tz, wu)``: the width's trailing zero bits and the width in units of ``2**tz`` addresses."""
@@ -200,7 +212,17 @@ class RowWindow(wiring.Component):
         m.d.sync += [offsets[k].eq(times(step, k * wu)) for k in range(1, n)]
         return step, offsets
 
-    def _read(self, m, bounds, limit, restarting, first_slot):
+    def _tails(self):
+        """With a step above 1: tails[k] (k < n - 1), the low ``c`` bits of the k-th row's end in units
+        (bounds[k] + wu), ``2**(c - 1)`` at least both the width and the widest skipped gap (``(step - 1) * wu``):
+        for an address at or after bounds[k] and before bounds[k + 1], ``units - tails[k]`` modulo ``2**c`` is below
+        ``2**(c - 1)`` exactly when the address is a width or more past the row's start (in a skipped row)."""
+        n, s = self.slots, self.max_step
+        _, wu = self._unit()
+        c = (max(1, s - 1) * wu - 1).bit_length() + 1
+        return [Signal(c, name=f"tail_{k}") for k in range(n - 1)]
+
+    def _read(self, m, bounds, limit, tails, restarting, first_slot):
         """The consumer's read against the window's rows; returns ``(grant, ge)``."""
         g, n, s = self.geometry, self.slots, self.max_step
         w = g.buf_width
@@ -231,13 +253,16 @@ class RowWindow(wiring.Component):
         in_rows = ge[0] & below_limit
         if s > 1:
             # An address at or past bounds[k] and before bounds[k + 1] (k < n - 1) lies in the rows the step
-            # skips when its column there is a width or more (past the last row the limit ends the window). Its
-            # column there is below bounds[k + 1] - bounds[k] = step * wu units: its low bits hold it.
-            column_bits = (s * wu - 1).bit_length()
+            # skips when it is a width or more past bounds[k] (past the last row the limit ends the window): the
+            # top bit of its low bits less the row's tail is clear (``_tails``), a carry chain's sum bit, side by
+            # side with the starts' comparisons.
+            c = len(tails[0])
+            past_end = [Signal(c, name=f"past_end_{k}") for k in range(n - 1)]
+            m.d.comb += [p.eq(units[:c] - t) for p, t in zip(past_end, tails)]
             skipped = Signal()
             m.d.comb += skipped.eq(0)
             for k in range(n - 1):
-                with m.If(ge[k] & ~ge[k + 1] & (diffs[k][:column_bits] >= wu)):
+                with m.If(ge[k] & ~ge[k + 1] & ~past_end[k][-1]):
                     m.d.comb += skipped.eq(1)
             in_rows = in_rows & ~skipped
         grant = consumer.request & in_rows & ~restarting
