@@ -73,6 +73,8 @@ REJECTED = {
     "StereoDisplay, maps in the store without the DDR2": lambda: StereoDisplay(SMALL_TIMING, SMALL_SENSOR,
                                                                                config=SMALL_DEPTH, maps="store"),
     "TextLayer": lambda: TextLayer((TextBox("0.5km", 0, 0, 1),), v_active=10),
+    "TextLayer, overlapping boxes": lambda: TextLayer((TextBox("0.5m", 0, 0, 1),), {"readout": TextBox("00", 20, 7, 1)},
+                                                      v_active=10),
     "SegmentBand": lambda: SegmentBand(SensorGeometry(grey_bits=9)),
     "DisparitySubtractor": lambda: DisparitySubtractor(SMALL_SENSOR, thresholds=()),
     "SwitchControl": lambda: SwitchControl(stages=1),
