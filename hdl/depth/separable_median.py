@@ -132,17 +132,16 @@ class SeparableMedian(wiring.Component):
 
     def _column(self, y, above, code):
         """The codes of rows y - 2L .. y (the column around the output row y - L), clamped to 0 .. height - 1:
-        ``above[k]`` is row y - 1 - k, ``code`` row y. A row above the image is row 0 = ``above[y - 1]``; a row
-        below it is row height - 1 = ``above[y - height]``."""
-        lag, h = self.ROW_LAG, self.height
+        ``above[k]`` is row y - 1 - k, ``code`` row y. A row above the image is row 0 = ``above[y - 1]``. A row
+        below it is already row height - 1: from pass height on, the code taken for row y (and written back as
+        it) is ``above[0]``, row y - 1 (:meth:`elaborate`)."""
+        lag = self.ROW_LAG
         column = []
         for j in range(2 * lag + 1):                        # row y - 2L + j
             value = code if j == 2 * lag else above[2 * lag - 1 - j]
             if j < lag:                                     # above the image in passes L .. 2L - j - 1
                 for yy in range(2 * lag - j - 1, lag - 1, -1):
                     value = Mux(y == yy, above[yy - 1], value)
-            for yy in range(h + 2 * lag - j, h + lag):      # below the image in passes h + 2L - j .. h + L - 1
-                value = Mux(y == yy, above[yy - h], value)
             column.append(value)
         return column
 
@@ -164,12 +163,15 @@ class SeparableMedian(wiring.Component):
                      w1.eq(self.valid & (self.x < w))]
         # q + 1: the column of rows y - 2L .. y (clamped to 0 .. h - 1), and the rows written back.
         above = [read.data[k] for k in range(2 * lag)]      # rows y - 1, ..., y - 2L
-        m.d.comb += [write.addr.eq(x1), write.en.eq(w1), write.data[0].eq(code1)]
+        # Below the image (passes height ..) row y is row y - 1: row height - 1, taken again and written again.
+        code = Signal(bits, name="row_code")
+        m.d.comb += code.eq(Mux(y >= self.height, above[0], code1))
+        m.d.comb += [write.addr.eq(x1), write.en.eq(w1), write.data[0].eq(code)]
         m.d.comb += [write.data[k + 1].eq(above[k]) for k in range(2 * lag - 1)]
         col = [Signal(bits, name=f"column{k}", reset_less=True) for k in range(n)]
         v2, end2, x2 = Signal(), Signal(), Signal(range(w + 1), reset_less=True)
         m.d.sync += [v2.eq(v1), end2.eq(end1), x2.eq(x1)]
-        m.d.sync += [c.eq(value) for c, value in zip(col, self._column(y, above, code1))]
+        m.d.sync += [c.eq(value) for c, value in zip(col, self._column(y, above, code))]
         # The column's median (end: carried through, its value unused).
         cend = end2                                         # the end token's flag, beside the median
         for k in range(MEDIAN_CLOCKS):
