@@ -109,21 +109,21 @@ class SegmentBand(wiring.Component):
         return m
 
     def _text(self, m):
-        """The band text ROM, read by the disparity register registered once more, its output registered, then
-        spaces in its place while ``enable`` is low (three clocks: the ROM's decode and the enable multiplexer, which
-        the synthesis folds into the register's reset with the domain's, in one clock made 7 LUT levels)."""
+        """The band text ROM, read by the disparity register registered once more through the ROM's own read
+        register (a synchronous read: no reset, so no logic can be folded into one), then spaces in its place while
+        ``enable`` is low (three clocks)."""
         def word(text):
             return sum(c << (CHAR_BITS * pos) for pos, c in enumerate(char_codes(text)))
         shape = unsigned(len(self.chars.as_value()))
         rom = Memory(shape=shape, depth=len(self.table), init=[word(t) for t in self.table])
         m.submodules.band_rom = rom
-        port = rom.read_port(domain="comb")
+        port = rom.read_port(domain="sync")
         disparity_1, enable_1 = Signal.like(self.disparity, name="text_disparity_1"), Signal(name="text_enable_1")
         m.d.sync += [disparity_1.eq(self.disparity), enable_1.eq(self.enable)]
         m.d.comb += port.addr.eq(disparity_1)
-        text_2, enable_2 = Signal(shape, name="text_2"), Signal(name="text_enable_2")
-        m.d.sync += [text_2.eq(port.data), enable_2.eq(enable_1)]
-        m.d.sync += self.chars.eq(Mux(enable_2, text_2, word(" " * len(SEGMENT_TEXT))))
+        enable_2 = Signal(name="text_enable_2")
+        m.d.sync += enable_2.eq(enable_1)
+        m.d.sync += self.chars.eq(Mux(enable_2, port.data, word(" " * len(SEGMENT_TEXT))))
 
 
 def _replicate_to_8_bits(grey):
