@@ -29,20 +29,33 @@ the UM10204 bus clear (up to nine SCL pulses, then a STOP). Arbitration / bus er
 the master releases it for a 1 data bit, the repeated-START setup or the STOP, the command ends with
 ``arb_lost`` and both lines released.
 
+Several buses (``buses`` > 1, broadcast): the master drives the same SCL and SDA on every bus at once (the
+same ``oe`` to each bus's pins), so every target sees each command at the same clock. Each bus's inputs pass their
+own synchroniser and are combined so that every bus's answer counts: SCL reads high only when it is high on every
+bus (a stretch on any bus holds all of them: the master waits for the last to let go); for the bus-free check,
+the bus clear, arbitration and the repeated-START / STOP checks SDA reads high only when it is high on every bus (a
+low SDA on any bus is that bus's error); an acknowledge counts only when SDA is low on every bus (``nack`` when any
+bus left it high, ``nack_buses`` says which); a READ gives ``rdata`` (the bits every bus read as 1, the AND) and
+``rdata_any`` (the bits some bus read as 1, the OR): bit ``i`` read ``v`` on every bus exactly when
+``rdata[i] == rdata_any[i] == v``. ``enable`` (all buses unless driven) selects the buses: the master drives only
+those and reads only those (a bus left out is never pulled low and its inputs count for nothing); change it only
+between transfers.
+
 Latency: a command takes its bus time (9 bit times for a byte) plus 2-3 cycles of input synchronisation per
 SCL rising edge; ``ready`` returns the cycle after ``done``.
 """
 
 from dataclasses import dataclass
 
-from amaranth import C, Module, Signal
+from amaranth import C, Cat, Module, Mux, Signal
 from amaranth.lib import enum, wiring
 from amaranth.lib.cdc import FFSynchronizer
 from amaranth.lib.wiring import In, Out
 
 from spec.board import CLOCKS
 
-__all__ = ["OpenDrainSignature", "I2CSignature", "Cmd", "I2CTiming", "I2CMaster", "master_timing"]
+__all__ = ["OpenDrainSignature", "I2CSignature", "Cmd", "I2CTiming", "I2CMaster", "master_timing", "master_signature",
+           "bus_pins"]
 
 #: One open-drain pin as its driver sees it: ``oe`` = 1 with ``o`` = 0 pulls the line low, ``oe`` = 0 releases it
 #: (a pull-up makes it high); ``i`` is the line's level, high when idle. A driver must never set ``oe`` with
@@ -111,6 +124,24 @@ class I2CTiming:
         return cycles * 1e9 / self.clk_hz
 
 
+def bus_pins(i2c, buses):
+    """The ``I2CSignature`` interfaces of an ``i2c`` member that is one bus (``buses`` = 1) or an array of them."""
+    return [i2c] if buses == 1 else [i2c[k] for k in range(buses)]
+
+
+def master_signature(buses=1):
+    """The signature of an :class:`I2CMaster` driving ``buses`` buses (see its Attributes)."""
+    members = {
+        "cmd": In(Cmd), "cmd_valid": In(1), "wdata": In(8), "rd_ack": In(1),
+        "ready": Out(1), "done": Out(1), "nack": Out(1), "rdata": Out(8), "arb_lost": Out(1), "timed_out": Out(1),
+        "bus_active": Out(1),
+        "i2c": Out(I2CSignature) if buses == 1 else Out(I2CSignature).array(buses),
+    }
+    if buses > 1:
+        members.update({"rdata_any": Out(8), "nack_buses": Out(buses), "enable": In(buses, init=(1 << buses) - 1)})
+    return wiring.Signature(members)
+
+
 def master_timing(clk_hz, bus_hz, timeout_us):
     """``(I2CTiming(clk_hz, bus_hz), time-out in cycles)`` of an :class:`I2CMaster`; ``ValueError`` for a clock too
     slow for the bus rate, a bus rate above 1 MHz, a time-out shorter than the bus-free time."""
@@ -133,6 +164,8 @@ class I2CMaster(wiring.Component):
         The bus rate (the speed class of :class:`I2CTiming`).
     timeout_us : int
         Stuck-bus time-out.
+    buses : int
+        The buses the master broadcasts to (see the module docstring).
 
     Attributes
     ----------
@@ -141,7 +174,10 @@ class I2CMaster(wiring.Component):
     ready, done, nack, rdata, arb_lost, timed_out, bus_active : ``Out``
         ``done`` pulses when a command ends; ``nack``, ``rdata``, ``arb_lost``, ``timed_out`` hold its result until
         the next command.
-    i2c : ``Out(I2CSignature)``
+    rdata_any : ``Out(8)``, nack_buses : ``Out(buses)``, enable : ``In(buses)``
+        With ``buses`` > 1 only: the OR of the buses' read bits; the buses that did not acknowledge a WRITE; the
+        buses in use (all unless driven).
+    i2c : ``Out(I2CSignature)``, with ``buses`` > 1 ``Out(I2CSignature).array(buses)``
 
     Clock domain ``sync``. Latency: a command takes its bus time (for a byte, 9 SCL periods) plus the 2-flop input
     synchroniser; ``done`` pulses in the cycle after the last bus interval ends.
@@ -149,25 +185,16 @@ class I2CMaster(wiring.Component):
     Raises
     ------
     ValueError
-        A clock too slow for the bus rate, a bus rate above 1 MHz, a time-out shorter than the bus-free time.
+        A clock too slow for the bus rate, a bus rate above 1 MHz, a time-out shorter than the bus-free time,
+        ``buses`` < 1.
     """
 
-    cmd: In(Cmd)
-    cmd_valid: In(1)
-    wdata: In(8)
-    rd_ack: In(1)
-    ready: Out(1)
-    done: Out(1)
-    nack: Out(1)
-    rdata: Out(8)
-    arb_lost: Out(1)
-    timed_out: Out(1)
-    bus_active: Out(1)
-    i2c: Out(I2CSignature)
-
-    def __init__(self, *, clk_hz=CLOCKS.SYS_HZ, bus_hz=CLOCKS.I2C_HZ, timeout_us=25_000):
+    def __init__(self, *, clk_hz=CLOCKS.SYS_HZ, bus_hz=CLOCKS.I2C_HZ, timeout_us=25_000, buses=1):
         self.timing, self.timeout = master_timing(clk_hz, bus_hz, timeout_us)
-        super().__init__()
+        if buses < 1:
+            raise ValueError("buses must be >= 1")
+        self.buses = buses
+        super().__init__(master_signature(buses))
 
     def elaborate(self, platform):
         m = Module()
@@ -192,17 +219,31 @@ class _States:
 
     def __init__(self, master, m):
         self.master, self.m, self.t = master, m, master.timing
-        t = self.t
-        self.scl = Signal(init=1)
-        self.sda = Signal(init=1)
-        m.submodules.scl_sync = FFSynchronizer(master.i2c.scl.i, self.scl, init=1)
-        m.submodules.sda_sync = FFSynchronizer(master.i2c.sda.i, self.sda, init=1)
+        t, n = self.t, master.buses
+        self.scl = Signal(init=1)                    # high on every bus
+        self.sda = Signal(init=1)                    # high on every bus
         self.scl_low = Signal()
         self.sda_low = Signal()
-        m.d.comb += [
-            master.i2c.scl.o.eq(0), master.i2c.sda.o.eq(0),
-            master.i2c.scl.oe.eq(self.scl_low), master.i2c.sda.oe.eq(self.sda_low),
-        ]
+        pins = bus_pins(master.i2c, n)
+        enable = [1] * n if n == 1 else list(master.enable)
+        for pin, en in zip(pins, enable):
+            m.d.comb += [pin.scl.o.eq(0), pin.sda.o.eq(0), pin.scl.oe.eq(self.scl_low & en),
+                         pin.sda.oe.eq(self.sda_low & en)]
+        if n == 1:
+            m.submodules.scl_sync = FFSynchronizer(pins[0].scl.i, self.scl, init=1)
+            m.submodules.sda_sync = FFSynchronizer(pins[0].sda.i, self.sda, init=1)
+            self.sda_any = self.sda_bus = self.sda         # high on some bus; per bus
+        else:
+            scl, sda = [], []
+            for k, pin in enumerate(pins):
+                scl.append(Signal(init=1, name=f"scl_{k}"))
+                sda.append(Signal(init=1, name=f"sda_{k}"))
+                m.submodules[f"scl_sync_{k}"] = FFSynchronizer(pin.scl.i, scl[-1], init=1)
+                m.submodules[f"sda_sync_{k}"] = FFSynchronizer(pin.sda.i, sda[-1], init=1)
+            self.sda_any = Signal(init=1)
+            self.sda_bus = Cat(*sda) & master.enable            # a bus left out reads as released
+            m.d.comb += [self.scl.eq((Cat(*scl) | ~master.enable).all()),
+                         self.sda.eq((Cat(*sda) | ~master.enable).all()), self.sda_any.eq(self.sda_bus.any())]
         longest = max(t.low, t.high, t.hold, t.su_sta, t.hd_sta, t.su_sto, t.buf)
         self.timer = Signal(range(longest + 2))
         self.low_cnt = Signal(range(t.low + 1))      # cycles since the master pulled SCL low (saturating)
@@ -212,19 +253,22 @@ class _States:
             m.d.sync += self.low_cnt.eq(self.low_cnt + 1)
         self.wait = Signal(range(master.timeout + 2))   # stuck-bus timeout counter
         self.shift = Signal(8)
+        self.shift_any = Signal(8) if n > 1 else self.shift
         self.bit_count = Signal(range(9), name="bit")
         self.reading = Signal()
         self.ack_level = Signal()                    # READ: 1 = pull SDA low in the acknowledge slot
         self.pulses = Signal(range(10))              # bus-clear pulses
         self.clearing = Signal()                     # STOP sequence belongs to a bus clear
         self.cleared = Signal()                      # bus clear already tried for this START
-        self.res_nack = Signal()
+        self.res_nack = Signal(n)                    # per bus: SDA high in the acknowledge slot of a WRITE
         self.res_arb = Signal()
         self.res_timeout = Signal()
         m.d.comb += [
-            master.nack.eq(self.res_nack), master.arb_lost.eq(self.res_arb), master.timed_out.eq(self.res_timeout),
-            master.rdata.eq(self.shift),
+            master.nack.eq(self.res_nack.any()), master.arb_lost.eq(self.res_arb),
+            master.timed_out.eq(self.res_timeout), master.rdata.eq(self.shift),
         ]
+        if n > 1:
+            m.d.comb += [master.rdata_any.eq(self.shift_any), master.nack_buses.eq(self.res_nack)]
 
     @staticmethod
     def reached(counter, n):
@@ -341,14 +385,16 @@ class _States:
             m.d.sync += timer.eq(timer + 1)
             with m.If(self.reached(timer, t.high)):
                 m.d.sync += timer.eq(0)
-                with m.If(bit == 8):
-                    m.d.sync += [self.res_nack.eq(~reading & sda), self.scl_low.eq(1)]
+                with m.If(bit == 8):                           # an acknowledge needs SDA low on every bus
+                    m.d.sync += [self.res_nack.eq(Mux(reading, 0, self.sda_bus)), self.scl_low.eq(1)]
                     m.next = "DONE"
                 with m.Elif(~reading & ~self.sda_low & ~sda):
                     self.fail(self.res_arb)                    # we sent a 1 but SDA is low
                 with m.Else():
                     m.d.sync += [self.shift.eq((self.shift << 1) | (reading & sda)), bit.eq(bit + 1),
                                  self.scl_low.eq(1)]
+                    if self.shift_any is not self.shift:
+                        m.d.sync += self.shift_any.eq((self.shift_any << 1) | (reading & self.sda_any))
                     m.next = "BIT_HOLD"
 
     def stop(self):

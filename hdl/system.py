@@ -2,8 +2,12 @@
 
 Blocks (each in its own file, see docs/architecture.md):
 
-* two cameras: an :class:`~hdl.i2c_init.InitSequencer` per camera bus (each MT9D112 has its own I2C bus) and a
-  :class:`~hdl.capture_path.CapturePath` (capture + frame buffer per camera; camera A = left, B = right);
+* the I2C bring-up: one :class:`~hdl.i2c_init.InitSequencer` for the three buses (each MT9D112 has its own, the
+  CH7301C has the Genesys's): it plays the CH7301C table on the CH7301C's bus, then the MT9D112 table on both
+  camera buses at once (its master drives both alike, so every write reaches both sensors at the same clock, and
+  needs both to answer);
+* two cameras: a :class:`~hdl.capture_path.CapturePath` (capture + frame buffer per camera; camera A = left,
+  B = right);
 * the display: :class:`~hdl.sync_gen.SyncGenerator` -> :class:`~hdl.stereo_display.StereoDisplay` (the
   :class:`~hdl.compositor.Compositor` with its :class:`~hdl.disparity.DisparitySubtractor` and the
   :class:`~hdl.depth.DepthEngine`, sharing each frame buffer's one read port through a
@@ -14,7 +18,6 @@ Blocks (each in its own file, see docs/architecture.md):
   offset between the cameras; :class:`~hdl.rectification_select.RectificationSelect` uses it in place of the
   manual rectification when the switches hold ``AUTO_CODE`` (SW7 = 0, SW6..SW0 = 1000000, docs/rectification.md)
   or ``SEGMENT_CODE`` (1000001: also the segmentation view in the difference map's place, docs/display.md);
-* the CH7301C's own :class:`~hdl.i2c_init.InitSequencer` on the board's I2C bus;
 * status LEDs and the sensor/transmitter reset and power pins.
 
 Clock domains (defined by the parent: :class:`~board.top.GenesysTop` with the board clocking on the board, the
@@ -22,7 +25,7 @@ simulation testbench with :class:`~sim.models.clocking.SimClocking` in simulatio
 ``clk``, ``pix_clk``, ``cam_a_clk``, ``cam_b_clk``):
 
 =========  ================================================================================================
-``sync``   100 MHz: the three I2C init sequencers, the sensor/transmitter reset pins, LEDs 0..5
+``sync``   100 MHz: the I2C init sequencer, the sensor/transmitter reset pins, LEDs 0..5
 ``pix``    148.5 MHz: sync generator, switches, compositor, depth engine, frame-buffer read ports, CH7301C output,
            the vertical-offset search and the rectification select, the row-tag trackers and their frame pairing, LED 6
 ``cam_a``  camera A's PCLK: its capture and frame-buffer write port, its row sums, its tracker's strobe toggles, LED 7
@@ -52,10 +55,11 @@ the XCLK pair as two single-ended ODDR outputs in the 90-degree ``pix90`` domain
 LVCMOS33 (docs/board.md), so the OBUFDS of ``CH7301COutput(ddr="virtex5")`` cannot drive them.
 
 Status LEDs (``panel.leds``): 0 camera A bus init done, 1 camera A bus error, 2 camera B bus init done, 3 camera B
-bus error, 4 CH7301C init done, 5 CH7301C: steady on = I2C error (bring-up stopped), blinking with LED 6 = its
-version or device ID byte (0x4A / 0x4B) read another value than the table's (``init.dvi.mismatch``, bring-up
-went on), 6 display heartbeat (toggles every ``2**heartbeat_log2`` display frames: 32 frames = 0.53 s at
-60 Hz), 7 camera A heartbeat (toggles every ``2**cam_heartbeat_log2`` captured frames, about 0.5 s at 15 fps),
+bus error (the cameras' init is shared: 0 and 2 light together; an error lights 1 and 3 together, except a NACK,
+which lights the LED of the bus or buses that did not acknowledge), 4 CH7301C init done, 5 CH7301C: steady on =
+I2C error (its bring-up stopped; the cameras' goes on), blinking with LED 6 = its version or device ID byte
+(0x4A / 0x4B) read another value than the table's (``init.dvi.mismatch``, bring-up went on), 6 display
+heartbeat (toggles every ``2**heartbeat_log2`` display frames: 32 frames = 0.53 s at 60 Hz), 7 camera A heartbeat (toggles every ``2**cam_heartbeat_log2`` captured frames, about 0.5 s at 15 fps),
 steady on while the last frame-start skew measurement was more than one sensor line (``skew.aligned`` low).
 
 Sensor and transmitter control pins (``control``, ``sync``): ``cam_rst_n`` and ``dvi_reset_n`` are low while
@@ -85,7 +89,7 @@ from hdl.capture_path import CapturePath
 from hdl.ch7301c_output import CH7301COutput, CH7301CSignature
 from hdl.stereo_display import LATENCY as COMPOSITOR_LATENCY, StereoDisplay, check_display
 from hdl.frame_skew import FrameSkewMeter, FrameSkewSignature, skew_bits
-from hdl.i2c_init import InitSequencer, InitStatusSignature, check_parameters as check_sequencer
+from hdl.i2c_init import ErrorCode, InitSequencer, InitStatusSignature, Phase, check_parameters as check_sequencer
 from hdl.i2c_master import I2CSignature
 from hdl.init_tables import CH7301C_TABLE, MT9D112_TABLE
 from spec.board import CLOCKS
@@ -109,7 +113,7 @@ from hdl.stereo_display import MEMORIES
 from hdl.store_windows import STREAMS
 
 __all__ = ["StereoDepthSystem", "SystemParameters", "PanelSignature", "ControlSignature", "DISPLAY_LATENCY", "CAMERAS",
-           "I2C_BUSES", "DISPLAY_MISSED_BITS"]
+           "I2C_BUSES", "I2C_SEQUENCER", "DISPLAY_MISSED_BITS"]
 
 #: Pixel clocks from a sync-generator raster position to that pixel on the CH7301C pins.
 DISPLAY_LATENCY = COMPOSITOR_LATENCY + 1
@@ -117,6 +121,8 @@ DISPLAY_LATENCY = COMPOSITOR_LATENCY + 1
 CAMERAS = ("a", "b")
 #: The I2C buses: one per camera, one for the CH7301C.
 I2C_BUSES = ("cam_a", "cam_b", "dvi")
+#: The init sequencer (the system's submodule) that plays every bus's table.
+I2C_SEQUENCER = "i2c_init"
 #: The DDR2 build's ``display_missed`` count: pix clocks with a compositor read refused, saturating.
 DISPLAY_MISSED_BITS = 16
 
@@ -280,7 +286,8 @@ class StereoDepthSystem(wiring.Component):
     i2c : ``Out``, per bus ``cam_a``, ``cam_b``, ``dvi`` an ``I2CSignature``
         The open-drain I2C pins (``sync``).
     init : ``Out``, per bus an ``InitStatusSignature``
-        Each init sequencer's status (``sync``).
+        The status of each bus's table (``sync``): ``dvi`` the CH7301C table's, ``cam_a`` and ``cam_b`` both the
+        cameras' shared table's.
     panel : ``Out(PanelSignature)``
         Switches (asynchronous) and LEDs.
     control : ``Out(ControlSignature)``
@@ -318,7 +325,7 @@ class StereoDepthSystem(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         p = self.params
-        sequencers = self._init(m)
+        sequencer = self._init(m)
         capture = add_reset_subtree(m, "capture", CapturePath(p.geometry, cameras=CAMERAS, r_byte_first=p.r_byte_first,
                                                               read_domain="pix", buffers=p.memory == "bram"), "pix")
         for c in CAMERAS:
@@ -332,22 +339,22 @@ class StereoDepthSystem(wiring.Component):
                      meter.start_b.eq(capture.cam_b.status.frame_start)]
         wiring.connect(m, wiring.flipped(self.skew), meter.status)
         sync_gen = self._display(m, capture)
-        self._leds(m, sync_gen, sequencers)
+        self._leds(m, sync_gen, sequencer)
         return m
 
     def _init(self, m):
-        """The I2C init sequencers (``sync``, one per bus) and the sensor / transmitter reset and power pins."""
+        """The I2C init sequencer (``sync``) of all three buses: the CH7301C's table on its bus, then the cameras'
+        table on both camera buses at once (so the sensors are configured in step, docs/hardware-facts.md); the
+        sensor / transmitter reset and power pins. Returns the sequencer."""
         p = self.params
-        sequencers = {}
-        for bus, table in p.tables.items():
-            m.submodules[f"init_{bus}"] = seq = InitSequencer(table, clk_hz=p.clk_hz, bus_hz=p.i2c_hz,
-                                                               retry_delay_us=p.i2c_retry_delay_us)
-            wiring.connect(m, wiring.flipped(getattr(self.i2c, bus)), seq.i2c)
-            wiring.connect(m, wiring.flipped(getattr(self.init, bus)), seq.status)
-            sequencers[bus] = seq
-        # The cameras' tables meet at their Barrier and go on together (docs/hardware-facts.md, "in step").
-        cam_a, cam_b = sequencers["cam_a"], sequencers["cam_b"]
-        m.d.comb += [seq.release.eq(cam_a.barrier & cam_b.barrier) for seq in (cam_a, cam_b)]
+        cam_buses = tuple(I2C_BUSES.index(f"cam_{c}") for c in CAMERAS)
+        phases = (Phase("dvi", p.dvi_table, (I2C_BUSES.index("dvi"),)), Phase("cams", p.cam_table, cam_buses))
+        m.submodules[I2C_SEQUENCER] = seq = InitSequencer(phases, buses=len(I2C_BUSES), clk_hz=p.clk_hz,
+                                                          bus_hz=p.i2c_hz, retry_delay_us=p.i2c_retry_delay_us)
+        for k, bus in enumerate(I2C_BUSES):
+            wiring.connect(m, wiring.flipped(getattr(self.i2c, bus)), seq.i2c[k])
+        wiring.connect(m, seq.status.cams, *(wiring.flipped(getattr(self.init, f"cam_{c}")) for c in CAMERAS))
+        wiring.connect(m, seq.status.dvi, wiring.flipped(self.init.dvi))
 
         # Sensor / transmitter reset and power: low in reset, high from the first sync clock after it.
         out_of_reset = Signal()
@@ -357,7 +364,7 @@ class StereoDepthSystem(wiring.Component):
             control.cam_rst_n.eq(out_of_reset), control.dvi_reset_n.eq(out_of_reset),
             control.cam_vdden.eq(out_of_reset), control.cam_pwdn.eq(0),
         ]
-        return sequencers
+        return seq
 
     def _display(self, m, capture):
         """The pixel-clock side: sync generator, switches, rectification, the display, the row tags and the output
@@ -445,16 +452,19 @@ class StereoDepthSystem(wiring.Component):
         m.d.comb += [getattr(self.rectification, name).eq(getattr(est, name)) for name in ("confident", "held", "locked")]
         return select
 
-    def _leds(self, m, sync_gen, sequencers):
+    def _leds(self, m, sync_gen, sequencer):
         """The status LEDs (see the module docstring)."""
         p = self.params
         frames = Signal(p.heartbeat_log2 + 1)
         with m.If(sync_gen.frame_start):
             m.d.pix += frames.eq(frames + 1)
         init = self.init
+        # A camera bus's error LED: the shared init's error, unless it is a NACK that bus gave no part in.
+        nack = (init.cam_a.error_code == ErrorCode.NACK_ADDR) | (init.cam_a.error_code == ErrorCode.NACK_DATA)
+        blamed = [~nack | sequencer.nacked[I2C_BUSES.index(f"cam_{c}")] for c in CAMERAS]
         m.d.comb += [
-            self.panel.leds[0].eq(init.cam_a.done), self.panel.leds[1].eq(init.cam_a.error),
-            self.panel.leds[2].eq(init.cam_b.done), self.panel.leds[3].eq(init.cam_b.error),
+            self.panel.leds[0].eq(init.cam_a.done), self.panel.leds[1].eq(init.cam_a.error & blamed[0]),
+            self.panel.leds[2].eq(init.cam_b.done), self.panel.leds[3].eq(init.cam_b.error & blamed[1]),
             self.panel.leds[4].eq(init.dvi.done),
             self.panel.leds[5].eq(init.dvi.error | (init.dvi.mismatch & frames[-1])),
             self.panel.leds[6].eq(frames[-1]),

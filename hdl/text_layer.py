@@ -1,6 +1,6 @@
 """TextLayer: text boxes on the raster from a small font ROM (the depth display's labels and readout)."""
 
-from amaranth import Cat, Module, Signal, unsigned
+from amaranth import Cat, Module, Mux, Signal, unsigned
 from amaranth.lib import data, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
@@ -31,7 +31,8 @@ class TextLayer(wiring.Component):
     """Draws ``boxes`` (constant :class:`spec.layout.TextBox` es) and named ``dynamic`` boxes whose characters come
     from ``chars``. A box covers ``len(text)`` cells of ``FONT_CELL`` font pixels, each ``scale`` x ``scale``
     display pixels; a font pixel is lit where its glyph (:data:`spec.font.FONT`) has ``#`` (the cell's last
-    column and row never are). The boxes must not overlap.
+    column and row never are). The boxes must not overlap: so at most one is drawn in a clock, and the dynamic
+    boxes share one font ROM, addressed by the character and glyph row of the one drawn.
 
     Parameters
     ----------
@@ -55,7 +56,7 @@ class TextLayer(wiring.Component):
     Raises
     ------
     ValueError
-        A character the font lacks.
+        A character the font lacks; boxes that overlap.
     """
 
     def __init__(self, boxes, dynamic=None, *, v_active, x_bits=12, y_bits=11):
@@ -63,6 +64,11 @@ class TextLayer(wiring.Component):
         for box in self.boxes:
             char_codes(box.text)
         self.dynamic = dict(dynamic or {})
+        every = list(self.boxes) + list(self.dynamic.values())
+        for k, one in enumerate(every):
+            for other in every[k + 1:]:
+                if one.box.overlaps(other.box):
+                    raise ValueError(f"text boxes {one.text!r} and {other.text!r} overlap")
         self.v_active = v_active
         layout = {name: data.ArrayLayout(CHAR_BITS, len(box.text)) for name, box in self.dynamic.items()}
         super().__init__({
@@ -80,17 +86,22 @@ class TextLayer(wiring.Component):
         in_any_3, lit_any_4, in_any_4 = [], [], Signal()
         entries = [(box, None) for box in self.boxes]
         entries += [(box, getattr(self.chars, name)) for name, box in self.dynamic.items()]
+        shared = []
         for i, (box, chars) in enumerate(entries):
-            inside_3, lit_4 = self._box(m, i, box, chars, clear)
+            inside_3, lit_4 = self._box(m, i, box, chars, clear, shared)
             in_any_3.append(inside_3)
-            lit_any_4.append(lit_4)
+            if lit_4 is not None:
+                lit_any_4.append(lit_4)
+        if shared:
+            lit_any_4.append(self._shared_glyphs(m, shared))
         m.d.sync += in_any_4.eq(_any(in_any_3))
         m.d.comb += [self.in_text.eq(in_any_4), self.lit.eq(_any(lit_any_4))]
         return m
 
-    def _box(self, m, i, box, chars, clear):
+    def _box(self, m, i, box, chars, clear, shared):
         """One box: flags (n + 1), the cell's character (n + 2), its glyph row from the ROM (n + 3), the font
-        pixel (n + 4)."""
+        pixel (n + 4). Returns ``(inside_3, lit_4)``; a dynamic box (``chars``) appends ``(inside_2, code, row,
+        column)`` (n + 2) to ``shared`` instead of reading a ROM of its own (``lit_4`` None)."""
         cw, ch = FONT_CELL
         b = box.box
         inside, eol = Signal(name=f"in_text{i}_1"), Signal(name=f"eol_text{i}_1")
@@ -116,15 +127,40 @@ class TextLayer(wiring.Component):
                         m.d.sync += code.eq(char_codes(c)[0])
         else:
             m.d.sync += code.eq(chars[cell])
+        inside_2 = delayed(m, inside, 1, f"in_text{i}")
+        inside_3 = Signal(name=f"in_text{i}_d2")
+        m.d.sync += inside_3.eq(inside_2)
+        if chars is not None:
+            shared.append((inside_2, code, row, column))
+            return inside_3, None
         # n + 2 -> n + 3: the glyph row's bits from the font ROM.
         row_bits = Signal(cw - 1, name=f"glyph_bits{i}_3")
         m.d.sync += row_bits.eq(self._glyph_row(m, code, row, str(i)))
-        inside_3 = delayed(m, inside, 2, f"in_text{i}")
         column_3 = delayed(m, column, 1, f"cell_column{i}")
         # n + 3 -> n + 4: the font pixel (column cw - 1 is the blank spacing column).
         lit = Signal(name=f"lit_text{i}_4")
         m.d.sync += lit.eq(inside_3 & (column_3 < cw - 1) & row_bits.bit_select(column_3, 1))
         return inside_3, lit
+
+    def _shared_glyphs(self, m, shared):
+        """The dynamic boxes' font pixel (n + 4) from one ROM: the character, glyph row and column of the box drawn
+        at n + 2 (at most one: the boxes do not overlap), an AND-OR under the boxes' flags."""
+        cw, _ = FONT_CELL
+        insides, codes, rows, columns = zip(*shared)
+        code, row, column = (Signal.like(group[0], name=f"shared_{name}_2")
+                             for group, name in ((codes, "char"), (rows, "glyph_row"), (columns, "cell_column")))
+        m.d.comb += [code.eq(_any(Mux(f, c, 0) for f, c in zip(insides, codes))),
+                     row.eq(_any(Mux(f, r, 0) for f, r in zip(insides, rows))),
+                     column.eq(_any(Mux(f, c, 0) for f, c in zip(insides, columns)))]
+        row_bits = Signal(cw - 1, name="shared_glyph_bits_3")
+        m.d.sync += row_bits.eq(self._glyph_row(m, code, row, "_shared"))
+        inside_2 = Signal(name="in_shared_text_2")
+        m.d.comb += inside_2.eq(_any(insides))
+        inside_3 = delayed(m, inside_2, 1, "in_shared_text")
+        column_3 = delayed(m, column, 1, "shared_cell_column")
+        lit = Signal(name="lit_shared_text_4")
+        m.d.sync += lit.eq(inside_3 & (column_3 < cw - 1) & row_bits.bit_select(column_3, 1))
+        return lit
 
     def _glyph_row(self, m, code, row, tag):
         """The ``cw - 1`` bits of glyph ``code``'s row ``row`` (bit c = column c; 0 below the glyph): an

@@ -231,8 +231,7 @@ class VerticalOffsetEstimator(wiring.Component):
             m.d.sync += [prev["left"].eq(data["left"]), prev["right"].eq(data["right"]),
                          d_left.eq(data["left"] - prev["left"]), d_right.eq(data["right"] - prev["right"])]
         with m.If(valid_b):
-            m.d.sync += [term.eq(Mux(difference < 0, -difference, difference)),
-                         texture_term.eq(Mux(d_right < 0, -d_right, d_right))]
+            m.d.sync += [term.eq(_magnitude(difference)), texture_term.eq(_magnitude(d_right))]
         valid_1, first_1, last_1, k_1 = Signal(), Signal(), Signal(), Signal.like(k_1)
         m.d.sync += [f.eq(b) for f, b in zip((valid_1, first_1, last_1, k_1), stage_b)]
         acc = Signal.like(self.cost_best)
@@ -294,3 +293,10 @@ class VerticalOffsetEstimator(wiring.Component):
             m.d.sync += self.offset.eq(best)
         m.d.sync += [self.best.eq(best), self.confident.eq(confident), self.held.eq(~confident),
                      self.locked.eq(confident & (in_use | switch)), self.done.eq(1)]
+
+
+def _magnitude(value):
+    """``|value|`` of a signed value as one carry chain: its bits inverted when negative, plus its sign (the
+    two's complement), not a negation and a multiplexer."""
+    sign = value[-1]
+    return (value ^ sign.replicate(len(value))).as_unsigned() + sign

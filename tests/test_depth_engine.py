@@ -203,6 +203,17 @@ def test_three_row_buffer_with_formal_invariants():
     assert_same(codes, depth_map(left, right, CFG))
 
 
+@pytest.mark.parametrize("rows", [6, pytest.param(14, marks=pytest.mark.slow)])
+def test_census_rows_below_the_last_row_clamped(rows):
+    """Heights where the last rows' census rows (y + 3 at the last pass) pass the pass counter's own range (6 rows:
+    y counts 0..7, three bits, and row 5's window reaches row 8): the rows are clamped to the last, not wrapped
+    to the top; the map equals the golden one."""
+    geometry = SensorGeometry(width=G.width, height=rows * G.scale)
+    left, right = random_pair(5, (geometry.buf_height, geometry.buf_width))
+    codes, *_ = run_engine(left, right, geometry=geometry)
+    assert_same(codes, depth_map(left, right, CFG))
+
+
 def test_restart_and_slow_reader():
     """``start`` again in the middle of a map gives the map of a fresh start; a reader that holds back stops
     the engine after ``out_rows`` rows, and the map is still exact."""

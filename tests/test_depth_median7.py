@@ -13,7 +13,7 @@ from scipy.ndimage import median_filter
 
 from golden.depth import depth_map, median, separable_median
 from hdl.depth.engine import schedule
-from hdl.depth.separable_median import MEDIAN_NETWORKS, SORT_NETWORKS, SeparableMedian, separable_median as block_of
+from hdl.depth.separable_median import SeparableMedian, separable_median as block_of
 from spec.depth import DepthConfig
 from spec.sensor import SensorGeometry
 from tests.test_depth_engine import BUSY, CFG, G, SHAPE, assert_same, engine_tags, random_pair, run_engine, steps
@@ -96,20 +96,6 @@ def test_equals_the_rule_and_scipy():
         assert (separable_median(codes, 7) == median_filter(columns, size=(1, 7), mode="nearest")).all()
         config = DepthConfig(disparities=8, lanes=4, median=7, median_valid=True)
         assert (median(codes, config) == separable_median(codes, 7, True, INVALID)).all()
-
-
-@pytest.mark.parametrize("n", [5, 7])
-def test_networks_sort_and_select(n):
-    """The 0-1 principle: on every 0/1 input ``MEDIAN_NETWORKS[n]`` leaves the median at n // 2 and
-    ``SORT_NETWORKS[n]`` sorts."""
-    for values in itertools.product(range(2), repeat=n):
-        median_, ordered = list(values), list(values)
-        for network, v in ((MEDIAN_NETWORKS[n], median_), (SORT_NETWORKS[n], ordered)):
-            for layer in network:
-                assert len({i for pair in layer for i in pair}) == 2 * len(layer)     # one exchange per element
-                for i, j in layer:
-                    v[i], v[j] = min(v[i], v[j]), max(v[i], v[j])
-        assert median_[n // 2] == sorted(values)[n // 2] and ordered == sorted(values)
 
 
 @pytest.mark.parametrize("n, valid_only", [(5, True), (7, False), (7, True)])

@@ -99,15 +99,14 @@ def test_every_state_is_named_as_in_the_rtl(block, source, state, absent):
     assert max(fsm.states) < 2 ** fsm.width
 
 
-def test_the_system_has_eight_state_machines_with_filters(tmp_path):
-    """Three init sequencers, their three I2C masters, the depth engine's pass control and the vertical-offset
-    search."""
+def test_the_system_has_four_state_machines_with_filters(tmp_path):
+    """The init sequencer (all three buses), its I2C master, the depth engine's pass control and the
+    vertical-offset search."""
     from sim.testbench.system.testbench import SystemTestbench
     from sim.testbench.system.setup import SystemSetup
     fsms = state_machines(SystemTestbench(**SystemSetup.small().system_kwargs()))
     paths = sorted(".".join(f.path[-2:]) for f in fsms)
-    assert paths == sorted([f"system.init_{b}" for b in ("cam_a", "cam_b", "dvi")]
-                           + [f"init_{b}.master" for b in ("cam_a", "cam_b", "dvi")]
+    assert paths == sorted(["system.i2c_init", "i2c_init.master"]
                            + ["display.engine", "system.vertical_offset"])
     for f in fsms:
         lines = write_filter(tmp_path / f"{'.'.join(f.path)}.txt", f.states).read_text().splitlines()

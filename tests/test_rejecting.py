@@ -25,7 +25,7 @@ from hdl.segment_band import SegmentBand
 from hdl.disparity import DisparitySubtractor
 from hdl.downscaler import Downscaler
 from hdl.grey import Grey
-from hdl.i2c_init import InitSequencer
+from hdl.i2c_init import InitSequencer, Phase
 from hdl.i2c_master import I2CMaster
 from hdl.init_tables import CH7301C_TABLE
 from spec.depth import SMALL_DEPTH
@@ -73,6 +73,8 @@ REJECTED = {
     "StereoDisplay, maps in the store without the DDR2": lambda: StereoDisplay(SMALL_TIMING, SMALL_SENSOR,
                                                                                config=SMALL_DEPTH, maps="store"),
     "TextLayer": lambda: TextLayer((TextBox("0.5km", 0, 0, 1),), v_active=10),
+    "TextLayer, overlapping boxes": lambda: TextLayer((TextBox("0.5m", 0, 0, 1),), {"readout": TextBox("00", 20, 7, 1)},
+                                                      v_active=10),
     "SegmentBand": lambda: SegmentBand(SensorGeometry(grey_bits=9)),
     "DisparitySubtractor": lambda: DisparitySubtractor(SMALL_SENSOR, thresholds=()),
     "SwitchControl": lambda: SwitchControl(stages=1),
@@ -82,6 +84,9 @@ REJECTED = {
     "CH7301COutput": lambda: CH7301COutput(ddr="spartan"),
     "I2CMaster": lambda: I2CMaster(clk_hz=1_000_000, bus_hz=5_000_000),
     "InitSequencer": lambda: InitSequencer(CH7301C_TABLE, retries=-1),
+    "I2CMaster, buses": lambda: I2CMaster(buses=0),
+    "InitSequencer, buses": lambda: InitSequencer(CH7301C_TABLE, buses=0),
+    "InitSequencer, phase bus": lambda: InitSequencer((Phase("dvi", CH7301C_TABLE, (1,)),), buses=1),
     "GenesysClocking": lambda: GenesysClocking(ClockPlan(dcm_m=40)),
     "SimClocking": lambda: SimClocking(lock_cycles=0),
     "StereoDepthSystem": lambda: StereoDepthSystem(**SMALL, ddr="virtex5"),

@@ -2,7 +2,7 @@
 
 from typing import NamedTuple
 
-from amaranth import Cat, Module, Mux, Signal, signed, unsigned
+from amaranth import Cat, Module, Mux, Signal, unsigned
 from amaranth.hdl import Assert
 from amaranth.lib import data, wiring
 from amaranth.lib.memory import Memory
@@ -334,7 +334,7 @@ class DepthEngine(wiring.Component):
         # and j are different image rows (the edge into row j is inside the window).
         inner = [Signal(name=f"census_inner{j}") for j in range(cfg.census_height)]
         for j in range(cfg.census_height):
-            row = Signal(signed(len(y) + 1), name=f"census_row{j}")
+            row = Signal(range(-ry, h + self.lag + ry + 1), name=f"census_row{j}")     # y + j - ry, no wrap
             m.d.sync += row.eq(y + j - ry)
             clamped = Mux(row < 0, 0, Mux(row > h - 1, h - 1, row))
             m.d.sync += [ring_row[j].eq(clamped[:(RING_ROWS - 1).bit_length()]),

@@ -143,7 +143,7 @@ class LeftRightFill(wiring.Component):
                 m.d.comb += writes
                 m.d.comb += [self.busy.eq(1), code_read.addr.eq(replay_x),
                              self.valid.eq(odd), self.x.eq(replay_x),
-                             self.out_code.eq(Mux(replay_x == w, 0, filled))]
+                             self.out_code.eq(filled)]
                 m.d.sync += odd.eq(~odd)
                 with m.If(odd):
                     m.d.sync += replay_x.eq(replay_x + 1)
@@ -168,9 +168,10 @@ class LeftRightFill(wiring.Component):
         m.d.comb += target.eq(at1 + d1)
         m.d.comb += left_read.addr.eq(Mux(target > w - 1, w - 1, target))
         m.d.sync += [at2.eq(at1), code2.eq(first.code), d2.eq(d1), live2.eq(live1)]
-        dl = left_read.data
-        diff = Mux(dl > d2, dl - d2, d2 - dl)
-        keep = (code2 != cfg.invalid) & (diff <= 1)
+        # |d_L - d*| <= 1: d_L - d* (mod 2 D: it lies in -(D - 1) .. D - 1) is 0, 1 or -1.
+        diff = Signal(len(d2) + 1)
+        m.d.comb += diff.eq(left_read.data - d2)
+        keep = (code2 != cfg.invalid) & ((diff == 0) | (diff == 1) | (diff == (1 << len(diff)) - 1))
         scan_data = Signal(word)
         m.d.comb += [scan_data.code.eq(code2), scan_data.tail.eq(Cat(right_kept, keep))]
         return at2, live2, code2, keep, scan_data

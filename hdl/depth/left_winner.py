@@ -22,7 +22,8 @@ class LeftWinner(wiring.Component):
     asynchronous read (LUT RAM). Group g of pixel x reads word g, keeps per lane the offer where its sum is at
     most the entry's (the later offers to a left pixel come from larger x, so smaller d: ties go to them) and
     writes the word back one lane down: entry j of pixel x becomes entry j - 1 of pixel x + 1. Entry 0 after
-    group 0 (offer d = 0) is final: left pixel x's d_L. At x = 0 (``token.first``) the entries start empty.
+    group 0 (offer d = 0) is final: left pixel x's d_L. At x = 0 (``token.first``) every entry takes its offer,
+    as does entry D - 1 (left pixel x + D - 1, offered to first by pixel x) at every pixel.
 
     Parameters
     ----------
@@ -36,7 +37,7 @@ class LeftWinner(wiring.Component):
     token, sums : In
         A group's token and its ``lanes`` sums S(g lanes + k, x) (``hdl.depth.winner.Winner``'s ``sums_token``
         and ``sums``); a pixel's groups in consecutive clocks, in ascending g; pixels in ascending x, from x = 0,
-        at least G + 1 clocks apart (the clock after a pixel's last group empties the last word's last lane).
+        at least G + 1 clocks apart.
     valid, x, d : Out
         Left pixel x's d_L; ``valid`` pulses one clock after the pixel's group 0.
 
@@ -59,7 +60,6 @@ class LeftWinner(wiring.Component):
         cfg, lanes, G = self.config, self.config.lanes, self.groups
         entry = data.StructLayout({"s": cfg.sum_bits, "d": range(cfg.disparities)})
         word = data.ArrayLayout(entry, lanes)
-        empty = entry.const({"s": (1 << cfg.sum_bits) - 1, "d": 0})    # at or above every sum: any offer wins
         # Entry j of word g: lanes 0 .. lanes - 2 in one memory, lane ``lanes`` - 1 in another (written a clock
         # apart: no register holds a word).
         tok = self.token
@@ -74,25 +74,22 @@ class LeftWinner(wiring.Component):
         m.d.comb += last_read.addr.eq(tok.group)
         stored.append(last_read.data)
 
+        # An entry without an offer yet (every entry at x = 0; the last word's last lane, left pixel x + D - 1,
+        # always) takes the offer: its stored value is not read.
         updated = Signal(word)
         for k in range(lanes):
-            old = Signal(entry, name=f"old{k}")
-            m.d.comb += old.eq(Mux(tok.first, empty, stored[k]))
+            fresh = tok.first | (tok.group == G - 1) if k == lanes - 1 else tok.first
             offer = Signal(entry, name=f"offer{k}")
             m.d.comb += [offer.s.eq(self.sums[k]), offer.d.eq(tok.group * lanes + k)]
-            m.d.comb += updated[k].eq(Mux(offer.s <= old.s, offer, old))
+            m.d.comb += updated[k].eq(Mux(fresh | (offer.s <= stored[k].s), offer, stored[k]))
 
         # Written back one lane down: group g's lanes 1 .. lanes - 1 into word g's lanes 0 .. lanes - 2 (read in this
-        # clock, written at its end), its lane 0 into word g - 1's last lane; the last word's last lane (left pixel
-        # x + D: no offer yet) emptied the clock after the last group.
+        # clock, written at its end), its lane 0 into word g - 1's last lane.
         if lanes > 1:
             m.d.comb += [low_write.addr.eq(tok.group), low_write.data.eq(updated.as_value()[entry.size:]),
                          low_write.en.eq(tok.go)]
-        after_last = Signal()
-        m.d.sync += after_last.eq(tok.go & (tok.group == G - 1))
-        m.d.comb += [last_write.addr.eq(Mux(after_last, G - 1, tok.group - 1)),
-                     last_write.data.eq(Mux(after_last, empty.as_value(), updated[0].as_value())),
-                     last_write.en.eq(after_last | (tok.go & (tok.group != 0)))]
+        m.d.comb += [last_write.addr.eq(tok.group - 1), last_write.data.eq(updated[0]),
+                     last_write.en.eq(tok.go & (tok.group != 0))]
 
         m.d.sync += [self.valid.eq(tok.go & (tok.group == 0)), self.x.eq(tok.x), self.d.eq(updated[0].d)]
         return m

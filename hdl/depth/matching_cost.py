@@ -1,7 +1,7 @@
 """MatchingCost: Hamming distance of census signatures, plus the clipped grey difference (AD-census), for one
 group of disparities (docs/depth.md, "cost")."""
 
-from amaranth import Module, Mux, Signal, signed
+from amaranth import C, Cat, Module, Mux, Signal, signed
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
@@ -10,6 +10,18 @@ from spec.depth import DEPTH
 __all__ = ["MatchingCost"]
 
 CHUNK = 6       # bits counted by one 6-input LUT level
+
+
+def _at_least(value, constant):
+    """value >= constant (value unsigned, constant an integer) as and/or logic of value's bits."""
+    if constant <= 0:
+        return C(1, 1)
+    if constant >= 1 << len(value):
+        return C(0, 1)
+    result = C(1, 1)
+    for i in range(len(value)):             # low to high: result is value[:i + 1] >= constant[:i + 1]
+        result = (value[i] & result) if (constant >> i) & 1 else (value[i] | result)
+    return result
 
 
 def _tree_sum(values):
@@ -92,11 +104,20 @@ class MatchingCost(wiring.Component):
 
     def _ad_term(self, m, k):
         """Lane k's AD term, registered in two stages beside the chunk counts and their pairs: the signed grey
-        difference, then min(\\|difference\\|, ad_clip) >> ad_shift."""
+        difference d, then min(\\|d\\|, ad_clip) >> ad_shift as and/or/xor logic of d's bits (no carry chain):
+        with s = d's sign and e = d's low bits XOR s (\\|d\\| = e + s), \\|d\\| >= ad_clip iff e >= ad_clip - s,
+        and below the clip \\|d\\| < 2**w (w = ad_clip's bits) is e + s on e's w low bits."""
         cfg = self.config
-        grey_diff = Signal(signed(cfg.pixel_bits + 1), name=f"grey_diff_{k}", reset_less=True)
+        n, clip = cfg.pixel_bits, cfg.ad_clip
+        grey_diff = Signal(signed(n + 1), name=f"grey_diff_{k}", reset_less=True)
         m.d.sync += grey_diff.eq(self.right_grey - self.left_grey[k])
-        magnitude = Mux(grey_diff < 0, -grey_diff, grey_diff)
+        sign = grey_diff[n]
+        ones = grey_diff[:n] ^ sign.replicate(n)
+        clipped = Mux(sign, _at_least(ones, clip - 1), _at_least(ones, clip))
+        low, carry = [], sign
+        for i in range(clip.bit_length()):
+            low.append(ones[i] ^ carry)
+            carry = carry & ones[i]
         ad = Signal(range(cfg.ad_max + 1), name=f"ad_{k}", reset_less=True)
-        m.d.sync += ad.eq(Mux(magnitude > cfg.ad_clip, cfg.ad_clip, magnitude) >> cfg.ad_shift)
+        m.d.sync += ad.eq(Mux(clipped, clip >> cfg.ad_shift, Cat(*low) >> cfg.ad_shift))
         return ad

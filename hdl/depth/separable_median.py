@@ -4,7 +4,7 @@ median plain or over the valid codes only (docs/depth.md, "median")."""
 import functools
 import operator
 
-from amaranth import Module, Mux, Signal
+from amaranth import C, Module, Mux, Signal
 from amaranth.lib import data, wiring
 from amaranth.lib.memory import Memory
 
@@ -12,64 +12,75 @@ from hdl.depth.median import median_signature
 from spec.depth import DEPTH
 from spec.sensor import SENSOR
 
-__all__ = ["SeparableMedian", "separable_median", "MEDIAN_NETWORKS", "SORT_NETWORKS"]
-
-#: The median of n as a compare-exchange network, in layers (one clock each): after it, element n // 2 is the
-#: median (the 0-1 principle: tests/test_depth_separable_median.py checks it on every 0/1 input). 7: the optimal
-#: 16-exchange sort of 7 in 6 layers without the exchanges that do not reach element 3.
-MEDIAN_NETWORKS = {
-    5: (((0, 1), (3, 4)), ((0, 3), (1, 4)), ((1, 2),), ((2, 3),), ((1, 2),)),
-    7: (((0, 6), (2, 3), (4, 5)), ((0, 2), (1, 4), (3, 6)), ((0, 1), (2, 5), (3, 4)), ((1, 2), (4, 6)),
-        ((2, 3), (4, 5)), ((3, 4),)),
-}
-#: Sorting networks of n (optimal in exchanges and layers), in layers: the median over the valid codes reads
-#: ranks 1 .. (n - 1) // 2 of the sorted codes (the invalid code sorts last).
-SORT_NETWORKS = {
-    5: (((0, 3), (1, 4)), ((0, 2), (1, 3)), ((0, 1), (2, 4)), ((1, 2), (3, 4)), ((2, 3),)),
-    7: (((0, 6), (2, 3), (4, 5)), ((0, 2), (1, 4), (3, 6)), ((0, 1), (2, 5), (3, 4)), ((1, 2), (4, 6)),
-        ((2, 3), (4, 5)), ((1, 2), (3, 4), (5, 6))),
-}
+__all__ = ["SeparableMedian", "separable_median"]
 
 
-def _median(m, values, v, x, name, valid_only, invalid):
-    """The registered median of ``values`` (n codes), with the valid bit ``v`` and the column ``x`` carried
-    alongside: returns (median, valid, x) :func:`_median_clocks` clocks later. Plain: element n // 2 after
-    ``MEDIAN_NETWORKS[n]``. ``valid_only``: the count of valid codes (code != ``invalid``) registered beside the
-    first layer of ``SORT_NETWORKS[n]``, then one clock selecting rank (count - 1) // 2 if count > n // 2, else
-    ``invalid``."""
+def _exactly(bits, r):
+    """Exactly ``r`` of ``bits`` set, as and/or logic (a count would be an adder)."""
+    if r < 0 or r > len(bits):
+        return C(0, 1)
+    if not bits:
+        return C(1, 1)
+    return (bits[0] & _exactly(bits[1:], r - 1)) | (~bits[0] & _exactly(bits[1:], r))
+
+
+def _selected(m, values, below, count, v, x, name, invalid):
+    """The registered median of ``values`` (n codes) from ``below``: ``below[i]`` is the list of the n - 1
+    comparison bits that count for value i (value j < value i, or j < i and equal: a total order in which each
+    value's rank is the count of its set bits). Plain (``count`` None): the value of rank n // 2. Over the valid
+    codes (``count``: of the valid codes, which sort last): the value of rank (count - 1) // 2 if count > n // 2,
+    else ``invalid``. Returns (median, valid, x) a clock later."""
     k = len(values)
-    shape = data.ArrayLayout(len(values[0]), k)
-    c = Signal(shape, name=f"{name}_in")
-    m.d.comb += [c[i].eq(value) for i, value in enumerate(values)]
-    if valid_only:
-        count = Signal(range(k + 1), name=f"{name}_count", reset_less=True)
-        m.d.sync += count.eq(sum(value != invalid for value in values))
-    network = SORT_NETWORKS[k] if valid_only else MEDIAN_NETWORKS[k]
-    for n, layer in enumerate(network):
-        nc = Signal(shape, name=f"{name}{n}", reset_less=True)
-        nv, nx = Signal(name=f"{name}{n}_v"), Signal.like(x, name=f"{name}{n}_x")
-        m.d.sync += [nc.eq(c), nv.eq(v), nx.eq(x)]
-        for i, j in layer:
-            m.d.sync += [nc[i].eq(Mux(c[j] < c[i], c[j], c[i])), nc[j].eq(Mux(c[j] < c[i], c[i], c[j]))]
-        c, v, x = nc, nv, nx
-    if not valid_only:
-        return c[k // 2], v, x
-    for n in range(1, len(network)):        # the count, registered beside the first layer, along the others
-        carried = Signal.like(count, name=f"{name}{n}_count")
-        m.d.sync += carried.eq(count)
-        count = carried
-    selected = Signal.like(c[0], name=f"{name}_selected", reset_less=True)
+    if count is None:
+        chosen = [_exactly(bits, k // 2) for bits in below]
+    else:
+        chosen = [functools.reduce(operator.or_, [(count == c) & _exactly(bits, (c - 1) // 2)
+                                                  for c in range(k // 2 + 1, k + 1)]) for bits in below]
+    choice = functools.reduce(operator.or_, [Mux(sel, value, 0) for sel, value in zip(chosen, values)])
+    if count is not None:
+        choice = Mux(count > k // 2, choice, invalid)
+    selected = Signal.like(values[0], name=f"{name}_selected", reset_less=True)
     sv, sx = Signal(name=f"{name}_selected_v"), Signal.like(x, name=f"{name}_selected_x")
-    choice = invalid
-    for valid in range(k // 2 + 1, k + 1):
-        choice = Mux(count == valid, c[(valid - 1) // 2], choice)
     m.d.sync += [selected.eq(choice), sv.eq(v), sx.eq(x)]
     return selected, sv, sx
 
 
+def _below(n, at_most):
+    """For each of n values, the comparison bits below it (:func:`_selected`) from ``at_most[i, j]`` (i < j):
+    value i <= value j."""
+    return [[at_most[j, i] for j in range(i)] + [~at_most[i, j] for j in range(i + 1, n)] for i in range(n)]
+
+
+def _median(m, values, v, x, name, valid_only, invalid):
+    """The median of ``values`` (n codes), with the valid bit ``v`` and the column ``x`` carried alongside:
+    returns (median, valid, x) 2 clocks later. Each pair's comparison registered (and with ``valid_only`` the
+    count of valid codes, code != ``invalid``), then the value of the median's rank selected
+    (:func:`_selected`)."""
+    k = len(values)
+    held = [Signal.like(value, name=f"{name}_in{i}", reset_less=True) for i, value in enumerate(values)]
+    at_most = {}
+    for i in range(k):
+        for j in range(i + 1, k):
+            at_most[i, j] = Signal(name=f"{name}_le{i}{j}", reset_less=True)
+            m.d.sync += at_most[i, j].eq(values[i] <= values[j])
+    hv, hx = Signal(name=f"{name}_in_v"), Signal.like(x, name=f"{name}_in_x")
+    m.d.sync += [hv.eq(v), hx.eq(x)] + [h.eq(value) for h, value in zip(held, values)]
+    count = None
+    if valid_only:
+        count = Signal(range(k + 1), name=f"{name}_count", reset_less=True)
+        m.d.sync += count.eq(sum(value != invalid for value in values))
+    return _selected(m, held, _below(k, at_most), count, hv, hx, name, invalid)
+
+
+#: Clocks through :func:`_median`.
+MEDIAN_CLOCKS = 2
+#: Clocks ``LATENCY`` gives each of the two medians, by (n, valid only) (the engine's schedules use ``LATENCY``).
+_SCHEDULED_CLOCKS = {(5, False): 5, (5, True): 6, (7, False): 6, (7, True): 7}
+
+
 def _median_clocks(n, valid_only):
-    """Clocks through :func:`_median`."""
-    return len(SORT_NETWORKS[n]) + 1 if valid_only else len(MEDIAN_NETWORKS[n])
+    """Clocks ``LATENCY`` gives each median (at least :data:`MEDIAN_CLOCKS`)."""
+    return _SCHEDULED_CLOCKS[n, bool(valid_only)]
 
 
 class SeparableMedian(wiring.Component):
@@ -121,17 +132,16 @@ class SeparableMedian(wiring.Component):
 
     def _column(self, y, above, code):
         """The codes of rows y - 2L .. y (the column around the output row y - L), clamped to 0 .. height - 1:
-        ``above[k]`` is row y - 1 - k, ``code`` row y. A row above the image is row 0 = ``above[y - 1]``; a row
-        below it is row height - 1 = ``above[y - height]``."""
-        lag, h = self.ROW_LAG, self.height
+        ``above[k]`` is row y - 1 - k, ``code`` row y. A row above the image is row 0 = ``above[y - 1]``. A row
+        below it is already row height - 1: from pass height on, the code taken for row y (and written back as
+        it) is ``above[0]``, row y - 1 (:meth:`elaborate`)."""
+        lag = self.ROW_LAG
         column = []
         for j in range(2 * lag + 1):                        # row y - 2L + j
             value = code if j == 2 * lag else above[2 * lag - 1 - j]
             if j < lag:                                     # above the image in passes L .. 2L - j - 1
                 for yy in range(2 * lag - j - 1, lag - 1, -1):
                     value = Mux(y == yy, above[yy - 1], value)
-            for yy in range(h + 2 * lag - j, h + lag):      # below the image in passes h + 2L - j .. h + L - 1
-                value = Mux(y == yy, above[yy - h], value)
             column.append(value)
         return column
 
@@ -153,29 +163,45 @@ class SeparableMedian(wiring.Component):
                      w1.eq(self.valid & (self.x < w))]
         # q + 1: the column of rows y - 2L .. y (clamped to 0 .. h - 1), and the rows written back.
         above = [read.data[k] for k in range(2 * lag)]      # rows y - 1, ..., y - 2L
-        m.d.comb += [write.addr.eq(x1), write.en.eq(w1), write.data[0].eq(code1)]
+        # Below the image (passes height ..) row y is row y - 1: row height - 1, taken again and written again.
+        code = Signal(bits, name="row_code")
+        m.d.comb += code.eq(Mux(y >= self.height, above[0], code1))
+        m.d.comb += [write.addr.eq(x1), write.en.eq(w1), write.data[0].eq(code)]
         m.d.comb += [write.data[k + 1].eq(above[k]) for k in range(2 * lag - 1)]
         col = [Signal(bits, name=f"column{k}", reset_less=True) for k in range(n)]
         v2, end2, x2 = Signal(), Signal(), Signal(range(w + 1), reset_less=True)
         m.d.sync += [v2.eq(v1), end2.eq(end1), x2.eq(x1)]
-        m.d.sync += [c.eq(value) for c, value in zip(col, self._column(y, above, code1))]
+        m.d.sync += [c.eq(value) for c, value in zip(col, self._column(y, above, code))]
         # The column's median (end: carried through, its value unused).
-        cend = end2                                         # the end token's flag, along the network
-        for k in range(_median_clocks(n, self.VALID_ONLY)):
+        cend = end2                                         # the end token's flag, beside the median
+        for k in range(MEDIAN_CLOCKS):
             delayed = Signal(name=f"column_median{k}_end")
             m.d.sync += delayed.eq(cend)
             cend = delayed
         col_median, cv, cx = _median(m, col, v2, x2, "column_median", self.VALID_ONLY, invalid)
         out, ov, ox = self._row_median(m, col_median, cv, cx, cend)
+        # The output waits for the clocks LATENCY gives the two medians beyond theirs (MEDIAN_CLOCKS, and the row's
+        # window one).
+        for k in range(2 * (_median_clocks(n, self.VALID_ONLY) - MEDIAN_CLOCKS) + 1):
+            out_k, ov_k = Signal.like(out, name=f"out{k}", reset_less=True), Signal(name=f"out{k}_v")
+            ox_k = Signal.like(ox, name=f"out{k}_x", reset_less=True)
+            m.d.sync += [out_k.eq(out), ov_k.eq(ov), ox_k.eq(ox)]
+            out, ov, ox = out_k, ov_k, ox_k
         m.d.comb += [self.out_valid.eq(ov), self.out_x.eq(ox), self.out_code.eq(out)]
         return m
 
     def _row_median(self, m, col_median, cv, cx, cend):
-        """The window of the last n column medians (newest last) around column x - L, registered, then its
-        median. Column 0's median fills the window (the left clamp); the end token and the L - 1 clocks after it
-        (tails: columns w + 1 ..) repeat the last column's (the right clamp)."""
+        """The window of the last n column medians (newest last) around column x - L, registered with each pair's
+        comparison, then its median (:func:`_selected`). The window slides a column a step: the comparisons among
+        the 2L columns it keeps are carried along, the newest's with them made. Column 0's median fills the window
+        (the left clamp: every pair equal); the end token and the L - 1 clocks after it (tails: columns w + 1 ..)
+        repeat the last column's (the right clamp)."""
         bits, w, lag = self.config.code_bits, self.width, self.ROW_LAG
+        n, invalid = 2 * lag + 1, self.config.invalid
         last = [Signal(bits, name=f"window_column{k}", reset_less=True) for k in range(2 * lag)]   # x - 1 ..
+        kept = last[::-1]                                   # x - 2L .. x - 1: the window's first 2L
+        kept_le = {(i, j): Signal(name=f"window_column_le{i}{j}", reset_less=True)
+                   for i in range(2 * lag) for j in range(i + 1, 2 * lag)}
         tails, previous = [], cv & cend
         for k in range(1, lag):                             # tail k: output column w - L + k
             tail = Signal(name="second" if k == 1 else f"tail{k}")
@@ -183,8 +209,12 @@ class SeparableMedian(wiring.Component):
             tails.append(tail)
             previous = tail
         any_tail = functools.reduce(operator.or_, tails)
-        newest = Mux(cend | any_tail, last[0], col_median)
-        window = [Signal(bits, name=f"window{k}", reset_less=True) for k in range(2 * lag + 1)]
+        newest = Signal(bits, name="window_newest")
+        m.d.comb += newest.eq(Mux(cend | any_tail, last[0], col_median))
+        to_newest = [Signal(name=f"window_le{i}{2 * lag}") for i in range(2 * lag)]
+        m.d.comb += [le.eq(value <= newest) for le, value in zip(to_newest, kept)]
+        window = [Signal(bits, name=f"window{k}", reset_less=True) for k in range(n)]
+        window_le = {(i, j): Signal(name=f"window_le{i}{j}", reset_less=True) for i in range(n) for j in range(i + 1, n)}
         wv, wx = Signal(), Signal(range(w), reset_less=True)
         # A tail's column w - L + k exists iff w - L + k >= 0.
         m.d.sync += wv.eq(functools.reduce(operator.or_, [cv & (cx >= lag)] +
@@ -192,14 +222,22 @@ class SeparableMedian(wiring.Component):
         column = cx - lag
         for k, tail in enumerate(tails, 1):
             column = Mux(tail, max(w - lag + k, 0), column)
+        count = None
+        if self.VALID_ONLY:
+            count = Signal(range(n + 1), name="window_count", reset_less=True)
         with m.If(cv | any_tail):
             with m.If(cv & (cx == 0)):
-                m.d.sync += [reg.eq(newest) for reg in last]
+                m.d.sync += [reg.eq(newest) for reg in last] + [le.eq(1) for le in kept_le.values()]
             with m.Else():
                 m.d.sync += [last[0].eq(newest)] + [last[k].eq(last[k - 1]) for k in range(1, 2 * lag)]
-            m.d.sync += [window[k].eq(last[2 * lag - 1 - k]) for k in range(2 * lag)] + [window[-1].eq(newest)]
+                m.d.sync += [le.eq(kept_le[i + 1, j + 1] if j + 1 < 2 * lag else to_newest[i + 1])
+                             for (i, j), le in kept_le.items()]
+            m.d.sync += [window[k].eq(value) for k, value in enumerate(kept + [newest])]
+            m.d.sync += [le.eq(kept_le[i, j] if j < 2 * lag else to_newest[i]) for (i, j), le in window_le.items()]
+            if count is not None:
+                m.d.sync += count.eq(sum(value != invalid for value in kept + [newest]))
             m.d.sync += wx.eq(column)
-        return _median(m, window, wv, wx, "window_median", self.VALID_ONLY, self.config.invalid)
+        return _selected(m, window, _below(n, window_le), count, wv, wx, "window_median", invalid)
 
 
 @functools.cache
@@ -212,7 +250,7 @@ def separable_median(n, valid_only=False):
     ValueError
         For another n.
     """
-    if n not in MEDIAN_NETWORKS:
+    if n not in (5, 7):
         raise ValueError(f"the separable median is 5 x 5 or 7 x 7, not {n!r}")
     if (n, valid_only) == (SeparableMedian.SIZE, SeparableMedian.VALID_ONLY):
         return SeparableMedian

@@ -25,7 +25,7 @@ leaves is counted free (may be asked for again) a clock after the move, so no ad
 count's adder.
 """
 
-from amaranth import Const, Module, Mux, Signal, signed
+from amaranth import Cat, Const, Module, Mux, Signal, signed
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
@@ -66,9 +66,9 @@ class RowWindow(wiring.Component):
         The request's address lies before the window's first row (a read this window will never grant).
 
     Clock domain: ``sync`` (the parent renames it to the read domain). Latency: ``grant`` combinational from the
-    request (the address compared with the window's start and the landed rows' end: two carry chains side by side,
-    then a LUT; with ``max_step`` above 1 also with each row's end, side by side, and a second LUT); ``port.data``
-    one clock after a granted address; rows asked for from the second clock after ``restart``, nothing granted in
+    request (the address's high bits compared with the window's start and the landed rows' end: two carry chains
+    side by side, then a LUT; with ``max_step`` above 1 also each row's end in its low bits, side by side: a short
+    carry chain's top sum bit, and a second LUT); ``port.data`` one clock after a granted address; rows asked for from the second clock after ``restart``, nothing granted in
     the first.
 
     Raises
@@ -116,14 +116,18 @@ class RowWindow(wiring.Component):
         step, offsets = self._step(m)
         stride = offsets[1]
 
-        # bounds[k] = (first + k * step) * width: where the window's k-th row starts, bounds[0] set in
+        # Every row start and row end is a multiple of the width, so of ``unit`` = 2**tz (the width's trailing zero
+        # bits): they are kept and compared in units (an address at or past a multiple of the unit is so in its
+        # high bits alone); ``wu`` is the width in units.
+        tz, wu = self._unit()
+        # bounds[k] = (first + k * step) * wu: where the window's k-th row starts, in units, bounds[0] set in
         # ``restarting``, the others in ``settling`` (nothing is granted in either), all moved a row at a time.
-        span = (h + n * s) * w                          # above every row start the window reaches
+        span = (h + n * s) * wu                         # above every row start the window reaches
         bounds = [Signal(range(span + 1), name=f"bound_{k}") for k in range(n)]
-        # limit = the end of the window's last landed row (its first row's start while none has landed); it moves
-        # by ``limit_step``: ``width`` at the first landing, a row's ``stride`` at the others.
+        # limit = the end of the window's last landed row (its first row's start while none has landed), in units;
+        # it moves by ``limit_step``: ``wu`` at the first landing, a row's ``stride`` at the others.
         limit = Signal(range(span + 1))
-        limit_step = Signal(range(s * w + 1)) if s > 1 else Const(w)
+        limit_step = Signal(range(s * wu + 1)) if s > 1 else Const(wu)
         next_row = Signal(range(h + 2 * s))             # the row asked for next
         after = Signal(range(h + 2 * s))                # the one after it (next_row + step)
         next_slot = Signal(range(n))                    # the slot it lands in (request number mod n)
@@ -141,8 +145,8 @@ class RowWindow(wiring.Component):
             m.d.sync += [next_row.eq(after), after.eq(after + step), more.eq(after < h),
                          next_slot.eq(Mux(next_slot == n - 1, 0, next_slot + 1))]
 
-        ends, to_end = self._skipped_ends(m, step, span) if s > 1 else (None, None)
-        grant, ge = self._read(m, bounds, limit, ends, restarting, first_slot)
+        tails = self._tails() if s > 1 else None
+        grant, ge = self._read(m, bounds, limit, tails, restarting, first_slot)
         # A landing counts for this window once the rows asked before its restart have all landed (a negative
         # difference: rows of an earlier window pending); each one counted moves ``counted`` on with ``landed``,
         # so the difference stays between -slots and 0 however many rows the window reads.
@@ -152,11 +156,11 @@ class RowWindow(wiring.Component):
         m.d.comb += advance.eq(grant & ge[1])
         m.d.sync += advanced.eq(advance)
         with m.If(restarting):
-            start = times(first, w)
+            start = times(first, wu)
             m.d.sync += [next_row.eq(first), after.eq(first + step), bounds[0].eq(start), free.eq(n), more.eq(1),
                          limit.eq(start), counted.eq(asked), first_slot.eq(next_slot)]
             if s > 1:
-                m.d.sync += limit_step.eq(w)
+                m.d.sync += limit_step.eq(wu)
         with m.Else():
             # The window moves on by a row (``advance``); the slot it leaves is counted free a clock later
             # (``advanced``), so no comparison of the address lies before the count's adder.
@@ -165,53 +169,75 @@ class RowWindow(wiring.Component):
                 m.d.sync += [limit.eq(limit + limit_step), counted.eq(counted + 1)]
                 if s > 1:
                     m.d.sync += limit_step.eq(stride)
-            with m.If(settling):
-                m.d.sync += [bounds[k].eq(bounds[0] + offsets[k]) for k in range(1, n)]
-                if s > 1:
-                    m.d.sync += [ends[k].eq(bounds[0] + to_end[k]) for k in range(n - 1)]
-            with m.Elif(advance):
+            self._move(m, bounds, tails, offsets, stride, settling, advance)
+            with m.If(~settling & advance):
                 m.d.sync += first_slot.eq(Mux(first_slot == n - 1, 0, first_slot + 1))
-                m.d.sync += [bounds[k].eq(bounds[k + 1]) for k in range(n - 1)]
-                m.d.sync += bounds[n - 1].eq(bounds[n - 1] + stride)
-                if s > 1:
-                    m.d.sync += [ends[k].eq(ends[k + 1]) for k in range(n - 2)]
-                    m.d.sync += ends[n - 2].eq(bounds[n - 1] + w)
         return m
 
+    def _move(self, m, bounds, tails, offsets, stride, settling, advance):
+        """The rows' starts after ``settling`` (bounds[0] + offsets[k]) or a move (bounds[k + 1]; the last
+        bounds[n - 1] + stride): for k >= 1 one sum whose operands are picked (no multiplexer after the adder); with
+        a step, ``tails`` with them."""
+        n = self.slots
+        _, wu = self._unit()
+        moved = [bounds[1]] + [Mux(settling, bounds[0], bounds[k + 1] if k < n - 1 else bounds[k])
+                               + Mux(settling, offsets[k], 0 if k < n - 1 else stride) for k in range(1, n)]
+        if tails is not None:
+            # tails[k]: the low bits of the k-th row's end (bounds[k] + wu), set with the row's start.
+            ends = [Mux(settling, bounds[0], bounds[1]) + wu] + [moved[k] + wu for k in range(1, n - 1)]
+            with m.If(settling | advance):
+                m.d.sync += [t.eq(e) for t, e in zip(tails, ends)]
+        with m.If(settling):
+            m.d.sync += [bounds[k].eq(moved[k]) for k in range(1, n)]
+        with m.Elif(advance):
+            m.d.sync += [bounds[k].eq(moved[k]) for k in range(n)]
+
+    def _unit(self):
+        """``(tz, wu)``: the width's trailing zero bits and the width in units of ``2**tz`` addresses."""
+        w = self.geometry.buf_width
+        tz = (w & -w).bit_length() - 1
+        return tz, w >> tz
+
     def _step(self, m):
-        """The step taken with the restart and offsets[k] = k * step * width, the window's k-th row's start from
-        its first's (registered from the step); constants with ``max_step`` 1."""
-        n, s, w = self.slots, self.max_step, self.geometry.buf_width
+        """The step taken with the restart and offsets[k] = k * step * wu, the window's k-th row's start from its
+        first's in units (registered from the step); constants with ``max_step`` 1."""
+        n, s = self.slots, self.max_step
+        _, wu = self._unit()
         if s == 1:
-            return Const(1), [Const(k * w) for k in range(n)]
+            return Const(1), [Const(k * wu) for k in range(n)]
         step = Signal(range(1, s + 1), init=1)
         with m.If(self.restart):
             m.d.sync += step.eq(self.row_step)
-        offsets = [Const(0)] + [Signal(range((n - 1) * s * w + 1), name=f"offset_{k}") for k in range(1, n)]
-        m.d.sync += [offsets[k].eq(times(step, k * w)) for k in range(1, n)]
+        offsets = [Const(0)] + [Signal(range((n - 1) * s * wu + 1), name=f"offset_{k}") for k in range(1, n)]
+        m.d.sync += [offsets[k].eq(times(step, k * wu)) for k in range(1, n)]
         return step, offsets
 
-    def _skipped_ends(self, m, step, span):
-        """With a step above 1: ends[k] = bounds[k] + width (k < n - 1), and to_end[k] = k * step * width + width,
-        registered from the step (ends[k] is set from it at the restart's settling)."""
-        n, s, w = self.slots, self.max_step, self.geometry.buf_width
-        ends = [Signal(range(span + w + 1), name=f"end_{k}") for k in range(n - 1)]
-        to_end = [Const(w)] + [Signal(range((n - 2) * s * w + w + 1), name=f"to_end_{k}") for k in range(1, n - 1)]
-        m.d.sync += [to_end[k].eq(times(step, k * w) + w) for k in range(1, n - 1)]
-        return ends, to_end
+    def _tails(self):
+        """With a step above 1: tails[k] (k < n - 1), the low ``c`` bits of the k-th row's end in units
+        (bounds[k] + wu), ``2**(c - 1)`` at least both the width and the widest skipped gap (``(step - 1) * wu``):
+        for an address at or after bounds[k] and before bounds[k + 1], ``units - tails[k]`` modulo ``2**c`` is below
+        ``2**(c - 1)`` exactly when the address is a width or more past the row's start (in a skipped row)."""
+        n, s = self.slots, self.max_step
+        _, wu = self._unit()
+        c = (max(1, s - 1) * wu - 1).bit_length() + 1
+        return [Signal(c, name=f"tail_{k}") for k in range(n - 1)]
 
-    def _read(self, m, bounds, limit, ends, restarting, first_slot):
+    def _read(self, m, bounds, limit, tails, restarting, first_slot):
         """The consumer's read against the window's rows; returns ``(grant, ge)``."""
         g, n, s = self.geometry, self.slots, self.max_step
         w = g.buf_width
+        tz, wu = self._unit()
         # The read: the address against every row's start at once (at or after bounds[k]: ge[k]), its row in the
         # window (j: the last k with ge[k]), its column (the difference to that row's start); granted inside the
-        # window's landed rows (from bounds[0] up to limit) and, with a step above 1, not in a skipped row.
+        # window's landed rows (from bounds[0] up to limit) and, with a step above 1, not in a skipped row. The
+        # address's low ``tz`` bits are the column's (every start is a multiple of the unit); its high bits
+        # (``units``) are compared with the starts and the limit.
         consumer = self.consumer
         addr = consumer.port.addr
-        diff_bits = max(len(addr), len(bounds[0])) + 1
+        units = addr[tz:]
+        diff_bits = max(len(units), len(bounds[0])) + 1
         diffs = [Signal(signed(diff_bits), name=f"column_{k}") for k in range(n)]
-        m.d.comb += [d.eq(addr - b) for d, b in zip(diffs, bounds)]
+        m.d.comb += [d.eq(units - b) for d, b in zip(diffs, bounds)]
         ge = [~d[-1] for d in diffs]
         j = Signal(range(n))
         for k in range(1, n):
@@ -221,17 +247,22 @@ class RowWindow(wiring.Component):
         with m.Switch(j):
             for k in range(n):
                 with m.Case(k):
-                    m.d.comb += x.eq(diffs[k])
+                    m.d.comb += x.eq(Cat(addr[:tz], diffs[k]))
         below_limit = Signal()
-        m.d.comb += below_limit.eq(addr < limit)
+        m.d.comb += below_limit.eq(units < limit)
         in_rows = ge[0] & below_limit
         if s > 1:
-            # ends[k] = bounds[k] + width (k < n - 1): an address at or past it and before bounds[k + 1] lies in
-            # the rows the step skips (past the last row the limit ends the window).
+            # An address at or past bounds[k] and before bounds[k + 1] (k < n - 1) lies in the rows the step
+            # skips when it is a width or more past bounds[k] (past the last row the limit ends the window): the
+            # top bit of its low bits less the row's tail is clear (``_tails``), a carry chain's sum bit, side by
+            # side with the starts' comparisons.
+            c = len(tails[0])
+            past_end = [Signal(c, name=f"past_end_{k}") for k in range(n - 1)]
+            m.d.comb += [p.eq(units[:c] - t) for p, t in zip(past_end, tails)]
             skipped = Signal()
             m.d.comb += skipped.eq(0)
             for k in range(n - 1):
-                with m.If(~(addr < ends[k]) & ~ge[k + 1]):
+                with m.If(ge[k] & ~ge[k + 1] & ~past_end[k][-1]):
                     m.d.comb += skipped.eq(1)
             in_rows = in_rows & ~skipped
         grant = consumer.request & in_rows & ~restarting

@@ -17,7 +17,7 @@ from sim.formal.harnesses.frame_store import FrameStoreOwnershipHarness
 from sim.formal.harnesses.frame_store_credits import FrameStoreCreditsHarness
 from sim.formal.harnesses.frame_store_packer import FrameStorePackerHarness
 from sim.formal.harnesses.frame_store_writer import FrameStoreWriterHarness
-from sim.formal.harnesses.i2c import I2CMasterHarness, InitSequencerHarness
+from sim.formal.harnesses.i2c import I2CBroadcastMasterHarness, I2CMasterHarness, InitSequencerHarness
 from sim.formal.harnesses.left_winner import LeftWinnerHarness
 from sim.formal.harnesses.map_store import MapOwnershipHarness
 from sim.formal.harnesses.read_arbiter import ReadArbiterHarness
@@ -46,6 +46,7 @@ DEFAULT = {
     "capture_average": CaptureAverageHarness,
     "disparity": DisparityHarness,
     "i2c_master": I2CMasterHarness,
+    "i2c_master_buses": I2CBroadcastMasterHarness,
     "i2c_init": InitSequencerHarness,
     "read_arbiter": ReadArbiterHarness,
     "winner_codes": WinnerCodesHarness,

@@ -30,7 +30,8 @@ from sim.formal.harnesses.depth import DepthEngineHarness, DepthMapHarness, Dept
 from sim.formal.harnesses.depth_codes import SubpixelCodesHarness, WinnerCodesHarness
 from sim.formal.harnesses.disparity import DisparityHarness
 from sim.formal.harnesses.frame_buffer import FrameBufferHarness
-from sim.formal.harnesses.i2c import BUS_HZ, CLK_HZ, TIMEOUT_US, I2CMasterHarness, InitSequencerHarness
+from sim.formal.harnesses.i2c import (BUS_HZ, CLK_HZ, TIMEOUT_US, I2CBroadcastMasterHarness, I2CMasterHarness,
+                                      InitSequencerHarness)
 from sim.formal.harnesses.read_arbiter import ReadArbiterHarness
 from sim.formal.harnesses.reverse_path import ReversePathHarness
 from hdl.depth.reverse_path import ReversePath
@@ -118,6 +119,12 @@ class MasterLongTimeout(I2CMasterHarness):
     """The master built with twice the documented stuck-bus time-out."""
     def dut(self):
         return I2CMaster(clk_hz=CLK_HZ, bus_hz=BUS_HZ, timeout_us=2 * TIMEOUT_US)
+
+
+class BroadcastMasterLongTimeout(I2CBroadcastMasterHarness):
+    """The two-bus master built with twice the documented stuck-bus time-out."""
+    def dut(self):
+        return I2CMaster(clk_hz=CLK_HZ, bus_hz=BUS_HZ, timeout_us=2 * TIMEOUT_US, buses=self.buses)
 
 
 class SequencerShortTable(InitSequencerHarness):
@@ -317,6 +324,7 @@ BITES = {
     # reads pass the buffer's end); the solver reports whichever it reaches first.
     "disparity": (SubtractorWiderImage, "left_read_"),
     "i2c_master": (MasterLongTimeout, "stuck_scl_command_still_within_bound"),
+    "i2c_master_buses": (BroadcastMasterLongTimeout, "stuck_scl_command_still_within_bound"),
     "i2c_init": (SequencerShortTable, "done_only_after_whole_table"),
     "depth": (DepthEngineWiderImage, "read_address_is_row_and_column"),
     # The engine served first breaks both display_never_refused and engine_granted_exactly_when_display_idle in

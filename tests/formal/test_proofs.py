@@ -27,6 +27,7 @@ def _check(factory):
 #: CPU: the default run is at its time limit): ``make formal`` and ``make test-slow`` run them, not ``make test``
 #: (whose bites still check that the runner catches a broken block).
 LONG = {"depth", "depth_map", "depth_median5_map", "depth_median7_map", "depth_three", "depth_three_map", "i2c_init",
+        "i2c_master_buses",
         "median_codes", "reverse_path", "reverse_path_ad", "segment_band", "left_winner"}
 
 

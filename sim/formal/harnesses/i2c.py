@@ -8,7 +8,7 @@ clock ratio (400 kHz system clock for a 100 kHz bus: 2-clock SCL phases) keeps t
 interval of :class:`~hdl.i2c_master.I2CTiming` is still derived from it.
 """
 
-from amaranth import Signal
+from amaranth import Cat, Signal
 
 from hdl.i2c_init import ErrorCode, InitSequencer
 from hdl.i2c_master import Cmd, I2CMaster
@@ -155,3 +155,69 @@ class InitSequencerHarness(FormalHarness):
                    (master.cmd == Cmd.START) & (entry == 0))
         self.cover(m, "table_done", done)
         self.cover(m, "stuck_bus_error", error & (error_code == ErrorCode.STUCK))
+
+
+class I2CBroadcastMasterHarness(I2CMasterHarness):
+    """The master broadcasting on two buses (``buses=2``), each a wired-AND bus with its own free other side, and
+    ``enable`` free between transfers: a bus left out is never pulled low, the enabled buses are driven alike,
+    on each bus SDA moves under a high SCL only as a START or a STOP, and SCL held low on an enabled bus ends a
+    command timed out within the same bound as on one bus."""
+    name = "i2c_master_buses"
+    block = "I2CMaster"
+    buses = 2
+
+    def dut(self):
+        return I2CMaster(clk_hz=CLK_HZ, bus_hz=BUS_HZ, timeout_us=TIMEOUT_US, buses=self.buses)
+
+    def build(self, m):
+        m.submodules.dut = dut = self.dut()
+        t, n = dut.timing, self.buses
+        cmd, cmd_valid = self.free("cmd", Cmd), self.free("cmd_valid")
+        enable = self.free("enable", n)
+        m.d.comb += [dut.cmd.eq(cmd), dut.cmd_valid.eq(cmd_valid), dut.wdata.eq(self.free("wdata", 8)),
+                     dut.rd_ack.eq(self.free("rd_ack")), dut.enable.eq(enable)]
+        ready, done, timed_out, bus_active = dut.ready, dut.done, dut.timed_out, dut.bus_active
+        accepted = ready & cmd_valid
+        self.assume(m, "data_commands_only_in_a_transfer",
+                    ~(accepted & ((cmd == Cmd.WRITE) | (cmd == Cmd.READ))) | bus_active)
+        pv = self.past_valid(m)
+        # enable's contract (docstring): it changes only between transfers, and some bus is in use.
+        self.assume(m, "enable_changes_only_between_transfers",
+                    ~pv | (enable == self.past(m, enable, name="past_enable")) | (ready & ~bus_active))
+        self.assume(m, "some_bus_enabled", enable != 0)
+        current = Signal(Cmd, name="current_cmd")
+        busy = Signal(name="busy")
+        with m.If(accepted):
+            m.d.sync += [current.eq(cmd), busy.eq(1)]
+        with m.Elif(done):
+            m.d.sync += busy.eq(0)
+        starting, stopping = busy & (current == Cmd.START), busy & (current == Cmd.STOP)
+        lines = []
+        for k in range(n):
+            pins = {f"{line}_{pin}": getattr(getattr(dut.i2c[k], line), pin)
+                    for line in ("scl", "sda") for pin in ("o", "oe", "i")}
+            scl_other, sda_other = self.free(f"scl_other_{k}"), self.free(f"sda_other_{k}")
+            scl, sda = Signal(name=f"scl_line_{k}"), Signal(name=f"sda_line_{k}")
+            m.d.comb += [scl.eq(~pins["scl_oe"] & scl_other), sda.eq(~pins["sda_oe"] & sda_other),
+                         pins["scl_i"].eq(scl), pins["sda_i"].eq(sda)]
+            lines.append((pins, scl, scl_other))
+            self.prove(m, f"bus_{k}_open_drain", (pins["scl_o"] == 0) & (pins["sda_o"] == 0))
+            self.prove(m, f"bus_{k}_not_pulled_unless_enabled", enable[k] | (~pins["scl_oe"] & ~pins["sda_oe"]))
+            sda_was = self.past(m, pins["sda_oe"], name=f"past_sda_oe_{k}")
+            scl_high = scl | self.past(m, scl, name=f"past_scl_line_{k}")
+            pulled = pv & scl_high & ~sda_was & pins["sda_oe"]
+            released = pv & scl_high & sda_was & ~pins["sda_oe"]
+            self.prove(m, f"bus_{k}_sda_falls_under_scl_high_only_as_start", ~pulled | starting)
+            self.prove(m, f"bus_{k}_sda_rises_under_scl_high_only_as_stop",
+                       ~released | starting | stopping | (done & timed_out))
+        (p0, scl0, _), (p1, scl1, _) = lines[0], lines[1]
+        self.prove(m, "enabled_buses_driven_alike", ~(enable[0] & enable[1]) |
+                   ((p0["scl_oe"] == p1["scl_oe"]) & (p0["sda_oe"] == p1["sda_oe"])))
+        # SCL as the master reads it: low when an enabled bus's other side holds it.
+        held = Signal(name="scl_other_all")
+        m.d.comb += held.eq(Cat(*((other | ~enable[k]) for k, (_, _, other) in enumerate(lines))).all())
+        self._stuck_scl(m, t, dut, accepted, busy, done, timed_out, {"scl_other": held})
+        self.cover(m, "write_nacked_by_bus_1_only", done & dut.nack & (dut.nack_buses == 0b10))
+        self.cover(m, "bus_0_high_while_bus_1_stretched",
+                   busy & enable[0] & enable[1] & ~p0["scl_oe"] & scl0 & ~scl1)
+        self.cover(m, "read_differs_between_buses", done & (current == Cmd.READ) & (dut.rdata != dut.rdata_any))

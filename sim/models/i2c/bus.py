@@ -19,8 +19,8 @@ from amaranth.lib.wiring import In, Out
 from hdl.i2c_master import I2CSignature
 from hdl.signature import ParametricSignature
 
-__all__ = ["ResolvedBusSignature", "OpenDrainBus", "I2CBench", "i2c_bench_waves", "amaranth_target_process", "start_cocotb_targets",
-           "start_cocotb_monitor"]
+__all__ = ["ResolvedBusSignature", "OpenDrainBus", "I2CBench", "bench_buses", "i2c_bench_waves",
+           "amaranth_target_process", "start_cocotb_targets", "start_cocotb_monitor"]
 
 
 class ResolvedBusSignature(ParametricSignature):
@@ -72,17 +72,29 @@ class OpenDrainBus(wiring.Component):
         return m
 
 
+def bench_buses(name, dut):
+    """The bus names :func:`I2CBench` gives the DUT ``name``: ``[name]`` for an ``i2c`` member that is one
+    ``I2CSignature``, ``[name_0, name_1, ...]`` for an array of them (a broadcasting DUT, one bus each)."""
+    member = dut.signature.members["i2c"]
+    if not member.dimensions:
+        return [name]
+    return [f"{name}_{k}" for k in range(member.dimensions[0])]
+
+
 def I2CBench(duts, *, counter_bits=40):
-    """A component wiring each DUT of ``duts`` (``{bus name: component}``, each with an ``i2c``
-    ``I2CSignature`` member) to its own :class:`OpenDrainBus` (with a cocotbext-i2c peer). Members: ``bus.<b>``
-    (the resolved bus), ``status.<b>`` (connected to the DUT's ``status`` interface, for DUTs that have one) and
-    ``cycles`` (``sync`` clocks: the time base of the Python models)."""
+    """A component wiring each DUT of ``duts`` (``{name: component}``, each with an ``i2c`` member, one
+    ``I2CSignature`` or an array of them) to an :class:`OpenDrainBus` per bus (with a cocotbext-i2c peer; the bus
+    names are :func:`bench_buses`'s). Members: ``bus.<b>`` (each resolved bus), ``status.<name>`` (connected to
+    the DUT's ``status`` interface, for DUTs that have one) and ``cycles`` (``sync`` clocks: the time base of the
+    Python models)."""
     with_status = {b: dut for b, dut in duts.items() if "status" in dut.signature.members}
+    buses = {name: bench_buses(name, dut) for name, dut in duts.items()}
 
     class _Bench(wiring.Component):
         def __init__(self):
             members = {"cycles": Out(counter_bits),
-                       "bus": Out(wiring.Signature({b: Out(ResolvedBusSignature(peer=True)) for b in duts}))}
+                       "bus": Out(wiring.Signature({b: Out(ResolvedBusSignature(peer=True))
+                                                    for names in buses.values() for b in names}))}
             if with_status:
                 members["status"] = Out(wiring.Signature(
                     {b: Out(dut.signature.members["status"].signature) for b, dut in with_status.items()}))
@@ -91,11 +103,13 @@ def I2CBench(duts, *, counter_bits=40):
         def elaborate(self, platform):
             m = Module()
             m.d.sync += self.cycles.eq(self.cycles + 1)
-            for b, dut in duts.items():
-                m.submodules[b] = dut
-                m.submodules[f"{b}_bus"] = bus = OpenDrainBus(peer=True)
-                wiring.connect(m, dut.i2c, bus.pins)
-                wiring.connect(m, wiring.flipped(getattr(self.bus, b)), bus.lines)
+            for name, dut in duts.items():
+                m.submodules[name] = dut
+                pins = list(dut.i2c) if dut.signature.members["i2c"].dimensions else [dut.i2c]
+                for b, pin in zip(buses[name], pins):
+                    m.submodules[f"{b}_bus"] = bus = OpenDrainBus(peer=True)
+                    wiring.connect(m, pin, bus.pins)
+                    wiring.connect(m, wiring.flipped(getattr(self.bus, b)), bus.lines)
             for b, dut in with_status.items():
                 wiring.connect(m, wiring.flipped(getattr(self.status, b)), dut.status)
             return m

@@ -14,7 +14,7 @@ configuration (the last transactions readable) through the captured frames to th
 display frame after them; GTKWave's Zoom Full (Ctrl+Alt+F) shows the whole run.
 """
 
-from hdl.system import CAMERAS, I2C_BUSES
+from hdl.system import CAMERAS, I2C_BUSES, I2C_SEQUENCER
 from sim.waves.gtkw import Event, I2CBus, Show, Waves
 
 __all__ = ["system_waves", "system_events", "cocotb_system_waves"]
@@ -27,12 +27,11 @@ def system_waves(top):
     # A top-level input is shown as the block that reads it names it (in the top's own module, its copy there has
     # the plain name): the clocking model's button, the system's switches.
     groups = {"reset_and_clocking": [Show("clocking.button"), top.locked]}
+    groups["i2c_init"] = [Show(f"{I2C_SEQUENCER}.fsm_state", alias="init sequencer"),
+                          Show(f"{I2C_SEQUENCER}.master.fsm_state", alias="I2C master")]
     for b in I2C_BUSES:
         bus, init = getattr(top.bus, b), getattr(top.init, b)
-        groups[f"i2c_{b}"] = [I2CBus(f"{b}_i2c", bus.scl, bus.sda),
-                              Show(f"init_{b}.fsm_state", alias=f"{b} init sequencer"),
-                              Show(f"init_{b}.master.fsm_state", alias=f"{b} I2C master"),
-                              init.done, init.error]
+        groups[f"i2c_{b}"] = [I2CBus(f"{b}_i2c", bus.scl, bus.sda), init.done, init.error]
     for c in CAMERAS:
         status = getattr(top.capture, f"cam_{c}")
         pins = {name: f"system.cam_{c}__{name}" for name in ("fv", "lv", "data")}    # the system's own (by name)
