@@ -41,7 +41,7 @@ from board.memory_report import block_cost, memories
 from hdl.depth.engine import DepthEngine, schedule
 from hdl.depth.reverse_path import ReversePath
 from spec.board import CLOCKS
-from spec.depth import DEPTH_800, THREE_PATHS, TWO_PATHS
+from spec.depth import DEPTH_800_BASE, THREE_PATHS, TWO_PATHS
 from spec.sensor import SENSOR_800, disparity_of_distance
 
 #: The cameras' frame rate at 1600 x 1200 (Digilent VmodCAM reference manual: 15 fps max; docs/capture.md).
@@ -121,7 +121,7 @@ def segment_with_lanes_lines(engine_totals):
     lines = []
     for D, (engine_total, line_buffer) in engine_totals.items():
         for lanes in (16, 32):
-            config = dataclasses.replace(DEPTH_800, disparities=D, lanes=lanes)
+            config = dataclasses.replace(DEPTH_800_BASE, disparities=D, lanes=lanes)
             groups, segments = D // lanes, -(-w // SEGMENT)
             blocks = (engine_total - line_buffer + block_cost(w * groups, lanes * config.path_bits)
                       + block_cost(segments * groups, lanes * config.path_bits)
@@ -140,12 +140,12 @@ def table_lines():
              f"Budget: {BUDGET_RAMB36} RAMB36 with MIG's; outside the engine {OUTSIDE_ENGINE_RAMB36} (DDR2 build), "
              f"so the engine may use {BUDGET_RAMB36 - OUTSIDE_ENGINE_RAMB36}. A map per camera frame: "
              f"{frame_clocks:,.0f} pix clocks ({1e3 / CAMERA_FPS:.1f} ms at {CLOCKS.PIXEL_HZ / 1e6:g} MHz). "
-             f"Lanes {DEPTH_800.lanes}.", "",
+             f"Lanes {DEPTH_800_BASE.lanes}.", "",
              "| D | nearest valid distance | two-path engine RAMB36 | scheme | + RAMB36 | engine total | "
              "ms per map | fits |", "|---|---|---|---|---|---|---|---|"]
     notes, engine_totals = [], {}
     for D in DISPARITIES:
-        config = dataclasses.replace(DEPTH_800, disparities=D)
+        config = dataclasses.replace(DEPTH_800_BASE, disparities=D)
         blocks = engine_blocks(config)
         engine_total = sum(blocks.values())
         nearest = disparity_of_distance(1.0, SENSOR_800) / (D - 2)
@@ -176,8 +176,8 @@ def quality_lines():
     from bench.depth_builds import BUILDS, engine, pairs
     from sim.analysis.truth import error_figures
     build = BUILDS[1]
-    per_path = DEPTH_800.max_cost // len(DEPTH_800.paths)
-    variants = [(f"D {D}, {len(paths)} paths", dataclasses.replace(DEPTH_800, disparities=D, paths=paths,
+    per_path = DEPTH_800_BASE.max_cost // len(DEPTH_800_BASE.paths)
+    variants = [(f"D {D}, {len(paths)} paths", dataclasses.replace(DEPTH_800_BASE, disparities=D, paths=paths,
                                                                   max_cost=per_path * len(paths)))
                 for D, paths in ((128, THREE_PATHS), (128, TWO_PATHS), (96, THREE_PATHS), (64, THREE_PATHS))]
     rows = {name: [] for name, _ in variants}
@@ -202,7 +202,7 @@ def synth_lines():
     from spec.sensor import SENSOR
     builds = [("400 x 300, D 64, 2 paths (the board's)", SENSOR, DEPTH)]
     builds += [(f"800 x 600, D {D}, {len(paths)} paths", SENSOR_800,
-                dataclasses.replace(DEPTH_800, disparities=D, paths=paths, max_cost=60 * len(paths)))
+                dataclasses.replace(DEPTH_800_BASE, disparities=D, paths=paths, max_cost=60 * len(paths)))
                for D, paths in ((64, TWO_PATHS), (64, THREE_PATHS), (128, TWO_PATHS))]
     lines = ["### The engine alone through Yosys", "",
              "| engine | LUTs (logic) | shift registers (SRL16E, a LUT each) | flip-flops | RAMB36 (+ RAMB18 / 2) |",
@@ -224,7 +224,7 @@ def blocks_lines():
     import tempfile
     from board.blocks import attribute, block_lines, blocks, line_lines
     from board.resources import run_yosys
-    config = dataclasses.replace(DEPTH_800, disparities=128, paths=TWO_PATHS, max_cost=60 * len(TWO_PATHS))
+    config = dataclasses.replace(DEPTH_800_BASE, disparities=128, paths=TWO_PATHS, max_cost=60 * len(TWO_PATHS))
     with tempfile.TemporaryDirectory() as work:
         _, netlist, _ = run_yosys(rtlil.convert(DepthEngine(SENSOR_800, config), name="top"), work)
         attributed = attribute(netlist)
@@ -238,7 +238,7 @@ MEDIANS = ((3, False), (5, False), (5, True), (7, False), (7, True))
 
 
 def median_lines():
-    """The median blocks (``MEDIANS``) alone through Yosys (as ``--synth``) at W = 800 with DEPTH_800's 12-bit
+    """The median blocks (``MEDIANS``) alone through Yosys (as ``--synth``) at W = 800 with DEPTH_800_BASE's 12-bit
     codes, and the 800 x 600 map's clocks in the store with each (``hdl.stereo_display.map_clocks``)."""
     import tempfile
     from board.resources import LUT_CELLS, run_yosys
@@ -249,7 +249,7 @@ def median_lines():
              "pass clocks | map clocks |",
              "|---|---|---|---|---|---|---|---|"]
     for median, valid_only in MEDIANS:
-        config = dataclasses.replace(DEPTH_800, median=median, median_valid=valid_only)
+        config = dataclasses.replace(DEPTH_800_BASE, median=median, median_valid=valid_only)
         block = median_block(config)
         with tempfile.TemporaryDirectory() as work:
             cells, _, _ = run_yosys(rtlil.convert(block(config, SENSOR_800), name="top"), work)
@@ -262,7 +262,7 @@ def median_lines():
 
 
 def left_right_lines():
-    """The left-right check's two blocks alone through Yosys (as ``--synth``) at W = 800 with ``DEPTH_800``'s D =
+    """The left-right check's two blocks alone through Yosys (as ``--synth``) at W = 800 with ``DEPTH_800_BASE``'s D =
     128, 16 lanes (``LeftWinner``, ``LeftRightFill``), and the 800 x 600 pass and map with and without the check
     (``hdl.stereo_display.map_clocks``, ``check_map_rate`` at 1080p60: display frames a map)."""
     import tempfile
@@ -272,7 +272,7 @@ def left_right_lines():
     from hdl.depth.left_winner import LeftWinner
     from hdl.stereo_display import check_map_rate, map_clocks
     from spec.video import CEA_1080P60
-    config = dataclasses.replace(DEPTH_800, left_right=True)
+    config = dataclasses.replace(DEPTH_800_BASE, left_right=True)
     lines = ["### The left-right check's blocks alone through Yosys (W = 800, D = 128, 16 lanes)", "",
              "| block | LUTs (logic) | LUT RAM (LUTs) | flip-flops | RAMB36 (+ RAMB18 / 2) |", "|---|---|---|---|---|"]
     for block in (LeftWinner, LeftRightFill):
@@ -285,14 +285,14 @@ def left_right_lines():
                      f"{count('RAMB36') + count('RAMB18') / 2:g} |")
     lines += ["", "| 800 x 600, D 128 | pass clocks | map clocks | display frames a map (1080p60) |",
               "|---|---|---|---|"]
-    for name, build in (("`DEPTH_800`", DEPTH_800), ("+ `left_right`", config)):
+    for name, build in (("`DEPTH_800_BASE`", DEPTH_800_BASE), ("+ `left_right`", config)):
         lines.append(f"| {name} | {schedule(SENSOR_800, build).pass_clocks:,} | {map_clocks(SENSOR_800, build):,} | "
                      f"{check_map_rate(CEA_1080P60, SENSOR_800, build)} |")
     return lines + [""]
 
 
 def left_right_engine_lines():
-    """The 800 x 600, D 128 two-path engine (``DEPTH_800``) through Yosys (as ``--synth``) without and with
+    """The 800 x 600, D 128 two-path engine (``DEPTH_800_BASE``) through Yosys (as ``--synth``) without and with
     ``left_right``: what the check adds in place."""
     import tempfile
     from board.blocks import LUT_RAM_LUTS
@@ -300,7 +300,8 @@ def left_right_engine_lines():
     lines = ["### The 800 x 600 engine without and with the left-right check (Yosys)", "",
              "| engine | LUTs (logic) | SRL16E | LUT RAM (LUTs) | flip-flops | RAMB36 (+ RAMB18 / 2) |",
              "|---|---|---|---|---|---|"]
-    builds = (("`DEPTH_800`", DEPTH_800), ("+ `left_right`", dataclasses.replace(DEPTH_800, left_right=True)))
+    builds = (("`DEPTH_800_BASE`", DEPTH_800_BASE),
+              ("+ `left_right`", dataclasses.replace(DEPTH_800_BASE, left_right=True)))
     for name, config in builds:
         with tempfile.TemporaryDirectory() as work:
             cells, _, _ = run_yosys(rtlil.convert(DepthEngine(SENSOR_800, config), name="top"), work)

@@ -14,7 +14,8 @@ Levers:
   (min(a, c) - b, free with the sub-pixel stage's inputs), a left-right check (a second, left-referenced map);
   bad > 2 among the valid pixels against density at a few thresholds;
 * penalties P1 / P2;
-* for the 800 x 600 build (``DEPTH_800``, :func:`levers_800`): a third and a fourth path, the confidence threshold.
+* for the 800 x 600 engine without its quality options (``DEPTH_800_BASE``, :func:`levers_800`): a third and a
+  fourth path, the confidence threshold.
 
 Figures: bad > 0.5 / 1 / 2 px over every pixel with a truth (invalid counts bad), mean absolute error of the
 valid pixels, density. Run: ``python -m bench depth_levers``; writes build/bench/depth_levers.md.
@@ -207,7 +208,8 @@ if __name__ == "__main__":
 # --- The 800 x 600 build's levers (bench depth prints them when its goals are not met) --------------------------
 
 def levers_800(build_pairs=None):
-    """Lines of a table: the 800 x 600 build (``DEPTH_800``) and one lever changed at a time, each through the golden
+    """Lines of a table: the 800 x 600 engine without its quality options (``DEPTH_800_BASE``) and one
+    lever changed at a time, each through the golden
     model's own stages (golden.depth: paths, winner with its fit and confidence, median), on every pair of bench
     depth, errors in 400-pixel units, invalid counted bad. Levers: the third path (right to left), a fourth beside
     it (either diagonal from above, the paths a row-by-row engine can add; ``max_cost`` kept at 60 per path), the
@@ -216,24 +218,25 @@ def levers_800(build_pairs=None):
     import dataclasses
     from bench.depth_builds import BUILDS, pairs as build_pairs_of
     from golden.depth import winner
-    from spec.depth import DEPTH_800, DEPTH_800_THREE, PATH_STEPS, THREE_PATHS
+    from spec.depth import DEPTH_800_BASE, DEPTH_800_THREE, PATH_STEPS, THREE_PATHS
     build = BUILDS[1]
-    per_path = DEPTH_800.max_cost // len(DEPTH_800.paths)
-    variants = [("built: 2 paths, k = 64 (off)", DEPTH_800), ("+ third path right to left", DEPTH_800_THREE)]
+    per_path = DEPTH_800_BASE.max_cost // len(DEPTH_800_BASE.paths)
+    variants = [("base: 2 paths, k = 64 (off)", DEPTH_800_BASE), ("+ third path right to left", DEPTH_800_THREE)]
     for extra in ("top_left_to_bottom_right", "top_right_to_bottom_left"):
         paths4 = THREE_PATHS + (extra,)
         variants.append((f"+ third path + fourth path {extra.replace('_', ' ')}",
-                         dataclasses.replace(DEPTH_800, paths=paths4, max_cost=per_path * len(paths4))))
-    variants += [(f"2 paths, uniqueness k = {k}", dataclasses.replace(DEPTH_800, uniqueness=k)) for k in (62, 60, 56)]
+                         dataclasses.replace(DEPTH_800_BASE, paths=paths4, max_cost=per_path * len(paths4))))
+    variants += [(f"2 paths, uniqueness k = {k}", dataclasses.replace(DEPTH_800_BASE, uniqueness=k))
+                 for k in (62, 60, 56)]
     variants.append(("2 paths, max_cost off (= sum_max: invalid only at d* = D - 1)",
-                     dataclasses.replace(DEPTH_800, max_cost=DEPTH_800.sum_max)))
+                     dataclasses.replace(DEPTH_800_BASE, max_cost=DEPTH_800_BASE.sum_max)))
     results = {name: [] for name, _ in variants}
     pair_names = []
     for pair_name, left, right, truth in build_pairs or build_pairs_of(build):
         pair_names.append(pair_name)
-        cost = matching_cost(left, right, DEPTH_800)
+        cost = matching_cost(left, right, DEPTH_800_BASE)
         needed = sorted({p for _, config in variants for p in config.paths}, key=list(PATH_STEPS).index)
-        volumes = {p: path_cost(cost, p, dataclasses.replace(DEPTH_800, paths=tuple(needed))) for p in needed}
+        volumes = {p: path_cost(cost, p, dataclasses.replace(DEPTH_800_BASE, paths=tuple(needed))) for p in needed}
         del cost
         for name, config in variants:
             total = sum(volumes[p] for p in config.paths)

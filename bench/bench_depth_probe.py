@@ -1,11 +1,12 @@
 """Probe of the cheap levers of the 800 x 600 build (docs/depth.md, "Cheap levers at 800 x 600"): changes of the
-two-path, D = 128 engine (``DEPTH_800``) that cost little or no block RAM, each measured alone against the build
+two-path, D = 128 engine without the build's quality options (``DEPTH_800_BASE``) that cost little or no block RAM,
+each measured alone against it
 on every pair of bench depth (the motorcycle and the synthetic scenes), then together; errors in 400-pixel units,
 invalid counted bad.
 
 The probe's pipeline is the golden model's (golden/depth.py: census, Hamming cost, the path recursion, winner with
 the equiangular fit and the validity rule, 3 x 3 median) with one stage replaced at a time; with no lever it gives
-``depth_map(left, right, DEPTH_800)`` bit for bit (checked on every run). Levers:
+``depth_map(left, right, DEPTH_800_BASE)`` bit for bit (checked on every run). Levers:
 
 * adaptive P2: the penalty of a step from p' to p along a path taken from the grey step g = |I(p) - I(p')| of the
   reference (right) image, P2' = P2 for g < t1, P2 / 2 for t1 <= g < t2, P2 / 4 for g >= t2 (never below P1 + 1),
@@ -25,9 +26,9 @@ the equiangular fit and the validity rule, 3 x 3 median) with one stage replaced
   background's code filled into the codes it rejects.
 
 Run: ``python -m bench depth_probe`` (every lever, some ten minutes of CPU); ``--levers WORD ...`` for the levers
-whose name holds a WORD (and the build); ``--testbed --levers WORD ...`` for the test bed's readouts with those
+whose name holds a WORD (and the base); ``--testbed --levers WORD ...`` for the test bed's readouts with those
 levers instead (bench testbed's distances, the 800 x 600 build: about a minute and a half of CPU a lever;
-``built`` names the build's row); ``--occluded --levers WORD ...``: the motorcycle's bad > 2 split into the
+``base`` names the base's row); ``--occluded --levers WORD ...``: the motorcycle's bad > 2 split into the
 pixels hidden from the left camera and the rest.
 """
 
@@ -37,9 +38,9 @@ import dataclasses
 import numpy as np
 
 from golden.depth import census, depth_map, median3x3, winner
-from spec.depth import DEPTH_800, PATH_STEPS
+from spec.depth import DEPTH_800_BASE, PATH_STEPS
 
-BASE = DEPTH_800
+BASE = DEPTH_800_BASE
 
 
 # --- stages --------------------------------------------------------------------------------------------------------
@@ -250,7 +251,7 @@ class Lever:
 
 def levers():
     p1, p2 = BASE.p1, BASE.p2
-    out = [Lever("built: DEPTH_800 (2 paths, 7 x 7 census, P2 96, 3 x 3 median)")]
+    out = [Lever("base: DEPTH_800_BASE (2 paths, 7 x 7 census, P2 96, 3 x 3 median)")]
     for t1, t2 in ((4, 16), (8, 24), (8, 32), (16, 48)):
         out.append(Lever(f"adaptive P2: 96 / 48 / 24 at grey step < {t1} / < {t2} / >= {t2}",
                          p2_rule=lambda g, t1=t1, t2=t2: p2_steps(g, p1, p2, t1, t2)))
@@ -480,7 +481,7 @@ def main(argv=None):
     parser.add_argument("--levers", nargs="*", metavar="WORD", help="only the levers whose name holds WORD")
     parser.add_argument("--testbed", action="store_true",
                         help="the test bed's readouts (bench testbed, 800 x 600) instead of bench depth's pairs; "
-                             "with --levers, of those levers only (the build's row: --levers built)")
+                             "with --levers, of those levers only (the base's row: --levers base)")
     parser.add_argument("--occluded", action="store_true",
                         help="the motorcycle's bad > 2 split into the pixels hidden from the left camera and the "
                              "rest, with --levers, of those levers (and the package)")

@@ -4,8 +4,8 @@ synthesis. See ``board/resources.py`` for what is counted and the limits of the 
 DDR2 build (the frames in the frame store behind MIG; the MIG core a black box, its own block RAM counted), against
 its block-RAM goal (``board.resources.DDR2_BUDGET``); ``--maps store`` with it: the depth maps whole in the frame store
 (docs/frame_store.md, "Depth maps in the store"); ``--build 800``: the 800 x 600 build
-(``hdl.config.DesignConfig.full_800``: both in the DDR2, against the whole design's budget); ``--depth quality``
-with it: the engine of ``spec.depth.DEPTH_800_QUALITY`` (every quality option) in that build. ``--blocks``: the LUTs
+(``hdl.config.DesignConfig.full_800``: both in the DDR2, against the whole design's budget); ``--depth base``
+with it: the engine without its quality options (``spec.depth.DEPTH_800_BASE``) in that build. ``--blocks``: the LUTs
 per block as well (``board.blocks``), the depth engine's and the rest apart. Timings are on this (shared, often
 loaded) machine:
 pessimistic.
@@ -35,7 +35,7 @@ def _blocks(netlist_path):
 def main(argv=None):
     from board.resources import estimate, yosys_available
     from hdl.config import DesignConfig
-    from spec.depth import DEPTH_800_QUALITY
+    from spec.depth import DEPTH_800_BASE
     parser = argparse.ArgumentParser(prog="python -m bench resources", description=__doc__)
     parser.add_argument("--memory", choices=("bram", "ddr2"), default="bram",
                         help="the block-RAM build (default) or the DDR2 build")
@@ -43,18 +43,18 @@ def main(argv=None):
                         help="the depth maps in the engine's ring (default) or, with --memory ddr2, in the frame store")
     parser.add_argument("--build", choices=("thesis", "800"), default="thesis",
                         help="the thesis's design (default) or the 800 x 600 build (its frames and maps in the DDR2)")
-    parser.add_argument("--depth", choices=("build", "quality"), default="build",
-                        help="with --build 800: the build's engine (default) or spec.depth.DEPTH_800_QUALITY's (every "
-                             "quality option)")
+    parser.add_argument("--depth", choices=("build", "base"), default="build",
+                        help="with --build 800: the build's engine (default) or spec.depth.DEPTH_800_BASE's (without "
+                             "the quality options)")
     parser.add_argument("--blocks", action="store_true",
                         help="also the LUTs per block, the depth engine's (hdl/depth) and the rest apart")
     args = parser.parse_args(argv if argv is not None else [])
     if args.maps == "store" and args.memory != "ddr2":
         parser.error("--maps store keeps the depth maps in the frame store: it needs --memory ddr2")
-    if args.depth == "quality" and args.build != "800":
-        parser.error("--depth quality is the 800 x 600 engine's: it needs --build 800")
+    if args.depth == "base" and args.build != "800":
+        parser.error("--depth base is the 800 x 600 engine's: it needs --build 800")
     if args.build == "800":
-        design = DesignConfig.full_800(**({"depth": DEPTH_800_QUALITY} if args.depth == "quality" else {}))
+        design = DesignConfig.full_800(**({"depth": DEPTH_800_BASE} if args.depth == "base" else {}))
         args.memory, args.maps = design.memory, design.maps
     else:
         design = DesignConfig.full(memory=args.memory, maps=args.maps)

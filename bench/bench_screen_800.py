@@ -1,6 +1,6 @@
 """The 800 x 600 build's 1080p screen (docs/display.md, "The 800 x 600 build's screen"): the golden frame
 (:func:`golden.disparity.composite_frame`) of the bundled motorcycle pair captured by the averaging capture
-(``SENSOR_800``: 800 x 600, 8-bit) with the engine ``DEPTH_800`` (D = 128, three paths), at the layout
+(``SENSOR_800``: 800 x 600, 8-bit) with the engine ``DEPTH_800`` (D = 128), at the layout
 :meth:`spec.layout.DisplayLayout.full_maps`, once with the difference map and once with the segmentation view.
 
 ``python -m bench screen_800`` (``--disparity D``: the switches' disparity, default 60, the band's centre too;

@@ -5,7 +5,7 @@ from dataclasses import dataclass, replace
 from spec.sensor import SENSOR, SENSOR_800
 
 __all__ = ["PATH_STEPS", "TWO_PATHS", "DIAGONAL_PATHS", "THREE_PATHS", "DepthConfig", "DEPTH", "DEPTH_800",
-           "DEPTH_800_THREE", "DEPTH_800_QUALITY", "SMALL_DEPTH", "SMALL_DEPTH_800"]
+           "DEPTH_800_BASE", "DEPTH_800_THREE", "SMALL_DEPTH", "SMALL_DEPTH_800"]
 
 #: The aggregation paths (docs/depth.md, "Paths"): for each, the step (dx, dy) from a pixel p to the previous
 #: pixel p' on the path. Every path runs along rows or down the image, so a row-by-row engine can compute it.
@@ -142,21 +142,21 @@ class DepthConfig:
 
 #: The board's engine: D = 64, 7 x 7 census, P1 = 16, P2 = 96, 16 disparities per clock.
 DEPTH = DepthConfig()
-#: The 800 x 600 build: 8-bit averaged buffers (SENSOR_800), D = 128 (the same 0.43 m near limit at twice the
-#: resolution), two paths; everything else as DEPTH. A third path at D = 128 fits no scheme within the board's
-#: block RAM and frame time (docs/depth.md, "The third path in the RTL": the lever table and the choice).
-DEPTH_800 = DepthConfig(disparities=128, pixel_bits=SENSOR_800.grey_bits)
-#: DEPTH_800 with the third path (right to left), max_cost the board's 60 per path: what a third path would buy
+#: The 800 x 600 engine without its quality options: 8-bit averaged buffers (SENSOR_800), D = 128 (the same 0.43 m
+#: near limit at twice the resolution), the two paths left to right and top to bottom, the 3 x 3 median; everything
+#: else as DEPTH. The base the quality levers are measured against (docs/depth.md, "Cheap levers at 800 x 600").
+DEPTH_800_BASE = DepthConfig(disparities=128, pixel_bits=SENSOR_800.grey_bits)
+#: The 800 x 600 build: DEPTH_800_BASE with AD-census 16 >> 1, the top-right diagonal as the second path, SGM's
+#: left-right check with the background fill and the separable 7 x 7 median, max_cost 68 a path (the board's 60 + the
+#: AD term's 8) (docs/depth.md, "Cheap levers at 800 x 600" and "On top of the package": the choice). A third path
+#: at D = 128 fits no scheme within the board's block RAM and frame time (docs/depth.md, "The third path in the
+#: RTL").
+DEPTH_800 = replace(DEPTH_800_BASE, paths=DIAGONAL_PATHS, ad_clip=16, ad_shift=1, left_right=True, median=7,
+                    max_cost=(DepthConfig.max_cost // len(TWO_PATHS) + (16 >> 1)) * len(DIAGONAL_PATHS))
+#: DEPTH_800_BASE with the third path (right to left), max_cost the board's 60 per path: what a third path would buy
 #: (golden model and bench figures; the RTL builds it at small sizes, ``DepthEngine`` with ``THREE_PATHS``).
-DEPTH_800_THREE = DepthConfig(disparities=128, pixel_bits=SENSOR_800.grey_bits, paths=THREE_PATHS,
-                              max_cost=DepthConfig.max_cost * len(THREE_PATHS) // len(TWO_PATHS))
-#: DEPTH_800 with every quality option the golden model and the RTL build (docs/depth.md, "Cheap levers at 800 x
-#: 600"): AD-census 16 >> 1, the diagonal as the second path, SGM's left-right check with the background fill and the
-#: separable 7 x 7 median, max_cost 68 a path (the board's 60 + the AD term's 8). It meets the motorcycle goals but
-#: not the board's LUT and block-RAM budget: bench figures (``python -m bench depth``, ``python -m bench resources
-#: --build 800 --depth quality``), not the build.
-DEPTH_800_QUALITY = replace(DEPTH_800, paths=DIAGONAL_PATHS, ad_clip=16, ad_shift=1, left_right=True, median=7,
-                            max_cost=(DepthConfig.max_cost // len(TWO_PATHS) + (16 >> 1)) * len(DIAGONAL_PATHS))
+DEPTH_800_THREE = replace(DEPTH_800_BASE, paths=THREE_PATHS,
+                          max_cost=DepthConfig.max_cost * len(THREE_PATHS) // len(TWO_PATHS))
 #: A reduced engine for fast tests of the same RTL on SMALL_SENSOR's 16 x 12 buffers.
 SMALL_DEPTH = DepthConfig(disparities=8, lanes=4, uniqueness=60)
 #: DEPTH_800 reduced for fast tests of the 800 x 600 build's RTL on SMALL_SENSOR_800's 32 x 24 buffers: twice

@@ -16,7 +16,7 @@ from hdl.depth.engine import check_parameters, row_lag
 from hdl.depth.left_right_fill import LeftRightFill
 from hdl.depth.median import Median3x3
 from hdl.stereo_display import check_map_rate
-from spec.depth import DEPTH_800, DIAGONAL_PATHS, THREE_PATHS, TWO_PATHS
+from spec.depth import DEPTH_800_BASE, DIAGONAL_PATHS, THREE_PATHS, TWO_PATHS
 from spec.sensor import SENSOR_800
 from spec.video import CEA_1080P60
 from tests.test_depth_engine import (BUSY, CFG, G, SHAPE, assert_same, engine_tags, random_pair, run_cocotb_depth,
@@ -118,10 +118,10 @@ def test_parameters_schedule_and_map_rate():
     assert checked.drain_clocks == checked.fill_start + scan and scan == G.buf_width + 3
     assert row_lag(config()) == 2 and row_lag(config(median=5)) == 3 and row_lag(CFG) == 1
     Fragment.get(DepthEngine(G, config(DIAGONAL_PATHS, 5)), None)
-    assert check_map_rate(CEA_1080P60, SENSOR_800, DEPTH_800) == 3
-    checked_800 = dataclasses.replace(DEPTH_800, left_right=True)
+    assert check_map_rate(CEA_1080P60, SENSOR_800, DEPTH_800_BASE) == 3
+    checked_800 = dataclasses.replace(DEPTH_800_BASE, left_right=True)
     assert check_map_rate(CEA_1080P60, SENSOR_800, checked_800) == 3
-    assert schedule(SENSOR_800, checked_800).pass_clocks - schedule(SENSOR_800, DEPTH_800).pass_clocks == 789
+    assert schedule(SENSOR_800, checked_800).pass_clocks - schedule(SENSOR_800, DEPTH_800_BASE).pass_clocks == 789
 
 
 @pytest.mark.slow

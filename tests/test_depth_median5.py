@@ -216,14 +216,14 @@ def test_map_time_at_800():
     """The 800 x 600 build with the separable 5 x 5 median: a pass 2 clocks longer (the median's 14 clocks to the
     last output against 12), one pass more (H + 2), still a map in 3 display frames of 1080p60."""
     from hdl.stereo_display import check_map_rate, map_clocks
-    from spec.depth import DEPTH_800
+    from spec.depth import DEPTH_800_BASE
     from spec.sensor import SENSOR_800
     from spec.video import CEA_1080P60
-    five = dataclasses.replace(DEPTH_800, median=5)
-    p3, p5 = schedule(SENSOR_800, DEPTH_800).pass_clocks, schedule(SENSOR_800, five).pass_clocks
+    five = dataclasses.replace(DEPTH_800_BASE, median=5)
+    p3, p5 = schedule(SENSOR_800, DEPTH_800_BASE).pass_clocks, schedule(SENSOR_800, five).pass_clocks
     assert p5 == p3 + 2
     h = SENSOR_800.buf_height
-    assert map_clocks(SENSOR_800, five) - map_clocks(SENSOR_800, DEPTH_800) == (h + 2) * (p5 + 3) - (h + 1) * (p3 + 3)
+    assert map_clocks(SENSOR_800, five) - map_clocks(SENSOR_800, DEPTH_800_BASE) == (h + 2) * (p5 + 3) - (h + 1) * (p3 + 3)
     assert check_map_rate(CEA_1080P60, SENSOR_800, five) == 3
 
 

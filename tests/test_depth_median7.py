@@ -148,10 +148,10 @@ def test_map_time_at_800():
     the plain 5 x 5 (19 clocks from the end token to the last output against 14), one pass more (H + 3), still a
     map in 3 display frames of 1080p60."""
     from hdl.stereo_display import check_map_rate, map_clocks
-    from spec.depth import DEPTH_800
+    from spec.depth import DEPTH_800_BASE
     from spec.sensor import SENSOR_800
     from spec.video import CEA_1080P60
-    five, seven = (dataclasses.replace(DEPTH_800, median=n, median_valid=n == 7) for n in (5, 7))
+    five, seven = (dataclasses.replace(DEPTH_800_BASE, median=n, median_valid=n == 7) for n in (5, 7))
     p5, p7 = schedule(SENSOR_800, five).pass_clocks, schedule(SENSOR_800, seven).pass_clocks
     assert p7 == p5 + 5
     h = SENSOR_800.buf_height

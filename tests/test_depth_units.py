@@ -17,7 +17,7 @@ from hdl.depth.matching_cost import MatchingCost
 from hdl.depth.reverse_path import ReversePath
 from hdl.depth.sgm_path import SgmPath
 from hdl.depth.winner import Winner
-from spec.depth import DEPTH, DEPTH_800, DEPTH_800_THREE, SMALL_DEPTH, THREE_PATHS, DepthConfig
+from spec.depth import DEPTH, DEPTH_800_BASE, DEPTH_800_THREE, SMALL_DEPTH, THREE_PATHS, DepthConfig
 from sim.runners.amaranth import simulate
 
 WIDTH = 16
@@ -306,7 +306,7 @@ def test_uniqueness_boundaries(name, at, expected):
     assert run_winner(cfg, lh, lv) == (expected, 7)
 
 
-#: The 800 x 600 configurations' thresholds: DEPTH_800 (D = 128, two paths: the build) and DEPTH_800_THREE (the third
+#: The 800 x 600 configurations' thresholds: DEPTH_800_BASE (D = 128, two paths) and DEPTH_800_THREE (the third
 #: path's variant: max_cost 180, sums up to 3 (N + P2) = 432, the winner's vertical input the carried S2 = L_lr +
 #: L_tb, ``ReversePath.carry_bits`` wide). (name, config, {d: S}, the other sums, expected code)
 _THREE = dataclasses.replace(DEPTH_800_THREE, disparities=8, lanes=4)
@@ -317,7 +317,8 @@ CASES_800 = [
     ("three paths: 64 S* = k S2 at the top of the sums (405 vs 432) valid", _UNIQUE, {2: 405, 1: 420, 3: 420}, 432,
      16 * 2),
     ("three paths: S* one past (406 vs 432) invalid", _UNIQUE, {2: 406, 1: 420, 3: 420}, 432, _THREE.invalid),
-] + [case for cfg, fill, label in ((DEPTH_800, 250, "two paths"), (DEPTH_800_THREE, 300, "three paths")) for case in (
+] + [case for cfg, fill, label in ((DEPTH_800_BASE, 250, "two paths"), (DEPTH_800_THREE, 300, "three paths"))
+   for case in (
     (f"{label}, D = 128: d* = D - 2 valid", cfg, {125: 100, 126: 50, 127: 100}, fill, 16 * 126),
     (f"{label}, D = 128: d* = D - 1 invalid (code 2048)", cfg, {126: 100, 127: 50}, fill, 2048),
     (f"{label}, D = 128, k = 64 (off): S2 = S* valid", cfg, {10: 100, 50: 100}, fill, 16 * 10),

@@ -313,8 +313,8 @@ def test_ddr2_frame_sequence_amaranth():
 
 def test_maps_in_the_store_need_the_ddr2_and_a_map_a_camera_frame():
     """``maps="store"`` only with the DDR2 build; its check: the display frames a map takes (the engine starts at a
-    display frame's start when the last map is whole) within a camera frame. The 800 x 600 engine with D = 128 on two
-    paths takes 3 1080p frames (50 ms, under the sensors' 66.7 ms; 20 frames a second exactly: 21 refused), on three
+    display frame's start when the last map is whole) within a camera frame. The 800 x 600 build's engine (D = 128)
+    takes 3 1080p frames (50 ms, under the sensors' 66.7 ms; 20 frames a second exactly: 21 refused), on three
     paths 6 (refused); the ring's check refuses the 800 x 600 build at 1080p, and the 800 x 600 system passes its
     checks with the maps in the store."""
     from spec.depth import DEPTH_800, DEPTH_800_THREE
@@ -336,10 +336,10 @@ def test_maps_in_the_store_need_the_ddr2_and_a_map_a_camera_frame():
         check_map_rate(CEA_1080P60, SENSOR_800, two, camera_fps=21)
     with pytest.raises(ValueError, match="takes 6 display frames"):
         check_map_rate(CEA_1080P60, SENSOR_800, DEPTH_800_THREE)
-    # The writer's pace: a row drained within a pass (800 x 600: 11,244 clocks, so a code every 14 at the most).
-    assert check_map_rate(CEA_1080P60, SENSOR_800, two, pace=14) == 3
-    with pytest.raises(ValueError, match="drains a row in 12003 clocks .* longer than the engine's pass of 11244"):
-        check_map_rate(CEA_1080P60, SENSOR_800, two, pace=15)
+    # The writer's pace: a row drained within a pass (800 x 600: 12,033 clocks, so a code every 15 at the most).
+    assert check_map_rate(CEA_1080P60, SENSOR_800, two, pace=15) == 3
+    with pytest.raises(ValueError, match="drains a row in 12803 clocks .* longer than the engine's pass of 12033"):
+        check_map_rate(CEA_1080P60, SENSOR_800, two, pace=16)
     with pytest.raises(ValueError, match="cannot keep up"):
         check_engine_keeps_up(CEA_1080P60, DisplayLayout.full_maps(CEA_1080P60, SENSOR_800, two), SENSOR_800, two)
     # The 800 x 600 system (its layout, the 8-bit thresholds): its checks pass with the maps in the store only.
