@@ -15,9 +15,10 @@ Four presets:
 * :meth:`DesignConfig.full`: the board's design, 1600 x 1200 sensors -> 400 x 300 buffers, 1080p60, the
   board's MT9D112 table, the 100 kHz I2C bus.
 * :meth:`DesignConfig.full_800`: the 800 x 600 build on the same board: each buffer pixel the 8-bit mean of a
-  2 x 2 sensor block (``SENSOR_800``), ``DEPTH_800`` (D = 128, two paths), the camera frames and the depth maps
-  in the DDR2 (``memory="ddr2"``, ``maps="store"``), the camera images at half size beside 1:1 maps
-  (``DisplayLayout.full_maps``), the difference thresholds for 8-bit grey (``spec.display.diff_thresholds``).
+  2 x 2 sensor block (``SENSOR_800``), ``DEPTH_800`` (D = 128, AD-census, the diagonal as the second path, the
+  left-right check, the separable 7 x 7 median), the camera frames and the depth maps in the DDR2
+  (``memory="ddr2"``, ``maps="store"``), the camera images at half size beside 1:1 maps (``DisplayLayout.full_maps``),
+  the difference thresholds for 8-bit grey (``spec.display.diff_thresholds``).
 * :meth:`DesignConfig.small`: the small design the default test run simulates: ``SMALL_SENSOR`` (64 x 48 -> 16 x
   12 buffers) on ``SMALL_TIMING`` (112 x 52 active), ``SMALL_DEPTH`` (D = 8), ``SMALL_RECTIFICATION``, the
   board's MT9D112 table programming the 64 x 48 output size (``hdl/sensor_table.py``: the output size is a
@@ -26,7 +27,7 @@ Four presets:
   part of the design: ``sim/testbench/system/tables.py``.
 * :meth:`DesignConfig.small_800`: the 800 x 600 build's structure at the small size: :meth:`small` with
   ``SMALL_SENSOR_800`` (the same 64 x 48 sensors, 8-bit 2 x 2 means -> 32 x 24 buffers), ``SMALL_DEPTH_800``
-  (``DEPTH_800``'s paths and pixels, D = 16), the frames and the maps in the DDR2, half-size camera panels beside
+  (``DEPTH_800``'s options, paths and pixels, D = 16), the frames and the maps in the DDR2, half-size camera panels beside
   1:1 maps (``DisplayLayout.full_maps`` on ``SMALL_TIMING``; a map takes two display frames, as the full build's
   takes three) and the 8-bit difference thresholds.
 """

@@ -1,5 +1,5 @@
 """The 800 x 600 build at the small size (``SystemSetup.small_800``: the small preset's 64 x 48 sensors averaged 2 x 2
-into 32 x 24 8-bit buffers, D = 16 on the two paths of ``DEPTH_800``, the frames and the depth maps in the DDR2 with
+into 32 x 24 8-bit buffers, D = 16 with ``DEPTH_800``'s options and paths, the frames and the depth maps in the DDR2 with
 the MIG model, half-size camera panels beside 1:1 maps on the small screen, the 8-bit difference thresholds): the
 same structure as ``SystemSetup.full_800`` (default run, no simulation), and the whole system on every backend --
 the Verilator C++ testbench, Amaranth's simulator, cocotb on Verilator and on Icarus -- whose frame shown (the
