@@ -167,11 +167,15 @@ class LeftRightFill(wiring.Component):
         target = Signal(range(2 * w))
         m.d.comb += target.eq(at1 + d1)
         m.d.comb += left_read.addr.eq(Mux(target > w - 1, w - 1, target))
-        m.d.sync += [at2.eq(at1), code2.eq(first.code), d2.eq(d1), live2.eq(live1)]
-        # |d_L - d*| <= 1: d_L - d* (mod 2 D: it lies in -(D - 1) .. D - 1) is 0, 1 or -1.
-        diff = Signal(len(d2) + 1)
-        m.d.comb += diff.eq(left_read.data - d2)
-        keep = (code2 != cfg.invalid) & ((diff == 0) | (diff == 1) | (diff == (1 << len(diff)) - 1))
+        # |d_L - d*| <= 1: d_L equals d* - 1, d* or d* + 1, each registered with d* (d* - 1 = 2 D - 1 for d* = 0 and
+        # d* + 1 = D match no d_L), and the code's validity registered too: after the d_L read only three equality
+        # comparisons, no carry chain.
+        below, above = Signal(len(d2) + 1, reset_less=True), Signal(len(d2) + 1, reset_less=True)
+        valid2 = Signal(reset_less=True)
+        m.d.sync += [at2.eq(at1), code2.eq(first.code), d2.eq(d1), live2.eq(live1), below.eq(d1 - 1),
+                     above.eq(d1 + 1), valid2.eq(first.code != cfg.invalid)]
+        dl = left_read.data
+        keep = valid2 & ((dl == d2) | (dl == below) | (dl == above))
         scan_data = Signal(word)
         m.d.comb += [scan_data.code.eq(code2), scan_data.tail.eq(Cat(right_kept, keep))]
         return at2, live2, code2, keep, scan_data
