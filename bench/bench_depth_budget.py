@@ -28,7 +28,8 @@ Schemes for the right-to-left path, whose recursion runs against the pixel order
 
 Run: ``python -m bench depth_budget`` (about a minute: three engines elaborated); ``--quality`` adds the golden
 model's figures of the candidate builds, ``--synth`` the engines' LUTs, flip-flops and block RAM through Yosys;
-``--blocks`` (alone) the 800 x 600 D = 128 two-path engine's LUTs per block and the registers taking the most;
+``--blocks`` (alone) the 800 x 600 build's engine's LUTs per block and the registers taking the most
+(``--blocks --base``: ``DEPTH_800_BASE``'s two-path engine);
 ``--left-right`` (alone) the left-right check's blocks through Yosys and the 800 x 600 pass and map with it
 (``--left-right --engine``: also the engine without and with the check).
 """
@@ -41,7 +42,7 @@ from board.memory_report import block_cost, memories
 from hdl.depth.engine import DepthEngine, schedule
 from hdl.depth.reverse_path import ReversePath
 from spec.board import CLOCKS
-from spec.depth import DEPTH_800_BASE, THREE_PATHS, TWO_PATHS
+from spec.depth import DEPTH_800, DEPTH_800_BASE, THREE_PATHS, TWO_PATHS
 from spec.sensor import SENSOR_800, disparity_of_distance
 
 #: The cameras' frame rate at 1600 x 1200 (Digilent VmodCAM reference manual: 15 fps max; docs/capture.md).
@@ -217,18 +218,21 @@ def synth_lines():
     return lines + [""]
 
 
-def blocks_lines():
-    """The 800 x 600, D = 128 two-path engine through Yosys (as ``--synth``), its LUTs per block
+def blocks_lines(base=False):
+    """The 800 x 600 build's engine (``DEPTH_800``) through Yosys (as ``--synth``), its LUTs per block
     (``board.blocks``: each LUT charged to the register it computes, the register to the file declaring it) and
-    the source lines whose registers take the most logic."""
+    the source lines whose registers take the most logic; with ``base``, the two-path engine without the quality
+    options (``DEPTH_800_BASE``)."""
     import tempfile
     from board.blocks import attribute, block_lines, blocks, line_lines
     from board.resources import run_yosys
-    config = dataclasses.replace(DEPTH_800_BASE, disparities=128, paths=TWO_PATHS, max_cost=60 * len(TWO_PATHS))
+    config = (dataclasses.replace(DEPTH_800_BASE, disparities=128, paths=TWO_PATHS, max_cost=60 * len(TWO_PATHS))
+              if base else DEPTH_800)
+    name = "two-path base" if base else "build's (`DEPTH_800`)"
     with tempfile.TemporaryDirectory() as work:
         _, netlist, _ = run_yosys(rtlil.convert(DepthEngine(SENSOR_800, config), name="top"), work)
         attributed = attribute(netlist)
-    return (["### The 800 x 600, D 128, two-path engine per block (Yosys; LUTs = logic + SRL + LUT RAM)", ""]
+    return ([f"### The 800 x 600, D 128, {name} engine per block (Yosys; LUTs = logic + SRL + LUT RAM)", ""]
             + block_lines(blocks(attributed)) + ["", "Registers taking the most logic:", ""]
             + line_lines(attributed) + [""])
 
@@ -315,15 +319,15 @@ def left_right_engine_lines():
 
 def main(options=()):
     """``--quality``: the golden model's figures of the candidate builds as well (several minutes); ``--synth``:
-    the engines through Yosys (about 15 minutes); ``--blocks``: the 800 x 600 D 128 two-path engine's LUTs per
-    block (about 5 minutes), alone; ``--median``: the median blocks through Yosys (about a minute), alone;
+    the engines through Yosys (about 15 minutes); ``--blocks``: the 800 x 600 build's engine's LUTs per
+    block (about 5 minutes), alone (with ``--base``: ``DEPTH_800_BASE``'s two-path engine); ``--median``: the median blocks through Yosys (about a minute), alone;
     ``--left-right``: the left-right check's blocks through Yosys and the pass with the check, alone (with
     ``--engine``: also the 800 x 600 engine without and with it, about 4 minutes)."""
     if "--left-right" in options:
         print("\n".join(left_right_lines() + (left_right_engine_lines() if "--engine" in options else [])))
         return
     if "--blocks" in options:
-        print("\n".join(blocks_lines()))
+        print("\n".join(blocks_lines(base="--base" in options)))
         return
     if "--median" in options:
         print("\n".join(median_lines()))

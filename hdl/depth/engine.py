@@ -364,22 +364,26 @@ class DepthEngine(wiring.Component):
     def _row_flags(self, m, rings, ring_row, inner, first, y):
         """Row y's invalid and vertical-restart flags from the rings' slot bits (docs/depth.md, "Rows from
         different camera frames"), registered in two stages, recomputed every clock: a pass uses them from its
-        step 0's clock 5 on, and its rows' bits are in the slots a clock before the pass starts."""
+        step 0's clock 5 on, and its rows' bits are in the slots a clock before the pass starts. The two images'
+        bits are merged per slot (a slot is bad if torn in either image or its two tags differ; an edge in either
+        image) before each census row's slot is picked: one pick a row for both images."""
         ry = self.config.census_height // 2
+        left_ring, right_ring = rings
+        bad, edge = Signal(RING_ROWS, name="slot_bad"), Signal(RING_ROWS, name="slot_edge")
+        m.d.comb += [bad.eq(left_ring.torn | right_ring.torn | Cat(*self._pair_bits(m, rings))),
+                     edge.eq(left_ring.edge | right_ring.edge)]
         picked, edge_y = [], []
-        for ring in rings:
-            for j in range(len(ring_row)):
-                bit = Signal(name=f"window_torn{len(picked)}")
-                m.d.sync += bit.eq(ring.torn.bit_select(ring_row[j], 1))
-                picked.append(bit)
-                if j or ry == 0:
-                    bit = Signal(name=f"window_edge{len(picked)}")
-                    m.d.sync += bit.eq(ring.edge.bit_select(ring_row[j], 1) & inner[j])
-                    if j:
-                        picked.append(bit)
-                    if j == ry:                  # the edge into row y itself
-                        edge_y.append(bit)
-        picked += self._pair_bits(m, rings, ring_row)
+        for j in range(len(ring_row)):
+            bit = Signal(name=f"window_bad{j}")
+            m.d.sync += bit.eq(bad.bit_select(ring_row[j], 1))
+            picked.append(bit)
+            if j or ry == 0:
+                bit = Signal(name=f"window_edge{j}")
+                m.d.sync += bit.eq(edge.bit_select(ring_row[j], 1) & inner[j])
+                if j:
+                    picked.append(bit)
+                if j == ry:                      # the edge into row y itself
+                    edge_y.append(bit)
         row_invalid, prev_invalid, restart = self.row_invalid, Signal(), self.restart
         first_late = Signal()
         m.d.sync += [row_invalid.eq(Cat(*picked).any()), first_late.eq(first),
@@ -391,15 +395,10 @@ class DepthEngine(wiring.Component):
             m.d.sync += prev_invalid.eq(row_invalid)
         return row_invalid, restart
 
-    def _pair_bits(self, m, rings, ring_row):
-        """Per census window row, registered: its left and right slot tags differ (two camera frame pairs)."""
+    def _pair_bits(self, m, rings):
+        """Per ring slot: its left and right slot tags differ (two camera frame pairs)."""
         left_ring, right_ring = rings
-        bits = []
-        for j in range(len(ring_row)):
-            bit = Signal(name=f"window_pair{j}")
-            m.d.sync += bit.eq(left_ring.slot_tags[ring_row[j]] != right_ring.slot_tags[ring_row[j]])
-            bits.append(bit)
-        return bits
+        return [left_ring.slot_tags[k] != right_ring.slot_tags[k] for k in range(RING_ROWS)]
 
     def _passes(self, m, y, step, clock, can_start, in_run, out_base):
         """The pass state machine: wait for rows and room, run the steps, drain, next pass."""

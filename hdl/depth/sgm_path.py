@@ -153,12 +153,14 @@ class SgmPath(wiring.Component):
             m.d.sync += [
                 low[k].eq(near + cfg.p1),
                 high[k].eq(Mux(mid[k] < big, mid[k], big)),
-                offset2[k].eq(cost1[k] - mprev1),
+                offset2[k].eq(cost1[k] + ~mprev1),            # C - M' - 1 (mod 2**path_bits: see L)
             ]
 
         # i + 2: L.
         m.d.sync += self.l_token.eq(tok2)
-        values = [Mux(high[k] < low[k], high[k], low[k]) + offset2[k] for k in range(lanes)]
+        # L = (C - M' - 1) - ~min = C - M' + min, mod 2**path_bits (L's width): a subtraction keeps the register as
+        # the carry chain's first operand (its DI), so the choice of min shares each bit's LUT with the sum.
+        values = [offset2[k] - ~Mux(high[k] < low[k], high[k], low[k]) for k in range(lanes)]
         for k in range(lanes):
             m.d.sync += self.l[k].eq(values[k])
         if self.recurrent:

@@ -1,7 +1,7 @@
 """Winner: winner-take-all over the summed path costs, the sub-pixel fit and the validity rule (docs/depth.md,
 "winner")."""
 
-from amaranth import Module, Mux, Signal
+from amaranth import Array, C, Module, Mux, Signal
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
@@ -85,22 +85,24 @@ class Winner(wiring.Component):
         # The previous group's last lane: S(d - 1) of this group's lane 0 (the pixel's groups are consecutive).
         prev_last = Signal(sb, reset_less=True)
         m.d.sync += prev_last.eq(total[lanes - 1])
+        # The tree carries each lane's index only; the winner's neighbours S(d* - 1), S(d* + 1) are picked after
+        # it from the group's sums, delayed as long as the tree takes: [S(d0 - 1), S(d0), .., S(d0 + lanes - 1)].
         lane_bits = max(1, (lanes - 1).bit_length())
-        payload = data.StructLayout({"lane": lane_bits, "below": sb, "above": sb})
         items = []
         for k in range(lanes):
-            leaf = Signal(payload, name=f"winner_leaf{k}")
-            m.d.comb += [leaf.lane.eq(k), leaf.below.eq(total[k - 1] if k else prev_last),
-                         leaf.above.eq(total[k + 1] if k + 1 < lanes else 0)]
-            items.append((total[k], leaf.as_value()))
-        value, packed = min_tree(m, items, "winner")
-        found = payload(packed)
-        first_lane = total[0]
+            lane = Signal(lane_bits, name=f"winner_leaf{k}")
+            m.d.comb += lane.eq(k)
+            items.append((total[k], lane))
+        value, found_lane = min_tree(m, items, "winner")
+        sums = [prev_last] + [total[k] for k in range(lanes)]
         for s in range(tree_stages(lanes)):
             delayed = Signal(layout, name=f"winner_token{s}")
-            lane0 = Signal(sb, name=f"winner_lane0_{s}", reset_less=True)
-            m.d.sync += [delayed.eq(tok), lane0.eq(first_lane)]
-            tok, first_lane = delayed, lane0
+            late = [Signal(sb, name=f"winner_sums{s}_{i}", reset_less=True) for i in range(lanes + 1)]
+            m.d.sync += [delayed.eq(tok)] + [late[i].eq(sums[i]) for i in range(lanes + 1)]
+            tok, sums = delayed, late
+        found_below = Array(sums[:lanes])[found_lane]                       # S(d - 1) of the winning lane
+        found_above = Array(sums[2:] + [C(0, sb)])[found_lane]              # S(d + 1); none after the last lane
+        first_lane = sums[1]
 
         # Data registers: read only behind a token whose ``go`` is set, so reset-less (the reset-tree fanout).
         best, below, above = (Signal(sb, reset_less=True) for _ in range(3))
@@ -111,8 +113,8 @@ class Winner(wiring.Component):
         take = (tok.group == 0) | (value < best)
         m.d.sync += [final.eq(tok.go & tok.last), final_x.eq(tok.x)]
         with m.If(tok.go & take):
-            m.d.sync += [best.eq(value), best_d.eq(tok.group * lanes + found.lane), below.eq(found.below),
-                         above.eq(found.above), pending.eq(found.lane == lanes - 1)]
+            m.d.sync += [best.eq(value), best_d.eq(tok.group * lanes + found_lane), below.eq(found_below),
+                         above.eq(found_above), pending.eq(found_lane == lanes - 1)]
         with m.Elif(tok.go & pending):
             m.d.sync += [above.eq(first_lane), pending.eq(0)]
         # Hold the winner while the second best is found (the next pixel's fold starts T clocks later).

@@ -164,7 +164,7 @@ class DepthMapWrappingPassCounter(DepthMapHarness):
 
 class EngineWithoutPairs(DepthEngine):
     """The engine that never compares the two images' tags (each image's own rule only)."""
-    def _pair_bits(self, m, rings, ring_row):
+    def _pair_bits(self, m, rings):
         return []
 
 
