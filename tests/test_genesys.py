@@ -372,15 +372,15 @@ def test_longest_paths_on_a_hand_made_netlist():
 
 def test_top_v_is_small_and_writes_no_zero_memory_init(build):
     """The frame buffers' zero initial values are left out (the block RAMs configure to zero): top.v stays under
-    2 MB (it is about 30 MB with them); the only initial blocks left are ROMs with contents (the three I2C tables, the depth panel's colour,
-    readout and font tables, the segmentation band's text), each with a non-zero word."""
+    2 MB (it is about 30 MB with them); the only initial blocks left are ROMs with contents (the I2C tables in one ROM, the depth panel's colour
+    and readout tables, the text layer's font tables (the static boxes' and the dynamic boxes' shared one), the
+    segmentation band's text), each with a non-zero word."""
     _, files = build
     text = files["top.v"]
     assert len(text.encode()) < 2_000_000
     inits = re.findall(r"reg \[\d+:0\] (\S+) \[\d+:0\];\n\s*initial begin\n(.*?)\n\s*end\n", text, re.S)
     assert sorted(name for name, _ in inits) == sorted(
-        ["rom"] * 3 + ["colour_rom", "band_rom", "readout_rom"]
-        + [f"font_rom{row}" for row in range(8)])
+        ["rom", "colour_rom", "band_rom", "readout_rom", "font_rom_shared"] + [f"font_rom{row}" for row in range(5)])
     for name, body in inits:
         assert re.search(r"= \d+'h0*[1-9a-f]", body), f"{name}: an initial block of zeros"
     memories = re.findall(r"reg \[(\d+):0\] (bit\d) \[(\d+):0\];", text)

@@ -96,8 +96,8 @@ def test_system_save_file_decodes_the_buses_and_names_the_states(system_save_fil
     assert text.count(f"^<1 {I2C_FILTER}") == 3 and I2C_FILTER.stat().st_mode & 0o111
     names = gtkwave_check.listed(system_save_file)
     fsms = [n for n in names if n.endswith(".fsm_state")]
-    # the three init sequencers and their I2C masters, and the vertical-offset search
-    assert len(fsms) == 7 and any(".vertical_offset." in n for n in fsms)
+    # the init sequencer and its I2C master, and the vertical-offset search
+    assert len(fsms) == 3 and any(".vertical_offset." in n for n in fsms)
     assert len(names) == len(set(names)) + 6                          # each bus's two lines twice: shown, decoded
 
 
