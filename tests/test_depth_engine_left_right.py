@@ -115,13 +115,13 @@ def test_parameters_schedule_and_map_rate():
     plain, checked = schedule(G, CFG), schedule(G, config())
     assert checked.fill_start == plain.drain_clocks - Median3x3.LATENCY - 2 and checked.steps == plain.steps
     scan = LeftRightFill.scan_clocks(G.buf_width)
-    assert checked.drain_clocks == checked.fill_start + scan and scan == G.buf_width + 3
+    assert checked.drain_clocks == checked.fill_start + scan and scan == G.buf_width + 4
     assert row_lag(config()) == 2 and row_lag(config(median=5)) == 3 and row_lag(CFG) == 1
     Fragment.get(DepthEngine(G, config(DIAGONAL_PATHS, 5)), None)
     assert check_map_rate(CEA_1080P60, SENSOR_800, DEPTH_800_BASE) == 3
     checked_800 = dataclasses.replace(DEPTH_800_BASE, left_right=True)
     assert check_map_rate(CEA_1080P60, SENSOR_800, checked_800) == 3
-    assert schedule(SENSOR_800, checked_800).pass_clocks - schedule(SENSOR_800, DEPTH_800_BASE).pass_clocks == 789
+    assert schedule(SENSOR_800, checked_800).pass_clocks - schedule(SENSOR_800, DEPTH_800_BASE).pass_clocks == 790
 
 
 @pytest.mark.slow

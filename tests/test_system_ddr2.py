@@ -336,9 +336,9 @@ def test_maps_in_the_store_need_the_ddr2_and_a_map_a_camera_frame():
         check_map_rate(CEA_1080P60, SENSOR_800, two, camera_fps=21)
     with pytest.raises(ValueError, match="takes 6 display frames"):
         check_map_rate(CEA_1080P60, SENSOR_800, DEPTH_800_THREE)
-    # The writer's pace: a row drained within a pass (800 x 600: 12,033 clocks, so a code every 15 at the most).
+    # The writer's pace: a row drained within a pass (800 x 600: 12,034 clocks, so a code every 15 at the most).
     assert check_map_rate(CEA_1080P60, SENSOR_800, two, pace=15) == 3
-    with pytest.raises(ValueError, match="drains a row in 12803 clocks .* longer than the engine's pass of 12033"):
+    with pytest.raises(ValueError, match="drains a row in 12803 clocks .* longer than the engine's pass of 12034"):
         check_map_rate(CEA_1080P60, SENSOR_800, two, pace=16)
     with pytest.raises(ValueError, match="cannot keep up"):
         check_engine_keeps_up(CEA_1080P60, DisplayLayout.full_maps(CEA_1080P60, SENSOR_800, two), SENSOR_800, two)

@@ -52,14 +52,15 @@ class LeftRightFill(wiring.Component):
         Scanning (from the clock after ``start``, :meth:`scan_clocks` clocks) or replaying (from the clock after
         ``replay`` to the end token's).
 
-    Clock domain: ``sync``. Latency: the scan W + 2 clocks (a read of the codes, a read of d_L at the clamped
-    target, the check and the write-back); the replay's end token 2 (W + 1) clocks after ``replay``.
+    Clock domain: ``sync``. Latency: the scan W + 3 clocks (a read of the codes, a read of d_L at the clamped
+    target, d_L registered, the check and the write-back); the replay's end token 2 (W + 1) clocks after
+    ``replay``.
     """
 
     @staticmethod
     def scan_clocks(width):
-        """Clocks from ``start`` to the first clock that takes ``replay`` (the scan's W + 2, and one)."""
-        return width + 3
+        """Clocks from ``start`` to the first clock that takes ``replay`` (the scan's W + 3, and one)."""
+        return width + 4
 
     @staticmethod
     def replay_clocks(width):
@@ -99,13 +100,13 @@ class LeftRightFill(wiring.Component):
         m.d.comb += [left_write.addr.eq(self.left_x), left_write.data.eq(self.left_d),
                      left_write.en.eq(self.left_valid)]
 
-        scan_x = Signal(range(w + 2))           # clocks of the scan: x = W - 1 - scan_x is read
+        scan_x = Signal(range(w + 3))           # clocks of the scan: x = W - 1 - scan_x is read
         replay_x = Signal(range(w + 1))
         odd = Signal()
         at1, live1 = Signal(range(w), reset_less=True), Signal()
         right_kept = Signal(bits, reset_less=True)              # nearest kept code to the right of x
         left_kept = Signal(bits, reset_less=True)               # replay: nearest kept code to the left
-        at2, live2, code2, keep, scan_data = self._scan_pipeline(m, (code_read, left_read), at1, live1,
+        at3, live3, code3, keep, scan_data = self._scan_pipeline(m, (code_read, left_read), at1, live1,
                                                                   right_kept, word)
 
         writes = [code_write.addr.eq(self.code_x), code_write.data.code.eq(self.code),
@@ -127,11 +128,11 @@ class LeftRightFill(wiring.Component):
                         m.next = "IDLE"
             with m.State("SCAN"):
                 m.d.comb += [self.busy.eq(1), code_read.addr.eq(w - 1 - scan_x),
-                             code_write.addr.eq(at2), code_write.data.eq(scan_data), code_write.en.eq(live2)]
+                             code_write.addr.eq(at3), code_write.data.eq(scan_data), code_write.en.eq(live3)]
                 m.d.sync += [scan_x.eq(scan_x + 1), at1.eq(w - 1 - scan_x), live1.eq(scan_x < w)]
-                with m.If(live2 & keep):
-                    m.d.sync += right_kept.eq(code2)
-                with m.If(scan_x == w + 1):
+                with m.If(live3 & keep):
+                    m.d.sync += right_kept.eq(code3)
+                with m.If(scan_x == w + 2):
                     m.next = "READY"
                 with m.If(self.stop):
                     m.d.sync += live1.eq(0)
@@ -157,25 +158,31 @@ class LeftRightFill(wiring.Component):
 
     def _scan_pipeline(self, m, reads, at1, live1, right_kept, word):
         """The scan's stages after the read of word x (address ``at1``, in flight iff ``live1``): 1 read d_L at
-        min(x + d*, W - 1); 2 the check. Returns (x, in flight, code, keep, the word written back) of stage 2."""
+        min(x + d*, W - 1); 2 d_L registered (nothing after the memory's output); 3 the check. Returns (x, in
+        flight, code, keep, the word written back) of stage 3."""
         cfg, w, bits = self.config, self.width, self.config.code_bits
         code_read, left_read = reads
-        at2, live2 = Signal(range(w), reset_less=True), Signal()
-        code2, d2 = Signal(bits, reset_less=True), Signal(range(cfg.disparities), reset_less=True)
+        d_bits = (cfg.disparities - 1).bit_length()
         first = code_read.data
-        d1 = first.tail[:len(d2)]
+        d1 = first.tail[:d_bits]
         target = Signal(range(2 * w))
         m.d.comb += target.eq(at1 + d1)
         m.d.comb += left_read.addr.eq(Mux(target > w - 1, w - 1, target))
         # |d_L - d*| <= 1: d_L equals d* - 1, d* or d* + 1, each registered with d* (d* - 1 = 2 D - 1 for d* = 0 and
-        # d* + 1 = D match no d_L), and the code's validity registered too: after the d_L read only three equality
-        # comparisons, no carry chain.
-        below, above = Signal(len(d2) + 1, reset_less=True), Signal(len(d2) + 1, reset_less=True)
+        # d* + 1 = D match no d_L), and the code's validity registered too.
+        at2, live2 = Signal(range(w), reset_less=True), Signal()
+        code2, d2 = Signal(bits, reset_less=True), Signal(d_bits, reset_less=True)
+        below2, above2 = Signal(d_bits + 1, reset_less=True), Signal(d_bits + 1, reset_less=True)
         valid2 = Signal(reset_less=True)
-        m.d.sync += [at2.eq(at1), code2.eq(first.code), d2.eq(d1), live2.eq(live1), below.eq(d1 - 1),
-                     above.eq(d1 + 1), valid2.eq(first.code != cfg.invalid)]
-        dl = left_read.data
-        keep = valid2 & ((dl == d2) | (dl == below) | (dl == above))
+        m.d.sync += [at2.eq(at1), code2.eq(first.code), d2.eq(d1), live2.eq(live1), below2.eq(d1 - 1),
+                     above2.eq(d1 + 1), valid2.eq(first.code != cfg.invalid)]
+        at3, live3 = Signal(range(w), reset_less=True), Signal()
+        code3, d3 = Signal(bits, reset_less=True), Signal(d_bits, reset_less=True)
+        below3, above3 = Signal(d_bits + 1, reset_less=True), Signal(d_bits + 1, reset_less=True)
+        valid3, dl = Signal(reset_less=True), Signal(d_bits, reset_less=True)
+        m.d.sync += [at3.eq(at2), code3.eq(code2), d3.eq(d2), live3.eq(live2), below3.eq(below2),
+                     above3.eq(above2), valid3.eq(valid2), dl.eq(left_read.data)]
+        keep = valid3 & ((dl == d3) | (dl == below3) | (dl == above3))
         scan_data = Signal(word)
-        m.d.comb += [scan_data.code.eq(code2), scan_data.tail.eq(Cat(right_kept, keep))]
-        return at2, live2, code2, keep, scan_data
+        m.d.comb += [scan_data.code.eq(code3), scan_data.tail.eq(Cat(right_kept, keep))]
+        return at3, live3, code3, keep, scan_data
