@@ -7,8 +7,10 @@ disparity in 1 / 2**F pixel (F = ``fraction_bits``), or ``config.invalid`` = D 2
 1. :func:`census`: a signature of ``census_bits`` bits per pixel, bit k set iff window pixel k is darker than
    the centre; window positions outside the image take the nearest image pixel (coordinates clamped).
 2. :func:`matching_cost`: C[d, y, x] = popcount(census_R(y, x) XOR census_L(y, x + d)) + (min(|I_R(y, x) -
-   I_L(y, x + d)|, ad_clip) >> ad_shift) (the AD term, 0 for ``ad_clip`` = 0); ``cost_max`` = census_bits +
-   (ad_clip >> ad_shift) where x + d leaves the image.
+   I_L(y, x + d)|, ad_clip) >> ad_shift) (the AD term, 0 for ``ad_clip`` = 0; with ``ad_sampling`` "bt_left" or
+   "bt" Birchfield and Tomasi's dissimilarity in place of |I_R - I_L|, computed in 2x units: min(2 dis, 2 ad_clip)
+   >> (ad_shift + 1), the exact half-grey dissimilarity clipped and shifted, floored); ``cost_max`` = census_bits
+   + (ad_clip >> ad_shift) where x + d leaves the image.
 3. :func:`path_cost`: semi-global aggregation along one path of ``config.paths`` (``spec.depth.PATH_STEPS``:
    left to right or right to left along a row, top to bottom along a column, or down a diagonal): L = C +
    min(L'[d], L'[d - 1] + P1, L'[d + 1] + P1, M' + P2) - M', where L' is the previous pixel's vector on the path
@@ -90,9 +92,35 @@ def matching_cost(left, right, config=DEPTH):
     cost = np.full((config.disparities, h, w), config.cost_max, dtype=dtype)
     for d in range(config.disparities):
         hamming = np.bitwise_count(cr[:, :w - d] ^ cl[:, d:]).astype(np.int32)
-        grey = np.minimum(np.abs(right[:, :w - d] - left[:, d:]), config.ad_clip) >> config.ad_shift
+        if config.ad_sampling == "pixel":
+            grey = np.minimum(np.abs(right[:, :w - d] - left[:, d:]), config.ad_clip) >> config.ad_shift
+        else:
+            grey = np.minimum(_sampled_difference(left, right, d, config.ad_sampling == "bt"),
+                              2 * config.ad_clip) >> (config.ad_shift + 1)
         cost[d, :, :w - d] = hamming + grey
     return cost
+
+
+def _interpolated_range(image):
+    """(lo, hi) in 2x units: the smallest and largest of 2 I(x), I(x) + I(x - 1), I(x) + I(x + 1) (neighbours
+    clamped at the border): twice Birchfield and Tomasi's Imin and Imax, exact integers."""
+    padded = np.pad(image, ((0, 0), (1, 1)), mode="edge")
+    values = np.stack([2 * image, image + padded[:, :-2], image + padded[:, 2:]])
+    return values.min(axis=0), values.max(axis=0)
+
+
+def _sampled_difference(left, right, d, symmetric):
+    """Twice Birchfield and Tomasi's dissimilarity of right(x) and left(x + d) (x = 0 .. W - d - 1): max(0,
+    2 I_R - 2 Imax_L, 2 Imin_L - 2 I_R), with ``symmetric`` the smaller of that and the same with the images'
+    roles swapped."""
+    w = right.shape[1]
+    lo, hi = _interpolated_range(left)
+    r2, l2 = 2 * right[:, :w - d], 2 * left[:, d:]
+    out = np.maximum(0, np.maximum(r2 - hi[:, d:], lo[:, d:] - r2))
+    if symmetric:
+        lo, hi = _interpolated_range(right)
+        out = np.minimum(out, np.maximum(0, np.maximum(l2 - hi[:, :w - d], lo[:, :w - d] - l2)))
+    return out
 
 
 def path_step(cost, prev, p1, p2):

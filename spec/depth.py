@@ -4,8 +4,8 @@ from dataclasses import dataclass, replace
 
 from spec.sensor import SENSOR, SENSOR_800
 
-__all__ = ["PATH_STEPS", "TWO_PATHS", "DIAGONAL_PATHS", "THREE_PATHS", "DepthConfig", "DEPTH", "DEPTH_800",
-           "DEPTH_800_BASE", "DEPTH_800_THREE", "SMALL_DEPTH", "SMALL_DEPTH_800"]
+__all__ = ["PATH_STEPS", "AD_SAMPLINGS", "TWO_PATHS", "DIAGONAL_PATHS", "THREE_PATHS", "DepthConfig", "DEPTH",
+           "DEPTH_800", "DEPTH_800_BASE", "DEPTH_800_THREE", "SMALL_DEPTH", "SMALL_DEPTH_800"]
 
 #: The aggregation paths (docs/depth.md, "Paths"): for each, the step (dx, dy) from a pixel p to the previous
 #: pixel p' on the path. Every path runs along rows or down the image, so a row-by-row engine can compute it.
@@ -25,6 +25,11 @@ DIAGONAL_PATHS = ("left_to_right", "top_right_to_bottom_left")
 THREE_PATHS = TWO_PATHS + ("right_to_left",)
 
 
+#: The AD term's grey differences (``DepthConfig.ad_sampling``): the pixels' own, Birchfield-Tomasi's with the left
+#: image interpolated, Birchfield-Tomasi's symmetric form.
+AD_SAMPLINGS = ("pixel", "bt_left", "bt")
+
+
 @dataclass(frozen=True)
 class DepthConfig:
     """The dense matcher's constants: census transform, matching cost (census Hamming distance, plus the clipped
@@ -35,6 +40,13 @@ class DepthConfig:
     The widths follow from them (``cost_max`` on): no stage can overflow. ``ValueError`` for paths, AD or median
     parameters outside their ranges. Codes count 1 / 2**fraction_bits pixel; ``invalid`` is D in those steps.
     ``pixel_bits`` is the width of the grey values the engine reads (the capture's ``grey_bits``).
+
+    ``ad_sampling`` selects the AD term's grey difference (``AD_SAMPLINGS``): ``"pixel"``, |I_R(x) - I_L(x + d)|;
+    ``"bt_left"``, Birchfield and Tomasi's sampling-insensitive dissimilarity with the left image interpolated,
+    max(0, I_R(x) - Imax, Imin - I_R(x)), Imin and Imax the smallest and largest of I_L(x'), (I_L(x') + I_L(x' - 1)) / 2
+    and (I_L(x') + I_L(x' + 1)) / 2 at x' = x + d (neighbours clamped at the image border); ``"bt"``, the smaller of
+    that and the same with the images' roles swapped (the symmetric form). The golden model only: the RTL computes
+    ``"pixel"``.
 
     ``lanes`` disparities are computed per clock (the RTL's parallelism); it does not change the result. The RTL
     (hdl/depth/) computes ``TWO_PATHS``, ``DIAGONAL_PATHS`` and ``THREE_PATHS``; the golden model any set of
@@ -56,6 +68,7 @@ class DepthConfig:
     ad_clip: int = 0            # AD-census: + min(|I_R - I_L|, ad_clip) >> ad_shift on the cost; 0 = off
     ad_shift: int = 0
     left_right: bool = False    # the left-right check from the same sums and the background fill (docs/depth.md)
+    ad_sampling: str = "pixel"  # the AD term's grey difference: "pixel" |I_R - I_L|; "bt_left", "bt": Birchfield-Tomasi
 
     def __post_init__(self):
         if self.median not in (3, 5, 7):
@@ -69,6 +82,10 @@ class DepthConfig:
         if unknown or not self.paths or len(set(self.paths)) != len(self.paths):
             raise ValueError(f"paths must be distinct names of {', '.join(PATH_STEPS)}, not {self.paths!r}")
         self._check_ad()
+        if self.ad_sampling not in AD_SAMPLINGS:
+            raise ValueError(f"ad_sampling must be one of {', '.join(AD_SAMPLINGS)}, not {self.ad_sampling!r}")
+        if self.ad_sampling != "pixel" and not self.ad_clip:
+            raise ValueError(f"ad_sampling = {self.ad_sampling!r} without ad_clip: the AD term is off")
 
     def _check_ad(self):
         """The AD term's parameters: ad_clip 0 (off) or 1 .. 2**pixel_bits - 1 (any integer: the largest grey

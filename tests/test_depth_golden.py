@@ -388,3 +388,62 @@ def test_ad_map_with_a_wide_cost():
     assert (cost[:, :, -1][1:] == cfg.cost_max).all()
     codes = depth_map(texture[:, :20], texture[:, 3:23], cfg).astype(int)
     assert ((codes[:, 4:12] + cfg.fraction // 2) // cfg.fraction == 3).all()
+
+
+def _bt_by_loop(left, right, d, x, y, symmetric):
+    """Birchfield and Tomasi's dissimilarity of right(x) and left(x + d) in exact fractions, neighbours clamped."""
+    def one_sided(image, at, grey):
+        row = [int(v) for v in image[y]]
+        near = [row[max(at - 1, 0)], row[at], row[min(at + 1, len(row) - 1)]]
+        values = [Fraction(row[at])] + [Fraction(row[at] + n, 2) for n in (near[0], near[2])]
+        return max(Fraction(0), grey - max(values), min(values) - grey)
+    out = one_sided(left, x + d, int(right[y, x]))
+    return min(out, one_sided(right, x, int(left[y, x + d]))) if symmetric else out
+
+
+@pytest.mark.parametrize("sampling", ["bt_left", "bt"])
+def test_bt_cost_is_hamming_plus_the_clipped_dissimilarity(sampling):
+    """Random 8-bit images with an edge: each cost is the Hamming distance plus floor(min(dis, ad_clip) /
+    2**ad_shift), dis Birchfield and Tomasi's dissimilarity in exact fractions (one-sided or symmetric)."""
+    rng = np.random.default_rng(5)
+    left, right = rng.integers(0, 256, (4, 9)), rng.integers(0, 256, (4, 9))
+    for clip, shift in ((24, 1), (255, 0), (32, 2)):
+        cfg = DepthConfig(**{**AD.__dict__, "ad_clip": clip, "ad_shift": shift, "ad_sampling": sampling})
+        cost = matching_cost(left, right, cfg).astype(int)
+        plain = matching_cost(left, right, DepthConfig(**{**AD.__dict__, "ad_clip": 0})).astype(int)
+        for d in range(cfg.disparities):
+            for y in range(4):
+                for x in range(9 - d):
+                    dis = _bt_by_loop(left, right, d, x, y, sampling == "bt")
+                    assert cost[d, y, x] - plain[d, y, x] == int(min(dis, clip) // (1 << shift))
+        assert cost.max() <= cfg.cost_max and (cost[1:, :, -1] == cfg.cost_max).all()
+
+
+@pytest.mark.parametrize("grey, term", [(19, 0), (20, 0), (21, 0), (22, 1), (9, 1), (10, 0), (36, 15), (37, 16),
+                                        (38, 16), (200, 16)])
+def test_bt_left_at_its_boundaries(grey, term):
+    """Left row 10 10 31 31 31 (x' = 1: Imin = 10, Imax = 20.5), right flat ``grey``, d = 0, x = 1, ad_clip 16,
+    shift 0: the term (the cost less the census cost) is 0 on [10, 20.5], floor(21.5 - 20.5) = 1 at 22, 1 at 9,
+    16 from 36.5 on (the clip); the symmetric form with a flat right image is the same (its range is the grey)."""
+    left = np.tile([10, 10, 31, 31, 31], (3, 1))
+    right = np.full((3, 5), grey)
+    plain = matching_cost(left, right, DepthConfig(**{**AD.__dict__, "ad_clip": 0})).astype(int)
+    for sampling in ("bt_left", "bt"):
+        cfg = DepthConfig(**{**AD.__dict__, "ad_sampling": sampling})
+        assert matching_cost(left, right, cfg).astype(int)[0, 1, 1] - plain[0, 1, 1] == term
+
+
+def test_bt_symmetric_takes_the_right_images_range():
+    """Left flat 20, right row 10 10 30 30: at x = 1, d = 0 the one-sided form gives |20 - 10| = 10, the symmetric
+    one 0 (20 is within the right image's range 10 .. 20 there); the plain AD term 10."""
+    left, right = np.full((3, 4), 20), np.tile([10, 10, 30, 30], (3, 1))
+    plain = matching_cost(left, right, DepthConfig(**{**AD.__dict__, "ad_clip": 0})).astype(int)[0, 1, 1]
+    terms = {s: matching_cost(left, right, DepthConfig(**{**AD.__dict__, "ad_sampling": s})).astype(int)[0, 1, 1]
+             - plain for s in ("pixel", "bt_left", "bt")}
+    assert terms == {"pixel": 10, "bt_left": 10, "bt": 0}
+
+
+def test_bad_ad_sampling_is_refused():
+    for bad in ({"ad_sampling": "bt"}, {"ad_clip": 16, "ad_sampling": "BT"}, {"ad_clip": 16, "ad_sampling": None}):
+        with pytest.raises(ValueError, match="ad_sampling"):
+            DepthConfig(pixel_bits=8, **bad)

@@ -143,6 +143,8 @@ def check_parameters(geometry, config, out_rows=4, tag_margin=8):
         raise ValueError(f"out_rows must be at least 2, not {out_rows}")
     if tag_margin < 2:
         raise ValueError(f"tag_margin must be at least 2 clocks, not {tag_margin}")
+    if config.ad_sampling != "pixel":
+        raise ValueError(f"the RTL's AD term is |I_R - I_L| (ad_sampling 'pixel'), not {config.ad_sampling!r}")
     if config.ad_clip and config.pixel_bits != geometry.grey_bits:
         raise ValueError(f"with the AD term pixel_bits ({config.pixel_bits}) must be the buffers' grey_bits "
                          f"({geometry.grey_bits})")
@@ -257,8 +259,9 @@ class DepthEngine(wiring.Component):
     ValueError
         If ``lanes`` does not divide D, D is more than the width, the census window is not odd, the paths are not
         ``spec.depth.TWO_PATHS``, ``THREE_PATHS`` or ``DIAGONAL_PATHS`` (the golden model's other path sets have no
-        RTL), ``left_right`` is set with ``THREE_PATHS``, ``tag_margin`` is less than 2, or the AD term is on (``ad_clip`` > 0) with ``pixel_bits`` other than
-        the buffers' ``grey_bits``.
+        RTL), ``left_right`` is set with ``THREE_PATHS``, ``tag_margin`` is less than 2, ``ad_sampling`` is not
+        ``"pixel"`` (the golden model's Birchfield-Tomasi terms have no RTL), or the AD term is on (``ad_clip`` > 0)
+        with ``pixel_bits`` other than the buffers' ``grey_bits``.
     """
 
     def __init__(self, geometry=SENSOR, config=DEPTH, *, out_rows=4, tag_margin=8):
