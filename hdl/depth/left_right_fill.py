@@ -103,11 +103,12 @@ class LeftRightFill(wiring.Component):
         scan_x = Signal(range(w + 3))           # clocks of the scan: x = W - 1 - scan_x is read
         replay_x = Signal(range(w + 1))
         odd = Signal()
-        at1, live1 = Signal(range(w), reset_less=True), Signal()
+        at1 = Signal(range(w), reset_less=True)
+        live = [Signal(name=f"live{k}") for k in (1, 2, 3)]     # a scan read in flight at stage 1, 2, 3
         right_kept = Signal(bits, reset_less=True)              # nearest kept code to the right of x
         left_kept = Signal(bits, reset_less=True)               # replay: nearest kept code to the left
-        at3, live3, code3, keep, scan_data = self._scan_pipeline(m, (code_read, left_read), at1, live1,
-                                                                  right_kept, word)
+        live1, _, live3 = live
+        at3, code3, keep, scan_data = self._scan_pipeline(m, (code_read, left_read), at1, live, right_kept, word)
 
         writes = [code_write.addr.eq(self.code_x), code_write.data.code.eq(self.code),
                   code_write.data.tail.eq(self.code_d), code_write.en.eq(self.code_valid)]
@@ -116,7 +117,7 @@ class LeftRightFill(wiring.Component):
             for state in ("IDLE", "READY"):
                 with m.State(state):
                     m.d.comb += writes
-                    m.d.sync += live1.eq(0)             # no scan read in flight (after a stop too)
+                    m.d.sync += [flag.eq(0) for flag in live]   # no scan read in flight (after a stop too)
                     if state == "READY":
                         with m.If(self.replay):
                             m.d.sync += [replay_x.eq(0), odd.eq(0), left_kept.eq(cfg.invalid)]
@@ -135,7 +136,7 @@ class LeftRightFill(wiring.Component):
                 with m.If(scan_x == w + 2):
                     m.next = "READY"
                 with m.If(self.stop):
-                    m.d.sync += live1.eq(0)
+                    m.d.sync += [flag.eq(0) for flag in live]
                     m.next = "IDLE"
             with m.State("REPLAY"):
                 stored = code_read.data
@@ -156,10 +157,10 @@ class LeftRightFill(wiring.Component):
                     m.next = "IDLE"
         return m
 
-    def _scan_pipeline(self, m, reads, at1, live1, right_kept, word):
-        """The scan's stages after the read of word x (address ``at1``, in flight iff ``live1``): 1 read d_L at
-        min(x + d*, W - 1); 2 d_L registered (nothing after the memory's output); 3 the check. Returns (x, in
-        flight, code, keep, the word written back) of stage 3."""
+    def _scan_pipeline(self, m, reads, at1, live, right_kept, word):
+        """The scan's stages after the read of word x (address ``at1``; ``live``: in flight at stage 1, 2, 3): 1 read
+        d_L at min(x + d*, W - 1); 2 d_L registered (nothing after the memory's output); 3 the check. Returns (x,
+        code, keep, the word written back) of stage 3."""
         cfg, w, bits = self.config, self.width, self.config.code_bits
         code_read, left_read = reads
         d_bits = (cfg.disparities - 1).bit_length()
@@ -170,13 +171,14 @@ class LeftRightFill(wiring.Component):
         m.d.comb += left_read.addr.eq(Mux(target > w - 1, w - 1, target))
         # |d_L - d*| <= 1: d_L equals d* - 1, d* or d* + 1, each registered with d* (d* - 1 = 2 D - 1 for d* = 0 and
         # d* + 1 = D match no d_L), and the code's validity registered too.
-        at2, live2 = Signal(range(w), reset_less=True), Signal()
+        live1, live2, live3 = live
+        at2 = Signal(range(w), reset_less=True)
         code2, d2 = Signal(bits, reset_less=True), Signal(d_bits, reset_less=True)
         below2, above2 = Signal(d_bits + 1, reset_less=True), Signal(d_bits + 1, reset_less=True)
         valid2 = Signal(reset_less=True)
         m.d.sync += [at2.eq(at1), code2.eq(first.code), d2.eq(d1), live2.eq(live1), below2.eq(d1 - 1),
                      above2.eq(d1 + 1), valid2.eq(first.code != cfg.invalid)]
-        at3, live3 = Signal(range(w), reset_less=True), Signal()
+        at3 = Signal(range(w), reset_less=True)
         code3, d3 = Signal(bits, reset_less=True), Signal(d_bits, reset_less=True)
         below3, above3 = Signal(d_bits + 1, reset_less=True), Signal(d_bits + 1, reset_less=True)
         valid3, dl = Signal(reset_less=True), Signal(d_bits, reset_less=True)
@@ -185,4 +187,4 @@ class LeftRightFill(wiring.Component):
         keep = valid3 & ((dl == d3) | (dl == below3) | (dl == above3))
         scan_data = Signal(word)
         m.d.comb += [scan_data.code.eq(code3), scan_data.tail.eq(Cat(right_kept, keep))]
-        return at3, live3, code3, keep, scan_data
+        return at3, code3, keep, scan_data
