@@ -169,8 +169,8 @@ class LeftRightFill(wiring.Component):
         target = Signal(range(2 * w))
         m.d.comb += target.eq(at1 + d1)
         m.d.comb += left_read.addr.eq(Mux(target > w - 1, w - 1, target))
-        # |d_L - d*| <= 1: d_L equals d* - 1, d* or d* + 1, each registered with d* (d* - 1 = 2 D - 1 for d* = 0 and
-        # d* + 1 = D match no d_L), and the code's validity registered too.
+        # |d_L - d*| <= 1: d_L equals d* - 1, d* or d* + 1, each registered with d* one bit wider than d_L (d* - 1
+        # wraps to all ones for d* = 0 and d* + 1 = D: neither matches a d_L), and the code's validity registered.
         live1, live2, live3 = live
         at2 = Signal(range(w), reset_less=True)
         code2, d2 = Signal(bits, reset_less=True), Signal(d_bits, reset_less=True)
