@@ -55,16 +55,7 @@ class I2CMasterHarness(FormalHarness):
         ready, done, timed_out, bus_active = dut.ready, dut.done, dut.timed_out, dut.bus_active
         lines = bus(self, m, pins)
 
-        # Command contract (docstring): WRITE and READ only inside a transfer, after a START.
-        accepted = ready & cmd_valid
-        self.assume(m, "data_commands_only_in_a_transfer",
-                    ~(accepted & ((cmd == Cmd.WRITE) | (cmd == Cmd.READ))) | bus_active)
-        current = Signal(Cmd, name="current_cmd")
-        busy = Signal(name="busy")
-        with m.If(accepted):
-            m.d.sync += [current.eq(cmd), busy.eq(1)]
-        with m.Elif(done):
-            m.d.sync += busy.eq(0)
+        accepted, current, busy = self._commands(m, dut, cmd, cmd_valid)
         self.prove(m, "done_ends_an_accepted_command", ~done | busy)
         self.prove(m, "ready_only_between_commands", ~ready | ~busy)
         self.prove(m, "scl_held_low_between_commands_of_a_transfer", ~(ready & bus_active) | pins["scl_oe"])
@@ -87,6 +78,20 @@ class I2CMasterHarness(FormalHarness):
         self.cover(m, "write_clock_stretched_then_released",
                    busy & ~pins["scl_oe"] & lines["scl"] & self.past(m, stretched, name="past_stretched"))
         self.cover(m, "arbitration_lost", done & dut.arb_lost)
+
+    def _commands(self, m, dut, cmd, cmd_valid):
+        """The command contract (docstring: WRITE and READ only inside a transfer, after a START) and the command
+        in progress: (accepted this clock, the current command, busy until its ``done``)."""
+        accepted = dut.ready & cmd_valid
+        self.assume(m, "data_commands_only_in_a_transfer",
+                    ~(accepted & ((cmd == Cmd.WRITE) | (cmd == Cmd.READ))) | dut.bus_active)
+        current = Signal(Cmd, name="current_cmd")
+        busy = Signal(name="busy")
+        with m.If(accepted):
+            m.d.sync += [current.eq(cmd), busy.eq(1)]
+        with m.Elif(dut.done):
+            m.d.sync += busy.eq(0)
+        return accepted, current, busy
 
     def _stuck_scl(self, m, t, dut, accepted, busy, done, timed_out, lines):
         """A command that finds SCL held low by another device all along ends with ``timed_out`` within the
@@ -177,20 +182,12 @@ class I2CBroadcastMasterHarness(I2CMasterHarness):
         m.d.comb += [dut.cmd.eq(cmd), dut.cmd_valid.eq(cmd_valid), dut.wdata.eq(self.free("wdata", 8)),
                      dut.rd_ack.eq(self.free("rd_ack")), dut.enable.eq(enable)]
         ready, done, timed_out, bus_active = dut.ready, dut.done, dut.timed_out, dut.bus_active
-        accepted = ready & cmd_valid
-        self.assume(m, "data_commands_only_in_a_transfer",
-                    ~(accepted & ((cmd == Cmd.WRITE) | (cmd == Cmd.READ))) | bus_active)
+        accepted, current, busy = self._commands(m, dut, cmd, cmd_valid)
         pv = self.past_valid(m)
         # enable's contract (docstring): it changes only between transfers, and some bus is in use.
         self.assume(m, "enable_changes_only_between_transfers",
                     ~pv | (enable == self.past(m, enable, name="past_enable")) | (ready & ~bus_active))
         self.assume(m, "some_bus_enabled", enable != 0)
-        current = Signal(Cmd, name="current_cmd")
-        busy = Signal(name="busy")
-        with m.If(accepted):
-            m.d.sync += [current.eq(cmd), busy.eq(1)]
-        with m.Elif(done):
-            m.d.sync += busy.eq(0)
         starting, stopping = busy & (current == Cmd.START), busy & (current == Cmd.STOP)
         lines = []
         for k in range(n):
