@@ -1,6 +1,6 @@
-"""Birchfield-Tomasi's sampling-insensitive dissimilarity as the AD term of the 800 x 600 build (``DEPTH_800`` with
-``ad_sampling`` "bt_left": the left image interpolated, or "bt": the symmetric form; golden/depth.py), at the clip and
-shift 16 >> 1 and 32 >> 2, against the build's plain AD term and against no AD term: bench depth's pairs (the
+"""Birchfield-Tomasi's sampling-insensitive dissimilarity as the AD term of the 800 x 600 build (``ad_sampling``
+"bt_left": the left image interpolated, or "bt": the symmetric form, ``DEPTH_800``'s; golden/depth.py), at the clip
+and shift 16 >> 1 and 32 >> 2, against the plain AD term |I_R - I_L| and against no AD term: bench depth's pairs (the
 motorcycle's bad > 0.5 / 1 / 2 and density against the goals, bad > 2 of the synthetic scenes) and the test bed
 (bench testbed's readings, every finish: the worst |error| over the 12 distances of table 4.2 against the goals, and
 the misses among 26 distances, 0.50 .. 1.50 m every 5 cm and 2.90 .. 3.10 m, x 3 finishes). Golden models only.
@@ -15,10 +15,10 @@ import dataclasses
 from spec.depth import DEPTH_800
 
 #: The variants: (name, config); every other constant DEPTH_800's.
-VARIANTS = (("AD 16 >> 1 (DEPTH_800)", DEPTH_800),
-            ("no AD term", dataclasses.replace(DEPTH_800, ad_clip=0, ad_shift=0)),
+VARIANTS = (("AD 16 >> 1", dataclasses.replace(DEPTH_800, ad_sampling="pixel")),
+            ("no AD term", dataclasses.replace(DEPTH_800, ad_clip=0, ad_shift=0, ad_sampling="pixel")),
             ("BT left 16 >> 1", dataclasses.replace(DEPTH_800, ad_sampling="bt_left")),
-            ("BT 16 >> 1", dataclasses.replace(DEPTH_800, ad_sampling="bt")),
+            ("BT 16 >> 1 (DEPTH_800)", DEPTH_800),
             ("BT left 32 >> 2", dataclasses.replace(DEPTH_800, ad_sampling="bt_left", ad_clip=32, ad_shift=2)),
             ("BT 32 >> 2", dataclasses.replace(DEPTH_800, ad_sampling="bt", ad_clip=32, ad_shift=2)))
 #: bench depth's synthetic scenes, in the order of its pairs.

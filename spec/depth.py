@@ -45,8 +45,7 @@ class DepthConfig:
     ``"bt_left"``, Birchfield and Tomasi's sampling-insensitive dissimilarity with the left image interpolated,
     max(0, I_R(x) - Imax, Imin - I_R(x)), Imin and Imax the smallest and largest of I_L(x'), (I_L(x') + I_L(x' - 1)) / 2
     and (I_L(x') + I_L(x' + 1)) / 2 at x' = x + d (neighbours clamped at the image border); ``"bt"``, the smaller of
-    that and the same with the images' roles swapped (the symmetric form). The golden model only: the RTL computes
-    ``"pixel"``.
+    that and the same with the images' roles swapped (the symmetric form).
 
     ``lanes`` disparities are computed per clock (the RTL's parallelism); it does not change the result. The RTL
     (hdl/depth/) computes ``TWO_PATHS``, ``DIAGONAL_PATHS`` and ``THREE_PATHS``; the golden model any set of
@@ -163,13 +162,13 @@ DEPTH = DepthConfig()
 #: near limit at twice the resolution), the two paths left to right and top to bottom, the 3 x 3 median; everything
 #: else as DEPTH. The base the quality levers are measured against (docs/depth.md, "Cheap levers at 800 x 600").
 DEPTH_800_BASE = DepthConfig(disparities=128, pixel_bits=SENSOR_800.grey_bits)
-#: The 800 x 600 build: DEPTH_800_BASE with AD-census 16 >> 1, the top-right diagonal as the second path, SGM's
-#: left-right check with the background fill and the separable 7 x 7 median, max_cost 68 a path (the board's 60 + the
-#: AD term's 8) (docs/depth.md, "Cheap levers at 800 x 600" and "On top of the package": the choice). A third path
-#: at D = 128 fits no scheme within the board's block RAM and frame time (docs/depth.md, "The third path in the
-#: RTL").
-DEPTH_800 = replace(DEPTH_800_BASE, paths=DIAGONAL_PATHS, ad_clip=16, ad_shift=1, left_right=True, median=7,
-                    max_cost=(DepthConfig.max_cost // len(TWO_PATHS) + (16 >> 1)) * len(DIAGONAL_PATHS))
+#: The 800 x 600 build: DEPTH_800_BASE with AD-census 16 >> 1 (Birchfield and Tomasi's symmetric dissimilarity as
+#: the grey difference), the top-right diagonal as the second path, SGM's left-right check with the background fill
+#: and the separable 7 x 7 median, max_cost 68 a path (the board's 60 + the AD term's 8) (docs/depth.md, "Cheap
+#: levers at 800 x 600", "On top of the package" and "The test bed": the choice). A third path at D = 128 fits no
+#: scheme within the board's block RAM and frame time (docs/depth.md, "The third path in the RTL").
+DEPTH_800 = replace(DEPTH_800_BASE, paths=DIAGONAL_PATHS, ad_clip=16, ad_shift=1, ad_sampling="bt", left_right=True,
+                    median=7, max_cost=(DepthConfig.max_cost // len(TWO_PATHS) + (16 >> 1)) * len(DIAGONAL_PATHS))
 #: DEPTH_800_BASE with the third path (right to left), max_cost the board's 60 per path: what a third path would buy
 #: (golden model and bench figures; the RTL builds it at small sizes, ``DepthEngine`` with ``THREE_PATHS``).
 DEPTH_800_THREE = replace(DEPTH_800_BASE, paths=THREE_PATHS,

@@ -51,11 +51,6 @@ def test_ad_needs_the_buffers_grey():
         DepthEngine(G, AD)
 
 
-def test_ad_rtl_refuses_birchfield_tomasi():
-    with pytest.raises(ValueError, match="ad_sampling"):
-        DepthEngine(G8, dataclasses.replace(AD, ad_sampling="bt_left"))
-
-
 @pytest.mark.slow
 def test_ad_census_three_paths_bit_exact():
     """Three paths (the candidates' greys from the census shift register, forward and backward), ad_clip 24 >> 2."""

@@ -10,7 +10,7 @@ from amaranth.lib.wiring import In, Out
 
 from spec.depth import DEPTH, DIAGONAL_PATHS, THREE_PATHS, TWO_PATHS
 from spec.sensor import SENSOR
-from hdl.depth.census import CensusWindow
+from hdl.depth.census import CensusWindow, grey_range_layout
 from hdl.depth.left_right_fill import LeftRightFill
 from hdl.depth.left_winner import LeftWinner
 from hdl.depth.matching_cost import MatchingCost
@@ -143,8 +143,9 @@ def check_parameters(geometry, config, out_rows=4, tag_margin=8):
         raise ValueError(f"out_rows must be at least 2, not {out_rows}")
     if tag_margin < 2:
         raise ValueError(f"tag_margin must be at least 2 clocks, not {tag_margin}")
-    if config.ad_sampling != "pixel":
-        raise ValueError(f"the RTL's AD term is |I_R - I_L| (ad_sampling 'pixel'), not {config.ad_sampling!r}")
+    if config.ad_sampling != "pixel" and config.census_width < 3:
+        raise ValueError(f"Birchfield and Tomasi's AD term ({config.ad_sampling!r}) takes its row neighbours from "
+                         f"the census window: census_width must be at least 3, not {config.census_width}")
     if config.ad_clip and config.pixel_bits != geometry.grey_bits:
         raise ValueError(f"with the AD term pixel_bits ({config.pixel_bits}) must be the buffers' grey_bits "
                          f"({geometry.grey_bits})")
@@ -239,8 +240,9 @@ class DepthEngine(wiring.Component):
     2          census signatures registered
     3          three paths: left census shift register shifts
     4          vertical path's row minimum read (pixel x: word x; the diagonal: word x + 1)
-    4 + g      group g: the lanes' left signatures, with the AD term their grey values (two paths: the
-               candidates' chain advances; three: selected from the shift register)
+    4 + g      group g: the lanes' left signatures, with the AD term their grey values (and Birchfield and
+               Tomasi's ranges) (two paths: the candidates' chain advances; three: selected from the shift
+               register)
     5 + g      cost: XOR, count 6-bit chunks, grey difference (3 clocks)
     6 + g      vertical line buffer read, group g (word (x, g); the diagonal: (x + 1, g)): the path's ``prev``
                at 7 + g
@@ -259,9 +261,9 @@ class DepthEngine(wiring.Component):
     ValueError
         If ``lanes`` does not divide D, D is more than the width, the census window is not odd, the paths are not
         ``spec.depth.TWO_PATHS``, ``THREE_PATHS`` or ``DIAGONAL_PATHS`` (the golden model's other path sets have no
-        RTL), ``left_right`` is set with ``THREE_PATHS``, ``tag_margin`` is less than 2, ``ad_sampling`` is not
-        ``"pixel"`` (the golden model's Birchfield-Tomasi terms have no RTL), or the AD term is on (``ad_clip`` > 0)
-        with ``pixel_bits`` other than the buffers' ``grey_bits``.
+        RTL), ``left_right`` is set with ``THREE_PATHS``, ``tag_margin`` is less than 2, ``ad_sampling`` is a
+        Birchfield-Tomasi term with a census window narrower than 3, or the AD term is on (``ad_clip`` > 0) with
+        ``pixel_bits`` other than the buffers' ``grey_bits``.
     """
 
     def __init__(self, geometry=SENSOR, config=DEPTH, *, out_rows=4, tag_margin=8):
@@ -355,9 +357,9 @@ class DepthEngine(wiring.Component):
             self._invariants(m, fsm, (left_ring, right_ring), y, (step, clock, drain), (need, first, before),
                              can_start, limit)
 
-        left_sig, right_sig, greys = self._census(m, left_ring, right_ring, ring_row, step, clock, in_run)
+        left_sig, right_sig, pixels = self._census(m, left_ring, right_ring, ring_row, step, clock, in_run)
         issue = self._issue if self.three else self._issue_chain
-        token, candidates = issue(m, left_sig, right_sig, greys, step, clock, in_run)
+        token, candidates = issue(m, left_sig, right_sig, pixels, step, clock, in_run)
         horizontal, vertical = self._paths(m, token, candidates, step, clock, in_run, restart)
         writes = self._back_end(m, horizontal, vertical, y, out_base, row_invalid)
         if platform == "formal" and self.three:
@@ -557,11 +559,11 @@ class DepthEngine(wiring.Component):
 
     def _census(self, m, left_ring, right_ring, ring_row, step, clock, in_run):
         """Step clocks 0-3: ring reads, census windows, the left census shift register (newest first). Returns
-        the left signature (two paths) or shift register (three), the right signature and the centre greys
+        the left signature (two paths) or shift register (three), the right signature and the centres' AD pixels
         (left, right: None without the AD term)."""
         cfg, w = self.config, self.geometry.buf_width
         rx = cfg.census_width // 2
-        signatures, greys = [], []
+        signatures, pixels = [], []
         for name, ring, lag in (("left", left_ring, 0), ("right", right_ring, cfg.disparities - 1)):
             # Column clamp(step - rx - lag), counted: the right window lags the left one by D - 1 columns.
             col = Signal(range(w), name=f"{name}_column")
@@ -580,9 +582,9 @@ class DepthEngine(wiring.Component):
                 m.d.comb += census.column[j].eq(ring.column[ring_row[j]])
             m.d.comb += census.shift.eq(in_run & (clock == CENSUS_SHIFT))
             signatures.append(census.census)
-            greys.append(census.centre if cfg.ad_clip else None)
+            pixels.append(self._pixel(m, census, name) if cfg.ad_clip else None)
         if not self.three:                      # two paths: the candidates' chain is built at the issue
-            return signatures[0], signatures[1], greys
+            return signatures[0], signatures[1], pixels
         entry = self._candidate_layout()
         shift_reg = [Signal(entry, name=f"left_census{j}", reset_less=True) for j in range(cfg.disparities)]
         # The shift register's enable (D entries wide: the largest clock-enable net) from a register, decoded a
@@ -596,31 +598,48 @@ class DepthEngine(wiring.Component):
                 inside = Mux(self.backward, step >= 2 * rx, inside)
             m.d.sync += [shift_reg[0].census.eq(signatures[0]), shift_reg[0].inside.eq(inside)]
             if cfg.ad_clip:
-                m.d.sync += shift_reg[0].grey.eq(greys[0])
+                m.d.sync += shift_reg[0].pixel.eq(pixels[0])
             for j in range(1, cfg.disparities):
                 m.d.sync += shift_reg[j].eq(shift_reg[j - 1])
-        return shift_reg, signatures[1], greys
+        return shift_reg, signatures[1], pixels
+
+    def _pixel_layout(self):
+        """What the AD term takes of a pixel: its grey value and, for Birchfield and Tomasi's term, its range."""
+        cfg = self.config
+        fields = {"grey": cfg.pixel_bits}
+        if cfg.ad_sampling != "pixel":
+            fields["range"] = grey_range_layout(cfg.pixel_bits)
+        return data.StructLayout(fields)
+
+    def _pixel(self, m, census, name):
+        """The AD term's view of a census window's centre (:meth:`_pixel_layout`)."""
+        pixel = Signal(self._pixel_layout(), name=f"{name}_pixel")
+        m.d.comb += pixel.grey.eq(census.centre)
+        if self.config.ad_sampling != "pixel":
+            m.d.comb += pixel.range.eq(census.centre_range)
+        return pixel
 
     def _candidate_layout(self):
         """A left candidate: its census signature, whether its column is inside the image, and (AD term) its
-        grey value."""
+        pixel (:meth:`_pixel_layout`)."""
         cfg = self.config
         fields = {"census": cfg.census_bits, "inside": 1}
         if cfg.ad_clip:
-            fields["grey"] = cfg.pixel_bits
+            fields["pixel"] = self._pixel_layout()
         return data.StructLayout(fields)
 
-    def _lanes(self, m, right_cen, right_grey, left_sel, left_grey, inside):
-        """The issued group's candidates, the cost stage's inputs: the right pixel's census (and grey), per lane
-        the left one's census (and grey) and inside bit."""
+    def _lanes(self, m, right_cen, right_pixel, left_sel, left_pixel, inside):
+        """The issued group's candidates, the cost stage's inputs: the right pixel's census (and AD pixel), per
+        lane the left one's census (and AD pixel) and inside bit."""
         cfg, P = self.config, self.config.lanes
         fields = {"right": cfg.census_bits, "left": data.ArrayLayout(cfg.census_bits, P), "inside": P}
         if cfg.ad_clip:
-            fields |= {"right_grey": cfg.pixel_bits, "left_grey": data.ArrayLayout(cfg.pixel_bits, P)}
+            pixel = self._pixel_layout()
+            fields |= {"right_pixel": pixel, "left_pixel": data.ArrayLayout(pixel, P)}
         lanes = Signal(data.StructLayout(fields), name="candidates")
         m.d.comb += [lanes.right.eq(right_cen), lanes.left.eq(left_sel), lanes.inside.eq(inside)]
         if cfg.ad_clip:
-            m.d.comb += [lanes.right_grey.eq(right_grey), lanes.left_grey.eq(left_grey)]
+            m.d.comb += [lanes.right_pixel.eq(right_pixel), lanes.left_pixel.eq(left_pixel)]
         return lanes
 
     def _back_column(self, m, step, clock):
@@ -639,7 +658,7 @@ class DepthEngine(wiring.Component):
             self._back_col = col
         return self._back_col
 
-    def _issue_token(self, m, right_sig, right_grey, step, clock, in_run):
+    def _issue_token(self, m, right_sig, right_pixel, step, clock, in_run):
         """Step clocks 4 .. 4 + G - 1: group g's token and the right signature (and grey), registered."""
         cfg, w = self.config, self.geometry.buf_width
         G = self.groups
@@ -660,13 +679,13 @@ class DepthEngine(wiring.Component):
             token.x.eq(x),
             right_cen.eq(right_sig),
         ]
-        if right_grey is not None:
-            right_grey_reg = Signal(cfg.pixel_bits, name="right_grey", reset_less=True)
-            m.d.sync += right_grey_reg.eq(right_grey)
-            right_grey = right_grey_reg
-        return token, right_cen, right_grey, group
+        if right_pixel is not None:
+            right_pixel_reg = Signal(self._pixel_layout(), name="right_pixel", reset_less=True)
+            m.d.sync += right_pixel_reg.eq(right_pixel)
+            right_pixel = right_pixel_reg
+        return token, right_cen, right_pixel, group
 
-    def _issue_chain(self, m, left_sig, right_sig, greys, step, clock, in_run):
+    def _issue_chain(self, m, left_sig, right_sig, pixels, step, clock, in_run):
         """Two paths: the lanes' left signatures from a chain of candidates (no select).
 
         Lane k of group g in step s takes census_L(x + gP + k) (x = s - lead). That is lane k + 1's candidate of
@@ -677,18 +696,18 @@ class DepthEngine(wiring.Component):
         candidate of a pixel (steps >= lead) entered the chain in the same pass, so the chain needs no reset.
         The chain's stretches between taps are plain shift registers (SRLs), where a D-entry shift register
         and a G:1 select per lane and bit would be logic. With the AD term each candidate carries its grey value
-        beside its signature."""
+        (and range) beside its signature."""
         cfg = self.config
         G, P, D = self.groups, cfg.lanes, cfg.disparities
         rx, w = cfg.census_width // 2, self.geometry.buf_width
-        token, right_cen, right_grey, group = self._issue_token(m, right_sig, greys[1], step, clock, in_run)
+        token, right_cen, right_pixel, group = self._issue_token(m, right_sig, pixels[1], step, clock, in_run)
         entry = self._candidate_layout()
         length = max(D - 1, (P - 1) * G + 1)
         chain = [Signal(entry, name=f"left_candidate{i}", reset_less=True) for i in range(length)]
         fresh = Signal(entry)
         m.d.comb += [fresh.census.eq(left_sig), fresh.inside.eq(step < w + 2 * rx)]
         if cfg.ad_clip:
-            m.d.comb += fresh.grey.eq(greys[0])
+            m.d.comb += fresh.pixel.eq(pixels[0])
         # The chain's enable (the largest clock-enable net) from a register, decoded a clock early: in RUN
         # without a start the next clock is clock + 1 in RUN, or clock 0 (not an issue clock) after a step's last.
         advance = Signal(name="candidates_advance")
@@ -698,23 +717,23 @@ class DepthEngine(wiring.Component):
             for i in range(1, length):
                 m.d.sync += chain[i].eq(chain[i - 1])
         left_sel = Signal(data.ArrayLayout(cfg.census_bits, P))
-        left_grey = Signal(data.ArrayLayout(cfg.pixel_bits, P)) if cfg.ad_clip else None
+        left_pixel = Signal(data.ArrayLayout(self._pixel_layout(), P)) if cfg.ad_clip else None
         inside = Signal(P)
         for k in range(P):
             tap = chain[(P - 1 - k) * G]
             m.d.comb += [left_sel[k].eq(tap.census), inside[k].eq(tap.inside)]
             if cfg.ad_clip:
-                m.d.comb += left_grey[k].eq(tap.grey)
-        return token, self._lanes(m, right_cen, right_grey, left_sel, left_grey, inside)
+                m.d.comb += left_pixel[k].eq(tap.pixel)
+        return token, self._lanes(m, right_cen, right_pixel, left_sel, left_pixel, inside)
 
-    def _issue(self, m, shift_reg, right_sig, greys, step, clock, in_run):
-        """Three paths, step clocks 4 .. 4 + G - 1: group g's token and its lanes' left signatures (and greys),
+    def _issue(self, m, shift_reg, right_sig, pixels, step, clock, in_run):
+        """Three paths, step clocks 4 .. 4 + G - 1: group g's token and its lanes' left signatures (and pixels),
         selected from the left census shift register and registered."""
         cfg = self.config
         G, P, D = self.groups, cfg.lanes, cfg.disparities
-        token, right_cen, right_grey, group = self._issue_token(m, right_sig, greys[1], step, clock, in_run)
+        token, right_cen, right_pixel, group = self._issue_token(m, right_sig, pixels[1], step, clock, in_run)
         left_sel = Signal(data.ArrayLayout(cfg.census_bits, P), reset_less=True)
-        left_grey = Signal(data.ArrayLayout(cfg.pixel_bits, P), reset_less=True) if cfg.ad_clip else None
+        left_pixel = Signal(data.ArrayLayout(self._pixel_layout(), P), reset_less=True) if cfg.ad_clip else None
         inside = Signal(P)
         with m.Switch(group):
             for gi in range(G):
@@ -726,10 +745,10 @@ class DepthEngine(wiring.Component):
                         chosen = data.View(self._candidate_layout(), pick)
                         m.d.sync += [left_sel[k].eq(chosen.census), inside[k].eq(chosen.inside)]
                         if cfg.ad_clip:
-                            m.d.sync += left_grey[k].eq(chosen.grey)
+                            m.d.sync += left_pixel[k].eq(chosen.pixel)
         self.issue_backward = Signal()
         m.d.sync += self.issue_backward.eq(self.backward)
-        return token, self._lanes(m, right_cen, right_grey, left_sel, left_grey, inside)
+        return token, self._lanes(m, right_cen, right_pixel, left_sel, left_pixel, inside)
 
     def _paths(self, m, token, lanes, step, clock, in_run, restart):
         """Cost (3 clocks), then both paths; the vertical path's line buffer (a group a clock, from the cost
@@ -739,7 +758,13 @@ class DepthEngine(wiring.Component):
         cost = add_reset_subtree(m, "cost", MatchingCost(cfg))
         m.d.comb += [cost.right.eq(lanes.right), cost.left.eq(lanes.left), cost.inside.eq(lanes.inside)]
         if cfg.ad_clip:
-            m.d.comb += [cost.right_grey.eq(lanes.right_grey), cost.left_grey.eq(lanes.left_grey)]
+            m.d.comb += cost.right_grey.eq(lanes.right_pixel.grey)
+            for k in range(P):
+                m.d.comb += cost.left_grey[k].eq(lanes.left_pixel[k].grey)
+                if cfg.ad_sampling != "pixel":
+                    m.d.comb += cost.left_range[k].eq(lanes.left_pixel[k].range)
+            if cfg.ad_sampling == "bt":
+                m.d.comb += cost.right_range.eq(lanes.right_pixel.range)
         tok = token
         cost_tokens = []
         back = self.issue_backward if self.three else None

@@ -20,6 +20,7 @@ from sim.formal.harnesses.frame_store_writer import FrameStoreWriterHarness
 from sim.formal.harnesses.i2c import I2CBroadcastMasterHarness, I2CMasterHarness, InitSequencerHarness
 from sim.formal.harnesses.left_winner import LeftWinnerHarness
 from sim.formal.harnesses.map_store import MapOwnershipHarness
+from sim.formal.harnesses.matching_cost import MatchingCostBTHarness
 from sim.formal.harnesses.read_arbiter import ReadArbiterHarness
 from sim.formal.harnesses.reverse_path import AD_CONFIG, ReversePathHarness
 from sim.formal.harnesses.row_tags import RowTagTrackerHarness
@@ -58,6 +59,7 @@ DEFAULT = {
     "reverse_path": ReversePathHarness,
     "reverse_path_ad": lambda: _named(ReversePathHarness(AD_CONFIG), "reverse_path_ad"),
     "left_winner": LeftWinnerHarness,
+    "matching_cost_bt": MatchingCostBTHarness,
     "frame_pairing": FramePairingHarness,
     "frame_store_ownership": FrameStoreOwnershipHarness,
     "map_store_ownership": MapOwnershipHarness,

@@ -39,6 +39,8 @@ from sim.formal.harnesses.row_tags import RowTagTrackerHarness
 from sim.formal.harnesses.frame_pairing import FramePairingHarness
 from sim.formal.harnesses.frame_store import FrameStoreOwnershipHarness
 from sim.formal.harnesses.map_store import MapOwnershipHarness
+from sim.formal.harnesses.matching_cost import MatchingCostBTHarness
+from hdl.depth.matching_cost import MatchingCost
 from sim.formal.harnesses.frame_store_credits import DEPTH as CREDIT_DEPTH, LAYOUT as CREDIT_LAYOUT, FrameStoreCreditsHarness
 from hdl.frame_store.row_fetcher import RowFetcher
 from sim.formal.harnesses.frame_store_packer import (GEOMETRY as PACKER_GEOMETRY, LAYOUT as PACKER_LAYOUT,
@@ -315,6 +317,12 @@ class PackerForShorterRows(FrameStorePackerHarness):
         return BurstPacker(dataclasses.replace(PACKER_LAYOUT, width=PACKER_LAYOUT.width - 1), PACKER_GEOMETRY)
 
 
+class CostClipOneLower(MatchingCostBTHarness):
+    """The cost block built with the AD term's clip one lower (15 for 16): the term saturates a half-step early."""
+    def dut(self):
+        return MatchingCost(dataclasses.replace(self.config, ad_clip=self.config.ad_clip - 1))
+
+
 BITES = {
     "sync_gen": (SyncPulseTooWide, "hsync_window_and_polarity"),
     "switches": (SwitchesLoadAnyTime, "_changes_only_after_frame_start"),
@@ -351,6 +359,7 @@ BITES = {
     "depth_pass_counter": (DepthMapWrappingPassCounter, "rows_ready_counts_finished_passes"),
     "depth_three_back_drain": (DepthThreeShortBackwardDrain, "codes_written_before_replay"),
     "reverse_path": (ReversePathOneColumnWider, "first_exactly_at_the_last_column"),
+    "matching_cost_bt": (CostClipOneLower, "cost_is_census_plus_bt_term"),
 }
 
 
