@@ -176,10 +176,13 @@ class SgmPath(wiring.Component):
         are all written (i + 2 of its last group) before the next pixel reads its first (``loop_clocks`` later)
         and read before the pixel after writes the bank again, so no bank is written and read in one clock.
         Lane 0's L'(d - 1) is the last lane of the group read before, kept; the last lane's L'(d + 1) is lane 0
-        of the second group word. So: no select by group, a 2:1 choice of bank per lane."""
+        of the second group word. So: no select by group, a 2:1 choice of bank per lane. The banks' registers are
+        reset (to 0, a value never read: a row's first pixel reads zeros by ``first``) so that they stay flip-flops:
+        a register with a reset cannot be a shift-register LUT (SRL16E has no reset pin), and the build is short of
+        LUTs, not of flip-flops (docs/depth.md, "Where the LUTs are")."""
         lanes, groups, pbits = self.config.lanes, self.groups, self.config.path_bits
         word = data.ArrayLayout(pbits, lanes)
-        banks = [[Signal(word, name=f"bank{b}_{j}", reset_less=True) for j in range(groups)] for b in range(2)]
+        banks = [[Signal(word, name=f"bank{b}_{j}") for j in range(groups)] for b in range(2)]
         write_bank = Signal()                   # the bank this pixel's groups go into; the other is read
         read = self.token.go
         front = Signal(word)
