@@ -3,8 +3,8 @@ depth's first section.
 
 Builds: the thesis's (``SENSOR``: keep one pixel of every 4 x 4 block, 5-bit, 400 x 300; ``DEPTH``: 64 disparities,
 2 paths), the 800 x 600 one (``SENSOR_800``: the 8-bit mean of every 2 x 2 block; ``DEPTH_800``: 128
-disparities, AD-census, the left-to-right and the top-right diagonal paths, the left-right check, the separable
-7 x 7 median) and, on the same buffers, the same engine without those quality options (``DEPTH_800_BASE``: two
+disparities, AD-census with Birchfield and Tomasi's symmetric term, the left-to-right and the top-right diagonal
+paths, the left-right check, the separable 7 x 7 median) and, on the same buffers, the same engine without those quality options (``DEPTH_800_BASE``: two
 paths, census alone, the 3 x 3 median) and what a third path would buy (``DEPTH_800_THREE``: the base with the
 right-to-left path, beyond the board's budget, docs/depth.md). All from the golden models (golden/capture.py, golden/depth.py).
 Beside each buffer size, OpenCV's StereoSGBM in its full 8-path mode (``STEREO_SGBM_MODE_HH``) on the same buffers
@@ -43,8 +43,8 @@ class Build:
 
 
 BUILDS = (Build("thesis: 400 x 300, 5-bit, one pixel kept; D 64, 2 paths", SENSOR, DEPTH),
-          Build("800 x 600, 8-bit 2 x 2 mean; D 128, AD-census, 2 paths (one diagonal), left-right check, 7 x 7 "
-                "median", SENSOR_800, DEPTH_800),
+          Build("800 x 600, 8-bit 2 x 2 mean; D 128, AD-census (Birchfield-Tomasi), 2 paths (one diagonal), "
+                "left-right check, 7 x 7 median", SENSOR_800, DEPTH_800),
           Build("800 x 600 without the quality options: census, 2 paths, 3 x 3 median", SENSOR_800, DEPTH_800_BASE),
           Build("800 x 600 base with a third path (beyond the budget)", SENSOR_800, DEPTH_800_THREE))
 #: The 800 x 600 build's goals, motorcycle: (bad > 0.5, bad > 1, bad > 2) at most, density at least (fractions).
