@@ -5,6 +5,7 @@ Values at the ends of their ranges are drawn on purpose: nothing may wrap (docs/
 needed because every width holds its largest value)."""
 
 import dataclasses
+import itertools
 
 import numpy as np
 import pytest
@@ -394,3 +395,38 @@ def test_row_ring_tag_sample_timing(margin):
     assert sorted(torn) == list(range(h))
     assert {r: torn[r] for r in range(h)} == {r: int(r % 3 != 1) for r in range(h)}
     assert all(counted[r] - last[r] == margin + 3 for r in range(h))
+
+
+def test_min_tree_first_smallest():
+    """``min_tree`` of 3, 4 and 16 (value, index) items: the smallest value and the first index holding it, for
+    every vector of 3 and 4 values in 0..2 (each tie) and random 16-item vectors with ties, one vector a clock."""
+    from amaranth import C, Module, Signal
+
+    from hdl.depth.reduce import min_tree, tree_stages
+
+    rng = np.random.default_rng(5)
+    sizes = (3, 4, 16)
+    vectors = list(itertools.product(range(3), repeat=4)) + [tuple(rng.integers(0, 4, 4)) for _ in range(30)]
+    wide = [tuple(rng.integers(0, 6, 16)) for _ in range(len(vectors))]
+    m = Module()
+    ins = {n: [Signal(4, name=f"in{n}_{k}") for k in range(n)] for n in sizes}
+    outs = {n: min_tree(m, [(v, C(k, range(n))) for k, v in enumerate(ins[n])], f"tree{n}") for n in sizes}
+    got = {n: [] for n in sizes}
+
+    async def bench(ctx):
+        for t in range(len(vectors) + 2):
+            if t < len(vectors):
+                for n, values in ((3, vectors[t][:3]), (4, vectors[t]), (16, wide[t])):
+                    for s, v in zip(ins[n], values):
+                        ctx.set(s, int(v))
+            await ctx.tick()
+            for n in sizes:
+                got[n].append((ctx.get(outs[n][0]), ctx.get(outs[n][1])))
+
+    simulate(m, clocks={"sync": 1e8}, testbenches=[bench])
+    for n in sizes:
+        lag = tree_stages(n)
+        for t, values in enumerate(vectors if n < 16 else wide):
+            values = list(values)[:n]
+            expected = (min(values), values.index(min(values)))
+            assert got[n][t + lag - 1] == expected, (n, values, got[n][t + lag - 1])

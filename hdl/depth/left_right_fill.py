@@ -108,7 +108,9 @@ class LeftRightFill(wiring.Component):
         right_kept = Signal(bits, reset_less=True)              # nearest kept code to the right of x
         left_kept = Signal(bits, reset_less=True)               # replay: nearest kept code to the left
         live1, _, live3 = live
-        at3, code3, keep, scan_data = self._scan_pipeline(m, (code_read, left_read), at1, live, right_kept, word)
+        room1 = Signal(range(w), reset_less=True)               # W - 1 - at1 (= scan_x of the read; live only)
+        at3, code3, keep, scan_data = self._scan_pipeline(m, (code_read, left_read), (at1, room1), live, right_kept,
+                                                          word)
 
         writes = [code_write.addr.eq(self.code_x), code_write.data.code.eq(self.code),
                   code_write.data.tail.eq(self.code_d), code_write.en.eq(self.code_valid)]
@@ -130,7 +132,7 @@ class LeftRightFill(wiring.Component):
             with m.State("SCAN"):
                 m.d.comb += [self.busy.eq(1), code_read.addr.eq(w - 1 - scan_x),
                              code_write.addr.eq(at3), code_write.data.eq(scan_data), code_write.en.eq(live3)]
-                m.d.sync += [scan_x.eq(scan_x + 1), at1.eq(w - 1 - scan_x), live1.eq(scan_x < w)]
+                m.d.sync += [scan_x.eq(scan_x + 1), at1.eq(w - 1 - scan_x), room1.eq(scan_x), live1.eq(scan_x < w)]
                 with m.If(live3 & keep):
                     m.d.sync += right_kept.eq(code3)
                 with m.If(scan_x == w + 2):
@@ -157,18 +159,20 @@ class LeftRightFill(wiring.Component):
                     m.next = "IDLE"
         return m
 
-    def _scan_pipeline(self, m, reads, at1, live, right_kept, word):
-        """The scan's stages after the read of word x (address ``at1``; ``live``: in flight at stage 1, 2, 3): 1 read
-        d_L at min(x + d*, W - 1); 2 d_L registered (nothing after the memory's output); 3 the check. Returns (x,
-        code, keep, the word written back) of stage 3."""
+    def _scan_pipeline(self, m, reads, at, live, right_kept, word):
+        """The scan's stages after the read of word x (``at``: its address ``at1`` and W - 1 - x, ``room1``;
+        ``live``: in flight at stage 1, 2, 3): 1 read d_L at min(x + d*, W - 1) (d* > W - 1 - x compared beside
+        the sum, not after it); 2 d_L registered (nothing after the memory's output); 3 the check. Returns (x, code,
+        keep, the word written back) of stage 3."""
         cfg, w, bits = self.config, self.width, self.config.code_bits
         code_read, left_read = reads
+        at1, room1 = at
         d_bits = (cfg.disparities - 1).bit_length()
         first = code_read.data
         d1 = first.tail[:d_bits]
         target = Signal(range(2 * w))
         m.d.comb += target.eq(at1 + d1)
-        m.d.comb += left_read.addr.eq(Mux(target > w - 1, w - 1, target))
+        m.d.comb += left_read.addr.eq(Mux(d1 > room1, w - 1, target))
         # |d_L - d*| <= 1: d_L equals d* - 1, d* or d* + 1, each registered with d* one bit wider than d_L (d* - 1
         # wraps to all ones for d* = 0 and d* + 1 = D: neither matches a d_L), and the code's validity registered.
         live1, live2, live3 = live

@@ -155,26 +155,33 @@ class RowRing(wiring.Component):
         # The request comes from registers: ``allowed`` lags ``issued`` by a clock, so the clock after a row's
         # last column is granted never requests (the next row may not be allowed yet). ``sampled``: the row's start
         # sample is in; ``ending & col_last``: the previous row's end sample is pending and this is the last read.
+        # ``col_last`` (col == width - 1, set with the grant that moves ``col`` there) is all the grant meets of the
+        # column: no comparison of ``col`` lies after the grant. ``ready`` = allowed & ~row_done & sampled &
+        # ~(ending & col_last), set a clock ahead from those registers' next values (:meth:`_ready`), so the
+        # request is one register and ``start``.
         allowed, row_done, sampled, ending, col_last = Signal(), Signal(), Signal(), Signal(), Signal()
-        m.d.sync += allowed.eq((issued < self.limit) & (issued < g.buf_height))
+        ready, allowed_next = Signal(), Signal()
+        m.d.comb += allowed_next.eq((issued < self.limit) & (issued < g.buf_height))
+        m.d.sync += allowed.eq(allowed_next)
         m.d.comb += [
             self.buffer.port.addr.eq(addr),
-            self.buffer.request.eq(allowed & ~row_done & sampled & ~(ending & col_last) & ~self.start),
+            self.buffer.request.eq(ready & ~self.start),
         ]
         granted = self.buffer.request & self.buffer.grant
-        last_read = granted & (col == g.buf_width - 1)
+        last_read = granted & col_last
         m.d.sync += [pending.eq(granted), row_done.eq(last_read)]
         with m.If(granted):
             m.d.sync += col_last.eq(col == g.buf_width - 2)
-        samples = self._tag_samples(m, source, slot, allowed, row_done, sampled, ending, last_read)
+        samples, shown = self._tag_samples(m, source, slot, allowed, row_done, sampled, ending, last_read)
+        self._ready(m, ready, (allowed_next, sampled, ending, col_last), (granted, last_read, shown, samples[2]), col)
         with m.If(granted):
             m.d.sync += [
                 pending_col.eq(col),
                 pending_slot.eq(slot),
-                pending_last.eq(col == g.buf_width - 1),
+                pending_last.eq(col_last),
                 addr.eq(addr + 1),
             ]
-            with m.If(col == g.buf_width - 1):
+            with m.If(col_last):
                 m.d.sync += [col.eq(0), issued.eq(issued + 1), slot.eq(slot + 1)]
                 with m.If(above != 0):                          # above the image: the first row again
                     m.d.sync += [addr.eq(row_start), above.eq(above - 1)]
@@ -198,11 +205,21 @@ class RowRing(wiring.Component):
         with m.If(self.start):
             m.d.sync += [issued.eq(0), slot.eq(0), col.eq(0), addr.eq(offset_addr), row_start.eq(offset_addr),
                          source.eq(first_source), above.eq(first_above), pending.eq(0), self.fetched.eq(0),
-                         allowed.eq(0), col_last.eq(0)]
+                         allowed.eq(0), col_last.eq(0), ready.eq(0)]
         if platform == "formal":
             self._invariants(m, (slot, addr, source, row_start), (pending, pending_slot, pending_last),
-                             (allowed, row_done, ending), samples)
+                             (allowed, row_done, sampled, ending, col_last, ready), samples)
         return m
+
+    def _ready(self, m, ready, state, events, col):
+        """``ready`` in the next clock: allowed & ~row_done & sampled & ~(ending & col_last) of the next values
+        (``start`` clears it in :meth:`elaborate`). A last read clears ``sampled`` and sets ``row_done``; otherwise
+        ``sampled`` is set by ``shown``, ``ending`` cleared by ``write``, ``col_last`` moved by a grant and
+        ``allowed`` is ``allowed_next`` (:meth:`_tag_samples`, :meth:`elaborate`)."""
+        allowed_next, sampled, ending, col_last = state
+        granted, last_read, shown, write = events
+        col_last_next = Mux(granted, col == self.geometry.buf_width - 2, col_last)
+        m.d.sync += ready.eq(~last_read & allowed_next & (sampled | shown) & ~(ending & ~write & col_last_next))
 
     def _invariants(self, m, fetch, in_flight, gates, samples):
         """The fetch's and the tag samples' invariants (elaborated for the formal platform only), each an
@@ -211,7 +228,7 @@ class RowRing(wiring.Component):
         g, bits = self.geometry, (self.rows - 1).bit_length()
         slot, addr, source, row_start = fetch
         pending, pending_slot, pending_last = in_flight
-        allowed, row_done, ending = gates
+        allowed, row_done, sampled, ending, col_last, ready = gates
         count, take, write, end_row, end_slot = samples
         last_in_flight = pending & pending_last
         invariants = {
@@ -222,6 +239,8 @@ class RowRing(wiring.Component):
             "slot_of_fetch_row": slot == self.fetch_row[:bits],
             "slot_of_pending_pixel": ~pending | (pending_slot == self.fetched[:bits]),
             "column_in_row": self.fetch_col < g.buf_width,
+            "last_column_flag": col_last == (self.fetch_col == g.buf_width - 1),
+            "request_ready": ready == (allowed & ~row_done & sampled & ~(ending & col_last)),
             "address_counts_columns": (addr == row_start + self.fetch_col) & (row_start == source * g.buf_width)
                                       & (source < g.buf_height),
             "end_sample_pending": ending == ((count != 0) | take | write),
@@ -280,4 +299,4 @@ class RowRing(wiring.Component):
         with m.If(self.start):
             m.d.sync += [count.eq(0), sampled.eq(0), ending.eq(0), take.eq(0), write.eq(0), prev_torn.eq(0),
                          first.eq(1), self.tagged.eq(0)]
-        return count, take, write, end_row, end_slot
+        return (count, take, write, end_row, end_slot), shown

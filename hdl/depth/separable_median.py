@@ -4,7 +4,7 @@ median plain or over the valid codes only (docs/depth.md, "median")."""
 import functools
 import operator
 
-from amaranth import C, Module, Mux, Signal
+from amaranth import Array, C, Module, Mux, Signal
 from amaranth.lib import data, wiring
 from amaranth.lib.memory import Memory
 
@@ -130,19 +130,37 @@ class SeparableMedian(wiring.Component):
         self.width, self.height = geometry.buf_width, geometry.buf_height
         super().__init__(median_signature(config, self.width, self.height, self.ROW_LAG))
 
-    def _column(self, y, above, code):
+    def _row_picks(self, m, y):
+        """The pass's clamp, registered beside the pixel (stage q + 1 reads no comparison of ``y``): ``below``,
+        the pass is below the image (y >= height); ``picks[j]`` for the column's rows y - 2L + j, j < L, the
+        offset o of the row taken: ``above[2L - 1 - j - o]``, o = 0 inside the image, o = 2L - j - y for
+        a row above it (row 0 = ``above[y - 1]``, passes L .. 2L - j - 1; :meth:`_column`)."""
+        lag = self.ROW_LAG
+        below = Signal(name="row_below", reset_less=True)
+        m.d.sync += below.eq(y >= self.height)
+        picks = []
+        for j in range(lag):
+            pick = Signal(range(lag - j + 1), name=f"row_pick{j}", reset_less=True)
+            offset = C(0, pick.shape())
+            for yy in range(2 * lag - j - 1, lag - 1, -1):
+                offset = Mux(y == yy, 2 * lag - j - yy, offset)
+            m.d.sync += pick.eq(offset)
+            picks.append(pick)
+        return below, picks
+
+    def _column(self, picks, above, code):
         """The codes of rows y - 2L .. y (the column around the output row y - L), clamped to 0 .. height - 1:
-        ``above[k]`` is row y - 1 - k, ``code`` row y. A row above the image is row 0 = ``above[y - 1]``. A row
-        below it is already row height - 1: from pass height on, the code taken for row y (and written back as
-        it) is ``above[0]``, row y - 1 (:meth:`elaborate`)."""
+        ``above[k]`` is row y - 1 - k, ``code`` row y. A row above the image is row 0 = ``above[y - 1]``, picked
+        by ``picks`` (:meth:`_row_picks`). A row below it is already row height - 1: from pass height on, the
+        code taken for row y (and written back as it) is ``above[0]``, row y - 1 (:meth:`elaborate`)."""
         lag = self.ROW_LAG
         column = []
         for j in range(2 * lag + 1):                        # row y - 2L + j
-            value = code if j == 2 * lag else above[2 * lag - 1 - j]
             if j < lag:                                     # above the image in passes L .. 2L - j - 1
-                for yy in range(2 * lag - j - 1, lag - 1, -1):
-                    value = Mux(y == yy, above[yy - 1], value)
-            column.append(value)
+                options = [above[2 * lag - 1 - j - o] for o in range(lag - j + 1)]
+                column.append(Array(options)[picks[j]])
+            else:
+                column.append(code if j == 2 * lag else above[2 * lag - 1 - j])
         return column
 
     def elaborate(self, platform):
@@ -161,17 +179,18 @@ class SeparableMedian(wiring.Component):
         x1, code1 = Signal(range(w + 1), reset_less=True), Signal(bits, reset_less=True)
         m.d.sync += [v1.eq(self.valid & (y >= lag)), end1.eq(self.x == w), x1.eq(self.x), code1.eq(self.code),
                      w1.eq(self.valid & (self.x < w))]
+        below1, picks1 = self._row_picks(m, y)
         # q + 1: the column of rows y - 2L .. y (clamped to 0 .. h - 1), and the rows written back.
         above = [read.data[k] for k in range(2 * lag)]      # rows y - 1, ..., y - 2L
         # Below the image (passes height ..) row y is row y - 1: row height - 1, taken again and written again.
         code = Signal(bits, name="row_code")
-        m.d.comb += code.eq(Mux(y >= self.height, above[0], code1))
+        m.d.comb += code.eq(Mux(below1, above[0], code1))
         m.d.comb += [write.addr.eq(x1), write.en.eq(w1), write.data[0].eq(code)]
         m.d.comb += [write.data[k + 1].eq(above[k]) for k in range(2 * lag - 1)]
         col = [Signal(bits, name=f"column{k}", reset_less=True) for k in range(n)]
         v2, end2, x2 = Signal(), Signal(), Signal(range(w + 1), reset_less=True)
         m.d.sync += [v2.eq(v1), end2.eq(end1), x2.eq(x1)]
-        m.d.sync += [c.eq(value) for c, value in zip(col, self._column(y, above, code))]
+        m.d.sync += [c.eq(value) for c, value in zip(col, self._column(picks1, above, code))]
         # The column's median (end: carried through, its value unused).
         cend = end2                                         # the end token's flag, beside the median
         for k in range(MEDIAN_CLOCKS):
