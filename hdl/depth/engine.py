@@ -325,7 +325,8 @@ class DepthEngine(wiring.Component):
         # ``before``: the pass's output row y - lag (none while ``no_row``).
         need, first, before = Signal.like(y), Signal(), Signal.like(y)
         room_limit = Signal(range(h + self.out_rows + 1))
-        m.d.sync += [need.eq(Mux(y + ry + 1 < h, y + ry + 1, h)), first.eq(y == 0), before.eq(y - self.lag),
+        # need = min(y + ry + 1, H): y compared with a constant beside the sum, not the sum after it (pix timing).
+        m.d.sync += [need.eq(Mux(y < h - ry - 1, y + ry + 1, h)), first.eq(y == 0), before.eq(y - self.lag),
                      room_limit.eq(self.result.rows_released + self.out_rows)]
         no_row = first
         if self.lag > 1:
