@@ -604,11 +604,12 @@ class DepthEngine(wiring.Component):
                 m.d.sync += shift_reg[j].eq(shift_reg[j - 1])
         return shift_reg, signatures[1], pixels
 
-    def _pixel_layout(self):
-        """What the AD term takes of a pixel: its grey value and, for Birchfield and Tomasi's term, its range."""
+    def _pixel_layout(self, ranges=True):
+        """What the AD term takes of a pixel: its grey value and, for Birchfield and Tomasi's term (unless not
+        ``ranges``), its range."""
         cfg = self.config
         fields = {"grey": cfg.pixel_bits}
-        if cfg.ad_sampling != "pixel":
+        if cfg.ad_sampling != "pixel" and ranges:
             fields["range"] = grey_range_layout(cfg.pixel_bits)
         return data.StructLayout(fields)
 
@@ -620,13 +621,13 @@ class DepthEngine(wiring.Component):
             m.d.comb += pixel.range.eq(census.centre_range)
         return pixel
 
-    def _candidate_layout(self):
+    def _candidate_layout(self, ranges=True):
         """A left candidate: its census signature, whether its column is inside the image, and (AD term) its
         pixel (:meth:`_pixel_layout`)."""
         cfg = self.config
         fields = {"census": cfg.census_bits, "inside": 1}
         if cfg.ad_clip:
-            fields["pixel"] = self._pixel_layout()
+            fields["pixel"] = self._pixel_layout(ranges)
         return data.StructLayout(fields)
 
     def _lanes(self, m, right_cen, right_pixel, left_sel, left_pixel, inside):
@@ -697,34 +698,43 @@ class DepthEngine(wiring.Component):
         candidate of a pixel (steps >= lead) entered the chain in the same pass, so the chain needs no reset.
         The chain's stretches between taps are plain shift registers (SRLs), where a D-entry shift register
         and a G:1 select per lane and bit would be logic. With the AD term each candidate carries its grey value
-        (and range) beside its signature."""
+        beside its signature. Birchfield and Tomasi's ranges go along a second chain of registers with a reset (to
+        0, never read: every range read entered in the pass), so flip-flops: a register with a reset cannot be an
+        SRL16E, and the build is short of LUTs, not of flip-flops (docs/depth.md, "Where the LUTs are")."""
         cfg = self.config
         G, P, D = self.groups, cfg.lanes, cfg.disparities
         rx, w = cfg.census_width // 2, self.geometry.buf_width
         token, right_cen, right_pixel, group = self._issue_token(m, right_sig, pixels[1], step, clock, in_run)
-        entry = self._candidate_layout()
+        entry = self._candidate_layout(ranges=False)
         length = max(D - 1, (P - 1) * G + 1)
         chain = [Signal(entry, name=f"left_candidate{i}", reset_less=True) for i in range(length)]
         fresh = Signal(entry)
         m.d.comb += [fresh.census.eq(left_sig), fresh.inside.eq(step < w + 2 * rx)]
         if cfg.ad_clip:
-            m.d.comb += fresh.pixel.eq(pixels[0])
+            m.d.comb += fresh.pixel.grey.eq(pixels[0].grey)
+        ranges = []
+        if cfg.ad_sampling != "pixel":
+            ranges = [Signal(grey_range_layout(cfg.pixel_bits), name=f"left_range{i}") for i in range(length)]
         # The chain's enable (the largest clock-enable net) from a register, decoded a clock early: in RUN
         # without a start the next clock is clock + 1 in RUN, or clock 0 (not an issue clock) after a step's last.
         advance = Signal(name="candidates_advance")
         m.d.sync += advance.eq(in_run & (clock >= ISSUE_CLOCK - 1) & (clock < ISSUE_CLOCK + G - 1) & ~self.start)
         with m.If(advance):
-            m.d.sync += chain[0].eq(Mux(group == G - 1, fresh, chain[D - 2]) if G > 1 else fresh)
-            for i in range(1, length):
-                m.d.sync += chain[i].eq(chain[i - 1])
+            for links, new in ((chain, fresh), (ranges, pixels[0].range if ranges else None)):
+                if links:
+                    m.d.sync += links[0].eq(Mux(group == G - 1, new, links[D - 2]) if G > 1 else new)
+                    for i in range(1, length):
+                        m.d.sync += links[i].eq(links[i - 1])
         left_sel = Signal(data.ArrayLayout(cfg.census_bits, P))
         left_pixel = Signal(data.ArrayLayout(self._pixel_layout(), P)) if cfg.ad_clip else None
         inside = Signal(P)
         for k in range(P):
-            tap = chain[(P - 1 - k) * G]
-            m.d.comb += [left_sel[k].eq(tap.census), inside[k].eq(tap.inside)]
+            tap = (P - 1 - k) * G
+            m.d.comb += [left_sel[k].eq(chain[tap].census), inside[k].eq(chain[tap].inside)]
             if cfg.ad_clip:
-                m.d.comb += left_pixel[k].eq(tap.pixel)
+                m.d.comb += left_pixel[k].grey.eq(chain[tap].pixel.grey)
+            if ranges:
+                m.d.comb += left_pixel[k].range.eq(ranges[tap])
         return token, self._lanes(m, right_cen, right_pixel, left_sel, left_pixel, inside)
 
     def _issue(self, m, shift_reg, right_sig, pixels, step, clock, in_run):
