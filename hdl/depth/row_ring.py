@@ -192,13 +192,7 @@ class RowRing(wiring.Component):
             with m.Else():
                 m.d.sync += col.eq(col + 1)
 
-        # The merge: the copy is read at the granted column (``col``, before it advances), so its word is
-        # there when the pixel arrives; consecutive writes go to different columns (width >= 2).
-        m.d.comb += [merge_read.addr.eq(col), self.write_en.eq(Mux(pending, C(1, rows) << pending_slot, 0))]
-        old = merge_read.data
-        merged = Cat(*(Mux(self.write_en[k], self.buffer.port.data, old[k * gb:(k + 1) * gb]) for k in range(rows)))
-        for write in writes:
-            m.d.comb += [write.addr.eq(pending_col), write.data.eq(merged), write.en.eq(pending)]
+        self._merge(m, writes, merge_read, col, (pending, pending_col, pending_slot))
         with m.If(pending & pending_last):
             m.d.sync += self.fetched.eq(self.fetched + 1)
 
@@ -210,6 +204,18 @@ class RowRing(wiring.Component):
             self._invariants(m, (slot, addr, source, row_start), (pending, pending_slot, pending_last),
                              (allowed, row_done, sampled, ending, col_last, ready), samples)
         return m
+
+    def _merge(self, m, writes, merge_read, col, arriving):
+        """The merge: the copy is read at the granted column (``col``, before it advances), so its word is there
+        when the pixel arrives (``arriving``: pending, its column and slot); the pixel replaces its slot's value
+        in the word written to both memories. Consecutive writes go to different columns (width >= 2)."""
+        rows, gb = self.rows, self.geometry.grey_bits
+        pending, pending_col, pending_slot = arriving
+        m.d.comb += [merge_read.addr.eq(col), self.write_en.eq(Mux(pending, C(1, rows) << pending_slot, 0))]
+        old = merge_read.data
+        merged = Cat(*(Mux(self.write_en[k], self.buffer.port.data, old[k * gb:(k + 1) * gb]) for k in range(rows)))
+        for write in writes:
+            m.d.comb += [write.addr.eq(pending_col), write.data.eq(merged), write.en.eq(pending)]
 
     def _ready(self, m, ready, state, events, col):
         """``ready`` in the next clock: allowed & ~row_done & sampled & ~(ending & col_last) of the next values
